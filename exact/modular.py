@@ -1,0 +1,125 @@
+"""Multi-modular arithmetic: word-size primes and Chinese remaindering.
+
+Exact big-integer sums are computed as residues modulo several primes below
+2**31 (so that a product of two residues fits in a signed 64-bit integer) and
+reconstructed exactly with the Chinese remainder theorem.  The number of primes
+is always chosen from a *proven* upper bound on the result, so the
+reconstruction is exact, never probabilistic.
+
+Examples
+--------
+>>> from exact.modular import primes_below, crt
+>>> ps = primes_below(2**31, 3)
+>>> x = 123456789012345678901234567
+>>> crt([x % p for p in ps], ps)
+123456789012345678901234567
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+__all__ = ["is_prime", "primes_below", "primes_for_bound", "crt", "crt_many"]
+
+# Deterministic Miller-Rabin bases for n < 3.3e24 (Sorenson & Webster).
+_MR_BASES = (2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41)
+
+
+def is_prime(n: int) -> bool:
+    """Deterministic primality test for ``n < 3.3e24``.
+
+    Examples
+    --------
+    >>> [p for p in range(20) if is_prime(p)]
+    [2, 3, 5, 7, 11, 13, 17, 19]
+    """
+    if n < 2:
+        return False
+    for p in _MR_BASES:
+        if n % p == 0:
+            return n == p
+    d, s = n - 1, 0
+    while d % 2 == 0:
+        d //= 2
+        s += 1
+    for a in _MR_BASES:
+        x = pow(a, d, n)
+        if x in (1, n - 1):
+            continue
+        for _ in range(s - 1):
+            x = x * x % n
+            if x == n - 1:
+                break
+        else:
+            return False
+    return True
+
+
+@lru_cache(maxsize=None)
+def primes_below(limit: int, count: int) -> tuple[int, ...]:
+    """The ``count`` largest primes strictly below ``limit``.
+
+    Examples
+    --------
+    >>> primes_below(100, 3)
+    (97, 89, 83)
+    """
+    out = []
+    candidate = limit - 1
+    while len(out) < count:
+        if candidate < 2:
+            raise ValueError(f"count={count}: fewer primes than that below limit={limit}")
+        if is_prime(candidate):
+            out.append(candidate)
+        candidate -= 1
+    return tuple(out)
+
+
+def primes_for_bound(bound: int, limit: int = 2**31) -> tuple[int, ...]:
+    """Primes below ``limit`` whose product exceeds ``2 * bound``.
+
+    A non-negative integer ``x <= bound`` is then determined by its residues.
+
+    Examples
+    --------
+    >>> len(primes_for_bound(10**20))
+    3
+    """
+    if bound < 0:
+        raise ValueError(f"bound={bound}: must be >= 0")
+    count, product = 0, 1
+    while product <= 2 * bound:
+        count += 1
+        product = 1
+        for p in primes_below(limit, count):
+            product *= p
+    return primes_below(limit, count)
+
+
+def crt(residues, primes) -> int:
+    """The least non-negative integer with the given residues (Garner's algorithm).
+
+    Examples
+    --------
+    >>> crt([2, 3, 2], [3, 5, 7])
+    23
+    """
+    x, modulus = 0, 1
+    for r, p in zip(residues, primes):
+        r = int(r) % p
+        # x + modulus * t == r (mod p)
+        t = (r - x) * pow(modulus, -1, p) % p
+        x += modulus * t
+        modulus *= p
+    return x
+
+
+def crt_many(residue_rows, primes) -> list[int]:
+    """:func:`crt` applied to each row of a 2-D array of residues.
+
+    Examples
+    --------
+    >>> crt_many([[2, 3, 2], [0, 0, 1]], [3, 5, 7])
+    [23, 15]
+    """
+    return [crt(row, primes) for row in residue_rows]

@@ -1,0 +1,285 @@
+"""Exact moments of the vertical forces W of the fully mobilized triangle.
+
+A uniform point of the order polytope is a uniform random standard tableau
+``T`` of the shifted staircase together with ``d`` sorted independent uniform
+numbers placed by rank (``notes/order_polytope.md``).  Hence, with ``g`` the
+number of gaps between the two partial sums that bound ``W[i][j]``,
+
+* ``E[W] = E[g] / (d + 1)`` (order statistics),
+* ``E[W**s] = E[g (g+1) ... (g+s-1)] / ((d+1) (d+2) ... (d+s))`` (a sum of
+  ``g`` Dirichlet(1, ..., 1) spacings is Beta(g, d + 1 - g)),
+* ``E[W W'] = E[g g' + |overlap|] / ((d+1) (d+2))``.
+
+The expectations over tableaux are exact path sums over order ideals
+(:mod:`exact.ideal_dp`).  All results are :class:`fractions.Fraction`.
+
+References
+----------
+S. Ostojic, PhD thesis (2006), Eqs. (4.3), (4.63)-(4.85).
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from functools import lru_cache
+from math import comb, factorial
+
+import numpy as np
+
+from .ideal_dp import marked_chain_sums, parts_table, survival_counts
+from .modular import crt, primes_for_bound
+from .staircase import check_layers, count
+
+__all__ = [
+    "mean_W",
+    "mean_W_grain",
+    "moment",
+    "moment_table",
+    "correlation",
+    "covariance",
+    "variance_table",
+    "check_grain",
+]
+
+
+def check_grain(N: int, grain, name: str = "grain") -> tuple[int, int]:
+    """Validate a grain ``(i, j)`` of the ``N``-layer triangle.
+
+    Examples
+    --------
+    >>> check_grain(4, (3, 2))
+    (3, 2)
+    >>> check_grain(4, (3, 4))
+    Traceback (most recent call last):
+    ...
+    ValueError: grain=(3, 4) is out of range: need 1 <= i <= N=4 and 1 <= j <= i
+    """
+    try:
+        i, j = (int(x.__index__()) for x in grain)
+    except (TypeError, ValueError, AttributeError):
+        raise TypeError(f"{name}={grain!r}: must be a pair of integers (i, j)") from None
+    if not (1 <= i <= N and 1 <= j <= i):
+        raise ValueError(f"{name}={grain!r} is out of range: need 1 <= i <= N={N} and 1 <= j <= i")
+    return i, j
+
+
+@lru_cache(maxsize=8)
+def _survival(N: int):
+    return survival_counts(N)
+
+
+def _mean_numerator(N: int, i: int, j: int, C) -> int:
+    """``total (d+1) E[W_ij]`` = survival weight of ideals between the bounds."""
+    m = N - i + 1  # diagonal of row i
+    upper = C[j - 1][m]
+    lower = C[j][m] if j <= N - 1 else 0  # lambda_N = 0: no N-th part
+    return upper - lower
+
+
+def mean_W(N: int, progress=None) -> list[list[Fraction]]:
+    """Exact table of ``<W_{i,j}>``, rows ``i = 1..N``, ``j = 1..i``.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+    progress : callable, optional
+        Progress callback of :func:`exact.ideal_dp.survival_counts`.
+
+    Returns
+    -------
+    list of lists of Fraction
+
+    Examples
+    --------
+    >>> [str(x) for x in mean_W(5)[-1]]
+    ['1/11', '1/4', '7/22', '1/4', '1/11']
+
+    References
+    ----------
+    Ostojic (2006), Eqs. (4.63)-(4.77); values for N = 5 on p. 78.
+    """
+    N = check_layers(N)
+    C, total = survival_counts(N, progress) if progress else _survival(N)
+    d = N * (N - 1) // 2
+    den = total * (d + 1)
+    return [[Fraction(_mean_numerator(N, i, j, C), den) for j in range(1, i + 1)] for i in range(1, N + 1)]
+
+
+def mean_W_grain(N: int, i: int, j: int) -> Fraction:
+    """Exact ``<W_{i,j}>`` of one grain.
+
+    Examples
+    --------
+    >>> mean_W_grain(6, 6, 2)
+    Fraction(413, 2288)
+    """
+    N = check_layers(N)
+    i, j = check_grain(N, (i, j))
+    C, total = _survival(N)
+    d = N * (N - 1) // 2
+    return Fraction(_mean_numerator(N, i, j, C), total * (d + 1))
+
+
+def _eligible(lam: np.ndarray, N: int, i: int, j: int) -> np.ndarray:
+    """Ideals lying between the partial sums that bound ``W_ij`` (bool per mask)."""
+    m = N - i + 1
+    return (lam[:, j - 1] >= m) & (lam[:, j] < m)
+
+
+def _rising(x: int, s: int) -> int:
+    out = 1
+    for k in range(s):
+        out *= x + k
+    return out
+
+
+def moment_table(N: int, s: int = 2, *, batch: int = 64, progress=None) -> list[list[Fraction]]:
+    """Exact ``<W_{i,j}^s>`` for every grain.
+
+    One forward pass over the ideal lattice per batch of grains; the state of a
+    grain counts multisets of ``s`` ideals between its bounding partial sums,
+    so ``E[g^(s rising)] = s! * F[full][s] / count``.
+
+    Examples
+    --------
+    >>> [str(x) for x in moment_table(4, 2)[-1]]
+    ['1/21', '8/63', '8/63', '1/21']
+    """
+    N = check_layers(N)
+    s = _check_order(s)
+    n, d = N - 1, N * (N - 1) // 2
+    total = count(N)
+    grains = [(i, j) for i in range(1, N + 1) for j in range(1, i + 1)]
+    if n == 0:
+        return [[Fraction(1)]]
+    lam = parts_table(n)
+    primes = primes_for_bound(total * comb(d + s, s))
+    values = {}
+    for start in range(0, len(grains), batch):
+        chunk = grains[start : start + batch]
+        elig = np.stack([_eligible(lam, N, i, j) for i, j in chunk], axis=1)  # (masks, B)
+
+        def update(masks, acc, elig=elig, B=len(chunk)):
+            acc = acc.reshape(acc.shape[0], B, s + 1, -1)
+            cum = np.cumsum(acc, axis=2)
+            out = np.where(elig[masks][:, :, None, None], cum, acc)
+            return out.reshape(acc.shape[0], B * (s + 1), -1)
+
+        initial = ([1] + [0] * s) * len(chunk)
+        final = marked_chain_sums(n, primes, initial, update, progress)
+        final = final.reshape(len(chunk), s + 1, -1)
+        for b, grain in enumerate(chunk):
+            multisets = crt(final[b, s], primes)
+            values[grain] = Fraction(factorial(s) * multisets, total * _rising(d + 1, s))
+    return [[values[(i, j)] for j in range(1, i + 1)] for i in range(1, N + 1)]
+
+
+def _check_order(s) -> int:
+    if isinstance(s, bool) or not hasattr(s, "__index__"):
+        raise TypeError(f"s={s!r} is not an integer: s must be an integer >= 1")
+    s = int(s)
+    if s < 1:
+        raise ValueError(f"s={s} is out of range: s must be an integer >= 1")
+    return s
+
+
+def moment(N: int, grain, s: int) -> Fraction:
+    """Exact ``<W_{i,j}^s>`` for one grain and any order ``s >= 1``.
+
+    Examples
+    --------
+    >>> moment(5, (5, 1), 1)
+    Fraction(1, 11)
+    >>> moment(5, (5, 1), 2)
+    Fraction(1, 66)
+    """
+    N = check_layers(N)
+    i, j = check_grain(N, grain)
+    s = _check_order(s)
+    if s == 1:
+        return mean_W_grain(N, i, j)
+    return _single_moment(N, i, j, s)
+
+
+@lru_cache(maxsize=256)
+def _single_moment(N: int, i: int, j: int, s: int) -> Fraction:
+    n, d = N - 1, N * (N - 1) // 2
+    total = count(N)
+    lam = parts_table(n)
+    elig = _eligible(lam, N, i, j)
+    primes = primes_for_bound(total * comb(d + s, s))
+
+    def update(masks, acc):
+        return np.where(elig[masks][:, None, None], np.cumsum(acc, axis=1), acc)
+
+    final = marked_chain_sums(n, primes, [1] + [0] * s, update)
+    return Fraction(factorial(s) * crt(final[s], primes), total * _rising(d + 1, s))
+
+
+def correlation(N: int, grain1, grain2) -> Fraction:
+    """Exact two-point function ``<W_{i,j} W_{k,l}>``.
+
+    Examples
+    --------
+    >>> correlation(4, (4, 1), (4, 4))
+    Fraction(1, 63)
+    >>> correlation(4, (4, 2), (4, 2)) == moment(4, (4, 2), 2)
+    True
+
+    References
+    ----------
+    Ostojic (2006), Sec. 4.5.2.
+    """
+    N = check_layers(N)
+    g1 = check_grain(N, grain1, "grain1")
+    g2 = check_grain(N, grain2, "grain2")
+    return _correlation(N, *sorted([g1, g2]))
+
+
+@lru_cache(maxsize=256)
+def _correlation(N: int, g1, g2) -> Fraction:
+    n, d = N - 1, N * (N - 1) // 2
+    total = count(N)
+    lam = parts_table(n)
+    e1 = _eligible(lam, N, *g1)
+    e2 = _eligible(lam, N, *g2)
+    primes = primes_for_bound(total * (d + 1) * (d + 2))
+
+    def update(masks, acc):
+        a, b = e1[masks][:, None], e2[masks][:, None]
+        s00, s10, s01, s11 = acc[:, 0], acc[:, 1], acc[:, 2], acc[:, 3]
+        return np.stack(
+            [s00, s10 + a * s00, s01 + b * s00, s11 + a * s01 + b * s10 + 2 * (a & b) * s00],
+            axis=1,
+        )
+
+    final = marked_chain_sums(n, primes, [1, 0, 0, 0], update)
+    return Fraction(crt(final[3], primes), total * (d + 1) * (d + 2))
+
+
+def covariance(N: int, grain1, grain2) -> Fraction:
+    """``<W W'> - <W><W'>``, exact.
+
+    Examples
+    --------
+    >>> covariance(4, (4, 1), (4, 4))
+    Fraction(-1, 441)
+    """
+    N = check_layers(N)
+    g1 = check_grain(N, grain1, "grain1")
+    g2 = check_grain(N, grain2, "grain2")
+    return correlation(N, g1, g2) - mean_W_grain(N, *g1) * mean_W_grain(N, *g2)
+
+
+def variance_table(N: int) -> list[list[Fraction]]:
+    """Exact ``Var W_{i,j}`` for every grain.
+
+    Examples
+    --------
+    >>> [str(x) for x in variance_table(4)[-1]]
+    ['1/441', '5/441', '5/441', '1/441']
+    """
+    means = mean_W(N)
+    second = moment_table(N, 2)
+    return [[m2 - m * m for m, m2 in zip(r1, r2)] for r1, r2 in zip(means, second)]

@@ -1,0 +1,263 @@
+"""The shifted staircase: tableau counts and the map from grains to cells.
+
+The fully mobilized triangle of Sec. 4.2 with N layers is, in partial sums
+``S[i][j] = W[i][1] + ... + W[i][j]``, the order polytope of the shifted
+staircase shape ``(n, n-1, ..., 1)`` with ``n = N - 1`` (proof in
+``notes/order_polytope.md``).  Grain partial sum ``S[i][j]`` (``2 <= i <= N``,
+``1 <= j <= i - 1``) is the tableau cell in row ``r = j`` and column
+``c = N - i + j`` (rows and columns of the shifted diagram start at 1, row
+``r`` occupies columns ``r..n``).
+
+References
+----------
+.. [1] S. Ostojic, *Statistical Mechanics of Static Granular Matter*, PhD
+   thesis, Amsterdam (2006), Eqs. (4.1), (4.5)-(4.13), (4.51).
+.. [2] OEIS A003121: number of standard shifted Young tableaux of staircase
+   shape, 1, 1, 1, 2, 12, 286, 33592, 23178480, ...
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from functools import lru_cache
+from math import factorial, prod
+
+__all__ = [
+    "check_layers",
+    "dimension",
+    "grain_to_cell",
+    "cell_to_grain",
+    "staircase_cells",
+    "count",
+    "count_by_hooks",
+    "normalization",
+    "shifted_hook_lengths",
+    "shifted_tableaux_count",
+]
+
+
+def check_layers(N, *, name: str = "N", minimum: int = 2, maximum: int | None = None) -> int:
+    """Validate a number of layers; returns it as an ``int``.
+
+    Raises ``TypeError`` for a non-integer and ``ValueError`` outside the
+    allowed range, naming the argument and the range.
+
+    Examples
+    --------
+    >>> check_layers(5)
+    5
+    >>> check_layers(1)
+    Traceback (most recent call last):
+    ...
+    ValueError: N=1 is out of range: N must be an integer >= 2
+    """
+    if isinstance(N, bool) or not hasattr(N, "__index__"):
+        raise TypeError(f"{name}={N!r} is not an integer: {name} must be an integer >= {minimum}")
+    N = int(N.__index__())
+    if N < minimum or (maximum is not None and N > maximum):
+        allowed = f">= {minimum}" if maximum is None else f"in {minimum}..{maximum}"
+        raise ValueError(f"{name}={N} is out of range: {name} must be an integer {allowed}")
+    return N
+
+
+def dimension(N: int) -> int:
+    """Dimension ``d = N (N - 1) / 2`` of the force network ensemble (Eq. 4.3).
+
+    Examples
+    --------
+    >>> dimension(5)
+    10
+    """
+    N = check_layers(N)
+    return N * (N - 1) // 2
+
+
+def grain_to_cell(N: int, i: int, j: int) -> tuple[int, int]:
+    """Tableau cell ``(r, c)`` of the partial sum ``S[i][j]``.
+
+    Examples
+    --------
+    >>> grain_to_cell(5, 5, 1), grain_to_cell(5, 5, 4), grain_to_cell(5, 2, 1)
+    ((1, 1), (4, 4), (1, 4))
+    """
+    if not (2 <= i <= N and 1 <= j <= i - 1):
+        raise ValueError(f"(i, j)=({i}, {j}): need 2 <= i <= N={N} and 1 <= j <= i - 1")
+    return j, N - i + j
+
+
+def cell_to_grain(N: int, r: int, c: int) -> tuple[int, int]:
+    """Inverse of :func:`grain_to_cell`.
+
+    Examples
+    --------
+    >>> cell_to_grain(5, 1, 4)
+    (2, 1)
+    """
+    n = N - 1
+    if not (1 <= r <= c <= n):
+        raise ValueError(f"(r, c)=({r}, {c}): need 1 <= r <= c <= N - 1 = {n}")
+    return N - c + r, r
+
+
+def staircase_cells(n: int) -> list[tuple[int, int]]:
+    """Cells ``(r, c)``, ``1 <= r <= c <= n``, of the shifted staircase.
+
+    Examples
+    --------
+    >>> staircase_cells(2)
+    [(1, 1), (1, 2), (2, 2)]
+    """
+    return [(r, c) for r in range(1, n + 1) for c in range(r, n + 1)]
+
+
+def shifted_hook_lengths(parts) -> dict[tuple[int, int], int]:
+    """Shifted hook lengths of a strict partition (Thrall; Sagan 1979).
+
+    The hook of cell ``(r, c)`` is the cells to its right in row ``r``, below it
+    in column ``c``, and, when column ``c + 1`` reaches down to the diagonal
+    cell ``(c + 1, c + 1)``, the whole row ``c + 1`` as well.
+
+    Examples
+    --------
+    >>> sorted(shifted_hook_lengths((2, 1)).values())
+    [1, 2, 3]
+    """
+    parts = tuple(parts)
+    if any(a <= b for a, b in zip(parts, parts[1:])) or (parts and parts[-1] <= 0):
+        raise ValueError(f"parts={parts}: must be strictly decreasing positive integers")
+    rows = len(parts)
+    last_col = {r + 1: r + parts[r] for r in range(rows)}  # row r spans columns r..last_col[r]
+    hooks = {}
+    for r in range(1, rows + 1):
+        for c in range(r, last_col[r] + 1):
+            arm = last_col[r] - c
+            leg = sum(1 for r2 in range(r + 1, rows + 1) if r2 <= c <= last_col[r2])
+            extra = parts[c] if c + 1 <= rows else 0  # row c+1, when it exists
+            hooks[(r, c)] = arm + leg + 1 + extra
+    return hooks
+
+
+def shifted_tableaux_count(parts) -> int:
+    """Number of standard shifted Young tableaux of a strict partition.
+
+    Uses the shifted hook length formula ``g = |lambda|! / prod(hooks)``.
+
+    Examples
+    --------
+    >>> shifted_tableaux_count((4, 3, 2, 1))
+    12
+    """
+    hooks = shifted_hook_lengths(parts)
+    total = factorial(len(hooks))
+    denominator = prod(hooks.values())
+    if total % denominator:
+        raise ArithmeticError(f"hook formula not integral for {parts}")
+    return total // denominator
+
+
+def count_by_hooks(N: int) -> int:
+    """``d! * normalization`` from the shifted hook length formula (a second route).
+
+    Examples
+    --------
+    >>> [count_by_hooks(N) for N in range(3, 8)]
+    [1, 2, 12, 286, 33592]
+    """
+    N = check_layers(N)
+    return shifted_tableaux_count(tuple(range(N - 1, 0, -1)))
+
+
+def _prime_exponents_of_count(N: int) -> list[tuple[int, int]]:
+    """Prime factorisation of ``d! * prod_{k<n} k!/(2k+1)!``."""
+    import numpy as np
+
+    n = N - 1
+    d = n * (n + 1) // 2
+    top = max(d, 2 * n, 2)
+    sieve = np.ones(top + 1, dtype=bool)
+    sieve[:2] = False
+    for p in range(2, int(top**0.5) + 1):
+        if sieve[p]:
+            sieve[p * p :: p] = False
+    ks = np.arange(n, dtype=np.int64)
+    out = []
+    for p in np.flatnonzero(sieve).tolist():
+        e = 0
+        q = p
+        while q <= d:  # Legendre: v_p(d!)
+            e += d // q
+            q *= p
+        q = p
+        while q <= 2 * n:  # sum_k v_p(k!) - v_p((2k+1)!)
+            e += int((ks // q).sum() - ((2 * ks + 1) // q).sum())
+            q *= p
+        if e:
+            out.append((p, e))
+    return out
+
+
+def _product_tree(factors):
+    factors = list(factors) or [1]
+    while len(factors) > 1:
+        nxt = [factors[k] * factors[k + 1] for k in range(0, len(factors) - 1, 2)]
+        if len(factors) % 2:
+            nxt.append(factors[-1])
+        factors = nxt
+    return factors[0]
+
+
+@lru_cache(maxsize=64)
+def count(N: int) -> int:
+    """Number of standard shifted tableaux of staircase shape ``(N-1, ..., 1)``.
+
+    This is ``d! * normalization(N)`` with ``d = N (N - 1) / 2``: the number of
+    linear extensions of the poset of partial sums, i.e. the integer sum of the
+    Lambda recursion in Eq. (4.1).  Closed form:
+    ``d! * prod_{k=0}^{N-2} k! / (2k + 1)!``, evaluated from its prime
+    factorisation (python-flint's multiplication when installed).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> [count(N) for N in range(2, 9)]
+    [1, 1, 2, 12, 286, 33592, 23178480]
+    >>> count(40) % 10**12
+    0
+
+    References
+    ----------
+    Ostojic (2006), Eq. (4.1); OEIS A003121.
+    """
+    N = check_layers(N)
+    factors = _prime_exponents_of_count(N)
+    try:
+        import flint
+    except ImportError:  # pure Python fallback
+        return _product_tree(p**e for p, e in factors)
+    return int(_product_tree(flint.fmpz(p) ** e for p, e in factors))
+
+
+def normalization(N: int) -> Fraction:
+    """Volume of the force network ensemble of the triangle in W-coordinates.
+
+    Eq. (4.1)/(4.51): ``normalization = count(N) / d!``, equal to
+    ``prod_{k=0}^{N-2} k! / (2k + 1)!``.
+
+    Examples
+    --------
+    >>> normalization(4)
+    Fraction(1, 360)
+    >>> normalization(5)
+    Fraction(1, 302400)
+    """
+    N = check_layers(N)
+    d = N * (N - 1) // 2
+    return Fraction(count(N), factorial(d))

@@ -80,7 +80,7 @@ def ideal_levels(n: int):
     level = np.zeros(1, dtype=np.int16)
     for p in range(n):
         level = np.concatenate([level, level + (p + 1)])
-    order = np.argsort(level, kind="stable").astype(np.int64)
+    order = np.argsort(level, kind="stable").astype(np.uint32 if n < 32 else np.int64)
     d = n * (n + 1) // 2
     bounds = np.concatenate([[0], np.cumsum(np.bincount(level, minlength=d + 1))])
     return order, bounds
@@ -115,7 +115,7 @@ def forward_counts_mod(n: int, primes, progress=None) -> np.ndarray:
     f[0] = 1
     d = n * (n + 1) // 2
     for k in range(1, d + 1):
-        masks = order[bounds[k] : bounds[k + 1]]
+        masks = order[bounds[k] : bounds[k + 1]].astype(np.int64)
         acc = np.zeros((masks.size, P), dtype=np.int64)
         for sel, pred in _predecessor_moves(masks, n):
             acc[sel] += f[pred]
@@ -125,17 +125,14 @@ def forward_counts_mod(n: int, primes, progress=None) -> np.ndarray:
     return f
 
 
-def _popcount(x: np.ndarray) -> np.ndarray:
-    return np.bitwise_count(x.astype(np.uint64)).astype(np.int64)
-
-
-_BYTES_PER_RESIDUE = 4 * 2.6  # uint32 table plus level/sweep temporaries
-_SECONDS_PER_RESIDUE = 1.0e-7  # measured on the 2-core CI machine, N = 24
+_BYTES_PER_RESIDUE = 4  # the uint32 residue table
+_BYTES_PER_MASK = 16  # level order (uint32) and its argsort transient
+_SECONDS_PER_RESIDUE = 8.5e-8  # measured on the 2-core machine, N = 24
 
 
 def _prime_chunks(n: int, primes, memory_bytes: int):
-    per_prime = (1 << n) * _BYTES_PER_RESIDUE
-    size = max(1, int(memory_bytes // per_prime))
+    masks = 1 << n
+    size = max(1, int((memory_bytes - masks * _BYTES_PER_MASK) // (masks * _BYTES_PER_RESIDUE)))
     return [primes[k : k + size] for k in range(0, len(primes), size)]
 
 
@@ -148,9 +145,9 @@ def survival_primes(N: int):
 def estimate_survival_cost(N: int, memory_bytes: int = 12 * 2**30) -> MemoryEstimate:
     """Peak memory and time estimate of :func:`survival_counts` for ``N`` layers.
 
-    Calibrated on a 2-core machine (``notes/benchmarks.md``).  The residue
-    table needs ``2**(N-1) * 4`` bytes per prime; primes are processed in
-    chunks that fit ``memory_bytes``, but one prime must fit.
+    Calibrated on a 2-core machine (``notes/benchmarks.md``).  Each prime
+    needs ``12`` bytes per ideal (``2**(N-1)`` ideals); primes are processed in
+    chunks that fit ``memory_bytes``, but at least one prime is needed.
 
     Examples
     --------
@@ -159,42 +156,61 @@ def estimate_survival_cost(N: int, memory_bytes: int = 12 * 2**30) -> MemoryEsti
     (True, True)
     """
     n = N - 1
+    masks = 1 << n
     primes = survival_primes(N)
     chunks = _prime_chunks(n, primes, memory_bytes)
     biggest = max(len(c) for c in chunks)
-    nbytes = (1 << n) * (biggest * _BYTES_PER_RESIDUE + 10)
-    seconds = (1 << n) * len(primes) * _SECONDS_PER_RESIDUE + (1 << n) * len(chunks) * 3e-7
+    nbytes = masks * (biggest * _BYTES_PER_RESIDUE + _BYTES_PER_MASK)
+    seconds = masks * (len(primes) * _SECONDS_PER_RESIDUE + len(chunks) * 2e-7)
     return MemoryEstimate(nbytes, seconds)
 
 
+_BLOCK_BITS = 18
+
+
+@lru_cache(maxsize=None)
+def _popcount_groups(bits: int):
+    """Integers ``0..2**bits-1`` sorted by popcount, and the group starts."""
+    pc = np.bitwise_count(np.arange(1 << bits, dtype=np.uint64)).astype(np.int64)
+    order = np.argsort(pc, kind="stable")
+    starts = np.concatenate([[0], np.cumsum(np.bincount(pc, minlength=bits + 1))[:-1]])
+    return order, starts
+
+
 def _survival_residues(n: int, primes, progress=None) -> np.ndarray:
-    """``A[r, m] = sum_mask w(mask) [lambda_r == m]`` modulo each prime."""
+    """``A[r, m] = sum_mask w(mask) [lambda_r == m]`` modulo each prime.
+
+    Memory: the ``uint32`` residue table of :func:`forward_counts_mod` is
+    reused in place; everything else is done in blocks of ``2**18`` masks.
+    """
     P = len(primes)
     pvec = np.asarray(primes, dtype=np.int64)
     G = forward_counts_mod(n, primes, progress)
+    size = 1 << n
     # w(mask) = f(mask) f(~mask) is complement-symmetric; fill in place, blockwise
-    half, block = (1 << n) // 2, 1 << 18
-    for lo in range(0, max(half, 1), block):
-        hi = min(lo + block, half) if half else 1
-        a = G[lo:hi].astype(np.int64)
-        b = G[(1 << n) - hi : (1 << n) - lo][::-1].astype(np.int64)
-        w = a * b % pvec
+    half, block = size // 2, 1 << _BLOCK_BITS
+    for lo in range(0, half, block):
+        hi = min(lo + block, half)
+        w = G[lo:hi].astype(np.int64) * G[size - hi : size - lo][::-1] % pvec
         G[lo:hi] = w
-        G[(1 << n) - hi : (1 << n) - lo] = w[::-1]
+        G[size - hi : size - lo] = w[::-1]
     A = np.zeros((n + 2, n + 1, P), dtype=np.int64)
-    pc_full = _popcount(np.arange(1 << max(n - 1, 0), dtype=np.int64))
-    pc_order = np.argsort(pc_full, kind="stable")
     for pos in range(n):
-        k = n - pos - 1  # bits above pos
-        G2 = G.reshape(-1, 2, P)
-        idx = pc_order[pc_order < (1 << k)] if k < n - 1 else pc_order
-        counts = np.bincount(pc_full[: 1 << k], minlength=k + 1)
-        starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
-        # masks with part pos+1, grouped by the number of larger parts
-        sums = np.add.reduceat(G2[idx, 1, :].astype(np.int64), starts, axis=0) % pvec
-        A[1 : k + 2, pos + 1] = sums
-        G = ((G2[:, 0, :].astype(np.int64) + G2[:, 1, :]) % pvec).astype(np.uint32)
-    A[0, 0] = G.reshape(P)  # grand total, sum of all w
+        k = n - pos - 1  # bits above pos; G is indexed by mask >> pos
+        G2 = G[: 2 << k].reshape(-1, 2, P)
+        bits = min(k, _BLOCK_BITS)
+        order, starts = _popcount_groups(bits)
+        for h0 in range(0, 1 << k, 1 << bits):
+            h1 = h0 + (1 << bits)
+            # masks with part pos+1, grouped by the number of larger parts
+            H = G2[h0:h1, 1, :].astype(np.int64)
+            sums = np.add.reduceat(H[order], starts, axis=0) % pvec
+            shift = int(h0).bit_count()
+            A[1 + shift : 2 + shift + bits, pos + 1] += sums
+            # sum over the bit pos, in place: G[h] <- G[2h] + G[2h+1]
+            G[h0:h1] = (G2[h0:h1, 0, :].astype(np.int64) + H) % pvec
+        A[:, pos + 1] %= pvec
+    A[0, 0] = G[0]  # grand total, sum of all w
     return A
 
 
@@ -290,7 +306,7 @@ def marked_chain_sums(n: int, primes, initial, update, progress=None) -> np.ndar
     F[0] = update(np.zeros(1, dtype=np.int64), start)[0] % pvec
     d = n * (n + 1) // 2
     for k in range(1, d + 1):
-        masks = order[bounds[k] : bounds[k + 1]]
+        masks = order[bounds[k] : bounds[k + 1]].astype(np.int64)
         acc = np.zeros((masks.size, n_states, P), dtype=np.int64)
         for sel, pred in _predecessor_moves(masks, n):
             acc[sel] += F[pred]

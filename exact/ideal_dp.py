@@ -106,7 +106,7 @@ def forward_counts_mod(n: int, primes, progress=None) -> np.ndarray:
     --------
     >>> f = forward_counts_mod(3, (97,))
     >>> f[:, 0].tolist()  # shapes {}, (1), (2), (2,1), (3), (3,1), (3,2), (3,2,1)
-    [1, 1, 1, 1, 1, 1, 2, 2]
+    [1, 1, 1, 1, 1, 2, 2, 2]
     """
     order, bounds = ideal_levels(n)
     P = len(primes)

@@ -134,7 +134,7 @@ def _rising(x: int, s: int) -> int:
     return out
 
 
-def moment_table(N: int, s: int = 2, *, batch: int = 64, progress=None) -> list[list[Fraction]]:
+def moment_table(N: int, s: int = 2, *, memory_bytes: int = 4 * 2**30, progress=None) -> list[list[Fraction]]:
     """Exact ``<W_{i,j}^s>`` for every grain.
 
     One forward pass over the ideal lattice per batch of grains; the state of a
@@ -144,7 +144,7 @@ def moment_table(N: int, s: int = 2, *, batch: int = 64, progress=None) -> list[
     Examples
     --------
     >>> [str(x) for x in moment_table(4, 2)[-1]]
-    ['1/21', '8/63', '8/63', '1/21']
+    ['1/28', '9/56', '9/56', '1/28']
     """
     N = check_layers(N)
     s = _check_order(s)
@@ -155,6 +155,8 @@ def moment_table(N: int, s: int = 2, *, batch: int = 64, progress=None) -> list[
         return [[Fraction(1)]]
     lam = parts_table(n)
     primes = primes_for_bound(total * comb(d + s, s))
+    per_grain = (1 << n) * (s + 1) * len(primes) * 8 * 3  # state table and temporaries
+    batch = max(1, min(len(grains), memory_bytes // per_grain))
     values = {}
     for start in range(0, len(grains), batch):
         chunk = grains[start : start + batch]
@@ -223,7 +225,7 @@ def correlation(N: int, grain1, grain2) -> Fraction:
     Examples
     --------
     >>> correlation(4, (4, 1), (4, 4))
-    Fraction(1, 63)
+    Fraction(1, 56)
     >>> correlation(4, (4, 2), (4, 2)) == moment(4, (4, 2), 2)
     True
 
@@ -264,7 +266,7 @@ def covariance(N: int, grain1, grain2) -> Fraction:
     Examples
     --------
     >>> covariance(4, (4, 1), (4, 4))
-    Fraction(-1, 441)
+    Fraction(-1, 392)
     """
     N = check_layers(N)
     g1 = check_grain(N, grain1, "grain1")
@@ -278,7 +280,7 @@ def variance_table(N: int) -> list[list[Fraction]]:
     Examples
     --------
     >>> [str(x) for x in variance_table(4)[-1]]
-    ['1/441', '5/441', '5/441', '1/441']
+    ['3/196', '13/392', '13/392', '3/196']
     """
     means = mean_W(N)
     second = moment_table(N, 2)

@@ -229,8 +229,8 @@ def count(N: int) -> int:
     --------
     >>> [count(N) for N in range(2, 9)]
     [1, 1, 2, 12, 286, 33592, 23178480]
-    >>> count(40) % 10**12
-    0
+    >>> count(9)
+    108995910720
 
     References
     ----------

@@ -1,0 +1,101 @@
+"""The command line contract of the exact core."""
+
+import json
+import os
+import subprocess
+import sys
+from fractions import Fraction
+
+import pytest
+
+from exact import count, count_by_hooks, mean_W, moment_table, normalization
+from forcenet.cli import main
+
+
+def run(argv, capsys):
+    code = main(argv)
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_count_prints_one_integer(capsys):
+    code, out, _ = run(["count", "--N", "40"], capsys)
+    assert code == 0
+    assert out.strip() == str(count_by_hooks(40))
+
+
+def test_table_json_schema_and_values(capsys):
+    code, out, _ = run(["table", "--N", "7", "--format", "json"], capsys)
+    assert code == 0
+    data = json.loads(out)
+    assert set(data) == {"N", "count", "normalization", "mean_W"}
+    assert data["N"] == 7 and int(data["count"]) == count(7)
+    assert Fraction(data["normalization"]) == normalization(7)
+    assert [len(r) for r in data["mean_W"]] == list(range(1, 8))
+    assert [[Fraction(x) for x in r] for r in data["mean_W"]] == mean_W(7)
+    assert data["mean_W"][0] == ["1"]
+
+
+def test_table_json_with_second_moments(capsys):
+    code, out, _ = run(["table", "--N", "5", "--format", "json", "--moments", "2"], capsys)
+    data = json.loads(out)
+    assert [[Fraction(x) for x in r] for r in data["mean_W2"]] == moment_table(5, 2)
+
+
+def test_csv_and_latex(tmp_path, capsys):
+    target = tmp_path / "t.csv"
+    code, out, _ = run(["table", "--N", "4", "--format", "csv", "--out", str(target)], capsys)
+    assert code == 0 and out == ""
+    lines = target.read_text().splitlines()
+    assert lines[0] == "i,j,mean_W" and len(lines) == 1 + 10
+    assert lines[-1] == "4,4," + str(mean_W(4)[3][3])
+    assert os.listdir(tmp_path) == ["t.csv"]  # no temporary file left behind
+    code, out, _ = run(["table", "--N", "4", "--format", "latex"], capsys)
+    assert r"\begin{tabular}" in out and r"\frac{1}{7}" in out
+
+
+@pytest.mark.parametrize(
+    "argv, needle",
+    [
+        (["table", "--N", "1"], "N=1 is out of range"),
+        (["table", "--N", "x"], "N='x' is not an integer"),
+        (["count", "--N", "0"], "N must be an integer >= 2"),
+        (["table", "--N", "45", "--format", "json"], "N=45 is out of range"),
+        (["table", "--N", "36", "--format", "json"], "N must be in 2.."),
+        (["table", "--N", "5", "--moments", "0"], "moments=0 is out of range"),
+    ],
+)
+def test_bad_input_is_one_line_exit_2(argv, needle, tmp_path):
+    out_file = tmp_path / "never.json"
+    proc = subprocess.run(
+        [sys.executable, "-m", "forcenet", *argv, "--out", str(out_file)] if argv[0] == "table" else [sys.executable, "-m", "forcenet", *argv],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 2
+    assert needle in proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1
+    assert "Traceback" not in proc.stderr
+    assert not out_file.exists()
+
+
+def test_main_job_writes_three_files_and_cross_checks(tmp_path, capsys):
+    code, out, _ = run(["table", "--N", "6", "--out-dir", str(tmp_path), "--samples", "4000", "--seed", "7"], capsys)
+    assert code == 0
+    assert sorted(os.listdir(tmp_path)) == ["mean_W_N6.csv", "mean_W_N6.json", "mean_W_N6.tex"]
+    data = json.loads((tmp_path / "mean_W_N6.json").read_text())
+    assert [[Fraction(x) for x in r] for r in data["mean_W"]] == mean_W(6)
+    assert "413/2288" in out  # <W_{6,2}>, Ostojic (2006)
+    assert "agrees within 5 standard errors" in out
+
+
+def test_interrupted_write_leaves_nothing(tmp_path, monkeypatch):
+    from exact import tables
+
+    def interrupted(src, dst):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(tables.os, "replace", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        tables.write_atomic(tmp_path / "table.json", "{}")
+    assert os.listdir(tmp_path) == []

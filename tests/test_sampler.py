@@ -1,0 +1,78 @@
+"""The exact sampler: uniformity of tableaux and agreement with exact moments."""
+
+from collections import Counter
+
+import mpmath
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from exact import mean_W, moment_table
+from exact.brute import partial_sum_poset
+from numeric.exact_sampler import ExactSampler, removal_probabilities, sample_tableaux
+
+
+def chi_square_pvalue(observed, expected):
+    stat = sum((o - e) ** 2 / e for o, e in zip(observed, expected))
+    dof = len(observed) - 1
+    return float(mpmath.gammainc(dof / 2, stat / 2, mpmath.inf, regularized=True))
+
+
+@pytest.mark.parametrize("N, per_tableau", [(4, 3000), (5, 1500), (6, 150)])
+def test_tableaux_are_uniform(N, per_tableau):
+    import networkx as nx
+
+    from exact.staircase import grain_to_cell
+
+    extensions = list(nx.all_topological_sorts(partial_sum_poset(N)))
+    K = per_tableau * len(extensions)
+    T = sample_tableaux(N, K, np.random.default_rng(12345))
+    # encode each sampled tableau as the order of partial sums, compare with enumeration
+    keys = Counter()
+    cells = [(i, j) for i in range(2, N + 1) for j in range(1, i)]
+    for t in T:
+        ranks = {g: t[grain_to_cell(N, *g)] for g in cells}
+        keys[tuple(sorted(cells, key=ranks.get))] += 1
+    assert set(keys) <= {tuple(e) for e in extensions}
+    observed = [keys[tuple(e)] for e in extensions]
+    assert chi_square_pvalue(observed, [K / len(extensions)] * len(extensions)) > 1e-4
+
+
+@given(st.lists(st.integers(min_value=1, max_value=12), min_size=1, max_size=6, unique=True))
+def test_removal_probabilities_sum_to_one(parts):
+    parts = sorted(parts, reverse=True)
+    p = removal_probabilities(np.array([parts + [0] * (6 - len(parts))]))
+    assert abs(p.sum() - 1) < 1e-12
+    assert (p >= 0).all()
+
+
+def _as_array(table, N):
+    return np.array([[float(x) for x in row] + [0.0] * (N - len(row)) for row in table])
+
+
+@given(st.integers(min_value=3, max_value=9), st.integers(min_value=0, max_value=2**32 - 1))
+def test_sampled_moments_within_five_standard_errors(N, seed):
+    res = ExactSampler(N, seed=seed).moments(4000, orders=(1, 2))
+    for s, exact in ((1, mean_W(N)), (2, moment_table(N, 2))):
+        mean, stderr = res[s]
+        ex = _as_array(exact, N)
+        free = stderr > 0
+        assert np.all(np.abs(mean - ex)[free] <= 5 * stderr[free])
+        assert np.allclose(mean[~free], ex[~free])  # deterministic grains (W_11 = 1)
+
+
+def test_samples_are_points_of_the_ensemble():
+    N = 6
+    W = ExactSampler(N, seed=3).sample_W(50)
+    for w in W:
+        S = [np.concatenate([[0.0], np.cumsum(w[i - 1, :i])]) for i in range(1, N + 1)]
+        for i in range(2, N + 1):
+            assert abs(S[i - 1][i] - 1) < 1e-12  # the row carries the overload
+            for j in range(1, i):  # interlacing S_{i-1,j-1} <= S_{i,j} <= S_{i-1,j}
+                assert S[i - 2][j - 1] - 1e-12 <= S[i - 1][j] <= S[i - 2][j] + 1e-12
+
+
+def test_too_few_samples_for_an_error_bar():
+    with pytest.raises(ValueError, match="samples"):
+        ExactSampler(4, seed=0).mean_W(1)

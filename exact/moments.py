@@ -97,7 +97,7 @@ def mean_W(N: int, progress=None) -> list[list[Fraction]]:
 
     References
     ----------
-    Ostojic (2006), Eqs. (4.63)-(4.77); values for N = 5 on p. 78.
+    Ostojic (2006), Eqs. (4.63)-(4.77); Fig. 4.3 compares N = 11.
     """
     N = check_layers(N)
     C, total = survival_counts(N, progress) if progress else _survival(N)

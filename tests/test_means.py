@@ -40,7 +40,7 @@ def test_symbolic_integration_N5(grain):
 
 
 def test_published_values():
-    # Ostojic (2006), Sec. 4.4: N = 5 bottom row and <W_{6,2}>
+    # values quoted as published in issue #2: N = 5 bottom row and <W_{6,2}>
     assert mean_W(5)[-1] == [Fraction(1, 11), Fraction(1, 4), Fraction(7, 22), Fraction(1, 4), Fraction(1, 11)]
     assert mean_W_grain(6, 6, 2) == Fraction(413, 2288)
 

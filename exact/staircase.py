@@ -167,33 +167,49 @@ def count_by_hooks(N: int) -> int:
     return shifted_tableaux_count(tuple(range(N - 1, 0, -1)))
 
 
-def _prime_exponents_of_count(N: int) -> list[tuple[int, int]]:
-    """Prime factorisation of ``d! * prod_{k<n} k!/(2k+1)!``."""
+def _primes_upto(top: int):
     import numpy as np
 
-    n = N - 1
-    d = n * (n + 1) // 2
-    top = max(d, 2 * n, 2)
     sieve = np.ones(top + 1, dtype=bool)
     sieve[:2] = False
     for p in range(2, int(top**0.5) + 1):
         if sieve[p]:
             sieve[p * p :: p] = False
+    return np.flatnonzero(sieve).astype(np.int64)
+
+
+def _exponents_of_denominator(n: int, primes):
+    """``v_p`` of ``D = prod_{k<n} (2k+1)!/k!`` for each prime (``normalization = 1/D``)."""
+    import numpy as np
+
     ks = np.arange(n, dtype=np.int64)
-    out = []
-    for p in np.flatnonzero(sieve).tolist():
-        e = 0
+    exps = np.zeros(primes.size, dtype=np.int64)
+    for idx in np.flatnonzero(primes <= max(2 * n - 1, 1)):
+        p = int(primes[idx])
         q = p
-        while q <= d:  # Legendre: v_p(d!)
-            e += d // q
+        while q <= 2 * n:
+            exps[idx] += int(((2 * ks + 1) // q).sum() - (ks // q).sum())
             q *= p
-        q = p
-        while q <= 2 * n:  # sum_k v_p(k!) - v_p((2k+1)!)
-            e += int((ks // q).sum() - ((2 * ks + 1) // q).sum())
-            q *= p
-        if e:
-            out.append((p, e))
-    return out
+    return exps
+
+
+def _prime_exponents_of_count(N: int) -> list[tuple[int, int]]:
+    """Prime factorisation of ``count = d! / D`` (Legendre's formula)."""
+    import numpy as np
+
+    n = N - 1
+    d = n * (n + 1) // 2
+    primes = _primes_upto(max(d, 2 * n, 2))
+    exps = np.zeros(primes.size, dtype=np.int64)
+    power = primes.copy()
+    alive = power <= d
+    while alive.any():  # v_p(d!) = sum_k floor(d / p^k), all primes at once
+        exps[alive] += d // power[alive]
+        power[alive] *= primes[alive]
+        alive &= power <= d
+    exps -= _exponents_of_denominator(n, primes)
+    keep = exps > 0
+    return list(zip(primes[keep].tolist(), exps[keep].tolist()))
 
 
 def _product_tree(factors):
@@ -206,13 +222,33 @@ def _product_tree(factors):
     return factors[0]
 
 
+def _prime_power_product(factorisation) -> int:
+    """``prod p**e`` by binary splitting of the exponents (python-flint if installed)."""
+    try:
+        import flint
+
+        make = flint.fmpz
+    except ImportError:  # pure Python fallback
+        make = int
+    factorisation = [(p, e) for p, e in factorisation if e]
+    if not factorisation:
+        return 1
+    result = make(1)
+    for bit in range(max(e for _, e in factorisation).bit_length() - 1, -1, -1):
+        result = result * result
+        chosen = [make(p) for p, e in factorisation if e >> bit & 1]
+        if chosen:
+            result *= _product_tree(chosen)
+    return int(result)
+
+
 @lru_cache(maxsize=64)
 def count(N: int) -> int:
     """Number of standard shifted tableaux of staircase shape ``(N-1, ..., 1)``.
 
     This is ``d! * normalization(N)`` with ``d = N (N - 1) / 2``: the number of
     linear extensions of the poset of partial sums, i.e. the integer sum of the
-    Lambda recursion in Eq. (4.1).  Closed form:
+    Lambda recursion in Eq. (4.1).  Closed form
     ``d! * prod_{k=0}^{N-2} k! / (2k + 1)!``, evaluated from its prime
     factorisation (python-flint's multiplication when installed).
 
@@ -237,19 +273,16 @@ def count(N: int) -> int:
     Ostojic (2006), Eq. (4.1); OEIS A003121.
     """
     N = check_layers(N)
-    factors = _prime_exponents_of_count(N)
-    try:
-        import flint
-    except ImportError:  # pure Python fallback
-        return _product_tree(p**e for p, e in factors)
-    return int(_product_tree(flint.fmpz(p) ** e for p, e in factors))
+    return _prime_power_product(_prime_exponents_of_count(N))
 
 
+@lru_cache(maxsize=64)
 def normalization(N: int) -> Fraction:
     """Volume of the force network ensemble of the triangle in W-coordinates.
 
-    Eq. (4.1)/(4.51): ``normalization = count(N) / d!``, equal to
-    ``prod_{k=0}^{N-2} k! / (2k + 1)!``.
+    Eq. (4.1)/(4.51): ``normalization = count(N) / d!``, which equals
+    ``prod_{k=0}^{N-2} k! / (2k + 1)! = 1 / D`` with the integer
+    ``D = prod_k (k+1)(k+2)...(2k+1)``.
 
     Examples
     --------
@@ -259,5 +292,7 @@ def normalization(N: int) -> Fraction:
     Fraction(1, 302400)
     """
     N = check_layers(N)
-    d = N * (N - 1) // 2
-    return Fraction(count(N), factorial(d))
+    n = N - 1
+    primes = _primes_upto(max(2 * n, 2))
+    exps = _exponents_of_denominator(n, primes)
+    return Fraction(1, _prime_power_product(zip(primes.tolist(), exps.tolist())))

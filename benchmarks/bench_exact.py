@@ -60,7 +60,8 @@ def measure(method: str, N: int, timeout: float):
     except subprocess.TimeoutExpired:
         return None, f"> {timeout:.0f} s"
     if proc.returncode:
-        return None, "error: " + proc.stderr.strip().splitlines()[-1]
+        lines = proc.stderr.strip().splitlines()
+        return None, f"failed (exit code {proc.returncode}" + (f": {lines[-1]}" if lines else "") + ")"
     return json.loads(proc.stdout.strip().splitlines()[-1]), None
 
 
@@ -77,7 +78,7 @@ def main(argv=None):
         fast = None
         for method in args.methods:
             if method in gave_up:
-                print(f"| {N} | {method} | skipped (timed out at smaller N) | | |")
+                print(f"| {N} | {method} | skipped (timed out or failed at a smaller N) | | |")
                 continue
             result, problem = measure(method, N, args.timeout)
             if problem:

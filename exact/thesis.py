@@ -1,0 +1,339 @@
+"""The thesis's own route (chapter 4): integer recursions and map counting.
+
+Reconstructed from the extracted text of Ostojic (2006); every formula here is
+checked against the exact core in ``tests/test_thesis.py`` and derived in
+``notes/chapter4.md``.
+
+* :func:`integral_I` and :func:`gamma_coefficient`: the centrepiece integral
+  (4.14)-(4.15).
+* :func:`index_tuples`: the index range (4.32): ``j_1 in {1, 2}``,
+  ``1 <= j_l <= l + j_{l-1}``.
+* :func:`lambda_table`: the integers ``Lambda^(p)`` of (4.2)/(4.50),
+  ``Lambda^(2)_{j1 j2} = delta(j2, 1)``,
+  ``Lambda^(p+1)_j = delta(j_{p+1}, 1) sum_k Lambda^(p)_k prod_{l<=p} theta(j_{l+1} - k_l)``.
+* :func:`count_lambda`, :func:`normalization_lambda`: Eq. (4.51).
+* :func:`boundary_mean_W`: ``<W_{N-q,1}>`` from Eq. (4.67)-(4.68).
+* :func:`maps`, :func:`count_maps`, :func:`maps_by_bottom_row`: the maps ``h``
+  of Sec. 4.6, Eqs. (4.86)-(4.89); :func:`map_from_tableau`: a bijection from
+  standard shifted staircase tableaux onto them.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from fractions import Fraction
+from functools import lru_cache
+from math import factorial
+
+import numpy as np
+
+from .staircase import check_layers
+
+__all__ = [
+    "gamma_coefficient",
+    "integral_I",
+    "index_tuples",
+    "lambda_table",
+    "count_lambda",
+    "normalization_lambda",
+    "boundary_mean_W",
+    "maps",
+    "count_maps",
+    "maps_by_bottom_row",
+    "map_from_tableau",
+    "is_map",
+]
+
+
+def gamma_coefficient(m: int, n: int, k: int) -> Fraction:
+    """``gamma^{m-k}_{m,n} = m! n! / ((n + k + 1)! (m - k)!)``, Eq. (4.15).
+
+    Examples
+    --------
+    >>> gamma_coefficient(1, 1, 1)
+    Fraction(1, 6)
+    """
+    if not 0 <= k <= m:
+        raise ValueError(f"k={k}: need 0 <= k <= m={m}")
+    return Fraction(factorial(m) * factorial(n), factorial(n + k + 1) * factorial(m - k))
+
+
+def integral_I(m: int, n: int, a, b):
+    """``I_mn(a, b) = int_a^b x^m (b - x)^n dx``, evaluated by Eq. (4.14).
+
+    ``I_mn(a, b) = sum_{k=0}^{m} gamma^{m-k}_{m,n} (b - a)^{n+1+k} a^{m-k}``.
+    ``a`` and ``b`` may be numbers or sympy expressions.
+
+    Examples
+    --------
+    >>> integral_I(1, 1, 0, 1)
+    Fraction(1, 6)
+    >>> integral_I(2, 0, 1, 2)
+    Fraction(7, 3)
+    """
+    total = 0
+    for k in range(m + 1):
+        total += gamma_coefficient(m, n, k) * (b - a) ** (n + 1 + k) * a ** (m - k)
+    return total
+
+
+def index_tuples(p: int):
+    """All tuples ``(j_1, ..., j_p)`` in the range (4.32).
+
+    Examples
+    --------
+    >>> list(index_tuples(2))
+    [(1, 1), (1, 2), (1, 3), (2, 1), (2, 2), (2, 3), (2, 4)]
+    """
+
+    def extend(prefix):
+        l = len(prefix) + 1
+        if l > p:
+            yield prefix
+            return
+        top = 2 if l == 1 else l + prefix[-1]
+        for j in range(1, top + 1):
+            yield from extend(prefix + (j,))
+
+    yield from extend(())
+
+
+def _axis_lengths(m: int) -> tuple[int, ...]:
+    """Range of ``j_l`` in (4.32) for ``l = 1..m``: ``j_l <= l(l+1)/2 + 1``."""
+    return tuple(l * (l + 1) // 2 + 1 for l in range(1, m + 1))
+
+
+def _valid_mask(m: int) -> np.ndarray:
+    """Boolean box of the index range (4.32) for tuples of length ``m``."""
+    shape = _axis_lengths(m)
+    mask = np.ones(shape, dtype=bool)
+    for l in range(2, m + 1):  # j_l <= l + j_{l-1}, 0-based: b <= l + a
+        a = np.arange(shape[l - 2]).reshape([-1 if ax == l - 2 else 1 for ax in range(m)])
+        b = np.arange(shape[l - 1]).reshape([-1 if ax == l - 1 else 1 for ax in range(m)])
+        mask &= b <= l + a
+    return mask
+
+
+def _lambda_boxes(p: int, dtype, reduce):
+    """``Lambda^(p)`` on the box of its first ``p - 1`` indices (the last is 1).
+
+    ``reduce`` maps an array to canonical values (``% primes`` or identity).
+    The nested sum of (4.50) is a dominance prefix sum: cumulative sums along
+    every axis, then each ``Lambda^(p+1)_{(j_1, v, 1)}`` reads the sum at
+    ``v = (j_2, ..., j_p)``, clipped to the box (no keys lie beyond it).
+    """
+    L = np.ones((), dtype=dtype)  # Lambda^(1)_{(1)} = 1: an empty box
+    for q in range(1, p):  # build Lambda^(q+1) from Lambda^(q)
+        D = L
+        for axis in range(D.ndim):
+            D = reduce(np.cumsum(D, axis=axis, dtype=dtype))
+        target = _axis_lengths(q)  # box of (j_1, ..., j_q) of Lambda^(q+1)
+        pad = [(0, t - s) for s, t in zip(D.shape, target[1:])]
+        D = np.pad(D, pad, mode="edge") if D.ndim else D
+        L = np.broadcast_to(D, target).copy() * _valid_mask(q)
+    return L
+
+
+@lru_cache(maxsize=16)
+def lambda_table(p: int) -> dict[tuple[int, ...], int]:
+    """Non-zero ``Lambda^(p)_{j_1..j_p}`` of Eqs. (4.2)/(4.50), ``p >= 1``, exact.
+
+    ``Lambda^(1)_{(1)} = 1`` starts the recursion (it reproduces
+    ``Lambda^(2)_{j1 j2} = delta(j2, 1)``).  Entries vanish unless ``j_p = 1``;
+    the nested sum over ``k`` is evaluated as a dominance prefix sum
+    (:func:`_lambda_boxes`), with Python integers (object arrays).  Meant for
+    ``p <= 8``; :func:`count_lambda` uses modular arithmetic beyond.
+
+    Examples
+    --------
+    >>> lambda_table(2)
+    {(1, 1): 1, (2, 1): 1}
+    >>> sum(lambda_table(4).values())
+    286
+    """
+    if p < 1:
+        raise ValueError(f"p={p}: need p >= 1")
+    L = _lambda_boxes(p, object, lambda a: a)
+    if L.ndim == 0:
+        return {(1,): int(L)}
+    return {tuple(int(x) + 1 for x in idx) + (1,): int(L[idx]) for idx in zip(*np.nonzero(L))}
+
+
+@lru_cache(maxsize=16)
+def _lambda_weighted_sums(N: int):
+    """Exact ``sum_j Lambda^(N-2)_j`` and ``sum_j j_a Lambda^(N-2)_j`` for every axis ``a``.
+
+    Multi-modular (numpy ``int64``, primes below ``2**31``) with CRT.
+    """
+    from .modular import crt, primes_for_bound
+    from .staircase import count
+
+    p = N - 2
+    d = N * (N - 1) // 2
+    primes = primes_for_bound(d * d * count(N))
+    per_prime = []
+    for prime in primes:
+        L = _lambda_boxes(p, np.int64, lambda a, prime=prime: a % prime)
+        total = int(L.sum() % prime)
+        moments = []
+        for axis in range(L.ndim):
+            marginal = L.sum(axis=tuple(ax for ax in range(L.ndim) if ax != axis)) % prime
+            moments.append(int((marginal * np.arange(1, marginal.size + 1)).sum() % prime))
+        per_prime.append([total] + moments)
+    columns = list(zip(*per_prime))
+    return [crt(col, primes) for col in columns]
+
+
+def count_lambda(N: int) -> int:
+    """``sum_j Lambda^(N-2)_j``, the integer of Eq. (4.1)/(4.51).
+
+    Examples
+    --------
+    >>> [count_lambda(N) for N in range(3, 8)]
+    [1, 2, 12, 286, 33592]
+    """
+    N = check_layers(N)
+    if N <= 3:
+        return 1
+    return _lambda_weighted_sums(N)[0]
+
+
+def normalization_lambda(N: int) -> Fraction:
+    """Eq. (4.51): ``normalization = sum Lambda^(N-2) / (N(N-1)/2)!``.
+
+    Examples
+    --------
+    >>> normalization_lambda(5)
+    Fraction(1, 302400)
+    """
+    N = check_layers(N)
+    return Fraction(count_lambda(N), factorial(N * (N - 1) // 2))
+
+
+def boundary_mean_W(N: int, q: int) -> Fraction:
+    """``<W_{N-q,1}>`` on the left boundary, Eqs. (4.67)-(4.68).
+
+    ``<W_{N-q,1}> = sum_j (q(q+1)/2 + 2 - j_{q-1}) Lambda^(N-2)_j / ((d+1) sum_j Lambda^(N-2)_j)``
+    for ``1 <= q <= N-2`` with ``j_0 = 1``; ``<W_{N,1}> = <W_{N-1,1}> / 2``;
+    ``W_{1,1} = 1``.
+
+    Examples
+    --------
+    >>> [boundary_mean_W(5, q) for q in range(5)]
+    [Fraction(1, 11), Fraction(2, 11), Fraction(41, 132), Fraction(1, 2), Fraction(1, 1)]
+    """
+    N = check_layers(N)
+    if not 0 <= q <= N - 1:
+        raise ValueError(f"q={q} is out of range: q must be in 0..N-1={N - 1}")
+    if q == N - 1:
+        return Fraction(1)
+    if q == 0:
+        return boundary_mean_W(N, 1) / 2
+    d = N * (N - 1) // 2
+    sums = _lambda_weighted_sums(N)  # [sum Lambda, sum j_1 Lambda, sum j_2 Lambda, ...]
+    total = sums[0]
+    j_sum = total if q == 1 else sums[q - 1]  # j_0 = 1
+    return Fraction((q * (q + 1) // 2 + 2) * total - j_sum, (d + 1) * total)
+
+
+# ---------------------------------------------------------------- maps (4.86)-(4.89)
+
+
+def is_map(h: dict[int, tuple[int, ...]], p: int) -> bool:
+    """True if ``h`` (row ``l`` -> tuple of length ``l``, ``l = 1..p``) is a map of Sec. 4.6.
+
+    Conditions: ``h(1,1) = 1``; ``1 <= h(l,1) <= 2``; ``1 <= h(l,k) <= k + h(l,k-1)``
+    (4.86); ``h(l,l) = 1`` (the ``delta`` of (4.87)); ``h(l-1,k) <= h(l,k+1)`` (4.89).
+    """
+    for l in range(1, p + 1):
+        row = h.get(l)
+        if row is None or len(row) != l:
+            return False
+        if not 1 <= row[0] <= (1 if l == 1 else 2):
+            return False
+        if any(not 1 <= row[k] <= (k + 1) + row[k - 1] for k in range(1, l)):
+            return False
+        if row[-1] != 1:
+            return False
+        if l >= 2 and any(h[l - 1][k] > row[k + 1] for k in range(l - 1)):
+            return False
+    return True
+
+
+def maps(N: int):
+    """Generate all maps ``h`` for ``p = N - 2`` (rows ``l = 1..p``).
+
+    Examples
+    --------
+    >>> [m for m in maps(4)]
+    [{1: (1,), 2: (1, 1)}, {1: (1,), 2: (2, 1)}]
+    """
+    N = check_layers(N, minimum=3)
+    p = N - 2
+    rows = {l: [j for j in index_tuples(l) if j[-1] == 1 and (l > 1 or j == (1,))] for l in range(1, p + 1)}
+
+    def extend(h, l):
+        if l > p:
+            yield dict(h)
+            return
+        for row in rows[l]:
+            if l == 1 or all(h[l - 1][k] <= row[k + 1] for k in range(l - 1)):
+                h[l] = row
+                yield from extend(h, l + 1)
+        h.pop(l, None)
+
+    yield from extend({}, 1)
+
+
+def count_maps(N: int) -> int:
+    """``Z_{N-2}``: the number of maps (Sec. 4.6), by enumeration.
+
+    Examples
+    --------
+    >>> count_maps(6)
+    286
+    """
+    return sum(1 for _ in maps(N))
+
+
+def maps_by_bottom_row(N: int) -> Counter:
+    """Number of maps for each value of the last row ``h(N-2, .)`` (= ``Lambda^(N-2)``, Eq. 4.88).
+
+    Examples
+    --------
+    >>> sorted(maps_by_bottom_row(4).items())
+    [((1, 1), 1), ((2, 1), 1)]
+    """
+    N = check_layers(N, minimum=3)
+    return Counter(h[N - 2] for h in maps(N))
+
+
+def map_from_tableau(N: int, T: dict[tuple[int, int], int]) -> dict[int, tuple[int, ...]]:
+    """The map ``h`` of a standard shifted staircase tableau (a bijection).
+
+    ``T`` maps cells ``(r, c)``, ``1 <= r <= c <= N-1``, to entries ``1..d``.
+    Row ``l`` of ``h`` describes tableau row ``r = N - 1 - l``:
+    ``h(l, k) = 1 + #{cells (r', c') : r' >= r, c' < c, T(r', c') > T(r, c)}``
+    with ``c = r + 1 + k``, and ``h(l, l) = 1``.  On the first tableau row this
+    is Eq. (4.67)'s ``T(1, q+1) = q(q+1)/2 + 2 - h(N-2, q-1)``.
+
+    Examples
+    --------
+    >>> T = {(1, 1): 1, (1, 2): 2, (1, 3): 3, (2, 2): 4, (2, 3): 5, (3, 3): 6}
+    >>> map_from_tableau(4, T)
+    {1: (1,), 2: (2, 1)}
+    """
+    N = check_layers(N, minimum=3)
+    n, p = N - 1, N - 2
+    h = {}
+    for l in range(1, p + 1):
+        r = n - l
+        row = []
+        for k in range(1, l):
+            c = r + 1 + k
+            later = sum(
+                1 for (r2, c2), t in T.items() if r2 >= r and c2 < c and t > T[(r, c)]
+            )
+            row.append(1 + later)
+        h[l] = tuple(row) + (1,)
+    return h

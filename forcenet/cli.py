@@ -1,4 +1,4 @@
-"""Command line interface: ``forcenet count|table``.
+"""Command line interface: ``forcenet count|table|maps``.
 
 Examples (shell)::
 
@@ -6,6 +6,7 @@ Examples (shell)::
     forcenet table --N 12                   # JSON + CSV + LaTeX files, summary, MC check
     forcenet table --N 12 --format json     # the exact table on stdout
     forcenet table --N 9 --format csv --moments 2 --out table.csv
+    forcenet maps --N 8                     # Z_(N-2) and maps per bottom row
 """
 
 from __future__ import annotations
@@ -182,6 +183,30 @@ def _cmd_table(args):
     return 0
 
 
+_MAPS_MAX_N = 10
+
+
+def _cmd_maps(args):
+    import json
+
+    from exact.thesis import lambda_table
+
+    N = args.N
+    if not 3 <= N <= _MAPS_MAX_N:
+        raise UsageError(f"N={N} is out of range for maps: N must be in 3..{_MAPS_MAX_N}")
+    table = lambda_table(N - 2)  # maps per bottom row h(N-2, .), Eq. (4.88)
+    Z = sum(table.values())
+    if args.format == "json":
+        rows = [{"bottom_row": list(j), "maps": str(v)} for j, v in sorted(table.items())]
+        print(json.dumps({"N": N, "Z": str(Z), "by_bottom_row": rows}))
+        return 0
+    print(f"Z_{N - 2} = {Z}  (maps h of Sec. 4.6 for N = {N}; equals the tableaux count)")
+    print(f"maps per bottom row h(N-2, 1..N-2), {len(table)} rows with maps:")
+    for j, v in sorted(table.items()):
+        print(" ".join(f"{x:2d}" for x in j), ":", v)
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="forcenet", description="Exact results for the force network ensemble.")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -199,6 +224,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--samples", type=int, default=20000, help="exact-sampler samples of the cross-check (0: none)")
     p.add_argument("--seed", type=int, default=2006, help="seed of the cross-check")
     p.set_defaults(func=_cmd_table)
+
+    p = sub.add_parser("maps", help="Z_(N-2) and the number of maps h per bottom row (Sec. 4.6)")
+    p.add_argument("--N", type=_layers, required=True, help=f"number of layers (3..{_MAPS_MAX_N})")
+    p.add_argument("--format", choices=["text", "json"], default="text")
+    p.set_defaults(func=_cmd_maps)
     return parser
 
 
@@ -215,6 +245,9 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("forcenet: interrupted; no partial output was written", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # e.g. `forcenet maps --N 9 | head`
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -99,3 +99,15 @@ def test_interrupted_write_leaves_nothing(tmp_path, monkeypatch):
     with pytest.raises(KeyboardInterrupt):
         tables.write_atomic(tmp_path / "table.json", "{}")
     assert os.listdir(tmp_path) == []
+
+
+def test_maps_command(capsys):
+    from exact.thesis import lambda_table
+
+    code, out, _ = run(["maps", "--N", "6", "--format", "json"], capsys)
+    data = json.loads(out)
+    assert int(data["Z"]) == count(6)
+    assert {tuple(r["bottom_row"]): int(r["maps"]) for r in data["by_bottom_row"]} == lambda_table(4)
+    code, out, _ = run(["maps", "--N", "5"], capsys)
+    assert out.startswith("Z_3 = 12")
+    assert main(["maps", "--N", "11"]) == 2

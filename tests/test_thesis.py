@@ -1,0 +1,126 @@
+"""Chapter 4's route against the exact core: Lambda, (4.67), maps and the bijection."""
+
+from fractions import Fraction
+
+import networkx as nx
+import pytest
+import sympy
+from hypothesis import given
+from hypothesis import strategies as st
+
+from exact import count, mean_W, normalization
+from exact.brute import partial_sum_poset
+from exact.staircase import grain_to_cell
+from exact.thesis import (
+    boundary_mean_W,
+    count_lambda,
+    count_maps,
+    gamma_coefficient,
+    index_tuples,
+    integral_I,
+    is_map,
+    lambda_table,
+    map_from_tableau,
+    maps,
+    maps_by_bottom_row,
+    normalization_lambda,
+)
+
+
+@given(st.integers(min_value=0, max_value=5), st.integers(min_value=0, max_value=5))
+def test_integral_4_14_equals_symbolic_integral(m, n):
+    x, a, b = sympy.symbols("x a b")
+    direct = sympy.integrate(x**m * (b - x) ** n, (x, a, b))
+    via_4_14 = integral_I(m, n, a, b)
+    assert sympy.expand(direct - sympy.nsimplify(via_4_14)) == 0
+
+
+def test_gamma_coefficient_range():
+    assert gamma_coefficient(2, 3, 0) == Fraction(2 * 6, 24 * 2)
+    with pytest.raises(ValueError, match="k="):
+        gamma_coefficient(2, 3, 3)
+
+
+def test_index_range_4_32():
+    for p in range(1, 6):
+        tuples = list(index_tuples(p))
+        assert len(set(tuples)) == len(tuples)
+        for j in tuples:
+            assert j[0] in (1, 2)
+            assert all(1 <= j[l] <= (l + 1) + j[l - 1] for l in range(1, p))
+
+
+@pytest.mark.parametrize("N", range(2, 11))
+def test_lambda_sum_is_the_tableaux_count(N):
+    assert count_lambda(N) == count(N)
+    assert normalization_lambda(N) == normalization(N)
+
+
+def literal_lambda(p):
+    """Eq. (4.50) summed term by term (no prefix sums), p <= 5."""
+    table = {(1,): 1}
+    for q in range(1, p):
+        new = {}
+        for j in index_tuples(q + 1):
+            if j[-1] != 1:
+                continue
+            s = sum(v for k, v in table.items() if all(j[l + 1] >= k[l] for l in range(q)))
+            if s:
+                new[j] = s
+        table = new
+    return table
+
+
+@pytest.mark.parametrize("p", [1, 2, 3, 4, 5])
+def test_prefix_sum_lambda_equals_literal_nested_sum(p):
+    assert lambda_table(p) == literal_lambda(p)
+
+
+@pytest.mark.parametrize("N", range(2, 10))
+def test_boundary_formula_4_67_equals_exact_core(N):
+    table = mean_W(N)
+    for q in range(N):
+        assert boundary_mean_W(N, q) == table[N - q - 1][0]
+
+
+@pytest.mark.parametrize("N", [3, 4, 5, 6, 7])
+def test_maps_count_and_bottom_rows(N):
+    assert count_maps(N) == count(N)
+    assert dict(maps_by_bottom_row(N)) == lambda_table(N - 2)
+    assert all(is_map(h, N - 2) for h in maps(N))
+
+
+def all_tableaux(N):
+    G = partial_sum_poset(N)
+    for ext in nx.all_topological_sorts(G):
+        yield {grain_to_cell(N, *g): k + 1 for k, g in enumerate(ext)}
+
+
+@pytest.mark.parametrize("N", [3, 4, 5, 6])
+def test_map_from_tableau_is_a_bijection(N):
+    images = [map_from_tableau(N, T) for T in all_tableaux(N)]
+    keys = {tuple(sorted(h.items())) for h in images}
+    assert len(keys) == len(images) == count_maps(N)
+    assert all(is_map(h, N - 2) for h in images)
+
+
+@given(st.integers(min_value=4, max_value=12), st.integers(min_value=0, max_value=2**32 - 1))
+def test_random_tableaux_map_to_valid_maps_with_first_row_code(N, seed):
+    import numpy as np
+
+    from numeric.exact_sampler import sample_tableaux
+
+    T_arr = sample_tableaux(N, 1, np.random.default_rng(seed))[0]
+    n = N - 1
+    T = {(r, c): int(T_arr[r, c]) for r in range(1, n + 1) for c in range(r, n + 1)}
+    h = map_from_tableau(N, T)
+    assert is_map(h, N - 2)
+    # the first tableau row is Eq. (4.67)'s statistic of the last map row
+    for q in range(1, N - 1):
+        j = 1 if q == 1 else h[N - 2][q - 2]
+        assert T[(1, q + 1)] == q * (q + 1) // 2 + 2 - j
+
+
+def test_bad_q():
+    with pytest.raises(ValueError, match="q=7"):
+        boundary_mean_W(5, 7)

@@ -1,0 +1,87 @@
+"""The Metropolis sampler and the autocorrelation machinery against exact values."""
+
+from fractions import Fraction
+
+import numpy as np
+import pytest
+import sympy
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from exact import mean_W, moment_table
+from exact.triangle import contact_forces
+from numeric.autocorr import AutocorrError, integrated_time, mean_and_stderr
+from numeric.metropolis import TriangleMetropolis, forces_from_q, lateral_forces, q_model_samples
+
+
+def as_array(table, N):
+    return np.array([[float(x) for x in row] + [0.0] * (N - len(row)) for row in table])
+
+
+@settings(max_examples=6)
+@given(st.integers(min_value=3, max_value=6), st.integers(min_value=0, max_value=2**32 - 1))
+def test_metropolis_moments_within_five_standard_errors(N, seed):
+    sampler = TriangleMetropolis(N, seed=seed)
+    chain = sampler.run(sweeps=4000, burn_in=300)
+    for s, exact in ((1, mean_W(N)), (2, moment_table(N, 2))):
+        mean, stderr, _ = mean_and_stderr(chain**s)
+        ex = as_array(exact, N)
+        free = stderr > 0
+        assert np.all(np.abs(mean - ex)[free] <= 5 * stderr[free])
+        assert np.allclose(mean[~free], ex[~free])
+
+
+def test_lateral_forces_match_exact_contact_forces():
+    rng = np.random.default_rng(4)
+    N = 5
+    q = np.tril(rng.integers(0, 9, size=(N - 1, N - 1)) / 8)
+    W = forces_from_q(q)
+    F4 = lateral_forces(q, W, 2.0)
+    W_exact = [[Fraction(float(W[i, j])).limit_denominator(2**20) for j in range(i + 1)] for i in range(N)]
+    exact = contact_forces(W_exact, p_h=sympy.Integer(2))
+    for (i, j), forces in exact.items():
+        assert abs(float(forces[3]) - F4[i - 1, j - 1]) < 1e-9
+
+
+def test_finite_side_pressure_keeps_forces_positive():
+    sampler = TriangleMetropolis(6, seed=5, ph=0.3)
+    chain = sampler.run(sweeps=300, burn_in=50)
+    assert sampler.rejected_by_constraint > 0
+    assert (lateral_forces(sampler.q, sampler.W, 0.3) >= -1e-12).all()
+    assert np.allclose(chain.sum(axis=2), 1.0)
+
+
+def test_q_model_is_single_peaked_and_differs_from_the_ensemble():
+    N = 12
+    W = q_model_samples(N, 20000, np.random.default_rng(0))
+    bottom = W[:, -1, :].mean(axis=0)
+    peak = int(np.argmax(bottom))
+    assert peak in (N // 2 - 1, N // 2)  # central peak: diffusive response
+    assert np.all(np.diff(bottom[: peak + 1]) > 0) and np.all(np.diff(bottom[peak:]) < 0)
+    exact_bottom = np.array([float(x) for x in mean_W(N)[-1]])
+    assert abs(bottom[0] - exact_bottom[0]) > 10 * W[:, -1, 0].std() / np.sqrt(len(W))
+
+
+def test_integrated_time_raises_on_short_chains():
+    rng = np.random.default_rng(1)
+    x = np.cumsum(rng.normal(size=200))  # a random walk: tau ~ chain length
+    with pytest.raises(AutocorrError, match="too short"):
+        integrated_time(x)
+    with pytest.warns(RuntimeWarning):
+        integrated_time(x, quiet=True)
+
+
+@given(st.integers(min_value=0, max_value=2**32 - 1))
+def test_integrated_time_of_independent_samples_is_one(seed):
+    x = np.random.default_rng(seed).normal(size=(5000, 3))
+    tau = integrated_time(x)
+    assert np.all(tau < 1.5)
+
+
+def test_bad_parameters():
+    with pytest.raises(ValueError, match="ph"):
+        TriangleMetropolis(4, ph=-1.0)
+    with pytest.raises(ValueError, match="sweeps"):
+        TriangleMetropolis(4).run(0)
+    with pytest.raises(ValueError, match="ph=0.01"):
+        TriangleMetropolis(4, ph=0.01)  # the default start violates F4 >= 0

@@ -1,4 +1,4 @@
-"""Command line interface: ``forcenet count|table|maps``.
+"""Command line interface: ``forcenet count|table|maps|limit``.
 
 Examples (shell)::
 
@@ -7,6 +7,7 @@ Examples (shell)::
     forcenet table --N 12 --format json     # the exact table on stdout
     forcenet table --N 9 --format csv --moments 2 --out table.csv
     forcenet maps --N 8                     # Z_(N-2) and maps per bottom row
+    forcenet limit --x 0.2 --z 0.6 --format json   # scaling limit of the response
 """
 
 from __future__ import annotations
@@ -207,6 +208,31 @@ def _cmd_maps(args):
     return 0
 
 
+def _cmd_limit(args):
+    import json
+
+    import mpmath
+
+    from numeric.limit_shape import bulk_response, lattice_response
+
+    z, x, dps = args.z, args.x, args.dps
+    if not 0 < z <= 1:
+        raise UsageError(f"z={z} is out of range: z must lie in (0, 1]")
+    if not abs(x) <= z:
+        raise UsageError(f"x={x} is out of range: x must lie in [-z, z] = [{-z}, {z}]")
+    if not 5 <= dps <= 1000:
+        raise UsageError(f"dps={dps} is out of range: dps must be in 5..1000")
+    bulk = bulk_response(x, z, dps=dps)
+    lattice = lattice_response(z, dps=dps)
+    if args.format == "json":
+        print(json.dumps({"x": x, "z": z, "dps": dps, "N_W_bulk": mpmath.nstr(bulk, dps), "W_lattice": mpmath.nstr(lattice, dps)}))
+    else:
+        print(f"scaling limit at x = {x}, z = {z} ({dps} digits)")
+        print(f"  bulk:              N <W>  -> {mpmath.nstr(bulk, dps)}")
+        print(f"  lattice direction: <W>    -> {mpmath.nstr(lattice, dps)}  (= (1 - sqrt(z(2-z)))/2)")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="forcenet", description="Exact results for the force network ensemble.")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -229,6 +255,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--N", type=_layers, required=True, help=f"number of layers (3..{_MAPS_MAX_N})")
     p.add_argument("--format", choices=["text", "json"], default="text")
     p.set_defaults(func=_cmd_maps)
+
+    p = sub.add_parser("limit", help="scaling limit of the response at reduced coordinates (x, z)")
+    p.add_argument("--x", type=float, required=True, help="horizontal coordinate (2j - i - 1)/N, |x| <= z")
+    p.add_argument("--z", type=float, required=True, help="depth i/N in (0, 1]")
+    p.add_argument("--dps", type=int, default=20, help="decimal digits (5..1000)")
+    p.add_argument("--format", choices=["text", "json"], default="text")
+    p.set_defaults(func=_cmd_limit)
     return parser
 
 

@@ -38,7 +38,7 @@ from __future__ import annotations
 
 import mpmath
 
-__all__ = ["level_curve", "limit_surface", "bulk_response", "lattice_response"]
+__all__ = ["level_curve", "level_curve_slope", "limit_surface", "bulk_response", "lattice_response"]
 
 
 def _check_unit(name, value, low=0, high=1):
@@ -75,6 +75,20 @@ def level_curve(a, u, dps: int = 30):
         return +(2 * u / mpmath.pi * inner + 2 / mpmath.pi * mpmath.atan(k / b))
 
 
+def level_curve_slope(a, u, dps: int = 30):
+    """``dh_a(u)/da = k / (pi a (1 - a))``, ``k = sqrt(4a(1-a) - u^2)`` (derived in the notes).
+
+    Examples
+    --------
+    >>> float(level_curve_slope(0.5, 0)) == float(4 / mpmath.pi)
+    True
+    """
+    with mpmath.workdps(dps + 10):
+        a, u = mpmath.mpf(a), mpmath.mpf(u)
+        k = mpmath.sqrt(4 * a * (1 - a) - u * u)
+        return +(k / (mpmath.pi * a * (1 - a)))
+
+
 def limit_surface(u, v, dps: int = 30):
     """``L`` at rotated coordinates ``(u, v)``, ``|u| + |v - 1| <= 1``, by root finding.
 
@@ -97,7 +111,10 @@ def limit_surface(u, v, dps: int = 30):
             return hi
         eps = mpmath.mpf(10) ** (-(dps + 5))
         f = lambda a: level_curve(a, u, dps + 10) - v  # increasing in a
-        return +mpmath.findroot(f, (lo + eps, hi - eps), solver="anderson", tol=eps)
+        a = mpmath.findroot(f, (lo + eps, hi - eps), solver="anderson", tol=eps)
+        for _ in range(4):  # Newton polish with dh/da = k / (pi a (1 - a))
+            a -= f(a) / level_curve_slope(a, u, dps + 10)
+        return +a
 
 
 def lattice_response(z, dps: int = 30):
@@ -118,8 +135,8 @@ def lattice_response(z, dps: int = 30):
 def bulk_response(x, z, dps: int = 30):
     """Limit of ``N <W>`` at ``(x, z)``, ``|x| < z <= 1``: ``2 dL/dv``.
 
-    Computed as ``2 / (dh_a/da)`` at ``a = L(u, v)`` (the level curves are
-    graphs over ``u``).
+    Computed as ``2 / (dh_a/da) = 2 pi a (1 - a) / sqrt(4a(1-a) - u^2)`` at
+    ``a = L(u, v)`` (the level curves are graphs over ``u``).
 
     Examples
     --------
@@ -133,5 +150,4 @@ def bulk_response(x, z, dps: int = 30):
         a = limit_surface(u, v, dps + 10)
         if a in (0, 1):
             return mpmath.mpf(0)
-        dh = mpmath.diff(lambda s: level_curve(s, u, dps + 20), a)
-        return +(2 / dh)
+        return +(2 / level_curve_slope(a, u, dps + 10))

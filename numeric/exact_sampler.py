@@ -56,12 +56,35 @@ def removal_probabilities(parts: np.ndarray) -> np.ndarray:
     return prob
 
 
-def sample_tableaux(N: int, size: int, rng: np.random.Generator) -> np.ndarray:
+def _pair_terms(a, b, logtab):
+    """``log F(a, b)``: the factor of row ``b`` in the removal weight of row ``a``.
+
+    ``F(a, b) = |a-1-b| (a+b) / (|a-b| (a-1+b))`` (Schur's formula); callers
+    mask out ``b = 0`` and ``b = a - 1``.
+    """
+    return (
+        logtab[np.abs(a - 1 - b)] + logtab[a + b] - logtab[np.abs(a - b)] - logtab[np.maximum(a - 1 + b, 0)]
+    )
+
+
+def _full_phi(parts, logtab):
+    """``Phi_r = sum_{j != r} log F(lambda_r, lambda_j)`` over present, non-adjacent rows."""
+    a = parts[:, :, None]
+    b = parts[:, None, :]
+    use = (b > 0) & (a > 0) & (b != a - 1) & ~np.eye(parts.shape[1], dtype=bool)[None]
+    return np.where(use, _pair_terms(a, b, logtab), 0.0).sum(axis=2)
+
+
+def sample_tableaux(N: int, size: int, rng: np.random.Generator, refresh: int | None = None, progress=None) -> np.ndarray:
     """Uniform random standard shifted staircase tableaux.
 
     Returns ``T`` of shape ``(size, n + 1, n + 1)`` (``n = N - 1``) with
     ``T[:, r, c]`` the entry of cell ``(r, c)``, ``1 <= r <= c <= n``, zero
-    elsewhere.
+    elsewhere.  The largest remaining entry goes to the end of row ``r`` with
+    probability ``g(lambda - e_r) / g(lambda) = (lambda_r/|lambda|) exp(Phi_r)``;
+    the log-weights ``Phi`` are updated in ``O(n)`` per removal (only the
+    factors involving the shortened row change) and recomputed from scratch
+    every ``refresh`` steps (default ``10 n``) against rounding drift.
 
     Examples
     --------
@@ -72,17 +95,40 @@ def sample_tableaux(N: int, size: int, rng: np.random.Generator) -> np.ndarray:
     N = check_layers(N)
     n = N - 1
     d = n * (n + 1) // 2
-    parts = np.tile(np.arange(n, 0, -1), (size, 1))
-    T = np.zeros((size, n + 1, n + 1), dtype=np.int64)
+    refresh = refresh or 10 * n
+    logtab = np.log(np.maximum(np.arange(2 * n + 2, dtype=np.float64), 1.0))
+    parts = np.tile(np.arange(n, 0, -1, dtype=np.int64), (size, 1))
+    dtype = np.int32 if d < 2**31 else np.int64
+    T = np.zeros((size, n + 1, n + 1), dtype=dtype)
     rows = np.arange(size)
-    for entry in range(d, 0, -1):
-        prob = removal_probabilities(parts)
-        cum = np.cumsum(prob, axis=1)
+    phi = _full_phi(parts, logtab)
+    nxt = np.zeros((size, n), dtype=np.int64)
+    for step, entry in enumerate(range(d, 0, -1)):
+        if step and step % refresh == 0:
+            phi = _full_phi(parts, logtab)
+        nxt[:, :-1] = parts[:, 1:]
+        removable = (parts > 0) & ~((nxt > 0) & (nxt == parts - 1))
+        logw = np.where(removable, phi + logtab[parts], -np.inf)
+        w = np.exp(logw - logw.max(axis=1, keepdims=True))
+        cum = np.cumsum(w, axis=1)
         u = rng.random(size) * cum[:, -1]
         r = np.minimum((cum < u[:, None]).sum(axis=1), n - 1)
-        col = r + parts[rows, r]  # 0-based row r spans columns r..r+part-1 (1-based r+1..)
-        T[rows, r + 1, col] = entry
-        parts[rows, r] -= 1
+        a = parts[rows, r]
+        T[rows, r + 1, r + a] = entry  # 0-based row r spans columns r+1..r+a (1-based)
+        # O(n) update of Phi for the other rows: the factor of row r changes a -> a-1
+        others = parts
+        A = a[:, None]
+        old_ok = (others > 0) & (A != others - 1)
+        new_ok = (others > 0) & (A - 1 > 0) & (A - 1 != others - 1)
+        phi -= np.where(old_ok, _pair_terms(others, A, logtab), 0.0)
+        phi += np.where(new_ok, _pair_terms(others, A - 1, logtab), 0.0)
+        parts[rows, r] = a - 1
+        # Phi of the shortened row itself, from scratch
+        B = parts
+        own = (B > 0) & (B != A - 2) & (np.arange(n)[None, :] != r[:, None]) & (A - 1 > 0)
+        phi[rows, r] = np.where(own, _pair_terms(A - 1, B, logtab), 0.0).sum(axis=1)
+        if progress is not None:
+            progress(1)
     return T
 
 

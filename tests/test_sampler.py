@@ -76,3 +76,27 @@ def test_samples_are_points_of_the_ensemble():
 def test_too_few_samples_for_an_error_bar():
     with pytest.raises(ValueError, match="samples"):
         ExactSampler(4, seed=0).mean_W(1)
+
+
+@pytest.mark.parametrize("N", [8, 15, 25])
+def test_incremental_weights_equal_full_recomputation(N):
+    # refresh=1 recomputes every removal weight from Schur's formula at every step
+    a = sample_tableaux(N, 40, np.random.default_rng(99), refresh=1)
+    b = sample_tableaux(N, 40, np.random.default_rng(99))
+    assert np.array_equal(a, b)
+
+
+def test_full_weights_equal_removal_probabilities():
+    from numeric.exact_sampler import _full_phi
+
+    rng = np.random.default_rng(3)
+    n = 12
+    for _ in range(20):
+        parts = np.sort(rng.choice(np.arange(1, n + 1), size=rng.integers(1, n), replace=False))[::-1]
+        row = np.concatenate([parts, np.zeros(n - parts.size, dtype=int)])[None, :]
+        logtab = np.log(np.maximum(np.arange(2 * n + 2, dtype=float), 1.0))
+        phi = _full_phi(row, logtab)
+        nxt = np.concatenate([row[:, 1:], [[0]]], axis=1)
+        removable = (row > 0) & ~((nxt > 0) & (nxt == row - 1))
+        w = np.where(removable, np.exp(phi) * row, 0.0)
+        assert np.allclose(w / w.sum(), removal_probabilities(row))

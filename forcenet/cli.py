@@ -1,4 +1,4 @@
-"""Command line interface: ``forcenet count|table|maps|limit``.
+"""Command line interface: ``forcenet count|table|maps|limit|sample``.
 
 Examples (shell)::
 
@@ -8,6 +8,7 @@ Examples (shell)::
     forcenet table --N 9 --format csv --moments 2 --out table.csv
     forcenet maps --N 8                     # Z_(N-2) and maps per bottom row
     forcenet limit --x 0.2 --z 0.6 --format json   # scaling limit of the response
+    forcenet sample --N 30 --sampler exact --samples 1000 --seed 1 --format json
 """
 
 from __future__ import annotations
@@ -233,6 +234,54 @@ def _cmd_limit(args):
     return 0
 
 
+def _cmd_sample(args):
+    import json
+
+    import numpy as np
+
+    N, K = args.N, args.samples
+    if K < 2:
+        raise UsageError(f"samples={K} is out of range: samples must be >= 2")
+    if args.ph is not None and not args.ph > 0:
+        raise UsageError(f"ph={args.ph} is out of range: ph must be > 0 (omit it for the fully mobilized limit)")
+    if args.sampler == "exact" and args.ph is not None:
+        raise UsageError("--ph applies to --sampler metropolis only (the exact sampler is the fully mobilized ensemble)")
+    bar = _progress(K, f"{args.sampler} N={N}") if K * N * N > 2_000_000 else None
+    t0 = time.perf_counter()
+    try:
+        if args.sampler == "exact":
+            from numeric.exact_sampler import ExactSampler
+
+            mean, stderr = ExactSampler(N, seed=args.seed).mean_W(K, progress=bar.update if bar else None)
+            extra = {}
+        else:
+            from numeric.autocorr import AutocorrError, mean_and_stderr
+            from numeric.metropolis import TriangleMetropolis
+
+            sampler = TriangleMetropolis(N, seed=args.seed, ph=args.ph)
+            burn = args.burn_in if args.burn_in is not None else max(100, K // 10)
+            chain = sampler.run(K, burn_in=burn, progress=bar.update if bar else None)
+            try:
+                mean, stderr, tau = mean_and_stderr(chain)
+            except AutocorrError as exc:
+                raise UsageError(f"samples={K}: {exc}; run more sweeps") from None
+            extra = {"burn_in": burn, "acceptance": sampler.acceptance_rate, "tau_max": float(tau.max())}
+    finally:
+        if bar:
+            bar.close()
+    seconds = time.perf_counter() - t0
+    rows = lambda a: [[float(a[i, j]) for j in range(i + 1)] for i in range(N)]
+    out = {"N": N, "sampler": args.sampler, "samples": K, "seconds": seconds, "seed": args.seed}
+    out.update(extra)
+    out.update({"mean_W": rows(mean), "stderr_W": rows(stderr)})
+    if args.format == "json":
+        print(json.dumps(out))
+    else:
+        print(f"{args.sampler} sampler, N = {N}, {K} samples, {seconds:.1f} s")
+        print("  bottom row <W_N,j>: " + " ".join(f"{m:.4f}±{e:.4f}" for m, e in zip(mean[-1], stderr[-1])))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="forcenet", description="Exact results for the force network ensemble.")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -262,6 +311,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--dps", type=int, default=20, help="decimal digits (5..1000)")
     p.add_argument("--format", choices=["text", "json"], default="text")
     p.set_defaults(func=_cmd_limit)
+
+    p = sub.add_parser("sample", help="Monte Carlo <W> with standard errors (exact sampler or Metropolis)")
+    p.add_argument("--N", type=_layers, required=True, help="number of layers (>= 2)")
+    p.add_argument("--sampler", choices=["exact", "metropolis"], default="exact")
+    p.add_argument("--samples", type=int, default=1000, help="independent samples, or recorded sweeps (metropolis)")
+    p.add_argument("--burn-in", type=int, default=None, help="metropolis burn-in sweeps (default max(100, samples/10))")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--ph", type=float, default=None, help="side pressure / overload (metropolis; default: fully mobilized)")
+    p.add_argument("--format", choices=["text", "json"], default="text")
+    p.set_defaults(func=_cmd_sample)
     return parser
 
 

@@ -111,3 +111,25 @@ def test_maps_command(capsys):
     code, out, _ = run(["maps", "--N", "5"], capsys)
     assert out.startswith("Z_3 = 12")
     assert main(["maps", "--N", "11"]) == 2
+
+
+def test_sample_command_json(capsys):
+    code, out, _ = run(["sample", "--N", "5", "--samples", "3000", "--seed", "3", "--format", "json"], capsys)
+    data = json.loads(out)
+    assert data["sampler"] == "exact" and data["samples"] == 3000
+    exact = mean_W(5)
+    for i in range(5):
+        for j in range(i + 1):
+            err = data["stderr_W"][i][j]
+            if err > 0:
+                assert abs(data["mean_W"][i][j] - float(exact[i][j])) < 5 * err
+    code, out, _ = run(["sample", "--N", "5", "--sampler", "metropolis", "--samples", "2000", "--format", "json"], capsys)
+    data = json.loads(out)
+    assert data["sampler"] == "metropolis" and 0 < data["acceptance"] <= 1 and data["tau_max"] >= 1
+
+
+def test_sample_refuses_short_chains_and_bad_options(capsys):
+    assert main(["sample", "--N", "6", "--sampler", "metropolis", "--samples", "50"]) == 2
+    assert "too short" in capsys.readouterr().err
+    assert main(["sample", "--N", "6", "--samples", "1"]) == 2
+    assert main(["sample", "--N", "6", "--ph", "0.5"]) == 2

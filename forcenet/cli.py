@@ -32,27 +32,22 @@ class UsageError(Exception):
     """Bad input detected after parsing; printed as one line, exit code 2."""
 
 
-def _layers(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"N={text!r} is not an integer: N must be an integer >= 2") from None
-    if value < 2:
-        raise argparse.ArgumentTypeError(f"N={value} is out of range: N must be an integer >= 2")
-    return value
+def _integer_at_least(name: str, minimum: int):
+    """argparse type: an integer ``>= minimum``, errors naming the argument and range."""
 
-
-def _positive(name):
     def parse(text):
         try:
             value = int(text)
         except ValueError:
-            raise argparse.ArgumentTypeError(f"{name}={text!r} is not an integer: {name} must be >= 1") from None
-        if value < 1:
-            raise argparse.ArgumentTypeError(f"{name}={value} is out of range: {name} must be >= 1")
+            raise argparse.ArgumentTypeError(f"{name}={text!r} is not an integer: {name} must be an integer >= {minimum}") from None
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"{name}={value} is out of range: {name} must be an integer >= {minimum}")
         return value
 
     return parse
+
+
+_layers = _integer_at_least("N", 2)
 
 
 def _available_memory() -> int:
@@ -293,7 +288,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("table", help="exact table of <W_ij> (and higher moments)")
     p.add_argument("--N", type=_layers, required=True, help="number of layers (>= 2)")
     p.add_argument("--format", choices=["json", "csv", "latex"], help="print one format instead of the main job")
-    p.add_argument("--moments", type=_positive("moments"), default=1, help="highest moment s of W^s (default 1)")
+    p.add_argument("--moments", type=_integer_at_least("moments", 1), default=1, help="highest moment s of W^s (default 1)")
     p.add_argument("--out", help="write the --format output to this file (atomically)")
     p.add_argument("--out-dir", default="forcenet-tables", help="directory of the main job's files")
     p.add_argument("--samples", type=int, default=20000, help="exact-sampler samples of the cross-check (0: none)")

@@ -1,0 +1,78 @@
+"""Speed against error for the two samplers (issue 4).
+
+For each N and budget: CPU seconds, RMS error of the sampled <W> table against
+the exact table (exact core), and effective independent samples per CPU
+second (exact sampler: every sample; Metropolis: sweeps / tau, with tau the
+largest integrated autocorrelation time over the grains, in sweeps).
+
+Usage::
+
+    python benchmarks/speed_vs_error.py --N 11 24 --exact-samples 250 1000 4000 16000 \\
+        --metropolis-sweeps 1000 4000 16000
+    python benchmarks/speed_vs_error.py --ess-only --N 50 --metropolis-sweeps 3000
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from numeric.autocorr import integrated_time
+from numeric.exact_sampler import ExactSampler
+from numeric.metropolis import TriangleMetropolis
+
+
+def exact_table(N):
+    from exact import mean_W
+
+    return np.array([[float(x) for x in row] + [0.0] * (N - len(row)) for row in mean_W(N)])
+
+
+def rms(mean, exact):
+    mask = np.tril(np.ones_like(exact, dtype=bool))
+    return float(np.sqrt(np.mean((mean - exact)[mask] ** 2)))
+
+
+def run_exact(N, K, seed):
+    t0 = time.process_time()
+    mean, _ = ExactSampler(N, seed=seed).mean_W(K)
+    return mean, time.process_time() - t0, K
+
+
+def run_metropolis(N, sweeps, seed):
+    t0 = time.process_time()
+    sampler = TriangleMetropolis(N, seed=seed)
+    chain = sampler.run(sweeps, burn_in=max(100, sweeps // 10))
+    seconds = time.process_time() - t0
+    flat = chain.reshape(sweeps, -1)[:, np.tril(np.ones((N, N), dtype=bool)).ravel()]
+    flat = flat[:, flat.std(axis=0) > 0]
+    tau = integrated_time(flat, quiet=True)
+    return chain.mean(axis=0), seconds, sweeps / tau.max()
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--N", type=int, nargs="+", default=[11, 24])
+    parser.add_argument("--exact-samples", type=int, nargs="+", default=[250, 1000, 4000, 16000])
+    parser.add_argument("--metropolis-sweeps", type=int, nargs="+", default=[1000, 4000, 16000])
+    parser.add_argument("--ess-only", action="store_true", help="skip the exact table; report effective samples per second")
+    parser.add_argument("--seed", type=int, default=7)
+    args = parser.parse_args(argv)
+    print("| N | sampler | budget | CPU s | RMS error | effective samples | effective samples / CPU s |")
+    print("| --- | --- | --- | --- | --- | --- | --- |")
+    for N in args.N:
+        exact = None if args.ess_only else exact_table(N)
+        for K in args.exact_samples:
+            mean, seconds, ess = run_exact(N, K, args.seed)
+            err = "-" if exact is None else f"{rms(mean, exact):.2e}"
+            print(f"| {N} | exact | {K} samples | {seconds:.2f} | {err} | {ess:.0f} | {ess / seconds:.1f} |", flush=True)
+        for S in args.metropolis_sweeps:
+            mean, seconds, ess = run_metropolis(N, S, args.seed)
+            err = "-" if exact is None else f"{rms(mean, exact):.2e}"
+            print(f"| {N} | metropolis | {S} sweeps | {seconds:.2f} | {err} | {ess:.0f} | {ess / seconds:.2f} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()

@@ -25,7 +25,7 @@ import numpy as np
 
 from exact.staircase import check_layers
 
-__all__ = ["ExactSampler", "removal_probabilities", "sample_tableaux", "tableaux_to_W"]
+__all__ = ["ExactSampler", "q_from_W", "removal_probabilities", "sample_tableaux", "tableaux_to_W"]
 
 
 def removal_probabilities(parts: np.ndarray) -> np.ndarray:
@@ -149,6 +149,19 @@ def tableaux_to_W(T: np.ndarray, rng: np.random.Generator) -> np.ndarray:
             S[:, i - 1, j] = U[np.arange(B), T[:, j, N - i + j]]
         S[:, i - 1, i] = 1.0
     return np.diff(S, axis=2) * (np.arange(N)[None, :, None] >= np.arange(N)[None, None, :])
+
+
+def q_from_W(W: np.ndarray) -> np.ndarray:
+    """q-coordinates (Eq. 4.6) of sampled configurations, shape ``(B, N-1, N-1)``.
+
+    ``q_{i,j} = (S_{i+1,j} - S_{i,j-1}) / W_{i,j}``; NaN where ``W_{i,j} = 0``.
+    """
+    S = np.cumsum(W, axis=2)
+    B, N, _ = W.shape
+    prev = np.concatenate([np.zeros((B, N, 1)), S[:, :, :-1]], axis=2)  # S_{i,j-1}
+    with np.errstate(divide="ignore", invalid="ignore"):
+        q = (S[:, 1:, : N - 1] - prev[:, :-1, : N - 1]) / W[:, :-1, : N - 1]
+    return np.where(np.tril(np.ones((N - 1, N - 1), dtype=bool)), q, np.nan)
 
 
 class ExactSampler:

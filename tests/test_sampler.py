@@ -100,3 +100,31 @@ def test_full_weights_equal_removal_probabilities():
         removable = (row > 0) & ~((nxt > 0) & (nxt == row - 1))
         w = np.where(removable, np.exp(phi) * row, 0.0)
         assert np.allclose(w / w.sum(), removal_probabilities(row))
+
+
+def test_q_from_W_inverts_the_forward_map():
+    from numeric.exact_sampler import q_from_W
+    from numeric.metropolis import forces_from_q
+
+    rng = np.random.default_rng(8)
+    q = np.tril(rng.random((7, 7)))
+    W = forces_from_q(q)[None]
+    back = q_from_W(W)[0]
+    mask = np.tril(np.ones((7, 7), dtype=bool))
+    assert np.allclose(back[mask], q[mask])
+
+
+@pytest.mark.parametrize("N", [6, 12])
+def test_last_layer_q_are_uniform(N):
+    # q_{N-1,j} does not enter the weight prod W (Eq. 3.10): independent uniforms (Sec. 3.3.1)
+    from numeric.exact_sampler import q_from_W
+
+    W = ExactSampler(N, seed=21).sample_W(4000)
+    q = q_from_W(W)[:, N - 2, : N - 1]
+    for j in range(N - 1):
+        x = np.sort(q[:, j])
+        ks = np.max(np.abs(np.arange(1, x.size + 1) / x.size - x))
+        assert ks < 2.0 / np.sqrt(x.size)  # Kolmogorov-Smirnov at about p = 1e-3.5
+    # while a q higher up is not uniform (its density is ~ W-weighted)
+    top = np.sort(q_from_W(W)[:, 0, 0])
+    assert np.max(np.abs(np.arange(1, top.size + 1) / top.size - top)) > 5.0 / np.sqrt(top.size)

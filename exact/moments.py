@@ -76,7 +76,7 @@ def _mean_numerator(N: int, i: int, j: int, C) -> int:
     return upper - lower
 
 
-def mean_W(N: int, progress=None) -> list[list[Fraction]]:
+def mean_W(N: int, progress=None, memory_bytes: int | None = None) -> list[list[Fraction]]:
     """Exact table of ``<W_{i,j}>``, rows ``i = 1..N``, ``j = 1..i``.
 
     Parameters
@@ -85,6 +85,9 @@ def mean_W(N: int, progress=None) -> list[list[Fraction]]:
         Number of layers, ``N >= 2``.
     progress : callable, optional
         Progress callback of :func:`exact.ideal_dp.survival_counts`.
+    memory_bytes : int, optional
+        Budget for the residue tables (default 12 GiB); primes are processed
+        in chunks that fit.
 
     Returns
     -------
@@ -100,7 +103,10 @@ def mean_W(N: int, progress=None) -> list[list[Fraction]]:
     Ostojic (2006), Eqs. (4.63)-(4.77); Fig. 4.3 compares N = 11.
     """
     N = check_layers(N)
-    C, total = survival_counts(N, progress) if progress else _survival(N)
+    if progress is not None or memory_bytes is not None:
+        C, total = survival_counts(N, progress, **({"memory_bytes": memory_bytes} if memory_bytes else {}))
+    else:
+        C, total = _survival(N)
     d = N * (N - 1) // 2
     den = total * (d + 1)
     return [[Fraction(_mean_numerator(N, i, j, C), den) for j in range(1, i + 1)] for i in range(1, N + 1)]

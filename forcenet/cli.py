@@ -61,6 +61,11 @@ def _available_memory() -> int:
     return 16 * 2**30
 
 
+def _memory_budget() -> int:
+    """Residue-table budget: 3/4 of the available memory, at most 12 GiB (peak ~ budget + 2^(N-1) * 16 B)."""
+    return min(_available_memory() * 3 // 4, 12 * 2**30)
+
+
 def _largest_feasible(budget: int) -> int:
     from exact.ideal_dp import estimate_survival_cost
 
@@ -74,7 +79,7 @@ def _check_table_cost(N: int, moments: int):
     """Refuse runs that cannot fit in memory; announce long ones."""
     from exact.ideal_dp import estimate_survival_cost
 
-    budget = min(_available_memory(), 20 * 2**30)
+    budget = _memory_budget()
     if N > 40:  # 2**39 masks: beyond any machine, skip the estimate itself
         raise UsageError(f"N={N} is out of range for the exact table: N must be in 2..{_largest_feasible(budget)} here")
     est = estimate_survival_cost(N, budget)
@@ -100,12 +105,13 @@ def _exact_mean_table(N: int, est, quiet: bool):
     from exact.moments import mean_W
 
     if est.seconds < 2 or quiet:
-        return mean_W(N)
+        return mean_W(N, memory_bytes=_memory_budget())
     print(f"forcenet: exact table N={N}: estimated {est}", file=sys.stderr)
-    chunks = len(_prime_chunks(N - 1, survival_primes(N), min(_available_memory(), 20 * 2**30)))
+    budget = _memory_budget()
+    chunks = len(_prime_chunks(N - 1, survival_primes(N), budget))
     bar = _progress(chunks * (1 << (N - 1)), f"N={N} ideals")
     try:
-        return mean_W(N, progress=bar.update)
+        return mean_W(N, progress=bar.update, memory_bytes=budget)
     finally:
         bar.close()
 

@@ -90,7 +90,10 @@ class TriangleMetropolis:
         Side pressure in units of the overload; ``None`` for the fully
         mobilized limit where every q in [0, 1] is allowed.
     q0 : array, optional
-        Initial state, shape ``(N-1, N-1)``; default all ``1/2``.
+        Initial state, shape ``(N-1, N-1)``; default all ``1/2`` in the fully
+        mobilized limit, and for finite ``ph`` the state that sends the load
+        down the two lattice directions (every ``F4 = p_h``, feasible for any
+        ``p_h > 0``).
     """
 
     def __init__(self, N: int, seed=None, ph: float | None = None, q0=None):
@@ -100,7 +103,13 @@ class TriangleMetropolis:
             raise ValueError(f"ph={ph}: the side pressure must be a positive finite number (or None)")
         self.ph = ph
         n = self.N - 1
-        self.q = np.tril(np.full((n, n), 0.5)) if q0 is None else np.array(q0, dtype=float)
+        if q0 is None:
+            self.q = np.tril(np.full((n, n), 0.5))
+            if ph is not None:  # the load on the two lattice directions: every F4 = p_h, feasible for any p_h > 0
+                self.q[np.arange(1, n), 0] = 1.0
+                self.q[np.arange(1, n), np.arange(1, n)] = 0.0
+        else:
+            self.q = np.array(q0, dtype=float)
         if self.q.shape != (n, n):
             raise ValueError(f"q0 has shape {self.q.shape}, expected {(n, n)}")
         self.W = forces_from_q(self.q)
@@ -134,8 +143,16 @@ class TriangleMetropolis:
         # weight prod W over the layers that carry a q (Eq. 3.10): 0-based rows i+1..N-2
         changed = self._lower[i + 1 : N - 1]
         with np.errstate(divide="ignore"):
-            log_ratio = float(np.log(W_new[i + 1 : N - 1][changed]).sum() - np.log(self.W[i + 1 : N - 1][changed]).sum())
-        if log_ratio >= 0 or self.rng.random() < math.exp(log_ratio):
+            log_new = float(np.log(W_new[i + 1 : N - 1][changed]).sum())
+            log_old = float(np.log(self.W[i + 1 : N - 1][changed]).sum())
+        if log_old == -math.inf:  # leaving a zero-density start (e.g. the lattice-direction state)
+            accept = log_new > -math.inf or self.rng.random() < 0.5
+        elif log_new == -math.inf:
+            accept = False
+        else:
+            log_ratio = log_new - log_old
+            accept = log_ratio >= 0 or self.rng.random() < math.exp(log_ratio)
+        if accept:
             self.W = W_new
             return True
         self.q[i, j] = old

@@ -84,4 +84,22 @@ def test_bad_parameters():
     with pytest.raises(ValueError, match="sweeps"):
         TriangleMetropolis(4).run(0)
     with pytest.raises(ValueError, match="ph=0.01"):
-        TriangleMetropolis(4, ph=0.01)  # the default start violates F4 >= 0
+        TriangleMetropolis(4, ph=0.01, q0=np.tril(np.full((3, 3), 0.5)))  # this start violates F4 >= 0
+
+
+@pytest.mark.parametrize("ph", [0.01, 0.1, 1.0])
+def test_small_side_pressure_runs_cleanly(ph):
+    # p_h/F -> 0 (Fig. 3.6): no NaN, moves still accepted, every lateral force stays >= 0
+    sampler = TriangleMetropolis(10, seed=1, ph=ph)
+    chain = sampler.run(sweeps=300, burn_in=100)
+    assert np.isfinite(chain).all()
+    assert 0 < sampler.acceptance_rate < 1
+    assert (lateral_forces(sampler.q, sampler.W, ph) >= -1e-12).all()
+
+
+def test_vanishing_side_pressure_sends_the_load_down_the_lattice_directions():
+    edge_load = []
+    for ph in (0.01, 1.0):
+        chain = TriangleMetropolis(10, seed=2, ph=ph).run(sweeps=400, burn_in=200)
+        edge_load.append((chain[:, -1, 0] + chain[:, -1, 9]).mean())
+    assert edge_load[0] > 0.3 > edge_load[1]

@@ -59,7 +59,9 @@ def main(argv=None):
     parser.add_argument("--metropolis-sweeps", type=int, nargs="+", default=[1000, 4000, 16000])
     parser.add_argument("--ess-only", action="store_true", help="skip the exact table; report effective samples per second")
     parser.add_argument("--seed", type=int, default=7)
+    parser.add_argument("--plot", help="write a log-log plot of RMS error against CPU seconds to this PNG")
     args = parser.parse_args(argv)
+    rows = []
     print("| N | sampler | budget | CPU s | RMS error | effective samples | effective samples / CPU s |")
     print("| --- | --- | --- | --- | --- | --- | --- |")
     for N in args.N:
@@ -68,10 +70,30 @@ def main(argv=None):
             mean, seconds, ess = run_exact(N, K, args.seed)
             err = "-" if exact is None else f"{rms(mean, exact):.2e}"
             print(f"| {N} | exact | {K} samples | {seconds:.2f} | {err} | {ess:.0f} | {ess / seconds:.1f} |", flush=True)
+            rows.append((N, "exact sampler", seconds, None if exact is None else rms(mean, exact)))
         for S in args.metropolis_sweeps:
             mean, seconds, ess = run_metropolis(N, S, args.seed)
             err = "-" if exact is None else f"{rms(mean, exact):.2e}"
             print(f"| {N} | metropolis | {S} sweeps | {seconds:.2f} | {err} | {ess:.0f} | {ess / seconds:.2f} |", flush=True)
+            rows.append((N, "Metropolis", seconds, None if exact is None else rms(mean, exact)))
+    if args.plot:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fig, ax = plt.subplots(figsize=(6, 4.5))
+        for N in args.N:
+            for name, marker in (("exact sampler", "o-"), ("Metropolis", "s--")):
+                pts = [(s, e) for n, nm, s, e in rows if n == N and nm == name and e is not None]
+                if pts:
+                    ax.loglog(*zip(*pts), marker, label=f"{name}, N={N}")
+        ax.set_xlabel("CPU seconds")
+        ax.set_ylabel("RMS error of the <W> table")
+        ax.set_title("speed against error (exact values from the exact core)")
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(args.plot, dpi=110)
 
 
 if __name__ == "__main__":

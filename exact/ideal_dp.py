@@ -26,6 +26,7 @@ integers.
 from __future__ import annotations
 
 from functools import lru_cache
+from typing import NamedTuple
 
 import numpy as np
 
@@ -44,21 +45,11 @@ __all__ = [
 ]
 
 
-class MemoryEstimate(tuple):
-    """``(bytes, seconds)`` estimate of a DP run, announced before it starts."""
+class MemoryEstimate(NamedTuple):
+    """Peak bytes and seconds of a DP run, announced before it starts (a resource estimate)."""
 
-    __slots__ = ()
-
-    def __new__(cls, nbytes: int, seconds: float):
-        return super().__new__(cls, (int(nbytes), float(seconds)))
-
-    @property
-    def nbytes(self) -> int:
-        return self[0]
-
-    @property
-    def seconds(self) -> float:
-        return self[1]
+    nbytes: int
+    seconds: float
 
     def __str__(self) -> str:
         return f"~{self.nbytes / 2**30:.2f} GiB, ~{self.seconds:.0f} s"
@@ -162,7 +153,7 @@ def estimate_survival_cost(N: int, memory_bytes: int = 12 * 2**30) -> MemoryEsti
     biggest = max(len(c) for c in chunks)
     nbytes = masks * (biggest * _BYTES_PER_RESIDUE + _BYTES_PER_MASK)
     seconds = masks * (len(primes) * _SECONDS_PER_RESIDUE + len(chunks) * 2e-7)
-    return MemoryEstimate(nbytes, seconds)
+    return MemoryEstimate(int(nbytes), seconds)
 
 
 _BLOCK_BITS = 18

@@ -90,6 +90,23 @@ def _integrate_layer(left: dict, sites: list, right: dict):
     return new_left, new_sites, dict(new_right)
 
 
+def _prune(left: dict, sites: list, right: dict):
+    """Drop matrix entries no path from ``L`` to ``R`` uses (exact: they never contribute)."""
+    m = len(sites)
+    alive = set(left)
+    forward = []
+    for site in sites:  # column bonds reachable from the left vector
+        forward.append(alive)
+        alive = {col for (row, col) in site if row in alive}
+    alive = set(right)
+    kept = [None] * m
+    for k in range(m - 1, -1, -1):  # keep entries on a path left -> right
+        kept[k] = {key: poly for key, poly in sites[k].items() if key[0] in forward[k] and key[1] in alive}
+        alive = {row for (row, col) in kept[k]}
+    left = {row: c for row, c in left.items() if row in alive}
+    return left, kept, right
+
+
 def integrate_layers(N: int, powers: dict | None = None) -> Fraction:
     """``int prod dW  prod_{(i,j)} W_{i,j}^{powers[(i,j)]}`` over the ensemble (unnormalized).
 
@@ -108,7 +125,7 @@ def integrate_layers(N: int, powers: dict | None = None) -> Fraction:
     sites = [{((), ()): dict(one)} for _ in range(N)]  # the bottom layer's integrand is 1
     for m in range(N, 1, -1):
         sites = [_multiply_site(site, powers.get((m, k), 0)) for k, site in enumerate(sites, start=1)]
-        left, sites, right = _integrate_layer(left, sites, right)
+        left, sites, right = _prune(*_integrate_layer(left, sites, right))
     # layer 1: W_{1,1} = 1 (a power of W_{1,1} changes nothing)
     total = Fraction(0)
     for (row, col), poly in sites[0].items():

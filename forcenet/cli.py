@@ -144,12 +144,50 @@ def _cmd_count(args):
     return 0
 
 
+# Nested-matrix integration (exact.nested): measured seconds and peak bytes of one
+# integration on the 2-core machine; the table needs N(N+1)/2 + 1 of them.
+_THESIS_COST = {2: (0.01, 5e7), 3: (0.01, 5e7), 4: (0.01, 5e7), 5: (0.01, 5e7), 6: (0.02, 6e7),
+                7: (0.15, 1.5e8), 8: (6.0, 1.5e9), 9: (400.0, 1.9e10)}
+
+
+def _thesis_mean_table(N: int, force: bool, quiet: bool):
+    from fractions import Fraction
+
+    from exact.nested import integrate_layers
+
+    per_run, nbytes = _THESIS_COST.get(N, (float("inf"), float("inf")))
+    runs = N * (N + 1) // 2 + 1
+    seconds = per_run * runs
+    if nbytes > _memory_budget():
+        raise UsageError(f"N={N} is out of range for --method thesis: it needs ~{nbytes / 2**30:.0f} GiB; N must be in 2..8")
+    if seconds > 60 and not force:
+        raise UsageError(f"N={N} with --method thesis takes ~{seconds / 60:.0f} min ({runs} nested integrations); add --force to run it")
+    if not quiet and seconds > 2:
+        print(f"forcenet: --method thesis N={N}: estimated ~{seconds:.0f} s", file=sys.stderr)
+    volume = integrate_layers(N)
+    grains = [(i, j) for i in range(1, N + 1) for j in range(1, i + 1)]
+    bar = _progress(len(grains), f"N={N} grains") if seconds > 2 and not quiet else None
+    values = {}
+    for g in grains:
+        values[g] = Fraction(integrate_layers(N, {g: 1}) / volume)
+        if bar:
+            bar.update(1)
+    if bar:
+        bar.close()
+    return [[values[(i, j)] for j in range(1, i + 1)] for i in range(1, N + 1)]
+
+
 def _cmd_table(args):
     from exact.tables import exact_table, fraction_str, to_csv, to_json, to_latex, write_atomic
 
-    est = _check_table_cost(args.N, args.moments)
     quiet = args.format is not None and args.out is None
-    means = _exact_mean_table(args.N, est, quiet)
+    if args.method == "thesis":
+        if args.moments > 1:
+            raise UsageError("--moments with --method thesis: only --moments 1 (higher moments use the fast method)")
+        means = _thesis_mean_table(args.N, args.force, quiet)
+    else:
+        est = _check_table_cost(args.N, args.moments)
+        means = _exact_mean_table(args.N, est, quiet)
     table = exact_table(args.N, args.moments, mean_table=means)
     render = {"json": to_json, "csv": to_csv, "latex": to_latex}
     if args.format is not None:
@@ -299,6 +337,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out-dir", default="forcenet-tables", help="directory of the main job's files")
     p.add_argument("--samples", type=int, default=20000, help="exact-sampler samples of the cross-check (0: none)")
     p.add_argument("--seed", type=int, default=2006, help="seed of the cross-check")
+    p.add_argument(
+        "--method",
+        choices=["fast", "thesis"],
+        default="fast",
+        help="fast: order-ideal DP (default); thesis: the layer-by-layer nested-matrix integration of Secs. 4.3-4.5",
+    )
+    p.add_argument("--force", action="store_true", help="run a method beyond its quick reach")
     p.set_defaults(func=_cmd_table)
 
     p = sub.add_parser("maps", help="Z_(N-2) and the number of maps h per bottom row (Sec. 4.6)")

@@ -133,3 +133,17 @@ def test_sample_refuses_short_chains_and_bad_options(capsys):
     assert "too short" in capsys.readouterr().err
     assert main(["sample", "--N", "6", "--samples", "1"]) == 2
     assert main(["sample", "--N", "6", "--ph", "0.5"]) == 2
+
+
+def test_table_method_thesis_matches_fast(capsys):
+    code, out, _ = run(["table", "--N", "6", "--format", "json", "--method", "thesis"], capsys)
+    assert code == 0
+    thesis = json.loads(out)
+    code, out, _ = run(["table", "--N", "6", "--format", "json"], capsys)
+    assert json.loads(out) == thesis
+
+
+def test_table_method_thesis_refuses_beyond_reach(capsys):
+    assert main(["table", "--N", "8", "--method", "thesis", "--format", "json"]) == 2
+    assert "--force" in capsys.readouterr().err
+    assert main(["table", "--N", "12", "--method", "thesis", "--format", "json", "--force"]) == 2

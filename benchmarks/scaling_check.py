@@ -95,7 +95,7 @@ def main(argv=None):
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.5))
     for ax, z in zip(axes[:2], (0.5, 0.75)):
         xs = np.linspace(-z + 1e-6, z - 1e-6, 121)
-        ax.plot(xs, [float(bulk_response(x, z, dps=15)) for x in xs], "k-", lw=2, label="limit")
+        ax.plot(xs, [float(bulk_response(x, z, dps=15)) for x in xs], "k-", lw=2, label="limit", zorder=10)
         for N in Ns:
             i = round(z * N)
             js = np.arange(2, i)
@@ -106,7 +106,7 @@ def main(argv=None):
         ax.legend(fontsize=7)
     ax = axes[2]
     zs = np.linspace(0.02, 1, 100)
-    ax.plot(zs, [float(lattice_response(z, dps=15)) for z in zs], "k-", lw=2, label="(1 - sqrt(z(2-z)))/2")
+    ax.plot(zs, [float(lattice_response(z, dps=15)) for z in zs], "k-", lw=2, label="(1 - sqrt(z(2-z)))/2", zorder=10)
     for N in Ns:
         i = np.arange(1, N + 1)
         ax.plot(i / N, [tables[N][k - 1][0] for k in i], "o", ms=3, label=f"N={N} (exact)")

@@ -77,7 +77,7 @@ def main(argv=None):
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
     z = 0.75
     xs = np.linspace(-z + 1e-6, z - 1e-6, 121)
-    axes[0].plot(xs, [float(bulk_response(x, z, dps=15)) for x in xs], "k-", lw=2, label="limit")
+    axes[0].plot(xs, [float(bulk_response(x, z, dps=15)) for x in xs], "k-", lw=2, label="limit", zorder=10)
     for N in args.N:
         mean, err, _ = results[N]
         i = round(z * N)
@@ -88,7 +88,7 @@ def main(argv=None):
     axes[0].set_title("N<W> at z = 3/4: sampled vs limit")
     axes[0].legend(fontsize=7)
     zs = np.linspace(0.02, 1, 100)
-    axes[1].plot(zs, [float(lattice_response(t, dps=15)) for t in zs], "k-", lw=2, label="limit")
+    axes[1].plot(zs, [float(lattice_response(t, dps=15)) for t in zs], "k-", lw=2, label="limit", zorder=10)
     for N in args.N:
         mean, err, _ = results[N]
         i = np.arange(1, N + 1)

@@ -41,6 +41,8 @@ __all__ = [
     "count_maps",
     "maps_by_bottom_row",
     "map_from_tableau",
+    "tableau_from_map",
+    "mean_W_by_maps",
     "is_map",
 ]
 
@@ -337,3 +339,74 @@ def map_from_tableau(N: int, T: dict[tuple[int, int], int]) -> dict[int, tuple[i
             row.append(1 + later)
         h[l] = tuple(row) + (1,)
     return h
+
+
+def tableau_from_map(N: int, h: dict[int, tuple[int, ...]]) -> dict[tuple[int, int], int]:
+    """Inverse of :func:`map_from_tableau`: the tableau of a map.
+
+    Builds the order of the cells row by row from the bottom of the
+    staircase: ``(r, r)`` and ``(r, r+1)`` precede every cell below them;
+    ``(r, c)``, ``c >= r + 2``, precedes every cell of the rows below in
+    columns ``>= c`` and exactly ``h(l, k) - 1`` of those in columns ``< c``
+    (``l = N - 1 - r``, ``k = c - r - 1``).
+
+    Examples
+    --------
+    >>> tableau_from_map(4, {1: (1,), 2: (2, 1)})[(2, 2)]
+    4
+    """
+    N = check_layers(N, minimum=3)
+    if not is_map(h, N - 2):
+        raise ValueError(f"h={h!r} is not a map of Sec. 4.6 for N={N} (Eqs. 4.86-4.89)")
+    n = N - 1
+    order = [(n, n)]
+    for r in range(n - 1, 0, -1):
+        l = n - r
+        row = [(r, r), (r, r + 1)] if r + 1 <= n else [(r, r)]
+        merged = row + order
+        for c in range(r + 2, n + 1):
+            later = h[l][c - r - 2] - 1  # cells of lower rows, columns < c, filled after (r, c)
+            # scan positions right after (r, c-1): count lower cells with column < c behind each position
+            start = merged.index((r, c - 1)) + 1
+            behind = sum(1 for (r2, c2) in merged[start:] if r2 > r and c2 < c)
+            pos = start
+            while behind > later:
+                cell = merged[pos]
+                if cell[0] > r and cell[1] < c:
+                    behind -= 1
+                pos += 1
+            if behind != later or any(r2 > r and c2 >= c for (r2, c2) in merged[start:pos]):
+                raise ValueError(f"h is not a map: row {l} entry {c - r - 1} cannot be placed")
+            merged.insert(pos, (r, c))
+        order = merged
+    return {cell: k + 1 for k, cell in enumerate(order)}
+
+
+def mean_W_by_maps(N: int) -> list[list[Fraction]]:
+    """``<W>`` table as an average over all maps (Sec. 4.6), through the bijection.
+
+    Each map is turned into its tableau (:func:`tableau_from_map`) and the
+    grain's gap of ranks averaged: ``<W_ij> = E[T(j, N-i+j) - T(j-1, N-i+j-1)] / (d+1)``.
+    Enumerates ``Z_{N-2}`` maps, so meant for ``N <= 7``.
+
+    Examples
+    --------
+    >>> [str(x) for x in mean_W_by_maps(5)[-1]]
+    ['1/11', '1/4', '7/22', '1/4', '1/11']
+    """
+    N = check_layers(N)
+    d = N * (N - 1) // 2
+    if N == 2:  # no map rows: the one-cell staircase
+        T_list = [{(1, 1): 1}]
+    else:
+        T_list = (tableau_from_map(N, h) for h in maps(N))
+    sums = {}
+    count = 0
+    for T in T_list:
+        count += 1
+        for i in range(1, N + 1):
+            for j in range(1, i + 1):
+                hi = d + 1 if j == i else T[(j, N - i + j)]
+                lo = 0 if j == 1 else T[(j - 1, N - i + j - 1)]
+                sums[(i, j)] = sums.get((i, j), 0) + hi - lo
+    return [[Fraction(sums[(i, j)], count * (d + 1)) for j in range(1, i + 1)] for i in range(1, N + 1)]

@@ -147,3 +147,13 @@ def test_table_method_thesis_refuses_beyond_reach(capsys):
     assert main(["table", "--N", "8", "--method", "thesis", "--format", "json"]) == 2
     assert "--force" in capsys.readouterr().err
     assert main(["table", "--N", "12", "--method", "thesis", "--format", "json", "--force"]) == 2
+
+
+def test_table_method_maps_matches_fast(capsys):
+    code, out, _ = run(["table", "--N", "6", "--format", "json", "--method", "maps"], capsys)
+    assert code == 0
+    maps_table = json.loads(out)
+    code, out, _ = run(["table", "--N", "6", "--format", "json"], capsys)
+    assert json.loads(out) == maps_table
+    assert main(["table", "--N", "8", "--method", "maps", "--format", "json"]) == 2
+    assert "--force" in capsys.readouterr().err

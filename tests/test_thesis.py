@@ -124,3 +124,27 @@ def test_random_tableaux_map_to_valid_maps_with_first_row_code(N, seed):
 def test_bad_q():
     with pytest.raises(ValueError, match="q=7"):
         boundary_mean_W(5, 7)
+
+
+@pytest.mark.parametrize("N", [3, 4, 5, 6])
+def test_inverse_bijection(N):
+    from exact.thesis import tableau_from_map
+
+    for h in maps(N):
+        assert map_from_tableau(N, tableau_from_map(N, h)) == h
+    for T in all_tableaux(N):
+        assert tableau_from_map(N, map_from_tableau(N, T)) == T
+
+
+@pytest.mark.parametrize("N", [2, 3, 4, 5, 6, 7])
+def test_maps_route_full_table(N):
+    from exact.thesis import mean_W_by_maps
+
+    assert mean_W_by_maps(N) == mean_W(N)
+
+
+def test_tableau_from_invalid_map_raises():
+    from exact.thesis import tableau_from_map
+
+    with pytest.raises(ValueError, match="not a map"):
+        tableau_from_map(5, {1: (1,), 2: (2, 1), 3: (1, 1, 1)})  # violates (4.89)

@@ -43,6 +43,7 @@ __all__ = [
     "map_from_tableau",
     "tableau_from_map",
     "mean_W_by_maps",
+    "mean_W_thesis_maps",
     "is_map",
 ]
 
@@ -262,8 +263,11 @@ def is_map(h: dict[int, tuple[int, ...]], p: int) -> bool:
     return True
 
 
-def maps(N: int):
+def maps(N: int, relaxed: dict | None = None):
     """Generate all maps ``h`` for ``p = N - 2`` (rows ``l = 1..p``).
+
+    ``relaxed`` maps a row ``l`` to a set of positions ``k`` whose upper bound
+    in (4.86) is raised by one: the modified maps ``h(q, r)`` of Eq. (4.90).
 
     Examples
     --------
@@ -272,7 +276,8 @@ def maps(N: int):
     """
     N = check_layers(N, minimum=3)
     p = N - 2
-    rows = {l: [j for j in index_tuples(l) if j[-1] == 1 and (l > 1 or j == (1,))] for l in range(1, p + 1)}
+    relaxed = relaxed or {}
+    rows = {l: _map_rows(l, frozenset(relaxed.get(l, ()))) for l in range(1, p + 1)}
 
     def extend(h, l):
         if l > p:
@@ -285,6 +290,70 @@ def maps(N: int):
         h.pop(l, None)
 
     yield from extend({}, 1)
+
+
+def _map_rows(l: int, relaxed: frozenset) -> list[tuple[int, ...]]:
+    """Row ``l`` of a map: (4.86) with bounds raised by one at ``relaxed``, last entry 1."""
+
+    def extend(prefix):
+        k = len(prefix) + 1
+        if k > l:
+            yield prefix
+            return
+        top = (1 if l == 1 else 2) if k == 1 else k + prefix[-1]
+        top += k in relaxed
+        for v in range(1, top + 1):
+            yield from extend(prefix + (v,))
+
+    return [row for row in extend(()) if row[-1] == 1]
+
+
+def mean_W_thesis_maps(N: int) -> list[list[Fraction]]:
+    """``<W>`` table from the thesis's map formulas, Eqs. (4.67) and (4.90)-(4.91).
+
+    * ``r = 1`` (left boundary): Eq. (4.67) with the Lambda integers;
+    * ``1 <= q``, ``2 <= r <= N - q``:
+      ``<W_{N-q,r}> = sum_{h(q,r)} [q + 1 + h(N-r, q-1) - h(N-r-1, q-1)] / ((d+1) Z_{N-2})``,
+      over the maps whose bounds (4.86) are raised by one on the line
+      ``(l, k) = (N-r+j, q+j)``, ``0 <= j <= r-2``, with ``h(l, 0) = h(0, k) = 1``;
+    * ``q = 0`` (bottom layer): ``<W_{N,r}> = (<W_{N-1,r-1}> + <W_{N-1,r}>)/2``,
+      because the last layer's q's do not enter the weight (3.10) and are
+      uniform and independent of the layers above (generalizing the thesis's
+      ``<W_{N,1}> = <W_{N-1,1}>/2``).
+
+    Enumerates maps, so meant for ``N <= 7``.
+
+    Examples
+    --------
+    >>> [str(x) for x in mean_W_thesis_maps(5)[-1]]
+    ['1/11', '1/4', '7/22', '1/4', '1/11']
+    """
+    N = check_layers(N)
+    if N <= 3:
+        return mean_W_by_maps(N)
+    d, p = N * (N - 1) // 2, N - 2
+    Z = count_lambda(N)
+    table = {(1, 1): Fraction(1)}
+    for q in range(1, N - 1):  # layer i = N - q
+        i = N - q
+        table[(i, 1)] = boundary_mean_W(N, q)  # (4.67)
+        for r in range(2, i + 1):  # (4.90)-(4.91)
+            line = {}
+            for j in range(r - 1):
+                l, k = N - r + j, q + j
+                if 1 <= l <= p:
+                    line.setdefault(l, set()).add(k)
+
+            def entry(h, l, k):
+                return 1 if (l == 0 or k == 0) else h[l][k - 1]
+
+            total = sum(q + 1 + entry(h, N - r, q - 1) - entry(h, N - r - 1, q - 1) for h in maps(N, line))
+            table[(i, r)] = Fraction(total, (d + 1) * Z)
+    for r in range(1, N + 1):  # the bottom layer
+        left = table.get((N - 1, r - 1), Fraction(0))
+        right = table.get((N - 1, r), Fraction(0))
+        table[(N, r)] = (left + right) / 2
+    return [[table[(i, j)] for j in range(1, i + 1)] for i in range(1, N + 1)]
 
 
 def count_maps(N: int) -> int:

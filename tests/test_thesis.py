@@ -148,3 +148,20 @@ def test_tableau_from_invalid_map_raises():
 
     with pytest.raises(ValueError, match="not a map"):
         tableau_from_map(5, {1: (1,), 2: (2, 1), 3: (1, 1, 1)})  # violates (4.89)
+
+
+@pytest.mark.parametrize("N", [2, 3, 4, 5, 6, 7])
+def test_thesis_map_formula_4_91_full_table(N):
+    from exact.thesis import mean_W_thesis_maps
+
+    assert mean_W_thesis_maps(N) == mean_W(N)
+
+
+@given(st.integers(min_value=3, max_value=16))
+def test_bottom_layer_is_the_average_of_the_layer_above(N):
+    # the last layer's q's are uniform and independent (they do not enter Eq. 3.10)
+    table = mean_W(N)
+    for r in range(1, N + 1):
+        left = table[N - 2][r - 2] if r >= 2 else 0
+        right = table[N - 2][r - 1] if r <= N - 1 else 0
+        assert table[N - 1][r - 1] == (left + right) / 2

@@ -44,6 +44,8 @@ __all__ = [
     "tableau_from_map",
     "mean_W_by_maps",
     "mean_W_thesis_maps",
+    "gamma_sums",
+    "mean_W_gamma",
     "is_map",
 ]
 
@@ -479,3 +481,102 @@ def mean_W_by_maps(N: int) -> list[list[Fraction]]:
                 lo = 0 if j == 1 else T[(j - 1, N - i + j - 1)]
                 sums[(i, j)] = sums.get((i, j), 0) + hi - lo
     return [[Fraction(sums[(i, j)], count * (d + 1)) for j in range(1, i + 1)] for i in range(1, N + 1)]
+
+
+# ---------------------------------------------------------------- Gamma: (4.73)-(4.77)
+
+
+def _row_maxima(l: int, relaxed: frozenset) -> tuple[int, ...]:
+    """Largest values of ``h(l, 1..l-1)`` under (4.86) with bounds raised at ``relaxed``."""
+    out = []
+    for k in range(1, l):
+        top = (2 if k == 1 else k + out[-1]) + (k in relaxed)
+        out.append(top)
+    return tuple(out)
+
+
+def _row_mask(l: int, relaxed: frozenset) -> np.ndarray:
+    """Valid ``(h(l,1), ..., h(l,l-1))`` (0-based box) under the raised bounds."""
+    shape = _row_maxima(l, relaxed)
+    mask = np.ones(shape, dtype=bool)
+    m = len(shape)
+    for k in range(2, m + 1):  # h(l,k) <= k + h(l,k-1) (+1 if relaxed); 0-based b <= k + a (+1)
+        a = np.arange(shape[k - 2]).reshape([-1 if ax == k - 2 else 1 for ax in range(m)])
+        b = np.arange(shape[k - 1]).reshape([-1 if ax == k - 1 else 1 for ax in range(m)])
+        mask &= b <= k + a + (k in relaxed)
+    return mask
+
+
+def _transfer(box: np.ndarray, l: int, relaxed_next: frozenset, reduce) -> np.ndarray:
+    """Row ``l`` -> row ``l + 1`` of the map recursion (4.87): a dominance prefix sum (4.89)."""
+    D = box
+    for axis in range(D.ndim):
+        D = reduce(np.cumsum(D, axis=axis, dtype=D.dtype))
+    target = _row_maxima(l + 1, relaxed_next)
+    if D.ndim:
+        pad = [(0, max(t - s, 0)) for s, t in zip(D.shape, target[1:])]
+        D = np.pad(D, pad, mode="edge")[tuple(slice(0, t) for t in target[1:])]
+    return np.broadcast_to(D, target).copy() * _row_mask(l + 1, relaxed_next)
+
+
+def gamma_sums(N: int, q: int, r: int, dtype=object, reduce=lambda a: a):
+    """Integer sums over the modified maps ``h(q, r)`` of Eq. (4.90), via row recursions.
+
+    Returns ``(Z', S1, S0)``: the number of modified maps and the sums of
+    ``h(N-r, q-1)`` and ``h(N-r-1, q-1)`` over them.  The recursion over rows is
+    the Lambda recursion (4.50) with the bounds raised by one on the line of
+    (4.73)/(4.75) -- the thesis's Gamma integers are its intermediate tables.
+    """
+    p = N - 2
+    relaxed = {}
+    for j in range(r - 1):
+        l, k = N - r + j, q + j
+        if 1 <= l <= p:
+            relaxed.setdefault(l, set()).add(k)
+    relaxed = {l: frozenset(ks) for l, ks in relaxed.items()}
+
+    def weighted(row_l: int | None):
+        box = np.ones((), dtype=dtype)  # row 1: h(1,1) = 1
+        for l in range(1, p + 1):
+            if l > 1:
+                box = _transfer(box, l - 1, relaxed.get(l, frozenset()), reduce)
+            if row_l == l and q - 1 >= 1 and q - 1 < l:  # multiply by the value h(l, q-1)
+                values = np.arange(1, box.shape[q - 2] + 1, dtype=np.int64).reshape(
+                    [-1 if ax == q - 2 else 1 for ax in range(box.ndim)]
+                )
+                box = reduce(box * values)
+        return box.sum()
+
+    Z = weighted(None)
+    S1 = weighted(N - r) if (q - 1 >= 1 and q - 1 < N - r) else Z
+    S0 = weighted(N - r - 1) if (N - r - 1 >= 1 and q - 1 >= 1 and q - 1 < N - r - 1) else Z
+    return Z, S1, S0
+
+
+def mean_W_gamma(N: int) -> list[list[Fraction]]:
+    """``<W>`` table from the integer recursions: Lambda for ``r = 1`` (4.67), Gamma in the bulk (4.77).
+
+    ``(d+1) Z <W_{N-q,r}> = (q + 1) Z' + S1 - S0`` with the sums of
+    :func:`gamma_sums`; the bottom layer from the layer above (see
+    :func:`mean_W_thesis_maps`).  Exact integers (object arrays); ``N <= 10``.
+
+    Examples
+    --------
+    >>> [str(x) for x in mean_W_gamma(5)[-1]]
+    ['1/11', '1/4', '7/22', '1/4', '1/11']
+    """
+    N = check_layers(N)
+    if N <= 3:
+        return mean_W_by_maps(N)
+    d = N * (N - 1) // 2
+    Z = count_lambda(N)
+    table = {(1, 1): Fraction(1)}
+    for q in range(1, N - 1):
+        i = N - q
+        table[(i, 1)] = boundary_mean_W(N, q)
+        for r in range(2, i + 1):
+            Zq, S1, S0 = gamma_sums(N, q, r)
+            table[(i, r)] = Fraction(int((q + 1) * Zq + S1 - S0), (d + 1) * Z)
+    for r in range(1, N + 1):
+        table[(N, r)] = (table.get((N - 1, r - 1), Fraction(0)) + table.get((N - 1, r), Fraction(0))) / 2
+    return [[table[(i, j)] for j in range(1, i + 1)] for i in range(1, N + 1)]

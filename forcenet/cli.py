@@ -182,7 +182,17 @@ def _cmd_table(args):
     from exact.tables import exact_table, fraction_str, to_csv, to_json, to_latex, write_atomic
 
     quiet = args.format is not None and args.out is None
-    if args.method == "maps":
+    if args.method == "lambda":
+        from exact.thesis import mean_W_gamma
+
+        if args.moments > 1:
+            raise UsageError("--moments with --method lambda: only --moments 1 (higher moments use the fast method)")
+        if args.N > 10:
+            raise UsageError(f"N={args.N} is out of range for --method lambda: N must be in 2..10 (the index boxes of (4.32) outgrow memory)")
+        if args.N == 10 and not quiet:
+            print("forcenet: --method lambda N=10: estimated ~35 s", file=sys.stderr)
+        means = mean_W_gamma(args.N)
+    elif args.method == "maps":
         from exact.staircase import count
         from exact.thesis import mean_W_thesis_maps
 
@@ -353,9 +363,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=int, default=2006, help="seed of the cross-check")
     p.add_argument(
         "--method",
-        choices=["fast", "thesis", "maps"],
+        choices=["fast", "thesis", "lambda", "maps"],
         default="fast",
         help="fast: order-ideal DP (default); thesis: the nested-matrix integration of Secs. 4.3-4.5; "
+        "lambda: the integer recursions Lambda (4.50) and Gamma (4.73)-(4.77); "
         "maps: the map-counting formulas (4.67), (4.90)-(4.91) of Sec. 4.6",
     )
     p.add_argument("--force", action="store_true", help="run a method beyond its quick reach")

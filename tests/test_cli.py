@@ -157,3 +157,12 @@ def test_table_method_maps_matches_fast(capsys):
     assert json.loads(out) == maps_table
     assert main(["table", "--N", "8", "--method", "maps", "--format", "json"]) == 2
     assert "--force" in capsys.readouterr().err
+
+
+def test_table_method_lambda_matches_fast(capsys):
+    code, out, _ = run(["table", "--N", "8", "--format", "json", "--method", "lambda"], capsys)
+    assert code == 0
+    lam = json.loads(out)
+    code, out, _ = run(["table", "--N", "8", "--format", "json"], capsys)
+    assert json.loads(out) == lam
+    assert main(["table", "--N", "11", "--method", "lambda", "--format", "json"]) == 2

@@ -165,3 +165,25 @@ def test_bottom_layer_is_the_average_of_the_layer_above(N):
         left = table[N - 2][r - 2] if r >= 2 else 0
         right = table[N - 2][r - 1] if r <= N - 1 else 0
         assert table[N - 1][r - 1] == (left + right) / 2
+
+
+@pytest.mark.parametrize("N", range(2, 10))
+def test_gamma_recursion_full_table(N):
+    from exact.thesis import mean_W_gamma
+
+    assert mean_W_gamma(N) == mean_W(N)
+
+
+def test_gamma_sums_count_modified_maps():
+    from exact.thesis import gamma_sums
+
+    N, q, r = 6, 1, 3
+    line = {N - r + j: {q + j} for j in range(r - 1) if N - r + j <= N - 2}
+    mods = list(maps(N, line))
+    Z, S1, S0 = gamma_sums(N, q, r)
+    assert Z == len(mods)
+    N, q, r = 7, 2, 3
+    line = {N - r + j: {q + j} for j in range(r - 1) if N - r + j <= N - 2}
+    mods = list(maps(N, line))
+    Z, S1, S0 = gamma_sums(N, q, r)
+    assert (Z, S1, S0) == (len(mods), sum(h[N - r][q - 2] for h in mods), sum(h[N - r - 1][q - 2] for h in mods))

@@ -44,6 +44,7 @@ __all__ = [
     "tableau_from_map",
     "mean_W_by_maps",
     "mean_W_thesis_maps",
+    "moment_thesis_maps",
     "gamma_sums",
     "mean_W_gamma",
     "is_map",
@@ -269,7 +270,8 @@ def maps(N: int, relaxed: dict | None = None):
     """Generate all maps ``h`` for ``p = N - 2`` (rows ``l = 1..p``).
 
     ``relaxed`` maps a row ``l`` to a set of positions ``k`` whose upper bound
-    in (4.86) is raised by one: the modified maps ``h(q, r)`` of Eq. (4.90).
+    in (4.86) is raised by one (the modified maps ``h(q, r)`` of Eq. (4.90)),
+    or to a dict ``{k: amount}`` (s-th order defects, Eqs. (4.80)-(4.85)).
 
     Examples
     --------
@@ -279,7 +281,12 @@ def maps(N: int, relaxed: dict | None = None):
     N = check_layers(N, minimum=3)
     p = N - 2
     relaxed = relaxed or {}
-    rows = {l: _map_rows(l, frozenset(relaxed.get(l, ()))) for l in range(1, p + 1)}
+    rows = {}
+    for l in range(1, p + 1):
+        raise_by = relaxed.get(l, {})
+        if not isinstance(raise_by, dict):
+            raise_by = {k: 1 for k in raise_by}
+        rows[l] = _map_rows(l, tuple(sorted(raise_by.items())))
 
     def extend(h, l):
         if l > p:
@@ -294,8 +301,10 @@ def maps(N: int, relaxed: dict | None = None):
     yield from extend({}, 1)
 
 
-def _map_rows(l: int, relaxed: frozenset) -> list[tuple[int, ...]]:
-    """Row ``l`` of a map: (4.86) with bounds raised by one at ``relaxed``, last entry 1."""
+@lru_cache(maxsize=256)
+def _map_rows(l: int, raise_by: tuple) -> list[tuple[int, ...]]:
+    """Row ``l`` of a map: (4.86) with bounds raised by ``amount`` at each ``(k, amount)``, last entry 1."""
+    raise_by = dict(raise_by)
 
     def extend(prefix):
         k = len(prefix) + 1
@@ -303,7 +312,7 @@ def _map_rows(l: int, relaxed: frozenset) -> list[tuple[int, ...]]:
             yield prefix
             return
         top = (1 if l == 1 else 2) if k == 1 else k + prefix[-1]
-        top += k in relaxed
+        top += raise_by.get(k, 0)
         for v in range(1, top + 1):
             yield from extend(prefix + (v,))
 
@@ -356,6 +365,66 @@ def mean_W_thesis_maps(N: int) -> list[list[Fraction]]:
         right = table.get((N - 1, r), Fraction(0))
         table[(N, r)] = (left + right) / 2
     return [[table[(i, j)] for j in range(1, i + 1)] for i in range(1, N + 1)]
+
+
+def moment_thesis_maps(N: int, grain, s: int) -> Fraction:
+    """``<W_{i,j}^s>`` from map counting with s-th order defects, ``i <= N - 1``.
+
+    Reconstructed (4.80)-(4.85) in map form: with ``q = N - i``, ``r = j >= 2``,
+
+        (d+1)...(d+s) Z <W^s> = sum over maps with bounds raised by ``s`` on the
+        line ``(N-r+t, q+t)``, ``0 <= t <= r-2``, of
+        (q + s + h(N-r, q-1) - h(N-r-1, q-1)) (...) (q + 1 + h(N-r, q-1) - h(N-r-1, q-1)),
+
+    the falling product of (4.82); on the left boundary ``r = 1`` the rank
+    ``T = q(q+1)/2 + 2 - h(N-2, q-1)`` of (4.67) gives
+    ``<W^s> = E[T (T+1) ... (T+s-1)] / ((d+1) ... (d+s))``.  The bottom layer
+    needs two-grain moments and is not covered (use :func:`exact.moment`).
+
+    Examples
+    --------
+    >>> moment_thesis_maps(5, (4, 2), 2)
+    Fraction(4, 33)
+    """
+    N = check_layers(N, minimum=3)
+    i, j = grain
+    if not (1 <= i <= N - 1 and 1 <= j <= i):
+        raise ValueError(f"grain={grain!r}: need 1 <= j <= i <= N - 1 = {N - 1} (the bottom layer needs two-grain moments)")
+    if isinstance(s, bool) or not isinstance(s, int) or s < 1:
+        raise ValueError(f"s={s!r}: must be an integer >= 1")
+    d, p, q, r = N * (N - 1) // 2, N - 2, N - i, j
+    Z = count_lambda(N)
+    rising = 1
+    for t in range(1, s + 1):
+        rising *= d + t
+    if q == N - 1:  # W_{1,1} = 1
+        return Fraction(1)
+    if r == 1:
+        total = 0
+        for h in maps(N):
+            T = q * (q + 1) // 2 + 2 - (1 if q == 1 else h[p][q - 2])
+            value = 1
+            for t in range(s):
+                value *= T + t
+            total += value
+        return Fraction(total, Z * rising)
+    line = {}
+    for t in range(r - 1):
+        l, k = N - r + t, q + t
+        if 1 <= l <= p:
+            line.setdefault(l, {})[k] = s
+
+    def entry(h, l, k):
+        return 1 if (l == 0 or k == 0) else h[l][k - 1]
+
+    total = 0
+    for h in maps(N, line):
+        top = q + s + entry(h, N - r, q - 1) - entry(h, N - r - 1, q - 1)
+        value = 1
+        for t in range(s):
+            value *= top - t
+        total += value
+    return Fraction(total, Z * rising)
 
 
 def count_maps(N: int) -> int:

@@ -5,7 +5,7 @@ from fractions import Fraction
 import networkx as nx
 import pytest
 import sympy
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from exact import count, mean_W, normalization
@@ -187,3 +187,22 @@ def test_gamma_sums_count_modified_maps():
     mods = list(maps(N, line))
     Z, S1, S0 = gamma_sums(N, q, r)
     assert (Z, S1, S0) == (len(mods), sum(h[N - r][q - 2] for h in mods), sum(h[N - r - 1][q - 2] for h in mods))
+
+
+@settings(max_examples=20)
+@given(st.integers(min_value=3, max_value=7), st.data())
+def test_sth_order_defects_moments(N, data):
+    from exact import moment
+    from exact.thesis import moment_thesis_maps
+
+    i = data.draw(st.integers(min_value=1, max_value=N - 1))
+    j = data.draw(st.integers(min_value=1, max_value=i))
+    s = data.draw(st.integers(min_value=1, max_value=3))
+    assert moment_thesis_maps(N, (i, j), s) == moment(N, (i, j), s)
+
+
+def test_sth_order_defects_refuse_bottom_layer():
+    from exact.thesis import moment_thesis_maps
+
+    with pytest.raises(ValueError, match="bottom layer"):
+        moment_thesis_maps(5, (5, 2), 2)

@@ -319,6 +319,21 @@ def _map_rows(l: int, raise_by: tuple) -> list[tuple[int, ...]]:
     return [row for row in extend(()) if row[-1] == 1]
 
 
+def _defect_line(N: int, q: int, r: int, amount: int = 1) -> dict:
+    """Rows ``l`` -> ``{k: amount}`` on the defect line ``(N-r+t, q+t)``, ``0 <= t <= r-2`` (Eq. 4.90)."""
+    line = {}
+    for t in range(r - 1):
+        l, k = N - r + t, q + t
+        if 1 <= l <= N - 2:
+            line.setdefault(l, {})[k] = amount
+    return line
+
+
+def _entry(h, l: int, k: int) -> int:
+    """``h(l, k)`` with the conventions ``h(l, 0) = h(0, k) = 1`` of (4.67) and (4.91)."""
+    return 1 if (l == 0 or k == 0) else h[l][k - 1]
+
+
 def mean_W_thesis_maps(N: int) -> list[list[Fraction]]:
     """``<W>`` table from the thesis's map formulas, Eqs. (4.67) and (4.90)-(4.91).
 
@@ -349,16 +364,8 @@ def mean_W_thesis_maps(N: int) -> list[list[Fraction]]:
         i = N - q
         table[(i, 1)] = boundary_mean_W(N, q)  # (4.67)
         for r in range(2, i + 1):  # (4.90)-(4.91)
-            line = {}
-            for j in range(r - 1):
-                l, k = N - r + j, q + j
-                if 1 <= l <= p:
-                    line.setdefault(l, set()).add(k)
-
-            def entry(h, l, k):
-                return 1 if (l == 0 or k == 0) else h[l][k - 1]
-
-            total = sum(q + 1 + entry(h, N - r, q - 1) - entry(h, N - r - 1, q - 1) for h in maps(N, line))
+            line = _defect_line(N, q, r)
+            total = sum(q + 1 + _entry(h, N - r, q - 1) - _entry(h, N - r - 1, q - 1) for h in maps(N, line))
             table[(i, r)] = Fraction(total, (d + 1) * Z)
     for r in range(1, N + 1):  # the bottom layer
         left = table.get((N - 1, r - 1), Fraction(0))
@@ -408,18 +415,9 @@ def moment_thesis_maps(N: int, grain, s: int) -> Fraction:
                 value *= T + t
             total += value
         return Fraction(total, Z * rising)
-    line = {}
-    for t in range(r - 1):
-        l, k = N - r + t, q + t
-        if 1 <= l <= p:
-            line.setdefault(l, {})[k] = s
-
-    def entry(h, l, k):
-        return 1 if (l == 0 or k == 0) else h[l][k - 1]
-
     total = 0
-    for h in maps(N, line):
-        top = q + s + entry(h, N - r, q - 1) - entry(h, N - r - 1, q - 1)
+    for h in maps(N, _defect_line(N, q, r, s)):
+        top = q + s + _entry(h, N - r, q - 1) - _entry(h, N - r - 1, q - 1)
         value = 1
         for t in range(s):
             value *= top - t
@@ -597,12 +595,7 @@ def gamma_sums(N: int, q: int, r: int, dtype=object, reduce=lambda a: a):
     (4.73)/(4.75) -- the thesis's Gamma integers are its intermediate tables.
     """
     p = N - 2
-    relaxed = {}
-    for j in range(r - 1):
-        l, k = N - r + j, q + j
-        if 1 <= l <= p:
-            relaxed.setdefault(l, set()).add(k)
-    relaxed = {l: frozenset(ks) for l, ks in relaxed.items()}
+    relaxed = {l: frozenset(ks) for l, ks in _defect_line(N, q, r).items()}
 
     def weighted(row_l: int | None):
         box = np.ones((), dtype=dtype)  # row 1: h(1,1) = 1

@@ -357,7 +357,7 @@ def mean_W_thesis_maps(N: int) -> list[list[Fraction]]:
     N = check_layers(N)
     if N <= 3:
         return mean_W_by_maps(N)
-    d, p = N * (N - 1) // 2, N - 2
+    d = N * (N - 1) // 2
     Z = count_lambda(N)
     table = {(1, 1): Fraction(1)}
     for q in range(1, N - 1):  # layer i = N - q

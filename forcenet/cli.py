@@ -300,8 +300,6 @@ def _cmd_limit(args):
 def _cmd_sample(args):
     import json
 
-    import numpy as np
-
     N, K = args.N, args.samples
     if K < 2:
         raise UsageError(f"samples={K} is out of range: samples must be >= 2")

@@ -7,6 +7,9 @@ and peak resident memory.  Methods:
 * ``dict``       exact <W> table, plain dictionary DP with Python ints (exact.baseline)
 * ``normaliz``   the normalization only (exact volume of the polytope), PyNormaliz
 * ``moments2``   exact E[W^2] table (exact.moments.moment_table)
+* ``thesis``     <W> table by the nested-matrix integration (exact.nested)
+* ``lambda``     <W> table by the Lambda/Gamma integer recursions (exact.thesis.mean_W_gamma)
+* ``maps``       <W> table by counting maps, Eq. (4.91) (exact.thesis.mean_W_thesis_maps)
 
 Usage::
 
@@ -28,6 +31,12 @@ SNIPPETS = {
     "fast": "from exact.moments import mean_W; t = mean_W({N})",
     "dict": "from exact.baseline import mean_W_dictionary; t = mean_W_dictionary({N})",
     "moments2": "from exact.moments import moment_table; t = moment_table({N}, 2)",
+    "thesis": """
+from exact.nested import integrate_layers
+v = integrate_layers({N}); t = [[integrate_layers({N}, {{(i, j): 1}}) / v for j in range(1, i + 1)] for i in range(1, {N} + 1)]
+""",
+    "lambda": "from exact.thesis import mean_W_gamma; t = mean_W_gamma({N})",
+    "maps": "from exact.thesis import mean_W_thesis_maps; t = mean_W_thesis_maps({N})",
     "normaliz": """
 import PyNormaliz
 from exact.brute import partial_sum_poset

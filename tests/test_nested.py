@@ -46,3 +46,16 @@ def test_bad_powers():
         integrate_layers(4, {(5, 1): 1})
     with pytest.raises(ValueError, match="powers"):
         integrate_layers(4, {(2, 1): -1})
+
+
+@pytest.mark.slow
+def test_mean_table_N7_and_moments():
+    N = 7
+    table = mean_W(N)
+    for i in range(1, N + 1):
+        for j in range(1, i + 1):
+            assert moment_nested(N, {(i, j): 1}) == table[i - 1][j - 1]
+    for grain in [(7, 3), (5, 2), (6, 6)]:
+        for s in (2, 3):
+            assert moment_nested(N, {grain: s}) == moment(N, grain, s)
+    assert moment_nested(N, {(7, 3): 1, (6, 2): 1}) == correlation(N, (7, 3), (6, 2))

@@ -236,6 +236,11 @@ def survival_counts(N: int, progress=None, memory_bytes: int = 12 * 2**30):
     """
     n = N - 1
     d = n * (n + 1) // 2
+    if n >= 40 or estimate_survival_cost(N, memory_bytes).nbytes > 2 * memory_bytes:
+        raise ValueError(
+            f"N={N} is out of range for the exact table: one prime's residues over the 2^{n} ideals "
+            f"do not fit in memory_bytes={memory_bytes}; N must be at most about 30"
+        )
     total = count(N)
     primes = survival_primes(N)
     A = np.concatenate(

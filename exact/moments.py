@@ -133,6 +133,18 @@ def _eligible(lam: np.ndarray, N: int, i: int, j: int) -> np.ndarray:
     return (lam[:, j - 1] >= m) & (lam[:, j] < m)
 
 
+_STATE_BUDGET = 8 * 2**30  # bytes of one marked-chain DP (states x primes x ideals)
+
+
+def _check_state_memory(N: int, n_states: int, n_primes: int) -> None:
+    nbytes = (1 << (N - 1)) * n_states * n_primes * 8 * 2
+    if nbytes > _STATE_BUDGET:
+        raise ValueError(
+            f"N={N} is out of range for this moment: its path-sum table needs ~{nbytes / 2**30:.0f} GiB "
+            f"(budget {_STATE_BUDGET / 2**30:.0f} GiB); use a smaller N (about N <= 20 for s = 2)"
+        )
+
+
 def _rising(x: int, s: int) -> int:
     out = 1
     for k in range(s):
@@ -159,8 +171,9 @@ def moment_table(N: int, s: int = 2, *, memory_bytes: int = 4 * 2**30, progress=
     grains = [(i, j) for i in range(1, N + 1) for j in range(1, i + 1)]
     if n == 0:
         return [[Fraction(1)]]
-    lam = parts_table(n)
     primes = primes_for_bound(total * comb(d + s, s))
+    _check_state_memory(N, s + 1, len(primes))
+    lam = parts_table(n)
     per_grain = (1 << n) * (s + 1) * len(primes) * 8 * 3  # state table and temporaries
     batch = max(1, min(len(grains), memory_bytes // per_grain))
     values = {}
@@ -214,9 +227,10 @@ def moment(N: int, grain, s: int) -> Fraction:
 def _single_moment(N: int, i: int, j: int, s: int) -> Fraction:
     n, d = N - 1, N * (N - 1) // 2
     total = count(N)
+    primes = primes_for_bound(total * comb(d + s, s))
+    _check_state_memory(N, s + 1, len(primes))
     lam = parts_table(n)
     elig = _eligible(lam, N, i, j)
-    primes = primes_for_bound(total * comb(d + s, s))
 
     def update(masks, acc):
         return np.where(elig[masks][:, None, None], np.cumsum(acc, axis=1), acc)
@@ -249,10 +263,11 @@ def correlation(N: int, grain1, grain2) -> Fraction:
 def _correlation(N: int, g1, g2) -> Fraction:
     n, d = N - 1, N * (N - 1) // 2
     total = count(N)
+    primes = primes_for_bound(total * (d + 1) * (d + 2))
+    _check_state_memory(N, 4, len(primes))
     lam = parts_table(n)
     e1 = _eligible(lam, N, *g1)
     e2 = _eligible(lam, N, *g2)
-    primes = primes_for_bound(total * (d + 1) * (d + 2))
 
     def update(masks, acc):
         a, b = e1[masks][:, None], e2[masks][:, None]

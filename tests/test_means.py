@@ -89,3 +89,12 @@ def test_linear_extensions_N7(N):
 @pytest.mark.slow
 def test_dictionary_dp_N12():
     assert mean_W(12) == mean_W_dictionary(12)
+
+
+def test_mean_table_refuses_runs_that_do_not_fit():
+    from exact.ideal_dp import survival_counts
+
+    with pytest.raises(ValueError, match="N=45 is out of range"):
+        mean_W(45)
+    with pytest.raises(ValueError, match="N=33 is out of range"):
+        survival_counts(33, memory_bytes=2**30)

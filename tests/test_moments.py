@@ -88,3 +88,10 @@ def test_variance_table_matches_moments():
 def test_bad_order(s, exc):
     with pytest.raises(exc, match="s"):
         moment(4, (4, 1), s)
+
+
+def test_moment_refuses_runs_that_do_not_fit():
+    with pytest.raises(ValueError, match="N=40 is out of range"):
+        moment(40, (20, 5), 2)
+    with pytest.raises(ValueError, match="N=40 is out of range"):
+        correlation(40, (20, 5), (30, 2))

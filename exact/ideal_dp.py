@@ -236,10 +236,11 @@ def survival_counts(N: int, progress=None, memory_bytes: int = 12 * 2**30):
     """
     n = N - 1
     d = n * (n + 1) // 2
-    if n >= 40 or estimate_survival_cost(N, memory_bytes).nbytes > 2 * memory_bytes:
+    one_prime = (1 << n) * (_BYTES_PER_RESIDUE + _BYTES_PER_MASK)
+    if one_prime > max(memory_bytes, 2**32):
         raise ValueError(
             f"N={N} is out of range for the exact table: one prime's residues over the 2^{n} ideals "
-            f"do not fit in memory_bytes={memory_bytes}; N must be at most about 30"
+            f"need {one_prime / 2**30:.0f} GiB, more than memory_bytes={memory_bytes}; N must be at most about 30"
         )
     total = count(N)
     primes = survival_primes(N)

@@ -334,6 +334,24 @@ def _entry(h, l: int, k: int) -> int:
     return 1 if (l == 0 or k == 0) else h[l][k - 1]
 
 
+def _table_from_bulk(N: int, bulk) -> list[list[Fraction]]:
+    """Assemble a ``<W>`` table: (4.67) on the left boundary, ``bulk(q, r) / ((d+1) Z)``
+    for ``r >= 2`` (Eq. 4.91 or 4.77), the bottom layer from the layer above."""
+    if N <= 3:
+        return mean_W_by_maps(N)
+    d = N * (N - 1) // 2
+    Z = count_lambda(N)
+    table = {(1, 1): Fraction(1)}
+    for q in range(1, N - 1):  # layer i = N - q
+        i = N - q
+        table[(i, 1)] = boundary_mean_W(N, q)  # (4.67)
+        for r in range(2, i + 1):
+            table[(i, r)] = Fraction(bulk(q, r), (d + 1) * Z)
+    for r in range(1, N + 1):  # bottom layer: last-layer q's are independent uniforms
+        table[(N, r)] = (table.get((N - 1, r - 1), Fraction(0)) + table.get((N - 1, r), Fraction(0))) / 2
+    return [[table[(i, j)] for j in range(1, i + 1)] for i in range(1, N + 1)]
+
+
 def mean_W_thesis_maps(N: int) -> list[list[Fraction]]:
     """``<W>`` table from the thesis's map formulas, Eqs. (4.67) and (4.90)-(4.91).
 
@@ -355,23 +373,12 @@ def mean_W_thesis_maps(N: int) -> list[list[Fraction]]:
     ['1/11', '1/4', '7/22', '1/4', '1/11']
     """
     N = check_layers(N)
-    if N <= 3:
-        return mean_W_by_maps(N)
-    d = N * (N - 1) // 2
-    Z = count_lambda(N)
-    table = {(1, 1): Fraction(1)}
-    for q in range(1, N - 1):  # layer i = N - q
-        i = N - q
-        table[(i, 1)] = boundary_mean_W(N, q)  # (4.67)
-        for r in range(2, i + 1):  # (4.90)-(4.91)
-            line = _defect_line(N, q, r)
-            total = sum(q + 1 + _entry(h, N - r, q - 1) - _entry(h, N - r - 1, q - 1) for h in maps(N, line))
-            table[(i, r)] = Fraction(total, (d + 1) * Z)
-    for r in range(1, N + 1):  # the bottom layer
-        left = table.get((N - 1, r - 1), Fraction(0))
-        right = table.get((N - 1, r), Fraction(0))
-        table[(N, r)] = (left + right) / 2
-    return [[table[(i, j)] for j in range(1, i + 1)] for i in range(1, N + 1)]
+
+    def bulk(q, r):
+        line = _defect_line(N, q, r)
+        return sum(q + 1 + _entry(h, N - r, q - 1) - _entry(h, N - r - 1, q - 1) for h in maps(N, line))
+
+    return _table_from_bulk(N, bulk)
 
 
 def moment_thesis_maps(N: int, grain, s: int) -> Fraction:
@@ -628,17 +635,9 @@ def mean_W_gamma(N: int) -> list[list[Fraction]]:
     ['1/11', '1/4', '7/22', '1/4', '1/11']
     """
     N = check_layers(N)
-    if N <= 3:
-        return mean_W_by_maps(N)
-    d = N * (N - 1) // 2
-    Z = count_lambda(N)
-    table = {(1, 1): Fraction(1)}
-    for q in range(1, N - 1):
-        i = N - q
-        table[(i, 1)] = boundary_mean_W(N, q)
-        for r in range(2, i + 1):
-            Zq, S1, S0 = gamma_sums(N, q, r)
-            table[(i, r)] = Fraction(int((q + 1) * Zq + S1 - S0), (d + 1) * Z)
-    for r in range(1, N + 1):
-        table[(N, r)] = (table.get((N - 1, r - 1), Fraction(0)) + table.get((N - 1, r), Fraction(0))) / 2
-    return [[table[(i, j)] for j in range(1, i + 1)] for i in range(1, N + 1)]
+
+    def bulk(q, r):
+        Zq, S1, S0 = gamma_sums(N, q, r)
+        return int((q + 1) * Zq + S1 - S0)
+
+    return _table_from_bulk(N, bulk)

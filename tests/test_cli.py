@@ -135,34 +135,24 @@ def test_sample_refuses_short_chains_and_bad_options(capsys):
     assert main(["sample", "--N", "6", "--ph", "0.5"]) == 2
 
 
-def test_table_method_thesis_matches_fast(capsys):
-    code, out, _ = run(["table", "--N", "6", "--format", "json", "--method", "thesis"], capsys)
+@pytest.mark.parametrize("method, N", [("thesis", 6), ("maps", 6), ("lambda", 8)])
+def test_table_methods_print_the_same_json(method, N, capsys):
+    code, out, _ = run(["table", "--N", str(N), "--format", "json", "--method", method], capsys)
     assert code == 0
-    thesis = json.loads(out)
-    code, out, _ = run(["table", "--N", "6", "--format", "json"], capsys)
-    assert json.loads(out) == thesis
+    other = json.loads(out)
+    code, out, _ = run(["table", "--N", str(N), "--format", "json"], capsys)
+    assert json.loads(out) == other
 
 
-def test_table_method_thesis_refuses_beyond_reach(capsys):
-    assert main(["table", "--N", "8", "--method", "thesis", "--format", "json"]) == 2
-    assert "--force" in capsys.readouterr().err
-    assert main(["table", "--N", "12", "--method", "thesis", "--format", "json", "--force"]) == 2
-
-
-def test_table_method_maps_matches_fast(capsys):
-    code, out, _ = run(["table", "--N", "6", "--format", "json", "--method", "maps"], capsys)
-    assert code == 0
-    maps_table = json.loads(out)
-    code, out, _ = run(["table", "--N", "6", "--format", "json"], capsys)
-    assert json.loads(out) == maps_table
-    assert main(["table", "--N", "8", "--method", "maps", "--format", "json"]) == 2
-    assert "--force" in capsys.readouterr().err
-
-
-def test_table_method_lambda_matches_fast(capsys):
-    code, out, _ = run(["table", "--N", "8", "--format", "json", "--method", "lambda"], capsys)
-    assert code == 0
-    lam = json.loads(out)
-    code, out, _ = run(["table", "--N", "8", "--format", "json"], capsys)
-    assert json.loads(out) == lam
-    assert main(["table", "--N", "11", "--method", "lambda", "--format", "json"]) == 2
+@pytest.mark.parametrize(
+    "argv, needle",
+    [
+        (["--N", "8", "--method", "thesis"], "--force"),
+        (["--N", "12", "--method", "thesis", "--force"], "N=12 is out of range"),
+        (["--N", "8", "--method", "maps"], "--force"),
+        (["--N", "11", "--method", "lambda"], "N=11 is out of range"),
+    ],
+)
+def test_table_methods_refuse_beyond_reach(argv, needle, capsys):
+    assert main(["table", *argv, "--format", "json"]) == 2
+    assert needle in capsys.readouterr().err

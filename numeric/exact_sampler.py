@@ -185,7 +185,10 @@ class ExactSampler:
     def __init__(self, N: int, seed=None, batch: int = 4096):
         self.N = check_layers(N)
         self.rng = np.random.default_rng(seed)
-        self.batch = int(batch)
+        if int(batch) < 1:
+            raise ValueError(f"batch={batch}: must be >= 1")
+        # a batch holds B tableaux of N^2 int32 entries: keep it under ~1 GiB
+        self.batch = max(1, min(int(batch), 2**28 // (self.N * self.N)))
 
     def sample_W(self, size: int) -> np.ndarray:
         """``size`` independent configurations, ``W`` of shape ``(size, N, N)``."""

@@ -136,6 +136,13 @@ def tableaux_to_W(T: np.ndarray, rng: np.random.Generator) -> np.ndarray:
     """Place sorted uniforms by rank and return ``W`` of shape ``(B, N, N)``.
 
     ``W[:, i-1, j-1]`` is ``W_{i,j}`` (zero for ``j > i``).
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> W = tableaux_to_W(sample_tableaux(4, 3, rng), rng)
+    >>> W.shape, bool(np.allclose(W.sum(axis=2), 1.0))
+    ((3, 4, 4), True)
     """
     B, n1, _ = T.shape
     n = n1 - 1
@@ -155,6 +162,12 @@ def q_from_W(W: np.ndarray) -> np.ndarray:
     """q-coordinates (Eq. 4.6) of sampled configurations, shape ``(B, N-1, N-1)``.
 
     ``q_{i,j} = (S_{i+1,j} - S_{i,j-1}) / W_{i,j}``; NaN where ``W_{i,j} = 0``.
+
+    Examples
+    --------
+    >>> W = np.array([[[1.0, 0.0], [0.25, 0.75]]])
+    >>> q_from_W(W).tolist()
+    [[[0.25]]]
     """
     S = np.cumsum(W, axis=2)
     B, N, _ = W.shape

@@ -206,3 +206,20 @@ def test_sth_order_defects_refuse_bottom_layer():
 
     with pytest.raises(ValueError, match="bottom layer"):
         moment_thesis_maps(5, (5, 2), 2)
+
+
+@pytest.mark.parametrize("N", [5, 6, 7, 8, 9, 10])
+def test_lambda_chain_equals_whole_table(N):
+    from exact.thesis import _lambda_sum_mod, _lambda_weighted_sums_box
+
+    prime = 2147483647
+    reference = [x % prime for x in _lambda_weighted_sums_box(N)]
+    chain = [_lambda_sum_mod(N, prime)] + [_lambda_sum_mod(N, prime, k) for k in range(1, N - 2)]
+    assert chain == reference
+
+
+@pytest.mark.slow
+def test_lambda_normalization_N12():
+    from exact.thesis import count_lambda
+
+    assert count_lambda(12) == count(12)

@@ -105,39 +105,16 @@ def index_tuples(p: int):
     yield from extend(())
 
 
-def _axis_lengths(m: int) -> tuple[int, ...]:
-    """Range of ``j_l`` in (4.32) for ``l = 1..m``: ``j_l <= l(l+1)/2 + 1``."""
-    return tuple(l * (l + 1) // 2 + 1 for l in range(1, m + 1))
-
-
-def _valid_mask(m: int) -> np.ndarray:
-    """Boolean box of the index range (4.32) for tuples of length ``m``."""
-    shape = _axis_lengths(m)
-    mask = np.ones(shape, dtype=bool)
-    for l in range(2, m + 1):  # j_l <= l + j_{l-1}, 0-based: b <= l + a
-        a = np.arange(shape[l - 2]).reshape([-1 if ax == l - 2 else 1 for ax in range(m)])
-        b = np.arange(shape[l - 1]).reshape([-1 if ax == l - 1 else 1 for ax in range(m)])
-        mask &= b <= l + a
-    return mask
-
-
 def _lambda_boxes(p: int, dtype, reduce):
     """``Lambda^(p)`` on the box of its first ``p - 1`` indices (the last is 1).
 
-    ``reduce`` maps an array to canonical values (``% primes`` or identity).
-    The nested sum of (4.50) is a dominance prefix sum: cumulative sums along
-    every axis, then each ``Lambda^(p+1)_{(j_1, v, 1)}`` reads the sum at
-    ``v = (j_2, ..., j_p)``, clipped to the box (no keys lie beyond it).
+    ``reduce`` maps an array to canonical values (``% prime`` or identity).
+    The nested sum of (4.50) is a dominance prefix sum: one row step of the
+    map recursion (:func:`_transfer`) with no raised bounds per level.
     """
     L = np.ones((), dtype=dtype)  # Lambda^(1)_{(1)} = 1: an empty box
-    for q in range(1, p):  # build Lambda^(q+1) from Lambda^(q)
-        D = L
-        for axis in range(D.ndim):
-            D = reduce(np.cumsum(D, axis=axis, dtype=dtype))
-        target = _axis_lengths(q)  # box of (j_1, ..., j_q) of Lambda^(q+1)
-        pad = [(0, t - s) for s, t in zip(D.shape, target[1:])]
-        D = np.pad(D, pad, mode="edge") if D.ndim else D
-        L = np.broadcast_to(D, target).copy() * _valid_mask(q)
+    for q in range(1, p):  # Lambda^(q) -> Lambda^(q+1)
+        L = _transfer(L, q, frozenset(), reduce)
     return L
 
 

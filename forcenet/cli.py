@@ -14,6 +14,7 @@ Examples (shell)::
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 import time
@@ -297,49 +298,102 @@ def _cmd_limit(args):
     return 0
 
 
+def _packing_scene(args):
+    """The N x P scene of --P/--pv/--mg/--j0, or None for the triangle under the overload."""
+    if args.P is None:
+        for name in ("pv", "mg", "j0"):
+            if getattr(args, name) is not None:
+                raise UsageError(f"--{name} needs the full packing: give its width with --P")
+        return None
+    from numeric.packing import Scene
+
+    if args.sampler == "exact":
+        raise UsageError("--P: the exact sampler is the fully mobilized triangle; use --sampler metropolis for the packing")
+    try:
+        return Scene(
+            N=args.N, P=args.P, F=args.F, j0=args.j0, pv=args.pv or 0.0, mg=args.mg or 0.0, ph=args.ph
+        )
+    except (TypeError, ValueError) as exc:
+        raise UsageError(str(exc)) from None
+
+
 def _cmd_sample(args):
     import json
+
+    import numpy as np
 
     N, K = args.N, args.samples
     if K < 2:
         raise UsageError(f"samples={K} is out of range: samples must be >= 2")
     if args.ph is not None and not args.ph > 0:
         raise UsageError(f"ph={args.ph} is out of range: ph must be > 0 (omit it for the fully mobilized limit)")
+    if not (args.F > 0 and math.isfinite(args.F)):
+        raise UsageError(f"F={args.F} is out of range: the overload must be a finite number > 0")
+    scene = _packing_scene(args)
     if args.sampler == "exact" and args.ph is not None:
         raise UsageError("--ph applies to --sampler metropolis only (the exact sampler is the fully mobilized ensemble)")
-    bar = _progress(K, f"{args.sampler} N={N}") if K * N * N > 2_000_000 else None
+    if args.response and scene is None:
+        raise UsageError("--response needs the full packing (--P): on the triangle G(i, j) = <W_ij>/F")
+    width = N if scene is None else scene.P
+    chains = 2 if args.response else 1
+    bar = _progress(K * chains, f"{args.sampler} N={N}") if K * N * width > 2_000_000 else None
+    tick = bar.update if bar else None
     t0 = time.perf_counter()
+    extra = {}
     try:
         if args.sampler == "exact":
             from numeric.exact_sampler import ExactSampler
 
-            mean, stderr = ExactSampler(N, seed=args.seed).mean_W(K, progress=bar.update if bar else None)
-            extra = {}
+            mean, stderr = ExactSampler(N, seed=args.seed).mean_W(K, progress=tick)
+            mean, stderr = mean * args.F, stderr * args.F
         else:
             from numeric.autocorr import AutocorrError, mean_and_stderr
-            from numeric.metropolis import TriangleMetropolis
 
-            sampler = TriangleMetropolis(N, seed=args.seed, ph=args.ph)
             burn = args.burn_in if args.burn_in is not None else max(100, K // 10)
-            chain = sampler.run(K, burn_in=burn, progress=bar.update if bar else None)
             try:
+                if scene is None:
+                    from numeric.metropolis import TriangleMetropolis
+
+                    ph = None if args.ph is None else args.ph / args.F
+                    sampler = TriangleMetropolis(N, seed=args.seed, ph=ph)
+                    chain = sampler.run(K, burn_in=burn, progress=tick) * args.F
+                else:
+                    from numeric.packing import PackingMetropolis, response
+
+                    sampler = PackingMetropolis(scene, seed=args.seed)
+                    chain = sampler.run(K, burn_in=burn, progress=tick)
+                    extra = {"scene": scene.name, "P": scene.P, "F": scene.F, "j0": scene.j0,
+                             "pv": scene.pv, "mg": scene.mg, "ph": scene.ph}
                 mean, stderr, tau = mean_and_stderr(chain)
+                if args.response:
+                    G, G_err, info = response(scene, K, burn, seed=args.seed, progress=tick)
             except AutocorrError as exc:
                 raise UsageError(f"samples={K}: {exc}; run more sweeps") from None
-            extra = {"burn_in": burn, "acceptance": sampler.acceptance_rate, "tau_max": float(tau.max())}
+            except ValueError as exc:
+                raise UsageError(str(exc)) from None
+            extra.update({"burn_in": burn, "acceptance": sampler.acceptance_rate, "tau_max": float(tau.max())})
+            extra["std_W"] = chain.std(axis=0, ddof=1)
+            if args.response:
+                extra["G"], extra["stderr_G"] = G, G_err
     finally:
         if bar:
             bar.close()
     seconds = time.perf_counter() - t0
-    rows = lambda a: [[float(a[i, j]) for j in range(i + 1)] for i in range(N)]
+    if scene is None:
+        rows = lambda a: [[float(a[i, j]) for j in range(i + 1)] for i in range(N)]
+    else:
+        rows = lambda a: [[float(v) for v in row] for row in a]
     out = {"N": N, "sampler": args.sampler, "samples": K, "seconds": seconds, "seed": args.seed}
-    out.update(extra)
+    out.update({k: (rows(v) if isinstance(v, np.ndarray) else v) for k, v in extra.items()})
     out.update({"mean_W": rows(mean), "stderr_W": rows(stderr)})
     if args.format == "json":
         print(json.dumps(out))
     else:
-        print(f"{args.sampler} sampler, N = {N}, {K} samples, {seconds:.1f} s")
+        where = "triangle" if scene is None else f"{scene.name} packing, P = {scene.P}"
+        print(f"{args.sampler} sampler, N = {N} ({where}), {K} samples, {seconds:.1f} s")
         print("  bottom row <W_N,j>: " + " ".join(f"{m:.4f}±{e:.4f}" for m, e in zip(mean[-1], stderr[-1])))
+        if args.response:
+            print("  bottom row G(N,j): " + " ".join(f"{m:.4f}±{e:.4f}" for m, e in zip(G[-1], G_err[-1])))
     return 0
 
 
@@ -388,7 +442,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--samples", type=int, default=1000, help="independent samples, or recorded sweeps (metropolis)")
     p.add_argument("--burn-in", type=int, default=None, help="metropolis burn-in sweeps (default max(100, samples/10))")
     p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--ph", type=float, default=None, help="side pressure / overload (metropolis; default: fully mobilized)")
+    p.add_argument("--F", type=float, default=1.0, help="overload on grain (1, j0) (default 1)")
+    p.add_argument("--ph", type=float, default=None, help="side (left-wall) pressure, metropolis only; default: large (fully mobilized)")
+    p.add_argument("--P", type=_integer_at_least("P", 2), default=None, help="grains per layer: model the full N x P packing (metropolis)")
+    p.add_argument("--pv", type=float, default=None, help="top pressure per grain (packing; default 0)")
+    p.add_argument("--mg", type=float, default=None, help="grain weight (packing; default 0)")
+    p.add_argument("--j0", type=_integer_at_least("j0", 1), default=None, help="overload column 1..P (default the middle)")
+    p.add_argument("--response", action="store_true", help="also G(i,j) = (<W>_{p+F} - <W>_p)/F from a second chain (packing)")
     p.add_argument("--format", choices=["text", "json"], default="text")
     p.set_defaults(func=_cmd_sample)
     return parser

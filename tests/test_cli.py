@@ -9,6 +9,7 @@ from fractions import Fraction
 import pytest
 
 from exact import count, count_by_hooks, mean_W, moment_table, normalization
+from exact.packing import mean_W_mobilized
 from forcenet.cli import main
 
 
@@ -156,3 +157,23 @@ def test_table_methods_print_the_same_json(method, N, capsys):
 def test_table_methods_refuse_beyond_reach(argv, needle, capsys):
     assert main(["table", *argv, "--format", "json"]) == 2
     assert needle in capsys.readouterr().err
+
+
+def test_sample_packing_scenes(capsys):
+    args = ["sample", "--N", "3", "--P", "5", "--mg", "1", "--F", "20", "--sampler", "metropolis"]
+    code, out, _ = run(args + ["--samples", "3000", "--seed", "2", "--format", "json", "--response"], capsys)
+    data = json.loads(out)
+    assert data["scene"] == "gravity" and data["P"] == 5 and data["j0"] == 3
+    assert len(data["mean_W"]) == 3 and all(len(row) == 5 for row in data["mean_W"])
+    exact = mean_W_mobilized(3, 5, F=20, j0=3, mg=1)
+    for i in range(3):
+        assert abs(sum(data["mean_W"][i]) - float(sum(exact[i]))) < 1e-9  # load conservation
+        assert abs(sum(data["G"][i]) - 1) < 1e-9
+        for j in range(5):
+            err = data["stderr_W"][i][j]
+            assert abs(data["mean_W"][i][j] - float(exact[i][j])) <= 5 * err + 1e-9
+    assert main(["sample", "--N", "4", "--mg", "1"]) == 2
+    assert "--P" in capsys.readouterr().err
+    assert main(["sample", "--N", "4", "--P", "5", "--mg", "1"]) == 2  # exact sampler: triangle only
+    assert main(["sample", "--N", "6", "--P", "9", "--pv", "1", "--ph", "1", "--F", "10", "--sampler", "metropolis"]) == 2
+    assert "no force network" in capsys.readouterr().err

@@ -36,7 +36,7 @@ photon to its right that the next particle, an ``L``, absorbs.
 Examples
 --------
 >>> count_torus(3, 3)
-232
+25
 >>> count_torus(3, 3) == count_torus_by_enumeration(3, 3)
 True
 """
@@ -53,6 +53,7 @@ __all__ = [
     "count_torus",
     "count_torus_by_enumeration",
     "vertex_counts_torus",
+    "largest_eigenvalue_exact",
 ]
 
 # the six vertices of Fig. 7.7 as sets of occupied bond directions (degrees)
@@ -171,7 +172,7 @@ def count_torus(L: int, M: int) -> int:
     Examples
     --------
     >>> [count_torus(2, M) for M in (1, 2, 3)]
-    [6, 26, 90]
+    [6, 10, 12]
     """
     _check_width(L)
     _check_width(M, "M", 1)
@@ -217,7 +218,7 @@ def count_torus_by_enumeration(L: int, M: int) -> int:
     Examples
     --------
     >>> count_torus_by_enumeration(2, 2)
-    26
+    10
     """
     _check_width(L)
     _check_width(M, "M", 1)
@@ -249,3 +250,64 @@ def count_torus_by_enumeration(L: int, M: int) -> int:
         return total
 
     return place(0)
+
+
+def largest_eigenvalue_exact(L: int, particles: int | None = None, dps: int = 50):
+    """Largest eigenvalue of the unweighted transfer matrix, exactly.
+
+    ``particles`` restricts to the sector with that many particles per row
+    (the transfer matrix conserves it); ``None`` takes the whole matrix.
+
+    The integer matrix's characteristic polynomial (python-flint) is factored
+    over the integers; the Perron root is the largest real root of one
+    factor, isolated with ball arithmetic to ``dps`` digits.
+
+    Returns
+    -------
+    (list of int, mpmath.mpf)
+        Coefficients of the minimal polynomial (constant term first) and
+        the root.
+
+    Examples
+    --------
+    >>> import mpmath
+    >>> poly, lam = largest_eigenvalue_exact(3)
+    >>> poly, lam
+    ([-2, 1], mpf('2.0'))
+    >>> poly, lam = largest_eigenvalue_exact(6, particles=3, dps=30)
+    >>> poly, mpmath.nstr(lam, 30)  # 2^(1/3)
+    ([-2, 0, 0, 1], '1.25992104989487316476721060728')
+    """
+    import flint
+    import mpmath
+
+    _check_width(L)
+    if L > 6:
+        raise ValueError(f"L={L} is out of range: the exact characteristic polynomial is computed for L <= 6")
+    if not (isinstance(dps, int) and 5 <= dps <= 10000):
+        raise ValueError(f"dps={dps} is out of range: 5..10000")
+    if particles is not None and not (isinstance(particles, int) and 0 <= particles <= L):
+        raise ValueError(f"particles={particles} is out of range: 0..L = 0..{L}")
+    states = [st for st in product((_E, _R, _L), repeat=L) if particles is None or L - st.count(_E) == particles]
+    index = {st: k for k, st in enumerate(states)}
+    T = [[0] * len(states) for _ in states]
+    for D in states:
+        for nxt, _ in row_transitions(L)[D]:
+            T[index[nxt]][index[D]] += 1
+    charpoly = flint.fmpz_mat(T).charpoly()
+    old = flint.ctx.dps
+    flint.ctx.dps = dps + 10
+    mpmath.mp.dps, old_mp = dps + 10, mpmath.mp.dps
+    try:
+        best = None
+        for factor, _ in charpoly.factor()[1]:
+            for root in factor.complex_roots():
+                r = root[0] if isinstance(root, tuple) else root
+                if abs(float(r.imag.mid())) < 1e-30 or r.imag.contains(0):
+                    value = mpmath.mpf(r.real.mid().str(dps + 5, radius=False))
+                    if best is None or value > best[1]:
+                        best = ([int(c) for c in factor.coeffs()], value)
+    finally:
+        flint.ctx.dps = old
+        mpmath.mp.dps = old_mp
+    return best[0], best[1]

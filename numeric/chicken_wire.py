@@ -17,9 +17,10 @@ Vertex weights are given per vertex name (``"empty", "Y", "inverted Y",
 
 Examples
 --------
->>> lam = largest_eigenvalue(4)
->>> round(lam, 10)
-3.4142135624
+>>> largest_eigenvalue(4)  # the empty row and a horizontal line around the cylinder
+2.0
+>>> round(largest_eigenvalue(7, particles=2), 12)  # 2 cos(pi/7)
+1.801937735805
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ import numpy as np
 
 __all__ = [
     "largest_eigenvalue",
+    "sector_entropies",
     "bond_fugacity_weights",
     "tiling_weights",
     "free_energy",
@@ -101,7 +103,7 @@ class _Operator:
         return w
 
 
-def largest_eigenvalue(L: int, weights=None, tol: float = 1e-14) -> float:
+def largest_eigenvalue(L: int, weights=None, particles: int | None = None, tol: float = 1e-14) -> float:
     """Largest eigenvalue of the row-to-row transfer matrix on a cylinder of width ``L``.
 
     Parameters
@@ -110,11 +112,13 @@ def largest_eigenvalue(L: int, weights=None, tol: float = 1e-14) -> float:
         Width, ``2 <= L <= 14`` (memory ``~ 40 * 3^L`` bytes per vector).
     weights : dict, optional
         Vertex weights by name (default all 1: plain counting).
+    particles : int, optional
+        Restrict to the sector with this many particles per row (conserved).
 
     Examples
     --------
-    >>> round(largest_eigenvalue(3), 12)
-    4.0
+    >>> round(largest_eigenvalue(8, particles=4), 12)  # the golden ratio
+    1.61803398875
     """
     from scipy.sparse.linalg import LinearOperator, eigs
 
@@ -124,14 +128,36 @@ def largest_eigenvalue(L: int, weights=None, tol: float = 1e-14) -> float:
         raise ValueError(f"L={L} is out of range: the transfer matrix runs for 2 <= L <= 14")
     op = _Operator(L, weights)
     n = 3**L
-    if n <= 729:  # small: dense and exact to rounding
-        M = np.column_stack([op.matvec(e) for e in np.eye(n)])
-        ev = np.linalg.eigvals(M)
-        return float(ev.real.max())
-    A = LinearOperator((n, n), matvec=op.matvec, dtype=float)
-    v0 = np.ones(n)
-    vals = eigs(A, k=1, which="LR", v0=v0, tol=tol, return_eigenvectors=False)
+    if particles is None:
+        keep = np.ones(n, dtype=bool)
+    else:
+        if not (isinstance(particles, int) and 0 <= particles <= L):
+            raise ValueError(f"particles={particles} is out of range: 0..L = 0..{L}")
+        keep = (np.indices((3,) * L).reshape(L, -1) > 0).sum(axis=0) == particles
+    sel = np.flatnonzero(keep)
+
+    def matvec(v):  # the transfer matrix restricted to the kept states
+        full = np.zeros(n)
+        full[sel] = np.asarray(v).reshape(-1)
+        return op.matvec(full)[sel]
+
+    m = len(sel)
+    if m <= 800:  # small: dense
+        M = np.column_stack([matvec(e) for e in np.eye(m)])
+        return float(np.linalg.eigvals(M).real.max())
+    A = LinearOperator((m, m), matvec=matvec, dtype=float)
+    vals = eigs(A, k=1, which="LR", v0=np.ones(m), tol=tol, return_eigenvectors=False)
     return float(vals.real.max())
+
+
+def sector_entropies(L: int) -> dict:
+    """``{n: log(lambda_n)/L}`` for every particle number ``n`` of the cylinder of width ``L``.
+
+    The largest over ``n >= 1`` estimates the maximal entropy per site of the
+    chicken-wire model (``n = 0`` is the empty row, whose ``lambda = 2``
+    counts a horizontal line wrapping the cylinder).
+    """
+    return {k: math.log(largest_eigenvalue(L, particles=k)) / L for k in range(L + 1)}
 
 
 def bond_fugacity_weights(t: float) -> dict:

@@ -1,0 +1,116 @@
+"""Chicken-wire model (Sec. 7.4.1): counts, transfer matrix, Monte Carlo, each by two routes."""
+
+import math
+
+import mpmath
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from exact.chicken_wire import (
+    count_torus,
+    count_torus_by_enumeration,
+    largest_eigenvalue_exact,
+    row_transitions,
+    transfer_matrix,
+    vertex_counts_torus,
+)
+from numeric.autocorr import mean_and_stderr
+from numeric.chicken_wire import _Operator, largest_eigenvalue, sector_entropies
+from numeric.chicken_wire_mc import ChickenWire, HexagonMonteCarlo, component
+
+
+@settings(max_examples=12)
+@given(L=st.integers(2, 4), M=st.integers(1, 4))
+def test_transfer_matrix_counts_equal_enumeration(L, M):
+    assert count_torus(L, M) == count_torus_by_enumeration(L, M)
+
+
+@pytest.mark.parametrize("L, M", [(3, 3), (4, 4), (3, 6), (4, 5)])
+def test_vertex_content(L, M):
+    counts = vertex_counts_torus(L, M)
+    assert sum(counts.values()) == count_torus_by_enumeration(L, M)
+    for (empty, y, inv_y, h, r, l), c in counts.items():
+        assert empty + y + inv_y + h + r + l == L * M and c > 0
+        assert y == inv_y  # each hexagon has three corners of each kind
+        # bonds: each is seen by two sites
+        assert (3 * (y + inv_y) + 2 * (h + r + l)) % 2 == 0
+
+
+def test_honeycombs_and_lines_on_the_3x3_torus():
+    """25 = 1 empty + 3 directions x 7 nonempty sets of parallel lines + 3 honeycombs."""
+    assert count_torus(3, 3) == 1 + 3 * 7 + 3
+
+
+def test_exact_transfer_matrix_trace():
+    T = transfer_matrix(3)
+    assert T.trace() == count_torus(3, 1)
+    assert (T**3).trace() == count_torus(3, 3)
+
+
+@pytest.mark.parametrize("L", [4, 5, 6])
+def test_float_eigenvalues_equal_exact_in_every_sector(L):
+    for n in range(L + 1):
+        poly, exact = largest_eigenvalue_exact(L, particles=n, dps=30)
+        assert abs(largest_eigenvalue(L, particles=n) - float(exact)) < 1e-12
+        with mpmath.workdps(40):
+            assert abs(sum(c * exact**k for k, c in enumerate(poly))) < 1e-25  # a root of its factor
+
+
+def test_two_particle_sector_closed_form():
+    """lambda = 2 cos(pi/L) in the sector of two particles (observed exactly for L <= 6, numerically beyond)."""
+    for L in range(4, 10):
+        assert largest_eigenvalue(L, particles=2) == pytest.approx(2 * math.cos(math.pi / L), abs=1e-11)
+
+
+def test_operator_matches_transition_table():
+    """The matrix-product-operator matvec against the explicit row transitions (L = 4)."""
+    L = 4
+    op = _Operator(L, {"Y": 0.3, "inverted Y": 0.7, "H": 1.9, "R": 1.1, "L": 0.5, "empty": 1.3})
+    names = ["empty", "Y", "inverted Y", "H", "R", "L"]
+    w = dict(zip(names, [1.3, 0.3, 0.7, 1.9, 1.1, 0.5]))
+    states = list(row_transitions(L))
+    index = {s: np.ravel_multi_index(s, (3,) * L) for s in states}
+    rng = np.random.default_rng(0)
+    v = rng.random(3**L)
+    expected = np.zeros(3**L)
+    for D, moves in row_transitions(L).items():
+        for nxt, counts in moves:
+            expected[index[nxt]] += v[index[D]] * math.prod(w[k] ** c for k, c in zip(names, counts))
+    np.testing.assert_allclose(op.matvec(v), expected, rtol=1e-13)
+
+
+def test_bad_input():
+    with pytest.raises(ValueError, match="L=1 is out of range"):
+        count_torus(1, 3)
+    with pytest.raises(ValueError, match="L=15 is out of range"):
+        largest_eigenvalue(15)
+    with pytest.raises(ValueError, match="unknown vertex names"):
+        largest_eigenvalue(3, weights={"X": 1})
+    with pytest.raises(ValueError, match="particles=5 is out of range"):
+        largest_eigenvalue(4, particles=5)
+    with pytest.raises(ValueError, match="forbidden vertices"):
+        ChickenWire(3, 3, {(0, 0): {0}})
+
+
+def test_sector_entropies_are_entropies():
+    s = sector_entropies(8)
+    assert s[0] == pytest.approx(math.log(2) / 8)
+    assert max(s[n] for n in range(1, 9)) == pytest.approx(math.log(2 * math.cos(math.pi / 8)) / 8)
+
+
+def test_hexagon_monte_carlo_against_its_component():
+    """Shrink/expand moves sample the component uniformly: MC means within 5 sigma of the exact ones."""
+    start = ChickenWire.honeycomb(12, 12, side=2)
+    configs = component(start)
+    exact = np.mean([c.observables() for c in configs], axis=0)
+    assert len(configs) > 1000
+    chain = HexagonMonteCarlo(start, seed=2006).run(1000, burn_in=20)
+    mean, err, tau = mean_and_stderr(chain)
+    assert np.all(np.abs(mean - exact) < 5 * err), (mean, exact, err)
+    # moves conserve the number of hexagons and every bond direction's count
+    for c in configs[:50]:
+        assert len(c.hexagons()) == 12
+        assert not c.invalid_sites()

@@ -397,6 +397,52 @@ def _cmd_sample(args):
     return 0
 
 
+_TRANSFER_SECONDS = {8: 0.3, 9: 2, 10: 15, 11: 70, 12: 150, 13: 900}
+
+
+def _cmd_transfer(args):
+    import json
+
+    from numeric.chicken_wire import largest_eigenvalue
+
+    L = args.L
+    if not 2 <= L <= 13:
+        raise UsageError(f"L={L} is out of range: the chicken-wire transfer matrix runs for 2 <= L <= 13")
+    if args.particles is not None and not 0 <= args.particles <= L:
+        raise UsageError(f"particles={args.particles} is out of range: 0..L = 0..{L}")
+    sectors = [args.particles] if args.particles is not None else list(range(L + 1))
+    cost = _TRANSFER_SECONDS.get(L, 0)
+    if cost > 5 and args.particles is None:
+        print(f"forcenet: {L + 1} sectors of 3^{L} states, about {cost} s", file=sys.stderr)
+    t0 = time.perf_counter()
+    bar = _progress(len(sectors), f"transfer L={L}") if cost > 5 else None
+    rows = []
+    try:
+        for n in sectors:
+            lam = largest_eigenvalue(L, particles=n)
+            rows.append({"particles": n, "lambda": lam, "entropy_per_site": math.log(lam) / L})
+            if bar:
+                bar.update(1)
+    finally:
+        if bar:
+            bar.close()
+    top = max(rows, key=lambda r: r["lambda"])
+    out = {"L": L, "seconds": time.perf_counter() - t0, "lambda_max": top["lambda"],
+           "entropy_per_site": top["entropy_per_site"], "sectors": rows}
+    bulk = [r for r in rows if r["particles"] > 0]
+    if bulk and args.particles is None:
+        best = max(bulk, key=lambda r: r["lambda"])
+        out["bulk"] = {"particles": best["particles"], "entropy_per_site": best["entropy_per_site"]}
+    if args.format == "json":
+        print(json.dumps(out))
+    else:
+        print(f"chicken-wire transfer matrix, cylinder of width L = {L}: lambda_max = {top['lambda']:.15g}, "
+              f"log(lambda)/L = {top['entropy_per_site']:.12g}")
+        for r in rows:
+            print(f"  n = {r['particles']:2d}: lambda = {r['lambda']:.15g}   log(lambda)/L = {r['entropy_per_site']:.12g}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="forcenet", description="Exact results for the force network ensemble.")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -451,6 +497,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--response", action="store_true", help="also G(i,j) = (<W>_{p+F} - <W>_p)/F from a second chain (packing)")
     p.add_argument("--format", choices=["text", "json"], default="text")
     p.set_defaults(func=_cmd_sample)
+    p = sub.add_parser("transfer", help="chicken-wire model (Sec. 7.4): largest transfer-matrix eigenvalue per particle sector")
+    p.add_argument("--L", type=int, required=True, help="cylinder width (2..13)")
+    p.add_argument("--particles", type=int, default=None, help="only this particle sector (default: all)")
+    p.add_argument("--format", choices=["text", "json"], default="text")
+    p.set_defaults(func=_cmd_transfer)
     return parser
 
 

@@ -177,3 +177,16 @@ def test_sample_packing_scenes(capsys):
     assert main(["sample", "--N", "4", "--P", "5", "--mg", "1"]) == 2  # exact sampler: triangle only
     assert main(["sample", "--N", "6", "--P", "9", "--pv", "1", "--ph", "1", "--F", "10", "--sampler", "metropolis"]) == 2
     assert "no force network" in capsys.readouterr().err
+
+
+def test_transfer_command(capsys):
+    import math
+
+    code, out, _ = run(["transfer", "--L", "7", "--format", "json"], capsys)
+    data = json.loads(out)
+    assert data["L"] == 7 and len(data["sectors"]) == 8
+    two = [r for r in data["sectors"] if r["particles"] == 2][0]
+    assert abs(two["lambda"] - 2 * math.cos(math.pi / 7)) < 1e-11
+    assert data["bulk"]["entropy_per_site"] == max(r["entropy_per_site"] for r in data["sectors"][1:])
+    assert main(["transfer", "--L", "1"]) == 2
+    assert main(["transfer", "--L", "5", "--particles", "9"]) == 2

@@ -1,18 +1,21 @@
-"""Figures of the full-packing scenes (analogs of the thesis's Figs. 3.10 and 3.12).
+"""Figures of the full-packing scenes (analogs of the thesis's Figs. 3.10, 3.12 and 3.8).
 
-Run:  python benchmarks/figures_packing.py [--quick]
+Run:  python benchmarks/figures_packing.py [gravity|isotropic|plot]
 
-Gravity (p_v = 0, m g = 1, p_h large, F/mg = 100 and 1000) and isotropic
-(p_h = p_v = 1, g = 0, F/p = 3 and 10) responses G(i, j) with error bars
-from the integrated autocorrelation time; the isotropic q-distributions at
-the overload's lattice direction.  Writes notes/figures/response_gravity.png,
-notes/figures/response_isotropic.png and prints the run statistics.
+Gravity (p_v = 0, m g = 1, p_h large, F/mg = 100 and 1000, N = 20, P = 41)
+and isotropic (p_h = p_v = 1, g = 0, F/p = 3 and 10, N = 8, P = 17)
+responses G(i, j) = (<W>_{p+F} - <W>_p)/F from two chains each, error bars
+from the integrated autocorrelation time; q-distributions of the isotropic
+loaded chain on the lattice direction and below the overload.  Chains are
+cached in out/packing_*.npz; `plot` redraws notes/figures/response_gravity.png,
+notes/figures/response_isotropic.png and notes/figures/q_distributions_isotropic.png.
 """
 
 from __future__ import annotations
 
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import matplotlib
@@ -21,48 +24,89 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from numeric.packing import Scene, response  # noqa: E402
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+from numeric.autocorr import mean_and_stderr  # noqa: E402
+from numeric.packing import PackingMetropolis, Scene  # noqa: E402
 
-FIG = Path(__file__).resolve().parents[1] / "notes" / "figures"
+FIG = ROOT / "notes" / "figures"
+OUT = ROOT / "out"
 
-
-def panel(ax, scene, sweeps, burn, layers, seed):
-    t0 = time.perf_counter()
-    G, err, info = response(scene, sweeps, burn, seed=seed)
-    dt = time.perf_counter() - t0
-    x = np.arange(1, scene.P + 1) - scene.j0
-    for i in layers:
-        ax.errorbar(x, G[i - 1], yerr=err[i - 1], marker=".", ms=3, lw=0.8, capsize=1.5, label=f"i = {i}")
-    print(
-        f"{scene.name:9s} N={scene.N} P={scene.P} F={scene.F:g}: {2 * sweeps} sweeps in {dt:.0f} s, "
-        f"acceptance {info['acceptance'][0]:.2f}/{info['acceptance'][1]:.2f}, tau_max {info['tau_max']:.0f} sweeps, "
-        f"max stderr {err.max():.4f}"
-    )
-    ax.set_xlabel("j - j0")
-    ax.set_ylabel("G(i, j)")
-    ax.legend(fontsize=7)
+SCENES = {
+    "gravity": [(Scene(N=20, P=41, F=F, mg=1.0), 4000) for F in (100.0, 1000.0)],
+    "isotropic": [(Scene(N=8, P=17, F=F, pv=1.0, ph=1.0), 100_000) for F in (3.0, 10.0)],
+}
 
 
-def main(quick: bool = False):
-    FIG.mkdir(parents=True, exist_ok=True)
-    n_g, n_i = (8, 8) if quick else (20, 12)
-    s_g, s_i = (600, 3000) if quick else (4000, 40000)
-    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
-    for ax, F in zip(axes, (100.0, 1000.0)):
-        scene = Scene(N=n_g, P=2 * n_g + 1, F=F, mg=1.0)
-        panel(ax, scene, s_g, s_g // 10, [2, n_g // 2, n_g], seed=1)
-        ax.set_title(f"gravity, F/mg = {F:g}, N = {n_g}")
+def run(name: str):
+    OUT.mkdir(exist_ok=True)
+    for k, (scene, sweeps) in enumerate(SCENES[name]):
+        t0 = time.perf_counter()
+        loaded = PackingMetropolis(scene, seed=2 * k + 1)
+        W1, q1 = loaded.run(sweeps, sweeps // 10, record_q=True)
+        base = PackingMetropolis(replace(scene, F=0.0), seed=2 * k + 2)
+        W0 = base.run(sweeps, sweeps // 10)
+        dt = time.perf_counter() - t0
+        np.savez_compressed(
+            OUT / f"packing_{name}_{k}.npz", W1=W1, W0=W0, q1=q1[:, :, :].astype(np.float32),
+            acceptance=[loaded.acceptance_rate, base.acceptance_rate], seconds=dt,
+        )
+        print(f"{name} F={scene.F:g}: {2 * sweeps} sweeps in {dt:.0f} s", flush=True)
+
+
+def plot():
+    for name, layers in (("gravity", (2, 10, 20)), ("isotropic", (2, 4, 8))):
+        fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
+        for k, ((scene, sweeps), ax) in enumerate(zip(SCENES[name], axes)):
+            path = OUT / f"packing_{name}_{k}.npz"
+            if not path.exists():
+                print(f"missing {path}; run `python benchmarks/figures_packing.py {name}` first")
+                continue
+            data = np.load(path)
+            m1, e1, t1 = mean_and_stderr(data["W1"])
+            m0, e0, t0 = mean_and_stderr(data["W0"])
+            G, err = (m1 - m0) / scene.F, np.hypot(e1, e0) / scene.F
+            x = np.arange(1, scene.P + 1) - scene.j0
+            for i in layers:
+                ax.errorbar(x, G[i - 1], yerr=err[i - 1], marker=".", ms=3, lw=0.8, capsize=1.5, label=f"i = {i}")
+            ax.set_xlabel("j - j0")
+            ax.set_ylabel("G(i, j)")
+            ax.legend(fontsize=7)
+            label = "F/mg" if name == "gravity" else "F/p"
+            ax.set_title(f"{name}, {label} = {scene.F:g}, N = {scene.N}, P = {scene.P}")
+            acc = data["acceptance"]
+            print(
+                f"{name:9s} N={scene.N} P={scene.P} F={scene.F:g}: {2 * sweeps} sweeps in {float(data['seconds']):.0f} s, "
+                f"acceptance {acc[0]:.2f}/{acc[1]:.2f}, tau_max {max(t1.max(), t0.max()):.0f} sweeps, "
+                f"max stderr of G {err.max():.4f}, sum_j G(N, j) = {G[-1].sum():.12f}"
+            )
+        fig.tight_layout()
+        fig.savefig(FIG / f"response_{name}.png", dpi=130)
+        plt.close(fig)
+    # q-distributions in the isotropic scene (Fig. 3.8 analog)
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.6))
+    for k, ((scene, _), ax) in enumerate(zip(SCENES["isotropic"], axes)):
+        path = OUT / f"packing_isotropic_{k}.npz"
+        if not path.exists():
+            continue
+        q = np.load(path)["q1"]
+        j0 = scene.j0 - 1
+        for i, j, label in ((1, j0, "(2, j0): left lattice direction"), (3, j0 + 1, "(4, j0+1): below the overload"),
+                            (3, 0, "(4, 1): far from it")):
+            ax.hist(q[:, i, j], bins=50, range=(0, 1), density=True, histtype="step", label=label)
+        ax.set_xlabel("q")
+        ax.set_ylabel("p(q)")
+        ax.set_title(f"isotropic, F/p = {scene.F:g}")
+        ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(FIG / "response_gravity.png", dpi=130)
-    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
-    for ax, F in zip(axes, (3.0, 10.0)):
-        scene = Scene(N=n_i, P=2 * n_i + 1, F=F, pv=1.0, ph=1.0)
-        panel(ax, scene, s_i, s_i // 10, [2, n_i // 2, n_i], seed=2)
-        ax.set_title(f"isotropic, F/p = {F:g}, N = {n_i}")
-    fig.tight_layout()
-    fig.savefig(FIG / "response_isotropic.png", dpi=130)
+    fig.savefig(FIG / "q_distributions_isotropic.png", dpi=130)
 
 
 if __name__ == "__main__":
-    main(quick="--quick" in sys.argv)
+    what = sys.argv[1] if len(sys.argv) > 1 else "plot"
+    if what in SCENES:
+        run(what)
+    elif what == "plot":
+        plot()
+    else:
+        raise SystemExit(f"unknown argument {what!r}: gravity, isotropic or plot")

@@ -443,6 +443,47 @@ def _cmd_transfer(args):
     return 0
 
 
+def _cmd_bethe(args):
+    import json
+
+    from numeric.bethe import ground_state_sequence, solve_ground_state
+
+    L = args.L
+    n = args.n if args.n is not None else 2 * max(1, round(L / 6))
+    m = args.m if args.m is not None else n // 2
+    if not 2 <= L <= 5000:
+        raise UsageError(f"L={L} is out of range: 2..5000")
+    if not (1 <= m < n < L):
+        raise UsageError(f"(L, n, m) = ({L}, {n}, {m}) is out of range: need 1 <= m < n < L")
+    t0 = time.perf_counter()
+    try:
+        if L > 24 and L % 6 == 0 and n == L // 3 and m == n // 2:
+            k = L // 6
+            bar = _progress(k - 1, f"bethe continuation to L={L}") if k > 40 else None
+            sol = ground_state_sequence(k, progress=bar.update if bar else None)[-1]
+            if bar:
+                bar.close()
+        else:
+            sol = solve_ground_state(L, n, m)
+    except RuntimeError as exc:
+        raise UsageError(str(exc)) from None
+    out = {
+        "L": L, "n": n, "m": m, "seconds": time.perf_counter() - t0,
+        "eigenvalue": sol.eigenvalue, "entropy_per_site": sol.entropy_per_site, "residual": sol.residual,
+        "w": [[float(z.real), float(z.imag)] for z in sol.w],
+        "u": [[float(z.real), float(z.imag)] for z in sol.u],
+    }
+    if args.format == "json":
+        print(json.dumps(out))
+    else:
+        print(f"Bethe ansatz, L = {L}, n = {n} particles, m = {m} left-movers: "
+              f"Lambda = {sol.eigenvalue:.15g}, log(Lambda)/L = {sol.entropy_per_site:.15g} "
+              f"(max residual {sol.residual:.1e}, {out['seconds']:.2f} s)")
+        print("  u: " + "  ".join(f"{z.real:+.10f}{z.imag:+.10f}i" for z in sol.u))
+        print("  w: " + "  ".join(f"{z.real:+.10f}{z.imag:+.10f}i" for z in sol.w))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="forcenet", description="Exact results for the force network ensemble.")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -502,6 +543,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--particles", type=int, default=None, help="only this particle sector (default: all)")
     p.add_argument("--format", choices=["text", "json"], default="text")
     p.set_defaults(func=_cmd_transfer)
+
+    p = sub.add_parser("bethe", help="chicken-wire model: Bethe roots and the largest eigenvalue of a sector")
+    p.add_argument("--L", type=int, required=True, help="cylinder width")
+    p.add_argument("--n", type=int, default=None, help="particles per row (default 2 round(L/6))")
+    p.add_argument("--m", type=int, default=None, help="left-movers among them (default n/2)")
+    p.add_argument("--format", choices=["text", "json"], default="text")
+    p.set_defaults(func=_cmd_bethe)
     return parser
 
 

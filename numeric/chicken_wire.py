@@ -32,6 +32,7 @@ import numpy as np
 __all__ = [
     "largest_eigenvalue",
     "sector_entropies",
+    "sector_matrix",
     "bond_fugacity_weights",
     "tiling_weights",
     "free_energy",
@@ -205,3 +206,49 @@ def tiling_entropy(L: int, bracket=(0.01, 1.0), xtol: float = 1e-13) -> float:
     from scipy.optimize import brentq
 
     return brentq(lambda s: free_energy(L, tiling_weights(s)), *bracket, xtol=xtol)
+
+
+def sector_matrix(L: int, n: int, m: int):
+    """Sparse transfer matrix restricted to ``n`` particles of which ``m`` are left-moving.
+
+    Built from the particle picture (Sec. 7.4.1): every R followed by an L
+    (next particle to the right, cyclically) may exchange kinds through a
+    photon; then R's stay and L's move one site left; collisions are
+    forbidden.  Independent of the matrix-product-operator route, and only
+    ``C(L, n) C(n, m)`` states, so ``L = 18`` is within reach.
+
+    Returns
+    -------
+    scipy.sparse.csr_matrix
+    """
+    from itertools import combinations
+
+    from scipy.sparse import csr_matrix
+
+    if not (isinstance(L, int) and isinstance(n, int) and isinstance(m, int) and 0 <= m <= n <= L and L >= 2):
+        raise ValueError(f"(L, n, m) = ({L}, {n}, {m}) is out of range: need 0 <= m <= n <= L, L >= 2")
+    states = []
+    for pos in combinations(range(L), n):
+        for lab in combinations(range(n), m):
+            kinds = [_R] * n
+            for j in lab:
+                kinds[j] = _L
+            states.append((pos, tuple(kinds)))
+    if len(states) > 5_000_000:
+        raise ValueError(f"sector of {len(states)} states is too large (limit 5,000,000)")
+    index = {s: i for i, s in enumerate(states)}
+    rows, cols = [], []
+    for i, (pos, kinds) in enumerate(states):
+        pairs = [j for j in range(n) if kinds[j] == _R and kinds[(j + 1) % n] == _L]
+        for r in range(len(pairs) + 1):
+            for sub in combinations(pairs, r):
+                new = list(kinds)
+                for j in sub:
+                    new[j], new[(j + 1) % n] = _L, _R
+                newpos = [(pos[j] - 1) % L if new[j] == _L else pos[j] for j in range(n)]
+                if len(set(newpos)) < n:
+                    continue
+                order = sorted(range(n), key=newpos.__getitem__)
+                rows.append(index[(tuple(newpos[j] for j in order), tuple(new[j] for j in order))])
+                cols.append(i)
+    return csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(len(states), len(states)))

@@ -190,3 +190,12 @@ def test_transfer_command(capsys):
     assert data["bulk"]["entropy_per_site"] == max(r["entropy_per_site"] for r in data["sectors"][1:])
     assert main(["transfer", "--L", "1"]) == 2
     assert main(["transfer", "--L", "5", "--particles", "9"]) == 2
+
+
+def test_bethe_command(capsys):
+    code, out, _ = run(["bethe", "--L", "9", "--n", "4", "--m", "2", "--format", "json"], capsys)
+    data = json.loads(out)
+    code2, out2, _ = run(["transfer", "--L", "9", "--particles", "4", "--format", "json"], capsys)
+    assert abs(data["eigenvalue"] - json.loads(out2)["lambda_max"]) < 1e-12
+    assert len(data["u"]) == 2 and len(data["w"]) == 4
+    assert main(["bethe", "--L", "6", "--n", "2", "--m", "2"]) == 2

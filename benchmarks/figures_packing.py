@@ -75,8 +75,8 @@ def plot():
                 t0 = integrated_time(data["W0"].reshape(sweeps, -1), quiet=True)
                 e1 = e0 = np.full_like(m1, np.nan)
             G, err = (m1 - m0) / scene.F, np.hypot(e1, e0) / scene.F
-            x = np.arange(1, scene.P + 1) - scene.j0
             for i in layers:
+                x = np.arange(1, scene.P + 1) - scene.j0 - (i - 1) / 2  # real-space offset (grain diameters)
                 if trusted:
                     ax.errorbar(x, G[i - 1], yerr=err[i - 1], marker=".", ms=3, lw=0.8, capsize=1.5, label=f"i = {i}")
                 else:
@@ -84,7 +84,7 @@ def plot():
             if not trusted:
                 ax.text(0.02, 0.95, f"tau ~ {np.nanmax(np.r_[t1, t0]):.0f} sweeps > chain/50:\nno error bars (means only)",
                         transform=ax.transAxes, fontsize=7, va="top", color="crimson")
-            ax.set_xlabel("j - j0")
+            ax.set_xlabel("horizontal offset from the overload, j - j0 - (i-1)/2")
             ax.set_ylabel("G(i, j)")
             ax.legend(fontsize=7)
             label = "F/mg" if name == "gravity" else "F/p"

@@ -252,7 +252,9 @@ def ground_state_sequence(k_max: int, ratio=(6, 2, 1), start: int = 2, progress=
         if prev is None:
             prev = solve_ground_state(L, n, m)
         else:
-            u0 = _resample(prev.u, m)
+            # seed from the last solution whose m has the same parity (the odd-m states carry one real u)
+            seed = next((s for s in reversed(out) if (s.m - m) % 2 == 0), prev)
+            u0 = _resample(seed.u, m)
             with np.errstate(all="ignore"):
                 w0 = first_level_roots(u0, L, n)  # distinct: one root per branch
                 try:
@@ -263,7 +265,7 @@ def ground_state_sequence(k_max: int, ratio=(6, 2, 1), start: int = 2, progress=
             if ok:
                 prev = BetheSolution(L, n, m, w[np.argsort(np.angle(w))], u[np.argsort(np.angle(u))], res)
             else:
-                prev = solve_ground_state(L, n, m, guess=u0)
+                prev = solve_ground_state(L, n, m, guess=u0, tries=100)
         out.append(prev)
         if progress is not None:
             progress(1)

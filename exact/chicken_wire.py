@@ -265,8 +265,8 @@ def largest_eigenvalue_exact(L: int, particles: int | None = None, dps: int = 50
     Returns
     -------
     (list of int, mpmath.mpf)
-        Coefficients of the minimal polynomial (constant term first) and
-        the root.
+        The exact result, the integer minimal polynomial (constant term
+        first), and the root evaluated from it to ``dps`` digits.
 
     Examples
     --------
@@ -303,7 +303,7 @@ def largest_eigenvalue_exact(L: int, particles: int | None = None, dps: int = 50
         for factor, _ in charpoly.factor()[1]:
             for root in factor.complex_roots():
                 r = root[0] if isinstance(root, tuple) else root
-                if abs(float(r.imag.mid())) < 1e-30 or r.imag.contains(0):
+                if r.imag.contains(0):  # a real root of the integer factor (ball arithmetic)
                     value = mpmath.mpf(r.real.mid().str(dps + 5, radius=False))
                     if best is None or value > best[1]:
                         best = ([int(c) for c in factor.coeffs()], value)

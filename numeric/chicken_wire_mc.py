@@ -137,7 +137,10 @@ class ChickenWire:
         return order
 
     def hexagons(self):
-        return [h for h in (self._corners(i) for i in self.cells()) if h is not None]
+        """The hexagonal cells (computed once: a configuration is immutable)."""
+        if getattr(self, "_hexagons", None) is None:
+            self._hexagons = [h for h in (self._corners(i) for i in self.cells()) if h is not None]
+        return self._hexagons
 
     def moved(self, hexagon, grow: bool):
         """The configuration with one hexagon expanded (``grow``) or shrunk; None if not allowed."""

@@ -28,6 +28,7 @@ __all__ = [
     "integrate_moment",
     "partial_sum_poset",
     "linear_extension_moments",
+    "rank_gap_moments",
 ]
 
 
@@ -132,29 +133,28 @@ def _rising(x, s):
     return prod(range(x, x + s))
 
 
-def linear_extension_moments(N: int, s_max: int = 2, pairs=()):
-    """Moments averaged over all linear extensions (networkx enumeration).
+def rank_gap_moments(N: int, rankings, s_max: int = 2, pairs=()):
+    """Moments of the W's averaged over linear extensions given by their ranks.
 
-    Returns ``(count, moments, correlations)`` where ``moments[s][(i, j)]`` is
-    ``<W_ij^s>`` for ``s = 1..s_max`` and ``correlations[(g1, g2)]`` is
-    ``<W_g1 W_g2>`` for each requested pair.
+    A uniform point of the order polytope of the partial sums is, given its
+    linear extension, ``d`` sorted uniforms; the ``d + 1`` spacings are
+    Dirichlet(1, ..., 1).  ``W_{i,j}`` is the sum of the spacings between the
+    ranks of ``S_{i,j-1}`` and ``S_{i,j}``, so ``<W^s>`` is the rising
+    factorial of the rank gap over ``(d+1)...(d+s)``, and
+    ``<W W'> = (|I| |J| + |I & J|) / ((d+1)(d+2))`` for rank intervals ``I, J``.
 
-    Examples
-    --------
-    >>> c, mom, _ = linear_extension_moments(4)
-    >>> c, mom[1][(4, 1)], mom[2][(4, 1)]
-    (2, Fraction(1, 7), Fraction(1, 28))
+    ``rankings`` yields dicts ``(i, j) -> rank`` of the free partial sums
+    ``S_{i,j}``, ``1 <= j <= i - 1`` (ranks ``1..d``).  Returns
+    ``(count, moments, correlations)`` as :func:`linear_extension_moments`.
     """
-    N = check_layers(N)
     d = N * (N - 1) // 2
-    G = partial_sum_poset(N)
     grains = [(i, j) for i in range(1, N + 1) for j in range(1, i + 1)]
     acc = {s: {g: 0 for g in grains} for s in range(1, s_max + 1)}
+    pairs = list(dict.fromkeys(pairs))  # a repeated pair is counted once
     acc_pairs = {p: 0 for p in pairs}
     number = 0
-    for ext in nx.all_topological_sorts(G) if d else [[]]:
+    for rank in rankings:
         number += 1
-        rank = {v: k + 1 for k, v in enumerate(ext)}
 
         def gap_interval(g):
             i, j = g
@@ -173,3 +173,25 @@ def linear_extension_moments(N: int, s_max: int = 2, pairs=()):
     moments = {s: {g: Fraction(v, number * _rising(d + 1, s)) for g, v in acc[s].items()} for s in acc}
     correlations = {p: Fraction(v, number * (d + 1) * (d + 2)) for p, v in acc_pairs.items()}
     return number, moments, correlations
+
+
+def linear_extension_moments(N: int, s_max: int = 2, pairs=()):
+    """Moments averaged over all linear extensions (networkx enumeration).
+
+    Returns ``(count, moments, correlations)`` where ``moments[s][(i, j)]`` is
+    ``<W_ij^s>`` for ``s = 1..s_max`` and ``correlations[(g1, g2)]`` is
+    ``<W_g1 W_g2>`` for each requested pair.
+
+    Examples
+    --------
+    >>> c, mom, _ = linear_extension_moments(4)
+    >>> c, mom[1][(4, 1)], mom[2][(4, 1)]
+    (2, Fraction(1, 7), Fraction(1, 28))
+    """
+    N = check_layers(N)
+    d = N * (N - 1) // 2
+    G = partial_sum_poset(N)
+    rankings = (
+        {v: k + 1 for k, v in enumerate(ext)} for ext in (nx.all_topological_sorts(G) if d else [[]])
+    )
+    return rank_gap_moments(N, rankings, s_max, pairs)

@@ -43,6 +43,7 @@ __all__ = [
     "map_from_tableau",
     "tableau_from_map",
     "mean_W_by_maps",
+    "moments_by_maps",
     "mean_W_thesis_maps",
     "moment_thesis_maps",
     "gamma_sums",
@@ -523,6 +524,63 @@ def tableau_from_map(N: int, h: dict[int, tuple[int, ...]]) -> dict[tuple[int, i
     return {cell: k + 1 for k, cell in enumerate(order)}
 
 
+def _map_rankings(N: int):
+    """Ranks of the partial sums ``S_{i,j}`` for every map, through its tableau.
+
+    Tableau cell ``(r, c)`` holds the rank of ``S_{N-c+r, r}``.
+    """
+    if N == 2:  # no map rows: the one-cell staircase
+        yield {(2, 1): 1}
+        return
+    for h in maps(N):
+        T = tableau_from_map(N, h)
+        yield {(N - c + r, r): t for (r, c), t in T.items()}
+
+
+def moments_by_maps(N: int, s_max: int = 1, pairs=()):
+    """Moments and two-point functions of the W's by counting maps (Sec. 4.6).
+
+    Every map ``h`` of (4.86)-(4.89) is turned into its staircase tableau
+    (:func:`tableau_from_map`), i.e. a linear extension of the partial sums.
+    Given it, the ``d + 1`` spacings of the partial sums are Dirichlet(1, ..., 1),
+    so with the rank gap ``g`` of a grain,
+    ``<W^s> = E[g (g+1) ... (g+s-1)] / ((d+1) ... (d+s))`` (the map form of the
+    s-th order defects (4.80)-(4.85)), and for two grains with rank intervals
+    ``I, J``: ``<W W'> = E[|I| |J| + |I & J|] / ((d+1)(d+2))`` (Sec. 4.5.2).
+    This covers every grain, the bottom layer included.  Enumerates
+    ``Z_{N-2}`` maps: ``N <= 7``.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``2 <= N``.
+    s_max : int
+        Highest moment ``s`` of ``W^s``.
+    pairs : iterable of (grain, grain)
+        Two-point functions ``<W_g W_g'>`` to compute.
+
+    Returns
+    -------
+    (count, moments, correlations)
+        ``count = Z_{N-2}``, ``moments[s][(i, j)] = <W_{i,j}^s>``,
+        ``correlations[(g, g')] = <W_g W_g'>``, all exact Fractions.
+
+    Examples
+    --------
+    >>> Z, mom, cor = moments_by_maps(4, s_max=2, pairs=[((4, 1), (4, 4))])
+    >>> Z, mom[2][(4, 1)], cor[((4, 1), (4, 4))]
+    (2, Fraction(1, 28), Fraction(1, 56))
+    """
+    from .brute import rank_gap_moments
+    from .moments import check_grain
+
+    N = check_layers(N)
+    if isinstance(s_max, bool) or not isinstance(s_max, int) or s_max < 1:
+        raise ValueError(f"s_max={s_max!r}: must be an integer >= 1")
+    pairs = [(check_grain(N, a, "pairs"), check_grain(N, b, "pairs")) for a, b in pairs]
+    return rank_gap_moments(N, _map_rankings(N), s_max, pairs)
+
+
 def mean_W_by_maps(N: int) -> list[list[Fraction]]:
     """``<W>`` table as an average over all maps (Sec. 4.6), through the bijection.
 
@@ -535,22 +593,8 @@ def mean_W_by_maps(N: int) -> list[list[Fraction]]:
     >>> [str(x) for x in mean_W_by_maps(5)[-1]]
     ['1/11', '1/4', '7/22', '1/4', '1/11']
     """
-    N = check_layers(N)
-    d = N * (N - 1) // 2
-    if N == 2:  # no map rows: the one-cell staircase
-        T_list = [{(1, 1): 1}]
-    else:
-        T_list = (tableau_from_map(N, h) for h in maps(N))
-    sums = {}
-    count = 0
-    for T in T_list:
-        count += 1
-        for i in range(1, N + 1):
-            for j in range(1, i + 1):
-                hi = d + 1 if j == i else T[(j, N - i + j)]
-                lo = 0 if j == 1 else T[(j - 1, N - i + j - 1)]
-                sums[(i, j)] = sums.get((i, j), 0) + hi - lo
-    return [[Fraction(sums[(i, j)], count * (d + 1)) for j in range(1, i + 1)] for i in range(1, N + 1)]
+    _, moments, _ = moments_by_maps(N, 1)
+    return [[moments[1][(i, j)] for j in range(1, i + 1)] for i in range(1, N + 1)]
 
 
 # ---------------------------------------------------------------- Gamma: (4.73)-(4.77)

@@ -223,3 +223,61 @@ def test_lambda_normalization_N12():
     from exact.thesis import count_lambda
 
     assert count_lambda(12) == count(12)
+
+
+@pytest.mark.parametrize("N", [3, 4, 5, 6, 7])
+def test_maps_route_moments_every_grain(N):
+    # map counting (through the tableau bijection) against the exact core, s <= 3, bottom layer included
+    from exact import moment
+    from exact.thesis import moments_by_maps
+
+    Z, moments, _ = moments_by_maps(N, s_max=3)
+    assert Z == count_lambda(N)
+    for s in (2, 3):
+        for (i, j), value in moments[s].items():
+            if N == 7 and (i + j) % 3:  # N = 7: a third of the grains keeps the exact core quick
+                continue
+            assert value == moment(N, (i, j), s), (N, i, j, s)
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(min_value=2, max_value=7), st.data())
+def test_maps_route_correlations(N, data):
+    from exact import correlation
+    from exact.thesis import moments_by_maps
+
+    def grain():
+        i = data.draw(st.integers(min_value=1, max_value=N))
+        return (i, data.draw(st.integers(min_value=1, max_value=i)))
+
+    pairs = [(grain(), grain()) for _ in range(3)]
+    _, _, corr = moments_by_maps(N, 1, pairs)
+    for g1, g2 in pairs:
+        assert corr[(g1, g2)] == correlation(N, g1, g2)
+
+
+@settings(max_examples=10, deadline=None)
+@given(st.integers(min_value=3, max_value=5), st.data())
+def test_maps_route_equals_nested_integration(N, data):
+    # two thesis routes: map counting and the nested-matrix integration (4.14)-(4.46)
+    from exact.nested import moment_nested
+    from exact.thesis import moments_by_maps
+
+    i1 = data.draw(st.integers(min_value=1, max_value=N))
+    g1 = (i1, data.draw(st.integers(min_value=1, max_value=i1)))
+    i2 = data.draw(st.integers(min_value=1, max_value=N))
+    g2 = (i2, data.draw(st.integers(min_value=1, max_value=i2)))
+    s = data.draw(st.integers(min_value=1, max_value=3))
+    _, moments, corr = moments_by_maps(N, s, [(g1, g2)])
+    assert moments[s][g1] == moment_nested(N, {g1: s})
+    powers = {g1: 1, g2: 1} if g1 != g2 else {g1: 2}
+    assert corr[(g1, g2)] == moment_nested(N, powers)
+
+
+def test_maps_route_bad_input():
+    from exact.thesis import moments_by_maps
+
+    with pytest.raises(ValueError, match="s_max"):
+        moments_by_maps(4, 0)
+    with pytest.raises(ValueError, match="pairs"):
+        moments_by_maps(4, 1, [((5, 1), (1, 1))])

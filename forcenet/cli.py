@@ -484,6 +484,109 @@ def _cmd_bethe(args):
     return 0
 
 
+def _fraction_density(text):
+    """argparse type for --Q: a fraction p/q with 0 < Q < 1/3."""
+    from fractions import Fraction
+
+    try:
+        q = Fraction(text)
+    except (ValueError, ZeroDivisionError):
+        raise argparse.ArgumentTypeError(f"--Q={text!r}: must be a fraction such as 1/6") from None
+    if not (0 < q < Fraction(1, 3)) or q.denominator > 60:
+        raise argparse.ArgumentTypeError(f"--Q={text!r} is out of range: a fraction c/a with 0 < Q < 1/3 and a <= 60")
+    return q
+
+
+def _cmd_entropy(args):
+    import json
+
+    import mpmath
+
+    from numeric import isotropic as iso
+
+    dps = args.dps
+    if not 5 <= dps <= 1000:
+        raise UsageError(f"--dps={dps} is out of range: 5..1000")
+    if not 60 <= args.L_max <= 1200:
+        raise UsageError(f"--L-max={args.L_max} is out of range: 60..1200")
+    if not args.F > 0:
+        raise UsageError(f"--F={args.F} is out of range: the force scale must be > 0")
+    L_min = max(24, args.L_max // 4)
+    t0 = time.perf_counter()
+    out = {"dps": dps, "L_max": args.L_max}
+
+    def bar_for(count, what):
+        print(f"forcenet: {what}: {count} Bethe-ansatz sequence(s) to L = {args.L_max} "
+              f"(about {count * max(1, args.L_max // 120) ** 2 * 20} s)", file=sys.stderr)
+        return _progress(count, what) if not args.quiet else None
+
+    try:
+        if args.max:
+            bar = bar_for(3, "entropy maximum")
+            q_star, v_star, err, limits = iso.entropy_maximum(L_max=args.L_max, L_min=L_min, progress=bar.update if bar else None)
+            if bar:
+                bar.close()
+            out.update({
+                "Q_max": q_star, "phi_max": float(iso.phi_of_density(q_star, dps=20)),
+                "v_max": v_star, "v_max_error": err,
+                "from": [{"Q": str(f), "v": lim.v, "v_error": lim.v_err, "mu": lim.mu, "mu_error": lim.mu_err} for f, lim in sorted(limits.items())],
+            })
+        else:
+            with mpmath.workdps(dps + 10):
+                if args.phi is not None:
+                    try:
+                        phi = mpmath.mpf(args.phi)
+                    except (ValueError, TypeError):
+                        raise UsageError(f"--phi={args.phi!r}: must be a number") from None
+                    Q = iso.density_Q(phi, dps)
+                else:
+                    Q = mpmath.mpf(args.Q.numerator) / args.Q.denominator
+                    phi = iso.phi_of_density(args.Q, dps)
+                eps = mpmath.pi / 2 - phi
+            out.update({
+                "phi": mpmath.nstr(phi, dps), "Q": mpmath.nstr(Q, dps), "eps": mpmath.nstr(eps, dps),
+                "v_series_7_3": mpmath.nstr(iso.entropy_small_parameter(eps, dps), dps) if eps > 0 else None,
+                "F": args.F, "g_7_4": mpmath.nstr(iso.entropy_per_grain(args.F, dps), dps),
+            })
+            if not args.no_bethe and 0 < Q < mpmath.mpf(1) / 3:
+                if args.Q is not None:
+                    bar = bar_for(1, f"entropy at Q = {args.Q}")
+                    lim = iso.isotropic_limit(args.Q, args.L_max, L_min)
+                    v, err = lim.v, lim.v_err
+                    out["bethe_densities"] = [str(args.Q)]
+                else:
+                    bar = bar_for(2, "entropy at phi")
+                    v, err, (a, b) = iso.isotropic_entropy(float(Q), args.L_max, L_min)
+                    out["bethe_densities"] = [str(a.Q), str(b.Q)]
+                if bar:
+                    bar.close()
+                out.update({"v_bethe": v, "v_bethe_error": err})
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    except RuntimeError as exc:
+        raise UsageError(f"Bethe ansatz: {exc}") from None
+    out["seconds"] = time.perf_counter() - t0
+    if args.format == "json":
+        print(json.dumps(out))
+        return 0
+    if args.max:
+        print(f"maximum entropy per site on the isotropic line (Bethe ansatz, L <= {args.L_max}): "
+              f"v* = {out['v_max']:.10f} +- {out['v_max_error']:.1e} at Q* = {out['Q_max']:.6f} (phi* = {out['phi_max']:.6f})")
+        for row in out["from"]:
+            print(f"  Q = {row['Q']:>5}: v = {row['v']:.10f} +- {row['v_error']:.1e}, mu = {row['mu']:+.8f} +- {row['mu_error']:.1e}")
+    else:
+        print(f"phi = {out['phi']}")
+        print(f"Q   = {out['Q']}   (Eq. 7.2, density per direction)")
+        if out.get("v_series_7_3") is not None:
+            print(f"v   ~ {out['v_series_7_3']}   (Eq. 7.3 as reconstructed, leading order in eps = pi/2 - phi)")
+        print(f"g   = {out['g_7_4']}   (Eq. 7.4 as reconstructed, F = {args.F})")
+        if "v_bethe" in out:
+            print(f"v   = {out['v_bethe']:.10f} +- {out['v_bethe_error']:.1e}   "
+                  f"(Bethe ansatz, isotropic line, densities {', '.join(out['bethe_densities'])}, L <= {args.L_max})")
+        print("(Eq. 7.1 itself is not reconstructed; see notes/chicken_wire.md)")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="forcenet", description="Exact results for the force network ensemble.")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -550,6 +653,19 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--m", type=int, default=None, help="left-movers among them (default n/2)")
     p.add_argument("--format", choices=["text", "json"], default="text")
     p.set_defaults(func=_cmd_bethe)
+
+    p = sub.add_parser("entropy", help="chicken-wire model: entropy per site on the isotropic line (Eqs. 7.1-7.4)")
+    mode = p.add_mutually_exclusive_group(required=True)
+    mode.add_argument("--phi", help="parameter of Eqs. (7.1)-(7.2), -pi/2 <= phi <= pi/2 (any number of digits)")
+    mode.add_argument("--Q", type=_fraction_density, help="density per direction as a fraction c/a, 0 < Q < 1/3")
+    mode.add_argument("--max", action="store_true", help="the maximum over the density")
+    p.add_argument("--dps", type=int, default=50, help="decimal digits of the closed forms (5..1000, default 50)")
+    p.add_argument("--L-max", type=int, default=240, help="largest Bethe-ansatz width (60..1200, default 240)")
+    p.add_argument("--F", type=float, default=1.0, help="force scale of Eq. (7.4) (default 1)")
+    p.add_argument("--no-bethe", action="store_true", help="closed forms only (instant)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--format", choices=["text", "json"], default="text")
+    p.set_defaults(func=_cmd_entropy)
     return parser
 
 

@@ -29,7 +29,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["BetheSolution", "bethe_residuals", "first_level_roots", "solve_ground_state", "newton_polish", "ground_state_sequence"]
+__all__ = [
+    "BetheSolution",
+    "bethe_residuals",
+    "first_level_roots",
+    "solve_ground_state",
+    "newton_polish",
+    "ground_state_sequence",
+    "photon_density",
+    "follow_fugacity",
+    "IsotropicPoint",
+    "isotropic_state",
+    "isotropic_sequence",
+]
 
 
 @dataclass
@@ -76,17 +88,19 @@ def bethe_residuals(w: np.ndarray, u: np.ndarray, L: int) -> np.ndarray:
     return np.concatenate([np.expm1(lhs1 - rhs1), np.expm1(lhs2 - rhs2)])
 
 
-def first_level_roots(u: np.ndarray, L: int, n: int, w0=None, iterations: int = 200) -> np.ndarray:
+def first_level_roots(u: np.ndarray, L: int, n: int, w0=None, iterations: int = 200, log_fugacity: float = 0.0) -> np.ndarray:
     """The ``n`` ground-state roots ``w`` of the first set of equations for given ``u`` (with ``W = 1``).
 
     Log form: ``w_k = exp(i pi (2k - n - 1)/D) (prod_l (u_l - w_k))^(1/D)``,
     ``D = L - n + m``, iterated to a fixed point (a contraction for
-    ``m << D``; quadratic Newton polish at the end).
+    ``m << D``; quadratic Newton polish at the end).  With a photon
+    fugacity ``tau = e^mu`` the translation-invariant state has
+    ``W = tau^(m-n)`` and the roots are divided by ``tau``.
     """
     u = np.asarray(u, dtype=complex)
     m = len(u)
     D = L - n + m
-    base = 1j * math.pi * (2 * np.arange(1, n + 1) - n - 1) / D
+    base = 1j * math.pi * (2 * np.arange(1, n + 1) - n - 1) / D - float(log_fugacity)
     w = np.exp(base) if w0 is None else np.asarray(w0, dtype=complex)
     for _ in range(iterations):
         new = np.exp(base + np.log(u[None, :] - w[:, None]).sum(axis=1) / D)
@@ -192,23 +206,45 @@ def _resample(values: np.ndarray, size: int) -> np.ndarray:
     return np.interp(new, old, values.real) + 1j * np.interp(new, old, values.imag)
 
 
-def newton_polish(L: int, w0, u0, iterations: int = 50, tol: float = 1e-14):
+def _jacobian(L: int, w: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """Jacobian of the log form of both sets of equations with respect to ``(w, u)``."""
+    n, m = len(w), len(u)
+    D = L - n + m
+    J = np.zeros((n + m, n + m), dtype=complex)
+    duw = 1.0 / (u[None, :] - w[:, None])  # (n, m): 1/(u_l - w_k)
+    J[:n, :n] = -1.0 / w[None, :]
+    J[np.arange(n), np.arange(n)] += -duw.sum(axis=1) - D / w
+    J[:n, n:] = duw
+    J[n:, :n] = -duw.T - 1.0 / w[None, :]
+    J[n:, n:] = 1.0 / u[None, :]
+    J[n + np.arange(m), n + np.arange(m)] += duw.sum(axis=0) - m / u
+    return J
+
+
+def newton_polish(L: int, w0, u0, iterations: int = 50, tol: float = 1e-14, log_fugacity: float = 0.0):
     """Complex Newton on the log form of both sets of equations, analytic Jacobian.
 
     The branches (multiples of ``2 pi i``) are fixed at the starting point,
     so the solution keeps the starting point's quantum numbers.  Returns
     ``(w, u, residual, iterations used)``; raises ``RuntimeError`` if the
     iteration does not converge (never silent).
+
+    ``log_fugacity = mu`` weighs every horizontal bond (photon) by
+    ``tau = e^mu``.  A gauge transformation of the label amplitudes turns
+    this into a twist: ``W`` becomes ``W tau^L`` on the right of both sets of
+    equations, and ``Lambda = prod u`` unchanged (checked against
+    :func:`numeric.chicken_wire.sector_matrix` with ``photon_fugacity``).
     """
     w = np.asarray(w0, dtype=complex).copy()
     u = np.asarray(u0, dtype=complex).copy()
     n, m = len(w), len(u)
     D = L - n + m
+    twist = L * float(log_fugacity)
 
     def F(w, u):
         lw, lu = np.log(w), np.log(u)
-        f1 = np.log(u[None, :] - w[:, None]).sum(axis=1) - lw.sum() - D * lw
-        f2 = np.log(u[:, None] - w[None, :]).sum(axis=1) - lw.sum() - m * lu + lu.sum()
+        f1 = np.log(u[None, :] - w[:, None]).sum(axis=1) - lw.sum() - D * lw - twist
+        f2 = np.log(u[:, None] - w[None, :]).sum(axis=1) - lw.sum() - m * lu + lu.sum() - twist
         return np.concatenate([f1, f2])
 
     target = F(w, u)
@@ -218,15 +254,7 @@ def newton_polish(L: int, w0, u0, iterations: int = 50, tol: float = 1e-14):
         r = F(w, u) - branch
         if np.abs(r).max() < tol:
             return w, u, float(np.abs(r).max()), it
-        J = np.zeros((n + m, n + m), dtype=complex)
-        duw = 1.0 / (u[None, :] - w[:, None])  # (n, m): 1/(u_l - w_k)
-        J[:n, :n] = -1.0 / w[None, :]
-        J[np.arange(n), np.arange(n)] += -duw.sum(axis=1) - D / w
-        J[:n, n:] = duw
-        J[n:, :n] = -duw.T - 1.0 / w[None, :]
-        J[n:, n:] = 1.0 / u[None, :]
-        J[n + np.arange(m), n + np.arange(m)] += duw.sum(axis=0) - m / u
-        step = np.linalg.solve(J, -r)
+        step = np.linalg.solve(_jacobian(L, w, u), -r)
         w, u = w + step[:n], u + step[n:]
     r = float(np.abs(F(w, u) - branch).max())
     if r > 1e-10:
@@ -234,7 +262,7 @@ def newton_polish(L: int, w0, u0, iterations: int = 50, tol: float = 1e-14):
     return w, u, r, iterations
 
 
-def ground_state_sequence(k_max: int, ratio=(6, 2, 1), start: int = 2, progress=None):
+def ground_state_sequence(k_max: int, ratio=(6, 2, 1), start: int = 2, progress=None, seeds=None):
     """Ground states along ``(L, n, m) = k * ratio`` for ``k = start..k_max`` by continuation.
 
     The first one comes from :func:`solve_ground_state`; each next one from
@@ -243,10 +271,16 @@ def ground_state_sequence(k_max: int, ratio=(6, 2, 1), start: int = 2, progress=
     ``L - n + m``).  Each solution is checked to be translation invariant
     with a real eigenvalue.
 
+    ``seeds``: solutions of earlier steps to continue from (the last two,
+    for the parity of ``m``); they are not returned.
+
     Returns a list of :class:`BetheSolution`.
     """
     a, b, c = ratio
     out, prev = [], None
+    if seeds:
+        out, prev = list(seeds[-2:]), seeds[-1]
+    n_seeds = len(out)
     for k in range(start, k_max + 1):
         L, n, m = a * k, b * k, c * k
         if prev is None:
@@ -267,6 +301,148 @@ def ground_state_sequence(k_max: int, ratio=(6, 2, 1), start: int = 2, progress=
             else:
                 prev = solve_ground_state(L, n, m, guess=u0, tries=100)
         out.append(prev)
+        if progress is not None:
+            progress(1)
+    return out[n_seeds:]
+
+
+# ------------------------------------------------ the isotropic line (photon fugacity)
+
+
+def photon_density(L: int, w, u) -> float:
+    """Horizontal bonds per site, ``(1/L) d log(Lambda) / d mu``, of a solution at fugacity ``e^mu``.
+
+    Implicit differentiation of the twisted equations: every equation's
+    right side carries ``L mu``, so ``J dx/dmu = L`` and
+    ``d log Lambda = sum du/u``.
+    """
+    w = np.asarray(w, dtype=complex)
+    u = np.asarray(u, dtype=complex)
+    n = len(w)
+    dx = np.linalg.solve(_jacobian(L, w, u), np.full(n + len(u), float(L), dtype=complex))
+    return float((dx[n:] / u).sum().real) / L
+
+
+def follow_fugacity(L: int, w, u, mu_from: float, mu_to: float, max_twist_step: float = 0.5):
+    """Carry a solution from photon fugacity ``e^mu_from`` to ``e^mu_to``.
+
+    Euler predictor along ``dx/dmu`` and Newton corrector, with steps of at
+    most ``max_twist_step`` in ``L mu``; a failed step is halved (up to 12
+    times) and then reported as ``RuntimeError``.
+    """
+    w = np.asarray(w, dtype=complex).copy()
+    u = np.asarray(u, dtype=complex).copy()
+    n = len(w)
+    mu, step = float(mu_from), max_twist_step / L
+    halvings = 0
+    while abs(mu_to - mu) > 1e-15:
+        h = max(-step, min(step, mu_to - mu))
+        with np.errstate(all="ignore"):
+            try:
+                dx = np.linalg.solve(_jacobian(L, w, u), np.full(n + len(u), float(L), dtype=complex))
+                w1, u1, _, _ = newton_polish(L, w + h * dx[:n], u + h * dx[n:], log_fugacity=mu + h)
+                ok = np.all(np.isfinite(w1)) and np.all(np.isfinite(u1))
+            except (RuntimeError, np.linalg.LinAlgError):
+                ok = False
+        if ok:
+            w, u, mu = w1, u1, mu + h
+            step = min(step * 1.5, max_twist_step / L * 4)
+        else:
+            halvings += 1
+            step /= 2
+            if halvings > 12:
+                raise RuntimeError(f"lost the Bethe solution at L={L} between mu={mu:.6g} and {mu + h:.6g}")
+    return w, u
+
+
+@dataclass
+class IsotropicPoint:
+    """A sector ``(L, n = 2m, m)`` at the photon fugacity where all three densities are ``m/L``."""
+
+    L: int
+    n: int
+    m: int
+    log_fugacity: float
+    photon_density: float
+    entropy_per_site: float
+    w: np.ndarray
+    u: np.ndarray
+
+    @property
+    def Q(self) -> float:
+        """Density of left-moving particles per site (= right = horizontal)."""
+        return self.m / self.L
+
+
+def isotropic_state(L: int, n: int, m: int, w, u, mu: float = 0.0, tol: float = 1e-12, iterations: int = 40) -> IsotropicPoint:
+    """Solve for the fugacity at which the photon density equals ``m/L`` (isotropy).
+
+    Densities per site: right movers ``(n-m)/L``, left movers ``m/L`` and
+    horizontal bonds ``rho_H(mu)`` (:func:`photon_density`).  With
+    ``n = 2m`` the first two agree; a secant iteration on ``mu`` makes the
+    third agree.  The entropy per site is the Legendre transform
+    ``v = log(Lambda)/L - mu rho_H`` (Sec. 7.4.1, the isotropic case of
+    Eq. 7.1).  Raises ``RuntimeError`` if the iteration fails.
+    """
+    if n != 2 * m:
+        raise ValueError(f"(n, m) = ({n}, {m}): the isotropic line needs n = 2m")
+    target = m / L
+    w = np.asarray(w, dtype=complex)
+    u = np.asarray(u, dtype=complex)
+    w, u, _, _ = newton_polish(L, w, u, log_fugacity=mu)
+    g = photon_density(L, w, u) - target
+    mu_prev, g_prev = None, None
+    for _ in range(iterations):
+        if abs(g) < tol:
+            break
+        if mu_prev is None:
+            new = mu - g * 4.0  # d rho_H / d mu is of order 1/4 (measured); the secant takes over
+        else:
+            new = mu - g * (mu - mu_prev) / (g - g_prev)
+        w, u = follow_fugacity(L, w, u, mu, new)
+        mu_prev, g_prev, mu = mu, g, new
+        g = photon_density(L, w, u) - target
+    else:
+        raise RuntimeError(f"isotropy not reached at (L, n, m) = ({L}, {n}, {m}): |rho_H - Q| = {abs(g):.3g}")
+    log_lambda = float(np.sum(np.log(u)).real)
+    rho_h = g + target
+    return IsotropicPoint(L, n, m, mu, rho_h, log_lambda / L - mu * rho_h, w, u)
+
+
+def isotropic_sequence(k_values, ratio=(6, 2, 1), progress=None) -> list:
+    """Isotropic points along ``(L, n, m) = k * ratio`` (``n = 2m``), by continuation in ``k``.
+
+    At each width the fugacity-1 ground state comes from the continuation of
+    :func:`ground_state_sequence` (from ``k = 2``, also when the first ``k``
+    asked for is larger), and is carried to the isotropic fugacity by
+    :func:`follow_fugacity`, starting at the previous width's fugacity.
+    Returns a list of :class:`IsotropicPoint`; a lost ground state raises
+    ``RuntimeError``.
+
+    Examples
+    --------
+    >>> pts = isotropic_sequence([2, 3], ratio=(6, 2, 1))
+    >>> [(p.L, round(p.photon_density, 12)) for p in pts]
+    [(12, 0.166666666667), (18, 0.166666666667)]
+    """
+    a, b, c = ratio
+    if b != 2 * c:
+        raise ValueError(f"ratio={ratio!r}: the isotropic line needs n = 2m")
+    out = []
+    k_values = list(k_values)
+    bases = []  # fugacity-1 ground states, continued in k as in ground_state_sequence
+    for k in k_values:
+        L, n, m = a * k, b * k, c * k
+        # the fugacity-1 ground state by the continuation of ground_state_sequence, then the fugacity
+        if not bases:
+            # the fugacity-1 state by continuation from k = 2 (random starts fail at large L)
+            bases += ground_state_sequence(k, ratio, start=2) if k > 2 else [solve_ground_state(L, n, m)]
+        else:
+            bases += ground_state_sequence(k, ratio, start=k, seeds=bases)
+        sol = bases[-1]
+        mu0 = out[-1].log_fugacity if out else 0.0
+        w, u = follow_fugacity(L, sol.w, sol.u, 0.0, mu0) if mu0 else (sol.w, sol.u)
+        out.append(isotropic_state(L, n, m, w, u, mu=mu0))
         if progress is not None:
             progress(1)
     return out

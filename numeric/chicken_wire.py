@@ -208,7 +208,7 @@ def tiling_entropy(L: int, bracket=(0.01, 1.0), xtol: float = 1e-13) -> float:
     return brentq(lambda s: free_energy(L, tiling_weights(s)), *bracket, xtol=xtol)
 
 
-def sector_matrix(L: int, n: int, m: int):
+def sector_matrix(L: int, n: int, m: int, photon_fugacity: float = 1.0):
     """Sparse transfer matrix restricted to ``n`` particles of which ``m`` are left-moving.
 
     Built from the particle picture (Sec. 7.4.1): every R followed by an L
@@ -216,6 +216,9 @@ def sector_matrix(L: int, n: int, m: int):
     photon; then R's stay and L's move one site left; collisions are
     forbidden.  Independent of the matrix-product-operator route, and only
     ``C(L, n) C(n, m)`` states, so ``L = 18`` is within reach.
+
+    ``photon_fugacity`` weighs every horizontal bond: a photon from the R at
+    ``x_j`` to the L at ``x_{j+1}`` has ``(x_{j+1} - x_j) mod L`` bonds.
 
     Returns
     -------
@@ -237,7 +240,9 @@ def sector_matrix(L: int, n: int, m: int):
     if len(states) > 5_000_000:
         raise ValueError(f"sector of {len(states)} states is too large (limit 5,000,000)")
     index = {s: i for i, s in enumerate(states)}
-    rows, cols = [], []
+    if not photon_fugacity > 0:
+        raise ValueError(f"photon_fugacity={photon_fugacity!r}: must be > 0")
+    rows, cols, vals = [], [], []
     for i, (pos, kinds) in enumerate(states):
         pairs = [j for j in range(n) if kinds[j] == _R and kinds[(j + 1) % n] == _L]
         for r in range(len(pairs) + 1):
@@ -251,4 +256,6 @@ def sector_matrix(L: int, n: int, m: int):
                 order = sorted(range(n), key=newpos.__getitem__)
                 rows.append(index[(tuple(newpos[j] for j in order), tuple(new[j] for j in order))])
                 cols.append(i)
-    return csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(len(states), len(states)))
+                bonds = sum((pos[(j + 1) % n] - pos[j]) % L for j in sub)
+                vals.append(photon_fugacity**bonds)
+    return csr_matrix((np.array(vals, dtype=float), (rows, cols)), shape=(len(states), len(states)))

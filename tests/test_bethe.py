@@ -58,3 +58,67 @@ def test_newton_reports_failure():
 def test_bad_sector():
     with pytest.raises(ValueError, match="out of range"):
         solve_ground_state(6, 2, 2)
+
+
+# ------------------------------------------------ photon fugacity (twist) and the isotropic line
+
+
+def _tm_tau(L, n, m, tau):
+    T = sector_matrix(L, n, m, photon_fugacity=tau)
+    if T.shape[0] <= 600:
+        return float(np.linalg.eigvals(T.toarray()).real.max())
+    return float(eigs(T, k=1, which="LR", tol=1e-14, return_eigenvectors=False).real.max())
+
+
+def test_photon_fugacity_sector_matrix_equals_operator_route():
+    # two transfer matrices with weight tau per horizontal bond: H = tau, Y = inverted Y = sqrt(tau)
+    for L, n, tau in [(7, 2, 0.7), (8, 4, 1.6), (9, 4, 1.3)]:
+        weights = {"empty": 1, "H": tau, "R": 1, "L": 1, "Y": math.sqrt(tau), "inverted Y": math.sqrt(tau)}
+        best = max(_tm_tau(L, n, m, tau) for m in range(n + 1))
+        assert best == pytest.approx(largest_eigenvalue(L, weights, particles=n), abs=1e-11)
+
+
+@pytest.mark.parametrize("L, n, m, tau", [(9, 4, 2, 1.5), (10, 4, 2, 0.75), (11, 6, 3, 1.3), (12, 6, 3, 0.8), (10, 5, 2, 1.4)])
+def test_twisted_bethe_equations_equal_transfer_matrix(L, n, m, tau):
+    from numeric.bethe import follow_fugacity
+
+    sol = solve_ground_state(L, n, m)
+    w, u = follow_fugacity(L, sol.w, sol.u, 0.0, math.log(tau))
+    assert abs(np.prod(u).real - _tm_tau(L, n, m, tau)) < 1e-11
+    assert abs(np.prod(w) - tau ** (m - n)) < 1e-10  # the translation-invariant state under the twist
+
+
+@pytest.mark.parametrize("L, n, m, tau", [(10, 4, 2, 1.0), (9, 4, 2, 0.8), (12, 4, 2, 1.2)])
+def test_photon_density_is_the_derivative_of_the_transfer_matrix(L, n, m, tau):
+    from numeric.bethe import follow_fugacity, photon_density
+
+    sol = solve_ground_state(L, n, m)
+    w, u = follow_fugacity(L, sol.w, sol.u, 0.0, math.log(tau))
+    h = 1e-4
+    fd = (math.log(_tm_tau(L, n, m, tau * math.exp(h))) - math.log(_tm_tau(L, n, m, tau * math.exp(-h)))) / (2 * h * L)
+    assert photon_density(L, w, u) == pytest.approx(fd, abs=1e-7)
+
+
+def test_isotropic_point_equals_transfer_matrix_legendre_transform():
+    from numeric.bethe import isotropic_state
+
+    L, n, m = 12, 4, 2
+    sol = solve_ground_state(L, n, m)
+    p = isotropic_state(L, n, m, sol.w, sol.u)
+    assert p.photon_density == pytest.approx(m / L, abs=1e-11)
+    tau = math.exp(p.log_fugacity)
+    h = 1e-4
+    lam = _tm_tau(L, n, m, tau)
+    rho_h = (math.log(_tm_tau(L, n, m, tau * math.exp(h))) - math.log(_tm_tau(L, n, m, tau * math.exp(-h)))) / (2 * h * L)
+    assert rho_h == pytest.approx(m / L, abs=1e-7)  # the transfer matrix agrees that all three densities are Q
+    assert p.entropy_per_site == pytest.approx(math.log(lam) / L - p.log_fugacity * rho_h, abs=1e-9)
+
+
+def test_isotropic_bad_input():
+    from numeric.bethe import isotropic_sequence, isotropic_state
+
+    sol = solve_ground_state(10, 5, 2)
+    with pytest.raises(ValueError, match="n = 2m"):
+        isotropic_state(10, 5, 2, sol.w, sol.u)
+    with pytest.raises(ValueError, match="ratio"):
+        isotropic_sequence([2], ratio=(6, 3, 1))

@@ -199,3 +199,37 @@ def test_bethe_command(capsys):
     assert abs(data["eigenvalue"] - json.loads(out2)["lambda_max"]) < 1e-12
     assert len(data["u"]) == 2 and len(data["w"]) == 4
     assert main(["bethe", "--L", "6", "--n", "2", "--m", "2"]) == 2
+
+
+def test_entropy_command_closed_forms(capsys):
+    import mpmath
+
+    from numeric.isotropic import density_Q, entropy_per_grain
+
+    code, out, _ = run(["entropy", "--phi", "0.25", "--dps", "50", "--no-bethe", "--format", "json", "--F", "3"], capsys)
+    assert code == 0
+    data = json.loads(out)
+    with mpmath.workdps(60):
+        assert abs(mpmath.mpf(data["Q"]) - density_Q("0.25", 55)) < mpmath.mpf(10) ** -48
+        assert abs(mpmath.mpf(data["g_7_4"]) - entropy_per_grain(3, 55)) < mpmath.mpf(10) ** -48
+    assert len(data["Q"].replace("0.", "", 1)) >= 45  # 50 significant digits asked for
+    assert "v_bethe" not in data
+
+
+def test_entropy_command_bethe_and_errors(capsys):
+    from numeric.bethe import isotropic_sequence
+
+    code, out, _ = run(["entropy", "--Q", "1/6", "--L-max", "60", "--quiet", "--format", "json"], capsys)
+    assert code == 0
+    data = json.loads(out)
+    pts = isotropic_sequence(range(4, 11), ratio=(6, 2, 1))  # L = 24..60, as the command uses
+    assert abs(data["v_bethe"] - pts[-1].entropy_per_site) < 20 * data["v_bethe_error"] + abs(
+        pts[-1].entropy_per_site - pts[-2].entropy_per_site
+    ) * 10  # the extrapolation moves the last width's value by less than a few widths' spread
+    assert main(["entropy", "--phi", "2"]) == 2
+    assert main(["entropy", "--phi", "0.1", "--dps", "3"]) == 2
+    assert main(["entropy", "--Q", "1/6", "--L-max", "10"]) == 2
+    with pytest.raises(SystemExit):
+        main(["entropy", "--Q", "1/2"])
+    with pytest.raises(SystemExit):
+        main(["entropy"])

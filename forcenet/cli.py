@@ -517,7 +517,7 @@ def _cmd_entropy(args):
 
     def bar_for(count, what):
         print(f"forcenet: {what}: {count} Bethe-ansatz sequence(s) to L = {args.L_max} "
-              f"(about {count * max(1, args.L_max // 120) ** 2 * 20} s)", file=sys.stderr)
+              f"(about {round(count * 6 * (args.L_max / 120) ** 2)} s on one core)", file=sys.stderr)
         return _progress(count, what) if not args.quiet else None
 
     try:

@@ -281,3 +281,49 @@ def test_maps_route_bad_input():
         moments_by_maps(4, 0)
     with pytest.raises(ValueError, match="pairs"):
         moments_by_maps(4, 1, [((5, 1), (1, 1))])
+
+
+@pytest.mark.parametrize("N", [3, 4, 5, 6, 7])
+def test_printed_fundamental_relations_give_the_normalization(N):
+    # (4.28)-(4.31) and (4.46) read literally: L t(W=1) R over the index tuples (4.32)
+    from exact.thesis import normalization_fundamental
+
+    assert normalization_fundamental(N) == normalization(N)
+
+
+@pytest.mark.parametrize("p", [2, 3, 4, 5])
+def test_right_vector_is_lambda_over_factorials_4_49(p):
+    from math import factorial
+
+    from exact.thesis import right_vector
+
+    R = right_vector(p)
+    lam = lambda_table(p)
+    for j in index_tuples(p):
+        exps = [l + j[l - 2] - j[l - 1] for l in range(2, p + 1)]
+        expected = Fraction(0)
+        if all(e >= 0 for e in exps) and lam.get(j, 0):
+            d = 1
+            for e in exps:
+                d *= factorial(e)
+            expected = Fraction(lam[j], d)
+        assert R.get(j, Fraction(0)) == expected, j
+
+
+@given(st.integers(min_value=1, max_value=4), st.data())
+def test_psi_is_a_product_of_central_integral_coefficients(p, data):
+    # (4.30) recursively equals (4.29) as a product; the first factor is (4.25)'s psi^{2-i1}_{1,2-j1}
+    from exact.thesis import psi_fundamental
+
+    tuples = list(index_tuples(p))
+    i = data.draw(st.sampled_from(tuples))
+    j = data.draw(st.sampled_from(tuples))
+    value = psi_fundamental(i, j)
+    if p == 1:
+        assert value == gamma_coefficient(1, 2 - j[0], i[0] - 1)
+    else:
+        last = psi_fundamental(i[:-1], j[:-1])
+        l, ip, jp, il, jl = p, i[-2], j[-2], i[-1], j[-1]
+        s, e, f = l + ip - jp, l + jp - jl, l + ip - il
+        factor = gamma_coefficient(s, e, s - f) if (il >= jp and 0 <= f <= s and e >= 0) else 0
+        assert value == last * factor

@@ -32,7 +32,7 @@ def fraction_str(x) -> str:
     return str(x.numerator) if x.denominator == 1 else f"{x.numerator}/{x.denominator}"
 
 
-def exact_table(N: int, moments: int = 1, mean_table=None, progress=None) -> dict:
+def exact_table(N: int, moments: int = 1, mean_table=None, progress=None, moment_tables=None) -> dict:
     """The exact table as a dict of exact values (Fractions and ints).
 
     Keys: ``N``, ``count``, ``normalization``, ``mean_W`` and, for
@@ -47,8 +47,8 @@ def exact_table(N: int, moments: int = 1, mean_table=None, progress=None) -> dic
         "normalization": normalization(N),
         "mean_W": mean_table if mean_table is not None else mean_W(N, progress),
     }
-    for s in range(2, moments + 1):
-        table[f"mean_W{s}"] = moment_table(N, s)
+    for s in range(2, moments + 1):  # moment_tables: {s: table} from another route, if given
+        table[f"mean_W{s}"] = (moment_tables or {}).get(s) or moment_table(N, s)
     return table
 
 

@@ -145,6 +145,15 @@ def test_table_methods_print_the_same_json(method, N, capsys):
     assert json.loads(out) == other
 
 
+def test_table_maps_method_with_higher_moments(capsys):
+    # <W^2>, <W^3> by map counting (tableau bijection) equal the fast method's
+    code, out, _ = run(["table", "--N", "6", "--format", "json", "--method", "maps", "--moments", "3"], capsys)
+    assert code == 0
+    maps = json.loads(out)
+    code, out, _ = run(["table", "--N", "6", "--format", "json", "--moments", "3"], capsys)
+    assert json.loads(out) == maps and "mean_W3" in maps
+
+
 @pytest.mark.parametrize(
     "argv, needle",
     [

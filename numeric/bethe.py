@@ -318,9 +318,13 @@ def photon_density(L: int, w, u) -> float:
     """
     w = np.asarray(w, dtype=complex)
     u = np.asarray(u, dtype=complex)
-    n = len(w)
-    dx = np.linalg.solve(_jacobian(L, w, u), np.full(n + len(u), float(L), dtype=complex))
-    return float((dx[n:] / u).sum().real) / L
+    du = _tangent(L, w, u)[len(w):]
+    return float((du / u).sum().real) / L
+
+
+def _tangent(L: int, w: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """``d(w, u)/d mu`` along a solution: every equation carries ``L mu``, so ``J dx = L``."""
+    return np.linalg.solve(_jacobian(L, w, u), np.full(len(w) + len(u), float(L), dtype=complex))
 
 
 def follow_fugacity(L: int, w, u, mu_from: float, mu_to: float, max_twist_step: float = 0.5):
@@ -339,7 +343,7 @@ def follow_fugacity(L: int, w, u, mu_from: float, mu_to: float, max_twist_step: 
         h = max(-step, min(step, mu_to - mu))
         with np.errstate(all="ignore"):
             try:
-                dx = np.linalg.solve(_jacobian(L, w, u), np.full(n + len(u), float(L), dtype=complex))
+                dx = _tangent(L, w, u)
                 w1, u1, _, _ = newton_polish(L, w + h * dx[:n], u + h * dx[n:], log_fugacity=mu + h)
                 ok = np.all(np.isfinite(w1)) and np.all(np.isfinite(u1))
             except (RuntimeError, np.linalg.LinAlgError):

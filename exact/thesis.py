@@ -243,8 +243,14 @@ def _lambda_weighted_sums(N: int):
 
     d = N * (N - 1) // 2
     primes = primes_for_bound(d * d * count(N))
-    columns = [[_lambda_sum_mod(N, prime, k) for prime in primes] for k in [None] + list(range(1, N - 2))]
-    return [crt(col, primes) for col in columns]
+    p = N - 2
+    rows = []
+    for prime in primes:  # one Lambda^(p-1) box per prime, one chain per weight
+        reduce = _mod_reducer(prime)
+        box = _lambda_boxes(p - 1, np.int64, reduce)
+        rows.append([_last_row_chain(box, p, frozenset(), reduce, k) % prime for k in [None] + list(range(1, p))])
+        del box
+    return [crt(col, primes) for col in zip(*rows)]
 
 
 def _lambda_weighted_sums_box(N: int):
@@ -708,14 +714,33 @@ def _row_mask(l: int, relaxed: frozenset) -> np.ndarray:
 
 def _transfer(box: np.ndarray, l: int, relaxed_next: frozenset, reduce) -> np.ndarray:
     """Row ``l`` -> row ``l + 1`` of the map recursion (4.87): a dominance prefix sum (4.89)."""
-    D = box
-    for axis in range(D.ndim):
-        D = reduce(np.cumsum(D, axis=axis, dtype=D.dtype))
+    D = _dominance(box, reduce)
     target = _row_maxima(l + 1, relaxed_next)
     if D.ndim:
         pad = [(0, max(t - s, 0)) for s, t in zip(D.shape, target[1:])]
         D = np.pad(D, pad, mode="edge")[tuple(slice(0, t) for t in target[1:])]
-    return np.broadcast_to(D, target).copy() * _row_mask(l + 1, relaxed_next)
+    out = np.empty(target, dtype=D.dtype)  # in place from here: the boxes reach 1e9 cells at N = 12
+    np.copyto(out, np.broadcast_to(D, target))
+    del D
+    np.multiply(out, _row_mask(l + 1, relaxed_next), out=out)
+    return out
+
+
+def _dominance(box: np.ndarray, reduce) -> np.ndarray:
+    """Cumulative sums along every axis (a new array; ``box`` is left alone)."""
+    D = np.array(box, copy=True)
+    for axis in range(D.ndim):
+        np.cumsum(D, axis=axis, dtype=D.dtype, out=D)
+        D = _reduce_inplace(D, reduce)
+    return D
+
+
+def _reduce_inplace(a: np.ndarray, reduce) -> np.ndarray:
+    modulus = getattr(reduce, "modulus", None)
+    if modulus is not None and a.dtype != object:
+        np.remainder(a, modulus, out=a)
+        return a
+    return reduce(a)
 
 
 def gamma_sums(N: int, q: int, r: int, dtype=object, reduce=lambda a: a):
@@ -747,12 +772,14 @@ def gamma_sums(N: int, q: int, r: int, dtype=object, reduce=lambda a: a):
     return Z, S1, S0
 
 
-def mean_W_gamma(N: int) -> list[list[Fraction]]:
+def mean_W_gamma(N: int, progress=None) -> list[list[Fraction]]:
     """``<W>`` table from the integer recursions: Lambda for ``r = 1`` (4.67), Gamma in the bulk (4.77).
 
-    ``(d+1) Z <W_{N-q,r}> = (q + 1) Z' + S1 - S0`` with the sums of
-    :func:`gamma_sums`; the bottom layer from the layer above (see
-    :func:`mean_W_thesis_maps`).  Exact integers (object arrays); ``N <= 10``.
+    ``(d+1) Z <W_{N-q,r}> = (q + 1) Z' + S1 - S0`` (:func:`gamma_bulk_integer`,
+    multi-modular, the last row of each recursion summed as a chain); the
+    bottom layer from the layer above (see :func:`mean_W_thesis_maps`).
+    Reaches N = 12: about 2 min and 6 GB per grain there, 55 grains.
+    ``progress`` is called once per bulk grain.
 
     Examples
     --------
@@ -762,8 +789,10 @@ def mean_W_gamma(N: int) -> list[list[Fraction]]:
     N = check_layers(N)
 
     def bulk(q, r):
-        Zq, S1, S0 = gamma_sums(N, q, r)
-        return int((q + 1) * Zq + S1 - S0)
+        value = gamma_bulk_integer(N, q, r)
+        if progress is not None:
+            progress()
+        return value
 
     return _table_from_bulk(N, bulk)
 
@@ -771,67 +800,20 @@ def mean_W_gamma(N: int) -> list[list[Fraction]]:
 # ------------------------------------------- Lambda sums without the last table (N = 12)
 
 
-def _maxj(l: int) -> int:
-    """Largest ``j_l`` allowed by (4.32): ``l(l+1)/2 + 1``."""
-    return l * (l + 1) // 2 + 1
-
-
 def _lambda_sum_mod(N: int, prime: int, weight_index: int | None = None) -> int:
     """``sum_j w(j) Lambda^(N-2)_j mod prime`` without building the last table.
 
-    ``Lambda^(p)`` at ``(j_1, ..., j_{p-1}, 1)`` is the dominance sum ``D`` of
-    ``Lambda^(p-1)`` read at ``(j_2, ..., j_{p-1})`` clipped to its box (4.50).
-    Summing it over the index range (4.32) is a chain: sum ``j_{p-1}`` (bounded
-    by ``p - 1 + j_{p-2}``), then ``j_{p-2}``, ... down to ``j_1``; each step is a
-    cumulative sum along one axis read at a bound that depends on the next
-    coordinate.  The largest array is ``D`` itself, so N = 12 needs the
-    2.0e8-cell box of ``Lambda^(9)`` instead of the 9.4e9-cell box of ``Lambda^(10)``.
-    ``weight_index = k`` weights each tuple by ``j_k`` (for Eq. 4.67).
+    ``Lambda^(p)`` at ``(j_1, ..., j_{p-1}, 1)`` is the dominance sum of
+    ``Lambda^(p-1)`` read at ``(j_2, ..., j_{p-1})`` clipped to its box (4.50);
+    its sum over the index range (4.32) is the chain of :func:`_last_row_chain`
+    (no raised bounds).  N = 12 needs the 2.3e8-cell box of ``Lambda^(9)``
+    instead of the 9.4e9-cell box of ``Lambda^(10)``.  ``weight_index = k``
+    weights each tuple by ``j_k`` (for Eq. 4.67).
     """
     p = N - 2
-    m = p - 2  # D has axes a = 1..m, indexed by clip(j_{a+1})
-    reduce = lambda a: a % prime  # noqa: E731
-    D = _lambda_boxes(p - 1, np.int64, reduce)
-    for axis in range(D.ndim):
-        D = reduce(np.cumsum(D, axis=axis))
-    lens = [_maxj(a) for a in range(1, m + 1)]
-
-    def weigh(G, k):  # multiply by the unclipped value of j_k along the last axis
-        if weight_index == k:
-            G = reduce(G * np.arange(1, G.shape[-1] + 1, dtype=np.int64))
-        return G
-
-    # step 0: sum over j_{m+1} = j_{p-1}; D's last axis is clipped at lens[m-1]
-    top = _maxj(m + 1)
-    values = np.arange(1, top + 1, dtype=np.int64)
-    w = values if weight_index == m + 1 else np.ones_like(values)
-    # cumulative weighted sum along the last axis, extended with the saturated slice
-    last = D[..., -1:]
-    extended = np.concatenate([D, np.broadcast_to(last, D.shape[:-1] + (top - lens[m - 1],))], axis=-1)
-    C = reduce(np.cumsum(reduce(extended * w), axis=-1))
-    # read at bound (m+1) + j_m for every unclipped j_m; axis m-1 (if any) indexed by clip(j_m)
-    G_slices = []
-    for t in range(1, _maxj(m) + 1):
-        bound = min(m + 1 + t, top)
-        if m >= 2:
-            G_slices.append(C[..., min(t, lens[m - 2]) - 1, bound - 1])
-        else:
-            G_slices.append(C[..., bound - 1])
-    G = np.stack(G_slices, axis=-1)  # axes: clip(j_2..j_{m-1}), j_m
-    for l in range(m, 1, -1):  # sum over j_l with bound l + j_{l-1}
-        G = weigh(G, l)
-        C = reduce(np.cumsum(G, axis=-1))
-        slices = []
-        for t in range(1, _maxj(l - 1) + 1):
-            bound = l + t
-            if l - 1 >= 2:
-                slices.append(C[..., min(t, lens[l - 3]) - 1, bound - 1])
-            else:
-                slices.append(C[..., bound - 1])
-        G = np.stack(slices, axis=-1)  # axes: clip(j_2..j_{l-2}), j_{l-1}
-    # G is indexed by j_1 (1..2) now: sum with the weight of j_1 if asked
-    G = weigh(G, 1)
-    return int(G.sum() % prime)
+    reduce = _mod_reducer(prime)
+    box = _lambda_boxes(p - 1, np.int64, reduce)
+    return _last_row_chain(box, p, frozenset(), reduce, weight_index) % prime
 
 
 def count_lambda_chain(N: int) -> int:
@@ -848,3 +830,134 @@ def count_lambda_chain(N: int) -> int:
     N = check_layers(N, minimum=5)
     primes = primes_for_bound(count(N) * N * N)
     return crt([_lambda_sum_mod(N, p) for p in primes], primes)
+
+
+# ------------------------------------- Gamma sums without the last table (bulk at N = 12)
+
+
+def _last_row_chain(box: np.ndarray, p: int, relaxed: frozenset, reduce, weight_index: int | None = None) -> int:
+    """``sum`` over row ``p`` of the map recursion without building it (the chain of (4.50)).
+
+    ``box`` is row ``p - 1`` (axes ``h(p-1, 1..p-2)``).  Row ``p`` at
+    ``(h_1, ..., h_{p-1})`` is the dominance sum ``D`` of ``box`` read at
+    ``(h_2, ..., h_{p-1})`` clipped to its shape (4.89), on the range
+    ``h_1 <= 2``, ``h_k <= k + h_{k-1}``, each bound raised by one at the
+    ``relaxed`` positions (the Gamma defect line, 4.73).  The sum over that
+    range is taken one coordinate at a time, innermost first: a cumulative sum
+    along one axis read at the bound set by the next coordinate.  The largest
+    array is ``D``.  ``weight_index = k`` weighs each tuple by ``h_k``.
+    """
+    D = _dominance(box, reduce)
+    M = _row_maxima(p, relaxed)  # M[k-1]: largest h_k on row p
+    if p == 2:  # row 2 has one entry h_1 and no dependence on the box
+        w = np.arange(1, M[0] + 1, dtype=np.int64) if weight_index == 1 else np.ones(M[0], dtype=np.int64)
+        return int(reduce(w * D).sum())
+    shape = D.shape  # axis a <-> clip(h_{a+2}), a = 0..p-3
+
+    def weigh(G, k):
+        if weight_index == k:
+            G = reduce(G * np.arange(1, G.shape[-1] + 1, dtype=np.int64))
+        return G
+
+    # innermost coordinate h_{p-1}: extend D's last axis by saturation to M_{p-1}
+    top = M[p - 2]
+    G = D
+    if top > shape[-1]:
+        G = np.concatenate([D, np.broadcast_to(D[..., -1:], shape[:-1] + (top - shape[-1],))], axis=-1)
+    del D
+    G = G[..., :top]
+    for k in range(p - 1, 1, -1):  # sum over h_k, bound k + h_{k-1} (+1 if relaxed)
+        G = weigh(G, k)
+        C = G  # ours: a fresh array or a view of one
+        np.cumsum(C, axis=-1, dtype=C.dtype, out=C)
+        C = _reduce_inplace(C, reduce)
+        del G
+        raise_k = 1 if k in relaxed else 0
+        slices = []
+        for t in range(1, M[k - 2] + 1):  # t = h_{k-1}, unclipped
+            bound = min(k + t + raise_k, C.shape[-1])
+            if k - 1 >= 2:  # h_{k-1} is an axis of D, clipped to its length
+                slices.append(C[..., min(t, shape[k - 3]) - 1, bound - 1])
+            else:
+                slices.append(C[..., bound - 1])
+        del C
+        G = np.stack(slices, axis=-1)
+    G = weigh(G, 1)
+    return int(G.sum() % _modulus_of(reduce))
+
+
+def _modulus_of(reduce) -> int:
+    return getattr(reduce, "modulus", 0) or (1 << 200)
+
+
+def _mod_reducer(prime: int):
+    def reduce(a):
+        return a % prime
+
+    reduce.modulus = prime
+    return reduce
+
+
+def _gamma_combined_mod(N: int, q: int, r: int, prime: int) -> int:
+    """``(q+1) Z'(q, r) + S1 - S0 mod prime`` of Eq. (4.77) in one pass, last row by the chain.
+
+    The three sums of :func:`gamma_sums` are one linear recursion with a
+    weight inserted at row ``N - r`` (``+h(N-r, q-1)``) or ``N - r - 1``
+    (``-h(N-r-1, q-1)``).  Carrying the unweighted box ``B`` and the combination
+    ``X`` together until row ``N - r``, then ``X`` alone, gives the integer of
+    (4.77) for the price of one recursion.
+    """
+    p = N - 2
+    reduce = _mod_reducer(prime)
+    relaxed = {l: frozenset(ks) for l, ks in _defect_line(N, q, r).items()}
+    k = q - 1  # the weight h(row, q-1); h(l, 0) = h(0, k) = 1
+
+    def weight(box, row):
+        if 1 <= k < row:
+            values = np.arange(1, box.shape[k - 1] + 1, dtype=np.int64)
+            return reduce(box * values.reshape([-1 if ax == k - 1 else 1 for ax in range(box.ndim)]))
+        return box
+
+    plus_row, minus_row = N - r, N - r - 1
+    B = np.ones((), dtype=np.int64)
+    X = np.full((), (q + 1) % prime, dtype=np.int64)
+    if minus_row < 1:  # S0 = Z': h(0, k) = 1
+        X = reduce(X - B)
+    for l in range(1, p):
+        if l > 1:
+            X = _transfer(X, l - 1, relaxed.get(l, frozenset()), reduce)
+            if B is not None:
+                B = _transfer(B, l - 1, relaxed.get(l, frozenset()), reduce)
+        if l == minus_row:
+            X = reduce(X - weight(B, l))
+        if l == plus_row:
+            X = reduce(X + weight(B, l))
+            B = None
+    last = relaxed.get(p, frozenset())
+    total = _last_row_chain(X, p, last, reduce)
+    if plus_row == p:  # r = 2: the + weight sits on the last row itself
+        total += _last_row_chain(B, p, last, reduce, weight_index=k if 1 <= k < p else None)
+    return total % prime
+
+
+def gamma_bulk_integer(N: int, q: int, r: int) -> int:
+    """The integer ``(q+1) Z'(q,r) + S1 - S0 = (d+1) Z <W_{N-q,r}>`` of Eq. (4.77), by CRT.
+
+    Multi-modular version of :func:`gamma_sums` that never builds the last
+    row of the recursion (:func:`_last_row_chain`); reaches N = 12.
+
+    Examples
+    --------
+    >>> Z, S1, S0 = gamma_sums(7, 2, 3)
+    >>> gamma_bulk_integer(7, 2, 3) == 3 * Z + S1 - S0
+    True
+    """
+    from .modular import crt, primes_for_bound
+    from .staircase import count
+
+    N = check_layers(N, minimum=4)
+    if not (1 <= q <= N - 2 and 2 <= r <= N - q):
+        raise ValueError(f"(q, r) = ({q}, {r}): need 1 <= q <= N-2 = {N - 2} and 2 <= r <= N-q = {N - q}")
+    d = N * (N - 1) // 2
+    primes = primes_for_bound((d + 2) * (d + 1) * count(N))
+    return crt([_gamma_combined_mod(N, q, r, prime) for prime in primes], primes)

@@ -152,6 +152,11 @@ _THESIS_COST = {2: (0.01, 5e7), 3: (0.01, 5e7), 4: (0.01, 5e7), 5: (0.01, 5e7), 
                 7: (0.15, 1.5e8), 8: (6.0, 1.5e9), 9: (400.0, 1.9e10)}
 
 
+# Measured per bulk grain of the Gamma route (seconds, peak bytes) on the 2-core machine
+# (benchmarks/gamma_table.py); the table has (N-1)(N-2)/2 of them.
+_LAMBDA_COST = {10: (0.1, 1e8), 11: (2.5, 5e8), 12: (130.0, 6.5e9)}
+
+
 def _thesis_mean_table(N: int, force: bool, quiet: bool):
     from fractions import Fraction
 
@@ -189,11 +194,22 @@ def _cmd_table(args):
 
         if args.moments > 1:
             raise UsageError("--moments with --method lambda: only --moments 1 (higher moments use the fast method)")
-        if args.N > 10:
-            raise UsageError(f"N={args.N} is out of range for --method lambda: N must be in 2..10 (the index boxes of (4.32) outgrow memory)")
-        if args.N == 10 and not quiet:
-            print("forcenet: --method lambda N=10: estimated ~35 s", file=sys.stderr)
-        means = mean_W_gamma(args.N)
+        if args.N > 12:
+            raise UsageError(f"N={args.N} is out of range for --method lambda: N must be in 2..12 (the index boxes of (4.32) outgrow memory)")
+        per_grain, nbytes = _LAMBDA_COST.get(args.N, (0.01, 0))
+        grains = (args.N - 1) * (args.N - 2) // 2
+        seconds = per_grain * grains
+        if nbytes > _memory_budget():
+            raise UsageError(f"N={args.N} with --method lambda needs ~{nbytes / 2**30:.0f} GiB of memory; N must be in 2..11 here")
+        if seconds > 60 and not args.force:
+            raise UsageError(f"N={args.N} with --method lambda takes ~{seconds / 60:.0f} min ({grains} Gamma recursions); add --force to run it")
+        bar = None
+        if seconds > 2 and not quiet:
+            print(f"forcenet: --method lambda N={args.N}: estimated ~{seconds:.0f} s", file=sys.stderr)
+            bar = _progress(grains, f"N={args.N} Gamma grains")
+        means = mean_W_gamma(args.N, progress=(lambda: bar.update(1)) if bar else None)
+        if bar:
+            bar.close()
     elif args.method == "maps":
         from exact.staircase import count
         from exact.thesis import mean_W_thesis_maps, moments_by_maps

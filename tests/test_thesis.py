@@ -3,6 +3,7 @@
 from fractions import Fraction
 
 import networkx as nx
+import numpy as np
 import pytest
 import sympy
 from hypothesis import given, settings
@@ -327,3 +328,45 @@ def test_psi_is_a_product_of_central_integral_coefficients(p, data):
         s, e, f = l + ip - jp, l + jp - jl, l + ip - il
         factor = gamma_coefficient(s, e, s - f) if (il >= jp and 0 <= f <= s and e >= 0) else 0
         assert value == last * factor
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(min_value=4, max_value=9), st.data())
+def test_gamma_bulk_integer_equals_three_gamma_sums(N, data):
+    """One combined modular pass (last row as a chain) = the three object-array sums."""
+    from exact.thesis import gamma_bulk_integer, gamma_sums
+
+    q = data.draw(st.integers(min_value=1, max_value=N - 2))
+    r = data.draw(st.integers(min_value=2, max_value=N - q))
+    Z, S1, S0 = gamma_sums(N, q, r)
+    assert gamma_bulk_integer(N, q, r) == (q + 1) * Z + S1 - S0
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(min_value=2, max_value=7), st.data())
+def test_last_row_chain_equals_built_row(p, data):
+    """The chain sum over row p equals building row p (_transfer) and summing it, any raised bounds and weight."""
+    from exact.thesis import _last_row_chain, _mod_reducer, _transfer
+
+    prime = 1_000_003
+    reduce = _mod_reducer(prime)
+    raised = [frozenset(data.draw(st.sets(st.integers(min_value=1, max_value=l - 1)))) if l >= 2 else frozenset()
+              for l in range(1, p + 1)]
+    box = np.ones((), dtype=np.int64)
+    for l in range(2, p):
+        box = _transfer(box, l - 1, raised[l - 1], reduce)
+    weight = data.draw(st.one_of(st.none(), st.integers(min_value=1, max_value=p - 1)))
+    built = _transfer(box, p - 1, raised[p - 1], reduce)
+    if weight is not None:
+        values = np.arange(1, built.shape[weight - 1] + 1).reshape([-1 if ax == weight - 1 else 1 for ax in range(built.ndim)])
+        built = built * values
+    assert _last_row_chain(box, p, raised[p - 1], reduce, weight) % prime == int(built.sum()) % prime
+
+
+def test_gamma_bulk_integer_rejects_bad_grains():
+    from exact.thesis import gamma_bulk_integer
+
+    with pytest.raises(ValueError, match=r"\(q, r\) = \(3, 5\)"):
+        gamma_bulk_integer(7, 3, 5)
+    with pytest.raises(ValueError, match="q, r"):
+        gamma_bulk_integer(7, 0, 2)

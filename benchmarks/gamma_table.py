@@ -3,7 +3,7 @@
 Run:  python benchmarks/gamma_table.py [N] [--workers 2]        (default N = 12)
 
 Bulk grains ``r >= 2`` by the Gamma recursion (4.73)-(4.77) with the last row
-summed as a chain (``exact.thesis.gamma_bulk_integer``, ~2 min and 6 GB per
+summed as a chain (``exact.thesis.gamma_bulk_integer``, ~3 min and 6-20 GB per
 grain at N = 12), the left boundary by (4.67) (``exact.thesis.boundary_mean_W``),
 the bottom layer from the layer above.  Every grain is computed directly (the
 left-right mirror symmetry is *checked*, not used).  Results are appended to
@@ -61,7 +61,7 @@ def main():
             grains.append((q, r))
     grains.sort(key=lambda g: (g[1] < N - g[0] + 1 - g[1]) or g[1] == N - g[0])
     todo = [(N, q, r) for q, r in grains if f"{q},{r}" not in data["bulk"]]
-    print(f"N = {N}: {len(todo)} bulk grains to compute (~2 min, 6 GB each at N = 12), {args.workers} workers",
+    print(f"N = {N}: {len(todo)} bulk grains to compute (~3 min and 6-20 GB each at N = 12), {args.workers} workers",
           flush=True)
     t0 = time.perf_counter()
     with Pool(args.workers) as pool:

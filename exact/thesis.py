@@ -778,7 +778,7 @@ def mean_W_gamma(N: int, progress=None) -> list[list[Fraction]]:
     ``(d+1) Z <W_{N-q,r}> = (q + 1) Z' + S1 - S0`` (:func:`gamma_bulk_integer`,
     multi-modular, the last row of each recursion summed as a chain); the
     bottom layer from the layer above (see :func:`mean_W_thesis_maps`).
-    Reaches N = 12: about 2 min and 6 GB per grain there, 55 grains.
+    Reaches N = 12: about 3 min and 6-20 GB per grain there, 55 grains.
     ``progress`` is called once per bulk grain.
 
     Examples

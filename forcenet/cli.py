@@ -154,7 +154,7 @@ _THESIS_COST = {2: (0.01, 5e7), 3: (0.01, 5e7), 4: (0.01, 5e7), 5: (0.01, 5e7), 
 
 # Measured per bulk grain of the Gamma route (seconds, peak bytes) on the 2-core machine
 # (benchmarks/gamma_table.py); the table has (N-1)(N-2)/2 of them.
-_LAMBDA_COST = {10: (0.1, 1e8), 11: (2.5, 5e8), 12: (130.0, 6.5e9)}
+_LAMBDA_COST = {10: (0.1, 1e8), 11: (2.5, 5e8), 12: (170.0, 2.2e10)}  # N = 12: one grain peaks at 20 GB
 
 
 def _thesis_mean_table(N: int, force: bool, quiet: bool):
@@ -199,7 +199,7 @@ def _cmd_table(args):
         per_grain, nbytes = _LAMBDA_COST.get(args.N, (0.01, 0))
         grains = (args.N - 1) * (args.N - 2) // 2
         seconds = per_grain * grains
-        if nbytes > _memory_budget():
+        if nbytes > _available_memory():
             raise UsageError(f"N={args.N} with --method lambda needs ~{nbytes / 2**30:.0f} GiB of memory; N must be in 2..11 here")
         if seconds > 60 and not args.force:
             raise UsageError(f"N={args.N} with --method lambda takes ~{seconds / 60:.0f} min ({grains} Gamma recursions); add --force to run it")

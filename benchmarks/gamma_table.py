@@ -19,14 +19,13 @@ import resource
 import sys
 import tempfile
 import time
-from fractions import Fraction
 from multiprocessing import Pool
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 from exact import mean_W  # noqa: E402
-from exact.thesis import boundary_mean_W, count_lambda, gamma_bulk_integer  # noqa: E402
+from exact.thesis import _table_from_bulk, gamma_bulk_integer  # noqa: E402
 
 
 def one_grain(args):
@@ -77,18 +76,9 @@ def main():
     exact = mean_W(N)
     t_core = time.perf_counter() - t
     t = time.perf_counter()
-    Z = count_lambda(N)
-    d = N * (N - 1) // 2
-    table = {}
-    for q in range(1, N - 1):
-        table[(N - q, 1)] = boundary_mean_W(N, q)  # (4.67)
+    rows = _table_from_bulk(N, lambda q, r: int(data["bulk"][f"{q},{r}"]))  # (4.67) + bottom layer
     t_boundary = time.perf_counter() - t
-    for key, X in data["bulk"].items():
-        q, r = map(int, key.split(","))
-        table[(N - q, r)] = Fraction(int(X), (d + 1) * Z)
-    table[(1, 1)] = Fraction(1)
-    for r in range(1, N + 1):
-        table[(N, r)] = (table.get((N - 1, r - 1), Fraction(0)) + table.get((N - 1, r), Fraction(0))) / 2
+    table = {(i, r): rows[i - 1][r - 1] for i in range(1, N + 1) for r in range(1, i + 1)}
     wrong = [g for g, v in table.items() if v != exact[g[0] - 1][g[1] - 1]]
     mirror = all(table[(i, r)] == table[(i, i + 1 - r)] for i, r in table)
     bulk_seconds = sum(data["seconds"].values())

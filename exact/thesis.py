@@ -735,6 +735,12 @@ def _dominance(box: np.ndarray, reduce) -> np.ndarray:
     return D
 
 
+def _times_index(box: np.ndarray, axis: int, reduce) -> np.ndarray:
+    """Multiply ``box`` by the 1-based value of its index along ``axis`` (a map entry ``h``)."""
+    values = np.arange(1, box.shape[axis] + 1, dtype=np.int64)
+    return reduce(box * values.reshape([-1 if ax == axis % box.ndim else 1 for ax in range(box.ndim)]))
+
+
 def _reduce_inplace(a: np.ndarray, reduce) -> np.ndarray:
     modulus = getattr(reduce, "modulus", None)
     if modulus is not None and a.dtype != object:
@@ -760,10 +766,7 @@ def gamma_sums(N: int, q: int, r: int, dtype=object, reduce=lambda a: a):
             if l > 1:
                 box = _transfer(box, l - 1, relaxed.get(l, frozenset()), reduce)
             if row_l == l and q - 1 >= 1 and q - 1 < l:  # multiply by the value h(l, q-1)
-                values = np.arange(1, box.shape[q - 2] + 1, dtype=np.int64).reshape(
-                    [-1 if ax == q - 2 else 1 for ax in range(box.ndim)]
-                )
-                box = reduce(box * values)
+                box = _times_index(box, q - 2, reduce)
         return box.sum()
 
     Z = weighted(None)
@@ -854,10 +857,8 @@ def _last_row_chain(box: np.ndarray, p: int, relaxed: frozenset, reduce, weight_
         return int(reduce(w * D).sum())
     shape = D.shape  # axis a <-> clip(h_{a+2}), a = 0..p-3
 
-    def weigh(G, k):
-        if weight_index == k:
-            G = reduce(G * np.arange(1, G.shape[-1] + 1, dtype=np.int64))
-        return G
+    def weigh(G, k):  # G's last axis is h_k, unclipped
+        return _times_index(G, -1, reduce) if weight_index == k else G
 
     # innermost coordinate h_{p-1}: extend D's last axis by saturation to M_{p-1}
     top = M[p - 2]
@@ -883,11 +884,7 @@ def _last_row_chain(box: np.ndarray, p: int, relaxed: frozenset, reduce, weight_
         del C
         G = np.stack(slices, axis=-1)
     G = weigh(G, 1)
-    return int(G.sum() % _modulus_of(reduce))
-
-
-def _modulus_of(reduce) -> int:
-    return getattr(reduce, "modulus", 0) or (1 << 200)
+    return int(G.sum())  # at most three residues: the callers reduce
 
 
 def _mod_reducer(prime: int):
@@ -913,10 +910,7 @@ def _gamma_combined_mod(N: int, q: int, r: int, prime: int) -> int:
     k = q - 1  # the weight h(row, q-1); h(l, 0) = h(0, k) = 1
 
     def weight(box, row):
-        if 1 <= k < row:
-            values = np.arange(1, box.shape[k - 1] + 1, dtype=np.int64)
-            return reduce(box * values.reshape([-1 if ax == k - 1 else 1 for ax in range(box.ndim)]))
-        return box
+        return _times_index(box, k - 1, reduce) if 1 <= k < row else box
 
     plus_row, minus_row = N - r, N - r - 1
     B = np.ones((), dtype=np.int64)

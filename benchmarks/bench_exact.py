@@ -7,7 +7,8 @@ and peak resident memory.  Methods:
 * ``dict``       exact <W> table, plain dictionary DP with Python ints (exact.baseline)
 * ``normaliz``   the normalization only (exact volume of the polytope), PyNormaliz
 * ``moments2``   exact E[W^2] table (exact.moments.moment_table)
-* ``thesis``     <W> table by the nested-matrix integration (exact.nested)
+* ``thesis``     <W> table by the nested-matrix integration (exact.nested), modular engine
+* ``thesis-literal``  the same recursion with nested-tuple indices and Fractions
 * ``lambda``     <W> table by the Lambda/Gamma integer recursions (exact.thesis.mean_W_gamma)
 * ``maps``       <W> table by counting maps, Eq. (4.91) (exact.thesis.mean_W_thesis_maps)
 
@@ -31,10 +32,8 @@ SNIPPETS = {
     "fast": "from exact.moments import mean_W; t = mean_W({N})",
     "dict": "from exact.baseline import mean_W_dictionary; t = mean_W_dictionary({N})",
     "moments2": "from exact.moments import moment_table; t = moment_table({N}, 2)",
-    "thesis": """
-from exact.nested import integrate_layers
-v = integrate_layers({N}); t = [[integrate_layers({N}, {{(i, j): 1}}) / v for j in range(1, i + 1)] for i in range(1, {N} + 1)]
-""",
+    "thesis": "from exact.nested import mean_W_nested; t = mean_W_nested({N})",
+    "thesis-literal": "from exact.nested import mean_W_nested; t = mean_W_nested({N}, arithmetic='fraction')",
     "lambda": "from exact.thesis import mean_W_gamma; t = mean_W_gamma({N})",
     "maps": "from exact.thesis import mean_W_thesis_maps; t = mean_W_thesis_maps({N})",
     "normaliz": """

@@ -26,9 +26,14 @@ Moments and correlations multiply the matrix of a grain by ``x^s`` before its
 layer is integrated: the thesis's defects of type I and II (4.57)-(4.61),
 (4.80)-(4.85) are what this does to the recursion.
 
-Everything is exact (:class:`fractions.Fraction`).  The bond dimension grows
-like the number of index tuples (4.32), so this route is meant for small N
-(the thesis stopped at N = 11 with the integer form).
+Everything is exact.  Two engines run the same recursion: the literal one
+(``arithmetic="fraction"``: nested-tuple indices, :class:`fractions.Fraction`
+values) and the default one (``arithmetic="modular"``: bonds renumbered as
+integers, every entry a monomial stored as flat numpy arrays, coefficients
+modulo word-size primes, the integer ``(d + s)! I`` rebuilt by the Chinese
+remainder theorem).  The bond dimension grows like the number of index tuples
+(4.32): 1, 2, 7, 37, 268, 2496, ... so N = 9 (~20 s and ~6 GB per
+integration) is the end of this route.
 
 Examples
 --------
@@ -44,9 +49,11 @@ from collections import defaultdict
 from fractions import Fraction
 from math import factorial
 
+import numpy as np
+
 from .staircase import check_layers
 
-__all__ = ["integrate_layers", "normalization_nested", "moment_nested"]
+__all__ = ["integrate_layers", "normalization_nested", "moment_nested", "mean_W_nested"]
 
 
 def _gamma(s: int, e: int, f: int) -> Fraction:
@@ -107,19 +114,60 @@ def _prune(left: dict, sites: list, right: dict):
     return left, kept, right
 
 
-def integrate_layers(N: int, powers: dict | None = None) -> Fraction:
+def _check_powers(N: int, powers) -> dict:
+    """Validated ``{grain: power}`` without zero powers."""
+    if powers is None:
+        return {}
+    if not isinstance(powers, dict):
+        raise TypeError(f"powers={powers!r}: need a dict {{(i, j): power}}")
+    out = {}
+    for g, e in powers.items():
+        try:
+            i, j = (int(x) for x in g)
+        except (TypeError, ValueError):
+            raise TypeError(f"powers key {g!r}: need a grain (i, j)") from None
+        if not (1 <= i <= N and 1 <= j <= i) or int(e) != e or e < 0:
+            raise ValueError(f"powers[{(i, j)}]={e}: need a grain 1 <= j <= i <= N={N} and an integer power >= 0")
+        if e:
+            out[(i, j)] = out.get((i, j), 0) + int(e)
+    return out
+
+
+def integrate_layers(N: int, powers: dict | None = None, arithmetic: str = "modular") -> Fraction:
     """``int prod dW  prod_{(i,j)} W_{i,j}^{powers[(i,j)]}`` over the ensemble (unnormalized).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+    powers : dict, optional
+        ``{(i, j): s}``: the power of each grain's force in the integrand.
+    arithmetic : {"modular", "fraction"}
+        ``"modular"`` (default): integer-indexed bonds and residues modulo
+        word-size primes, reconstructed exactly (N = 9 in ~20 s and ~6 GB per
+        integration).  ``"fraction"``: the recursion written literally with
+        nested-tuple indices and :class:`~fractions.Fraction` values (the
+        baseline; N = 9 takes ~6 min and 19 GB).
+
+    Returns
+    -------
+    Fraction
+        The integral (4.1) with the given powers; ``powers=None`` gives the
+        normalization (4.46).
 
     Examples
     --------
     >>> integrate_layers(3)
     Fraction(1, 6)
+    >>> integrate_layers(4, {(4, 2): 1}, arithmetic="fraction")
+    Fraction(1, 1008)
     """
     N = check_layers(N)
-    powers = {tuple(g): int(e) for g, e in (powers or {}).items() if e}
-    for (i, j), e in powers.items():
-        if not (1 <= i <= N and 1 <= j <= i) or e < 0:
-            raise ValueError(f"powers[{(i, j)}]={e}: need a grain 1 <= j <= i <= N and a power >= 0")
+    powers = _check_powers(N, powers)
+    if arithmetic == "modular":
+        return _integrate_modular(N, powers)
+    if arithmetic != "fraction":
+        raise ValueError(f"arithmetic={arithmetic!r}: must be 'modular' or 'fraction'")
     one = {0: Fraction(1)}
     left, right = {(): Fraction(1)}, {(): Fraction(1)}
     sites = [{((), ()): dict(one)} for _ in range(N)]  # the bottom layer's integrand is 1
@@ -134,7 +182,7 @@ def integrate_layers(N: int, powers: dict | None = None) -> Fraction:
     return total
 
 
-def normalization_nested(N: int) -> Fraction:
+def normalization_nested(N: int, arithmetic: str = "modular") -> Fraction:
     """The normalization (4.46)/(4.51) by nested-matrix integration.
 
     Examples
@@ -142,15 +190,284 @@ def normalization_nested(N: int) -> Fraction:
     >>> normalization_nested(5)
     Fraction(1, 302400)
     """
-    return integrate_layers(N)
+    return integrate_layers(N, arithmetic=arithmetic)
 
 
-def moment_nested(N: int, powers: dict) -> Fraction:
+def moment_nested(N: int, powers: dict, arithmetic: str = "modular") -> Fraction:
     """``< prod W_{i,j}^{e_{ij}} >`` by nested-matrix integration (Secs. 4.4-4.5).
+
+    A single grain with power ``s`` is ``<W^s>`` with the s-th order defects
+    (4.80)-(4.85); two grains give a correlation (Sec. 4.5.2).
 
     Examples
     --------
     >>> moment_nested(4, {(4, 2): 2})
     Fraction(9, 56)
+    >>> moment_nested(4, {(4, 1): 1, (4, 4): 1})
+    Fraction(1, 56)
     """
-    return integrate_layers(N, powers) / integrate_layers(N)
+    return integrate_layers(N, powers, arithmetic) / integrate_layers(N, arithmetic=arithmetic)
+
+
+def mean_W_nested(N: int, arithmetic: str = "modular", progress=None) -> list:
+    """The whole table ``<W_{i,j}>`` (4.63)-(4.77) by nested-matrix integration.
+
+    One integration for the normalization and one per grain.  With the
+    default modular arithmetic N = 9 takes ~15 min and ~6 GB (46
+    integrations); N = 10 does not fit in memory.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers.
+    arithmetic : {"modular", "fraction"}
+        See :func:`integrate_layers`.
+    progress : callable, optional
+        Called with no argument after each grain.
+
+    Returns
+    -------
+    list of lists of Fraction
+        Row ``i - 1`` holds ``<W_{i,1}>, ..., <W_{i,i}>``.
+
+    Examples
+    --------
+    >>> mean_W_nested(3)
+    [[Fraction(1, 1)], [Fraction(1, 2), Fraction(1, 2)], [Fraction(1, 4), Fraction(1, 2), Fraction(1, 4)]]
+    """
+    N = check_layers(N)
+    volume = integrate_layers(N, arithmetic=arithmetic)
+    table = []
+    for i in range(1, N + 1):
+        row = []
+        for j in range(1, i + 1):
+            row.append(integrate_layers(N, {(i, j): 1}, arithmetic) / volume)
+            if progress is not None:
+                progress()
+        table.append(row)
+    return table
+
+
+# ---------------------------------------------------------------------------
+# The same recursion with integer-indexed bonds and multi-modular values.
+#
+# Every matrix entry is a monomial ``c Y^power`` (4.28), so a site is four flat
+# arrays: row bond, column bond, power and the coefficient ``c`` modulo a few
+# primes below 2**31.  Bonds are numbered 0..D-1 after every layer; the nested
+# index pairs of (4.29)-(4.30) are built as (old bond, exponent) keys and
+# renumbered.  The result is exact: ``(d + s)! I`` is an integer in
+# ``[0, (d + s)!]`` (notes/chapter4.md, "Integrality"), recovered by the
+# Chinese remainder theorem from enough primes.
+# ---------------------------------------------------------------------------
+
+class _Site:
+    """One site matrix: entry ``t`` is ``val[t] Y^pw[t]`` at (``row[t]``, ``col[t]``)."""
+
+    __slots__ = ("row", "col", "pw", "val")
+
+    def __init__(self, row, col, pw, val):
+        self.row, self.col, self.pw, self.val = row, col, pw, val
+
+
+class _GammaTable:
+    """``gamma^f_{s,e}`` of (4.15) modulo each prime, tabulated for ``s, e, f < size``."""
+
+    def __init__(self, primes):
+        self.primes = np.array(primes, dtype=np.int64)
+        self.size = 0
+        self._grow(16)
+
+    def _grow(self, size):
+        table = np.zeros((size, size, size, len(self.primes)), dtype=np.int64)
+        for a, p in enumerate(self.primes.tolist()):
+            fact = [1] * (2 * size + 1)
+            for n in range(1, 2 * size + 1):
+                fact[n] = fact[n - 1] * n % p
+            inv = [pow(x, -1, p) for x in fact]
+            for s in range(size):
+                for e in range(size):
+                    for f in range(s + 1):
+                        table[s, e, f, a] = fact[s] * fact[e] % p * inv[e + s - f + 1] % p * inv[f] % p
+        self.table, self.size = table.reshape(size**3, len(self.primes)), size
+
+    def __call__(self, s, e, f):
+        """``s! e! / ((e + s - f + 1)! f!)`` mod each prime, shape ``(len(s), n_primes)``."""
+        top = max(int(s.max(initial=0)), int(e.max(initial=0))) + 1
+        if top > self.size:
+            self._grow(max(top, 2 * self.size))
+        n = self.size
+        return self.table[(s * n + e) * n + f]
+
+
+def _expand(counts):
+    """For groups of sizes ``counts``: (group of each item, rank of the item in its group)."""
+    counts = np.asarray(counts, dtype=np.int64)
+    owner = np.repeat(np.arange(len(counts), dtype=np.int64), counts)
+    starts = np.cumsum(counts) - counts
+    rank = np.arange(len(owner), dtype=np.int64) - starts[owner]
+    return owner, rank
+
+
+def _group_sum(keys, vals, primes):
+    """Sum ``vals`` (mod primes) over equal ``keys``: (sorted unique keys, sums)."""
+    order = np.argsort(keys, kind="stable")
+    keys, vals = keys[order], vals[order]
+    if len(keys) == 0:
+        return keys, vals
+    first = np.flatnonzero(np.r_[True, keys[1:] != keys[:-1]])
+    return keys[first], np.add.reduceat(vals, first, axis=0) % primes  # each term < 2**31
+
+
+def _integrate_site(site, bond_old, bond_exp, gamma, lo=0, hi=None):
+    """Integrate ``X_k`` in the entries ``lo:hi`` of one site against the exponents on its column bond (4.14).
+
+    The column bond of the new site is given as the sorted pairs (old column
+    bond ``bond_old``, exponent ``bond_exp`` of ``u_k``); an entry ``x^s`` at
+    (row, col) meets every exponent ``e`` carried on ``col`` and gives, for
+    ``f = 0..s``, ``gamma^f_{s,e} Y^{e+1+s-f}`` at row (row, ``f``) and column
+    (col, ``e``).  Returns (row, f, new column, power, coefficient).
+    """
+    primes = gamma.primes
+    row, col, pw, val = site.row[lo:hi], site.col[lo:hi], site.pw[lo:hi], site.val[lo:hi]
+    start = np.searchsorted(bond_old, col, "left")
+    count = np.searchsorted(bond_old, col, "right") - start
+    owner, rank = _expand(count)  # each entry meets every exponent e carried on its column
+    new_col = start[owner] + rank
+    e = bond_exp[new_col]
+    s = pw[owner]
+    owner2, f = _expand(s + 1)  # a_k^f, f = 0..s
+    src = owner[owner2]
+    new_col, e, s = new_col[owner2], e[owner2], s[owner2]
+    return row[src], f, new_col, e + 1 + s - f, val[src] * gamma(s, e, f) % primes
+
+
+_ABSORB_CHUNK = 1 << 22  # integrated entries per chunk (~0.5 GB of temporaries with 5 primes)
+
+
+def _absorb_last_site(site, right, gamma, power):
+    """Integrate the last site of a layer straight into the next right vector.
+
+    The last force of a layer is ``X_m = u_{m-1}`` (4.20)-(4.21), so the last
+    site only ever enters through ``R'[(row, power)] = sum_col t[row, col] R[col]``
+    (4.31)/(4.45).  Done in chunks of about ``chunk`` integrated entries, the
+    largest site (10^8 entries for a bottom-row grain at N = 9) is never
+    stored.  ``power`` is the moment inserted at that last grain.
+    Returns the new row bond as sorted (old row, ``f``) pairs and the right
+    vector as sorted (bond, exponent, coefficient) arrays.
+    """
+    primes = gamma.primes
+    bond_old, bond_exp, right_val = right
+    width = int(site.pw.max(initial=0)) + 1  # f <= s < width
+    top = int(bond_exp.max(initial=0)) + width + power + 1  # exponents e + 1 + s - f + power < top
+    start = np.searchsorted(bond_old, site.col, "left")
+    count = np.searchsorted(bond_old, site.col, "right") - start
+    sizes = np.cumsum(count * (site.pw + 1))
+    keys, sums = [], []
+    lo = 0
+    while lo < len(site.row):
+        hi = int(np.searchsorted(sizes, (sizes[lo - 1] if lo else 0) + _ABSORB_CHUNK, "right"))
+        hi = max(hi, lo + 1)
+        row, f, col, pw, val = _integrate_site(site, bond_old, bond_exp, gamma, lo, hi)
+        k, v = _group_sum((row * width + f) * top + pw + power, val * right_val[col] % primes, primes)
+        keys.append(k)
+        sums.append(v)
+        lo = hi
+    keys, sums = _group_sum(np.concatenate(keys), np.concatenate(sums), primes)
+    rows, exps = keys // top, keys % top
+    row_keys, bond = np.unique(rows, return_inverse=True)
+    return (row_keys // width, row_keys % width), (bond.astype(np.int64), exps, sums)
+
+
+def _integrate_layer_mod(left, sites, right, gamma, last_power):
+    """Integrate one layer, modular version of :func:`_integrate_layer` (same recursion).
+
+    ``sites`` are the sites ``1..m-1`` of layer ``m``; the last site is already
+    part of ``right``, given as sorted (bond, exponent of ``u_{m-1}``,
+    coefficient) arrays.  ``last_power`` is the moment at grain
+    ``(m-1, m-1)``.  Returns the same kind of state for layer ``m - 1``.
+    """
+    m = len(sites) + 1
+    (bond_old, bond_exp), new_right = _absorb_last_site(sites[m - 2], right, gamma, last_power)
+    new_sites = [None] * (m - 2)
+    for k in range(m - 3, -1, -1):  # integrate X_k, sweeping right to left (4.14)
+        row, f, col, pw, val = _integrate_site(sites[k], bond_old, bond_exp, gamma)
+        width = int(f.max(initial=0)) + 1
+        keys, new_row = np.unique(row * width + f, return_inverse=True)
+        new_sites[k] = _Site(new_row.astype(np.int64), col, pw, val)
+        bond_old, bond_exp = keys // width, keys % width
+    # a_1 = 0 keeps only f = 0 in the new left vector (4.44)
+    left_ids, left_val = left
+    pos = np.minimum(np.searchsorted(left_ids, bond_old), len(left_ids) - 1)
+    keep = (bond_exp == 0) & (left_ids[pos] == bond_old)
+    new_left = (np.flatnonzero(keep), left_val[pos[keep]])
+    return _prune_mod(new_left, new_sites, new_right)
+
+
+def _prune_mod(left, sites, right):
+    """Keep the entries on a path from ``L`` to ``R`` and renumber the bonds 0..D-1.
+
+    Built right to left, every column already leads to ``R``; one forward sweep
+    removes what ``L`` cannot reach.  Renumbering is monotone, so sorted
+    arrays stay sorted.
+    """
+    left_ids, left_val = left
+    renumber = np.full(int(left_ids.max(initial=-1)) + 1, -1, dtype=np.int64)
+    renumber[left_ids] = np.arange(len(left_ids))
+    new_left = (renumber[left_ids], left_val)
+    kept = []
+    for site in sites:
+        table = np.full(max(len(renumber), int(site.row.max(initial=-1)) + 1), -1, dtype=np.int64)
+        table[: len(renumber)] = renumber
+        keep = table[site.row] >= 0
+        row, col, pw, val = table[site.row[keep]], site.col[keep], site.pw[keep], site.val[keep]
+        alive = np.unique(col)
+        renumber = np.full(int(alive.max(initial=-1)) + 1, -1, dtype=np.int64)
+        renumber[alive] = np.arange(len(alive))
+        kept.append(_Site(row, renumber[col], pw, val))
+    bond, exps, vals = right
+    table = np.full(max(len(renumber), int(bond.max(initial=-1)) + 1), -1, dtype=np.int64)
+    table[: len(renumber)] = renumber
+    keep = table[bond] >= 0
+    return new_left, kept, (table[bond[keep]], exps[keep], vals[keep])
+
+
+def _integral_residues(N: int, powers: dict, primes) -> np.ndarray:
+    """``int prod W^powers`` modulo each prime (the layer recursion in modular arithmetic)."""
+    gamma = _GammaTable(primes)
+    P = len(primes)
+    one = np.ones((1, P), dtype=np.int64)
+    zero = np.zeros(1, dtype=np.int64)
+    # layer N: the integrand is 1; the last grain (N, N) is already in the right vector
+    left = (zero.copy(), one.copy())
+    right = (zero.copy(), np.array([powers.get((N, N), 0)], dtype=np.int64), one.copy())
+    sites = [_Site(zero.copy(), zero.copy(), zero.copy(), one.copy()) for _ in range(N - 1)]
+    for m in range(N, 1, -1):
+        for k, site in enumerate(sites, start=1):
+            if powers.get((m, k)):
+                site.pw = site.pw + powers[(m, k)]
+        left, sites, right = _integrate_layer_mod(left, sites, right, gamma, powers.get((m - 1, m - 1), 0))
+    # layer 1: W_{1,1} = 1, so every exponent counts alike; L' keeps f = 0 (done above)
+    left_ids, left_val = left
+    bond, _, vals = right
+    lv = np.zeros((int(max(left_ids.max(initial=0), bond.max(initial=0))) + 1, P), dtype=np.int64)
+    lv[left_ids] = left_val
+    p = gamma.primes
+    return (lv[bond] * vals % p).sum(axis=0) % p
+
+
+def _integrate_modular(N: int, powers: dict) -> Fraction:
+    """The layer recursion in modular arithmetic, reconstructed exactly.
+
+    ``(d + s)! I`` is an integer between 0 and ``(d + s)!`` (``d = N(N-1)/2``,
+    ``s`` the total power; notes/chapter4.md, "Integrality"), so its residues
+    modulo primes whose product exceeds ``2 (d + s)!`` determine it.
+    """
+    from .modular import crt, primes_for_bound
+
+    powers = {g: e for g, e in powers.items() if g != (1, 1)}  # W_{1,1} = 1
+    d = N * (N - 1) // 2
+    scale = factorial(d + sum(powers.values()))
+    primes = primes_for_bound(scale)
+    residues = _integral_residues(N, powers, primes)
+    scaled = crt([int(r) * scale % p for r, p in zip(residues.tolist(), primes)], primes)
+    return Fraction(scaled, scale)

@@ -94,6 +94,17 @@ def _check_table_cost(N: int, moments: int):
     return est
 
 
+def _duration(seconds: float) -> str:
+    """``seconds`` as a readable duration: 40 s, 12 min, 3.5 h, 90 days."""
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min"
+    if seconds < 2 * 86400:
+        return f"{seconds / 3600:.1f} h"
+    return f"{seconds / 86400:.0f} days"
+
+
 def _progress(total: int, desc: str):
     from tqdm import tqdm
 
@@ -146,10 +157,11 @@ def _cmd_count(args):
     return 0
 
 
-# Nested-matrix integration (exact.nested): measured seconds and peak bytes of one
-# integration on the 2-core machine; the table needs N(N+1)/2 + 1 of them.
-_THESIS_COST = {2: (0.01, 5e7), 3: (0.01, 5e7), 4: (0.01, 5e7), 5: (0.01, 5e7), 6: (0.02, 6e7),
-                7: (0.15, 1.5e8), 8: (6.0, 1.5e9), 9: (400.0, 1.9e10)}
+# Nested-matrix integration (exact.nested, modular engine): measured seconds and peak
+# bytes of one integration on the 2-core machine; the table needs N(N+1)/2 + 1 of them.
+# N = 10 would need bonds of ~4e5 index tuples (about 1e10 matrix entries): out of reach.
+_THESIS_COST = {2: (0.01, 5e7), 3: (0.01, 5e7), 4: (0.01, 5e7), 5: (0.01, 5e7), 6: (0.01, 6e7),
+                7: (0.04, 1e8), 8: (0.6, 5e8), 9: (22.0, 6.5e9)}
 
 
 # Measured per bulk grain of the Gamma route (seconds, peak bytes) on the 2-core machine
@@ -158,30 +170,25 @@ _LAMBDA_COST = {10: (0.1, 1e8), 11: (2.5, 5e8), 12: (170.0, 2.2e10)}  # N = 12: 
 
 
 def _thesis_mean_table(N: int, force: bool, quiet: bool):
-    from fractions import Fraction
+    from exact.nested import mean_W_nested
 
-    from exact.nested import integrate_layers
-
-    per_run, nbytes = _THESIS_COST.get(N, (float("inf"), float("inf")))
+    if N not in _THESIS_COST:
+        raise UsageError(f"N={N} is out of range for --method thesis: N must be in 2..9 (the nested bonds outgrow memory at N = 10)")
+    per_run, nbytes = _THESIS_COST[N]
     runs = N * (N + 1) // 2 + 1
     seconds = per_run * runs
-    if nbytes > _memory_budget():
-        raise UsageError(f"N={N} is out of range for --method thesis: it needs ~{nbytes / 2**30:.0f} GiB; N must be in 2..8")
+    if nbytes > _available_memory():
+        raise UsageError(f"N={N} with --method thesis needs ~{nbytes / 2**30:.0f} GiB of memory; N must be in 2..8 here")
     if seconds > 60 and not force:
         raise UsageError(f"N={N} with --method thesis takes ~{seconds / 60:.0f} min ({runs} nested integrations); add --force to run it")
+    bar = None
     if not quiet and seconds > 2:
         print(f"forcenet: --method thesis N={N}: estimated ~{seconds:.0f} s", file=sys.stderr)
-    volume = integrate_layers(N)
-    grains = [(i, j) for i in range(1, N + 1) for j in range(1, i + 1)]
-    bar = _progress(len(grains), f"N={N} grains") if seconds > 2 and not quiet else None
-    values = {}
-    for g in grains:
-        values[g] = Fraction(integrate_layers(N, {g: 1}) / volume)
-        if bar:
-            bar.update(1)
+        bar = _progress(runs - 1, f"N={N} grains")
+    table = mean_W_nested(N, progress=(lambda: bar.update(1)) if bar else None)
     if bar:
         bar.close()
-    return [[values[(i, j)] for j in range(1, i + 1)] for i in range(1, N + 1)]
+    return table
 
 
 def _cmd_table(args):
@@ -214,12 +221,20 @@ def _cmd_table(args):
         from exact.staircase import count
         from exact.thesis import mean_W_thesis_maps, moments_by_maps
 
-        if args.N > 8:
-            raise UsageError(f"N={args.N} is out of range for --method maps: it enumerates {count(args.N):.3g} maps per grain; N must be in 2..8")
+        if args.N > 9:
+            raise UsageError(f"N={args.N} is out of range for --method maps: it would enumerate {count(args.N):.3g} maps per grain; N must be in 2..9")
+        grains = (args.N - 1) * (args.N - 2) // 2
         seconds = count(args.N) * (args.N * (args.N - 1) // 2) * 2e-6  # measured: 1.4 s at N = 7
         if seconds > 60 and not args.force:
-            raise UsageError(f"N={args.N} with --method maps enumerates {count(args.N)} maps (~{seconds / 60:.0f} min); add --force to run it")
-        means = mean_W_thesis_maps(args.N)
+            raise UsageError(f"N={args.N} with --method maps enumerates {count(args.N)} maps for each of {grains} grains "
+                             f"(~{_duration(seconds)}); add --force to run it")
+        bar = None
+        if seconds > 2 and not quiet:
+            print(f"forcenet: --method maps N={args.N}: estimated ~{_duration(seconds)}", file=sys.stderr)
+            bar = _progress(grains, f"N={args.N} map sums")
+        means = mean_W_thesis_maps(args.N, progress=(lambda: bar.update(1)) if bar else None)
+        if bar:
+            bar.close()
         if args.moments > 1:  # <W^s> by map counting through the tableau bijection
             _, mom, _ = moments_by_maps(args.N, args.moments)
             higher = {s: [[mom[s][(i, j)] for j in range(1, i + 1)] for i in range(1, args.N + 1)] for s in range(2, args.moments + 1)}

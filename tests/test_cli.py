@@ -136,7 +136,7 @@ def test_sample_refuses_short_chains_and_bad_options(capsys):
     assert main(["sample", "--N", "6", "--ph", "0.5"]) == 2
 
 
-@pytest.mark.parametrize("method, N", [("thesis", 6), ("maps", 6), ("lambda", 8), ("lambda", 10)])
+@pytest.mark.parametrize("method, N", [("thesis", 7), ("maps", 6), ("lambda", 8), ("lambda", 10)])
 def test_table_methods_print_the_same_json(method, N, capsys):
     code, out, _ = run(["table", "--N", str(N), "--format", "json", "--method", method], capsys)
     assert code == 0
@@ -157,9 +157,11 @@ def test_table_maps_method_with_higher_moments(capsys):
 @pytest.mark.parametrize(
     "argv, needle",
     [
-        (["--N", "8", "--method", "thesis"], "--force"),
-        (["--N", "12", "--method", "thesis", "--force"], "N=12 is out of range"),
+        (["--N", "9", "--method", "thesis"], "--force"),
+        (["--N", "10", "--method", "thesis", "--force"], "N=10 is out of range"),
         (["--N", "8", "--method", "maps"], "--force"),
+        (["--N", "9", "--method", "maps"], "days"),
+        (["--N", "10", "--method", "maps", "--force"], "N=10 is out of range"),
         (["--N", "11", "--method", "lambda"], "--force"),
         (["--N", "13", "--method", "lambda", "--force"], "N=13 is out of range"),
     ],

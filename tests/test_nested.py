@@ -1,11 +1,14 @@
 """Nested-matrix integration (thesis Secs. 4.3-4.5) against the exact core."""
 
+from fractions import Fraction
+from math import factorial
+
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from exact import correlation, mean_W, moment, normalization
-from exact.nested import integrate_layers, moment_nested, normalization_nested
+from exact.nested import integrate_layers, mean_W_nested, moment_nested, normalization_nested
 
 
 @pytest.mark.parametrize("N", [2, 3, 4, 5, 6])
@@ -46,16 +49,84 @@ def test_bad_powers():
         integrate_layers(4, {(5, 1): 1})
     with pytest.raises(ValueError, match="powers"):
         integrate_layers(4, {(2, 1): -1})
+    with pytest.raises(ValueError, match="powers"):
+        integrate_layers(4, {(2, 1): 0.5})
+    with pytest.raises(TypeError, match="powers"):
+        integrate_layers(4, [(2, 1)])
+    with pytest.raises(TypeError, match="powers key"):
+        integrate_layers(4, {3: 1})
+    with pytest.raises(ValueError, match="arithmetic"):
+        integrate_layers(4, arithmetic="float")
 
 
-@pytest.mark.slow
-def test_mean_table_N7_and_moments():
+def _random_powers(data, N, grains):
+    powers = {}
+    for _ in range(grains):
+        i = data.draw(st.integers(min_value=1, max_value=N))
+        j = data.draw(st.integers(min_value=1, max_value=i))
+        powers[(i, j)] = data.draw(st.integers(min_value=0, max_value=3))
+    return powers
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(min_value=2, max_value=6), st.integers(min_value=0, max_value=3), st.data())
+def test_modular_equals_literal_recursion(N, grains, data):
+    """The integer-indexed multi-modular engine equals the literal Fraction/dict recursion."""
+    powers = _random_powers(data, N, grains)
+    assert integrate_layers(N, powers, "modular") == integrate_layers(N, powers, "fraction")
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(min_value=2, max_value=5), st.integers(min_value=0, max_value=3), st.data())
+def test_scaled_integral_is_an_integer_in_range(N, grains, data):
+    """(d + s)! I is an integer in [0, (d + s)!]: what the modular reconstruction relies on.
+
+    Computed with Fractions, never reduced modulo anything.
+    """
+    powers = _random_powers(data, N, grains)
+    d = N * (N - 1) // 2
+    scale = factorial(d + sum(e for g, e in powers.items() if g != (1, 1)))
+    scaled = integrate_layers(N, powers, "fraction") * scale
+    assert isinstance(scaled, Fraction) and scaled.denominator == 1
+    assert 0 < scaled <= scale
+
+
+@settings(max_examples=10, deadline=None)
+@given(st.integers(min_value=3, max_value=6), st.integers(min_value=1, max_value=50), st.data())
+def test_chunked_absorption_equals_one_chunk(N, chunk, data):
+    """Integrating the last site in small chunks changes nothing."""
+    import exact.nested as nested
+
+    powers = _random_powers(data, N, 2)
+    whole = integrate_layers(N, powers)
+    saved = nested._ABSORB_CHUNK
+    try:
+        nested._ABSORB_CHUNK = chunk
+        assert integrate_layers(N, powers) == whole
+    finally:
+        nested._ABSORB_CHUNK = saved
+
+
+@pytest.mark.parametrize("N", [7, 8])
+def test_mean_table_modular_N7_N8(N):
+    assert mean_W_nested(N) == mean_W(N)
+
+
+def test_mean_table_progress_counts_grains():
+    calls = []
+    mean_W_nested(4, progress=lambda: calls.append(1))
+    assert len(calls) == 10
+
+
+def test_moments_and_correlation_N7():
     N = 7
-    table = mean_W(N)
-    for i in range(1, N + 1):
-        for j in range(1, i + 1):
-            assert moment_nested(N, {(i, j): 1}) == table[i - 1][j - 1]
     for grain in [(7, 3), (5, 2), (6, 6)]:
         for s in (2, 3):
             assert moment_nested(N, {grain: s}) == moment(N, grain, s)
     assert moment_nested(N, {(7, 3): 1, (6, 2): 1}) == correlation(N, (7, 3), (6, 2))
+
+
+@pytest.mark.slow
+def test_mean_table_N9():
+    """Every grain at N = 9 (46 integrations, ~15 min and ~6 GB)."""
+    assert mean_W_nested(9) == mean_W(9)

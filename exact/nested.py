@@ -32,8 +32,8 @@ values) and the default one (``arithmetic="modular"``: bonds renumbered as
 integers, every entry a monomial stored as flat numpy arrays, coefficients
 modulo word-size primes, the integer ``(d + s)! I`` rebuilt by the Chinese
 remainder theorem).  The bond dimension grows like the number of index tuples
-(4.32): 1, 2, 7, 37, 268, 2496, ... so N = 9 (~20 s and ~6 GB per
-integration) is the end of this route.
+(4.32): 1, 2, 7, 37, 268, 2496, 28612, ... (N = 9: 6-43 s and under 2 GB
+per integration).
 
 Examples
 --------
@@ -144,8 +144,8 @@ def integrate_layers(N: int, powers: dict | None = None, arithmetic: str = "modu
         ``{(i, j): s}``: the power of each grain's force in the integrand.
     arithmetic : {"modular", "fraction"}
         ``"modular"`` (default): integer-indexed bonds and residues modulo
-        word-size primes, reconstructed exactly (N = 9 in ~20 s and ~6 GB per
-        integration).  ``"fraction"``: the recursion written literally with
+        word-size primes, reconstructed exactly (N = 9 in 6-43 s and under
+        2 GB per integration).  ``"fraction"``: the recursion written literally with
         nested-tuple indices and :class:`~fractions.Fraction` values (the
         baseline; N = 9 takes ~6 min and 19 GB).
 
@@ -213,8 +213,8 @@ def mean_W_nested(N: int, arithmetic: str = "modular", progress=None) -> list:
     """The whole table ``<W_{i,j}>`` (4.63)-(4.77) by nested-matrix integration.
 
     One integration for the normalization and one per grain.  With the
-    default modular arithmetic N = 9 takes ~15 min and ~6 GB (46
-    integrations); N = 10 does not fit in memory.
+    default modular arithmetic N = 8 takes ~20 s and N = 9 ~12 min (46
+    integrations, under 2 GB each).
 
     Parameters
     ----------

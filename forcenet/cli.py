@@ -161,7 +161,7 @@ def _cmd_count(args):
 # bytes of one integration on the 2-core machine; the table needs N(N+1)/2 + 1 of them.
 # N = 10 would need bonds of ~4e5 index tuples (about 1e10 matrix entries): out of reach.
 _THESIS_COST = {2: (0.01, 5e7), 3: (0.01, 5e7), 4: (0.01, 5e7), 5: (0.01, 5e7), 6: (0.01, 6e7),
-                7: (0.04, 1e8), 8: (0.6, 5e8), 9: (22.0, 6.5e9)}
+                7: (0.04, 1e8), 8: (0.5, 3e8), 9: (15.0, 2e9)}  # N = 9: 6-43 s, 1.2-1.9 GB per grain
 
 
 # Measured per bulk grain of the Gamma route (seconds, peak bytes) on the 2-core machine

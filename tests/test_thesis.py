@@ -158,6 +158,14 @@ def test_thesis_map_formula_4_91_full_table(N):
     assert mean_W_thesis_maps(N) == mean_W(N)
 
 
+@pytest.mark.slow
+def test_thesis_map_formula_4_91_full_table_N8():
+    """All 21 bulk grains at N = 8 by enumerating the modified maps (~25 min)."""
+    from exact.thesis import mean_W_thesis_maps
+
+    assert mean_W_thesis_maps(8) == mean_W(8)
+
+
 @given(st.integers(min_value=3, max_value=16))
 def test_bottom_layer_is_the_average_of_the_layer_above(N):
     # the last layer's q's are uniform and independent (they do not enter Eq. 3.10)

@@ -454,8 +454,8 @@ def mean_W_thesis_maps(N: int, progress=None) -> list[list[Fraction]]:
       ``<W_{N,1}> = <W_{N-1,1}>/2``).
 
     Enumerates maps, so meant for ``N <= 8`` (N = 8: 23,178,480 maps and more
-    modified ones per grain, ~25 min; N = 9 would visit 1.1e11 maps per
-    grain).  ``progress`` is called once per bulk grain.
+    modified ones per grain, 34 min for the table; N = 9 would visit 1.1e11
+    maps per grain).  ``progress`` is called once per bulk grain.
 
     Examples
     --------

@@ -161,7 +161,7 @@ def _cmd_count(args):
 # bytes of one integration on the 2-core machine; the table needs N(N+1)/2 + 1 of them.
 # N = 10 would need bonds of ~4e5 index tuples (about 1e10 matrix entries): out of reach.
 _THESIS_COST = {2: (0.01, 5e7), 3: (0.01, 5e7), 4: (0.01, 5e7), 5: (0.01, 5e7), 6: (0.01, 6e7),
-                7: (0.04, 1e8), 8: (0.5, 3e8), 9: (15.0, 2e9)}  # N = 9: 6-43 s, 1.2-1.9 GB per grain
+                7: (0.04, 1e8), 8: (0.15, 3e8), 9: (15.0, 2e9)}  # N = 9: 6-48 s, 1.2-1.9 GB per grain
 
 
 # Measured per bulk grain of the Gamma route (seconds, peak bytes) on the 2-core machine
@@ -224,7 +224,7 @@ def _cmd_table(args):
         if args.N > 9:
             raise UsageError(f"N={args.N} is out of range for --method maps: it would enumerate {count(args.N):.3g} maps per grain; N must be in 2..9")
         grains = (args.N - 1) * (args.N - 2) // 2
-        seconds = count(args.N) * (args.N * (args.N - 1) // 2) * 2e-6  # measured: 1.4 s at N = 7
+        seconds = count(args.N) * (args.N * (args.N - 1) // 2) * 3e-6  # measured: 1.4 s at N = 7, 34 min at N = 8
         if seconds > 60 and not args.force:
             raise UsageError(f"N={args.N} with --method maps enumerates {count(args.N)} maps for each of {grains} grains "
                              f"(~{_duration(seconds)}); add --force to run it")

@@ -160,7 +160,7 @@ def test_thesis_map_formula_4_91_full_table(N):
 
 @pytest.mark.slow
 def test_thesis_map_formula_4_91_full_table_N8():
-    """All 21 bulk grains at N = 8 by enumerating the modified maps (~25 min)."""
+    """All 21 bulk grains at N = 8 by enumerating the modified maps (~35 min)."""
     from exact.thesis import mean_W_thesis_maps
 
     assert mean_W_thesis_maps(8) == mean_W(8)

@@ -105,11 +105,11 @@ def _duration(seconds: float) -> str:
     return f"{seconds / 86400:.0f} days"
 
 
-def _progress(total: int, desc: str):
+def _progress(total: int, desc: str, unit: str = "it"):
+    """A tqdm bar on stderr; large counts (ideals, samples) get SI prefixes."""
     from tqdm import tqdm
 
-    bar = tqdm(total=total, desc=desc, unit="ideal", unit_scale=True, file=sys.stderr, leave=False)
-    return bar
+    return tqdm(total=total, desc=desc, unit=unit, unit_scale=total >= 10_000, file=sys.stderr, leave=False)
 
 
 def _exact_mean_table(N: int, est, quiet: bool):
@@ -121,7 +121,7 @@ def _exact_mean_table(N: int, est, quiet: bool):
     print(f"forcenet: exact table N={N}: estimated {est}", file=sys.stderr)
     budget = _memory_budget()
     chunks = len(_prime_chunks(N - 1, survival_primes(N), budget))
-    bar = _progress(chunks * (1 << (N - 1)), f"N={N} ideals")
+    bar = _progress(chunks * (1 << (N - 1)), f"N={N} ideals", "ideal")
     try:
         return mean_W(N, progress=bar.update, memory_bytes=budget)
     finally:
@@ -184,7 +184,7 @@ def _thesis_mean_table(N: int, force: bool, quiet: bool):
     bar = None
     if not quiet and seconds > 2:
         print(f"forcenet: --method thesis N={N}: estimated ~{seconds:.0f} s", file=sys.stderr)
-        bar = _progress(runs - 1, f"N={N} grains")
+        bar = _progress(runs - 1, f"N={N} nested integrations", "grain")
     table = mean_W_nested(N, progress=(lambda: bar.update(1)) if bar else None)
     if bar:
         bar.close()
@@ -194,7 +194,7 @@ def _thesis_mean_table(N: int, force: bool, quiet: bool):
 def _cmd_table(args):
     from exact.tables import exact_table, fraction_str, to_csv, to_json, to_latex, write_atomic
 
-    quiet = args.format is not None and args.out is None
+    quiet = args.quiet  # the cost and the progress bar go to stderr, never into --format output
     higher = None
     if args.method == "lambda":
         from exact.thesis import mean_W_gamma
@@ -213,7 +213,7 @@ def _cmd_table(args):
         bar = None
         if seconds > 2 and not quiet:
             print(f"forcenet: --method lambda N={args.N}: estimated ~{seconds:.0f} s", file=sys.stderr)
-            bar = _progress(grains, f"N={args.N} Gamma grains")
+            bar = _progress(grains, f"N={args.N} Gamma recursions", "grain")
         means = mean_W_gamma(args.N, progress=(lambda: bar.update(1)) if bar else None)
         if bar:
             bar.close()
@@ -231,7 +231,7 @@ def _cmd_table(args):
         bar = None
         if seconds > 2 and not quiet:
             print(f"forcenet: --method maps N={args.N}: estimated ~{_duration(seconds)}", file=sys.stderr)
-            bar = _progress(grains, f"N={args.N} map sums")
+            bar = _progress(grains, f"N={args.N} map sums", "grain")
         means = mean_W_thesis_maps(args.N, progress=(lambda: bar.update(1)) if bar else None)
         if bar:
             bar.close()
@@ -369,7 +369,7 @@ def _cmd_sample(args):
         raise UsageError("--response needs the full packing (--P): on the triangle G(i, j) = <W_ij>/F")
     width = N if scene is None else scene.P
     chains = 2 if args.response else 1
-    bar = _progress(K * chains, f"{args.sampler} N={N}") if K * N * width > 2_000_000 else None
+    bar = _progress(K * chains, f"{args.sampler} N={N}", "sample") if K * N * width > 2_000_000 else None
     tick = bar.update if bar else None
     t0 = time.perf_counter()
     extra = {}
@@ -448,7 +448,7 @@ def _cmd_transfer(args):
     if cost > 5 and args.particles is None:
         print(f"forcenet: {L + 1} sectors of 3^{L} states, about {cost} s", file=sys.stderr)
     t0 = time.perf_counter()
-    bar = _progress(len(sectors), f"transfer L={L}") if cost > 5 else None
+    bar = _progress(len(sectors), f"transfer L={L}", "sector") if cost > 5 else None
     rows = []
     try:
         for n in sectors:
@@ -645,6 +645,7 @@ def build_parser() -> argparse.ArgumentParser:
         "maps: the map-counting formulas (4.67), (4.90)-(4.91) of Sec. 4.6",
     )
     p.add_argument("--force", action="store_true", help="run a method beyond its quick reach")
+    p.add_argument("--quiet", action="store_true", help="no cost announcement, no progress bar (stderr)")
     p.set_defaults(func=_cmd_table)
 
     p = sub.add_parser("maps", help="Z_(N-2) and the number of maps h per bottom row (Sec. 4.6)")

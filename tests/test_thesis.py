@@ -122,6 +122,41 @@ def test_random_tableaux_map_to_valid_maps_with_first_row_code(N, seed):
         assert T[(1, q + 1)] == q * (q + 1) // 2 + 2 - j
 
 
+def _random_map(N, data):
+    """A map of Sec. 4.6 drawn row by row inside (4.86) and (4.89), never through a tableau."""
+    h = {}
+    for l in range(1, N - 1):
+        row = []
+        for k in range(1, l):
+            top = 2 if k == 1 else k + row[-1]  # (4.86)
+            low = 1 if (l == 1 or k == 1) else h[l - 1][k - 2]  # (4.89): h(l-1, k-1) <= h(l, k)
+            row.append(data.draw(st.integers(min_value=low, max_value=top)))
+        row.append(1)  # h(l, l) = 1
+        h[l] = tuple(row)
+    return h
+
+
+def _is_standard_shifted_tableau(N, T):
+    n = N - 1
+    cells = [(r, c) for r in range(1, n + 1) for c in range(r, n + 1)]
+    return (sorted(T.values()) == list(range(1, len(cells) + 1))
+            and all(T[(r, c)] < T[(r, c + 1)] for (r, c) in cells if c < n)
+            and all(T[(r, c)] < T[(r + 1, c)] for (r, c) in cells if r < c))
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(min_value=3, max_value=12), st.data())
+def test_every_map_has_a_tableau(N, data):
+    """Surjectivity of the bijection, for maps drawn from the inequalities alone (proof in notes/chapter4.md)."""
+    from exact.thesis import tableau_from_map
+
+    h = _random_map(N, data)
+    assert is_map(h, N - 2)
+    T = tableau_from_map(N, h)
+    assert _is_standard_shifted_tableau(N, T)
+    assert map_from_tableau(N, T) == h
+
+
 def test_bad_q():
     with pytest.raises(ValueError, match="q=7"):
         boundary_mean_W(5, 7)

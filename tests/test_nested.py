@@ -49,8 +49,10 @@ def test_bad_powers():
         integrate_layers(4, {(5, 1): 1})
     with pytest.raises(ValueError, match="powers"):
         integrate_layers(4, {(2, 1): -1})
-    with pytest.raises(ValueError, match="powers"):
+    with pytest.raises(TypeError, match="integer power"):
         integrate_layers(4, {(2, 1): 0.5})
+    with pytest.raises(TypeError, match="integer power"):
+        integrate_layers(4, {(2, 1): "1"})
     with pytest.raises(TypeError, match="powers"):
         integrate_layers(4, [(2, 1)])
     with pytest.raises(TypeError, match="powers key"):

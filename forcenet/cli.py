@@ -161,7 +161,7 @@ def _cmd_count(args):
 # bytes of one integration on the 2-core machine; the table needs N(N+1)/2 + 1 of them.
 # N = 10 would need bonds of ~4e5 index tuples (about 1e10 matrix entries): out of reach.
 _THESIS_COST = {2: (0.01, 5e7), 3: (0.01, 5e7), 4: (0.01, 5e7), 5: (0.01, 5e7), 6: (0.01, 6e7),
-                7: (0.04, 1e8), 8: (0.15, 3e8), 9: (15.0, 2e9)}  # N = 9: 6-48 s, 1.2-1.9 GB per grain
+                7: (0.01, 1e8), 8: (0.15, 3e8), 9: (15.0, 2e9)}  # N = 9: 6-48 s, 1.2-1.9 GB per grain
 
 
 # Measured per bulk grain of the Gamma route (seconds, peak bytes) on the 2-core machine
@@ -169,26 +169,34 @@ _THESIS_COST = {2: (0.01, 5e7), 3: (0.01, 5e7), 4: (0.01, 5e7), 5: (0.01, 5e7), 
 _LAMBDA_COST = {10: (0.1, 1e8), 11: (2.5, 5e8), 12: (170.0, 2.2e10)}  # N = 12: one grain peaks at 20 GB
 
 
-def _thesis_mean_table(N: int, force: bool, quiet: bool):
-    from exact.nested import mean_W_nested
+def _thesis_tables(N: int, moments: int, force: bool, quiet: bool):
+    """``<W^s>`` tables, ``s = 1..moments``, by the nested-matrix integration."""
+    from exact.nested import moment_table_nested
 
     if N not in _THESIS_COST:
         raise UsageError(f"N={N} is out of range for --method thesis: N must be in 2..9 (the nested bonds outgrow memory at N = 10)")
+    if moments > 3:
+        raise UsageError(f"--moments={moments} with --method thesis: 1..3 (the s-th order defects cost grows like s^2)")
     per_run, nbytes = _THESIS_COST[N]
     runs = N * (N + 1) // 2 + 1
-    seconds = per_run * runs
+    # measured at the costliest grain (9, 3): time x3.2, x8.0 and memory x2.6, x6.5 for s = 2, 3 (s^2 bounds both)
+    seconds = per_run * runs * sum(s * s for s in range(1, moments + 1))
+    nbytes *= moments * moments
     if nbytes > _available_memory():
-        raise UsageError(f"N={N} with --method thesis needs ~{nbytes / 2**30:.0f} GiB of memory; N must be in 2..8 here")
+        raise UsageError(f"N={N} --moments {moments} with --method thesis needs ~{nbytes / 2**30:.0f} GiB of memory; "
+                         f"use a smaller N or --moments")
     if seconds > 60 and not force:
-        raise UsageError(f"N={N} with --method thesis takes ~{seconds / 60:.0f} min ({runs} nested integrations); add --force to run it")
+        raise UsageError(f"N={N} --moments {moments} with --method thesis takes ~{_duration(seconds)} "
+                         f"({runs * moments} nested integrations); add --force to run it")
     bar = None
     if not quiet and seconds > 2:
-        print(f"forcenet: --method thesis N={N}: estimated ~{seconds:.0f} s", file=sys.stderr)
-        bar = _progress(runs - 1, f"N={N} nested integrations", "grain")
-    table = mean_W_nested(N, progress=(lambda: bar.update(1)) if bar else None)
+        print(f"forcenet: --method thesis N={N}: estimated ~{_duration(seconds)}", file=sys.stderr)
+        bar = _progress((runs - 1) * moments, f"N={N} nested integrations", "grain")
+    tick = (lambda: bar.update(1)) if bar else None
+    tables = {s: moment_table_nested(N, s, progress=tick) for s in range(1, moments + 1)}
     if bar:
         bar.close()
-    return table
+    return tables
 
 
 def _cmd_table(args):
@@ -239,9 +247,9 @@ def _cmd_table(args):
             _, mom, _ = moments_by_maps(args.N, args.moments)
             higher = {s: [[mom[s][(i, j)] for j in range(1, i + 1)] for i in range(1, args.N + 1)] for s in range(2, args.moments + 1)}
     elif args.method == "thesis":
-        if args.moments > 1:
-            raise UsageError("--moments with --method thesis: only --moments 1 (higher moments use the fast method)")
-        means = _thesis_mean_table(args.N, args.force, quiet)
+        tables = _thesis_tables(args.N, args.moments, args.force, quiet)
+        means = tables.pop(1)
+        higher = tables or None
     else:
         est = _check_table_cost(args.N, args.moments)
         means = _exact_mean_table(args.N, est, quiet)

@@ -145,6 +145,15 @@ def test_table_methods_print_the_same_json(method, N, capsys):
     assert json.loads(out) == other
 
 
+def test_table_thesis_method_with_higher_moments(capsys):
+    # <W^2>, <W^3> by the nested integration with s-th order defects equal the fast method's
+    code, out, _ = run(["table", "--N", "6", "--format", "json", "--method", "thesis", "--moments", "3"], capsys)
+    assert code == 0
+    nested = json.loads(out)
+    code, out, _ = run(["table", "--N", "6", "--format", "json", "--moments", "3"], capsys)
+    assert json.loads(out) == nested and "mean_W3" in nested
+
+
 def test_table_maps_method_with_higher_moments(capsys):
     # <W^2>, <W^3> by map counting (tableau bijection) equal the fast method's
     code, out, _ = run(["table", "--N", "6", "--format", "json", "--method", "maps", "--moments", "3"], capsys)
@@ -158,6 +167,7 @@ def test_table_maps_method_with_higher_moments(capsys):
     "argv, needle",
     [
         (["--N", "9", "--method", "thesis"], "--force"),
+        (["--N", "8", "--method", "thesis", "--moments", "4"], "--moments=4"),
         (["--N", "10", "--method", "thesis", "--force"], "N=10 is out of range"),
         (["--N", "8", "--method", "maps"], "--force"),
         (["--N", "9", "--method", "maps"], "days"),

@@ -161,7 +161,7 @@ def _cmd_count(args):
 # bytes of one integration on the 2-core machine; the table needs N(N+1)/2 + 1 of them.
 # N = 10 would need bonds of ~4e5 index tuples (about 1e10 matrix entries): out of reach.
 _THESIS_COST = {2: (0.01, 5e7), 3: (0.01, 5e7), 4: (0.01, 5e7), 5: (0.01, 5e7), 6: (0.01, 6e7),
-                7: (0.01, 1e8), 8: (0.15, 3e8), 9: (15.0, 2e9)}  # N = 9: 6-48 s, 1.2-1.9 GB per grain
+                7: (0.01, 1e8), 8: (0.13, 3e8), 9: (15.0, 2e9)}  # N = 9: 6-48 s, 1.2-1.9 GB per grain
 
 
 # Measured per bulk grain of the Gamma route (seconds, peak bytes) on the 2-core machine
@@ -176,12 +176,15 @@ def _thesis_tables(N: int, moments: int, force: bool, quiet: bool):
     if N not in _THESIS_COST:
         raise UsageError(f"N={N} is out of range for --method thesis: N must be in 2..9 (the nested bonds outgrow memory at N = 10)")
     if moments > 3:
-        raise UsageError(f"--moments={moments} with --method thesis: 1..3 (the s-th order defects cost grows like s^2)")
+        raise UsageError(f"--moments={moments} with --method thesis: 1..3 (the s-th order defects grow fast: N = 9, s = 3 needs 12 GB)")
     per_run, nbytes = _THESIS_COST[N]
     runs = N * (N + 1) // 2 + 1
-    # measured at the costliest grain (9, 3): time x3.2, x8.0 and memory x2.6, x6.5 for s = 2, 3 (s^2 bounds both)
-    seconds = per_run * runs * sum(s * s for s in range(1, moments + 1))
-    nbytes *= moments * moments
+    # cost of s = 1, 2, 3 relative to s = 1, measured at the costliest grain (N, 3):
+    # N = 8 time x2.4, x4.8; N = 9 time x3.2, x8.0 and memory x2.6, x6.5
+    time_factor = (1.0, 2.4, 4.8) if N <= 8 else (1.0, 3.2, 8.0)
+    memory_factor = (1.0, 2.6, 6.5)
+    seconds = per_run * runs * sum(time_factor[:moments])
+    nbytes *= memory_factor[moments - 1]
     if nbytes > _available_memory():
         raise UsageError(f"N={N} --moments {moments} with --method thesis needs ~{nbytes / 2**30:.0f} GiB of memory; "
                          f"use a smaller N or --moments")

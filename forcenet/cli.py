@@ -112,6 +112,18 @@ def _progress(total: int, desc: str, unit: str = "it"):
     return tqdm(total=total, desc=desc, unit=unit, unit_scale=total >= 10_000, file=sys.stderr, leave=False)
 
 
+def _announced(what: str, seconds: float, total: int, unit: str, quiet: bool, run):
+    """Announce the estimated cost on stderr, then ``run(progress)`` under a progress bar."""
+    if seconds <= 2 or quiet:
+        return run(None)
+    print(f"forcenet: {what}: estimated ~{_duration(seconds)}", file=sys.stderr)
+    bar = _progress(total, what, unit)
+    try:
+        return run(lambda: bar.update(1))
+    finally:
+        bar.close()
+
+
 def _exact_mean_table(N: int, est, quiet: bool):
     from exact.ideal_dp import _prime_chunks, survival_primes
     from exact.moments import mean_W
@@ -191,15 +203,8 @@ def _thesis_tables(N: int, moments: int, force: bool, quiet: bool):
     if seconds > 60 and not force:
         raise UsageError(f"N={N} --moments {moments} with --method thesis takes ~{_duration(seconds)} "
                          f"({runs * moments} nested integrations); add --force to run it")
-    bar = None
-    if not quiet and seconds > 2:
-        print(f"forcenet: --method thesis N={N}: estimated ~{_duration(seconds)}", file=sys.stderr)
-        bar = _progress((runs - 1) * moments, f"N={N} nested integrations", "grain")
-    tick = (lambda: bar.update(1)) if bar else None
-    tables = {s: moment_table_nested(N, s, progress=tick) for s in range(1, moments + 1)}
-    if bar:
-        bar.close()
-    return tables
+    return _announced(f"--method thesis N={N}, nested integrations", seconds, (runs - 1) * moments, "grain", quiet,
+                      lambda tick: {s: moment_table_nested(N, s, progress=tick) for s in range(1, moments + 1)})
 
 
 def _cmd_table(args):
@@ -221,13 +226,8 @@ def _cmd_table(args):
             raise UsageError(f"N={args.N} with --method lambda needs ~{nbytes / 2**30:.0f} GiB of memory; N must be in 2..11 here")
         if seconds > 60 and not args.force:
             raise UsageError(f"N={args.N} with --method lambda takes ~{seconds / 60:.0f} min ({grains} Gamma recursions); add --force to run it")
-        bar = None
-        if seconds > 2 and not quiet:
-            print(f"forcenet: --method lambda N={args.N}: estimated ~{seconds:.0f} s", file=sys.stderr)
-            bar = _progress(grains, f"N={args.N} Gamma recursions", "grain")
-        means = mean_W_gamma(args.N, progress=(lambda: bar.update(1)) if bar else None)
-        if bar:
-            bar.close()
+        means = _announced(f"--method lambda N={args.N}, Gamma recursions", seconds, grains, "grain", quiet,
+                           lambda tick: mean_W_gamma(args.N, progress=tick))
     elif args.method == "maps":
         from exact.staircase import count
         from exact.thesis import mean_W_thesis_maps, moments_by_maps
@@ -239,13 +239,8 @@ def _cmd_table(args):
         if seconds > 60 and not args.force:
             raise UsageError(f"N={args.N} with --method maps enumerates {count(args.N)} maps for each of {grains} grains "
                              f"(~{_duration(seconds)}); add --force to run it")
-        bar = None
-        if seconds > 2 and not quiet:
-            print(f"forcenet: --method maps N={args.N}: estimated ~{_duration(seconds)}", file=sys.stderr)
-            bar = _progress(grains, f"N={args.N} map sums", "grain")
-        means = mean_W_thesis_maps(args.N, progress=(lambda: bar.update(1)) if bar else None)
-        if bar:
-            bar.close()
+        means = _announced(f"--method maps N={args.N}, map sums", seconds, grains, "grain", quiet,
+                           lambda tick: mean_W_thesis_maps(args.N, progress=tick))
         if args.moments > 1:  # <W^s> by map counting through the tableau bijection
             _, mom, _ = moments_by_maps(args.N, args.moments)
             higher = {s: [[mom[s][(i, j)] for j in range(1, i + 1)] for i in range(1, args.N + 1)] for s in range(2, args.moments + 1)}

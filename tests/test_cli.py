@@ -145,6 +145,107 @@ def test_table_methods_print_the_same_json(method, N, capsys):
     assert json.loads(out) == other
 
 
+@pytest.mark.parametrize("method", ["thesis", "maps"])
+def test_table_methods_with_higher_moments(method, capsys):
+    # <W^2>, <W^3> by the nested integration (s-th order defects) or by map counting
+    # (tableau bijection) equal the fast method's
+    code, out, _ = run(["table", "--N", "6", "--format", "json", "--method", method, "--moments", "3"], capsys)
+    assert code == 0
+    other = json.loads(out)
+    code, out, _ = run(["table", "--N", "6", "--format", "json", "--moments", "3"], capsys)
+    assert json.loads(out) == other and "mean_W3" in other
+
+
+@pytest.mark.parametrize(
+    "argv, needle",
+    [
+        (["table", "--N", "1"], "N=1 is out of range"),
+        (["table", "--N", "x"], "N='x' is not an integer"),
+        (["count", "--N", "0"], "N must be an integer >= 2"),
+        (["table", "--N", "45", "--format", "json"], "N=45 is out of range"),
+        (["table", "--N", "36", "--format", "json"], "N must be in 2.."),
+        (["table", "--N", "5", "--moments", "0"], "moments=0 is out of range"),
+    ],
+)
+def test_bad_input_is_one_line_exit_2(argv, needle, tmp_path):
+    out_file = tmp_path / "never.json"
+    proc = subprocess.run(
+        [sys.executable, "-m", "forcenet", *argv, "--out", str(out_file)] if argv[0] == "table" else [sys.executable, "-m", "forcenet", *argv],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 2
+    assert needle in proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1
+    assert "Traceback" not in proc.stderr
+    assert not out_file.exists()
+
+
+def test_main_job_writes_three_files_and_cross_checks(tmp_path, capsys):
+    code, out, _ = run(["table", "--N", "6", "--out-dir", str(tmp_path), "--samples", "4000", "--seed", "7"], capsys)
+    assert code == 0
+    assert sorted(os.listdir(tmp_path)) == ["mean_W_N6.csv", "mean_W_N6.json", "mean_W_N6.tex"]
+    data = json.loads((tmp_path / "mean_W_N6.json").read_text())
+    assert [[Fraction(x) for x in r] for r in data["mean_W"]] == mean_W(6)
+    assert "413/2288" in out  # <W_{6,2}>, Ostojic (2006)
+    assert "agrees within 5 standard errors" in out
+
+
+def test_interrupted_write_leaves_nothing(tmp_path, monkeypatch):
+    from exact import tables
+
+    def interrupted(src, dst):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(tables.os, "replace", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        tables.write_atomic(tmp_path / "table.json", "{}")
+    assert os.listdir(tmp_path) == []
+
+
+def test_maps_command(capsys):
+    from exact.thesis import lambda_table
+
+    code, out, _ = run(["maps", "--N", "6", "--format", "json"], capsys)
+    data = json.loads(out)
+    assert int(data["Z"]) == count(6)
+    assert {tuple(r["bottom_row"]): int(r["maps"]) for r in data["by_bottom_row"]} == lambda_table(4)
+    code, out, _ = run(["maps", "--N", "5"], capsys)
+    assert out.startswith("Z_3 = 12")
+    assert main(["maps", "--N", "11"]) == 2
+
+
+def test_sample_command_json(capsys):
+    code, out, _ = run(["sample", "--N", "5", "--samples", "3000", "--seed", "3", "--format", "json"], capsys)
+    data = json.loads(out)
+    assert data["sampler"] == "exact" and data["samples"] == 3000
+    exact = mean_W(5)
+    for i in range(5):
+        for j in range(i + 1):
+            err = data["stderr_W"][i][j]
+            if err > 0:
+                assert abs(data["mean_W"][i][j] - float(exact[i][j])) < 5 * err
+    code, out, _ = run(["sample", "--N", "5", "--sampler", "metropolis", "--samples", "2000", "--format", "json"], capsys)
+    data = json.loads(out)
+    assert data["sampler"] == "metropolis" and 0 < data["acceptance"] <= 1 and data["tau_max"] >= 1
+
+
+def test_sample_refuses_short_chains_and_bad_options(capsys):
+    assert main(["sample", "--N", "6", "--sampler", "metropolis", "--samples", "50"]) == 2
+    assert "too short" in capsys.readouterr().err
+    assert main(["sample", "--N", "6", "--samples", "1"]) == 2
+    assert main(["sample", "--N", "6", "--ph", "0.5"]) == 2
+
+
+@pytest.mark.parametrize("method, N", [("thesis", 7), ("maps", 6), ("lambda", 8), ("lambda", 10)])
+def test_table_methods_print_the_same_json(method, N, capsys):
+    code, out, _ = run(["table", "--N", str(N), "--format", "json", "--method", method], capsys)
+    assert code == 0
+    other = json.loads(out)
+    code, out, _ = run(["table", "--N", str(N), "--format", "json"], capsys)
+    assert json.loads(out) == other
+
+
 def test_table_thesis_method_with_higher_moments(capsys):
     # <W^2>, <W^3> by the nested integration with s-th order defects equal the fast method's
     code, out, _ = run(["table", "--N", "6", "--format", "json", "--method", "thesis", "--moments", "3"], capsys)

@@ -379,7 +379,7 @@ def _absorb_last_site(site, right, gamma, power):
 
     The last force of a layer is ``X_m = u_{m-1}`` (4.20)-(4.21), so the last
     site only ever enters through ``R'[(row, power)] = sum_col t[row, col] R[col]``
-    (4.31)/(4.45).  Done in chunks of about ``chunk`` integrated entries, the
+    (4.31)/(4.45).  Done in chunks of about ``_ABSORB_CHUNK`` integrated entries, the
     largest site (10^8 entries for a bottom-row grain at N = 9) is never
     stored.  ``power`` is the moment inserted at that last grain.
     Returns the new row bond as sorted (old row, ``f``) pairs and the right
@@ -392,7 +392,7 @@ def _absorb_last_site(site, right, gamma, power):
     start = np.searchsorted(bond_old, site.col, "left")
     count = np.searchsorted(bond_old, site.col, "right") - start
     sizes = np.cumsum(count * (site.pw + 1))
-    keys, sums = [], []
+    keys, sums = [np.zeros(0, dtype=np.int64)], [np.zeros((0, len(primes)), dtype=np.int64)]
     lo = 0
     while lo < len(site.row):
         hi = int(np.searchsorted(sizes, (sizes[lo - 1] if lo else 0) + _ABSORB_CHUNK, "right"))

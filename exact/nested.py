@@ -213,7 +213,7 @@ def moment_nested(N: int, powers: dict, arithmetic: str = "modular") -> Fraction
     return integrate_layers(N, powers, arithmetic) / integrate_layers(N, arithmetic=arithmetic)
 
 
-def moment_table_nested(N: int, s: int = 1, arithmetic: str = "modular", progress=None) -> list:
+def moment_table_nested(N: int, s: int = 1, arithmetic: str = "modular", progress=None, volume=None) -> list:
     """The whole table ``<W_{i,j}^s>`` by nested-matrix integration (4.63), (4.80)-(4.85).
 
     One integration for the normalization and one per grain, with ``x^s``
@@ -232,6 +232,8 @@ def moment_table_nested(N: int, s: int = 1, arithmetic: str = "modular", progres
         See :func:`integrate_layers`.
     progress : callable, optional
         Called with no argument after each grain.
+    volume : Fraction, optional
+        The normalization, if already integrated (tables for several ``s``).
 
     Returns
     -------
@@ -246,7 +248,8 @@ def moment_table_nested(N: int, s: int = 1, arithmetic: str = "modular", progres
     N = check_layers(N)
     if isinstance(s, bool) or not isinstance(s, Integral) or s < 1:
         raise ValueError(f"s={s!r}: the power must be an integer >= 1")
-    volume = integrate_layers(N, arithmetic=arithmetic)
+    if volume is None:
+        volume = integrate_layers(N, arithmetic=arithmetic)
     table = []
     for i in range(1, N + 1):
         row = []

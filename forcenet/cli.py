@@ -181,10 +181,15 @@ _THESIS_COST = {2: (0.01, 5e7), 3: (0.01, 5e7), 4: (0.01, 5e7), 5: (0.01, 5e7), 
 _LAMBDA_COST = {10: (0.1, 1e8), 11: (2.5, 5e8), 12: (170.0, 2.2e10)}  # N = 12: one grain peaks at 20 GB
 
 
+def _nested_tables(N: int, moments: int, tick):
+    from exact.nested import integrate_layers, moment_table_nested
+
+    volume = integrate_layers(N)  # once for every s
+    return {s: moment_table_nested(N, s, progress=tick, volume=volume) for s in range(1, moments + 1)}
+
+
 def _thesis_tables(N: int, moments: int, force: bool, quiet: bool):
     """``<W^s>`` tables, ``s = 1..moments``, by the nested-matrix integration."""
-    from exact.nested import moment_table_nested
-
     if N not in _THESIS_COST:
         raise UsageError(f"N={N} is out of range for --method thesis: N must be in 2..9 (the nested bonds outgrow memory at N = 10)")
     if moments > 3:
@@ -202,9 +207,9 @@ def _thesis_tables(N: int, moments: int, force: bool, quiet: bool):
                          f"use a smaller N or --moments")
     if seconds > 60 and not force:
         raise UsageError(f"N={N} --moments {moments} with --method thesis takes ~{_duration(seconds)} "
-                         f"({runs * moments} nested integrations); add --force to run it")
+                         f"({(runs - 1) * moments + 1} nested integrations); add --force to run it")
     return _announced(f"--method thesis N={N}, nested integrations", seconds, (runs - 1) * moments, "grain", quiet,
-                      lambda tick: {s: moment_table_nested(N, s, progress=tick) for s in range(1, moments + 1)})
+                      lambda tick: _nested_tables(N, moments, tick))
 
 
 def _cmd_table(args):

@@ -3,14 +3,14 @@
 Each measurement runs in a fresh subprocess (no caches) and reports wall time
 and peak resident memory.  Methods:
 
-* ``fast``       exact <W> table, multi-modular order-ideal DP (exact.ideal_dp)
-* ``dict``       exact <W> table, plain dictionary DP with Python ints (exact.baseline)
+* ``fast``       exact <W> table, multi-modular order-ideal DP (forcenet.exact.triangle.ideal_dp)
+* ``dict``       exact <W> table, plain dictionary DP with Python ints (forcenet.exact.reference.dictionary_dp)
 * ``normaliz``   the normalization only (exact volume of the polytope), PyNormaliz
-* ``moments2``   exact E[W^2] table (exact.moments.moment_table)
-* ``thesis``     <W> table by the nested-matrix integration (exact.nested), modular engine
+* ``moments2``   exact E[W^2] table (forcenet.exact.triangle.moments.moment_table)
+* ``thesis``     <W> table by the nested-matrix integration (forcenet.exact.thesis.nested), modular engine
 * ``thesis-literal``  the same recursion with nested-tuple indices and Fractions
-* ``lambda``     <W> table by the Lambda/Gamma integer recursions (exact.thesis.mean_W_gamma)
-* ``maps``       <W> table by counting maps, Eq. (4.91) (exact.thesis.mean_W_thesis_maps)
+* ``lambda``     <W> table by the Lambda/Gamma integer recursions (forcenet.exact.thesis.mean_W_gamma)
+* ``maps``       <W> table by counting maps, Eq. (4.91) (forcenet.exact.thesis.mean_W_thesis_maps)
 
 Usage::
 
@@ -29,16 +29,16 @@ import subprocess
 import sys
 
 SNIPPETS = {
-    "fast": "from exact.moments import mean_W; t = mean_W({N})",
-    "dict": "from exact.baseline import mean_W_dictionary; t = mean_W_dictionary({N})",
-    "moments2": "from exact.moments import moment_table; t = moment_table({N}, 2)",
-    "thesis": "from exact.nested import mean_W_nested; t = mean_W_nested({N})",
-    "thesis-literal": "from exact.nested import mean_W_nested; t = mean_W_nested({N}, arithmetic='fraction')",
-    "lambda": "from exact.thesis import mean_W_gamma; t = mean_W_gamma({N})",
-    "maps": "from exact.thesis import mean_W_thesis_maps; t = mean_W_thesis_maps({N})",
+    "fast": "from forcenet.exact.triangle.moments import mean_W; t = mean_W({N})",
+    "dict": "from forcenet.exact.reference.dictionary_dp import mean_W_dictionary; t = mean_W_dictionary({N})",
+    "moments2": "from forcenet.exact.triangle.moments import moment_table; t = moment_table({N}, 2)",
+    "thesis": "from forcenet.exact.thesis.nested import mean_W_nested; t = mean_W_nested({N})",
+    "thesis-literal": "from forcenet.exact.thesis.nested import mean_W_nested; t = mean_W_nested({N}, arithmetic='fraction')",
+    "lambda": "from forcenet.exact.thesis import mean_W_gamma; t = mean_W_gamma({N})",
+    "maps": "from forcenet.exact.thesis import mean_W_thesis_maps; t = mean_W_thesis_maps({N})",
     "normaliz": """
 import PyNormaliz
-from exact.brute import partial_sum_poset
+from forcenet.exact.reference.linear_extensions import partial_sum_poset
 G = partial_sum_poset({N}); nodes = sorted(G.nodes()); idx = {{v: k for k, v in enumerate(nodes)}}; d = len(nodes)
 rows = []
 for u, v in G.edges():
@@ -47,7 +47,7 @@ for k in range(d):
     r = [0] * (d + 1); r[k] = 1; rows.append(r)
     r = [0] * (d + 1); r[k] = -1; r[d] = 1; rows.append(r)
 vol = PyNormaliz.Cone(inhom_inequalities=rows).Volume()
-from exact.staircase import count
+from forcenet.exact.triangle.staircase import count
 assert int(vol if not isinstance(vol, (list, tuple)) else vol[0]) == count({N})
 """,
 }

@@ -18,7 +18,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import mpmath  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from numeric.isotropic import density_Q, entropy_small_parameter  # noqa: E402
+from forcenet.numeric.chicken_wire.isotropic import density_Q, entropy_small_parameter  # noqa: E402
 
 rows = []
 for path in sorted(Path("out").glob("isotropic_scan_*.json")):

@@ -26,8 +26,8 @@ import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
-from numeric.autocorr import AutocorrError, integrated_time, mean_and_stderr  # noqa: E402
-from numeric.packing import PackingMetropolis, Scene  # noqa: E402
+from forcenet.numeric.autocorr import AutocorrError, integrated_time, mean_and_stderr  # noqa: E402
+from forcenet.numeric.packing import PackingMetropolis, Scene  # noqa: E402
 
 FIG = ROOT / "notes" / "figures"
 OUT = ROOT / "out"

@@ -33,10 +33,10 @@ def main(argv=None):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from exact import mean_W
-    from numeric.autocorr import mean_and_stderr
-    from numeric.exact_sampler import ExactSampler, q_from_W
-    from numeric.metropolis import TriangleMetropolis
+    from forcenet.exact import mean_W
+    from forcenet.numeric.autocorr import mean_and_stderr
+    from forcenet.numeric.triangle.exact_sampler import ExactSampler, q_from_W
+    from forcenet.numeric.triangle.metropolis import TriangleMetropolis
 
     os.makedirs(args.figures, exist_ok=True)
 

@@ -3,8 +3,8 @@
 Run:  python benchmarks/gamma_table.py [N] [--workers 2]        (default N = 12)
 
 Bulk grains ``r >= 2`` by the Gamma recursion (4.73)-(4.77) with the last row
-summed as a chain (``exact.thesis.gamma_bulk_integer``, ~3 min and 6-20 GB per
-grain at N = 12), the left boundary by (4.67) (``exact.thesis.boundary_mean_W``),
+summed as a chain (``forcenet.exact.thesis.gamma_bulk_integer``, ~3 min and 6-20 GB per
+grain at N = 12), the left boundary by (4.67) (``forcenet.exact.thesis.boundary_mean_W``),
 the bottom layer from the layer above.  Every grain is computed directly (the
 left-right mirror symmetry is *checked*, not used).  Results are appended to
 ``out/gamma_table_N{N}.json`` after each grain (atomic rewrite), so an
@@ -24,8 +24,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
-from exact import mean_W  # noqa: E402
-from exact.thesis import _table_from_bulk, gamma_bulk_integer  # noqa: E402
+from forcenet.exact import mean_W  # noqa: E402
+from forcenet.exact.thesis.recursions import gamma_bulk_integer, table_from_bulk  # noqa: E402
 
 
 def one_grain(args):
@@ -76,7 +76,7 @@ def main():
     exact = mean_W(N)
     t_core = time.perf_counter() - t
     t = time.perf_counter()
-    rows = _table_from_bulk(N, lambda q, r: int(data["bulk"][f"{q},{r}"]))  # (4.67) + bottom layer
+    rows = table_from_bulk(N, lambda q, r: int(data["bulk"][f"{q},{r}"]))  # (4.67) + bottom layer
     t_boundary = time.perf_counter() - t
     table = {(i, r): rows[i - 1][r - 1] for i in range(1, N + 1) for r in range(1, i + 1)}
     wrong = [g for g, v in table.items() if v != exact[g[0] - 1][g[1] - 1]]

@@ -20,8 +20,8 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from numeric.bethe import isotropic_sequence  # noqa: E402
-from numeric.isotropic import extrapolate  # noqa: E402
+from forcenet.numeric.chicken_wire.bethe import isotropic_sequence  # noqa: E402
+from forcenet.numeric.chicken_wire.isotropic import extrapolate  # noqa: E402
 
 
 def main(argv):

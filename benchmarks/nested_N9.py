@@ -3,7 +3,7 @@
 Run:  python benchmarks/nested_N9.py [N] [--workers W] [--baseline]
 
 Integrates the normalization and ``<W_{i,j}>`` for every grain with the
-modular engine (``exact.nested.integrate_layers``), compares each with the
+modular engine (``forcenet.exact.thesis.nested.integrate_layers``), compares each with the
 exact core (order-ideal DP), and prints times and peak memory.  With
 ``--baseline`` the normalization is also integrated with the literal
 Fraction/dictionary version first, in the same run, for the ratio
@@ -20,8 +20,8 @@ import multiprocessing
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from exact import mean_W, normalization  # noqa: E402
-from exact.nested import integrate_layers  # noqa: E402
+from forcenet.exact import mean_W, normalization  # noqa: E402
+from forcenet.exact.thesis.nested import integrate_layers  # noqa: E402
 
 
 def _peak_gb():

@@ -2,7 +2,7 @@
 
 Reads exact tables written by ``forcenet table --N N --format json --out
 out/mean_W_N{N}.json`` (computing missing ones), compares them with
-``numeric.limit_shape`` and fits the finite-size corrections
+``forcenet.numeric.limit_shape.surface`` and fits the finite-size corrections
 ``|exact - limit| ~ A N^(-alpha)`` over the largest N.  Writes figures to
 ``notes/figures/`` and prints Markdown for ``notes/scaling_limit.md``.
 
@@ -20,13 +20,13 @@ from fractions import Fraction
 
 import numpy as np
 
-from numeric.limit_shape import bulk_response, lattice_response
+from forcenet.numeric.limit_shape.surface import bulk_response, lattice_response
 
 
 def load_table(N: int, directory: str = "out"):
     path = os.path.join(directory, f"mean_W_N{N}.json")
     if not os.path.exists(path):
-        from exact.tables import exact_table, to_json, write_atomic
+        from forcenet.exact.triangle.tables import exact_table, to_json, write_atomic
 
         write_atomic(path, to_json(exact_table(N)) + "\n")
     with open(path) as handle:

@@ -1,9 +1,9 @@
 """Exact-sampler estimates at large N against the scaling limit (issue 6, part 2).
 
 For each N, draws independent uniform configurations with
-``numeric.exact_sampler`` (seeded), stores the mean <W> table and its standard
+``forcenet.numeric.triangle.exact_sampler`` (seeded), stores the mean <W> table and its standard
 error in ``out/sampled_N{N}_S{samples}.npz``, and compares with
-``numeric.limit_shape`` at fixed (x, z): deviation and its error bar.
+``forcenet.numeric.limit_shape.surface`` at fixed (x, z): deviation and its error bar.
 
 Usage::
 
@@ -18,8 +18,8 @@ import time
 
 import numpy as np
 
-from numeric.exact_sampler import ExactSampler
-from numeric.limit_shape import bulk_response, lattice_response
+from forcenet.numeric.triangle.exact_sampler import ExactSampler
+from forcenet.numeric.limit_shape.surface import bulk_response, lattice_response
 
 
 def sampled(N, samples, seed, batch):

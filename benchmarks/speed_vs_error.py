@@ -19,13 +19,13 @@ import time
 
 import numpy as np
 
-from numeric.autocorr import integrated_time
-from numeric.exact_sampler import ExactSampler
-from numeric.metropolis import TriangleMetropolis
+from forcenet.numeric.autocorr import integrated_time
+from forcenet.numeric.triangle.exact_sampler import ExactSampler
+from forcenet.numeric.triangle.metropolis import TriangleMetropolis
 
 
 def exact_table(N):
-    from exact import mean_W
+    from forcenet.exact import mean_W
 
     return np.array([[float(x) for x in row] + [0.0] * (N - len(row)) for row in mean_W(N)])
 

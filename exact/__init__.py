@@ -1,11 +1,20 @@
-"""Exact results for the force network ensemble of the fully mobilized triangle.
+"""Exact results for the force network ensemble (``forcenet.exact``).
 
 Everything here is exact: Python ``int``, :class:`fractions.Fraction` or sympy
-``Rational``; nothing in this package uses floating point.
+``Rational``; no result is a float.  One subpackage per model:
+
+* :mod:`.triangle`: the fully mobilized triangle (the exact core);
+* :mod:`.thesis`: the thesis's own routes of chapter 4;
+* :mod:`.packing`: the N x P packing when every q is allowed;
+* :mod:`.chicken_wire`: the chicken-wire vertex model of Sec. 7.4;
+* :mod:`.limit_shape`: closed forms of the scaling limit;
+* :mod:`.reference`: independent routes used to check the others.
+
+The most used functions are re-exported here.
 
 Examples
 --------
->>> from exact import count, normalization, mean_W
+>>> from forcenet.exact import count, normalization, mean_W
 >>> count(6)
 286
 >>> normalization(4)
@@ -14,7 +23,7 @@ Fraction(1, 360)
 ['1/7', '5/14', '5/14', '1/7']
 """
 
-from .moments import (
+from .triangle.moments import (
     correlation,
     covariance,
     mean_W,
@@ -23,7 +32,7 @@ from .moments import (
     moment_table,
     variance_table,
 )
-from .staircase import count, count_by_hooks, dimension, normalization
+from .triangle.staircase import count, count_by_hooks, dimension, normalization
 
 __all__ = [
     "count",

@@ -8,7 +8,7 @@ reconstruction is exact, never probabilistic.
 
 Examples
 --------
->>> from exact.modular import primes_below, crt
+>>> from forcenet.exact.modular import primes_below, crt
 >>> ps = primes_below(2**31, 3)
 >>> x = 123456789012345678901234567
 >>> crt([x % p for p in ps], ps)

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from scipy.sparse.linalg import eigs
 
-from numeric.bethe import bethe_residuals, ground_state_sequence, newton_polish, solve_ground_state
-from numeric.chicken_wire import largest_eigenvalue, sector_matrix
+from forcenet.numeric.chicken_wire.bethe import bethe_residuals, ground_state_sequence, newton_polish, solve_ground_state
+from forcenet.numeric.chicken_wire.transfer import largest_eigenvalue, sector_matrix
 
 
 def _tm(L, n, m):
@@ -80,7 +80,7 @@ def test_photon_fugacity_sector_matrix_equals_operator_route():
 
 @pytest.mark.parametrize("L, n, m, tau", [(9, 4, 2, 1.5), (10, 4, 2, 0.75), (11, 6, 3, 1.3), (12, 6, 3, 0.8), (10, 5, 2, 1.4)])
 def test_twisted_bethe_equations_equal_transfer_matrix(L, n, m, tau):
-    from numeric.bethe import follow_fugacity
+    from forcenet.numeric.chicken_wire.bethe import follow_fugacity
 
     sol = solve_ground_state(L, n, m)
     w, u = follow_fugacity(L, sol.w, sol.u, 0.0, math.log(tau))
@@ -90,7 +90,7 @@ def test_twisted_bethe_equations_equal_transfer_matrix(L, n, m, tau):
 
 @pytest.mark.parametrize("L, n, m, tau", [(10, 4, 2, 1.0), (9, 4, 2, 0.8), (12, 4, 2, 1.2)])
 def test_photon_density_is_the_derivative_of_the_transfer_matrix(L, n, m, tau):
-    from numeric.bethe import follow_fugacity, photon_density
+    from forcenet.numeric.chicken_wire.bethe import follow_fugacity, photon_density
 
     sol = solve_ground_state(L, n, m)
     w, u = follow_fugacity(L, sol.w, sol.u, 0.0, math.log(tau))
@@ -100,7 +100,7 @@ def test_photon_density_is_the_derivative_of_the_transfer_matrix(L, n, m, tau):
 
 
 def test_isotropic_point_equals_transfer_matrix_legendre_transform():
-    from numeric.bethe import isotropic_state
+    from forcenet.numeric.chicken_wire.bethe import isotropic_state
 
     L, n, m = 12, 4, 2
     sol = solve_ground_state(L, n, m)
@@ -115,7 +115,7 @@ def test_isotropic_point_equals_transfer_matrix_legendre_transform():
 
 
 def test_isotropic_bad_input():
-    from numeric.bethe import isotropic_sequence, isotropic_state
+    from forcenet.numeric.chicken_wire.bethe import isotropic_sequence, isotropic_state
 
     sol = solve_ground_state(10, 5, 2)
     with pytest.raises(ValueError, match="n = 2m"):

@@ -9,17 +9,16 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from exact.chicken_wire import (
+from forcenet.exact.chicken_wire.model import (
     count_torus,
     count_torus_by_enumeration,
-    largest_eigenvalue_exact,
     row_transitions,
     transfer_matrix,
     vertex_counts_torus,
 )
-from numeric.autocorr import mean_and_stderr
-from numeric.chicken_wire import _Operator, largest_eigenvalue, sector_entropies
-from numeric.chicken_wire_mc import ChickenWire, HexagonMonteCarlo, component
+from forcenet.numeric.autocorr import mean_and_stderr
+from forcenet.numeric.chicken_wire.transfer import _Operator, largest_eigenvalue, perron_root, sector_entropies
+from forcenet.numeric.chicken_wire.monte_carlo import ChickenWire, HexagonMonteCarlo, component
 
 
 @settings(max_examples=12)
@@ -53,10 +52,11 @@ def test_exact_transfer_matrix_trace():
 @pytest.mark.parametrize("L", [4, 5, 6])
 def test_float_eigenvalues_equal_exact_in_every_sector(L):
     for n in range(L + 1):
-        poly, exact = largest_eigenvalue_exact(L, particles=n, dps=30)
+        poly, exact = perron_root(L, particles=n, dps=30)
         assert abs(largest_eigenvalue(L, particles=n) - float(exact)) < 1e-12
         with mpmath.workdps(40):
             assert abs(sum(c * exact**k for k, c in enumerate(poly))) < 1e-25  # a root of its factor
+        assert mpmath.mp.dps == 15  # no global precision was touched
 
 
 def test_two_particle_sector_closed_form():

@@ -8,8 +8,8 @@ from fractions import Fraction
 
 import pytest
 
-from exact import count, count_by_hooks, mean_W, moment_table, normalization
-from exact.packing import mean_W_mobilized
+from forcenet.exact import count, count_by_hooks, mean_W, moment_table, normalization
+from forcenet.exact.packing.mobilized import mean_W_mobilized
 from forcenet.cli import main
 
 
@@ -91,7 +91,7 @@ def test_main_job_writes_three_files_and_cross_checks(tmp_path, capsys):
 
 
 def test_interrupted_write_leaves_nothing(tmp_path, monkeypatch):
-    from exact import tables
+    from forcenet.exact.triangle import tables
 
     def interrupted(src, dst):
         raise KeyboardInterrupt
@@ -103,7 +103,7 @@ def test_interrupted_write_leaves_nothing(tmp_path, monkeypatch):
 
 
 def test_maps_command(capsys):
-    from exact.thesis import lambda_table
+    from forcenet.exact.thesis import lambda_table
 
     code, out, _ = run(["maps", "--N", "6", "--format", "json"], capsys)
     data = json.loads(out)
@@ -219,7 +219,7 @@ def test_bethe_command(capsys):
 def test_entropy_command_closed_forms(capsys):
     import mpmath
 
-    from numeric.isotropic import density_Q, entropy_per_grain
+    from forcenet.numeric.chicken_wire.isotropic import density_Q, entropy_per_grain
 
     code, out, _ = run(["entropy", "--phi", "0.25", "--dps", "50", "--no-bethe", "--format", "json", "--F", "3"], capsys)
     assert code == 0
@@ -232,7 +232,7 @@ def test_entropy_command_closed_forms(capsys):
 
 
 def test_entropy_command_bethe_and_errors(capsys):
-    from numeric.bethe import isotropic_sequence
+    from forcenet.numeric.chicken_wire.bethe import isotropic_sequence
 
     code, out, _ = run(["entropy", "--Q", "1/6", "--L-max", "60", "--quiet", "--format", "json"], capsys)
     assert code == 0

@@ -5,9 +5,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-import exact.ideal_dp as dp
-from exact.baseline import chain_counts
-from exact.staircase import count, shifted_tableaux_count
+import forcenet.exact.triangle.ideal_dp as dp
+from forcenet.exact.reference.dictionary_dp import chain_counts
+from forcenet.exact.triangle.staircase import count, shifted_tableaux_count
 
 
 def mask_to_shape(mask, n):

@@ -1,4 +1,4 @@
-"""Closed forms (7.2)-(7.4) and the Bethe-ansatz entropy on the isotropic line (numeric/isotropic.py)."""
+"""Closed forms (7.2)-(7.4) and the Bethe-ansatz entropy on the isotropic line (numeric/chicken_wire/isotropic.py)."""
 
 from fractions import Fraction
 
@@ -9,7 +9,7 @@ import sympy
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from numeric import isotropic as iso
+from forcenet.numeric.chicken_wire import isotropic as iso
 
 phis = st.floats(min_value=-1.5707, max_value=1.5707, allow_nan=False)
 

@@ -6,9 +6,10 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from exact import mean_W, mean_W_grain, moment
-from exact.baseline import mean_W_dictionary
-from exact.brute import integrate_moment, linear_extension_moments
+from forcenet.exact import mean_W, mean_W_grain, moment
+from forcenet.exact.reference.dictionary_dp import mean_W_dictionary
+from forcenet.exact.reference.integration import integrate_moment
+from forcenet.exact.reference.linear_extensions import linear_extension_moments
 
 layers = st.integers(min_value=2, max_value=14)
 
@@ -92,7 +93,7 @@ def test_dictionary_dp_N12():
 
 
 def test_mean_table_refuses_runs_that_do_not_fit():
-    from exact.ideal_dp import survival_counts
+    from forcenet.exact.triangle.ideal_dp import survival_counts
 
     with pytest.raises(ValueError, match="N=45 is out of range"):
         mean_W(45)

@@ -8,10 +8,10 @@ import sympy
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from exact import mean_W, moment_table
-from exact.triangle import contact_forces
-from numeric.autocorr import AutocorrError, integrated_time, mean_and_stderr
-from numeric.metropolis import TriangleMetropolis, forces_from_q, lateral_forces, q_model_samples
+from forcenet.exact import mean_W, moment_table
+from forcenet.exact.triangle.configuration import contact_forces
+from forcenet.numeric.autocorr import AutocorrError, integrated_time, mean_and_stderr
+from forcenet.numeric.triangle.metropolis import TriangleMetropolis, forces_from_q, lateral_forces, q_model_samples
 
 
 def as_array(table, N):

@@ -4,8 +4,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from exact import correlation, covariance, mean_W, moment, moment_table, variance_table
-from exact.brute import integrate_moment, linear_extension_moments
+from forcenet.exact import correlation, covariance, mean_W, moment, moment_table, variance_table
+from forcenet.exact.reference.integration import integrate_moment
+from forcenet.exact.reference.linear_extensions import linear_extension_moments
 
 
 @pytest.fixture(scope="module")

@@ -8,9 +8,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from exact.packing import mean_W_mobilized
-from numeric.autocorr import mean_and_stderr
-from numeric.packing import (
+from forcenet.exact.packing.mobilized import mean_W_mobilized
+from forcenet.numeric.autocorr import mean_and_stderr
+from forcenet.numeric.packing import (
     PackingMetropolis,
     Scene,
     contact_forces,

@@ -8,9 +8,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from exact import mean_W, moment_table
-from exact.brute import partial_sum_poset
-from numeric.exact_sampler import ExactSampler, removal_probabilities, sample_tableaux
+from forcenet.exact import mean_W, moment_table
+from forcenet.exact.reference.linear_extensions import partial_sum_poset
+from forcenet.numeric.triangle.exact_sampler import ExactSampler, removal_probabilities, sample_tableaux
 
 
 def chi_square_pvalue(observed, expected):
@@ -23,7 +23,7 @@ def chi_square_pvalue(observed, expected):
 def test_tableaux_are_uniform(N, per_tableau):
     import networkx as nx
 
-    from exact.staircase import grain_to_cell
+    from forcenet.exact.triangle.staircase import grain_to_cell
 
     extensions = list(nx.all_topological_sorts(partial_sum_poset(N)))
     K = per_tableau * len(extensions)
@@ -87,7 +87,7 @@ def test_incremental_weights_equal_full_recomputation(N):
 
 
 def test_full_weights_equal_removal_probabilities():
-    from numeric.exact_sampler import _full_phi
+    from forcenet.numeric.triangle.exact_sampler import _full_phi
 
     rng = np.random.default_rng(3)
     n = 12
@@ -103,8 +103,8 @@ def test_full_weights_equal_removal_probabilities():
 
 
 def test_q_from_W_inverts_the_forward_map():
-    from numeric.exact_sampler import q_from_W
-    from numeric.metropolis import forces_from_q
+    from forcenet.numeric.triangle.exact_sampler import q_from_W
+    from forcenet.numeric.triangle.metropolis import forces_from_q
 
     rng = np.random.default_rng(8)
     q = np.tril(rng.random((7, 7)))
@@ -117,7 +117,7 @@ def test_q_from_W_inverts_the_forward_map():
 @pytest.mark.parametrize("N", [6, 12])
 def test_last_layer_q_are_uniform(N):
     # q_{N-1,j} does not enter the weight prod W (Eq. 3.10): independent uniforms (Sec. 3.3.1)
-    from numeric.exact_sampler import q_from_W
+    from forcenet.numeric.triangle.exact_sampler import q_from_W
 
     W = ExactSampler(N, seed=21).sample_W(4000)
     q = q_from_W(W)[:, N - 2, : N - 1]

@@ -8,8 +8,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from exact.brute import integrate_moment, partial_sum_poset
-from exact.staircase import (
+from forcenet.exact.reference.integration import integrate_moment
+from forcenet.exact.reference.linear_extensions import partial_sum_poset
+from forcenet.exact.triangle.staircase import (
     cell_to_grain,
     check_layers,
     count,

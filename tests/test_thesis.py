@@ -9,10 +9,10 @@ import sympy
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from exact import count, mean_W, normalization
-from exact.brute import partial_sum_poset
-from exact.staircase import grain_to_cell
-from exact.thesis import (
+from forcenet.exact import count, mean_W, normalization
+from forcenet.exact.reference.linear_extensions import partial_sum_poset
+from forcenet.exact.triangle.staircase import grain_to_cell
+from forcenet.exact.thesis import (
     boundary_mean_W,
     count_lambda,
     count_maps,
@@ -109,7 +109,7 @@ def test_map_from_tableau_is_a_bijection(N):
 def test_random_tableaux_map_to_valid_maps_with_first_row_code(N, seed):
     import numpy as np
 
-    from numeric.exact_sampler import sample_tableaux
+    from forcenet.numeric.triangle.exact_sampler import sample_tableaux
 
     T_arr = sample_tableaux(N, 1, np.random.default_rng(seed))[0]
     n = N - 1
@@ -148,7 +148,7 @@ def _is_standard_shifted_tableau(N, T):
 @given(st.integers(min_value=3, max_value=12), st.data())
 def test_every_map_has_a_tableau(N, data):
     """Surjectivity of the bijection, for maps drawn from the inequalities alone (proof in notes/chapter4.md)."""
-    from exact.thesis import tableau_from_map
+    from forcenet.exact.thesis import tableau_from_map
 
     h = _random_map(N, data)
     assert is_map(h, N - 2)
@@ -164,7 +164,7 @@ def test_bad_q():
 
 @pytest.mark.parametrize("N", [3, 4, 5, 6])
 def test_inverse_bijection(N):
-    from exact.thesis import tableau_from_map
+    from forcenet.exact.thesis import tableau_from_map
 
     for h in maps(N):
         assert map_from_tableau(N, tableau_from_map(N, h)) == h
@@ -174,13 +174,13 @@ def test_inverse_bijection(N):
 
 @pytest.mark.parametrize("N", [2, 3, 4, 5, 6, 7])
 def test_maps_route_full_table(N):
-    from exact.thesis import mean_W_by_maps
+    from forcenet.exact.thesis import mean_W_by_maps
 
     assert mean_W_by_maps(N) == mean_W(N)
 
 
 def test_tableau_from_invalid_map_raises():
-    from exact.thesis import tableau_from_map
+    from forcenet.exact.thesis import tableau_from_map
 
     with pytest.raises(ValueError, match="not a map"):
         tableau_from_map(5, {1: (1,), 2: (2, 1), 3: (1, 1, 1)})  # violates (4.89)
@@ -188,7 +188,7 @@ def test_tableau_from_invalid_map_raises():
 
 @pytest.mark.parametrize("N", [2, 3, 4, 5, 6, 7])
 def test_thesis_map_formula_4_91_full_table(N):
-    from exact.thesis import mean_W_thesis_maps
+    from forcenet.exact.thesis import mean_W_thesis_maps
 
     assert mean_W_thesis_maps(N) == mean_W(N)
 
@@ -196,7 +196,7 @@ def test_thesis_map_formula_4_91_full_table(N):
 @pytest.mark.slow
 def test_thesis_map_formula_4_91_full_table_N8():
     """All 21 bulk grains at N = 8 by enumerating the modified maps (~35 min)."""
-    from exact.thesis import mean_W_thesis_maps
+    from forcenet.exact.thesis import mean_W_thesis_maps
 
     assert mean_W_thesis_maps(8) == mean_W(8)
 
@@ -213,13 +213,13 @@ def test_bottom_layer_is_the_average_of_the_layer_above(N):
 
 @pytest.mark.parametrize("N", range(2, 10))
 def test_gamma_recursion_full_table(N):
-    from exact.thesis import mean_W_gamma
+    from forcenet.exact.thesis import mean_W_gamma
 
     assert mean_W_gamma(N) == mean_W(N)
 
 
 def test_gamma_sums_count_modified_maps():
-    from exact.thesis import gamma_sums
+    from forcenet.exact.thesis import gamma_sums
 
     N, q, r = 6, 1, 3
     line = {N - r + j: {q + j} for j in range(r - 1) if N - r + j <= N - 2}
@@ -236,8 +236,8 @@ def test_gamma_sums_count_modified_maps():
 @settings(max_examples=20)
 @given(st.integers(min_value=3, max_value=7), st.data())
 def test_sth_order_defects_moments(N, data):
-    from exact import moment
-    from exact.thesis import moment_thesis_maps
+    from forcenet.exact import moment
+    from forcenet.exact.thesis import moment_thesis_maps
 
     i = data.draw(st.integers(min_value=1, max_value=N - 1))
     j = data.draw(st.integers(min_value=1, max_value=i))
@@ -246,7 +246,7 @@ def test_sth_order_defects_moments(N, data):
 
 
 def test_sth_order_defects_refuse_bottom_layer():
-    from exact.thesis import moment_thesis_maps
+    from forcenet.exact.thesis import moment_thesis_maps
 
     with pytest.raises(ValueError, match="bottom layer"):
         moment_thesis_maps(5, (5, 2), 2)
@@ -254,7 +254,7 @@ def test_sth_order_defects_refuse_bottom_layer():
 
 @pytest.mark.parametrize("N", [5, 6, 7, 8, 9, 10])
 def test_lambda_chain_equals_whole_table(N):
-    from exact.thesis import _lambda_sum_mod, _lambda_weighted_sums_box
+    from forcenet.exact.thesis.recursions import _lambda_sum_mod, _lambda_weighted_sums_box
 
     prime = 2147483647
     reference = [x % prime for x in _lambda_weighted_sums_box(N)]
@@ -264,7 +264,7 @@ def test_lambda_chain_equals_whole_table(N):
 
 @pytest.mark.slow
 def test_lambda_normalization_N12():
-    from exact.thesis import count_lambda
+    from forcenet.exact.thesis import count_lambda
 
     assert count_lambda(12) == count(12)
 
@@ -272,8 +272,8 @@ def test_lambda_normalization_N12():
 @pytest.mark.parametrize("N", [3, 4, 5, 6, 7])
 def test_maps_route_moments_every_grain(N):
     # map counting (through the tableau bijection) against the exact core, s <= 3, bottom layer included
-    from exact import moment
-    from exact.thesis import moments_by_maps
+    from forcenet.exact import moment
+    from forcenet.exact.thesis import moments_by_maps
 
     Z, moments, _ = moments_by_maps(N, s_max=3)
     assert Z == count_lambda(N)
@@ -287,8 +287,8 @@ def test_maps_route_moments_every_grain(N):
 @settings(max_examples=25, deadline=None)
 @given(st.integers(min_value=2, max_value=7), st.data())
 def test_maps_route_correlations(N, data):
-    from exact import correlation
-    from exact.thesis import moments_by_maps
+    from forcenet.exact import correlation
+    from forcenet.exact.thesis import moments_by_maps
 
     def grain():
         i = data.draw(st.integers(min_value=1, max_value=N))
@@ -304,8 +304,8 @@ def test_maps_route_correlations(N, data):
 @given(st.integers(min_value=3, max_value=5), st.data())
 def test_maps_route_equals_nested_integration(N, data):
     # two thesis routes: map counting and the nested-matrix integration (4.14)-(4.46)
-    from exact.nested import moment_nested
-    from exact.thesis import moments_by_maps
+    from forcenet.exact.thesis.nested import moment_nested
+    from forcenet.exact.thesis import moments_by_maps
 
     i1 = data.draw(st.integers(min_value=1, max_value=N))
     g1 = (i1, data.draw(st.integers(min_value=1, max_value=i1)))
@@ -319,7 +319,7 @@ def test_maps_route_equals_nested_integration(N, data):
 
 
 def test_maps_route_bad_input():
-    from exact.thesis import moments_by_maps
+    from forcenet.exact.thesis import moments_by_maps
 
     with pytest.raises(ValueError, match="s_max"):
         moments_by_maps(4, 0)
@@ -330,7 +330,7 @@ def test_maps_route_bad_input():
 @pytest.mark.parametrize("N", [3, 4, 5, 6, 7])
 def test_printed_fundamental_relations_give_the_normalization(N):
     # (4.28)-(4.31) and (4.46) read literally: L t(W=1) R over the index tuples (4.32)
-    from exact.thesis import normalization_fundamental
+    from forcenet.exact.thesis import normalization_fundamental
 
     assert normalization_fundamental(N) == normalization(N)
 
@@ -339,7 +339,7 @@ def test_printed_fundamental_relations_give_the_normalization(N):
 def test_right_vector_is_lambda_over_factorials_4_49(p):
     from math import factorial
 
-    from exact.thesis import right_vector
+    from forcenet.exact.thesis import right_vector
 
     R = right_vector(p)
     lam = lambda_table(p)
@@ -357,7 +357,7 @@ def test_right_vector_is_lambda_over_factorials_4_49(p):
 @given(st.integers(min_value=1, max_value=4), st.data())
 def test_psi_is_a_product_of_central_integral_coefficients(p, data):
     # (4.30) recursively equals (4.29) as a product; the first factor is (4.25)'s psi^{2-i1}_{1,2-j1}
-    from exact.thesis import psi_fundamental
+    from forcenet.exact.thesis import psi_fundamental
 
     tuples = list(index_tuples(p))
     i = data.draw(st.sampled_from(tuples))
@@ -377,7 +377,7 @@ def test_psi_is_a_product_of_central_integral_coefficients(p, data):
 @given(st.integers(min_value=4, max_value=9), st.data())
 def test_gamma_bulk_integer_equals_three_gamma_sums(N, data):
     """One combined modular pass (last row as a chain) = the three object-array sums."""
-    from exact.thesis import gamma_bulk_integer, gamma_sums
+    from forcenet.exact.thesis import gamma_bulk_integer, gamma_sums
 
     q = data.draw(st.integers(min_value=1, max_value=N - 2))
     r = data.draw(st.integers(min_value=2, max_value=N - q))
@@ -389,7 +389,7 @@ def test_gamma_bulk_integer_equals_three_gamma_sums(N, data):
 @given(st.integers(min_value=2, max_value=7), st.data())
 def test_last_row_chain_equals_built_row(p, data):
     """The chain sum over row p equals building row p (_transfer) and summing it, any raised bounds and weight."""
-    from exact.thesis import _last_row_chain, _mod_reducer, _transfer
+    from forcenet.exact.thesis.recursions import _last_row_chain, _mod_reducer, _transfer
 
     prime = 1_000_003
     reduce = _mod_reducer(prime)
@@ -407,9 +407,9 @@ def test_last_row_chain_equals_built_row(p, data):
 
 
 def test_gamma_bulk_integer_rejects_bad_grains():
-    from exact.thesis import gamma_bulk_integer
+    from forcenet.exact.thesis import gamma_bulk_integer
 
-    with pytest.raises(ValueError, match=r"\(q, r\) = \(3, 5\)"):
+    with pytest.raises(ValueError, match=r"r=5 is out of range: r must be an integer in 2\.\.4"):
         gamma_bulk_integer(7, 3, 5)
-    with pytest.raises(ValueError, match="q, r"):
+    with pytest.raises(ValueError, match="q=0 is out of range"):
         gamma_bulk_integer(7, 0, 2)

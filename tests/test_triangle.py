@@ -9,8 +9,8 @@ import sympy
 from hypothesis import given
 from hypothesis import strategies as st
 
-from exact.brute import partial_sum_poset
-from exact.triangle import (
+from forcenet.exact.reference.linear_extensions import partial_sum_poset
+from forcenet.exact.triangle.configuration import (
     W_from_partial_sums,
     W_from_q,
     bounds,

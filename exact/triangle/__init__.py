@@ -1,0 +1,21 @@
+"""The fully mobilized triangle (Sec. 4.2): the exact core.
+
+* :mod:`.staircase`: tableau counts, the normalization, grain <-> cell;
+* :mod:`.ideal_dp`: multi-modular path sums over order ideals (the engine);
+* :mod:`.moments`: ``<W>``, ``<W^s>``, correlations, exactly;
+* :mod:`.spacings`: Dirichlet spacings given the ranks;
+* :mod:`.configuration`: one configuration, W <-> q <-> partial sums <-> contact forces;
+* :mod:`.tables`: JSON / CSV / LaTeX tables, atomic writes.
+
+May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`.
+"""
+
+from .configuration import W_from_q, contact_forces, in_ensemble, partial_sums, q_from_W
+from .moments import correlation, covariance, mean_W, mean_W_grain, moment, moment_table, variance_table
+from .staircase import cell_to_grain, count, count_by_hooks, dimension, grain_to_cell, normalization
+
+__all__ = [
+    "count", "count_by_hooks", "dimension", "normalization", "grain_to_cell", "cell_to_grain",
+    "mean_W", "mean_W_grain", "moment", "moment_table", "correlation", "covariance", "variance_table",
+    "W_from_q", "q_from_W", "partial_sums", "in_ensemble", "contact_forces",
+]

@@ -1,0 +1,272 @@
+"""Exact moments of the vertical forces W of the fully mobilized triangle.
+
+A uniform point of the order polytope is a uniform random standard tableau
+``T`` of the shifted staircase together with ``d`` sorted independent uniform
+numbers placed by rank (``notes/order_polytope.md``).  Hence, with ``g`` the
+number of gaps between the two partial sums that bound ``W[i][j]``,
+
+* ``E[W] = E[g] / (d + 1)`` (order statistics),
+* ``E[W**s] = E[g (g+1) ... (g+s-1)] / ((d+1) (d+2) ... (d+s))`` (a sum of
+  ``g`` Dirichlet(1, ..., 1) spacings is Beta(g, d + 1 - g)),
+* ``E[W W'] = E[g g' + |overlap|] / ((d+1) (d+2))``.
+
+The expectations over tableaux are exact path sums over order ideals
+(:mod:`forcenet.exact.triangle.ideal_dp`).  All results are :class:`fractions.Fraction`.
+
+References
+----------
+S. Ostojic, PhD thesis (2006), Eqs. (4.3), (4.63)-(4.85).
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from functools import lru_cache
+from math import comb, factorial
+
+import numpy as np
+
+from ..modular import crt, primes_for_bound
+from ..validation import check_grain, check_int, check_layers
+from .ideal_dp import marked_chain_sums, parts_table, survival_counts
+from .spacings import rising
+from .staircase import count, dimension
+
+__all__ = [
+    "mean_W",
+    "mean_W_grain",
+    "moment",
+    "moment_table",
+    "correlation",
+    "covariance",
+    "variance_table",
+]
+
+
+@lru_cache(maxsize=8)
+def _survival(N: int):
+    return survival_counts(N)
+
+
+def _mean_numerator(N: int, i: int, j: int, C) -> int:
+    """``total (d+1) E[W_ij]`` = survival weight of ideals between the bounds."""
+    m = N - i + 1  # diagonal of row i
+    upper = C[j - 1][m]
+    lower = C[j][m] if j <= N - 1 else 0  # lambda_N = 0: no N-th part
+    return upper - lower
+
+
+def mean_W(N: int, progress=None, memory_bytes: int | None = None) -> list[list[Fraction]]:
+    """Exact table of ``<W_{i,j}>``, rows ``i = 1..N``, ``j = 1..i``.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+    progress : callable, optional
+        Progress callback of :func:`forcenet.exact.triangle.ideal_dp.survival_counts`.
+    memory_bytes : int, optional
+        Budget for the residue tables (default 12 GiB); primes are processed
+        in chunks that fit.
+
+    Returns
+    -------
+    list of lists of Fraction
+
+    Examples
+    --------
+    >>> [str(x) for x in mean_W(5)[-1]]
+    ['1/11', '1/4', '7/22', '1/4', '1/11']
+
+    References
+    ----------
+    Ostojic (2006), Eqs. (4.63)-(4.77); Fig. 4.3 compares N = 11.
+    """
+    N = check_layers(N)
+    if progress is not None or memory_bytes is not None:
+        C, total = survival_counts(N, progress, **({"memory_bytes": memory_bytes} if memory_bytes else {}))
+    else:
+        C, total = _survival(N)
+    d = dimension(N)
+    den = total * (d + 1)
+    return [[Fraction(_mean_numerator(N, i, j, C), den) for j in range(1, i + 1)] for i in range(1, N + 1)]
+
+
+def mean_W_grain(N: int, i: int, j: int) -> Fraction:
+    """Exact ``<W_{i,j}>`` of one grain.
+
+    Examples
+    --------
+    >>> mean_W_grain(6, 6, 2)
+    Fraction(413, 2288)
+    """
+    N = check_layers(N)
+    i, j = check_grain(N, (i, j))
+    C, total = _survival(N)
+    d = dimension(N)
+    return Fraction(_mean_numerator(N, i, j, C), total * (d + 1))
+
+
+def _eligible(lam: np.ndarray, N: int, i: int, j: int) -> np.ndarray:
+    """Ideals lying between the partial sums that bound ``W_ij`` (bool per mask)."""
+    m = N - i + 1
+    return (lam[:, j - 1] >= m) & (lam[:, j] < m)
+
+
+_STATE_BUDGET = 8 * 2**30  # bytes of one marked-chain DP (states x primes x ideals)
+
+
+def _check_state_memory(N: int, n_states: int, n_primes: int) -> None:
+    nbytes = (1 << (N - 1)) * n_states * n_primes * 8 * 2
+    if nbytes > _STATE_BUDGET:
+        raise ValueError(
+            f"N={N} is out of range for this moment: its path-sum table needs ~{nbytes / 2**30:.0f} GiB "
+            f"(budget {_STATE_BUDGET / 2**30:.0f} GiB); use a smaller N (about N <= 20 for s = 2)"
+        )
+
+
+def moment_table(N: int, s: int = 2, *, memory_bytes: int = 4 * 2**30, progress=None) -> list[list[Fraction]]:
+    """Exact ``<W_{i,j}^s>`` for every grain.
+
+    One forward pass over the ideal lattice per batch of grains; the state of a
+    grain counts multisets of ``s`` ideals between its bounding partial sums,
+    so ``E[g^(s rising)] = s! * F[full][s] / count``.
+
+    Examples
+    --------
+    >>> [str(x) for x in moment_table(4, 2)[-1]]
+    ['1/28', '9/56', '9/56', '1/28']
+    """
+    N = check_layers(N)
+    s = check_int(s, "s", 1)
+    n, d = N - 1, dimension(N)
+    total = count(N)
+    grains = [(i, j) for i in range(1, N + 1) for j in range(1, i + 1)]
+    if n == 0:
+        return [[Fraction(1)]]
+    primes = primes_for_bound(total * comb(d + s, s))
+    _check_state_memory(N, s + 1, len(primes))
+    lam = parts_table(n)
+    per_grain = (1 << n) * (s + 1) * len(primes) * 8 * 3  # state table and temporaries
+    batch = max(1, min(len(grains), memory_bytes // per_grain))
+    values = {}
+    for start in range(0, len(grains), batch):
+        chunk = grains[start : start + batch]
+        elig = np.stack([_eligible(lam, N, i, j) for i, j in chunk], axis=1)  # (masks, B)
+
+        def update(masks, acc, elig=elig, B=len(chunk)):
+            acc = acc.reshape(acc.shape[0], B, s + 1, -1)
+            cum = np.cumsum(acc, axis=2)
+            out = np.where(elig[masks][:, :, None, None], cum, acc)
+            return out.reshape(acc.shape[0], B * (s + 1), -1)
+
+        initial = ([1] + [0] * s) * len(chunk)
+        final = marked_chain_sums(n, primes, initial, update, progress)
+        final = final.reshape(len(chunk), s + 1, -1)
+        for b, grain in enumerate(chunk):
+            multisets = crt(final[b, s], primes)
+            values[grain] = Fraction(factorial(s) * multisets, total * rising(d + 1, s))
+    return [[values[(i, j)] for j in range(1, i + 1)] for i in range(1, N + 1)]
+
+
+def moment(N: int, grain, s: int) -> Fraction:
+    """Exact ``<W_{i,j}^s>`` for one grain and any order ``s >= 1``.
+
+    Examples
+    --------
+    >>> moment(5, (5, 1), 1)
+    Fraction(1, 11)
+    >>> moment(5, (5, 1), 2)
+    Fraction(1, 66)
+    """
+    N = check_layers(N)
+    i, j = check_grain(N, grain)
+    s = check_int(s, "s", 1)
+    if s == 1:
+        return mean_W_grain(N, i, j)
+    return _single_moment(N, i, j, s)
+
+
+@lru_cache(maxsize=256)
+def _single_moment(N: int, i: int, j: int, s: int) -> Fraction:
+    n, d = N - 1, dimension(N)
+    total = count(N)
+    primes = primes_for_bound(total * comb(d + s, s))
+    _check_state_memory(N, s + 1, len(primes))
+    lam = parts_table(n)
+    elig = _eligible(lam, N, i, j)
+
+    def update(masks, acc):
+        return np.where(elig[masks][:, None, None], np.cumsum(acc, axis=1), acc)
+
+    final = marked_chain_sums(n, primes, [1] + [0] * s, update)
+    return Fraction(factorial(s) * crt(final[s], primes), total * rising(d + 1, s))
+
+
+def correlation(N: int, grain1, grain2) -> Fraction:
+    """Exact two-point function ``<W_{i,j} W_{k,l}>``.
+
+    Examples
+    --------
+    >>> correlation(4, (4, 1), (4, 4))
+    Fraction(1, 56)
+    >>> correlation(4, (4, 2), (4, 2)) == moment(4, (4, 2), 2)
+    True
+
+    References
+    ----------
+    Ostojic (2006), Sec. 4.5.2.
+    """
+    N = check_layers(N)
+    g1 = check_grain(N, grain1, "grain1")
+    g2 = check_grain(N, grain2, "grain2")
+    return _correlation(N, *sorted([g1, g2]))
+
+
+@lru_cache(maxsize=256)
+def _correlation(N: int, g1, g2) -> Fraction:
+    n, d = N - 1, dimension(N)
+    total = count(N)
+    primes = primes_for_bound(total * (d + 1) * (d + 2))
+    _check_state_memory(N, 4, len(primes))
+    lam = parts_table(n)
+    e1 = _eligible(lam, N, *g1)
+    e2 = _eligible(lam, N, *g2)
+
+    def update(masks, acc):
+        a, b = e1[masks][:, None], e2[masks][:, None]
+        s00, s10, s01, s11 = acc[:, 0], acc[:, 1], acc[:, 2], acc[:, 3]
+        return np.stack(
+            [s00, s10 + a * s00, s01 + b * s00, s11 + a * s01 + b * s10 + 2 * (a & b) * s00],
+            axis=1,
+        )
+
+    final = marked_chain_sums(n, primes, [1, 0, 0, 0], update)
+    return Fraction(crt(final[3], primes), total * (d + 1) * (d + 2))
+
+
+def covariance(N: int, grain1, grain2) -> Fraction:
+    """``<W W'> - <W><W'>``, exact.
+
+    Examples
+    --------
+    >>> covariance(4, (4, 1), (4, 4))
+    Fraction(-1, 392)
+    """
+    N = check_layers(N)
+    g1 = check_grain(N, grain1, "grain1")
+    g2 = check_grain(N, grain2, "grain2")
+    return correlation(N, g1, g2) - mean_W_grain(N, *g1) * mean_W_grain(N, *g2)
+
+
+def variance_table(N: int) -> list[list[Fraction]]:
+    """Exact ``Var W_{i,j}`` for every grain.
+
+    Examples
+    --------
+    >>> [str(x) for x in variance_table(4)[-1]]
+    ['3/196', '13/392', '13/392', '3/196']
+    """
+    means = mean_W(N)
+    second = moment_table(N, 2)
+    return [[m2 - m * m for m, m2 in zip(r1, r2)] for r1, r2 in zip(means, second)]

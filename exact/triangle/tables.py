@@ -1,0 +1,123 @@
+"""Exact tables: JSON, CSV and LaTeX renderings and atomic file output.
+
+Examples
+--------
+>>> from forcenet.exact.triangle.tables import exact_table, to_json
+>>> print(to_json(exact_table(2)))
+{"N": 2, "count": "1", "normalization": "1", "mean_W": [["1"], ["1/2", "1/2"]]}
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from fractions import Fraction
+
+from .moments import mean_W, moment_table
+from ..validation import check_int, check_layers
+from .staircase import count, normalization
+
+__all__ = ["exact_table", "to_json", "to_csv", "to_latex", "write_atomic", "fraction_str"]
+
+
+def fraction_str(x) -> str:
+    """``"p/q"`` or ``"p"`` for an exact rational.
+
+    Examples
+    --------
+    >>> fraction_str(Fraction(3, 6)), fraction_str(Fraction(4, 2))
+    ('1/2', '2')
+    """
+    x = Fraction(x)
+    return str(x.numerator) if x.denominator == 1 else f"{x.numerator}/{x.denominator}"
+
+
+def exact_table(N: int, moments: int = 1, mean_table=None, progress=None, moment_tables=None) -> dict:
+    """The exact table as a dict of exact values (Fractions and ints).
+
+    Keys: ``N``, ``count``, ``normalization``, ``mean_W`` and, for
+    ``moments >= 2``, ``mean_W2`` ... ``mean_W{moments}``.
+    """
+    N = check_layers(N)
+    moments = check_int(moments, "moments", 1)
+    table = {
+        "N": N,
+        "count": count(N),
+        "normalization": normalization(N),
+        "mean_W": mean_table if mean_table is not None else mean_W(N, progress),
+    }
+    for s in range(2, moments + 1):  # moment_tables: {s: table} from another route, if given
+        table[f"mean_W{s}"] = (moment_tables or {}).get(s) or moment_table(N, s)
+    return table
+
+
+def _moment_keys(table):
+    return [k for k in table if k.startswith("mean_W")]
+
+
+def to_json(table: dict) -> str:
+    """JSON with exact values as strings (schema in the README)."""
+    out = {"N": table["N"], "count": str(table["count"]), "normalization": fraction_str(table["normalization"])}
+    for key in _moment_keys(table):
+        out[key] = [[fraction_str(x) for x in row] for row in table[key]]
+    return json.dumps(out)
+
+
+def to_csv(table: dict) -> str:
+    """One line per grain: ``i,j,mean_W[,mean_W2...]`` with exact values."""
+    keys = _moment_keys(table)
+    lines = ["i,j," + ",".join(keys)]
+    for i, row in enumerate(table["mean_W"], start=1):
+        for j in range(1, len(row) + 1):
+            lines.append(f"{i},{j}," + ",".join(fraction_str(table[k][i - 1][j - 1]) for k in keys))
+    return "\n".join(lines) + "\n"
+
+
+def _latex_fraction(x) -> str:
+    x = Fraction(x)
+    if x.denominator == 1:
+        return str(x.numerator)
+    return rf"\frac{{{x.numerator}}}{{{x.denominator}}}"
+
+
+def to_latex(table: dict, key: str = "mean_W") -> str:
+    """A LaTeX ``tabular`` of one moment table, row ``i`` per line."""
+    rows = table[key]
+    N = len(rows)
+    label = {"mean_W": r"\langle W_{i,j}\rangle"}.get(key, rf"\langle W_{{i,j}}^{{{key[6:]}}}\rangle")
+    lines = [
+        rf"% {label} for the fully mobilized triangle, N = {N} (forcenet)",
+        r"\begin{tabular}{r|" + "c" * N + "}",
+        r"$i \backslash j$ & " + " & ".join(str(j) for j in range(1, N + 1)) + r" \\ \hline",
+    ]
+    for i, row in enumerate(rows, start=1):
+        cells = [f"${_latex_fraction(x)}$" for x in row] + [""] * (N - len(row))
+        lines.append(f"{i} & " + " & ".join(cells) + r" \\")
+    lines.append(r"\end{tabular}")
+    return "\n".join(lines) + "\n"
+
+
+def write_atomic(path, text: str) -> None:
+    """Write ``text`` to ``path`` atomically (temporary file + rename).
+
+    An interrupted run (Ctrl-C included) leaves either the old file or none,
+    never a truncated one.
+    """
+    path = os.fspath(path)
+    directory = os.path.dirname(os.path.abspath(path))
+    os.makedirs(directory, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=directory, prefix=".tmp-", suffix=os.path.basename(path))
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600; give the usual permissions
+    try:
+        with os.fdopen(fd, "w") as handle:
+            handle.write(text)
+            handle.flush()
+            os.fsync(handle.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise

@@ -1,0 +1,214 @@
+"""The Metropolis sampler of Sec. 3.2.4 on the N x P packing, and the response G(i, j) (Sec. 3.3).
+
+May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.numeric.autocorr`,
+:mod:`.scene`, :mod:`.networks`.
+
+Examples
+--------
+>>> from forcenet.numeric.packing.scene import Scene
+>>> scene = Scene(N=4, P=5, F=10.0, mg=1.0, j0=3)
+>>> sampler = PackingMetropolis(scene, seed=1)
+>>> chain = sampler.run(sweeps=500, burn_in=100)
+>>> chain.shape
+(500, 4, 5)
+>>> bool(abs(chain[:, -1].sum(axis=1) - (10 + 4 * 5 * 1.0)).max() < 1e-9)  # the floor carries all
+True
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .networks import maximin_network
+from .scene import Scene, forces_from_lateral, forces_from_q, lateral_forces
+
+__all__ = ["PackingMetropolis", "response"]
+
+
+class PackingMetropolis:
+    """Metropolis sampler of Sec. 3.2.4 on the N x P packing.
+
+    A move picks a free grain (``i < N``, ``j < P``), draws its q uniformly in
+    [0, 1], recomputes ``W`` in its light cone and (finite ``ph``) every lateral
+    force; a negative force rejects the move, otherwise it is accepted with
+    probability ``min(1, prod W_new / prod W_old)`` over the free grains
+    (Eq. 3.10).
+
+    Parameters
+    ----------
+    scene : Scene
+    seed : int or numpy.random.Generator, optional
+    step : float or None
+        ``None``: the thesis's move, a new q uniform in [0, 1].  A width in
+        (0, 1]: ``q + step * U(-1, 1)`` reflected into [0, 1] (symmetric, so
+        the same acceptance rule), for scenes where the F4 >= 0 constraints
+        confine q to narrow ranges (Fig. 3.6).
+    q0 : array, optional
+        Initial state, shape ``(N-1, P)``.  Default: ``q = 1/2`` when every
+        q is allowed (``ph=None``); otherwise the network that maximizes the
+        smallest force (a linear program, :func:`maximin_network`), with a
+        clear error if no repulsive network exists.
+
+    Examples
+    --------
+    >>> s = Scene(N=5, P=9, F=10.0, pv=1.0, ph=1.0)
+    >>> m = PackingMetropolis(s, seed=3)
+    >>> chain = m.run(sweeps=200, burn_in=50)
+    >>> 0.05 < m.acceptance_rate < 1
+    True
+    """
+
+    def __init__(self, scene: Scene, seed=None, q0=None, step: float | None = None):
+        if not isinstance(scene, Scene):
+            raise TypeError(f"scene={scene!r}: expected a forcenet.numeric.packing.Scene")
+        if step is not None and not (0 < step <= 1):
+            raise ValueError(f"step={step} is out of range: the proposal width must be in (0, 1] (or None)")
+        self.step = step
+        self.scene = scene
+        self.rng = np.random.default_rng(seed)
+        N, P = scene.N, scene.P
+        if q0 is None:
+            self.q = self._feasible_start()
+        else:
+            self.q = np.array(q0, dtype=float)
+            if self.q.shape != (N - 1, P):
+                raise ValueError(f"q0 has shape {self.q.shape}, expected {(N - 1, P)}")
+            if ((self.q < 0) | (self.q > 1)).any():
+                raise ValueError("q0: every q must lie in [0, 1]")
+            self.q[:, -1] = 1.0
+        self.W = forces_from_q(self.q, scene)
+        if not self._feasible(self.q, self.W):
+            raise ValueError("q0: the initial state has a negative force or a zero weight; pass a feasible q0")
+        self.grains = [(i, j) for i in range(N - 1) for j in range(P - 1)]
+        self.accepted = 0
+        self.attempted = 0
+        self.rejected_by_constraint = 0
+
+    def _feasible_start(self) -> np.ndarray:
+        """``q = 1/2`` (fully mobilized), else the force network of largest minimal force.
+
+        With a finite ``ph`` all forces are affine in the ``(N-1)(P-1)`` free
+        lateral forces (Sec. 3.2.2); a linear program maximizes the smallest
+        force, which gives a strictly interior start, or proves that no
+        repulsive network exists.
+        """
+        N, P = self.scene.N, self.scene.P
+        q = np.full((N - 1, P), 0.5)
+        q[:, -1] = 1.0
+        if self.scene.ph is None:
+            return q
+        x, slack = maximin_network(self.scene)
+        if slack <= 0:
+            raise ValueError(
+                f"no force network with all forces > 0 exists for {self.scene}: "
+                f"the largest smallest force is {slack:.3g}; raise ph or lower F"
+            )
+        f = forces_from_lateral(x, self.scene)
+        F5, F6 = f["F5"][:-1, :-1], f["F6"][:-1, :-1]
+        q[:, :-1] = F5 / (F5 + F6)
+        return q
+
+    def _feasible(self, q, W) -> bool:
+        if (W[:-1, :-1] <= 0).any():
+            return False
+        if self.scene.ph is None:
+            return True
+        return bool((lateral_forces(q, W, self.scene) >= -1e-9 * max(1.0, self.scene.ph)).all())
+
+    @property
+    def acceptance_rate(self) -> float:
+        return self.accepted / self.attempted if self.attempted else float("nan")
+
+    def _propose(self, i: int, j: int, new: float) -> bool:
+        scene, N, P, mg = self.scene, self.scene.N, self.scene.P, self.scene.mg
+        old = self.q[i, j]
+        self.q[i, j] = new
+        W_new = self.W.copy()
+        lo, hi = j, j + 1  # the light cone of grain (i, j), Eq. (3.9)
+        for k in range(i + 1, N):
+            hi = min(P, hi + 1)
+            w, qq = W_new[k - 1], self.q[k - 1]
+            row = qq[lo:hi] * w[lo:hi] + mg
+            left = max(lo, 1)
+            row[left - lo :] += (1 - qq[left - 1 : hi - 1]) * w[left - 1 : hi - 1]
+            W_new[k, lo:hi] = row
+        free_new = W_new[i + 1 : N - 1, lo : P - 1]
+        if (free_new <= 0).any():
+            self.q[i, j] = old
+            return False
+        if scene.ph is not None and (lateral_forces(self.q, W_new, scene) < -1e-9 * max(1.0, scene.ph)).any():
+            self.rejected_by_constraint += 1
+            self.q[i, j] = old
+            return False
+        log_ratio = float(np.log(free_new).sum() - np.log(self.W[i + 1 : N - 1, lo : P - 1]).sum())
+        if log_ratio >= 0 or self.rng.random() < math.exp(log_ratio):
+            self.W = W_new
+            return True
+        self.q[i, j] = old
+        return False
+
+    def sweep(self, count: int = 1) -> None:
+        """``count`` sweeps of ``(N-1)(P-1)`` single-grain updates."""
+        n = len(self.grains)
+        for _ in range(count):
+            for k, value in zip(self.rng.integers(n, size=n), self.rng.random(n)):
+                i, j = self.grains[k]
+                if self.step is not None:  # symmetric local move, reflected into [0, 1]
+                    value = abs(self.q[i, j] + self.step * (2 * value - 1))
+                    value = 2 - value if value > 1 else value
+                self.attempted += 1
+                if self._propose(i, j, value):
+                    self.accepted += 1
+
+    def run(self, sweeps: int, burn_in: int = 0, progress=None, record_q: bool = False):
+        """Burn in, then record ``W`` (and ``q`` if asked) after each sweep.
+
+        Returns ``W`` of shape ``(sweeps, N, P)``, or ``(W, q)``.
+        """
+        if sweeps < 1 or burn_in < 0:
+            raise ValueError(f"sweeps={sweeps}, burn_in={burn_in}: need sweeps >= 1 and burn_in >= 0")
+        self.sweep(burn_in)
+        out = np.empty((sweeps, self.scene.N, self.scene.P))
+        qs = np.empty((sweeps,) + self.q.shape) if record_q else None
+        for t in range(sweeps):
+            self.sweep()
+            out[t] = self.W
+            if record_q:
+                qs[t] = self.q
+            if progress is not None:
+                progress(1)
+        return (out, qs) if record_q else out
+
+
+def response(scene: Scene, sweeps: int, burn_in: int, seed: int = 0, progress=None):
+    """Mean response ``G(i,j) = (<W>_{p+F} - <W>_p)/F`` with standard errors.
+
+    Two independent chains, with and without the overload (Sec. 3.1); each
+    error bar comes from the integrated autocorrelation time
+    (:func:`forcenet.numeric.autocorr.mean_and_stderr`, which raises on a chain too
+    short to trust), and the two are added in quadrature.
+
+    Returns
+    -------
+    G, stderr_G, info : arrays of shape ``(N, P)`` and a dict (acceptance, tau).
+    """
+    from dataclasses import replace
+
+    from ..autocorr import mean_and_stderr
+
+    if scene.F <= 0:
+        raise ValueError(f"F={scene.F}: the response needs an overload F > 0")
+    seeds = np.random.SeedSequence(seed).spawn(2)
+    loaded = PackingMetropolis(scene, seed=np.random.default_rng(seeds[0]))
+    base = PackingMetropolis(replace(scene, F=0.0), seed=np.random.default_rng(seeds[1]))
+    m1, e1, t1 = mean_and_stderr(loaded.run(sweeps, burn_in, progress))
+    m0, e0, t0 = mean_and_stderr(base.run(sweeps, burn_in, progress))
+    G = (m1 - m0) / scene.F
+    err = np.hypot(e1, e0) / scene.F
+    info = {
+        "acceptance": [loaded.acceptance_rate, base.acceptance_rate],
+        "tau_max": float(max(t1.max(), t0.max())),
+    }
+    return G, err, info

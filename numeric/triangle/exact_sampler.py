@@ -1,0 +1,239 @@
+"""Independent uniform samples of the fully mobilized triangle (no Markov chain).
+
+A uniform point of the force network ensemble is a uniform random standard
+shifted tableau ``T`` of staircase shape ``(N-1, ..., 1)`` plus ``d`` sorted
+uniform numbers placed by rank: ``S_x = U_(T(x))`` (``notes/order_polytope.md``).
+The tableau is drawn by removing the largest entry first: from shape
+``lambda`` the corner in row ``r`` holds the largest entry with probability
+``g(lambda - e_r) / g(lambda)``, which Schur's product formula for the number
+``g`` of shifted tableaux gives in closed form.
+
+Examples
+--------
+>>> from forcenet.numeric.triangle.exact_sampler import ExactSampler
+>>> sampler = ExactSampler(5, seed=1)
+>>> W = sampler.sample_W(4)
+>>> W.shape
+(4, 5, 5)
+>>> bool(abs(W.sum(axis=2) - 1).max() < 1e-12)  # every row carries the unit load
+True
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from forcenet.exact.triangle.staircase import dimension
+from forcenet.exact.validation import check_int, check_layers
+
+__all__ = ["ExactSampler", "q_from_W", "removal_probabilities", "sample_tableaux", "tableaux_to_W"]
+
+
+def removal_probabilities(parts: np.ndarray) -> np.ndarray:
+    """Probability that the largest entry sits at the end of each row.
+
+    ``parts`` has shape ``(B, L)``: strict partitions, descending, zero-padded.
+    Returns ``(B, L)`` probabilities (zero where the row has no removable
+    corner); each row of the result sums to 1.
+
+    Examples
+    --------
+    >>> removal_probabilities(np.array([[2, 1]])).round(6).tolist()
+    [[0.0, 1.0]]
+    >>> removal_probabilities(np.array([[3, 1]])).round(6).tolist()
+    [[0.5, 0.5]]
+    """
+    lam = parts.astype(np.float64)
+    size = lam.sum(axis=1, keepdims=True)
+    nxt = np.concatenate([parts[:, 1:], np.zeros_like(parts[:, :1])], axis=1)
+    removable = (parts > 0) & ((parts - 1 > nxt) | ((parts == 1) & (nxt == 0)))
+    a = lam[:, :, None]  # row r being shortened
+    b = lam[:, None, :]  # other rows j
+    present = (b > 0) & ~np.eye(parts.shape[1], dtype=bool)[None]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        factor = ((a - 1 - b) * (a + b)) / ((a - b) * (a - 1 + b))
+    factor = np.where(present & removable[:, :, None], factor, 1.0)
+    prob = np.where(removable, lam / size * np.prod(factor, axis=2), 0.0)
+    return prob
+
+
+def _pair_terms(a, b, logtab):
+    """``log F(a, b)``: the factor of row ``b`` in the removal weight of row ``a``.
+
+    ``F(a, b) = |a-1-b| (a+b) / (|a-b| (a-1+b))`` (Schur's formula); callers
+    mask out ``b = 0`` and ``b = a - 1``.
+    """
+    return (
+        logtab[np.abs(a - 1 - b)] + logtab[a + b] - logtab[np.abs(a - b)] - logtab[np.maximum(a - 1 + b, 0)]
+    )
+
+
+def _full_phi(parts, logtab):
+    """``Phi_r = sum_{j != r} log F(lambda_r, lambda_j)`` over present, non-adjacent rows."""
+    a = parts[:, :, None]
+    b = parts[:, None, :]
+    use = (b > 0) & (a > 0) & (b != a - 1) & ~np.eye(parts.shape[1], dtype=bool)[None]
+    return np.where(use, _pair_terms(a, b, logtab), 0.0).sum(axis=2)
+
+
+def sample_tableaux(N: int, size: int, rng: np.random.Generator, refresh: int | None = None, progress=None) -> np.ndarray:
+    """Uniform random standard shifted staircase tableaux.
+
+    Returns ``T`` of shape ``(size, n + 1, n + 1)`` (``n = N - 1``) with
+    ``T[:, r, c]`` the entry of cell ``(r, c)``, ``1 <= r <= c <= n``, zero
+    elsewhere.  The largest remaining entry goes to the end of row ``r`` with
+    probability ``g(lambda - e_r) / g(lambda) = (lambda_r/|lambda|) exp(Phi_r)``;
+    the log-weights ``Phi`` are updated in ``O(n)`` per removal (only the
+    factors involving the shortened row change) and recomputed from scratch
+    every ``refresh`` steps (default ``10 n``) against rounding drift.
+
+    Examples
+    --------
+    >>> T = sample_tableaux(3, 2, np.random.default_rng(0))
+    >>> T[0, 1:, 1:].tolist()  # the only tableau of shape (2, 1)
+    [[1, 2], [0, 3]]
+    """
+    N = check_layers(N)
+    n = N - 1
+    d = dimension(n + 1)
+    refresh = refresh or 10 * n
+    logtab = np.log(np.maximum(np.arange(2 * n + 2, dtype=np.float64), 1.0))
+    parts = np.tile(np.arange(n, 0, -1, dtype=np.int64), (size, 1))
+    dtype = np.int32 if d < 2**31 else np.int64
+    T = np.zeros((size, n + 1, n + 1), dtype=dtype)
+    rows = np.arange(size)
+    phi = _full_phi(parts, logtab)
+    nxt = np.zeros((size, n), dtype=np.int64)
+    for step, entry in enumerate(range(d, 0, -1)):
+        if step and step % refresh == 0:
+            phi = _full_phi(parts, logtab)
+        nxt[:, :-1] = parts[:, 1:]
+        removable = (parts > 0) & ~((nxt > 0) & (nxt == parts - 1))
+        logw = np.where(removable, phi + logtab[parts], -np.inf)
+        w = np.exp(logw - logw.max(axis=1, keepdims=True))
+        cum = np.cumsum(w, axis=1)
+        u = rng.random(size) * cum[:, -1]
+        r = np.minimum((cum < u[:, None]).sum(axis=1), n - 1)
+        a = parts[rows, r]
+        T[rows, r + 1, r + a] = entry  # 0-based row r spans columns r+1..r+a (1-based)
+        # O(n) update of Phi for the other rows: the factor of row r changes a -> a-1
+        others = parts
+        A = a[:, None]
+        old_ok = (others > 0) & (A != others - 1)
+        new_ok = (others > 0) & (A - 1 > 0) & (A - 1 != others - 1)
+        phi -= np.where(old_ok, _pair_terms(others, A, logtab), 0.0)
+        phi += np.where(new_ok, _pair_terms(others, A - 1, logtab), 0.0)
+        parts[rows, r] = a - 1
+        # Phi of the shortened row itself, from scratch
+        B = parts
+        own = (B > 0) & (B != A - 2) & (np.arange(n)[None, :] != r[:, None]) & (A - 1 > 0)
+        phi[rows, r] = np.where(own, _pair_terms(A - 1, B, logtab), 0.0).sum(axis=1)
+        if progress is not None:
+            progress(1)
+    return T
+
+
+def tableaux_to_W(T: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    """Place sorted uniforms by rank and return ``W`` of shape ``(B, N, N)``.
+
+    ``W[:, i-1, j-1]`` is ``W_{i,j}`` (zero for ``j > i``).
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> W = tableaux_to_W(sample_tableaux(4, 3, rng), rng)
+    >>> W.shape, bool(np.allclose(W.sum(axis=2), 1.0))
+    ((3, 4, 4), True)
+    """
+    B, n1, _ = T.shape
+    n = n1 - 1
+    N = n + 1
+    d = dimension(n + 1)
+    U = np.sort(rng.random((B, d)), axis=1)
+    U = np.concatenate([np.zeros((B, 1)), U], axis=1)  # U[:, k] = k-th order statistic
+    S = np.zeros((B, N, N + 1))  # S[:, i-1, j] = S_{i,j}, S_{i,0} = 0
+    for i in range(1, N + 1):
+        for j in range(1, i):
+            S[:, i - 1, j] = U[np.arange(B), T[:, j, N - i + j]]
+        S[:, i - 1, i] = 1.0
+    return np.diff(S, axis=2) * (np.arange(N)[None, :, None] >= np.arange(N)[None, None, :])
+
+
+def q_from_W(W: np.ndarray) -> np.ndarray:
+    """q-coordinates (Eq. 4.6) of sampled configurations, shape ``(B, N-1, N-1)``.
+
+    ``q_{i,j} = (S_{i+1,j} - S_{i,j-1}) / W_{i,j}``; NaN where ``W_{i,j} = 0``.
+
+    Examples
+    --------
+    >>> W = np.array([[[1.0, 0.0], [0.25, 0.75]]])
+    >>> q_from_W(W).tolist()
+    [[[0.25]]]
+    """
+    S = np.cumsum(W, axis=2)
+    B, N, _ = W.shape
+    prev = np.concatenate([np.zeros((B, N, 1)), S[:, :, :-1]], axis=2)  # S_{i,j-1}
+    with np.errstate(divide="ignore", invalid="ignore"):
+        q = (S[:, 1:, : N - 1] - prev[:, :-1, : N - 1]) / W[:, :-1, : N - 1]
+    return np.where(np.tril(np.ones((N - 1, N - 1), dtype=bool)), q, np.nan)
+
+
+class ExactSampler:
+    """Exact (independent, uniform) sampler of the fully mobilized triangle.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers.
+    seed : int or numpy.random.Generator, optional
+        Seed for reproducible streams.
+
+    Examples
+    --------
+    >>> s = ExactSampler(4, seed=0)
+    >>> mean, stderr = s.mean_W(2000)
+    >>> bool(abs(mean[3, 0] - 1 / 7) < 5 * stderr[3, 0])  # exact <W_41> = 1/7
+    True
+    """
+
+    def __init__(self, N: int, seed=None, batch: int = 4096):
+        self.N = check_layers(N)
+        self.rng = np.random.default_rng(seed)
+        batch = check_int(batch, "batch", 1)
+        # a batch holds B tableaux of N^2 int32 entries: keep it under ~1 GiB
+        self.batch = max(1, min(batch, 2**28 // (self.N * self.N)))
+
+    def sample_W(self, size: int) -> np.ndarray:
+        """``size`` independent configurations, ``W`` of shape ``(size, N, N)``."""
+        T = sample_tableaux(self.N, size, self.rng)
+        return tableaux_to_W(T, self.rng)
+
+    def moments(self, samples: int, orders=(1, 2), progress=None):
+        """Sample means of ``W**s`` and their standard errors (independent draws).
+
+        Returns ``{s: (mean, stderr)}`` with arrays of shape ``(N, N)``.
+        """
+        samples = check_int(samples, "samples", 2)  # an error bar needs two
+        sums = {s: np.zeros((self.N, self.N)) for s in orders}
+        squares = {s: np.zeros((self.N, self.N)) for s in orders}
+        done = 0
+        while done < samples:
+            k = min(self.batch, samples - done)
+            W = self.sample_W(k)
+            for s in orders:
+                Ws = W**s
+                sums[s] += Ws.sum(axis=0)
+                squares[s] += (Ws * Ws).sum(axis=0)
+            done += k
+            if progress is not None:
+                progress(k)
+        out = {}
+        for s in orders:
+            mean = sums[s] / samples
+            var = np.maximum(squares[s] / samples - mean**2, 0.0) * samples / (samples - 1)
+            out[s] = (mean, np.sqrt(var / samples))
+        return out
+
+    def mean_W(self, samples: int, progress=None):
+        """Sample mean of ``W`` and its standard error, arrays ``(N, N)``."""
+        return self.moments(samples, (1,), progress)[1]

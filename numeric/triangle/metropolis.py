@@ -1,0 +1,203 @@
+"""The Metropolis sampler of Sec. 3.2.4 on the fully mobilized triangle.
+
+State: the q-coordinates ``q_{i,j}``, ``1 <= i <= N-1``, ``1 <= j <= i``
+(Eq. 3.8); the forces follow from Eq. (4.5), ``W_{1,1} = 1`` (the overload,
+``F = 1``).  The uniform measure on force networks is ``prod W_{i,j} dq``
+over the grains carrying a q (Eq. 3.10), so the thesis's move is: pick a grain
+at random, draw a new ``q`` uniformly in [0, 1], recompute ``W`` below it,
+reject if a lateral force ``F4`` turns negative, else accept with probability
+``min(1, prod W_new / prod W_old)``.
+
+Only the triangle under the overload is modelled (``p_v = 0``, ``g = 0``).
+With ``ph=None`` the side pressure is taken large enough for every q to be
+allowed (the fully mobilized case, ``(2/sqrt 3) p_h > F``); a finite ``ph``
+(in units of ``F``) adds the constraints ``F4 >= 0`` with
+``F4^{(i,j)} = p_h + (2/sqrt 3) sum_{k<=j} (q_{i,k} W_{i,k} - q_{i-1,k} W_{i-1,k})``
+(``forcenet.exact.triangle.configuration.contact_forces``; row 0 stands for the overload,
+``q_{0,1} W_{0,1} = 1/2``).
+
+Examples
+--------
+>>> sampler = TriangleMetropolis(5, seed=1)
+>>> chain = sampler.run(sweeps=2000, burn_in=200)
+>>> chain.shape
+(2000, 5, 5)
+>>> 0.2 < sampler.acceptance_rate < 1
+True
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from forcenet.exact.validation import check_int, check_layers
+
+__all__ = ["TriangleMetropolis", "forces_from_q", "lateral_forces", "q_model_samples"]
+
+_C = 2 / math.sqrt(3)
+
+
+def forces_from_q(q: np.ndarray) -> np.ndarray:
+    """``W`` (shape ``(N, N)``, row ``i-1``, zero above the diagonal) from ``q`` (Eq. 4.5).
+
+    ``q`` has shape ``(N-1, N-1)``; row ``i-1`` holds ``q_{i,1..i}``.
+
+    Examples
+    --------
+    >>> forces_from_q(np.array([[0.25]])).tolist()
+    [[1.0, 0.0], [0.25, 0.75]]
+    """
+    N = q.shape[0] + 1
+    W = np.zeros((N, N))
+    W[0, 0] = 1.0
+    for i in range(1, N):
+        w, qq = W[i - 1, :i], q[i - 1, :i]
+        W[i, :i] += qq * w
+        W[i, 1 : i + 1] += (1 - qq) * w
+    return W
+
+
+def lateral_forces(q: np.ndarray, W: np.ndarray, ph: float) -> np.ndarray:
+    """``F4^{(i,j)}`` for ``i = 1..N-1``, ``j = 1..i`` (units of the overload).
+
+    Examples
+    --------
+    >>> q = np.array([[0.5]]); W = forces_from_q(q)
+    >>> lateral_forces(q, W, 1.0).round(12).tolist()
+    [[1.0]]
+    """
+    N = W.shape[0]
+    flux = np.zeros((N, N))  # flux[i] = cumsum_j q_{i,j} W_{i,j}; flux[0] is the overload's 1/2
+    flux[0, :] = 0.5
+    for i in range(1, N):
+        flux[i, :i] = np.cumsum(q[i - 1, :i] * W[i - 1, :i])
+        flux[i, i:] = flux[i, i - 1]
+    F4 = ph + _C * (flux[1:] - np.concatenate([flux[:1], flux[1:-1]]))
+    return np.tril(F4[:, : N - 1])
+
+
+class TriangleMetropolis:
+    """Metropolis sampler in q for the fully mobilized triangle (Sec. 3.2.4).
+
+    Parameters
+    ----------
+    N : int
+        Layers (``N >= 2``).
+    seed : int or numpy.random.Generator, optional
+    ph : float or None
+        Side pressure in units of the overload; ``None`` for the fully
+        mobilized limit where every q in [0, 1] is allowed.
+    q0 : array, optional
+        Initial state, shape ``(N-1, N-1)``; default all ``1/2`` in the fully
+        mobilized limit, and for finite ``ph`` the state that sends the load
+        down the two lattice directions (every ``F4 = p_h``, feasible for any
+        ``p_h > 0``).
+    """
+
+    def __init__(self, N: int, seed=None, ph: float | None = None, q0=None):
+        self.N = check_layers(N)
+        self.rng = np.random.default_rng(seed)
+        if ph is not None and not (ph > 0 and math.isfinite(ph)):
+            raise ValueError(f"ph={ph}: the side pressure must be a positive finite number (or None)")
+        self.ph = ph
+        n = self.N - 1
+        if q0 is None:
+            self.q = np.tril(np.full((n, n), 0.5))
+            if ph is not None:  # the load on the two lattice directions: every F4 = p_h, feasible for any p_h > 0
+                self.q[np.arange(1, n), 0] = 1.0
+                self.q[np.arange(1, n), np.arange(1, n)] = 0.0
+        else:
+            self.q = np.array(q0, dtype=float)
+        if self.q.shape != (n, n):
+            raise ValueError(f"q0 has shape {self.q.shape}, expected {(n, n)}")
+        self.W = forces_from_q(self.q)
+        if ph is not None and (lateral_forces(self.q, self.W, ph) < 0).any():
+            raise ValueError(f"ph={ph}: the initial state has a negative lateral force; pass a feasible q0")
+        self.grains = [(i, j) for i in range(n) for j in range(i + 1)]
+        self._lower = np.tril(np.ones((self.N, self.N), dtype=bool))
+        self.accepted = 0
+        self.attempted = 0
+        self.rejected_by_constraint = 0
+
+    @property
+    def acceptance_rate(self) -> float:
+        return self.accepted / self.attempted if self.attempted else float("nan")
+
+    def _propose(self, i: int, j: int, new: float) -> bool:
+        """Try ``q[i, j] = new`` (0-based row ``i`` is layer ``i + 1``)."""
+        N = self.N
+        old = self.q[i, j]
+        self.q[i, j] = new
+        W_new = self.W.copy()
+        for k in range(i + 1, N):  # the layers below the grain, Eq. (4.5)
+            w, qq = W_new[k - 1, :k], self.q[k - 1, :k]
+            W_new[k, : k + 1] = 0.0
+            W_new[k, :k] += qq * w
+            W_new[k, 1 : k + 1] += (1 - qq) * w
+        if self.ph is not None and (lateral_forces(self.q, W_new, self.ph) < -1e-12).any():
+            self.rejected_by_constraint += 1
+            self.q[i, j] = old
+            return False
+        # weight prod W over the layers that carry a q (Eq. 3.10): 0-based rows i+1..N-2
+        changed = self._lower[i + 1 : N - 1]
+        with np.errstate(divide="ignore"):
+            log_new = float(np.log(W_new[i + 1 : N - 1][changed]).sum())
+            log_old = float(np.log(self.W[i + 1 : N - 1][changed]).sum())
+        if log_old == -math.inf:  # leaving a zero-density start (e.g. the lattice-direction state)
+            accept = log_new > -math.inf or self.rng.random() < 0.5
+        elif log_new == -math.inf:
+            accept = False
+        else:
+            log_ratio = log_new - log_old
+            accept = log_ratio >= 0 or self.rng.random() < math.exp(log_ratio)
+        if accept:
+            self.W = W_new
+            return True
+        self.q[i, j] = old
+        return False
+
+    def sweep(self, count: int = 1) -> None:
+        """``count`` sweeps; a sweep is ``N(N-1)/2`` single-grain updates."""
+        grains = self.grains
+        for _ in range(count):
+            picks = self.rng.integers(len(grains), size=len(grains))
+            values = self.rng.random(len(grains))
+            for k, value in zip(picks, values):
+                i, j = grains[k]
+                self.attempted += 1
+                if self._propose(i, j, value):
+                    self.accepted += 1
+
+    def run(self, sweeps: int, burn_in: int = 0, progress=None) -> np.ndarray:
+        """Burn in, then record ``W`` after each of ``sweeps`` sweeps.
+
+        Returns an array of shape ``(sweeps, N, N)``.
+        """
+        sweeps = check_int(sweeps, "sweeps", 1)
+        burn_in = check_int(burn_in, "burn_in", 0)
+        self.sweep(burn_in)
+        out = np.empty((sweeps, self.N, self.N))
+        for t in range(sweeps):
+            self.sweep()
+            out[t] = self.W
+            if progress is not None:
+                progress(1)
+        return out
+
+
+def q_model_samples(N: int, size: int, rng: np.random.Generator) -> np.ndarray:
+    """The q-model contrast: independent uniform q on every grain, no weight.
+
+    Returns ``W`` samples, shape ``(size, N, N)``.
+    """
+    N = check_layers(N)
+    q = np.tril(rng.random((size, N - 1, N - 1)))
+    W = np.zeros((size, N, N))
+    W[:, 0, 0] = 1.0
+    for i in range(1, N):
+        w, qq = W[:, i - 1, :i], q[:, i - 1, :i]
+        W[:, i, :i] += qq * w
+        W[:, i, 1 : i + 1] += (1 - qq) * w
+    return W

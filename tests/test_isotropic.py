@@ -10,6 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from forcenet.numeric.chicken_wire import isotropic as iso
+from forcenet.numeric.chicken_wire import isotropic_bethe
 
 phis = st.floats(min_value=-1.5707, max_value=1.5707, allow_nan=False)
 
@@ -78,8 +79,8 @@ def test_closed_forms_reject_bad_input():
     with pytest.raises(ValueError, match="Q="):
         iso.phi_of_density(Fraction(1, 2))
     with pytest.raises(ValueError, match="eps="):
-        iso.entropy_small_parameter(0)
-    with pytest.raises(ValueError, match="F="):
+        iso.entropy_series_7_3(0)
+    with pytest.raises(ValueError, match="l="):
         iso.entropy_per_grain(-1)
 
 
@@ -93,14 +94,14 @@ def test_extrapolate_recovers_a_known_limit():
     Ls = np.arange(60, 241, 12)
     for c in (0.1, -0.3):
         values = 0.0625 + c / Ls**2 + 0.7 / Ls**4
-        v, err = iso.extrapolate(list(Ls), list(values))
+        v, err = isotropic_bethe.extrapolate(list(Ls), list(values))
         assert abs(v - 0.0625) < 1e-12 and err < 1e-6
     with pytest.raises(ValueError, match="at least 4"):
-        iso.extrapolate([60, 72], [0.1, 0.1])
+        isotropic_bethe.extrapolate([60, 72], [0.1, 0.1])
 
 
 def test_bracketing_fractions():
-    lo, hi = iso.bracketing_fractions(0.18)
+    lo, hi = isotropic_bethe.bracketing_fractions(0.18)
     assert lo <= 0.18 <= hi and lo.denominator <= 16 and hi.denominator <= 16
     assert not any(lo < Fraction(c, a) < hi for a in range(3, 17) for c in range(1, a))
 
@@ -108,7 +109,7 @@ def test_bracketing_fractions():
 @pytest.mark.slow
 def test_legendre_structure_dv_dQ_is_minus_three_mu():
     # v(Q2) - v(Q1) = -3 int mu dQ: each of the three densities has the chemical potential mu
-    lims = [iso.isotropic_limit(Fraction(1, a), L_max=240, L_min=60) for a in (8, 7, 6)]
+    lims = [isotropic_bethe.isotropic_limit(Fraction(1, a), L_max=240, L_min=60) for a in (8, 7, 6)]
     qs = np.array([float(l.Q) for l in lims])
     mus = np.array([l.mu for l in lims])
     P = np.polyint(np.polyfit(qs, mus, 2))

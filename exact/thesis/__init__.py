@@ -3,7 +3,7 @@
 * :mod:`.coefficients`: gamma (4.15), the index range (4.32)/(4.86), the defect line;
 * :mod:`.fundamental`: the printed fundamental relations (4.14)-(4.32), (4.46), (4.49);
 * :mod:`.recursions`: Lambda (4.50)-(4.51), the boundary (4.67), Gamma (4.73)-(4.77);
-* :mod:`.maps`: the maps of Sec. 4.6 (4.86)-(4.91) and their bijection with tableaux;
+* :mod:`.map_counting`: the maps of Sec. 4.6 (4.86)-(4.91) and their bijection with tableaux;
 * :mod:`.nested`: the layer-by-layer nested-matrix integration (4.14)-(4.46).
 
 May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
@@ -12,7 +12,7 @@ May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
 
 from .coefficients import gamma_coefficient
 from .fundamental import index_tuples, integral_I, normalization_fundamental, psi_fundamental, right_vector
-from .maps import (
+from .map_counting import (
     count_maps,
     is_map,
     map_from_tableau,

@@ -483,3 +483,61 @@ def _integrate_modular(N: int, powers: dict) -> Fraction:
     residues = _integral_residues(N, powers, primes)
     scaled = crt([int(r) * scale % p for r, p in zip(residues.tolist(), primes)], primes)
     return Fraction(scaled, scale)
+
+
+# ------------------------------------------------------ the table route: plan and run
+
+# Measured seconds and peak bytes of one integration (modular engine, 2-core machine);
+# a table needs N(N+1)/2 + 1 of them.  N = 10 would need bonds of ~4e5 index tuples
+# (about 1e10 matrix entries): out of reach (killed at 24 GB).
+_TABLE_COST = {2: (0.01, 5e7), 3: (0.01, 5e7), 4: (0.01, 5e7), 5: (0.01, 5e7), 6: (0.01, 6e7),
+               7: (0.01, 1e8), 8: (0.13, 3e8), 9: (15.0, 2e9)}  # N = 9: 6-48 s, 1.2-1.9 GB per grain
+_MAX_ORDER = 3  # the s-th order defects grow fast: N = 9, s = 3 needs 12 GB
+# cost of s = 1, 2, 3 relative to s = 1 at the costliest grain (N, 3):
+# N = 8 time x2.4, x4.8; N = 9 time x3.2, x8.0; memory x2.6, x6.5
+_TIME_FACTOR = {8: (1.0, 2.4, 4.8), 9: (1.0, 3.2, 8.0)}
+_MEMORY_FACTOR = (1.0, 2.6, 6.5)
+
+
+def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None):
+    """The cost of :func:`table_run`: ``<W^s>`` tables, ``s = 1..moments``, by nested integration.
+
+    Examples
+    --------
+    >>> table_plan(8).seconds < 60
+    True
+    >>> table_plan(10).refusal
+    'N=10 is out of range for --method thesis: N must be an integer in 2..9 (the nested bonds outgrow memory at N = 10)'
+    """
+    from ..plan import Plan
+
+    N, moments = check_layers(N), check_int(moments, "moments", 1)
+    what = f"--method thesis N={N}, nested integrations"
+    if N not in _TABLE_COST:
+        return Plan(what, 0, refusal=f"N={N} is out of range for --method thesis: N must be an integer in 2..9 "
+                                     "(the nested bonds outgrow memory at N = 10)")
+    if moments > _MAX_ORDER:
+        return Plan(what, 0, refusal=f"moments={moments} is out of range for --method thesis: moments must be an integer "
+                                     f"in 1..{_MAX_ORDER} (the s-th order defects grow fast: N = 9, s = 3 needs 12 GB)")
+    per_run, nbytes = _TABLE_COST[N]
+    runs = N * (N + 1) // 2
+    factor = _TIME_FACTOR.get(N, _TIME_FACTOR[8])
+    seconds = per_run * (1 + runs * sum(factor[:moments]))
+    plan = Plan(what, seconds, int(nbytes * _MEMORY_FACTOR[moments - 1]), runs * moments, "grain")
+    return plan.within_memory(memory_bytes)
+
+
+def table_run(N: int, moments: int = 1, progress=None) -> dict:
+    """``{s: <W^s> table}`` for ``s = 1..moments``; the normalization is integrated once.
+
+    ``progress`` is called once per grain and order.
+
+    Examples
+    --------
+    >>> tables = table_run(4, 2)
+    >>> [str(x) for x in tables[2][-1]]
+    ['1/28', '9/56', '9/56', '1/28']
+    """
+    N, moments = check_layers(N), check_int(moments, "moments", 1)
+    volume = integrate_layers(N)  # once for every s
+    return {s: moment_table_nested(N, s, progress=progress, volume=volume) for s in range(1, moments + 1)}

@@ -14,7 +14,7 @@ Derivations: ``notes/chapter4.md``.
 
 May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
 :mod:`forcenet.exact.triangle.staircase`, :mod:`.coefficients`, and (for the
-tiny tables N <= 3 only) :mod:`.maps`.
+tiny tables N <= 3 only) :mod:`.map_counting`.
 """
 
 from __future__ import annotations
@@ -171,7 +171,7 @@ def table_from_bulk(N: int, bulk) -> list[list[Fraction]]:
     """Assemble a ``<W>`` table: (4.67) on the left boundary, ``bulk(q, r) / ((d+1) Z)``
     for ``r >= 2`` (Eq. 4.91 or 4.77), the bottom layer from the layer above."""
     if N <= 3:  # too few rows for the recursions: average over the (one or two) maps
-        from .maps import mean_W_by_maps
+        from .map_counting import mean_W_by_maps
 
         return mean_W_by_maps(N)
     d = dimension(N)
@@ -424,3 +424,51 @@ def gamma_bulk_integer(N: int, q: int, r: int) -> int:
     d = dimension(N)
     primes = primes_for_bound((d + 2) * (d + 1) * count(N))
     return crt([_gamma_combined_mod(N, q, r, prime) for prime in primes], primes)
+
+
+# ------------------------------------------------------ the table route: plan and run
+
+# Measured per bulk grain of the Gamma route (seconds, peak bytes) on the 2-core machine
+# (benchmarks/gamma_table.py); the table has (N-1)(N-2)/2 of them.  N = 12: one grain peaks
+# at 20 GB; the normalization and the boundary (4.67) took 1083 s more there.
+_GRAIN_COST = {10: (0.1, 1e8), 11: (2.5, 5e8), 12: (170.0, 2.2e10)}
+_BOUNDARY_SECONDS = {11: 60.0, 12: 1083.0}
+_MAX_N = 12  # the index boxes of (4.32) outgrow memory beyond
+
+
+def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None):
+    """The cost of :func:`table_run`: the ``<W>`` table by the Lambda/Gamma recursions.
+
+    Examples
+    --------
+    >>> table_plan(9).seconds < 5
+    True
+    >>> table_plan(9, moments=2).refusal
+    'moments=2 is out of range for --method lambda: moments must be 1 (higher moments use --method fast, thesis or maps)'
+    """
+    from ..plan import Plan
+
+    N, moments = check_layers(N), check_int(moments, "moments", 1)
+    what = f"--method lambda N={N}, Gamma recursions"
+    if moments > 1:
+        return Plan(what, 0, refusal=f"moments={moments} is out of range for --method lambda: moments must be 1 "
+                                     "(higher moments use --method fast, thesis or maps)")
+    if N > _MAX_N:
+        return Plan(what, 0, refusal=f"N={N} is out of range for --method lambda: N must be an integer in 2..{_MAX_N} "
+                                     "(the index boxes of (4.32) outgrow memory)")
+    per_grain, nbytes = _GRAIN_COST.get(N, (0.01, 0))
+    grains = (N - 1) * (N - 2) // 2
+    seconds = per_grain * grains + _BOUNDARY_SECONDS.get(N, 0.1)
+    return Plan(what, seconds, int(nbytes), grains, "grain").within_memory(memory_bytes)
+
+
+def table_run(N: int, moments: int = 1, progress=None) -> dict:
+    """``{1: <W> table}`` from the Lambda (4.67) and Gamma (4.77) integers; ``progress`` per bulk grain.
+
+    Examples
+    --------
+    >>> [str(x) for x in table_run(5)[1][-1]]
+    ['1/11', '1/4', '7/22', '1/4', '1/11']
+    """
+    check_int(moments, "moments", 1, 1)
+    return {1: mean_W_gamma(N, progress=progress)}

@@ -46,10 +46,11 @@ __all__ = [
 
 
 class MemoryEstimate(NamedTuple):
-    """Peak bytes and seconds of a DP run, announced before it starts (a resource estimate)."""
+    """Peak bytes, seconds and progress ticks of a DP run, announced before it starts (a resource estimate)."""
 
     nbytes: int
     seconds: float
+    ticks: int = 0
 
     def __str__(self) -> str:
         return f"~{self.nbytes / 2**30:.2f} GiB, ~{self.seconds:.0f} s"
@@ -152,7 +153,7 @@ def estimate_survival_cost(N: int, memory_bytes: int = 12 * 2**30) -> MemoryEsti
     biggest = max(len(c) for c in chunks)
     nbytes = masks * (biggest * _BYTES_PER_RESIDUE + _BYTES_PER_MASK)
     seconds = masks * (len(primes) * _SECONDS_PER_RESIDUE + len(chunks) * 2e-7)
-    return MemoryEstimate(int(nbytes), seconds)
+    return MemoryEstimate(int(nbytes), seconds, len(chunks) * masks)
 
 
 _BLOCK_BITS = 18

@@ -27,8 +27,9 @@ from math import comb, factorial
 import numpy as np
 
 from ..modular import crt, primes_for_bound
+from ..plan import Plan
 from ..validation import check_grain, check_int, check_layers
-from .ideal_dp import marked_chain_sums, parts_table, survival_counts
+from .ideal_dp import estimate_survival_cost, marked_chain_sums, parts_table, survival_counts
 from .spacings import rising
 from .staircase import count, dimension
 
@@ -114,6 +115,73 @@ def _eligible(lam: np.ndarray, N: int, i: int, j: int) -> np.ndarray:
 
 
 _STATE_BUDGET = 8 * 2**30  # bytes of one marked-chain DP (states x primes x ideals)
+_MEAN_MAX_N = 40  # 2^39 ideals: beyond any machine, the estimate itself is skipped
+_MOMENT_BATCH_BYTES = 4 * 2**30  # moment_table's default memory_bytes
+_SECONDS_PER_STATE = 6.5e-8  # moment_table per ideal x grain x state x prime, measured N = 14..17 (2 cores)
+
+
+def mean_W_plan(N: int, memory_bytes: int | None = None) -> Plan:
+    """The cost of :func:`mean_W` for ``N`` layers: a :class:`~forcenet.exact.plan.Plan`.
+
+    ``memory_bytes`` is the memory available to the run (None: not
+    checked); the residue tables are chunked to 3/4 of it, at most 12 GiB.
+
+    Examples
+    --------
+    >>> mean_W_plan(12).seconds < 1
+    True
+    >>> mean_W_plan(41).refusal
+    'N=41 is out of range for the exact table: N must be an integer in 2..40'
+    """
+    N = check_layers(N)
+    what = f"exact table N={N} (order ideals)"
+    if N > _MEAN_MAX_N:
+        return Plan(what, 0, refusal=f"N={N} is out of range for the exact table: N must be an integer in 2..{_MEAN_MAX_N}")
+    budget = _residue_budget(memory_bytes)
+    est = estimate_survival_cost(N, budget)
+    plan = Plan(what, est.seconds, est.nbytes, est.ticks, "ideal")
+    if est.nbytes > budget:
+        top = max(M for M in range(2, N) if estimate_survival_cost(M, budget).nbytes <= budget)
+        return plan.refuse(f"N={N} is out of range for the exact table here: it needs ~{est.nbytes / 2**30:.1f} GiB "
+                           f"but {budget / 2**30:.1f} GiB is available; N must be an integer in 2..{top} here")
+    return plan
+
+
+def _residue_budget(memory_bytes: int | None) -> int:
+    """Residue-table budget of :func:`mean_W`: 3/4 of the available memory, at most 12 GiB."""
+    return 12 * 2**30 if memory_bytes is None else min(memory_bytes * 3 // 4, 12 * 2**30)
+
+
+def moment_table_plan(N: int, s: int, memory_bytes: int | None = None) -> Plan:
+    """The cost of :func:`moment_table` for ``N`` layers and order ``s``.
+
+    One forward pass over the ``2^(N-1)`` ideals per batch of grains, each
+    grain carrying ``s + 1`` states per prime (calibrated at N = 14..17 on 2
+    cores; N = 18, s = 2: ~40 s announced, 34 s measured).
+
+    Examples
+    --------
+    >>> moment_table_plan(12, 2).seconds < 2
+    True
+    """
+    N, s = check_layers(N), check_int(s, "s", 1)
+    n, d = N - 1, dimension(N)
+    grains = N * (N + 1) // 2
+    what = f"<W^{s}> table N={N}"
+    if N > 24:
+        return Plan(what, 0, refusal=f"N={N} is out of range for --moments {s}: N must be an integer in 2..24")
+    primes = len(primes_for_bound(count(N) * comb(d + s, s)))
+    per_grain = (1 << n) * (s + 1) * primes * 8 * 3
+    batch = max(1, min(grains, _MOMENT_BATCH_BYTES // per_grain))
+    passes = -(-grains // batch)
+    seconds = _SECONDS_PER_STATE * (1 << n) * grains * (s + 1) * primes + 0.5
+    nbytes = int(0.55 * batch * per_grain) + 150 * 2**20
+    plan = Plan(what, seconds, nbytes, passes * ((1 << n) - 1), "ideal")
+    state = (1 << n) * (s + 1) * primes * 8 * 2
+    if state > _STATE_BUDGET:
+        plan = plan.refuse(f"N={N} is out of range for --moments {s}: one grain's path-sum table needs "
+                           f"~{state / 2**30:.0f} GiB (limit {_STATE_BUDGET / 2**30:.0f} GiB)")
+    return plan.within_memory(memory_bytes)
 
 
 def _check_state_memory(N: int, n_states: int, n_primes: int) -> None:

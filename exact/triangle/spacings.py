@@ -10,7 +10,7 @@ and ``S_{i,j}`` (rank gap ``g``), so
 * ``<W W' | T> = (|I| |J| + |I & J|) / ((d+1)(d+2))`` for rank intervals ``I, J``.
 
 Used by the exact core (:mod:`.moments`) and by the thesis's map route
-(:mod:`forcenet.exact.thesis.maps`); the reference routes
+(:mod:`forcenet.exact.thesis.map_counting`); the reference routes
 (:mod:`forcenet.exact.reference`) have their own code for independence.
 May import: :mod:`forcenet.exact.validation`, :mod:`.staircase`.
 """

@@ -21,6 +21,7 @@ May import: :mod:`forcenet.exact.validation`.
 from __future__ import annotations
 
 from fractions import Fraction
+import math
 from functools import lru_cache
 from math import factorial, prod
 
@@ -32,6 +33,8 @@ __all__ = [
     "cell_to_grain",
     "staircase_cells",
     "count",
+    "count_digits",
+    "count_plan",
     "count_by_hooks",
     "normalization",
     "shifted_hook_lengths",
@@ -218,6 +221,43 @@ def _prime_power_product(factorisation) -> int:
         if chosen:
             result *= _product_tree(chosen)
     return int(result)
+
+
+def count_digits(N: int) -> int:
+    """Number of decimal digits of :func:`count` (from log-gamma; exact to +-1).
+
+    Examples
+    --------
+    >>> count_digits(9), len(str(count(9)))
+    (12, 12)
+    """
+    N = check_layers(N)
+    n, d = N - 1, dimension(N)
+    log10 = (math.lgamma(d + 1) - sum(math.lgamma(2 * k + 2) - math.lgamma(k + 1) for k in range(n))) / math.log(10)
+    return int(log10) + 1
+
+
+def count_plan(N: int, memory_bytes: int | None = None):
+    """The cost of computing :func:`count` and printing it in decimal.
+
+    Measured on the 2-core machine: N = 4000 (2.3e7 digits) 8 s, N = 8000
+    (1.0e8 digits) 40 s; memory ~ 24 bytes per cell of the staircase (the
+    sieve) and a few bytes per digit.
+
+    Examples
+    --------
+    >>> count_plan(1000).seconds < 2
+    True
+    >>> count_plan(10**6, memory_bytes=24 * 2**30).runnable  # 2.7e12 digits
+    False
+    """
+    from ..plan import Plan
+
+    N = check_layers(N)
+    d = dimension(N)
+    digits = count_digits(N) if N < 10**7 else d * 7  # (an overestimate, enough to refuse)
+    plan = Plan(f"count N={N} ({digits:.3g} digits)", 2.2e-7 * d**1.1, 24 * d + 4 * digits)
+    return plan.within_memory(memory_bytes)
 
 
 @lru_cache(maxsize=64)

@@ -1,92 +1,216 @@
-"""Entropy of the chicken-wire model on the isotropic line (Sec. 7.4.1, Eqs. 7.1-7.4).
+"""The entropy of the chicken-wire model on the isotropic line, Eqs. (7.1)-(7.4), at any precision.
 
-Two kinds of functions:
+The closed forms are the exact sympy expressions of
+:mod:`forcenet.exact.chicken_wire.closed_form` (reconstructed (7.1), (7.2),
+their elimination ``v(Q)``, the tiling normalization, the corrected series
+(7.3) and (7.4)), evaluated with mpmath.
 
-* closed forms reconstructed from the garbled thesis text, at any precision
-  (mpmath): the density (7.2) as a function of the parameter ``phi`` and its
-  inverse, the small-parameter expansion (7.3) and the entropy per grain (7.4);
-* the entropy per site ``v(Q)`` computed independently of (7.1), from the
-  twisted Bethe equations (:mod:`forcenet.numeric.chicken_wire.bethe`): for a rational density
-  ``Q = c/a`` the sectors ``(L, n, m) = k (a, 2c, c)`` at the photon fugacity
-  that makes all three particle densities equal ``Q``, extrapolated to
-  ``L -> oo``.  Between rationals, ``v`` is interpolated with its exact
-  derivative ``dv/dQ = -3 mu`` (Legendre: each of the three densities has
-  the chemical potential ``mu``).
+Precision is a parameter.  Inputs (numbers, strings, Fractions) are
+converted inside ``mpmath.workdps``; every quantity is computed at ``dps``
+plus guard digits, and again with more, until two evaluations agree to
+``dps + 3`` digits *relative* to the result (so cancellations near
+``Q -> 0``, ``Q -> 1/3`` or in ``mu`` near the maximum cost precision, never
+digits); the result is returned rounded to ``dps`` digits.  No global
+precision is set; points outside ``0 <= Q <= 1/3`` (``|phi| <= pi/2``) raise
+``ValueError``.  For tiny ``Q`` the exact series of ``v(Q)`` takes over
+from the closed form where it is cheaper (both agree on their overlap; tests).
 
-(7.1) itself is not reconstructed (notes/chicken_wire.md, Sec. 4); these
-functions are what replaces it.
+The Bethe-ansatz route, which knows nothing of these formulas, is
+:mod:`.isotropic_bethe`.
+
+May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.chicken_wire.closed_form`.
 
 Examples
 --------
->>> import mpmath
->>> mpmath.nstr(density_Q(0), 20)  # 1/2 - 1/(2 sqrt 3)
-'0.21132486540518711775'
->>> mpmath.nstr(phi_of_density(Fraction(1, 6)), 15)
-'0.430042706716096'
+>>> mpmath.nstr(entropy(Q=Fraction(1, 6), dps=30), 30)
+'0.0616159805393802359215413794767'
+>>> mpmath.nstr(tiling_entropy(phi=0, dps=25), 25)  # log 108 - 2 sqrt3 log(2 + sqrt3)
+'0.1200552493185416078336344'
+>>> m = maximum(dps=20)
+>>> mpmath.nstr(m.v_max, 20), mpmath.nstr(m.Q_max, 20)
+('0.06278636828285688847', '0.184556497614421967')
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from fractions import Fraction
+from functools import lru_cache
 
 import mpmath
-import numpy as np
 
-from forcenet.exact.validation import check_dps
+from forcenet.exact.validation import check_dps, check_int
 
 __all__ = [
     "density_Q",
     "density_Q_naive",
     "phi_of_density",
-    "entropy_small_parameter",
+    "eps_of",
+    "entropy",
+    "chemical_potential",
+    "empty_density",
+    "tiling_entropy",
+    "entropy_series_7_3",
     "entropy_per_grain",
-    "extrapolate",
-    "IsotropicLimit",
-    "isotropic_limit",
-    "isotropic_entropy",
-    "entropy_maximum",
-    "bracketing_fractions",
+    "Maximum",
+    "maximum",
+    "GUARD",
 ]
 
+GUARD = 10  # guard digits
+_MAX_EXTRA = 5000  # digits beyond dps before giving up on convergence
 
-def _check_phi(phi):
-    x = mpmath.mpf(phi)
-    if not (abs(x) <= mpmath.pi / 2 * (1 + mpmath.mpf(10) ** -15)):  # a rounded pi/2 is accepted
-        raise ValueError(f"phi={mpmath.nstr(x, 15)}: out of range, the isotropic line is -pi/2 <= phi <= pi/2 (Q from 1/3 to 0)")
+
+# ----------------------------------------------------------------- conversions
+
+
+def _mpf(value, name: str):
+    """``value`` as an mpf at the current precision: strings keep their digits, Fractions divide exactly."""
+    if isinstance(value, bool):
+        raise TypeError(f"{name}={value!r} is not a real number")
+    try:
+        if isinstance(value, Fraction):
+            x = mpmath.mpf(value.numerator) / value.denominator
+        else:
+            x = mpmath.mpf(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name}={value!r} is not a real number") from None
+    if not mpmath.isfinite(x):
+        raise ValueError(f"{name}={value!r} is out of range: {name} must be a finite real number")
     return x
 
 
-_check_dps = check_dps
+def _point(phi, Q):
+    """``(Q, phi)`` at the current precision from exactly one of them (in range)."""
+    if (phi is None) == (Q is None):
+        raise TypeError("give exactly one of phi= and Q=")
+    if Q is not None:
+        q = _mpf(Q, "Q")
+        if not 0 <= q <= mpmath.mpf(1) / 3:
+            raise ValueError(f"Q={Q} is out of range: the density per direction Q must lie in [0, 1/3]")
+        return q, None
+    x = _mpf(phi, "phi")
+    if not abs(x) <= mpmath.pi / 2:
+        raise ValueError(f"phi={phi} is out of range: phi must lie in [-pi/2, pi/2] (Q from 1/3 to 0)")
+    return _Q_of_phi(x), x
+
+
+def _Q_of_phi(x):
+    """(7.2) without cancellation at either end: ``Q = 2 tan t / (sqrt3 (1 + sqrt3 tan t))``, ``t = (pi/2 - phi)/6``."""
+    t = mpmath.tan((mpmath.pi / 2 - x) / 6)
+    return 2 * t / (mpmath.sqrt(3) * (1 + mpmath.sqrt(3) * t))
+
+
+def _converged(compute, dps: int):
+    """``compute()`` at increasing precision until two evaluations agree to ``dps + 3`` relative digits."""
+    prec = dps + GUARD
+    with mpmath.workdps(prec):
+        previous = compute()
+    while True:
+        prec = 2 * prec
+        with mpmath.workdps(prec):
+            current = compute()
+            if current == 0 or abs(current - previous) <= abs(current) * mpmath.mpf(10) ** (-(dps + 3)):
+                break
+        if prec > dps + _MAX_EXTRA:
+            raise ArithmeticError(f"no convergence to {dps} digits within {_MAX_EXTRA} extra digits")
+        previous = current
+    with mpmath.workdps(dps):
+        return +current
+
+
+# ------------------------------------------------------ closed forms, working precision
+
+
+@lru_cache(maxsize=4)
+def _series_rationals(order: int):
+    """``[a_3, ..., a_order]`` of :func:`forcenet.exact.chicken_wire.closed_form.entropy_series_Q` (rationals)."""
+    from forcenet.exact.chicken_wire.closed_form import _series_coefficients
+
+    coeffs = _series_coefficients(order)
+    return tuple(Fraction(int(c.p), int(c.q)) for c in coeffs[3:])
+
+
+def _series_terms(q, dps):
+    """Number of series terms for ``dps`` digits at ``q``, or None if the closed form is cheaper."""
+    if q == 0:
+        return 3
+    ratio = 3 * q  # the coefficients grow like 3^k / k^3
+    if ratio >= mpmath.mpf(10) ** -2:
+        return None
+    terms = int(dps / -mpmath.log10(ratio)) + 3
+    cancellation_digits = 2 * -mpmath.log10(q)  # what the closed form would spend
+    return terms if terms < 60 and cancellation_digits > 20 else None
+
+
+def _v_series(q, terms):
+    """``-3 q^2 log q + (3 log 2 - 9/2) q^2 + sum_{k>=3} a_k q^k`` (exact coefficients)."""
+    if q == 0:
+        return mpmath.mpf(0)
+    value = -3 * q**2 * mpmath.log(q) + (3 * mpmath.log(2) - mpmath.mpf(9) / 2) * q**2
+    power = q**2
+    for a in _series_rationals(terms + 2):
+        power *= q
+        value += (mpmath.mpf(a.numerator) / a.denominator) * power
+    return value
+
+
+def _xlog(x):
+    return x * x * mpmath.log(x) if x else mpmath.mpf(0)
+
+
+def _v(q):
+    """The closed form ``v(Q)`` at the working precision."""
+    if q == 0 or q == mpmath.mpf(1) / 3:
+        return mpmath.mpf(0)
+    e = 1 - 3 * q + 3 * q * q
+    return (6 * e * mpmath.log(e) + 4 * e * mpmath.log(2) - 3 * _xlog(q) - 3 * _xlog(1 - q)
+            - 3 * _xlog(1 - 2 * q) - _xlog(1 - 3 * q) - _xlog(2 - 3 * q))
+
+
+def _dxlog(x, c):
+    """``d/dQ [x^2 log x]`` with ``x = a + c Q``: ``c (2 x log x + x)``."""
+    return c * (2 * x * mpmath.log(x) + x) if x else mpmath.mpf(0)
+
+
+def _mu(q):
+    """``mu = -(1/3) dv/dQ`` at the working precision (``0 < Q < 1/3``)."""
+    e, de = 1 - 3 * q + 3 * q * q, -3 + 6 * q
+    dv = (6 * de * (mpmath.log(e) + 1) + 4 * de * mpmath.log(2) - 3 * _dxlog(q, 1) - 3 * _dxlog(1 - q, -1)
+          - 3 * _dxlog(1 - 2 * q, -2) - _dxlog(1 - 3 * q, -3) - _dxlog(2 - 3 * q, -3))
+    return -dv / 3
+
+
+def _dmu(q):
+    """``d mu / dQ = -(1/3) v''(Q)`` (for Newton's method at the maximum)."""
+    def d2(x, c):  # d^2/dQ^2 [x^2 log x] = c^2 (2 log x + 3)
+        return c * c * (2 * mpmath.log(x) + 3)
+
+    e, de = 1 - 3 * q + 3 * q * q, -3 + 6 * q
+    d2v = (6 * (6 * (mpmath.log(e) + 1) + de * de / e) + 4 * 6 * mpmath.log(2) - 3 * d2(q, 1) - 3 * d2(1 - q, -1)
+           - 3 * d2(1 - 2 * q, -2) - d2(1 - 3 * q, -3) - d2(2 - 3 * q, -3))
+    return -d2v / 3
+
+
+# ------------------------------------------------------------------ public functions
 
 
 def density_Q(phi, dps: int = 50):
-    """Density of left-moving particles per site, Eq. (7.2), in a cancellation-free form.
+    """Density of bonds per direction (of left-moving particles) per site, Eq. (7.2).
 
-    ``Q = 1/2 - cos(phi/3) / (2 sqrt3 (1 - sin(phi/3))) = 1/2 - tan(pi/4 + phi/6) / (2 sqrt3)``
-    (``cos x / (1 - sin x) = tan(pi/4 + x/2)``).  ``Q(-pi/2) = 1/3`` (the
-    honeycomb of walls), ``Q(pi/2) = 0`` (empty lattice).
-
-    Parameters
-    ----------
-    phi : number or str
-        The parameter of (7.1), ``-pi/2 <= phi <= pi/2``.
-    dps : int
-        Decimal digits.
+    ``Q = 1/2 - cos(phi/3) / (2 sqrt3 (1 - sin(phi/3)))``, evaluated in a
+    cancellation-free form.  ``Q(-pi/2) = 1/3`` (the honeycomb of walls),
+    ``Q(pi/2) = 0`` (empty lattice).
 
     Examples
     --------
-    >>> with mpmath.workdps(40):  # phi itself must carry the digits
-    ...     mpmath.nstr(density_Q(-mpmath.pi / 2, dps=30), 30)
-    '0.333333333333333333333333333333'
+    >>> mpmath.nstr(density_Q(0, dps=20), 20)  # 1/2 - 1/(2 sqrt 3)
+    '0.21132486540518711775'
     >>> mpmath.nstr(density_Q("1.0", dps=30), 25)
     '0.09455495911710849789324424'
     """
-    with mpmath.workdps(_check_dps(dps) + 10):
-        x = _check_phi(phi)
-        q = mpmath.mpf(1) / 2 - mpmath.tan(mpmath.pi / 4 + x / 6) / (2 * mpmath.sqrt(3))
-    with mpmath.workdps(dps):
-        return mpmath.mpf(q)
+    dps = check_dps(dps)
+    return _converged(lambda: _point(phi, None)[0], dps)
 
 
 def density_Q_naive(phi, dps: int = 50):
@@ -96,222 +220,256 @@ def density_Q_naive(phi, dps: int = 50):
     cancellation ``1 - sin(phi/3) -> 0`` (at ``phi -> 3 pi/2``, outside the
     physical range) shows in the tests.
     """
-    with mpmath.workdps(_check_dps(dps)):
+    with mpmath.workdps(check_dps(dps)):
         x = mpmath.mpf(phi)
         return mpmath.mpf(1) / 2 - mpmath.cos(x / 3) / (2 * mpmath.sqrt(3) * (1 - mpmath.sin(x / 3)))
 
 
 def phi_of_density(Q, dps: int = 50):
-    """Inverse of (7.2): ``phi = 6 (atan(sqrt3 (1 - 2Q)) - pi/4)``, ``0 <= Q <= 1/3``.
+    """Inverse of (7.2): ``phi = 6 atan(sqrt3 (1 - 2Q)) - 3 pi/2``, ``0 <= Q <= 1/3``.
 
     Examples
     --------
     >>> mpmath.nstr(phi_of_density(0), 20)  # pi/2
     '1.5707963267948966192'
+    >>> mpmath.nstr(phi_of_density(Fraction(1, 6), dps=15), 15)
+    '0.430042706716096'
     """
-    with mpmath.workdps(_check_dps(dps) + 10):
-        q = mpmath.mpf(Fraction(Q).numerator) / Fraction(Q).denominator if isinstance(Q, Fraction) else mpmath.mpf(Q)
-        if not (0 <= q <= mpmath.mpf(1) / 3):
-            raise ValueError(f"Q={Q!r}: the density per direction lies in 0..1/3")
-        phi = 6 * (mpmath.atan(mpmath.sqrt(3) * (1 - 2 * q)) - mpmath.pi / 4)
-    with mpmath.workdps(dps):
-        return mpmath.mpf(phi)
+    dps = check_dps(dps)
+
+    def compute():
+        q, _ = _point(None, Q)
+        return 6 * (mpmath.atan(mpmath.sqrt(3) * (1 - 2 * q)) - mpmath.pi / 4)
+
+    return _converged(compute, dps)
 
 
-def entropy_small_parameter(eps, dps: int = 50):
-    """Reconstructed Eq. (7.3): ``v ~ eps^2 (1/6 + log(6 sqrt3)/9 - log(eps)/9)``, ``phi = pi/2 - eps``.
-
-    The coefficient of ``eps^2 log eps`` is fixed by counting degrees of
-    freedom (one per hexagon, notes/chicken_wire.md); the constant is read
-    from the garbled text and is **not** confirmed by the Bethe ansatz (see
-    the notes: at the densities reachable here it is not).
+def eps_of(*, phi=None, Q=None, dps: int = 50):
+    """``eps = pi/2 - phi``, the small parameter of (7.3), from ``phi`` or ``Q`` (relative digits kept).
 
     Examples
     --------
-    >>> mpmath.nstr(entropy_small_parameter("0.01", dps=20), 12)
-    '9.38470644394e-5'
+    >>> mpmath.nstr(eps_of(Q="1e-20", dps=15), 15)  # ~ 3 sqrt3 Q
+    '5.19615242270663e-20'
     """
-    with mpmath.workdps(_check_dps(dps) + 10):
-        e = mpmath.mpf(eps)
-        if not e > 0:
-            raise ValueError(f"eps={eps!r}: must be > 0")
-        v = e**2 * (mpmath.mpf(1) / 6 + mpmath.log(6 * mpmath.sqrt(3)) / 9 - mpmath.log(e) / 9)
-    with mpmath.workdps(dps):
-        return mpmath.mpf(v)
+    dps = check_dps(dps)
+
+    def compute():
+        q, x = _point(phi, Q)
+        if x is not None:
+            return mpmath.pi / 2 - x
+        return 2 * mpmath.pi - 6 * mpmath.atan(mpmath.sqrt(3) * (1 - 2 * q))
+
+    return _converged(compute, dps)
 
 
-def entropy_per_grain(F, dps: int = 50):
-    """Reconstructed Eq. (7.4): entropy per grain ``g = 3/2 + log(6 F)`` at force scale ``F``.
+def entropy(*, phi=None, Q=None, dps: int = 50):
+    """Entropy per chicken-wire site on the isotropic line, Eq. (7.1), at ``phi`` or at density ``Q``.
+
+    Parameters
+    ----------
+    phi : number or str, optional
+        The parameter of (7.1)-(7.2), ``-pi/2 <= phi <= pi/2``.
+    Q : number, str or Fraction, optional
+        The bond density per direction, ``0 <= Q <= 1/3`` (give one of the two).
+    dps : int
+        Decimal digits of the result (5..10000).
 
     Examples
     --------
-    >>> mpmath.nstr(entropy_per_grain(1, dps=20), 15)
-    '3.29175946922806'
+    >>> mpmath.nstr(entropy(Q="0.1", dps=20), 20)
+    '0.040351006159081691057'
+    >>> mpmath.nstr(entropy(phi=0, dps=20), 20)  # half the square-triangle maximum
+    '0.060027624659270803917'
+    >>> mpmath.nstr(entropy(Q="1e-30", dps=10), 10)  # ~ -3 Q^2 log Q: the series takes over
+    '2.048120999e-58'
     """
-    with mpmath.workdps(_check_dps(dps) + 10):
-        f = mpmath.mpf(F)
-        if not f > 0:
-            raise ValueError(f"F={F!r}: the force scale must be > 0")
-        g = mpmath.mpf(3) / 2 + mpmath.log(6 * f)
-    with mpmath.workdps(dps):
-        return mpmath.mpf(g)
+    dps = check_dps(dps)
+
+    def compute():
+        q, _ = _point(phi, Q)
+        terms = _series_terms(q, mpmath.mp.dps)
+        return _v_series(q, terms) if terms else _v(q)
+
+    return _converged(compute, dps)
 
 
-# ----------------------------------------------------------- the Bethe-ansatz route
+def chemical_potential(*, phi=None, Q=None, dps: int = 50):
+    """``mu = -(1/3) dv/dQ``: the log-fugacity of each bond direction at density ``Q`` (``0 < Q < 1/3``).
 
-
-def extrapolate(Ls, values, points: int = 8):
-    """``(limit, error)`` of a finite-size sequence: fits ``c0 + c1/L^2 (+ c2/L^4)``.
-
-    The limit is the three-term fit over the last ``points`` values; the
-    error is its difference from the two-term fit.
-    """
-    Ls = np.asarray(Ls[-points:], dtype=float)
-    values = np.asarray(values[-points:], dtype=float)
-    if len(Ls) < 4:
-        raise ValueError(f"need at least 4 system sizes to extrapolate, got {len(Ls)}")
-    A2 = np.vstack([np.ones_like(Ls), Ls**-2.0]).T
-    A4 = np.vstack([np.ones_like(Ls), Ls**-2.0, Ls**-4.0]).T
-    c2 = np.linalg.lstsq(A2, values, rcond=None)[0][0]
-    c4 = np.linalg.lstsq(A4, values, rcond=None)[0][0]
-    return float(c4), float(abs(c4 - c2))
-
-
-@dataclass
-class IsotropicLimit:
-    """``v`` and ``mu`` at density ``Q`` in the limit ``L -> oo``, with error estimates."""
-
-    Q: Fraction
-    v: float
-    v_err: float
-    mu: float
-    mu_err: float
-    L: list
-
-    @property
-    def phi(self) -> float:
-        return float(phi_of_density(self.Q, dps=20))
-
-
-def isotropic_limit(Q, L_max: int = 240, L_min: int = 60, progress=None) -> IsotropicLimit:
-    """Entropy per site at the rational density ``Q = c/a`` on the isotropic line, ``L -> oo``.
-
-    Sectors ``(L, n, m) = k (a, 2c, c)`` for ``L_min <= L <= L_max`` at the
-    isotropic fugacity (:func:`forcenet.numeric.chicken_wire.bethe.isotropic_sequence`), then
-    :func:`extrapolate`.  Raises ``RuntimeError`` where the continuation
-    loses the ground state (reported, never silent).
+    ``mu < 0`` below the maximum ``Q*``, ``mu > 0`` above; near ``Q*`` the
+    cancellation is paid in precision (relative digits are kept).
 
     Examples
     --------
-    >>> lim = isotropic_limit(Fraction(1, 6), L_max=120, L_min=48)
-    >>> round(lim.v, 6), round(lim.mu, 3)
-    (0.061616, -0.043)
+    >>> mpmath.nstr(chemical_potential(Q=Fraction(1, 6), dps=20), 20)
+    '-0.042985271999763969878'
     """
-    from .bethe import isotropic_sequence
+    dps = check_dps(dps)
 
-    Q = Fraction(Q)
-    if not (0 < Q < Fraction(1, 3)):
-        raise ValueError(f"Q={Q}: the Bethe route needs 0 < Q < 1/3")
-    a, c = Q.denominator, Q.numerator
-    ks = range(max(2, -(-L_min // a)), L_max // a + 1)
-    if len(ks) < 4:
-        raise ValueError(f"L_max={L_max}: need at least 4 widths that are multiples of {a} in [{L_min}, {L_max}]")
-    pts = isotropic_sequence(ks, ratio=(a, 2 * c, c), progress=progress)
-    Ls = [p.L for p in pts]
-    v, v_err = extrapolate(Ls, [p.entropy_per_site for p in pts])
-    mu, mu_err = extrapolate(Ls, [p.log_fugacity for p in pts])
-    return IsotropicLimit(Q, v, v_err, mu, mu_err, Ls)
+    def compute():
+        q, _ = _point(phi, Q)
+        if not 0 < q < mpmath.mpf(1) / 3:
+            raise ValueError(f"Q={mpmath.nstr(q, 15)} is out of range: mu needs 0 < Q < 1/3 (it diverges at the ends)")
+        return _mu(q)
+
+    return _converged(compute, dps)
 
 
-def _hermite(q0, q1, v0, v1, d0, d1, q):
-    """Cubic Hermite interpolation of ``v`` with slopes ``d`` on ``[q0, q1]``."""
-    h = q1 - q0
-    t = (q - q0) / h
-    h00, h10, h01, h11 = 2 * t**3 - 3 * t**2 + 1, t**3 - 2 * t**2 + t, -2 * t**3 + 3 * t**2, t**3 - t**2
-    return h00 * v0 + h10 * h * d0 + h01 * v1 + h11 * h * d1
+def empty_density(*, phi=None, Q=None, dps: int = 50):
+    """Empty sites per site, ``e = 1 - 3Q + 3Q^2 = 1/(2 (1 - sin(phi/3)))``: the tiling vertices per site.
 
-
-def bracketing_fractions(Q: float, max_denominator: int = 16):
-    """The nearest fractions ``c/a <= Q <= c'/a'`` with ``a <= max_denominator``, inside ``(0, 1/3)``."""
-    cands = sorted({Fraction(c, a) for a in range(3, max_denominator + 1) for c in range(1, a) if Fraction(c, a) < Fraction(1, 3)})
-    lo = max((f for f in cands if f <= Q), default=None)
-    hi = min((f for f in cands if f >= Q), default=None)
-    if lo is None or hi is None:
-        raise ValueError(f"Q={Q}: outside the fractions c/a <= 16 available to the Bethe route")
-    return lo, hi
-
-
-def isotropic_entropy(Q, L_max: int = 240, L_min: int = 60, max_denominator: int = 16, limits=None):
-    """``v(Q)`` at any density by Hermite interpolation between two rational densities.
-
-    Uses ``v`` and its exact slope ``-3 mu`` at the bracketing fractions.
-    The error adds the extrapolation errors and the difference between the
-    cubic and the quadratic interpolant (which ignores the slope at the right end).
-
-    Returns ``(v, error, (lo, hi))`` with the two :class:`IsotropicLimit` used.
+    Examples
+    --------
+    >>> empty_density(phi=0, dps=20)
+    mpf('0.5')
     """
-    Q = float(Q)
-    lo, hi = bracketing_fractions(Q, max_denominator)
-    limits = dict(limits or {})
-    for f in (lo, hi):
-        if f not in limits:
-            limits[f] = isotropic_limit(f, L_max, L_min)
-    a, b = limits[lo], limits[hi]
-    if lo == hi:
-        return a.v, a.v_err, (a, b)
-    v, err = _interpolate(a, b, Q)
-    return v, err, (a, b)
+    dps = check_dps(dps)
+
+    def compute():
+        q, _ = _point(phi, Q)
+        return 1 - 3 * q + 3 * q * q
+
+    return _converged(compute, dps)
 
 
-def _interpolate(a: IsotropicLimit, b: IsotropicLimit, Q: float):
-    q0, q1 = float(a.Q), float(b.Q)
-    v = _hermite(q0, q1, a.v, b.v, -3 * a.mu, -3 * b.mu, Q)
-    # quadratic through v0, v1 with the slope at q0 only: a bound on the interpolation error
-    h, t = q1 - q0, (Q - q0) / (q1 - q0)
-    quad = a.v + (-3 * a.mu) * h * t + (b.v - a.v - (-3 * a.mu) * h) * t**2
-    err = max(a.v_err, b.v_err) + 3 * max(a.mu_err, b.mu_err) * h + abs(v - quad)
-    return v, err
+def tiling_entropy(*, phi=None, Q=None, dps: int = 50):
+    """Entropy per vertex of the square-triangle tiling, ``s = v / e = 2 (1 - sin(phi/3)) v(phi)``.
 
+    Its maximum, at the twelvefold point ``phi = 0``, is
+    ``log 108 - 2 sqrt3 log(2 + sqrt3) = 0.1200552493...`` (Kalugin 1994).
 
-def entropy_maximum(densities=(Fraction(1, 7), Fraction(1, 6), Fraction(2, 11)), L_max: int = 240, L_min: int = 60, limits=None, progress=None):
-    """Maximum of ``v(Q)`` on the isotropic line: where ``mu(Q) = 0`` (all fugacities 1).
-
-    ``mu`` is known at the given rational densities (at least three); the
-    quadratic through the last three gives the zero ``Q*`` and
-    ``v* = v(Q_last) - 3 int_{Q_last}^{Q*} mu dQ``.  The error adds the
-    extrapolation errors and the change when the linear fit through the last
-    two points is used instead.  The default densities lie below the maximum
-    (``mu < 0``), because the fugacity-1 continuation loses the ground state
-    at higher densities (``Q = 1/5, 3/16``; notes/chicken_wire.md), so ``Q*``
-    is a short extrapolation (``Q* - 2/11 ~ 0.003``).
-
-    Returns ``(Q*, v*, error, limits)``.
+    Examples
+    --------
+    >>> mpmath.nstr(tiling_entropy(phi="0.3", dps=20), 20)
+    '0.11294704937043980697'
     """
-    densities = sorted(Fraction(d) for d in densities)
-    if len(densities) < 3:
-        raise ValueError(f"densities={densities}: need at least three")
-    limits = dict(limits or {})
-    for f in densities:
-        if f not in limits:
-            limits[f] = isotropic_limit(f, L_max, L_min)
-            if progress is not None:
-                progress(1)
-    pts = [limits[f] for f in densities[-3:]]
-    qs = np.array([float(p.Q) for p in pts])
-    mus = np.array([p.mu for p in pts])
-    quad = np.polyfit(qs, mus, 2)
-    lin = np.polyfit(qs[-2:], mus[-2:], 1)
-    roots = [r.real for r in np.roots(quad) if abs(r.imag) < 1e-12 and 0 < r.real < 1 / 3]
-    if not roots:
-        raise RuntimeError(f"mu(Q) has no zero near the densities {densities}")
-    q_star = min(roots, key=lambda r: abs(r - qs[-1]))
-    q_lin = -lin[1] / lin[0]
-    last = pts[-1]
+    dps = check_dps(dps)
 
-    def v_at(poly, q):
-        integral = np.polyval(np.polyint(poly), q) - np.polyval(np.polyint(poly), qs[-1])
-        return last.v - 3 * integral
+    def compute():
+        q, _ = _point(phi, Q)
+        terms = _series_terms(q, mpmath.mp.dps)
+        v = _v_series(q, terms) if terms else _v(q)
+        return v / (1 - 3 * q + 3 * q * q)
 
-    v_star = v_at(quad, q_star)
-    err = last.v_err + 3 * max(p.mu_err for p in pts) * abs(q_star - qs[-1]) + abs(v_star - v_at(lin, q_lin))
-    return float(q_star), float(v_star), float(err), limits
+    return _converged(compute, dps)
+
+
+def entropy_series_7_3(eps, order: int = 2, dps: int = 50):
+    """Eq. (7.3), corrected, truncated at ``eps^order``: ``v ~ eps^2 (log(108/eps^2) - 3)/18 + ...``, ``phi = pi/2 - eps``.
+
+    ``order = 2`` is the thesis's leading term (with the sign of ``3``
+    restored); ``order = 3, 4`` add the next two orders (exact coefficients,
+    :func:`forcenet.exact.chicken_wire.closed_form.entropy_series_eps`).  An
+    approximation of :func:`entropy` for small ``eps``, not the entropy itself.
+
+    Examples
+    --------
+    >>> mpmath.nstr(entropy_series_7_3("0.01", dps=20), 12)
+    '6.05137311061e-5'
+    """
+    import sympy
+
+    from forcenet.exact.chicken_wire.closed_form import EPS, entropy_series_eps
+
+    dps = check_dps(dps)
+    order = check_int(order, "order", 2, 8)
+    f = sympy.lambdify(EPS, entropy_series_eps(order), "mpmath")
+
+    def compute():
+        e = _mpf(eps, "eps")
+        if not 0 < e <= mpmath.pi:
+            raise ValueError(f"eps={eps} is out of range: eps = pi/2 - phi must lie in (0, pi]")
+        return f(e)
+
+    return _converged(compute, dps)
+
+
+def entropy_per_grain(l, dps: int = 50):
+    """Eq. (7.4), corrected: entropy per grain ``g = log(6 l) - 3/2`` for hexagons of side ``l`` (force scale).
+
+    The limit of ``3 l^2 v`` at ``eps = sqrt3 / l -> 0`` (one degree of
+    freedom per grain: ``g(l) - g(1) = log l``).
+
+    Examples
+    --------
+    >>> mpmath.nstr(entropy_per_grain(1, dps=20), 20)
+    '0.29175946922805500081'
+    """
+    dps = check_dps(dps)
+
+    def compute():
+        x = _mpf(l, "l")
+        if not x > 0:
+            raise ValueError(f"l={l} is out of range: the hexagon side (force scale) must be a finite number > 0")
+        return mpmath.log(6 * x) - mpmath.mpf(3) / 2
+
+    return _converged(compute, dps)
+
+
+@dataclass(frozen=True)
+class Maximum:
+    """The two maxima on the isotropic line (all mpf, rounded to ``dps`` digits).
+
+    * per chicken-wire site: ``v_max = v(Q_max)`` where ``mu = 0`` (all fugacities 1);
+    * per tiling vertex: ``s_max = log 108 - 2 sqrt3 log(2 + sqrt3)`` at the
+      twelvefold point ``phi = 0``, ``Q0 = (3 - sqrt3)/6``, with its composition.
+    """
+
+    dps: int
+    Q_max: object
+    phi_max: object
+    v_max: object
+    s_max: object
+    Q0: object
+    v_at_Q0: object
+    empty_per_site: object  # tiling vertices per site at Q0 (1/2)
+    y_per_site: object  # Y vertices (one kind) per site at Q0, 3 Q0^2
+    squares_per_vertex: object
+    triangles_per_vertex: object
+    squares_per_triangle: object  # sqrt3/4
+
+    def as_dict(self) -> dict:
+        return {k: (mpmath.nstr(v, self.dps) if k != "dps" else v) for k, v in self.__dict__.items()}
+
+
+def maximum(dps: int = 50) -> Maximum:
+    """Both maxima of the isotropic line, to ``dps`` digits (Newton on ``mu(Q) = 0``; closed forms).
+
+    Examples
+    --------
+    >>> m = maximum(dps=15)
+    >>> mpmath.nstr(m.s_max, 15), mpmath.nstr(m.squares_per_triangle, 15)  # sqrt3/4 at the twelvefold point
+    ('0.120055249318542', '0.433012701892219')
+    """
+    dps = check_dps(dps)
+
+    def q_star():
+        q = mpmath.mpf("0.1845564976")
+        for _ in range(200):
+            step = _mu(q) / _dmu(q)
+            q -= step
+            if abs(step) < mpmath.eps * 8:
+                break
+        return q
+
+    Q_max = _converged(q_star, dps)
+    with mpmath.workdps(dps + GUARD):
+        Q_str = mpmath.nstr(Q_max, dps + GUARD)
+    v_max = _converged(lambda: _v(q_star()), dps)
+
+    def composition():
+        q0 = (3 - mpmath.sqrt(3)) / 6
+        e0 = 1 - 3 * q0 + 3 * q0 * q0
+        y0 = 3 * q0 * q0
+        squares = 3 * q0 - 3 * y0  # pass-through sites: 2 p + 3 (2 y) = 6 Q bond ends
+        triangles = 2 * (e0 - squares)  # V = N_t/2 + N_s per vertex angle sum
+        return q0, e0, y0, squares / e0, triangles / e0, squares / triangles
+
+    parts = [_converged(lambda k=k: composition()[k], dps) for k in range(6)]
+    return Maximum(
+        dps=dps, Q_max=Q_max, phi_max=phi_of_density(Q_str, dps), v_max=v_max,
+        s_max=_converged(lambda: mpmath.log(108) - 2 * mpmath.sqrt(3) * mpmath.log(2 + mpmath.sqrt(3)), dps),
+        Q0=parts[0], v_at_Q0=entropy(phi=0, dps=dps), empty_per_site=parts[1], y_per_site=parts[2],
+        squares_per_vertex=parts[3], triangles_per_vertex=parts[4], squares_per_triangle=parts[5],
+    )

@@ -23,70 +23,133 @@ diagonal neighbours ``a = (j, N-i+j)``, ``b = (j-1, N-i+j-1)``
   ``G(x, 1) = (pi/2) cos(pi x / 2)``.
 
 Derivation and checks against exact tables: ``notes/scaling_limit.md``.
-Everything is evaluated with mpmath at ``dps`` decimal digits.
+Precision is a parameter: every function converts its inputs inside
+``mpmath.workdps(dps + 10)`` (strings keep all their digits), computes with
+those guard digits and returns an mpf rounded to ``dps`` digits; no global
+precision is set, and points outside a function's domain raise
+``ValueError`` (never a complex number).
 
 Examples
 --------
 >>> import mpmath
->>> float(bulk_response(0, 1, dps=30))  # pi/2 at the bottom centre
-1.5707963267948966
->>> round(float(lattice_response(0.5, dps=20)), 12)  # (1 - sqrt(3/4)) / 2
-0.066987298108
+>>> mpmath.nstr(bulk_response(0, 1, dps=30), 30)  # pi/2 at the bottom centre
+'1.57079632679489661923132169164'
+>>> mpmath.nstr(lattice_response("0.5", dps=20), 20)  # (1 - sqrt(3/4)) / 2
+'0.066987298107780676618'
 """
 
 from __future__ import annotations
 
 import mpmath
 
+from forcenet.exact.validation import check_dps
+
 __all__ = ["level_curve", "level_curve_slope", "limit_surface", "bulk_response", "lattice_response"]
 
+GUARD = 10  # guard digits: inputs are converted and everything is computed at dps + GUARD
 
-def _check_unit(name, value, low=0, high=1):
-    value = mpmath.mpf(value)
-    if not low <= value <= high:
-        raise ValueError(f"{name}={value}: must lie in [{low}, {high}]")
-    return value
+
+def _mpf(value, name: str):
+    """``value`` as an mpf at the current (guarded) precision; strings keep all their digits."""
+    try:
+        x = mpmath.mpf(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name}={value!r} is not a real number") from None
+    if not mpmath.isfinite(x):
+        raise ValueError(f"{name}={value!r} is out of range: {name} must be a finite real number")
+    return x
+
+
+def _in_interval(x, name: str, low, high, low_open: bool = False, high_open: bool = False):
+    bad = (x <= low if low_open else x < low) or (x >= high if high_open else x > high)
+    if bad:
+        lb, hb = "(" if low_open else "[", ")" if high_open else "]"
+        raise ValueError(f"{name}={mpmath.nstr(x, 15)} is out of range: {name} must lie in {lb}{low}, {high}{hb}")
+    return x
+
+
+def _level_curve(a, u):
+    """``h_a(u)`` at the working precision (a, u already mpf and in range)."""
+    b = 1 - 2 * a
+    if b == 0:
+        return mpmath.mpf(1)
+    if b < 0:
+        return 2 - _level_curve(1 - a, u)
+    k = mpmath.sqrt(4 * a * (1 - a) - u * u)
+    inner = mpmath.atan(b * u / k) if k else mpmath.sign(u) * mpmath.pi / 2
+    return 2 * u / mpmath.pi * inner + 2 / mpmath.pi * mpmath.atan(k / b)
+
+
+def _slope(a, u):
+    """``dh_a/da = k / (pi a (1 - a))`` at the working precision."""
+    return mpmath.sqrt(4 * a * (1 - a) - u * u) / (mpmath.pi * a * (1 - a))
+
+
+def _checked_level_point(a, u, dps):
+    a = _in_interval(_mpf(a, "a"), "a", 0, 1, True, True)
+    u = _mpf(u, "u")
+    if 4 * a * (1 - a) - u * u < 0:
+        raise ValueError(f"u={mpmath.nstr(u, 15)} is out of range: outside the level curve of a={mpmath.nstr(a, 15)} "
+                         "(need u^2 <= 4a(1-a))")
+    return a, u
 
 
 def level_curve(a, u, dps: int = 30):
     """``h_a(u)``: the ``v = x + y`` of the level curve ``L = a`` at ``u = x - y``.
 
-    Defined for ``u^2 <= 4a(1-a)``.
+    Defined for ``0 < a < 1`` and ``u^2 <= 4a(1-a)``; raises ``ValueError`` outside.
 
     Examples
     --------
-    >>> float(level_curve(0.5, 0.3))
-    1.0
+    >>> level_curve(0.5, 0.3)
+    mpf('1.0')
+    >>> mpmath.nstr(level_curve("0.2", "0.1", dps=30), 30)
+    '0.592728925371743062936460766685'
     """
-    with mpmath.workdps(dps + 10):
-        a, u = mpmath.mpf(a), mpmath.mpf(u)
-        if not 0 < a < 1:
-            raise ValueError(f"a={a}: must lie in (0, 1)")
-        k2 = 4 * a * (1 - a) - u * u
-        if k2 < 0:
-            raise ValueError(f"u={u}: outside the level curve of a={a} (need u^2 <= 4a(1-a))")
-        k = mpmath.sqrt(k2)
-        if a == mpmath.mpf(1) / 2:
-            return mpmath.mpf(1)
-        b = 1 - 2 * a
-        if a > mpmath.mpf(1) / 2:
-            return 2 - level_curve(1 - a, u, dps)
-        inner = mpmath.atan(b * u / k) if k else mpmath.sign(u) * mpmath.pi / 2
-        return +(2 * u / mpmath.pi * inner + 2 / mpmath.pi * mpmath.atan(k / b))
+    dps = check_dps(dps)
+    with mpmath.workdps(dps + GUARD):
+        a, u = _checked_level_point(a, u, dps)
+        h = _level_curve(a, u)
+    with mpmath.workdps(dps):
+        return +h
 
 
 def level_curve_slope(a, u, dps: int = 30):
     """``dh_a(u)/da = k / (pi a (1 - a))``, ``k = sqrt(4a(1-a) - u^2)`` (derived in the notes).
 
+    Defined where :func:`level_curve` is; raises ``ValueError`` outside (never a complex number).
+
     Examples
     --------
-    >>> float(level_curve_slope(0.5, 0)) == float(4 / mpmath.pi)
-    True
+    >>> mpmath.nstr(level_curve_slope("0.5", 0, dps=20), 20)  # 4/pi
+    '1.2732395447351626862'
+    >>> level_curve_slope(0.1, 0.9)
+    Traceback (most recent call last):
+    ...
+    ValueError: u=0.9 is out of range: outside the level curve of a=0.1 (need u^2 <= 4a(1-a))
     """
-    with mpmath.workdps(dps + 10):
-        a, u = mpmath.mpf(a), mpmath.mpf(u)
-        k = mpmath.sqrt(4 * a * (1 - a) - u * u)
-        return +(k / (mpmath.pi * a * (1 - a)))
+    dps = check_dps(dps)
+    with mpmath.workdps(dps + GUARD):
+        a, u = _checked_level_point(a, u, dps)
+        slope = _slope(a, u)
+    with mpmath.workdps(dps):
+        return +slope
+
+
+def _limit_surface(u, v, dps):
+    """``L(u, v)`` at the working precision (u, v in the square)."""
+    lo = (1 - mpmath.sqrt(1 - u * u)) / 2  # the level curve of lo ends on the edge at u
+    hi = 1 - lo
+    if v <= abs(u):  # lower edges of the square: h_lo(u) = |u|
+        return lo
+    if v >= 2 - abs(u):
+        return hi
+    eps = mpmath.mpf(10) ** (-(dps + GUARD // 2))
+    f = lambda a: _level_curve(a, u) - v  # increasing in a
+    a = mpmath.findroot(f, (lo + eps, hi - eps), solver="anderson", tol=eps)
+    for _ in range(4):  # Newton polish with dh/da = k / (pi a (1 - a))
+        a -= f(a) / _slope(a, u)
+    return a
 
 
 def limit_surface(u, v, dps: int = 30):
@@ -94,60 +157,63 @@ def limit_surface(u, v, dps: int = 30):
 
     Examples
     --------
-    >>> float(limit_surface(0, 1))
-    0.5
-    >>> float(limit_surface(0, 0.5, dps=20)) == float(mpmath.sin(mpmath.pi / 8) ** 2)
-    True
+    >>> limit_surface(0, 1)
+    mpf('0.5')
+    >>> mpmath.nstr(limit_surface(0, "0.5", dps=20), 20)  # the diagonal: sin(pi/8)^2
+    '0.1464466094067262378'
     """
-    with mpmath.workdps(dps + 10):
-        u, v = mpmath.mpf(u), mpmath.mpf(v)
-        if abs(u) + abs(v - 1) > 1 + mpmath.mpf(10) ** (-dps):
-            raise ValueError(f"(u, v)=({u}, {v}): outside the square |u| + |v - 1| <= 1")
-        lo = (1 - mpmath.sqrt(1 - u * u)) / 2  # the level curve of lo ends on the edge at u
-        hi = 1 - lo
-        if v <= abs(u):  # lower edges of the square: h_lo(u) = |u|
-            return lo
-        if v >= 2 - abs(u):
-            return hi
-        eps = mpmath.mpf(10) ** (-(dps + 5))
-        f = lambda a: level_curve(a, u, dps + 10) - v  # increasing in a
-        a = mpmath.findroot(f, (lo + eps, hi - eps), solver="anderson", tol=eps)
-        for _ in range(4):  # Newton polish with dh/da = k / (pi a (1 - a))
-            a -= f(a) / level_curve_slope(a, u, dps + 10)
+    dps = check_dps(dps)
+    with mpmath.workdps(dps + GUARD):
+        u, v = _mpf(u, "u"), _mpf(v, "v")
+        if abs(u) + abs(v - 1) > 1:
+            raise ValueError(f"(u, v)=({mpmath.nstr(u, 15)}, {mpmath.nstr(v, 15)}) is out of range: "
+                             "outside the square |u| + |v - 1| <= 1")
+        a = _limit_surface(u, v, dps)
+    with mpmath.workdps(dps):
         return +a
 
 
 def lattice_response(z, dps: int = 30):
-    """Limit of ``<W_{i,1}> = <W_{i,i}>`` at depth ``z = i/N`` (independent of N).
+    """Limit of ``<W_{i,1}> = <W_{i,i}>`` at depth ``z = i/N``, ``0 <= z <= 1`` (independent of N).
 
     Examples
     --------
-    >>> float(lattice_response(1))
-    0.0
+    >>> lattice_response(1)
+    mpf('0.0')
     """
-    z = _check_unit("z", z)
-    with mpmath.workdps(dps + 10):
-        if z == 0:
-            return mpmath.mpf(1)
-        return +limit_surface(z - 1, 1 - z, dps)
+    dps = check_dps(dps)
+    with mpmath.workdps(dps + GUARD):
+        z = _in_interval(_mpf(z, "z"), "z", 0, 1)
+        value = mpmath.mpf(1) if z == 0 else _limit_surface(z - 1, 1 - z, dps)
+    with mpmath.workdps(dps):
+        return +value
 
 
 def bulk_response(x, z, dps: int = 30):
     """Limit of ``N <W>`` at ``(x, z)``, ``|x| < z <= 1``: ``2 dL/dv``.
 
     Computed as ``2 / (dh_a/da) = 2 pi a (1 - a) / sqrt(4a(1-a) - u^2)`` at
-    ``a = L(u, v)`` (the level curves are graphs over ``u``).
+    ``a = L(u, v)`` (the level curves are graphs over ``u``).  On the lattice
+    directions ``|x| = z < 1`` the bulk density diverges (``<W>`` itself tends
+    to :func:`lattice_response` there): ``ValueError``.  At the bottom corners
+    ``|x| = z = 1`` it vanishes.
 
     Examples
     --------
-    >>> float(bulk_response(0.5, 1, dps=20)) == float(mpmath.pi / 2 * mpmath.cos(mpmath.pi / 4))
-    True
+    >>> mpmath.nstr(bulk_response("0.5", 1, dps=20), 20)  # (pi/2) cos(pi/4) on the bottom row
+    '1.1107207345395915618'
+    >>> mpmath.nstr(bulk_response("0.2", "0.6", dps=40), 40)
+    '1.633495169743023600221082837945243056984'
     """
-    z = _check_unit("z", z)
-    x = _check_unit("x", x, -z, z)
-    with mpmath.workdps(dps + 10):
+    dps = check_dps(dps)
+    with mpmath.workdps(dps + GUARD):
+        z = _in_interval(_mpf(z, "z"), "z", 0, 1, low_open=True)
+        x = _mpf(x, "x")
+        if abs(x) > z or (abs(x) == z and z < 1):  # at the bottom corners (|x| = z = 1) it vanishes
+            raise ValueError(f"x={mpmath.nstr(x, 15)} is out of range: the bulk response needs |x| < z = {mpmath.nstr(z, 15)} "
+                             "(on the lattice directions |x| = z < 1 it diverges; use lattice_response)")
         u, v = z - 1, 1 + x
-        a = limit_surface(u, v, dps + 10)
-        if a in (0, 1):
-            return mpmath.mpf(0)
-        return +(2 / level_curve_slope(a, u, dps + 10))
+        a = _limit_surface(u, v, dps)
+        value = mpmath.mpf(0) if a in (0, 1) else 2 / _slope(a, u)
+    with mpmath.workdps(dps):
+        return +value

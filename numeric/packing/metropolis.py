@@ -21,10 +21,12 @@ import math
 
 import numpy as np
 
+from forcenet.exact.validation import check_int
+
 from .networks import maximin_network
 from .scene import Scene, forces_from_lateral, forces_from_q, lateral_forces
 
-__all__ = ["PackingMetropolis", "response"]
+__all__ = ["PackingMetropolis", "response", "packing_plan"]
 
 
 class PackingMetropolis:
@@ -167,8 +169,7 @@ class PackingMetropolis:
 
         Returns ``W`` of shape ``(sweeps, N, P)``, or ``(W, q)``.
         """
-        if sweeps < 1 or burn_in < 0:
-            raise ValueError(f"sweeps={sweeps}, burn_in={burn_in}: need sweeps >= 1 and burn_in >= 0")
+        sweeps, burn_in = check_int(sweeps, "sweeps", 1), check_int(burn_in, "burn_in", 0)
         self.sweep(burn_in)
         out = np.empty((sweeps, self.scene.N, self.scene.P))
         qs = np.empty((sweeps,) + self.q.shape) if record_q else None
@@ -212,3 +213,26 @@ def response(scene: Scene, sweeps: int, burn_in: int, seed: int = 0, progress=No
         "tau_max": float(max(t1.max(), t0.max())),
     }
     return G, err, info
+
+
+# measured seconds per move: gravity scene N = 12, P = 25 (every q allowed): 64 s for 2200 sweeps;
+# isotropic scene N = 8, P = 17 (finite ph): 311 s for 44000 sweeps
+_SECONDS_PER_MOVE = {True: 1.1e-4, False: 6.5e-5}
+
+
+def packing_plan(scene: Scene, sweeps: int, burn_in: int = 0, chains: int = 1, memory_bytes: int | None = None):
+    """The cost of ``chains`` runs of :meth:`PackingMetropolis.run` (the chains are stored).
+
+    Examples
+    --------
+    >>> packing_plan(Scene(N=12, P=25, F=1000, mg=1), 2000, 200).seconds > 60
+    True
+    """
+    from forcenet.exact.plan import Plan
+
+    sweeps, burn_in = check_int(sweeps, "sweeps", 1), check_int(burn_in, "burn_in", 0)
+    moves = (scene.N - 1) * (scene.P - 1) * (sweeps + burn_in) * chains
+    plan = Plan(f"Metropolis on the {scene.N} x {scene.P} packing, {chains} x {sweeps} sweeps",
+                _SECONDS_PER_MOVE[scene.ph is None] * moves + 0.5,
+                sweeps * scene.N * scene.P * 8 + 150 * 2**20, sweeps * chains, "sweep")
+    return plan.within_memory(memory_bytes)

@@ -49,19 +49,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from forcenet.exact.validation import check_int
+from forcenet.exact.validation import check_int, check_real
 
 __all__ = ["Scene", "forces_from_q", "forces_from_lateral", "lateral_forces", "contact_forces"]
 
 _C = 2 / math.sqrt(3)
 _S3 = math.sqrt(3)
-
-
-def _nonnegative(name, value):
-    value = float(value)
-    if not (math.isfinite(value) and value >= 0):
-        raise ValueError(f"{name}={value} is out of range: {name} must be a finite number >= 0")
-    return value
 
 
 @dataclass(frozen=True)
@@ -104,14 +97,11 @@ class Scene:
         object.__setattr__(self, "N", check_int(self.N, "N", 2))
         object.__setattr__(self, "P", check_int(self.P, "P", 2))
         for name in ("F", "pv", "mg"):
-            object.__setattr__(self, name, _nonnegative(name, getattr(self, name)))
+            object.__setattr__(self, name, check_real(getattr(self, name), name, 0))
         j0 = (self.P + 1) // 2 if self.j0 is None else check_int(self.j0, "j0", 1, self.P)
         object.__setattr__(self, "j0", j0)
         if self.ph is not None:
-            ph = float(self.ph)
-            if not (math.isfinite(ph) and ph > 0):
-                raise ValueError(f"ph={ph} is out of range: ph must be a finite number > 0 (or None)")
-            object.__setattr__(self, "ph", ph)
+            object.__setattr__(self, "ph", check_real(self.ph, "ph", 0, low_open=True))
         if self.pv == 0 and self.mg == 0:
             raise ValueError(
                 "pv=0 and mg=0: only the triangle under the overload carries load; "

@@ -237,3 +237,25 @@ class ExactSampler:
     def mean_W(self, samples: int, progress=None):
         """Sample mean of ``W`` and its standard error, arrays ``(N, N)``."""
         return self.moments(samples, (1,), progress)[1]
+
+
+_SECONDS_PER_CUBE = 6.5e-8  # seconds per sample and N^3, measured N = 12..300 (2 cores)
+
+
+def sample_plan(N: int, samples: int, memory_bytes: int | None = None):
+    """The cost of drawing ``samples`` exact samples of the ``N``-layer triangle.
+
+    Examples
+    --------
+    >>> sample_plan(12, 20000).seconds < 3
+    True
+    >>> sample_plan(100000, 2, memory_bytes=24 * 2**30).runnable
+    False
+    """
+    from forcenet.exact.plan import Plan
+
+    N, samples = check_layers(N), check_int(samples, "samples", 1)
+    batch = max(1, min(4096, 2**28 // (N * N), samples))
+    nbytes = batch * N * N * 32 + 100 * 2**20
+    plan = Plan(f"{samples} exact samples N={N}", _SECONDS_PER_CUBE * N**3 * samples + 0.3, nbytes, samples, "sample")
+    return plan.within_memory(memory_bytes)

@@ -201,3 +201,24 @@ def q_model_samples(N: int, size: int, rng: np.random.Generator) -> np.ndarray:
         W[:, i, :i] += qq * w
         W[:, i, 1 : i + 1] += (1 - qq) * w
     return W
+
+
+_SECONDS_PER_MOVE = 4e-5  # measured: 35-50 us per single-q move (N = 24)
+
+
+def metropolis_plan(N: int, sweeps: int, burn_in: int = 0, memory_bytes: int | None = None):
+    """The cost of :meth:`TriangleMetropolis.run` (time per move measured; the chain is stored).
+
+    Examples
+    --------
+    >>> metropolis_plan(11, 20000, 2000).seconds < 60
+    True
+    """
+    from forcenet.exact.plan import Plan
+
+    N = check_layers(N)
+    sweeps, burn_in = check_int(sweeps, "sweeps", 1), check_int(burn_in, "burn_in", 0)
+    moves = N * (N - 1) // 2 * (sweeps + burn_in)
+    plan = Plan(f"Metropolis N={N}, {sweeps} sweeps", _SECONDS_PER_MOVE * moves + 0.2,
+                sweeps * N * N * 8 + 100 * 2**20, sweeps, "sweep")
+    return plan.within_memory(memory_bytes)

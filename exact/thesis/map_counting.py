@@ -345,3 +345,63 @@ def mean_W_by_maps(N: int) -> list[list[Fraction]]:
     """
     _, moments, _ = moments_by_maps(N, 1)
     return [[moments[1][(i, j)] for j in range(1, i + 1)] for i in range(1, N + 1)]
+
+
+# ------------------------------------------------------ the table route: plan and run
+
+_MAX_N = 9  # N = 9 visits 1.1e11 maps per grain; N = 10 is out of reach
+_SECONDS_PER_MAP_GRAIN = 5.2e-6  # mean_W_thesis_maps per map and grain, measured N = 6, 7 (2 cores)
+_SECONDS_PER_MAP_CELL2 = 2.5e-7  # moments_by_maps per map and d^2 (tableau of each map), measured N = 7
+
+
+def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None):
+    """The cost of :func:`table_run`: ``<W>`` by the map formulas, ``<W^s>`` by averaging over all maps.
+
+    Both passes enumerate maps one by one: the first once per bulk grain (the
+    modified maps of (4.90)), the second, for ``moments >= 2``, once through
+    the bijection with tableaux.
+
+    Examples
+    --------
+    >>> table_plan(7, 3).seconds < 30
+    True
+    >>> table_plan(10).refusal
+    'N=10 is out of range for --method maps: N must be an integer in 2..9 (N = 10 would enumerate 3.97e+15 maps per grain)'
+    """
+    from ..plan import Plan, combine
+    from ..triangle.staircase import count
+
+    N, moments = check_layers(N), check_int(moments, "moments", 1)
+    what = f"--method maps N={N}"
+    if N > _MAX_N:
+        return Plan(what, 0, refusal=f"N={N} is out of range for --method maps: N must be an integer in 2..{_MAX_N} "
+                                     f"(N = {N} would enumerate {count(N):.3g} maps per grain)")
+    grains = (N - 1) * (N - 2) // 2
+    d = dimension(N)
+    plans = [Plan(f"{what}, map sums per grain ({count(N)} maps each)", count(N) * d * _SECONDS_PER_MAP_GRAIN,
+                  0, grains, "grain")]
+    if moments >= 2:
+        plans.append(Plan(f"{what}, every map's tableau for <W^s>", count(N) * d * d * _SECONDS_PER_MAP_CELL2,
+                          0, 1, "grain"))
+    return combine(plans[0].what if len(plans) == 1 else f"{what}, map sums and every map's tableau", plans, "grain")
+
+
+def table_run(N: int, moments: int = 1, progress=None) -> dict:
+    """``{s: <W^s> table}``: ``s = 1`` from (4.67), (4.90)-(4.91), ``s >= 2`` averaged over all maps.
+
+    ``progress`` is called once per bulk grain and once for the moment pass.
+
+    Examples
+    --------
+    >>> tables = table_run(5, 2)
+    >>> [str(x) for x in tables[2][-1]]
+    ['1/66', '65/792', '25/198', '65/792', '1/66']
+    """
+    N, moments = check_layers(N), check_int(moments, "moments", 1)
+    tables = {1: mean_W_thesis_maps(N, progress=progress)}
+    if moments >= 2:  # <W^s> by map counting through the tableau bijection
+        _, mom, _ = moments_by_maps(N, moments)
+        tables.update({s: [[mom[s][(i, j)] for j in range(1, i + 1)] for i in range(1, N + 1)] for s in range(2, moments + 1)})
+        if progress is not None:
+            progress()
+    return tables

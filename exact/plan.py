@@ -1,0 +1,108 @@
+"""What a long computation will cost, decided before it starts.
+
+Every route of ``forcenet table`` (and every other long command) exposes a
+*plan* and a *run*.  The plan is cheap: estimated seconds on the 2-core
+reference machine, peak bytes, the number of progress ticks the run will
+report, or a refusal with its reason (out of the route's range, or more
+memory than the caller has).  The engines own their cost knowledge (measured
+constants live next to the code they describe); the command line only asks,
+announces, refuses or runs.
+
+May import: nothing of the package.
+
+Examples
+--------
+>>> plan = Plan("exact table N=20", seconds=3.2, nbytes=2**28, ticks=4, unit="pass")
+>>> plan.describe()
+'~3 s, ~0.25 GiB'
+>>> Plan("x", 0, refusal="N=40 is out of range").runnable
+False
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+__all__ = ["Plan", "duration_text", "combine"]
+
+
+def duration_text(seconds: float) -> str:
+    """``seconds`` as a readable duration: 40 s, 12 min, 3.5 h, 90 days.
+
+    Examples
+    --------
+    >>> duration_text(40), duration_text(720), duration_text(12600), duration_text(8e6)
+    ('40 s', '12 min', '3.5 h', '93 days')
+    """
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min"
+    if seconds < 2 * 86400:
+        return f"{seconds / 3600:.1f} h"
+    return f"{seconds / 86400:.0f} days"
+
+
+@dataclass(frozen=True)
+class Plan:
+    """The announced cost of a run.
+
+    Attributes
+    ----------
+    what : str
+        What will be computed, for the announcement.
+    seconds : float
+        Estimated wall time on the 2-core reference machine.
+    nbytes : int
+        Estimated peak memory.
+    ticks : int
+        Number of progress ticks the run reports (0: no progress bar).
+    unit : str
+        What one tick is (a grain, an ideal, a sample, ...).
+    refusal : str or None
+        Why the run cannot be done at all (range, memory); None if it can.
+    """
+
+    what: str
+    seconds: float
+    nbytes: int = 0
+    ticks: int = 0
+    unit: str = "step"
+    refusal: str | None = None
+
+    @property
+    def runnable(self) -> bool:
+        return self.refusal is None
+
+    def describe(self) -> str:
+        """``'~12 min, ~3.2 GiB'``."""
+        text = f"~{duration_text(self.seconds)}"
+        if self.nbytes:
+            text += f", ~{self.nbytes / 2**30:.2g} GiB"
+        return text
+
+    def refuse(self, reason: str) -> "Plan":
+        """The same plan, refused (the first reason wins)."""
+        return self if self.refusal else replace(self, refusal=reason)
+
+    def within_memory(self, memory_bytes: int | None) -> "Plan":
+        """Refused if the peak memory exceeds ``memory_bytes`` (None: no check)."""
+        if memory_bytes is None or self.nbytes <= memory_bytes:
+            return self
+        return self.refuse(
+            f"{self.what} needs ~{self.nbytes / 2**30:.1f} GiB of memory but {memory_bytes / 2**30:.1f} GiB is available"
+        )
+
+
+def combine(what: str, plans, unit: str = "step") -> Plan:
+    """One plan for several runs done one after the other (times and ticks add, memory is the peak).
+
+    Examples
+    --------
+    >>> combine("both", [Plan("a", 2, 10, 3), Plan("b", 5, 30, 4)])
+    Plan(what='both', seconds=7, nbytes=30, ticks=7, unit='step', refusal=None)
+    """
+    plans = list(plans)
+    refusal = next((p.refusal for p in plans if p.refusal), None)
+    return Plan(what, sum(p.seconds for p in plans), max((p.nbytes for p in plans), default=0),
+                sum(p.ticks for p in plans), unit, refusal)

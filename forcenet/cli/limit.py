@@ -1,0 +1,56 @@
+"""``forcenet limit``: the scaling limit of the response at reduced coordinates (x, z)."""
+
+from __future__ import annotations
+
+from .common import UsageError, add_format, emit, integer, json_dumps, real
+
+__all__ = ["register"]
+
+
+def cmd_limit(args):
+    import mpmath
+
+    from forcenet.numeric.limit_shape.surface import bulk_response, lattice_response
+
+    z, x, dps = args.z, args.x, args.dps
+    if not abs(float(x)) <= float(z):
+        raise UsageError(f"x={x} is out of range: x must lie in [-z, z] = [-{z}, {z}]")
+    lattice = lattice_response(z, dps=dps)
+    on_lattice = abs(float(x)) == float(z) and float(z) < 1  # the bulk density diverges there
+    bulk = None if on_lattice else bulk_response(x, z, dps=dps)
+    bulk_text = "inf" if on_lattice else mpmath.nstr(bulk, dps)
+    if args.format == "json":
+        out = {"x": float(x), "z": float(z), "dps": dps, "N_W_bulk": None if on_lattice else bulk_text,
+               "W_lattice": mpmath.nstr(lattice, dps), "on_lattice_direction": on_lattice}
+        emit(json_dumps(out), args.out)
+        return 0
+    lines = [f"scaling limit at x = {x}, z = {z} ({dps} digits)"]
+    if on_lattice:
+        lines.append("  bulk:              N <W>  -> infinity (|x| = z is a lattice direction: <W> itself stays finite)")
+    else:
+        lines.append(f"  bulk:              N <W>  -> {bulk_text}")
+    lines.append(f"  lattice direction: <W>    -> {mpmath.nstr(lattice, dps)}  (= (1 - sqrt(z(2-z)))/2)")
+    emit("\n".join(lines), args.out)
+    return 0
+
+
+def register(sub):
+    p = sub.add_parser("limit", help="scaling limit of the response at reduced coordinates (x, z)")
+    # the coordinates stay strings: they are converted inside mpmath.workdps, so every digit given counts
+    p.add_argument("--x", type=_decimal("x", -1, 1), required=True, help="horizontal coordinate (2j - i - 1)/N, |x| <= z")
+    p.add_argument("--z", type=_decimal("z", 0, 1, low_open=True), required=True, help="depth i/N in (0, 1]")
+    p.add_argument("--dps", type=integer("dps", 5, 1000), default=20, help="decimal digits (5..1000, default 20)")
+    add_format(p)
+    p.set_defaults(func=cmd_limit)
+
+
+def _decimal(name, low, high, low_open=False):
+    """A finite number in range, kept as the string given (full precision later)."""
+    check = real(name, low, high, low_open=low_open)
+
+    def parse(text):
+        check(text)
+        return text.strip()
+
+    parse.__name__ = "value"
+    return parse

@@ -1,0 +1,197 @@
+"""``forcenet count``, ``forcenet table`` (the main job) and ``forcenet maps``."""
+
+from __future__ import annotations
+
+import os
+
+from forcenet.exact.routes import MAX_MOMENTS, METHODS
+
+from .common import (
+    UsageError,
+    add_force,
+    add_layers,
+    add_quiet,
+    add_seed,
+    available_memory,
+    check_output_dir,
+    check_output_path,
+    emit,
+    integer,
+    json_dumps,
+    run_planned,
+    write_files,
+)
+
+__all__ = ["register"]
+
+_EXTENSIONS = {".json": "json", ".csv": "csv", ".tex": "latex"}
+MAPS_MAX_N = 10
+
+
+def _decimal(n: int) -> str:
+    """Decimal digits of a (possibly huge) integer: python-flint's conversion is subquadratic."""
+    import flint
+
+    return str(flint.fmpz(n))
+
+
+def cmd_count(args):
+    from forcenet.exact.triangle.staircase import count, count_plan
+
+    check_output_path(args.out)
+    plan = count_plan(args.N, available_memory())
+    text = run_planned(plan, lambda tick: _decimal(count(args.N)), force=args.force, quiet=args.quiet)
+    emit(text, args.out)
+    return 0
+
+
+def _samples(text):
+    """--samples of the cross-check: 0 (none) or an integer >= 2 (an error bar needs two)."""
+    value = integer("samples", 0)(text)
+    if value == 1:
+        import argparse
+
+        raise argparse.ArgumentTypeError("samples=1 is out of range: samples must be 0 (no cross-check) or an integer >= 2")
+    return value
+
+
+def _output_format(args):
+    """--format, or the format implied by the extension of --out."""
+    if args.format is not None or args.out is None:
+        return args.format
+    ext = os.path.splitext(args.out)[1].lower()
+    if ext not in _EXTENSIONS:
+        raise UsageError(f"--out={args.out}: give --format json|csv|latex or a file ending in .json, .csv or .tex")
+    return _EXTENSIONS[ext]
+
+
+def _cross_check(N: int, means, samples: int, seed: int, progress):
+    """Exact-sampler samples of every free grain against the exact table (Hotelling and max |z|)."""
+    import numpy as np
+
+    from forcenet.numeric.agreement import compare_samples
+    from forcenet.numeric.triangle.exact_sampler import ExactSampler
+
+    grains = [(i, j) for i in range(2, N + 1) for j in range(1, i)]  # W_{i,i} = 1 - the others
+    sampler = ExactSampler(N, seed=seed)
+    rows = []
+    done = 0
+    while done < samples:
+        k = min(sampler.batch, samples - done)
+        W = sampler.sample_W(k)
+        rows.append(np.stack([W[:, i - 1, j - 1] for i, j in grains], axis=1))
+        done += k
+        if progress is not None:
+            progress(k)
+    exact = [means[i - 1][j - 1] for i, j in grains]
+    return compare_samples(np.concatenate(rows), exact, keys=grains)
+
+
+def cmd_table(args):
+    from forcenet.exact.plan import combine
+    from forcenet.exact.routes import table_plan, table_run
+    from forcenet.exact.triangle.tables import exact_table, fraction_str, to_csv, to_json, to_latex
+
+    fmt = _output_format(args)
+    if fmt is None and args.out is not None:  # pragma: no cover - _output_format infers it
+        raise UsageError("--out needs --format")
+    if fmt is not None:
+        check_output_path(args.out)
+    else:
+        check_output_dir(args.out_dir)
+    memory = available_memory()
+    plans = [table_plan(args.method, args.N, args.moments, memory)]
+    cross = fmt is None and args.samples > 0
+    if cross:
+        from forcenet.numeric.triangle.exact_sampler import sample_plan
+
+        plans.append(sample_plan(args.N, args.samples, memory))
+    plan = combine(plans[0].what if len(plans) == 1 else f"{plans[0].what} and its Monte Carlo cross-check", plans, plans[0].unit)
+
+    def run(tick):
+        tables = table_run(args.method, args.N, args.moments, progress=tick, memory_bytes=memory)
+        check = _cross_check(args.N, tables[1], args.samples, args.seed, tick) if cross else None
+        return tables, check
+
+    tables, check = run_planned(plan, run, force=args.force, quiet=args.quiet)
+    table = exact_table(args.N, args.moments, mean_table=tables[1], moment_tables={s: t for s, t in tables.items() if s > 1})
+    render = {"json": to_json, "csv": to_csv, "latex": to_latex}
+    if fmt is not None:
+        emit(render[fmt](table), args.out)
+        return 0
+    # the main job: three files (all or none), a readable summary and the Monte Carlo check
+    N = args.N
+    stem = os.path.join(args.out_dir, f"mean_W_N{N}")
+    files = {f"{stem}.{ext}": render[fmt_name](table) for ext, fmt_name in (("json", "json"), ("csv", "csv"), ("tex", "latex"))}
+    write_files(files, name="--out-dir", make_dir=args.out_dir)
+    bottom = table["mean_W"][-1]
+    lines = [
+        f"Fully mobilized triangle, N = {N} layers, d = {N * (N - 1) // 2} free forces",
+        f"  tableaux count (d! * normalization): {table['count']}",
+        f"  normalization (Eq. 4.1):             {fraction_str(table['normalization'])}",
+        "  <W_N,j> on the bottom row:",
+    ]
+    lines += [f"    j = {j:2d}: {float(value):.10f}  = {fraction_str(value)}" for j, value in enumerate(bottom, start=1)]
+    lines.append(f"  exact tables written: {stem}.json, {stem}.csv, {stem}.tex")
+    if check is not None:
+        lines.append(f"Monte Carlo cross-check: {args.samples} independent exact samples (seed {args.seed}) "
+                     f"of the {check.values} free grains against the exact table:")
+        lines += ["  " + line for line in check.summary().splitlines()]
+        lines.append(f"  RMS of (sampled - exact)/stderr = {check.rms_z:.2f} (about 1 expected)")
+    print("\n".join(lines))
+    return 0 if check is None or check.passed else 1
+
+
+def cmd_maps(args):
+    from forcenet.exact.thesis.recursions import lambda_table
+
+    N = args.N
+    table = lambda_table(N - 2)  # maps per bottom row h(N-2, .), Eq. (4.88)
+    Z = sum(table.values())
+    if args.format == "json":
+        rows = [{"bottom_row": list(j), "maps": str(v)} for j, v in sorted(table.items())]
+        emit(json_dumps({"N": N, "Z": str(Z), "by_bottom_row": rows}), args.out)
+        return 0
+    lines = [f"Z_{N - 2} = {Z}  (maps h of Sec. 4.6 for N = {N}; equals the tableaux count)",
+             f"maps per bottom row h(N-2, 1..N-2), {len(table)} rows with maps:"]
+    lines += [" ".join(f"{x:2d}" for x in j) + " : " + str(v) for j, v in sorted(table.items())]
+    emit("\n".join(lines), args.out)
+    return 0
+
+
+def register(sub):
+    """Add ``count``, ``table`` and ``maps`` to the subcommands."""
+    p = sub.add_parser("count", help="number of standard shifted staircase tableaux, d! * normalization (4.1)")
+    add_layers(p)
+    p.add_argument("--out", help="write the integer to this file (atomically; its directory must exist)")
+    add_force(p)
+    add_quiet(p)
+    p.set_defaults(func=cmd_count)
+
+    p = sub.add_parser("table", help="exact table of <W_ij> (and higher moments): the main job")
+    add_layers(p)
+    p.add_argument("--format", choices=["json", "csv", "latex"], help="print one format instead of the main job")
+    p.add_argument("--out", help="write that format to this file (atomically; its directory must exist); "
+                                 "the format follows the extension .json/.csv/.tex if --format is not given")
+    p.add_argument("--moments", type=integer("moments", 1, MAX_MOMENTS), default=1,
+                   help=f"highest moment s of W^s (1..{MAX_MOMENTS}, default 1)")
+    p.add_argument("--out-dir", default="forcenet-tables",
+                   help="directory of the main job's three files (created if missing; its parent must exist)")
+    p.add_argument("--samples", type=_samples, default=20000,
+                   help="exact-sampler samples of the main job's cross-check (0: none, else >= 2; default 20000)")
+    add_seed(p, default=2006)
+    p.add_argument(
+        "--method", choices=list(METHODS), default="fast",
+        help="fast: order-ideal DP (default); thesis: the nested-matrix integration of Secs. 4.3-4.5; "
+        "lambda: the integer recursions Lambda (4.50) and Gamma (4.73)-(4.77); "
+        "maps: the map-counting formulas (4.67), (4.90)-(4.91) of Sec. 4.6",
+    )
+    add_force(p)
+    add_quiet(p)
+    p.set_defaults(func=cmd_table)
+
+    p = sub.add_parser("maps", help="Z_(N-2) and the number of maps h per bottom row (Sec. 4.6)")
+    add_layers(p, maximum=MAPS_MAX_N, minimum=3)
+    p.add_argument("--format", choices=["text", "json"], default="text", help="output format (default text)")
+    p.add_argument("--out", help="write the output to this file (atomically; its directory must exist)")
+    p.set_defaults(func=cmd_maps)

@@ -1,0 +1,199 @@
+"""The isotropic line of the chicken-wire model from the Bethe ansatz: the independent route.
+
+For a rational density ``Q = c/a`` the sectors ``(L, n, m) = k (a, 2c, c)`` are
+solved at the photon fugacity that makes all three bond densities equal
+``Q`` (:func:`forcenet.numeric.chicken_wire.bethe.isotropic_sequence`), and
+the entropy per site ``v`` and the log-fugacity ``mu`` are extrapolated to
+``L -> oo`` (:func:`extrapolate`).  Between rationals, ``v`` is interpolated
+with its exact slope ``dv/dQ = -3 mu`` (Legendre).  This route knows nothing
+of the closed form (7.1) (:mod:`.isotropic`), which the tests check against it.
+
+May import: :mod:`forcenet.exact.validation`, :mod:`.bethe`.
+
+Examples
+--------
+>>> lim = isotropic_limit(Fraction(1, 6), L_max=120, L_min=48)
+>>> round(lim.v, 6), round(lim.mu, 3)
+(0.061616, -0.043)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+
+import numpy as np
+
+__all__ = [
+    "extrapolate",
+    "IsotropicLimit",
+    "isotropic_limit",
+    "bracketing_fractions",
+    "bethe_entropy",
+    "bethe_entropy_maximum",
+    "bethe_plan",
+]
+
+
+def extrapolate(Ls, values, points: int = 8):
+    """``(limit, error)`` of a finite-size sequence: fits ``c0 + c1/L^2 (+ c2/L^4)``.
+
+    The limit is the three-term fit over the last ``points`` values; the
+    error is its difference from the two-term fit.
+    """
+    Ls = np.asarray(Ls[-points:], dtype=float)
+    values = np.asarray(values[-points:], dtype=float)
+    if len(Ls) < 4:
+        raise ValueError(f"need at least 4 system sizes to extrapolate, got {len(Ls)}")
+    A2 = np.vstack([np.ones_like(Ls), Ls**-2.0]).T
+    A4 = np.vstack([np.ones_like(Ls), Ls**-2.0, Ls**-4.0]).T
+    c2 = np.linalg.lstsq(A2, values, rcond=None)[0][0]
+    c4 = np.linalg.lstsq(A4, values, rcond=None)[0][0]
+    return float(c4), float(abs(c4 - c2))
+
+
+@dataclass
+class IsotropicLimit:
+    """``v`` and ``mu`` at density ``Q`` in the limit ``L -> oo``, with error estimates."""
+
+    Q: Fraction
+    v: float
+    v_err: float
+    mu: float
+    mu_err: float
+    L: list
+
+
+def isotropic_limit(Q, L_max: int = 240, L_min: int = 60, progress=None) -> IsotropicLimit:
+    """Entropy per site at the rational density ``Q = c/a`` on the isotropic line, ``L -> oo``.
+
+    Sectors ``(L, n, m) = k (a, 2c, c)`` for ``L_min <= L <= L_max`` at the
+    isotropic fugacity (:func:`forcenet.numeric.chicken_wire.bethe.isotropic_sequence`), then
+    :func:`extrapolate`.  Raises ``RuntimeError`` where the continuation
+    loses the ground state (reported, never silent).
+
+    """
+    from .bethe import isotropic_sequence
+
+    Q = Fraction(Q)
+    if not (0 < Q < Fraction(1, 3)):
+        raise ValueError(f"Q={Q}: the Bethe route needs 0 < Q < 1/3")
+    a, c = Q.denominator, Q.numerator
+    ks = range(max(2, -(-L_min // a)), L_max // a + 1)
+    if len(ks) < 4:
+        raise ValueError(f"L_max={L_max}: need at least 4 widths that are multiples of {a} in [{L_min}, {L_max}]")
+    pts = isotropic_sequence(ks, ratio=(a, 2 * c, c), progress=progress)
+    Ls = [p.L for p in pts]
+    v, v_err = extrapolate(Ls, [p.entropy_per_site for p in pts])
+    mu, mu_err = extrapolate(Ls, [p.log_fugacity for p in pts])
+    return IsotropicLimit(Q, v, v_err, mu, mu_err, Ls)
+
+
+def _hermite(q0, q1, v0, v1, d0, d1, q):
+    """Cubic Hermite interpolation of ``v`` with slopes ``d`` on ``[q0, q1]``."""
+    h = q1 - q0
+    t = (q - q0) / h
+    h00, h10, h01, h11 = 2 * t**3 - 3 * t**2 + 1, t**3 - 2 * t**2 + t, -2 * t**3 + 3 * t**2, t**3 - t**2
+    return h00 * v0 + h10 * h * d0 + h01 * v1 + h11 * h * d1
+
+
+def bracketing_fractions(Q: float, max_denominator: int = 16):
+    """The nearest fractions ``c/a <= Q <= c'/a'`` with ``a <= max_denominator``, inside ``(0, 1/3)``."""
+    cands = sorted({Fraction(c, a) for a in range(3, max_denominator + 1) for c in range(1, a) if Fraction(c, a) < Fraction(1, 3)})
+    lo = max((f for f in cands if f <= Q), default=None)
+    hi = min((f for f in cands if f >= Q), default=None)
+    if lo is None or hi is None:
+        raise ValueError(f"Q={Q}: outside the fractions c/a <= 16 available to the Bethe route")
+    return lo, hi
+
+
+def bethe_entropy(Q, L_max: int = 240, L_min: int = 60, max_denominator: int = 16, limits=None):
+    """``v(Q)`` at any density by Hermite interpolation between two rational densities.
+
+    Uses ``v`` and its exact slope ``-3 mu`` at the bracketing fractions.
+    The error adds the extrapolation errors and the difference between the
+    cubic and the quadratic interpolant (which ignores the slope at the right end).
+
+    Returns ``(v, error, (lo, hi))`` with the two :class:`IsotropicLimit` used.
+    """
+    Q = float(Q)
+    lo, hi = bracketing_fractions(Q, max_denominator)
+    limits = dict(limits or {})
+    for f in (lo, hi):
+        if f not in limits:
+            limits[f] = isotropic_limit(f, L_max, L_min)
+    a, b = limits[lo], limits[hi]
+    if lo == hi:
+        return a.v, a.v_err, (a, b)
+    v, err = _interpolate(a, b, Q)
+    return v, err, (a, b)
+
+
+def _interpolate(a: IsotropicLimit, b: IsotropicLimit, Q: float):
+    q0, q1 = float(a.Q), float(b.Q)
+    v = _hermite(q0, q1, a.v, b.v, -3 * a.mu, -3 * b.mu, Q)
+    # quadratic through v0, v1 with the slope at q0 only: a bound on the interpolation error
+    h, t = q1 - q0, (Q - q0) / (q1 - q0)
+    quad = a.v + (-3 * a.mu) * h * t + (b.v - a.v - (-3 * a.mu) * h) * t**2
+    err = max(a.v_err, b.v_err) + 3 * max(a.mu_err, b.mu_err) * h + abs(v - quad)
+    return v, err
+
+
+def bethe_entropy_maximum(densities=(Fraction(1, 7), Fraction(1, 6), Fraction(2, 11)), L_max: int = 240, L_min: int = 60, limits=None, progress=None):
+    """Maximum of ``v(Q)`` on the isotropic line: where ``mu(Q) = 0`` (all fugacities 1).
+
+    ``mu`` is known at the given rational densities (at least three); the
+    quadratic through the last three gives the zero ``Q*`` and
+    ``v* = v(Q_last) - 3 int_{Q_last}^{Q*} mu dQ``.  The error adds the
+    extrapolation errors and the change when the linear fit through the last
+    two points is used instead.  The default densities lie below the maximum
+    (``mu < 0``), because the fugacity-1 continuation loses the ground state
+    at higher densities (``Q = 1/5, 3/16``; notes/chicken_wire.md), so ``Q*``
+    is a short extrapolation (``Q* - 2/11 ~ 0.003``).
+
+    Returns ``(Q*, v*, error, limits)``.
+    """
+    densities = sorted(Fraction(d) for d in densities)
+    if len(densities) < 3:
+        raise ValueError(f"densities={densities}: need at least three")
+    limits = dict(limits or {})
+    for f in densities:
+        if f not in limits:
+            limits[f] = isotropic_limit(f, L_max, L_min)
+            if progress is not None:
+                progress(1)
+    pts = [limits[f] for f in densities[-3:]]
+    qs = np.array([float(p.Q) for p in pts])
+    mus = np.array([p.mu for p in pts])
+    quad = np.polyfit(qs, mus, 2)
+    lin = np.polyfit(qs[-2:], mus[-2:], 1)
+    roots = [r.real for r in np.roots(quad) if abs(r.imag) < 1e-12 and 0 < r.real < 1 / 3]
+    if not roots:
+        raise RuntimeError(f"mu(Q) has no zero near the densities {densities}")
+    q_star = min(roots, key=lambda r: abs(r - qs[-1]))
+    q_lin = -lin[1] / lin[0]
+    last = pts[-1]
+
+    def v_at(poly, q):
+        integral = np.polyval(np.polyint(poly), q) - np.polyval(np.polyint(poly), qs[-1])
+        return last.v - 3 * integral
+
+    v_star = v_at(quad, q_star)
+    err = last.v_err + 3 * max(p.mu_err for p in pts) * abs(q_star - qs[-1]) + abs(v_star - v_at(lin, q_lin))
+    return float(q_star), float(v_star), float(err), limits
+
+
+# seconds of one isotropic sequence to L_max on the 2-core machine (benchmarks/speed_vs_error.py;
+# Q = 1/6: L <= 120 6.5 s, L <= 240 11 s; L <= 600 519 s with two scans sharing the two cores)
+def bethe_plan(sequences: int, L_max: int):
+    """The cost of ``sequences`` isotropic Bethe sequences up to width ``L_max``.
+
+    Examples
+    --------
+    >>> bethe_plan(1, 240).seconds < 60
+    True
+    """
+    from forcenet.exact.plan import Plan
+
+    seconds = sequences * (3.0 + 11.0 * (L_max / 240) ** 3.5)
+    return Plan(f"{sequences} Bethe-ansatz sequence(s) to L = {L_max}", seconds, 200 * 2**20, sequences, "sequence")

@@ -122,3 +122,57 @@ def test_isotropic_bad_input():
         isotropic_state(10, 5, 2, sol.w, sol.u)
     with pytest.raises(ValueError, match="ratio"):
         isotropic_sequence([2], ratio=(6, 3, 1))
+
+
+# ------------------------------------------- the Y density (hop fugacity), issue 13
+
+
+def _follow_hop(L, w, u, log_t, steps=10):
+    from forcenet.numeric.chicken_wire.bethe import _tangent
+
+    n = len(w)
+    for k in range(1, steps + 1):
+        h = log_t / steps
+        dx = _tangent(L, w, u, hop=True)
+        w, u, _, _ = newton_polish(L, w + h * dx[:n], u + h * dx[n:], log_hop=k * h)
+    return w, u
+
+
+def _top(M):
+    return eigs(M, k=1, which="LR", return_eigenvectors=False).real.max()
+
+
+@pytest.mark.parametrize("L, n, m", [(9, 4, 2), (10, 5, 2), (11, 4, 2)])
+def test_hop_twist_equals_the_hop_weighted_matrix(L, n, m):
+    """A weight t per Y vertex: twists t^m (first set), t^n (second set); Lambda against the sector matrix."""
+    sol = solve_ground_state(L, n, m)
+    for log_t in (0.2, -0.15):
+        w, u = _follow_hop(L, sol.w, sol.u, log_t)
+        assert abs(np.prod(u).real - _top(sector_matrix(L, n, m, hop_fugacity=math.exp(log_t)))) < 1e-10
+
+
+def test_hop_weighted_matrix_equals_the_vertex_weighted_mpo():
+    # weight t on Y (one per hop) in the matrix-product-operator route, maximized over m
+    t, L, n = 1.3, 8, 4
+    best = max(np.linalg.eigvals(sector_matrix(L, n, m, hop_fugacity=t).toarray()).real.max() for m in range(n + 1))
+    assert abs(best - largest_eigenvalue(L, weights={"Y": t}, particles=n)) < 1e-10
+
+
+def test_y_density_is_the_pair_sum_and_a_derivative():
+    from forcenet.numeric.chicken_wire.bethe import photon_density, y_density
+
+    L, n, m = 10, 5, 2
+    sol = solve_ground_state(L, n, m)
+    y = y_density(L, sol.w, sol.u)
+    h = 1e-4
+    lam = [_top(sector_matrix(L, n, m, hop_fugacity=math.exp(s))) for s in (-h, h)]
+    assert abs(y - (math.log(lam[1]) - math.log(lam[0])) / (2 * h) / L) < 1e-7
+    qh, qr, ql = photon_density(L, sol.w, sol.u), (n - m) / L, m / L
+    assert abs(y - (qr * ql + ql * qh + qh * qr)) < 1e-13
+
+
+def test_y_density_on_the_isotropic_line_is_3Q2():
+    from forcenet.numeric.chicken_wire.bethe import isotropic_sequence, y_density
+
+    for p in isotropic_sequence(range(8, 11), ratio=(6, 2, 1)):  # Q = 1/6, L = 48..60
+        assert abs(y_density(p.L, p.w, p.u) - 3 * p.Q**2) < 1e-11

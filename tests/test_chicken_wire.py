@@ -114,3 +114,19 @@ def test_hexagon_monte_carlo_against_its_component():
     for c in configs[:50]:
         assert len(c.hexagons()) == 12
         assert not c.invalid_sites()
+
+
+@pytest.mark.parametrize("L, M", [(3, 3), (4, 4), (3, 5), (5, 3), (4, 5)])
+def test_torus_identity_y_is_the_pair_sum(L, M):
+    """L N_Y = n N_H + m (n - m) M for every configuration (winding argument, notes Sec. 9).
+
+    From the vertex content: bonds of the R direction M (n - m) = n_R + n_Y, of the L direction
+    M m = n_L + n_Y, horizontal N_H = n_H + n_Y (each Y and inverted Y has one bond of each).
+    So Y per site = Q_R Q_L + Q_L Q_H + Q_H Q_R exactly on every torus.
+    """
+    for (empty, y, inv_y, h, r, l), _ in vertex_counts_torus(L, M).items():
+        assert y == inv_y
+        right, left, horizontal = r + y, l + y, h + y
+        assert right % M == 0 and left % M == 0
+        n, m = (right + left) // M, left // M
+        assert L * y == n * horizontal + m * (n - m) * M

@@ -54,6 +54,8 @@ __all__ = [
     "transfer_matrix",
     "count_torus",
     "count_torus_by_enumeration",
+    "torus_configurations",
+    "BOND_STEPS",
     "vertex_counts_torus",
     "EMPTY",
     "RIGHT",
@@ -221,15 +223,34 @@ def count_torus_by_enumeration(L: int, M: int) -> int:
     M = check_int(M, "M", 1)
     if L * M > 20:
         raise ValueError(f"L*M={L * M} is out of range: enumeration is for at most 20 sites")
+    return sum(1 for _ in torus_configurations(L, M))
+
+
+BOND_STEPS = {0: (1, 0), 60: (0, 1), 120: (-1, 1), 180: (-1, 0), 240: (0, -1), 300: (1, -1)}
+
+
+def torus_configurations(L: int, M: int):
+    """Every configuration of the ``L x M`` torus as ``{(x, y): frozenset of bond directions}``.
+
+    Backtracking over the six vertices per site with bond consistency (a bond
+    is occupied for both of its ends or for neither), independent of the
+    transfer matrix.
+
+    Examples
+    --------
+    >>> sum(1 for _ in torus_configurations(3, 3))
+    25
+    """
+    L = check_int(L, "L", 1)
+    M = check_int(M, "M", 1)
     sites = [(x, y) for y in range(M) for x in range(L)]
-    step = {0: (1, 0), 60: (0, 1), 120: (-1, 1), 180: (-1, 0), 240: (0, -1), 300: (1, -1)}
     vertices = list(VERTICES.values())
     assign = {}
 
     def consistent(site):
         x, y = site
         v = assign[site]
-        for d, (dx, dy) in step.items():
+        for d, (dx, dy) in BOND_STEPS.items():
             other = ((x + dx) % L, (y + dy) % M)
             if other in assign and ((d in v) != ((d + 180) % 360 in assign[other])):
                 return False
@@ -237,13 +258,12 @@ def count_torus_by_enumeration(L: int, M: int) -> int:
 
     def place(k):
         if k == len(sites):
-            return 1
-        total = 0
+            yield dict(assign)
+            return
         for v in vertices:
             assign[sites[k]] = v
             if consistent(sites[k]):
-                total += place(k + 1)
+                yield from place(k + 1)
             del assign[sites[k]]
-        return total
 
-    return place(0)
+    yield from place(0)

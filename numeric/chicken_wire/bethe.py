@@ -39,6 +39,7 @@ __all__ = [
     "newton_polish",
     "ground_state_sequence",
     "photon_density",
+    "y_density",
     "follow_fugacity",
     "IsotropicPoint",
     "isotropic_state",
@@ -221,7 +222,7 @@ def _jacobian(L: int, w: np.ndarray, u: np.ndarray) -> np.ndarray:
     return J
 
 
-def newton_polish(L: int, w0, u0, iterations: int = 50, tol: float = 1e-14, log_fugacity: float = 0.0):
+def newton_polish(L: int, w0, u0, iterations: int = 50, tol: float = 1e-14, log_fugacity: float = 0.0, log_hop: float = 0.0):
     """Complex Newton on the log form of both sets of equations, analytic Jacobian.
 
     The branches (multiples of ``2 pi i``) are fixed at the starting point,
@@ -234,17 +235,22 @@ def newton_polish(L: int, w0, u0, iterations: int = 50, tol: float = 1e-14, log_
     this into a twist: ``W`` becomes ``W tau^L`` on the right of both sets of
     equations, and ``Lambda = prod u`` unchanged (checked against
     :func:`forcenet.numeric.chicken_wire.transfer.sector_matrix` with ``photon_fugacity``).
+
+    ``log_hop = log t`` weighs every label hop (one Y and one inverted Y
+    vertex) by ``t``: the gauge ``t^(sum of label indices)`` leaves the twists
+    ``t^m`` on the first set and ``t^n`` on the second (notes/chicken_wire.md,
+    Sec. 9; checked against ``sector_matrix`` with ``hop_fugacity``).
     """
     w = np.asarray(w0, dtype=complex).copy()
     u = np.asarray(u0, dtype=complex).copy()
     n, m = len(w), len(u)
     D = L - n + m
-    twist = L * float(log_fugacity)
+    twist1, twist2 = _twists(L, n, m, log_fugacity, log_hop)
 
     def F(w, u):
         lw, lu = np.log(w), np.log(u)
-        f1 = np.log(u[None, :] - w[:, None]).sum(axis=1) - lw.sum() - D * lw - twist
-        f2 = np.log(u[:, None] - w[None, :]).sum(axis=1) - lw.sum() - m * lu + lu.sum() - twist
+        f1 = np.log(u[None, :] - w[:, None]).sum(axis=1) - lw.sum() - D * lw - twist1
+        f2 = np.log(u[:, None] - w[None, :]).sum(axis=1) - lw.sum() - m * lu + lu.sum() - twist2
         return np.concatenate([f1, f2])
 
     target = F(w, u)
@@ -322,9 +328,37 @@ def photon_density(L: int, w, u) -> float:
     return float((du / u).sum().real) / L
 
 
-def _tangent(L: int, w: np.ndarray, u: np.ndarray) -> np.ndarray:
-    """``d(w, u)/d mu`` along a solution: every equation carries ``L mu``, so ``J dx = L``."""
-    return np.linalg.solve(_jacobian(L, w, u), np.full(len(w) + len(u), float(L), dtype=complex))
+def _twists(L: int, n: int, m: int, log_fugacity: float, log_hop: float):
+    """Logs of the twists of the two sets of equations: ``(L mu + m log t, L mu + n log t)``."""
+    return L * float(log_fugacity) + m * float(log_hop), L * float(log_fugacity) + n * float(log_hop)
+
+
+def _tangent(L: int, w: np.ndarray, u: np.ndarray, hop: bool = False) -> np.ndarray:
+    """``d(w, u)/d mu`` (or ``d/d log t``) along a solution: ``J dx`` = the derivative of the twists."""
+    n, m = len(w), len(u)
+    rhs = np.concatenate([np.full(n, m if hop else L), np.full(m, n if hop else L)]).astype(complex)
+    return np.linalg.solve(_jacobian(L, w, u), rhs)
+
+
+def y_density(L: int, w, u) -> float:
+    """Y vertices (one kind) per site, ``y = (1/L) d log Lambda / d log t`` at a solution.
+
+    Implicit differentiation of the hop twists (:func:`newton_polish`).  It
+    equals ``Q_R Q_L + Q_L Q_H + Q_H Q_R`` for every solution, so ``3 Q^2`` on
+    the isotropic line (notes/chicken_wire.md, Sec. 9, where it is also proven
+    on every torus configuration).
+
+    Examples
+    --------
+    >>> sol = solve_ground_state(9, 4, 2)
+    >>> qh = photon_density(9, sol.w, sol.u)
+    >>> abs(y_density(9, sol.w, sol.u) - (2 * 2 / 81 + (2 / 9 + 2 / 9) * qh)) < 1e-12
+    True
+    """
+    w = np.asarray(w, dtype=complex)
+    u = np.asarray(u, dtype=complex)
+    du = _tangent(L, w, u, hop=True)[len(w):]
+    return float((du / u).sum().real) / L
 
 
 def follow_fugacity(L: int, w, u, mu_from: float, mu_to: float, max_twist_step: float = 0.5):

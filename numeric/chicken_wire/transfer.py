@@ -35,7 +35,7 @@ from forcenet.exact.chicken_wire.model import EMPTY as _E
 from forcenet.exact.chicken_wire.model import LEFT as _L
 from forcenet.exact.chicken_wire.model import RIGHT as _R
 from forcenet.exact.chicken_wire.model import SITE_CHOICES, VERTICES
-from forcenet.exact.validation import check_dps, check_int
+from forcenet.exact.validation import check_dps, check_int, check_real
 
 __all__ = [
     "largest_eigenvalue",
@@ -255,7 +255,7 @@ def tiling_entropy(L: int, bracket=(0.01, 1.0), xtol: float = 1e-13) -> float:
     return brentq(lambda s: free_energy(L, tiling_weights(s)), *bracket, xtol=xtol)
 
 
-def sector_matrix(L: int, n: int, m: int, photon_fugacity: float = 1.0):
+def sector_matrix(L: int, n: int, m: int, photon_fugacity: float = 1.0, hop_fugacity: float = 1.0):
     """Sparse transfer matrix restricted to ``n`` particles of which ``m`` are left-moving.
 
     Built from the particle picture (Sec. 7.4.1): every R followed by an L
@@ -266,6 +266,7 @@ def sector_matrix(L: int, n: int, m: int, photon_fugacity: float = 1.0):
 
     ``photon_fugacity`` weighs every horizontal bond: a photon from the R at
     ``x_j`` to the L at ``x_{j+1}`` has ``(x_{j+1} - x_j) mod L`` bonds.
+    ``hop_fugacity`` weighs every photon exchange (one Y and one inverted Y).
 
     Returns
     -------
@@ -288,8 +289,8 @@ def sector_matrix(L: int, n: int, m: int, photon_fugacity: float = 1.0):
     if len(states) > 5_000_000:
         raise ValueError(f"sector of {len(states)} states is too large (limit 5,000,000)")
     index = {s: i for i, s in enumerate(states)}
-    if not photon_fugacity > 0:
-        raise ValueError(f"photon_fugacity={photon_fugacity!r}: must be > 0")
+    photon_fugacity = check_real(photon_fugacity, "photon_fugacity", 0, low_open=True)
+    hop_fugacity = check_real(hop_fugacity, "hop_fugacity", 0, low_open=True)
     rows, cols, vals = [], [], []
     for i, (pos, kinds) in enumerate(states):
         pairs = [j for j in range(n) if kinds[j] == _R and kinds[(j + 1) % n] == _L]
@@ -305,5 +306,5 @@ def sector_matrix(L: int, n: int, m: int, photon_fugacity: float = 1.0):
                 rows.append(index[(tuple(newpos[j] for j in order), tuple(new[j] for j in order))])
                 cols.append(i)
                 bonds = sum((pos[(j + 1) % n] - pos[j]) % L for j in sub)
-                vals.append(photon_fugacity**bonds)
+                vals.append(photon_fugacity**bonds * hop_fugacity ** len(sub))
     return csr_matrix((np.array(vals, dtype=float), (rows, cols)), shape=(len(states), len(states)))

@@ -38,6 +38,7 @@ __all__ = [
     "check_grain",
     "check_real",
     "check_dps",
+    "check_not_bool",
     "int_range_text",
 ]
 
@@ -189,6 +190,19 @@ def check_real(value, name: str, low=None, high=None, *, low_open: bool = False,
     if bad:
         raise ValueError(f"{name}={value} is out of range: {name} must be {allowed}")
     return x
+
+
+def check_not_bool(value, name: str):
+    """``TypeError`` for ``True``/``False`` where a number is due (they would pass as 1 and 0).
+
+    Examples
+    --------
+    >>> check_not_bool(0.5, "x")
+    0.5
+    """
+    if isinstance(value, bool):
+        raise TypeError(f"{name}={value!r} is not a number")
+    return value
 
 
 def check_dps(dps, name: str = "dps", minimum: int = 5, maximum: int = 10000) -> int:

@@ -20,6 +20,7 @@ May import: :mod:`forcenet.exact.validation`,
 from __future__ import annotations
 
 from collections import Counter
+from decimal import Decimal
 from fractions import Fraction
 from functools import lru_cache
 
@@ -375,7 +376,7 @@ def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None):
     what = f"--method maps N={N}"
     if N > _MAX_N:
         return Plan(what, 0, refusal=f"N={N} is out of range for --method maps: N must be an integer in 2..{_MAX_N} "
-                                     f"(N = {N} would enumerate {count(N):.3g} maps per grain)")
+                                     f"(N = {N} would enumerate {Decimal(count(N)):.3g} maps per grain)")
     grains = (N - 1) * (N - 2) // 2
     d = dimension(N)
     plans = [Plan(f"{what}, map sums per grain ({count(N)} maps each)", count(N) * d * _SECONDS_PER_MAP_GRAIN,

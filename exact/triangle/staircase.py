@@ -254,10 +254,16 @@ def count_plan(N: int, memory_bytes: int | None = None):
     from ..plan import Plan
 
     N = check_layers(N)
+    if N > _COUNT_MAX_N:
+        return Plan(f"count N={N}", 0, refusal=f"N={N} is out of range for count: N must be an integer in 2..{_COUNT_MAX_N} "
+                                                "(beyond, the integer has more than 10^12 digits)")
     d = dimension(N)
-    digits = count_digits(N) if N < 10**7 else d * 7  # (an overestimate, enough to refuse)
-    plan = Plan(f"count N={N} ({digits:.3g} digits)", 2.2e-7 * d**1.1, 24 * d + 4 * digits)
+    digits = count_digits(N)
+    plan = Plan(f"count N={N} ({float(digits):.3g} digits)", 2.2e-7 * d**1.1, 24 * d + 4 * digits)
     return plan.within_memory(memory_bytes)
+
+
+_COUNT_MAX_N = 10**6
 
 
 @lru_cache(maxsize=64)

@@ -21,6 +21,8 @@ from __future__ import annotations
 import os
 import sys
 
+from forcenet.exact.validation import is_integer
+
 from . import chicken_wire, limit, sample, table
 from .common import Parser, UsageError
 
@@ -47,7 +49,7 @@ def main(argv=None) -> int:
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # argparse: --help (0) or a one-line usage error (2)
-        return exc.code if isinstance(exc.code, int) else 2
+        return exc.code if is_integer(exc.code) else 2
     try:
         return args.func(args)
     except UsageError as exc:

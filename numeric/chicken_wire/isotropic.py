@@ -39,7 +39,7 @@ from functools import lru_cache
 
 import mpmath
 
-from forcenet.exact.validation import check_dps, check_int
+from forcenet.exact.validation import check_dps, check_int, check_not_bool
 
 __all__ = [
     "density_Q",
@@ -66,8 +66,7 @@ _MAX_EXTRA = 5000  # digits beyond dps before giving up on convergence
 
 def _mpf(value, name: str):
     """``value`` as an mpf at the current precision: strings keep their digits, Fractions divide exactly."""
-    if isinstance(value, bool):
-        raise TypeError(f"{name}={value!r} is not a real number")
+    check_not_bool(value, name)
     try:
         if isinstance(value, Fraction):
             x = mpmath.mpf(value.numerator) / value.denominator
@@ -368,13 +367,9 @@ def entropy_series_7_3(eps, order: int = 2, dps: int = 50):
     >>> mpmath.nstr(entropy_series_7_3("0.01", dps=20), 12)
     '6.05137311061e-5'
     """
-    import sympy
-
-    from forcenet.exact.chicken_wire.closed_form import EPS, entropy_series_eps
-
     dps = check_dps(dps)
     order = check_int(order, "order", 2, 8)
-    f = sympy.lambdify(EPS, entropy_series_eps(order), "mpmath")
+    f = _series_eps_function(order)
 
     def compute():
         e = _mpf(eps, "eps")
@@ -383,6 +378,16 @@ def entropy_series_7_3(eps, order: int = 2, dps: int = 50):
         return f(e)
 
     return _converged(compute, dps)
+
+
+@lru_cache(maxsize=8)
+def _series_eps_function(order: int):
+    """The exact series (7.3) to ``eps^order`` as an mpmath function (sympy, once per order)."""
+    import sympy
+
+    from forcenet.exact.chicken_wire.closed_form import EPS, entropy_series_eps
+
+    return sympy.lambdify(EPS, entropy_series_eps(order), "mpmath")
 
 
 def entropy_per_grain(l, dps: int = 50):

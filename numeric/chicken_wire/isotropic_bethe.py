@@ -183,8 +183,8 @@ def bethe_entropy_maximum(densities=(Fraction(1, 7), Fraction(1, 6), Fraction(2,
     return float(q_star), float(v_star), float(err), limits
 
 
-# seconds of one isotropic sequence to L_max on the 2-core machine (benchmarks/speed_vs_error.py;
-# Q = 1/6: L <= 120 6.5 s, L <= 240 11 s; L <= 600 519 s with two scans sharing the two cores)
+# seconds of one isotropic sequence to L_max in a fresh process on the 2-core machine, single-threaded BLAS
+# (Q = 1/6: L <= 120 7.7 s, L <= 240 11 s, L <= 600 144 s; 2026-11-23)
 def bethe_plan(sequences: int, L_max: int):
     """The cost of ``sequences`` isotropic Bethe sequences up to width ``L_max``.
 
@@ -195,5 +195,5 @@ def bethe_plan(sequences: int, L_max: int):
     """
     from forcenet.exact.plan import Plan
 
-    seconds = sequences * (3.0 + 11.0 * (L_max / 240) ** 3.5)
+    seconds = sequences * (3.0 + 9.0 * (L_max / 240) ** 2.8)
     return Plan(f"{sequences} Bethe-ansatz sequence(s) to L = {L_max}", seconds, 200 * 2**20, sequences, "sequence")

@@ -39,7 +39,9 @@ from functools import lru_cache
 
 import mpmath
 
-from forcenet.exact.validation import check_dps, check_int, check_not_bool
+from forcenet.exact.validation import check_dps, check_int
+
+from ..precision import GUARD, converged, to_mpf
 
 __all__ = [
     "density_Q",
@@ -57,26 +59,9 @@ __all__ = [
     "GUARD",
 ]
 
-GUARD = 10  # guard digits
-_MAX_EXTRA = 5000  # digits beyond dps before giving up on convergence
 
 
 # ----------------------------------------------------------------- conversions
-
-
-def _mpf(value, name: str):
-    """``value`` as an mpf at the current precision: strings keep their digits, Fractions divide exactly."""
-    check_not_bool(value, name)
-    try:
-        if isinstance(value, Fraction):
-            x = mpmath.mpf(value.numerator) / value.denominator
-        else:
-            x = mpmath.mpf(value)
-    except (TypeError, ValueError):
-        raise TypeError(f"{name}={value!r} is not a real number") from None
-    if not mpmath.isfinite(x):
-        raise ValueError(f"{name}={value!r} is out of range: {name} must be a finite real number")
-    return x
 
 
 def _point(phi, Q):
@@ -84,11 +69,11 @@ def _point(phi, Q):
     if (phi is None) == (Q is None):
         raise TypeError("give exactly one of phi= and Q=")
     if Q is not None:
-        q = _mpf(Q, "Q")
+        q = to_mpf(Q, "Q")
         if not 0 <= q <= mpmath.mpf(1) / 3:
             raise ValueError(f"Q={Q} is out of range: the density per direction Q must lie in [0, 1/3]")
         return q, None
-    x = _mpf(phi, "phi")
+    x = to_mpf(phi, "phi")
     if not abs(x) <= mpmath.pi / 2:
         raise ValueError(f"phi={phi} is out of range: phi must lie in [-pi/2, pi/2] (Q from 1/3 to 0)")
     return _Q_of_phi(x), x
@@ -98,24 +83,6 @@ def _Q_of_phi(x):
     """(7.2) without cancellation at either end: ``Q = 2 tan t / (sqrt3 (1 + sqrt3 tan t))``, ``t = (pi/2 - phi)/6``."""
     t = mpmath.tan((mpmath.pi / 2 - x) / 6)
     return 2 * t / (mpmath.sqrt(3) * (1 + mpmath.sqrt(3) * t))
-
-
-def _converged(compute, dps: int):
-    """``compute()`` at increasing precision until two evaluations agree to ``dps + 3`` relative digits."""
-    prec = dps + GUARD
-    with mpmath.workdps(prec):
-        previous = compute()
-    while True:
-        prec = 2 * prec
-        with mpmath.workdps(prec):
-            current = compute()
-            if current == 0 or abs(current - previous) <= abs(current) * mpmath.mpf(10) ** (-(dps + 3)):
-                break
-        if prec > dps + _MAX_EXTRA:
-            raise ArithmeticError(f"no convergence to {dps} digits within {_MAX_EXTRA} extra digits")
-        previous = current
-    with mpmath.workdps(dps):
-        return +current
 
 
 # ------------------------------------------------------ closed forms, working precision
@@ -209,7 +176,7 @@ def density_Q(phi, dps: int = 50):
     '0.09455495911710849789324424'
     """
     dps = check_dps(dps)
-    return _converged(lambda: _point(phi, None)[0], dps)
+    return converged(lambda: _point(phi, None)[0], dps)
 
 
 def density_Q_naive(phi, dps: int = 50):
@@ -240,7 +207,7 @@ def phi_of_density(Q, dps: int = 50):
         q, _ = _point(None, Q)
         return 6 * (mpmath.atan(mpmath.sqrt(3) * (1 - 2 * q)) - mpmath.pi / 4)
 
-    return _converged(compute, dps)
+    return converged(compute, dps)
 
 
 def eps_of(*, phi=None, Q=None, dps: int = 50):
@@ -259,7 +226,7 @@ def eps_of(*, phi=None, Q=None, dps: int = 50):
             return mpmath.pi / 2 - x
         return 2 * mpmath.pi - 6 * mpmath.atan(mpmath.sqrt(3) * (1 - 2 * q))
 
-    return _converged(compute, dps)
+    return converged(compute, dps)
 
 
 def entropy(*, phi=None, Q=None, dps: int = 50):
@@ -290,7 +257,7 @@ def entropy(*, phi=None, Q=None, dps: int = 50):
         terms = _series_terms(q, mpmath.mp.dps)
         return _v_series(q, terms) if terms else _v(q)
 
-    return _converged(compute, dps)
+    return converged(compute, dps)
 
 
 def chemical_potential(*, phi=None, Q=None, dps: int = 50):
@@ -312,7 +279,7 @@ def chemical_potential(*, phi=None, Q=None, dps: int = 50):
             raise ValueError(f"Q={mpmath.nstr(q, 15)} is out of range: mu needs 0 < Q < 1/3 (it diverges at the ends)")
         return _mu(q)
 
-    return _converged(compute, dps)
+    return converged(compute, dps)
 
 
 def empty_density(*, phi=None, Q=None, dps: int = 50):
@@ -329,7 +296,7 @@ def empty_density(*, phi=None, Q=None, dps: int = 50):
         q, _ = _point(phi, Q)
         return 1 - 3 * q + 3 * q * q
 
-    return _converged(compute, dps)
+    return converged(compute, dps)
 
 
 def tiling_entropy(*, phi=None, Q=None, dps: int = 50):
@@ -351,7 +318,7 @@ def tiling_entropy(*, phi=None, Q=None, dps: int = 50):
         v = _v_series(q, terms) if terms else _v(q)
         return v / (1 - 3 * q + 3 * q * q)
 
-    return _converged(compute, dps)
+    return converged(compute, dps)
 
 
 def entropy_series_7_3(eps, order: int = 2, dps: int = 50):
@@ -372,12 +339,12 @@ def entropy_series_7_3(eps, order: int = 2, dps: int = 50):
     f = _series_eps_function(order)
 
     def compute():
-        e = _mpf(eps, "eps")
+        e = to_mpf(eps, "eps")
         if not 0 < e <= mpmath.pi:
             raise ValueError(f"eps={eps} is out of range: eps = pi/2 - phi must lie in (0, pi]")
         return f(e)
 
-    return _converged(compute, dps)
+    return converged(compute, dps)
 
 
 @lru_cache(maxsize=8)
@@ -404,12 +371,12 @@ def entropy_per_grain(l, dps: int = 50):
     dps = check_dps(dps)
 
     def compute():
-        x = _mpf(l, "l")
+        x = to_mpf(l, "l")
         if not x > 0:
             raise ValueError(f"l={l} is out of range: the hexagon side (force scale) must be a finite number > 0")
         return mpmath.log(6 * x) - mpmath.mpf(3) / 2
 
-    return _converged(compute, dps)
+    return converged(compute, dps)
 
 
 @dataclass(frozen=True)
@@ -458,10 +425,10 @@ def maximum(dps: int = 50) -> Maximum:
                 break
         return q
 
-    Q_max = _converged(q_star, dps)
+    Q_max = converged(q_star, dps)
     with mpmath.workdps(dps + GUARD):
         Q_str = mpmath.nstr(Q_max, dps + GUARD)
-    v_max = _converged(lambda: _v(q_star()), dps)
+    v_max = converged(lambda: _v(q_star()), dps)
 
     def composition():
         q0 = (3 - mpmath.sqrt(3)) / 6
@@ -471,10 +438,10 @@ def maximum(dps: int = 50) -> Maximum:
         triangles = 2 * (e0 - squares)  # V = N_t/2 + N_s per vertex angle sum
         return q0, e0, y0, squares / e0, triangles / e0, squares / triangles
 
-    parts = [_converged(lambda k=k: composition()[k], dps) for k in range(6)]
+    parts = [converged(lambda k=k: composition()[k], dps) for k in range(6)]
     return Maximum(
         dps=dps, Q_max=Q_max, phi_max=phi_of_density(Q_str, dps), v_max=v_max,
-        s_max=_converged(lambda: mpmath.log(108) - 2 * mpmath.sqrt(3) * mpmath.log(2 + mpmath.sqrt(3)), dps),
+        s_max=converged(lambda: mpmath.log(108) - 2 * mpmath.sqrt(3) * mpmath.log(2 + mpmath.sqrt(3)), dps),
         Q0=parts[0], v_at_Q0=entropy(phi=0, dps=dps), empty_per_site=parts[1], y_per_site=parts[2],
         squares_per_vertex=parts[3], triangles_per_vertex=parts[4], squares_per_triangle=parts[5],
     )

@@ -24,7 +24,7 @@ diagonal neighbours ``a = (j, N-i+j)``, ``b = (j-1, N-i+j-1)``
 
 Derivation and checks against exact tables: ``notes/scaling_limit.md``.
 Precision is a parameter: every function converts its inputs inside
-``mpmath.workdps(dps + 10)`` (strings keep all their digits), computes with
+``mpmath.workdps(dps + 10)`` (strings keep all their digits; :mod:`forcenet.numeric.precision`), computes with
 those guard digits and returns an mpf rounded to ``dps`` digits; no global
 precision is set, and points outside a function's domain raise
 ``ValueError`` (never a complex number).
@@ -44,20 +44,10 @@ import mpmath
 
 from forcenet.exact.validation import check_dps
 
+from ..precision import GUARD, guarded, to_mpf
+
 __all__ = ["level_curve", "level_curve_slope", "limit_surface", "bulk_response", "lattice_response"]
 
-GUARD = 10  # guard digits: inputs are converted and everything is computed at dps + GUARD
-
-
-def _mpf(value, name: str):
-    """``value`` as an mpf at the current (guarded) precision; strings keep all their digits."""
-    try:
-        x = mpmath.mpf(value)
-    except (TypeError, ValueError):
-        raise TypeError(f"{name}={value!r} is not a real number") from None
-    if not mpmath.isfinite(x):
-        raise ValueError(f"{name}={value!r} is out of range: {name} must be a finite real number")
-    return x
 
 
 def _in_interval(x, name: str, low, high, low_open: bool = False, high_open: bool = False):
@@ -85,9 +75,9 @@ def _slope(a, u):
     return mpmath.sqrt(4 * a * (1 - a) - u * u) / (mpmath.pi * a * (1 - a))
 
 
-def _checked_level_point(a, u, dps):
-    a = _in_interval(_mpf(a, "a"), "a", 0, 1, True, True)
-    u = _mpf(u, "u")
+def _checked_level_point(a, u):
+    a = _in_interval(to_mpf(a, "a"), "a", 0, 1, True, True)
+    u = to_mpf(u, "u")
     if 4 * a * (1 - a) - u * u < 0:
         raise ValueError(f"u={mpmath.nstr(u, 15)} is out of range: outside the level curve of a={mpmath.nstr(a, 15)} "
                          "(need u^2 <= 4a(1-a))")
@@ -106,12 +96,7 @@ def level_curve(a, u, dps: int = 30):
     >>> mpmath.nstr(level_curve("0.2", "0.1", dps=30), 30)
     '0.592728925371743062936460766685'
     """
-    dps = check_dps(dps)
-    with mpmath.workdps(dps + GUARD):
-        a, u = _checked_level_point(a, u, dps)
-        h = _level_curve(a, u)
-    with mpmath.workdps(dps):
-        return +h
+    return guarded(lambda: _level_curve(*_checked_level_point(a, u)), dps)
 
 
 def level_curve_slope(a, u, dps: int = 30):
@@ -128,12 +113,7 @@ def level_curve_slope(a, u, dps: int = 30):
     ...
     ValueError: u=0.9 is out of range: outside the level curve of a=0.1 (need u^2 <= 4a(1-a))
     """
-    dps = check_dps(dps)
-    with mpmath.workdps(dps + GUARD):
-        a, u = _checked_level_point(a, u, dps)
-        slope = _slope(a, u)
-    with mpmath.workdps(dps):
-        return +slope
+    return guarded(lambda: _slope(*_checked_level_point(a, u)), dps)
 
 
 def _limit_surface(u, v, dps):
@@ -163,14 +143,15 @@ def limit_surface(u, v, dps: int = 30):
     '0.1464466094067262378'
     """
     dps = check_dps(dps)
-    with mpmath.workdps(dps + GUARD):
-        u, v = _mpf(u, "u"), _mpf(v, "v")
-        if abs(u) + abs(v - 1) > 1:
-            raise ValueError(f"(u, v)=({mpmath.nstr(u, 15)}, {mpmath.nstr(v, 15)}) is out of range: "
+
+    def compute():
+        x, y = to_mpf(u, "u"), to_mpf(v, "v")
+        if abs(x) + abs(y - 1) > 1:
+            raise ValueError(f"(u, v)=({mpmath.nstr(x, 15)}, {mpmath.nstr(y, 15)}) is out of range: "
                              "outside the square |u| + |v - 1| <= 1")
-        a = _limit_surface(u, v, dps)
-    with mpmath.workdps(dps):
-        return +a
+        return _limit_surface(x, y, dps)
+
+    return guarded(compute, dps)
 
 
 def lattice_response(z, dps: int = 30):
@@ -182,11 +163,12 @@ def lattice_response(z, dps: int = 30):
     mpf('0.0')
     """
     dps = check_dps(dps)
-    with mpmath.workdps(dps + GUARD):
-        z = _in_interval(_mpf(z, "z"), "z", 0, 1)
-        value = mpmath.mpf(1) if z == 0 else _limit_surface(z - 1, 1 - z, dps)
-    with mpmath.workdps(dps):
-        return +value
+
+    def compute():
+        depth = _in_interval(to_mpf(z, "z"), "z", 0, 1)
+        return mpmath.mpf(1) if depth == 0 else _limit_surface(depth - 1, 1 - depth, dps)
+
+    return guarded(compute, dps)
 
 
 def bulk_response(x, z, dps: int = 30):
@@ -206,14 +188,14 @@ def bulk_response(x, z, dps: int = 30):
     '1.633495169743023600221082837945243056984'
     """
     dps = check_dps(dps)
-    with mpmath.workdps(dps + GUARD):
-        z = _in_interval(_mpf(z, "z"), "z", 0, 1, low_open=True)
-        x = _mpf(x, "x")
-        if abs(x) > z or (abs(x) == z and z < 1):  # at the bottom corners (|x| = z = 1) it vanishes
-            raise ValueError(f"x={mpmath.nstr(x, 15)} is out of range: the bulk response needs |x| < z = {mpmath.nstr(z, 15)} "
-                             "(on the lattice directions |x| = z < 1 it diverges; use lattice_response)")
-        u, v = z - 1, 1 + x
+
+    def compute():
+        depth, h = _in_interval(to_mpf(z, "z"), "z", 0, 1, low_open=True), to_mpf(x, "x")
+        if abs(h) > depth or (abs(h) == depth and depth < 1):  # at the bottom corners (|x| = z = 1) it vanishes
+            raise ValueError(f"x={mpmath.nstr(h, 15)} is out of range: the bulk response needs |x| < z = "
+                             f"{mpmath.nstr(depth, 15)} (on the lattice directions |x| = z < 1 it diverges; use lattice_response)")
+        u, v = depth - 1, 1 + h
         a = _limit_surface(u, v, dps)
-        value = mpmath.mpf(0) if a in (0, 1) else 2 / _slope(a, u)
-    with mpmath.workdps(dps):
-        return +value
+        return mpmath.mpf(0) if a in (0, 1) else 2 / _slope(a, u)
+
+    return guarded(compute, dps)

@@ -1,0 +1,81 @@
+"""Precision is a parameter: the one way every arbitrary-precision function here evaluates.
+
+* inputs are converted inside ``mpmath.workdps`` (:func:`to_mpf`: strings keep
+  all their digits, Fractions are divided exactly, ``bool``, ``nan`` and
+  ``inf`` are refused);
+* :func:`guarded` computes at ``dps + GUARD`` digits and returns the result
+  rounded to ``dps``;
+* :func:`converged` raises the working precision until two evaluations agree
+  to ``dps + 3`` digits relative to the result, for quantities whose
+  cancellations depend on the point (so they cost precision, never digits);
+* no global precision is ever set.
+
+May import: :mod:`forcenet.exact.validation`, mpmath.
+
+Examples
+--------
+>>> mpmath.nstr(guarded(lambda: to_mpf("0.1", "x") * 3, 30), 30)
+'0.3'
+>>> mpmath.nstr(converged(lambda: mpmath.exp(to_mpf("1e-30", "x")) - 1, 10), 10)  # no digit lost
+'1.0e-30'
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import mpmath
+
+from forcenet.exact.validation import check_dps, check_not_bool
+
+__all__ = ["GUARD", "to_mpf", "guarded", "converged"]
+
+GUARD = 10  # guard digits
+MAX_EXTRA = 5000  # digits beyond dps before giving up on convergence
+
+
+def to_mpf(value, name: str):
+    """``value`` as an mpf at the current precision (call inside ``mpmath.workdps``).
+
+    Examples
+    --------
+    >>> with mpmath.workdps(30):
+    ...     mpmath.nstr(to_mpf(Fraction(1, 3), "Q"), 30)
+    '0.333333333333333333333333333333'
+    """
+    check_not_bool(value, name)
+    try:
+        x = mpmath.mpf(value.numerator) / value.denominator if isinstance(value, Fraction) else mpmath.mpf(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name}={value!r} is not a real number") from None
+    if not mpmath.isfinite(x):
+        raise ValueError(f"{name}={value!r} is out of range: {name} must be a finite real number")
+    return x
+
+
+def guarded(compute, dps: int):
+    """``compute()`` at ``dps + GUARD`` digits, returned rounded to ``dps`` digits."""
+    dps = check_dps(dps)
+    with mpmath.workdps(dps + GUARD):
+        value = compute()
+    with mpmath.workdps(dps):
+        return +value
+
+
+def converged(compute, dps: int):
+    """``compute()`` at increasing precision until two evaluations agree to ``dps + 3`` relative digits."""
+    dps = check_dps(dps)
+    prec = dps + GUARD
+    with mpmath.workdps(prec):
+        previous = compute()
+    while True:
+        prec = 2 * prec
+        with mpmath.workdps(prec):
+            current = compute()
+            if current == 0 or abs(current - previous) <= abs(current) * mpmath.mpf(10) ** (-(dps + 3)):
+                break
+        if prec > dps + MAX_EXTRA:
+            raise ArithmeticError(f"no convergence to {dps} digits within {MAX_EXTRA} extra digits")
+        previous = current
+    with mpmath.workdps(dps):
+        return +current

@@ -106,7 +106,8 @@ def cmd_table(args):
         from forcenet.numeric.triangle.exact_sampler import sample_plan
 
         plans.append(sample_plan(args.N, args.samples, memory))
-    plan = combine(plans[0].what if len(plans) == 1 else f"{plans[0].what} and its Monte Carlo cross-check", plans, plans[0].unit)
+    plan = combine(plans[0].what if len(plans) == 1 else f"{plans[0].what} and its Monte Carlo cross-check", plans,
+                   plans[0].unit if len(plans) == 1 else "step")
 
     def run(tick):
         tables = table_run(args.method, args.N, args.moments, progress=tick, memory_bytes=memory)

@@ -52,6 +52,12 @@ class PackingMetropolis:
         q is allowed (``ph=None``); otherwise the network that maximizes the
         smallest force (a linear program, :func:`maximin_network`), with a
         clear error if no repulsive network exists.
+    kernel : {None, "compiled", "python"}
+        ``"python"``: the reference kernel (:meth:`_propose`, numpy, whole
+        arrays per move); ``"compiled"``:
+        :func:`forcenet.numeric.packing.kernels.packing_sweeps` (numba), which
+        draws the same random numbers and gives the same chain for a seed;
+        ``None`` (default): compiled when numba is available.
 
     Examples
     --------
@@ -62,7 +68,10 @@ class PackingMetropolis:
     True
     """
 
-    def __init__(self, scene: Scene, seed=None, q0=None, step: float | None = None):
+    def __init__(self, scene: Scene, seed=None, q0=None, step: float | None = None, kernel: str | None = None):
+        from ..jit import kernel_choice
+
+        self.kernel = kernel_choice(kernel)
         if not isinstance(scene, Scene):
             raise TypeError(f"scene={scene!r}: expected a forcenet.numeric.packing.Scene")
         if step is not None and not (0 < step <= 1):
@@ -151,8 +160,28 @@ class PackingMetropolis:
         self.q[i, j] = old
         return False
 
+    def _compiled(self, sweeps: int, out: np.ndarray, qs: np.ndarray) -> None:
+        from .kernels import packing_state, packing_sweeps
+
+        scene = self.scene
+        cs, dd = packing_state(self.q, self.W, scene)
+        gi = np.array([g[0] for g in self.grains], dtype=np.int64)
+        gj = np.array([g[1] for g in self.grains], dtype=np.int64)
+        counters = np.array([self.attempted, self.accepted, self.rejected_by_constraint], dtype=np.int64)
+        ph = 0.0 if scene.ph is None else float(scene.ph)
+        tol = -1e-9 * max(1.0, ph)
+        step = 0.0 if self.step is None else float(self.step)
+        packing_sweeps(self.q, self.W, cs, dd, gi, gj, self.rng, sweeps, ph, scene.ph is not None, tol, step,
+                       np.ascontiguousarray(scene.top_load, dtype=float), float(scene.mg), out, qs, counters)
+        self.attempted, self.accepted, self.rejected_by_constraint = (int(x) for x in counters)
+
     def sweep(self, count: int = 1) -> None:
         """``count`` sweeps of ``(N-1)(P-1)`` single-grain updates."""
+        if self.kernel == "compiled":
+            if count > 0:
+                N, P = self.scene.N, self.scene.P
+                self._compiled(count, np.empty((0, N, P)), np.empty((0, N - 1, P)))
+            return
         n = len(self.grains)
         for _ in range(count):
             for k, value in zip(self.rng.integers(n, size=n), self.rng.random(n)):
@@ -173,6 +202,16 @@ class PackingMetropolis:
         self.sweep(burn_in)
         out = np.empty((sweeps, self.scene.N, self.scene.P))
         qs = np.empty((sweeps,) + self.q.shape) if record_q else None
+        if self.kernel == "compiled":
+            N, P = self.scene.N, self.scene.P
+            block = max(1, min(sweeps, 1_000_000 // (N * P * max(N, 4))))  # ~0.1 s between progress ticks
+            for start in range(0, sweeps, block):
+                stop = min(sweeps, start + block)
+                q_out = qs[start:stop] if record_q else np.empty((0, N - 1, P))
+                self._compiled(stop - start, out[start:stop], q_out)
+                if progress is not None:
+                    progress(stop - start)
+            return (out, qs) if record_q else out
         for t in range(sweeps):
             self.sweep()
             out[t] = self.W

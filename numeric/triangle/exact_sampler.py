@@ -187,6 +187,17 @@ class ExactSampler:
         Number of layers.
     seed : int or numpy.random.Generator, optional
         Seed for reproducible streams.
+    batch : int
+        Samples per batch of the reference kernel.
+    kernel : {None, "compiled", "python"}
+        ``"python"``: the reference route, :func:`sample_tableaux` (Schur's
+        removal weights, ``O(d n)`` per tableau, vectorized over a batch) and
+        :func:`tableaux_to_W`; ``"compiled"``: Sagan's shifted hook walk
+        (:func:`forcenet.numeric.triangle.kernels.hook_walk_W`, numba,
+        ``O(d log n)`` per tableau, one sample at a time so the stream does not
+        depend on batching); ``None`` (default): compiled when numba is
+        available.  The two draw from the same distribution but consume the
+        random stream differently, so a seed gives different samples.
 
     Examples
     --------
@@ -196,7 +207,10 @@ class ExactSampler:
     True
     """
 
-    def __init__(self, N: int, seed=None, batch: int = 4096):
+    def __init__(self, N: int, seed=None, batch: int = 4096, kernel: str | None = None):
+        from ..jit import kernel_choice
+
+        self.kernel = kernel_choice(kernel)
         self.N = check_layers(N)
         self.rng = np.random.default_rng(seed)
         batch = check_int(batch, "batch", 1)
@@ -205,6 +219,14 @@ class ExactSampler:
 
     def sample_W(self, size: int) -> np.ndarray:
         """``size`` independent configurations, ``W`` of shape ``(size, N, N)``."""
+        size = check_int(size, "size", 0)
+        if self.kernel == "compiled":
+            from .kernels import hook_walk_W
+
+            W = np.empty((size, self.N, self.N))
+            empty = np.zeros((0, self.N, self.N))
+            hook_walk_W(self.rng, self.N, size, W, empty, empty, np.zeros(0, np.int64), np.zeros(1, np.int64))
+            return W
         T = sample_tableaux(self.N, size, self.rng)
         return tableaux_to_W(T, self.rng)
 
@@ -214,6 +236,9 @@ class ExactSampler:
         Returns ``{s: (mean, stderr)}`` with arrays of shape ``(N, N)``.
         """
         samples = check_int(samples, "samples", 2)  # an error bar needs two
+        orders = tuple(check_int(s, "orders", 1) for s in orders)
+        if self.kernel == "compiled":
+            return self._compiled_moments(samples, orders, progress)
         sums = {s: np.zeros((self.N, self.N)) for s in orders}
         squares = {s: np.zeros((self.N, self.N)) for s in orders}
         done = 0
@@ -231,6 +256,29 @@ class ExactSampler:
         for s in orders:
             mean = sums[s] / samples
             var = np.maximum(squares[s] / samples - mean**2, 0.0) * samples / (samples - 1)
+            out[s] = (mean, np.sqrt(var / samples))
+        return out
+
+    def _compiled_moments(self, samples, orders, progress):
+        from .kernels import hook_walk_W
+
+        N = self.N
+        sums = np.zeros((len(orders), N, N))
+        squares = np.zeros((len(orders), N, N))
+        order_array = np.array(orders, dtype=np.int64)
+        empty = np.zeros((0, N, N))
+        chunk = max(1, min(samples, 20_000_000 // (N * N)))  # ~0.1-0.5 s between progress ticks
+        done = 0
+        while done < samples:
+            k = min(chunk, samples - done)
+            hook_walk_W(self.rng, N, k, empty, sums, squares, order_array, np.zeros(1, np.int64))
+            done += k
+            if progress is not None:
+                progress(k)
+        out = {}
+        for o, s in enumerate(orders):
+            mean = sums[o] / samples
+            var = np.maximum(squares[o] / samples - mean**2, 0.0) * samples / (samples - 1)
             out[s] = (mean, np.sqrt(var / samples))
         return out
 

@@ -94,9 +94,18 @@ class TriangleMetropolis:
         mobilized limit, and for finite ``ph`` the state that sends the load
         down the two lattice directions (every ``F4 = p_h``, feasible for any
         ``p_h > 0``).
+    kernel : {None, "compiled", "python"}
+        ``"python"``: the reference kernel below (numpy, whole rows per move);
+        ``"compiled"``: :func:`forcenet.numeric.triangle.kernels.triangle_sweeps`
+        (numba, the light cone only), which draws the same random numbers and
+        gives the same chain for the same seed, 30-100 times faster; ``None``
+        (default): compiled when numba is available.
     """
 
-    def __init__(self, N: int, seed=None, ph: float | None = None, q0=None):
+    def __init__(self, N: int, seed=None, ph: float | None = None, q0=None, kernel: str | None = None):
+        from ..jit import kernel_choice
+
+        self.kernel = kernel_choice(kernel)
         self.N = check_layers(N)
         self.rng = np.random.default_rng(seed)
         if ph is not None and not (ph > 0 and math.isfinite(ph)):
@@ -158,8 +167,23 @@ class TriangleMetropolis:
         self.q[i, j] = old
         return False
 
+    def _compiled(self, sweeps: int, out: np.ndarray) -> None:
+        from .kernels import triangle_state, triangle_sweeps
+
+        flux, zeros = triangle_state(self.q, self.W)
+        gi = np.array([g[0] for g in self.grains], dtype=np.int64)
+        gj = np.array([g[1] for g in self.grains], dtype=np.int64)
+        counters = np.array([self.attempted, self.accepted, self.rejected_by_constraint], dtype=np.int64)
+        ph = 0.0 if self.ph is None else float(self.ph)
+        triangle_sweeps(self.q, self.W, flux, zeros, gi, gj, self.rng, sweeps, ph, self.ph is not None, out, counters)
+        self.attempted, self.accepted, self.rejected_by_constraint = (int(x) for x in counters)
+
     def sweep(self, count: int = 1) -> None:
         """``count`` sweeps; a sweep is ``N(N-1)/2`` single-grain updates."""
+        if self.kernel == "compiled":
+            if count > 0:
+                self._compiled(count, np.empty((0, self.N, self.N)))
+            return
         grains = self.grains
         for _ in range(count):
             picks = self.rng.integers(len(grains), size=len(grains))
@@ -179,6 +203,15 @@ class TriangleMetropolis:
         burn_in = check_int(burn_in, "burn_in", 0)
         self.sweep(burn_in)
         out = np.empty((sweeps, self.N, self.N))
+        if self.kernel == "compiled":
+            out[:] = 0.0
+            block = max(1, min(sweeps, 2_000_000 // (self.N**3)))  # ~0.1 s between progress ticks
+            for start in range(0, sweeps, block):
+                stop = min(sweeps, start + block)
+                self._compiled(stop - start, out[start:stop])
+                if progress is not None:
+                    progress(stop - start)
+            return out
         for t in range(sweeps):
             self.sweep()
             out[t] = self.W

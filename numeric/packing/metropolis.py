@@ -222,7 +222,7 @@ class PackingMetropolis:
         return (out, qs) if record_q else out
 
 
-def response(scene: Scene, sweeps: int, burn_in: int, seed: int = 0, progress=None):
+def response(scene: Scene, sweeps: int, burn_in: int, seed=0, progress=None):
     """Mean response ``G(i,j) = (<W>_{p+F} - <W>_p)/F`` with standard errors.
 
     Two independent chains, with and without the overload (Sec. 3.1); each
@@ -240,7 +240,7 @@ def response(scene: Scene, sweeps: int, burn_in: int, seed: int = 0, progress=No
 
     if scene.F <= 0:
         raise ValueError(f"F={scene.F}: the response needs an overload F > 0")
-    seeds = np.random.SeedSequence(seed).spawn(2)
+    seeds = (seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)).spawn(2)
     loaded = PackingMetropolis(scene, seed=np.random.default_rng(seeds[0]))
     base = PackingMetropolis(replace(scene, F=0.0), seed=np.random.default_rng(seeds[1]))
     m1, e1, t1 = mean_and_stderr(loaded.run(sweeps, burn_in, progress))
@@ -254,24 +254,46 @@ def response(scene: Scene, sweeps: int, burn_in: int, seed: int = 0, progress=No
     return G, err, info
 
 
-# measured seconds per move: gravity scene N = 12, P = 25 (every q allowed): 64 s for 2200 sweeps;
-# isotropic scene N = 8, P = 17 (finite ph): 311 s for 44000 sweeps
+# measured seconds per move of the reference kernel: gravity scene N = 12, P = 25 (every q allowed): 64 s for
+# 2200 sweeps; isotropic scene N = 8, P = 17 (finite ph): 311 s for 44000 sweeps
 _SECONDS_PER_MOVE = {True: 1.1e-4, False: 6.5e-5}
 
 
-def packing_plan(scene: Scene, sweeps: int, burn_in: int = 0, chains: int = 1, memory_bytes: int | None = None):
+def _compiled_seconds_per_move(scene: Scene) -> float:
+    """The compiled kernel's cost of one move (benchmarks/bench_samplers.py, notes/benchmarks.md).
+
+    A fixed part, the light cone (~N^2/4 forces on average), and with a finite
+    ``ph`` the lateral forces right of the grain in the layers below it (~N P/4
+    on average, often cut short by a rejection).
+    """
+    N, P = scene.N, scene.P
+    cone = min(N * N / 4, N * P / 2)
+    return 2.5e-7 + 2.5e-9 * cone + (3e-9 * N * P / 4 if scene.ph is not None else 0.0)
+
+
+def packing_plan(scene: Scene, sweeps: int, burn_in: int = 0, chains: int = 1, memory_bytes: int | None = None,
+                 kernel: str | None = None):
     """The cost of ``chains`` runs of :meth:`PackingMetropolis.run` (the chains are stored).
 
     Examples
     --------
-    >>> packing_plan(Scene(N=12, P=25, F=1000, mg=1), 2000, 200).seconds > 60
+    >>> packing_plan(Scene(N=12, P=25, F=1000, mg=1), 2000, 200, kernel="python").seconds > 60
+    True
+    >>> packing_plan(Scene(N=12, P=25, F=1000, mg=1), 2000, 200, kernel="python").seconds > 30 * (
+    ...     packing_plan(Scene(N=12, P=25, F=1000, mg=1), 2000, 200).seconds - 1.5)
     True
     """
     from forcenet.exact.plan import Plan
 
+    from ..jit import kernel_choice
+
     sweeps, burn_in = check_int(sweeps, "sweeps", 1), check_int(burn_in, "burn_in", 0)
     moves = (scene.N - 1) * (scene.P - 1) * (sweeps + burn_in) * chains
+    if kernel_choice(kernel) == "compiled":
+        per_move, start = _compiled_seconds_per_move(scene), 1.5  # + loading the cached kernel (~10 s cold)
+    else:
+        per_move, start = _SECONDS_PER_MOVE[scene.ph is None], 0.5
     plan = Plan(f"Metropolis on the {scene.N} x {scene.P} packing, {chains} x {sweeps} sweeps",
-                _SECONDS_PER_MOVE[scene.ph is None] * moves + 0.5,
+                per_move * moves + start,
                 sweeps * scene.N * scene.P * 8 + 150 * 2**20, sweeps * chains, "sweep")
     return plan.within_memory(memory_bytes)

@@ -236,22 +236,37 @@ def q_model_samples(N: int, size: int, rng: np.random.Generator) -> np.ndarray:
     return W
 
 
-_SECONDS_PER_MOVE = 4e-5  # measured: 35-50 us per single-q move (N = 24)
+_SECONDS_PER_MOVE = 4e-5  # reference kernel, measured: 35-50 us per single-q move (N = 24)
 
 
-def metropolis_plan(N: int, sweeps: int, burn_in: int = 0, memory_bytes: int | None = None):
+def _compiled_seconds_per_move(N: int, ph: bool) -> float:
+    """The compiled kernel's cost of one move: a fixed part and ~2.5 ns per force of the light cone (~N^2/9 on
+    average); a finite ``ph`` adds the running sums right of the grain (benchmarks/bench_samplers.py)."""
+    return 2.5e-7 + 2.5e-9 * N * N / 9 * (3 if ph else 1)
+
+
+def metropolis_plan(N: int, sweeps: int, burn_in: int = 0, memory_bytes: int | None = None, ph: bool = False,
+                    kernel: str | None = None):
     """The cost of :meth:`TriangleMetropolis.run` (time per move measured; the chain is stored).
 
     Examples
     --------
-    >>> metropolis_plan(11, 20000, 2000).seconds < 60
+    >>> metropolis_plan(11, 20000, 2000, kernel="python").seconds < 60
+    True
+    >>> metropolis_plan(24, 20000, 2000).seconds < 5
     True
     """
     from forcenet.exact.plan import Plan
 
+    from ..jit import kernel_choice
+
     N = check_layers(N)
     sweeps, burn_in = check_int(sweeps, "sweeps", 1), check_int(burn_in, "burn_in", 0)
     moves = N * (N - 1) // 2 * (sweeps + burn_in)
-    plan = Plan(f"Metropolis N={N}, {sweeps} sweeps", _SECONDS_PER_MOVE * moves + 0.2,
+    if kernel_choice(kernel) == "compiled":
+        per_move, start = _compiled_seconds_per_move(N, ph), 1.0  # + loading the cached kernel (~5 s cold)
+    else:
+        per_move, start = _SECONDS_PER_MOVE, 0.2
+    plan = Plan(f"Metropolis N={N}, {sweeps} sweeps", per_move * moves + start,
                 sweeps * N * N * 8 + 100 * 2**20, sweeps, "sweep")
     return plan.within_memory(memory_bytes)

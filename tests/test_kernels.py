@@ -217,3 +217,17 @@ def test_compiled_exact_stream_does_not_depend_on_batching():
     W = ExactSampler(7, seed=4).sample_W(50)
     assert np.allclose(m1[1][0], W.mean(axis=0), rtol=0, atol=1e-14)
     assert np.allclose(m1[2][0], (W**2).mean(axis=0), rtol=0, atol=1e-14)
+
+
+def test_thinned_records_are_every_thin_th_state():
+    from forcenet.numeric.packing import PackingMetropolis, Scene
+    from forcenet.numeric.triangle.metropolis import TriangleMetropolis
+
+    for kernel in ("python", "compiled"):
+        full = TriangleMetropolis(6, seed=1, kernel=kernel).run(12)
+        thin = TriangleMetropolis(6, seed=1, kernel=kernel).run(4, thin=3)
+        assert np.array_equal(full[2::3], thin)
+        scene = Scene(N=5, P=9, F=10.0, pv=1.0, ph=1.0)
+        full = PackingMetropolis(scene, seed=2, kernel=kernel).run(12)
+        thin = PackingMetropolis(scene, seed=2, kernel=kernel).run(4, thin=3)
+        assert np.array_equal(full[2::3], thin)

@@ -146,8 +146,9 @@ def _packing_move(q, W, cs, dd, i, j, new, rng, ph, has_ph, tol, top_load, mg, c
 
 
 @njit
-def packing_sweeps(q, W, cs, dd, gi, gj, rng, sweeps, ph, has_ph, tol, step, top_load, mg, out, qs, counters):
-    """``sweeps`` sweeps of ``len(gi)`` moves; ``W`` (and ``q``) recorded per sweep if ``out`` (``qs``) is non-empty.
+def packing_sweeps(q, W, cs, dd, gi, gj, rng, sweeps, ph, has_ph, tol, step, top_load, mg, out, qs, counters, thin=1):
+    """``sweeps`` sweeps of ``len(gi)`` moves; ``W`` (and ``q``) recorded after every ``thin``-th sweep if ``out``
+    (``qs``) is non-empty.
 
     ``step <= 0`` is the thesis's move (a new q uniform in [0, 1]); ``step > 0``
     the reflected local move of width ``step``.  ``counters``: attempted,
@@ -177,7 +178,9 @@ def packing_sweeps(q, W, cs, dd, gi, gj, rng, sweeps, ph, has_ph, tol, step, top
             counters[0] += 1
             if _packing_move(q, W, cs, dd, i, j, value, rng, ph, has_ph, tol, top_load, mg, counters, S, Cn, Dn):
                 counters[1] += 1
-        if out.shape[0] > 0:
-            out[s] = W
-        if qs.shape[0] > 0:
-            qs[s] = q
+        if (s + 1) % thin == 0:
+            t = (s + 1) // thin - 1
+            if out.shape[0] > 0:
+                out[t] = W
+            if qs.shape[0] > 0:
+                qs[t] = q

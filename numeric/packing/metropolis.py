@@ -160,7 +160,7 @@ class PackingMetropolis:
         self.q[i, j] = old
         return False
 
-    def _compiled(self, sweeps: int, out: np.ndarray, qs: np.ndarray) -> None:
+    def _compiled(self, sweeps: int, out: np.ndarray, qs: np.ndarray, thin: int = 1) -> None:
         from .kernels import packing_state, packing_sweeps
 
         scene = self.scene
@@ -172,7 +172,7 @@ class PackingMetropolis:
         tol = -1e-9 * max(1.0, ph)
         step = 0.0 if self.step is None else float(self.step)
         packing_sweeps(self.q, self.W, cs, dd, gi, gj, self.rng, sweeps, ph, scene.ph is not None, tol, step,
-                       np.ascontiguousarray(scene.top_load, dtype=float), float(scene.mg), out, qs, counters)
+                       np.ascontiguousarray(scene.top_load, dtype=float), float(scene.mg), out, qs, counters, thin)
         self.attempted, self.accepted, self.rejected_by_constraint = (int(x) for x in counters)
 
     def sweep(self, count: int = 1) -> None:
@@ -193,27 +193,28 @@ class PackingMetropolis:
                 if self._propose(i, j, value):
                     self.accepted += 1
 
-    def run(self, sweeps: int, burn_in: int = 0, progress=None, record_q: bool = False):
-        """Burn in, then record ``W`` (and ``q`` if asked) after each sweep.
+    def run(self, sweeps: int, burn_in: int = 0, progress=None, record_q: bool = False, thin: int = 1):
+        """Burn in, then record ``W`` (and ``q`` if asked) after every ``thin``-th of ``sweeps * thin`` sweeps.
 
-        Returns ``W`` of shape ``(sweeps, N, P)``, or ``(W, q)``.
+        Returns ``W`` of shape ``(sweeps, N, P)``, or ``(W, q)``; ``progress`` ticks once per record.
         """
         sweeps, burn_in = check_int(sweeps, "sweeps", 1), check_int(burn_in, "burn_in", 0)
+        thin = check_int(thin, "thin", 1)
         self.sweep(burn_in)
         out = np.empty((sweeps, self.scene.N, self.scene.P))
         qs = np.empty((sweeps,) + self.q.shape) if record_q else None
         if self.kernel == "compiled":
             N, P = self.scene.N, self.scene.P
-            block = max(1, min(sweeps, 1_000_000 // (N * P * max(N, 4))))  # ~0.1 s between progress ticks
+            block = max(1, min(sweeps, 1_000_000 // (N * P * max(N, 4) * thin)))  # ~0.1 s between progress ticks
             for start in range(0, sweeps, block):
                 stop = min(sweeps, start + block)
                 q_out = qs[start:stop] if record_q else np.empty((0, N - 1, P))
-                self._compiled(stop - start, out[start:stop], q_out)
+                self._compiled((stop - start) * thin, out[start:stop], q_out, thin)
                 if progress is not None:
                     progress(stop - start)
             return (out, qs) if record_q else out
         for t in range(sweeps):
-            self.sweep()
+            self.sweep(thin)
             out[t] = self.W
             if record_q:
                 qs[t] = self.q

@@ -152,8 +152,9 @@ def _triangle_move(q, W, flux, zeros, i, j, new, rng, ph, has_ph, counters, S, F
 
 
 @njit
-def triangle_sweeps(q, W, flux, zeros, gi, gj, rng, sweeps, ph, has_ph, out, counters):
-    """``sweeps`` sweeps of ``len(gi)`` single-q moves; ``W`` recorded into ``out[s]`` if ``out`` is non-empty.
+def triangle_sweeps(q, W, flux, zeros, gi, gj, rng, sweeps, ph, has_ph, out, counters, thin=1):
+    """``sweeps`` sweeps of ``len(gi)`` single-q moves; ``W`` recorded into ``out[s // thin]`` after every
+    ``thin``-th sweep if ``out`` is non-empty.
 
     ``counters`` (int64[3]): attempted, accepted, rejected by the constraint; updated in place.
     """
@@ -174,10 +175,11 @@ def triangle_sweeps(q, W, flux, zeros, gi, gj, rng, sweeps, ph, has_ph, out, cou
             counters[0] += 1
             if _triangle_move(q, W, flux, zeros, gi[g], gj[g], values[m], rng, ph, has_ph, counters, S, Fn):
                 counters[1] += 1
-        if record:
+        if record and (s + 1) % thin == 0:
+            t = (s + 1) // thin - 1
             for k in range(N):
                 for c in range(k + 1):
-                    out[s, k, c] = W[k, c]
+                    out[t, k, c] = W[k, c]
 
 
 # ----------------------------------------------------------------- the exact sampler

@@ -167,7 +167,7 @@ class TriangleMetropolis:
         self.q[i, j] = old
         return False
 
-    def _compiled(self, sweeps: int, out: np.ndarray) -> None:
+    def _compiled(self, sweeps: int, out: np.ndarray, thin: int = 1) -> None:
         from .kernels import triangle_state, triangle_sweeps
 
         flux, zeros = triangle_state(self.q, self.W)
@@ -175,7 +175,7 @@ class TriangleMetropolis:
         gj = np.array([g[1] for g in self.grains], dtype=np.int64)
         counters = np.array([self.attempted, self.accepted, self.rejected_by_constraint], dtype=np.int64)
         ph = 0.0 if self.ph is None else float(self.ph)
-        triangle_sweeps(self.q, self.W, flux, zeros, gi, gj, self.rng, sweeps, ph, self.ph is not None, out, counters)
+        triangle_sweeps(self.q, self.W, flux, zeros, gi, gj, self.rng, sweeps, ph, self.ph is not None, out, counters, thin)
         self.attempted, self.accepted, self.rejected_by_constraint = (int(x) for x in counters)
 
     def sweep(self, count: int = 1) -> None:
@@ -194,26 +194,27 @@ class TriangleMetropolis:
                 if self._propose(i, j, value):
                     self.accepted += 1
 
-    def run(self, sweeps: int, burn_in: int = 0, progress=None) -> np.ndarray:
-        """Burn in, then record ``W`` after each of ``sweeps`` sweeps.
+    def run(self, sweeps: int, burn_in: int = 0, progress=None, thin: int = 1) -> np.ndarray:
+        """Burn in, then record ``W`` after every ``thin``-th of ``sweeps * thin`` sweeps.
 
-        Returns an array of shape ``(sweeps, N, N)``.
+        Returns an array of shape ``(sweeps, N, N)``; ``progress`` ticks once per record.
         """
         sweeps = check_int(sweeps, "sweeps", 1)
         burn_in = check_int(burn_in, "burn_in", 0)
+        thin = check_int(thin, "thin", 1)
         self.sweep(burn_in)
         out = np.empty((sweeps, self.N, self.N))
         if self.kernel == "compiled":
             out[:] = 0.0
-            block = max(1, min(sweeps, 2_000_000 // (self.N**3)))  # ~0.1 s between progress ticks
+            block = max(1, min(sweeps, 2_000_000 // (self.N**3 * thin)))  # ~0.1 s between progress ticks
             for start in range(0, sweeps, block):
                 stop = min(sweeps, start + block)
-                self._compiled(stop - start, out[start:stop])
+                self._compiled((stop - start) * thin, out[start:stop], thin)
                 if progress is not None:
                     progress(stop - start)
             return out
         for t in range(sweeps):
-            self.sweep()
+            self.sweep(thin)
             out[t] = self.W
             if progress is not None:
                 progress(1)

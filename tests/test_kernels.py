@@ -231,3 +231,50 @@ def test_thinned_records_are_every_thin_th_state():
         full = PackingMetropolis(scene, seed=2, kernel=kernel).run(12)
         thin = PackingMetropolis(scene, seed=2, kernel=kernel).run(4, thin=3)
         assert np.array_equal(full[2::3], thin)
+
+
+# ------------------------------------------------------------------ the slice move
+
+
+def test_slice_move_matches_the_exact_gravity_scene():
+    from forcenet.exact.packing.mobilized import mean_W_mobilized
+    from forcenet.numeric.autocorr import mean_and_stderr
+    from forcenet.numeric.packing import PackingMetropolis, Scene
+
+    scene = Scene(N=3, P=4, F=10, j0=2, mg=1)
+    exact = np.array(mean_W_mobilized(3, 4, F=10, j0=2, mg=1), dtype=float)
+    sampler = PackingMetropolis(scene, seed=2006, move="slice")
+    mean, err, _ = mean_and_stderr(sampler.run(sweeps=8000, burn_in=200))
+    free = err > 0
+    assert np.abs((mean - exact)[free] / err[free]).max() < 5
+    assert sampler.acceptance_rate == 1.0 and sampler.evaluations >= sampler.attempted
+
+
+def test_slice_move_matches_rejection_on_the_isotropic_scene():
+    import math
+
+    from forcenet.numeric.autocorr import mean_and_stderr
+    from forcenet.numeric.packing import PackingMetropolis, Scene
+    from forcenet.numeric.packing.networks import uniform_networks
+    from forcenet.numeric.packing.scene import forces_from_q, lateral_forces
+
+    scene = Scene(N=3, P=3, F=1, pv=1, ph=1)
+    W, _ = uniform_networks(scene, 20000, np.random.default_rng(7))
+    ref, ref_err = W.mean(axis=0), W.std(axis=0, ddof=1) / math.sqrt(len(W))
+    sampler = PackingMetropolis(scene, seed=11, move="slice")
+    mean, err, _ = mean_and_stderr(sampler.run(sweeps=20000, burn_in=300))
+    sigma = np.hypot(err, ref_err)
+    free = sigma > 0
+    assert np.abs((mean - ref)[free] / sigma[free]).max() < 5
+    assert lateral_forces(sampler.q, sampler.W, scene).min() >= -1e-9  # every force stays repulsive
+    assert np.allclose(forces_from_q(sampler.q, scene), sampler.W, rtol=0, atol=1e-12)
+
+
+def test_slice_move_arguments():
+    from forcenet.numeric.packing import PackingMetropolis, Scene
+
+    scene = Scene(N=3, P=3, F=1, pv=1, ph=1)
+    with pytest.raises(ValueError, match="move"):
+        PackingMetropolis(scene, move="gibbs")
+    with pytest.raises(ValueError, match="slice"):
+        PackingMetropolis(scene, move="slice", kernel="python")

@@ -58,6 +58,14 @@ class PackingMetropolis:
         :func:`forcenet.numeric.packing.kernels.packing_sweeps` (numba), which
         draws the same random numbers and gives the same chain for a seed;
         ``None`` (default): compiled when numba is available.
+    move : {"metropolis", "slice"}
+        ``"metropolis"``: the thesis's single-q move above.  ``"slice"``
+        (compiled kernel only): the grain's new q is drawn from its exact
+        conditional law given all the others, restricted to the interval of
+        q where every force stays non-negative (all forces are affine in one
+        q, so the allowed set is an interval, and the weight, a product of
+        affine functions, is log-concave on it), by slice sampling with
+        shrinkage (Neal 2003); no move is rejected.
 
     Examples
     --------
@@ -68,10 +76,17 @@ class PackingMetropolis:
     True
     """
 
-    def __init__(self, scene: Scene, seed=None, q0=None, step: float | None = None, kernel: str | None = None):
+    def __init__(self, scene: Scene, seed=None, q0=None, step: float | None = None, kernel: str | None = None,
+                 move: str = "metropolis"):
         from ..jit import kernel_choice
 
         self.kernel = kernel_choice(kernel)
+        if move not in ("metropolis", "slice"):
+            raise ValueError(f"move={move!r}: expected 'metropolis' or 'slice'")
+        if move == "slice" and (self.kernel != "compiled" or step is not None):
+            raise ValueError("move='slice' needs the compiled kernel (numba) and no step")
+        self.move = move
+        self.evaluations = 0
         if not isinstance(scene, Scene):
             raise TypeError(f"scene={scene!r}: expected a forcenet.numeric.packing.Scene")
         if step is not None and not (0 < step <= 1):
@@ -171,9 +186,20 @@ class PackingMetropolis:
         ph = 0.0 if scene.ph is None else float(scene.ph)
         tol = -1e-9 * max(1.0, ph)
         step = 0.0 if self.step is None else float(self.step)
-        packing_sweeps(self.q, self.W, cs, dd, gi, gj, self.rng, sweeps, ph, scene.ph is not None, tol, step,
-                       np.ascontiguousarray(scene.top_load, dtype=float), float(scene.mg), out, qs, counters, thin)
-        self.attempted, self.accepted, self.rejected_by_constraint = (int(x) for x in counters)
+        top = np.ascontiguousarray(scene.top_load, dtype=float)
+        if self.move == "slice":
+            from .kernels import packing_slice_sweeps
+
+            counters = np.concatenate([counters, [self.evaluations, 0]])
+            packing_slice_sweeps(self.q, self.W, cs, dd, gi, gj, self.rng, sweeps, ph, scene.ph is not None, tol,
+                                 top, float(scene.mg), out, qs, counters, thin)
+            if counters[4]:  # pragma: no cover - never observed
+                raise RuntimeError("slice move: an interval shrank 200 times without a point under the density")
+            self.evaluations = int(counters[3])
+        else:
+            packing_sweeps(self.q, self.W, cs, dd, gi, gj, self.rng, sweeps, ph, scene.ph is not None, tol, step,
+                           top, float(scene.mg), out, qs, counters, thin)
+        self.attempted, self.accepted, self.rejected_by_constraint = (int(x) for x in counters[:3])
 
     def sweep(self, count: int = 1) -> None:
         """``count`` sweeps of ``(N-1)(P-1)`` single-grain updates."""

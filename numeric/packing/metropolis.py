@@ -291,11 +291,12 @@ def _compiled_seconds_per_move(scene: Scene) -> float:
 
     A fixed part, the light cone (~N^2/4 forces on average), and with a finite
     ``ph`` the lateral forces right of the grain in the layers below it (~N P/4
-    on average, often cut short by a rejection).
+    on average, often cut short by a rejection).  Measured: 0.61-0.80 us on the isotropic 8 x 17 scene,
+    0.45 us on the gravity 20 x 41 scene.
     """
     N, P = scene.N, scene.P
     cone = min(N * N / 4, N * P / 2)
-    return 2.5e-7 + 2.5e-9 * cone + (3e-9 * N * P / 4 if scene.ph is not None else 0.0)
+    return 2.5e-7 + 2.5e-9 * cone + (1e-8 * N * P / 4 if scene.ph is not None else 0.0)
 
 
 def packing_plan(scene: Scene, sweeps: int, burn_in: int = 0, chains: int = 1, memory_bytes: int | None = None,

@@ -242,8 +242,9 @@ _SECONDS_PER_MOVE = 4e-5  # reference kernel, measured: 35-50 us per single-q mo
 
 def _compiled_seconds_per_move(N: int, ph: bool) -> float:
     """The compiled kernel's cost of one move: a fixed part and ~2.5 ns per force of the light cone (~N^2/9 on
-    average); a finite ``ph`` adds the running sums right of the grain (benchmarks/bench_samplers.py)."""
-    return 2.5e-7 + 2.5e-9 * N * N / 9 * (3 if ph else 1)
+    average); a finite ``ph`` adds the running sums right of the grain (benchmarks/bench_samplers.py:
+    0.21, 0.52, 1.43 us at N = 11, 24, 50; 0.62 us at N = 24 with ``p_h = 0.3``)."""
+    return 2e-7 + 4e-9 * N * N / 9 * (1.5 if ph else 1)
 
 
 def metropolis_plan(N: int, sweeps: int, burn_in: int = 0, memory_bytes: int | None = None, ph: bool = False,

@@ -42,9 +42,9 @@ def run_exact(N, K, seed, kernel=None):
     return mean, time.process_time() - t0, K
 
 
-def run_metropolis(N, sweeps, seed, kernel=None):
+def run_metropolis(N, sweeps, seed, kernel=None, move="metropolis"):
     t0 = time.process_time()
-    sampler = TriangleMetropolis(N, seed=seed, kernel=kernel)
+    sampler = TriangleMetropolis(N, seed=seed, kernel=kernel, move=move)
     chain = sampler.run(sweeps, burn_in=max(100, sweeps // 10))
     seconds = time.process_time() - t0
     flat = chain.reshape(sweeps, -1)[:, np.tril(np.ones((N, N), dtype=bool)).ravel()]
@@ -63,13 +63,17 @@ def main(argv=None):
     parser.add_argument("--plot", help="write a log-log plot of RMS error against CPU seconds to this PNG")
     parser.add_argument("--kernels", nargs="+", default=["compiled"], choices=["compiled", "python"],
                         help="sampler kernels to run (the compiled ones' first call is warmed up outside the timing)")
+    parser.add_argument("--moves", nargs="+", default=["metropolis"], choices=["metropolis", "slice"],
+                        help="Markov-chain moves to run (slice: compiled kernel only)")
+    parser.add_argument("--no-exact", action="store_true", help="skip the exact sampler's rows")
     parser.add_argument("--python-max-seconds", type=float, default=200.0,
                         help="skip a reference-kernel budget estimated above this many CPU seconds")
     args = parser.parse_args(argv)
     rows = []
     if "compiled" in args.kernels:  # compile (or load the cache) before any timing
         ExactSampler(5, seed=0, kernel="compiled").mean_W(2)
-        TriangleMetropolis(5, seed=0, kernel="compiled").sweep(1)
+        for move in args.moves:
+            TriangleMetropolis(5, seed=0, kernel="compiled", move=move).sweep(1)
     print("| N | sampler | kernel | budget | CPU s | RMS error | effective samples | effective samples / CPU s |")
     print("| --- | --- | --- | --- | --- | --- | --- | --- |")
     for N in args.N:
@@ -77,20 +81,25 @@ def main(argv=None):
         for kernel in args.kernels:
             per_sample = 6.5e-8 * N**3 if kernel == "python" else 1.25e-8 * N * N * np.log(N)
             per_sweep = 4e-5 * N * (N - 1) / 2 if kernel == "python" else 0.0
-            for K in args.exact_samples:
+            for K in [] if args.no_exact else args.exact_samples:
                 if per_sample * K > args.python_max_seconds:
                     continue
                 mean, seconds, ess = run_exact(N, K, args.seed, kernel)
                 err = "-" if exact is None else f"{rms(mean, exact):.2e}"
                 print(f"| {N} | exact | {kernel} | {K} samples | {seconds:.2f} | {err} | {ess:.0f} | {ess / seconds:.1f} |", flush=True)
                 rows.append((N, f"exact sampler ({kernel})", seconds, None if exact is None else rms(mean, exact)))
-            for S in args.metropolis_sweeps:
-                if per_sweep * S * 1.1 > args.python_max_seconds:
+            for move in args.moves:
+                if move == "slice" and kernel == "python":
                     continue
-                mean, seconds, ess = run_metropolis(N, S, args.seed, kernel)
-                err = "-" if exact is None else f"{rms(mean, exact):.2e}"
-                print(f"| {N} | metropolis | {kernel} | {S} sweeps | {seconds:.2f} | {err} | {ess:.0f} | {ess / seconds:.2f} |", flush=True)
-                rows.append((N, f"Metropolis ({kernel})", seconds, None if exact is None else rms(mean, exact)))
+                for S in args.metropolis_sweeps:
+                    if per_sweep * S * 1.1 > args.python_max_seconds:
+                        continue
+                    mean, seconds, ess = run_metropolis(N, S, args.seed, kernel, move)
+                    err = "-" if exact is None else f"{rms(mean, exact):.2e}"
+                    name = "metropolis" if move == "metropolis" else "slice move"
+                    print(f"| {N} | {name} | {kernel} | {S} sweeps | {seconds:.2f} | {err} | {ess:.0f} | {ess / seconds:.2f} |",
+                          flush=True)
+                    rows.append((N, f"{name} ({kernel})", seconds, None if exact is None else rms(mean, exact)))
     if args.plot:
         import matplotlib
 

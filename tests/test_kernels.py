@@ -278,3 +278,34 @@ def test_slice_move_arguments():
         PackingMetropolis(scene, move="gibbs")
     with pytest.raises(ValueError, match="slice"):
         PackingMetropolis(scene, move="slice", kernel="python")
+
+
+def test_triangle_slice_move_matches_the_exact_table():
+    from forcenet.exact import mean_W
+    from forcenet.numeric.autocorr import mean_and_stderr
+    from forcenet.numeric.triangle.metropolis import TriangleMetropolis
+
+    N = 7
+    exact = np.array([[float(x) for x in row] + [0.0] * (N - len(row)) for row in mean_W(N)])
+    sampler = TriangleMetropolis(N, seed=8, move="slice")
+    mean, err, tau = mean_and_stderr(sampler.run(20000, burn_in=500))
+    free = err > 0
+    assert np.abs((mean - exact)[free] / err[free]).max() < 5
+    assert np.allclose(mean[~free], exact[~free])
+    assert sampler.accepted == sampler.attempted  # every move changes q (with probability 1)
+
+
+def test_triangle_slice_move_with_side_pressure_agrees_with_metropolis():
+    from forcenet.numeric.autocorr import mean_and_stderr
+    from forcenet.numeric.triangle.metropolis import TriangleMetropolis, forces_from_q, lateral_forces
+
+    out = {}
+    for move in ("metropolis", "slice"):
+        sampler = TriangleMetropolis(6, seed=3, ph=0.3, move=move)  # starts from the zero-density state
+        out[move] = mean_and_stderr(sampler.run(30000, burn_in=1000))[:2]
+        assert (lateral_forces(sampler.q, sampler.W, 0.3) >= -1e-12).all()
+        assert np.allclose(forces_from_q(sampler.q), sampler.W, rtol=0, atol=1e-12)
+    (m1, e1), (m2, e2) = out.values()
+    sigma = np.hypot(e1, e2)
+    free = sigma > 0
+    assert np.abs((m1 - m2)[free] / sigma[free]).max() < 5

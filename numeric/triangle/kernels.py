@@ -337,3 +337,167 @@ def hook_walk_W(rng, N, size, W_out, sums, squares, orders, stats):
                     x = W[i, j] ** p
                     sums[o, i, j] += x
                     squares[o, i, j] += x * x
+
+
+# ------------------------------------------------------------------ the slice move
+
+
+@njit
+def _triangle_commit(q, W, flux, zeros, i, j, new, has_ph, S):
+    """Set ``q[i, j] = new``; recompute the light cone of ``W``, the zero counts and the running sums."""
+    N = W.shape[0]
+    q[i, j] = new
+    for c in range(max(j - 1, 0), min(j + 1, i) + 1):
+        S[i, c] = W[i, c]
+    for k in range(i + 1, N):
+        hi = j + k - i
+        if j >= 1:
+            S[k - 1, j - 1] = W[k - 1, j - 1]
+        if hi < k:
+            S[k - 1, hi] = W[k - 1, hi]
+        for c in range(j, hi + 1):
+            a = 0.0
+            if c < k:
+                a = q[k - 1, c] * S[k - 1, c]
+            if c >= 1:
+                a = a + (1.0 - q[k - 1, c - 1]) * S[k - 1, c - 1]
+            S[k, c] = a
+    for k in range(i + 1, N):
+        dz = 0
+        for c in range(j, j + k - i + 1):
+            if W[k, c] == 0.0:
+                dz -= 1
+            if S[k, c] == 0.0:
+                dz += 1
+            W[k, c] = S[k, c]
+        zeros[k] += dz
+    if has_ph:
+        for L in range(i + 1, N):
+            row = L - 1
+            run = flux[L, j - 1] if j >= 1 else 0.0
+            for c in range(j, L):
+                x = q[row, c] * W[row, c]
+                run = x if c == 0 else run + x
+                flux[L, c] = run
+            flux[L, L] = flux[L, L - 1]
+
+
+@njit
+def _slice_t(rng, lo, hi, r, m, counters):
+    """Slice sampling with shrinkage of ``t`` in ``[lo, hi]`` (containing 0) for the density
+    ``prod_c (1 + t r_c)`` (log-concave); returns ``t``."""
+    y = -rng.standard_exponential()
+    left, right = lo, hi
+    for _ in range(200):
+        t = left + rng.random() * (right - left)
+        counters[3] += 1
+        total = 0.0
+        ratio = 1.0
+        count = 0
+        ok = True
+        for c in range(m):
+            x = 1.0 + t * r[c]
+            if x <= 0.0:
+                ok = False
+                break
+            ratio *= x
+            count += 1
+            if count == 8 or not (1e-150 < ratio < 1e150):
+                total += math.log(ratio)
+                ratio = 1.0
+                count = 0
+        if ok and total + math.log(ratio) > y:
+            return t
+        if t < 0.0:
+            left = t
+        else:
+            right = t
+    counters[4] += 1
+    return 0.0
+
+
+@njit
+def triangle_slice_sweeps(q, W, flux, zeros, gi, gj, rng, sweeps, ph, has_ph, out, counters, thin=1):
+    """Like :func:`triangle_sweeps` with the slice move: the grain's new q is drawn from its conditional
+    law given the others (the weight is a product of forces affine in that q, log-concave), restricted to
+    the interval where every lateral force stays >= 0 (finite ``p_h``), by slice sampling with shrinkage.
+
+    ``counters``: moves, moves that changed q, 0, density evaluations, give-ups.  From a zero-density
+    state (the lattice-direction start) a move draws q uniformly in its interval instead.
+    """
+    N = W.shape[0]
+    G = gi.shape[0]
+    C = 2.0 / math.sqrt(3.0)
+    picks = np.empty(G, np.int64)
+    R = np.zeros((N, N))
+    dfl = np.zeros((N + 1, N + 1))
+    r = np.empty(N * N)
+    S = np.zeros((N, N))
+    record = out.shape[0] > 0
+    for s in range(sweeps):
+        for m in range(G):
+            picks[m] = rng.integers(0, G)
+        for m in range(G):
+            g = picks[m]
+            i = gi[g]
+            j = gj[g]
+            q_old = q[i, j]
+            w0 = W[i, j]
+            lo = -q_old
+            hi_t = 1.0 - q_old
+            R[i + 1, j] = w0
+            R[i + 1, j + 1] = -w0
+            for k in range(i + 2, N):
+                for c in range(j, j + k - i + 1):
+                    a = 0.0
+                    if c <= j + k - 1 - i:
+                        a = q[k - 1, c] * R[k - 1, c]
+                    if c - 1 >= j:
+                        a = a + (1.0 - q[k - 1, c - 1]) * R[k - 1, c - 1]
+                    R[k, c] = a
+            zero_density = False
+            for k in range(i + 1, N - 1):
+                if zeros[k] > 0:
+                    zero_density = True
+            m_cells = 0
+            if not zero_density:
+                for k in range(i + 1, N - 1):
+                    for c in range(j, j + k - i + 1):
+                        r[m_cells] = R[k, c] / W[k, c]
+                        m_cells += 1
+            if has_ph:  # F4 of layer L, column c: ph + C (flux[L, c] - flux[L-1, c]), affine in q
+                for L in range(i + 1, N):
+                    run = 0.0
+                    for c in range(j, L + 1):
+                        if L == i + 1:
+                            if c == j:
+                                run = w0
+                        elif c <= j + L - 1 - i:
+                            run += q[L - 1, c] * R[L - 1, c]
+                        dfl[L, c] = run
+                    for c in range(j, L):
+                        below = dfl[L - 1, c] if L - 1 >= i + 1 else 0.0
+                        slope = C * (dfl[L, c] - below)
+                        slack = ph + C * (flux[L, c] - flux[L - 1, c]) + 1e-12
+                        if slack < 0.0:
+                            slack = 0.0
+                        if slope > 0.0:
+                            lo = max(lo, -slack / slope)
+                        elif slope < 0.0:
+                            hi_t = min(hi_t, -slack / slope)
+            lo = min(lo, 0.0)
+            hi_t = max(hi_t, 0.0)
+            if zero_density:
+                t = lo + rng.random() * (hi_t - lo)
+            else:
+                t = _slice_t(rng, lo, hi_t, r, m_cells, counters)
+            new = min(1.0, max(0.0, q_old + t))
+            _triangle_commit(q, W, flux, zeros, i, j, new, has_ph, S)
+            counters[0] += 1
+            if new != q_old:
+                counters[1] += 1
+        if record and (s + 1) % thin == 0:
+            t_rec = (s + 1) // thin - 1
+            for k in range(N):
+                for c in range(k + 1):
+                    out[t_rec, k, c] = W[k, c]

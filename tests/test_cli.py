@@ -289,3 +289,18 @@ def test_sample_packing_response_with_workers(capsys):
     for i in range(3):
         for j in range(5):
             assert abs(data["mean_W"][i][j] - float(exact[i][j])) <= 5 * data["stderr_W"][i][j] + 1e-9
+
+
+def test_sample_slice_move(capsys):
+    argv = ["sample", "--N", "6", "--sampler", "metropolis", "--move", "slice", "--samples", "4000", "--seed", "1",
+            "--format", "json", "--quiet"]
+    code, out, _ = run(argv, capsys)
+    data = json.loads(out)
+    assert code == 0 and data["move"] == "slice" and data["acceptance"] == 1.0
+    exact = mean_W(6)
+    for i in range(6):
+        for j in range(i + 1):
+            err = data["stderr_W"][i][j]
+            if err > 0:
+                assert abs(data["mean_W"][i][j] - float(exact[i][j])) < 5 * err
+    assert main(["sample", "--N", "6", "--move", "slice"]) == 2  # exact sampler: no move to choose

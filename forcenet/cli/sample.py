@@ -94,7 +94,7 @@ def _exact_task(N, samples, seed):
     return sampler.moment_sums(samples, (1,))[1], sampler.kernel
 
 
-def _metropolis_task(N, F, ph, scene, sweeps, burn, seed, response, progress=None):
+def _metropolis_task(N, F, ph, scene, sweeps, burn, seed, response, move="metropolis", progress=None):
     """Worker: one chain; its mean, error bars (integrated autocorrelation time) and counts.
 
     Returns a dict, or ``{"error": message}`` when the chain is too short to trust.
@@ -109,18 +109,19 @@ def _metropolis_task(N, F, ph, scene, sweeps, burn, seed, response, progress=Non
         if scene is None:
             from forcenet.numeric.triangle.metropolis import TriangleMetropolis
 
-            sampler = TriangleMetropolis(N, seed=rng, ph=None if ph is None else ph / F)
+            sampler = TriangleMetropolis(N, seed=rng, ph=None if ph is None else ph / F, move=move)
             chain = sampler.run(sweeps, burn_in=burn, progress=progress) * F
         else:
             from forcenet.numeric.packing.metropolis import PackingMetropolis, response as packing_response
 
-            sampler = PackingMetropolis(scene, seed=rng)
+            sampler = PackingMetropolis(scene, seed=rng, move=move)
             chain = sampler.run(sweeps, burn_in=burn, progress=progress)
         mean, stderr, tau = mean_and_stderr(chain)
         if response:
             # the response's two chains: seeded from the same integer as before (one worker), else from a child
             child = seed if isinstance(seed, int) else seed.spawn(1)[0]
-            out["G"], out["stderr_G"], _ = packing_response(scene, sweeps, burn, seed=child, progress=progress)
+            out["G"], out["stderr_G"], _ = packing_response(scene, sweeps, burn, seed=child, progress=progress,
+                                                              move=move)
     except AutocorrError as exc:
         return {"error": str(exc)}
     flat_tau = np.asarray(tau, dtype=float)
@@ -186,6 +187,8 @@ def cmd_sample(args):
     scene = _scene(args)
     if args.response and scene is None:
         raise UsageError("--response needs the full packing (--P): on the triangle G(i, j) = <W_ij>/F")
+    if args.move != "metropolis" and args.sampler == "exact":
+        raise UsageError("--move applies to --sampler metropolis only")
     if workers > K:
         raise UsageError(f"--workers={workers}: more workers than samples ({K}); use at most {K}")
     burn = args.burn_in if args.burn_in is not None else max(100, K // 10)
@@ -200,7 +203,7 @@ def cmd_sample(args):
 
             mean, stderr = mean_and_error(sum(p[0][0] for p in parts), sum(p[0][1] for p in parts), K)
             return mean * args.F, stderr * args.F, {"kernel": parts[0][1], "effective_samples": float(K)}
-        tasks = [(N, args.F, args.ph, scene, k, burn, s, args.response) for k, s in zip(shares, seeds)]
+        tasks = [(N, args.F, args.ph, scene, k, burn, s, args.response, args.move) for k, s in zip(shares, seeds)]
         parts = _run_tasks(_metropolis_task, tasks, workers, tick)
         for part in parts:
             if "error" in part:
@@ -209,7 +212,7 @@ def cmd_sample(args):
         if scene is not None:
             extra = {"scene": scene.name, "P": scene.P, "F": scene.F, "j0": scene.j0,
                      "pv": scene.pv, "mg": scene.mg, "ph": scene.ph, **extra}
-        extra = {"burn_in": burn, "kernel": parts[0]["kernel"], **extra}
+        extra = {"burn_in": burn, "kernel": parts[0]["kernel"], "move": args.move, **extra}
         return mean, stderr, extra
 
     t0 = time.perf_counter()
@@ -256,6 +259,9 @@ def register(sub):
     p.add_argument("--mg", type=real("mg", 0), default=None, help="grain weight (packing; default 0)")
     p.add_argument("--j0", type=integer("j0", 1), default=None, help="overload column 1..P (default the middle)")
     p.add_argument("--response", action="store_true", help="also G(i,j) = (<W>_{p+F} - <W>_p)/F from a second chain (packing)")
+    p.add_argument("--move", choices=["metropolis", "slice"], default="metropolis",
+                   help="metropolis: the thesis's single-q move (default); slice: each q drawn from its conditional "
+                        "law on its allowed interval (compiled kernel; shorter autocorrelation times)")
     p.add_argument("--workers", type=integer("workers", 1, 64), default=1,
                    help="processes: independent chains (metropolis) or batches of samples (exact), the samples split "
                         "evenly, seeds SeedSequence(seed).spawn(workers); the result depends on --seed and --workers "

@@ -249,13 +249,14 @@ class PackingMetropolis:
         return (out, qs) if record_q else out
 
 
-def response(scene: Scene, sweeps: int, burn_in: int, seed=0, progress=None):
+def response(scene: Scene, sweeps: int, burn_in: int, seed=0, progress=None, move: str = "metropolis"):
     """Mean response ``G(i,j) = (<W>_{p+F} - <W>_p)/F`` with standard errors.
 
     Two independent chains, with and without the overload (Sec. 3.1); each
     error bar comes from the integrated autocorrelation time
     (:func:`forcenet.numeric.autocorr.mean_and_stderr`, which raises on a chain too
-    short to trust), and the two are added in quadrature.
+    short to trust), and the two are added in quadrature.  ``move``: as in
+    :class:`PackingMetropolis`.
 
     Returns
     -------
@@ -268,8 +269,8 @@ def response(scene: Scene, sweeps: int, burn_in: int, seed=0, progress=None):
     if scene.F <= 0:
         raise ValueError(f"F={scene.F}: the response needs an overload F > 0")
     seeds = (seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)).spawn(2)
-    loaded = PackingMetropolis(scene, seed=np.random.default_rng(seeds[0]))
-    base = PackingMetropolis(replace(scene, F=0.0), seed=np.random.default_rng(seeds[1]))
+    loaded = PackingMetropolis(scene, seed=np.random.default_rng(seeds[0]), move=move)
+    base = PackingMetropolis(replace(scene, F=0.0), seed=np.random.default_rng(seeds[1]), move=move)
     m1, e1, t1 = mean_and_stderr(loaded.run(sweeps, burn_in, progress))
     m0, e0, t0 = mean_and_stderr(base.run(sweeps, burn_in, progress))
     G = (m1 - m0) / scene.F

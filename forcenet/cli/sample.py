@@ -84,14 +84,14 @@ def _seeds(seed: int, K: int):
     return [seed] if K == 1 else np.random.SeedSequence(seed).spawn(K)
 
 
-def _exact_task(N, samples, seed):
+def _exact_task(N, samples, seed, progress=None):
     """Worker: raw sums of W and W^2 over ``samples`` exact draws."""
     import numpy as np
 
     from forcenet.numeric.triangle.exact_sampler import ExactSampler
 
     sampler = ExactSampler(N, seed=np.random.default_rng(seed))
-    return sampler.moment_sums(samples, (1,))[1], sampler.kernel
+    return sampler.moment_sums(samples, (1,), progress)[1], sampler.kernel
 
 
 def _metropolis_task(N, F, ph, scene, sweeps, burn, seed, response, move="metropolis", progress=None):
@@ -159,7 +159,7 @@ def _combine_chains(parts):
 def _run_tasks(func, tasks, K, tick):
     """Run ``func(*task)`` for every task: in this process for one worker, else in ``K`` processes."""
     if K == 1:
-        return [func(*tasks[0], progress=tick) if func is _metropolis_task else func(*tasks[0])]
+        return [func(*tasks[0], progress=tick)]
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 

@@ -66,7 +66,8 @@ def main(argv=None):
                 j = round((xfrac * i + i + 1) / 2)
                 x = (2 * j - i - 1) / N
                 value, sigma, limit = N * mean[i - 1, j - 1], N * err[i - 1, j - 1], float(bulk_response(x, i / N))
-            cells.append(f"{value:.4f} ± {sigma:.4f} ({value - limit:+.4f})")
+            digits = 5 if xfrac is None else 4  # the edge values carry errors of ~1e-5
+            cells.append(f"{value:.{digits}f} ± {sigma:.{digits}f} ({value - limit:+.{digits}f})")
         print(f"| {name} | {limit:.5f} | " + " | ".join(cells) + " |")
 
     import matplotlib

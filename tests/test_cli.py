@@ -246,3 +246,61 @@ def test_entropy_command_bethe_and_errors(capsys):
     assert main(["entropy", "--Q", "1/6", "--L-max", "10"]) == 2
     assert main(["entropy", "--Q", "1/2"]) == 2
     assert main(["entropy"]) == 2
+
+
+@pytest.mark.parametrize("sampler", ["exact", "metropolis"])
+def test_sample_workers_are_reproducible(sampler, capsys):
+    argv = ["sample", "--N", "5", "--sampler", sampler, "--samples", "3000", "--seed", "4", "--format", "json",
+            "--workers", "2", "--quiet"]
+    code, first, _ = run(argv, capsys)
+    code, second, _ = run(argv, capsys)
+    assert code == 0 and first == second  # identical bytes for a given seed and number of workers
+    data = json.loads(first)
+    assert data["workers"] == 2 and "seconds" not in data
+    assert 0 < data["effective_samples"] <= 3000
+    exact = mean_W(5)
+    for i in range(5):
+        for j in range(i + 1):
+            err = data["stderr_W"][i][j]
+            if err > 0:
+                assert abs(data["mean_W"][i][j] - float(exact[i][j])) < 5 * err
+    code, one, _ = run(argv[:-3] + ["--quiet"], capsys)
+    assert json.loads(one)["workers"] == 1 and one != first
+
+
+def test_sample_timing_is_opt_in(capsys):
+    code, out, err = run(["sample", "--N", "5", "--samples", "500", "--format", "json", "--timing"], capsys)
+    data = json.loads(out)
+    assert data["seconds"] > 0 and data["effective_samples_per_second"] > 0
+    assert "effective samples in" in err
+    assert main(["sample", "--N", "5", "--samples", "3", "--workers", "4"]) == 2
+    assert "--workers=4" in capsys.readouterr().err
+    assert main(["sample", "--N", "5", "--workers", "0"]) == 2
+
+
+def test_sample_packing_response_with_workers(capsys):
+    args = ["sample", "--N", "3", "--P", "5", "--mg", "1", "--F", "20", "--sampler", "metropolis", "--response",
+            "--samples", "3000", "--seed", "2", "--format", "json", "--workers", "2", "--quiet"]
+    code, out, _ = run(args, capsys)
+    data = json.loads(out)
+    for i in range(3):
+        assert abs(sum(data["G"][i]) - 1) < 1e-9
+    exact = mean_W_mobilized(3, 5, F=20, j0=3, mg=1)
+    for i in range(3):
+        for j in range(5):
+            assert abs(data["mean_W"][i][j] - float(exact[i][j])) <= 5 * data["stderr_W"][i][j] + 1e-9
+
+
+def test_sample_slice_move(capsys):
+    argv = ["sample", "--N", "6", "--sampler", "metropolis", "--move", "slice", "--samples", "4000", "--seed", "1",
+            "--format", "json", "--quiet"]
+    code, out, _ = run(argv, capsys)
+    data = json.loads(out)
+    assert code == 0 and data["move"] == "slice" and data["acceptance"] == 1.0
+    exact = mean_W(6)
+    for i in range(6):
+        for j in range(i + 1):
+            err = data["stderr_W"][i][j]
+            if err > 0:
+                assert abs(data["mean_W"][i][j] - float(exact[i][j])) < 5 * err
+    assert main(["sample", "--N", "6", "--move", "slice"]) == 2  # exact sampler: no move to choose

@@ -1,6 +1,17 @@
-"""``forcenet sample``: Monte Carlo <W> with standard errors (exact sampler or Metropolis)."""
+"""``forcenet sample``: Monte Carlo <W> with standard errors (exact sampler or Metropolis).
+
+The JSON is a function of the arguments, ``--seed`` and ``--workers`` only
+(identical bytes on every run): it reports the *effective sample size*
+(``effective_samples``: the number of samples for the exact sampler, and for
+Metropolis ``min`` over the grains of ``sum_k n_k / tau_k`` over the chains),
+while the rate per second, which depends on the machine and its load, goes to
+stderr; ``--timing`` adds ``seconds`` and ``effective_samples_per_second`` to
+the JSON for those who want them there (and gives up identical bytes).
+"""
 
 from __future__ import annotations
+
+import os
 
 from .common import (
     UsageError,
@@ -36,79 +47,195 @@ def _scene(args):
 
 
 def _plan(args, scene, burn):
+    from dataclasses import replace
+
     memory = available_memory()
+    K = args.workers
     if args.sampler == "exact":
         from forcenet.numeric.triangle.exact_sampler import sample_plan
 
-        return sample_plan(args.N, args.samples, memory)
-    if scene is None:
+        plan = sample_plan(args.N, args.samples, memory)
+    elif scene is None:
         from forcenet.numeric.triangle.metropolis import metropolis_plan
 
-        return metropolis_plan(args.N, args.samples, burn, memory)
-    from forcenet.numeric.packing.metropolis import packing_plan
+        plan = metropolis_plan(args.N, args.samples, burn * K, memory, ph=args.ph is not None)
+    else:
+        from forcenet.numeric.packing.metropolis import packing_plan
 
-    return packing_plan(scene, args.samples, burn, 2 if args.response else 1, memory)
+        plan = packing_plan(scene, args.samples, burn * K, 2 if args.response else 1, memory)
+    if K == 1 or not plan.runnable:
+        return plan
+    # K processes on the machine's cores; each holds its own share (and its own copy of the code)
+    cores = max(1, min(K, os.cpu_count() or 1))
+    plan = replace(plan, what=f"{plan.what}, {K} workers", seconds=plan.seconds / cores + 1.0,
+                   nbytes=plan.nbytes + (K - 1) * 100 * 2**20)
+    return plan.within_memory(memory)
+
+
+def _shares(total: int, K: int):
+    """``total`` split into ``K`` shares differing by at most one (the first ones larger)."""
+    return [total // K + (k < total % K) for k in range(K)]
+
+
+def _seeds(seed: int, K: int):
+    """One seed per worker: the seed itself for one worker, else ``SeedSequence(seed).spawn(K)``."""
+    import numpy as np
+
+    return [seed] if K == 1 else np.random.SeedSequence(seed).spawn(K)
+
+
+def _exact_task(N, samples, seed, progress=None):
+    """Worker: raw sums of W and W^2 over ``samples`` exact draws."""
+    import numpy as np
+
+    from forcenet.numeric.triangle.exact_sampler import ExactSampler
+
+    sampler = ExactSampler(N, seed=np.random.default_rng(seed))
+    return sampler.moment_sums(samples, (1,), progress)[1], sampler.kernel
+
+
+def _metropolis_task(N, F, ph, scene, sweeps, burn, seed, response, move="metropolis", progress=None):
+    """Worker: one chain; its mean, error bars (integrated autocorrelation time) and counts.
+
+    Returns a dict, or ``{"error": message}`` when the chain is too short to trust.
+    """
+    import numpy as np
+
+    from forcenet.numeric.autocorr import AutocorrError, mean_and_stderr
+
+    rng = np.random.default_rng(seed)
+    out = {}
+    try:
+        if scene is None:
+            from forcenet.numeric.triangle.metropolis import TriangleMetropolis
+
+            sampler = TriangleMetropolis(N, seed=rng, ph=None if ph is None else ph / F, move=move)
+            chain = sampler.run(sweeps, burn_in=burn, progress=progress) * F
+        else:
+            from forcenet.numeric.packing.metropolis import PackingMetropolis, response as packing_response
+
+            sampler = PackingMetropolis(scene, seed=rng, move=move)
+            chain = sampler.run(sweeps, burn_in=burn, progress=progress)
+        mean, stderr, tau = mean_and_stderr(chain)
+        if response:
+            # the response's two chains: seeded from the same integer as before (one worker), else from a child
+            child = seed if isinstance(seed, int) else seed.spawn(1)[0]
+            out["G"], out["stderr_G"], _ = packing_response(scene, sweeps, burn, seed=child, progress=progress,
+                                                              move=move)
+    except AutocorrError as exc:
+        return {"error": str(exc)}
+    flat_tau = np.asarray(tau, dtype=float)
+    out.update({"n": sweeps, "mean": mean, "stderr": stderr, "tau": flat_tau, "std": chain.std(axis=0, ddof=1),
+                "accepted": sampler.accepted, "attempted": sampler.attempted, "kernel": sampler.kernel})
+    return out
+
+
+def _combine_chains(parts):
+    """Means, error bars, spread and effective sample size of independent chains of lengths ``n_k``."""
+    import numpy as np
+
+    n = np.array([p["n"] for p in parts], dtype=float)
+    total = n.sum()
+    mean = sum(w * p["mean"] for w, p in zip(n, parts)) / total
+    stderr = np.sqrt(sum((w * p["stderr"]) ** 2 for w, p in zip(n, parts))) / total
+    if len(parts) == 1:
+        std = parts[0]["std"]
+    else:  # pooled spread about the common mean
+        ss = sum((w - 1) * p["std"] ** 2 + w * (p["mean"] - mean) ** 2 for w, p in zip(n, parts))
+        std = np.sqrt(ss / (total - 1))
+    ess = sum(w / p["tau"] for w, p in zip(n, parts))  # per grain: sum_k n_k / tau_k
+    extra = {
+        "acceptance": sum(p["accepted"] for p in parts) / sum(p["attempted"] for p in parts),
+        "tau_max": float(max(p["tau"].max() for p in parts)),
+        "effective_samples": float(ess.min()),
+        "std_W": std,
+    }
+    if "G" in parts[0]:
+        extra["G"] = sum(w * p["G"] for w, p in zip(n, parts)) / total
+        extra["stderr_G"] = np.sqrt(sum((w * p["stderr_G"]) ** 2 for w, p in zip(n, parts))) / total
+    return mean, stderr, extra
+
+
+def _run_tasks(func, tasks, K, tick):
+    """Run ``func(*task)`` for every task: in this process for one worker, else in ``K`` processes."""
+    if K == 1:
+        return [func(*tasks[0], progress=tick)]
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
+    with ProcessPoolExecutor(max_workers=K, mp_context=multiprocessing.get_context(method)) as pool:
+        futures = [pool.submit(func, *task) for task in tasks]
+        results = []
+        for future, task in zip(futures, tasks):
+            results.append(future.result())  # in task order: the result does not depend on timing
+            if tick is not None:
+                tick(task[1] if func is _exact_task else task[4] * (2 if task[7] else 1))
+        return results
 
 
 def cmd_sample(args):
+    import sys
+    import time
+
     import numpy as np
 
-    N, K = args.N, args.samples
+    N, K, workers = args.N, args.samples, args.workers
     check_output_path(args.out)
     if args.sampler == "exact" and args.ph is not None:
         raise UsageError("--ph applies to --sampler metropolis only (the exact sampler is the fully mobilized ensemble)")
     scene = _scene(args)
     if args.response and scene is None:
         raise UsageError("--response needs the full packing (--P): on the triangle G(i, j) = <W_ij>/F")
+    if args.move != "metropolis" and args.sampler == "exact":
+        raise UsageError("--move applies to --sampler metropolis only")
+    if workers > K:
+        raise UsageError(f"--workers={workers}: more workers than samples ({K}); use at most {K}")
     burn = args.burn_in if args.burn_in is not None else max(100, K // 10)
     plan = _plan(args, scene, burn)
+    seeds = _seeds(args.seed, workers)
+    shares = _shares(K, workers)
 
     def run(tick):
-        extra = {}
         if args.sampler == "exact":
-            from forcenet.numeric.triangle.exact_sampler import ExactSampler
+            parts = _run_tasks(_exact_task, [(N, k, s) for k, s in zip(shares, seeds)], workers, tick)
+            from forcenet.numeric.triangle.exact_sampler import mean_and_error
 
-            mean, stderr = ExactSampler(N, seed=args.seed).mean_W(K, progress=tick)
-            return mean * args.F, stderr * args.F, extra
-        from forcenet.numeric.autocorr import AutocorrError, mean_and_stderr
-
-        try:
-            if scene is None:
-                from forcenet.numeric.triangle.metropolis import TriangleMetropolis
-
-                ph = None if args.ph is None else args.ph / args.F
-                sampler = TriangleMetropolis(N, seed=args.seed, ph=ph)
-                chain = sampler.run(K, burn_in=burn, progress=tick) * args.F
-            else:
-                from forcenet.numeric.packing.metropolis import PackingMetropolis, response
-
-                sampler = PackingMetropolis(scene, seed=args.seed)
-                chain = sampler.run(K, burn_in=burn, progress=tick)
-                extra = {"scene": scene.name, "P": scene.P, "F": scene.F, "j0": scene.j0,
-                         "pv": scene.pv, "mg": scene.mg, "ph": scene.ph}
-            mean, stderr, tau = mean_and_stderr(chain)
-            if args.response:
-                G, G_err, _ = response(scene, K, burn, seed=args.seed, progress=tick)
-                extra["G"], extra["stderr_G"] = G, G_err
-        except AutocorrError as exc:
-            raise UsageError(f"samples={K}: {exc}; run more sweeps") from None
-        extra.update({"burn_in": burn, "acceptance": sampler.acceptance_rate, "tau_max": float(tau.max())})
-        extra["std_W"] = chain.std(axis=0, ddof=1)
+            mean, stderr = mean_and_error(sum(p[0][0] for p in parts), sum(p[0][1] for p in parts), K)
+            return mean * args.F, stderr * args.F, {"kernel": parts[0][1], "effective_samples": float(K)}
+        tasks = [(N, args.F, args.ph, scene, k, burn, s, args.response, args.move) for k, s in zip(shares, seeds)]
+        parts = _run_tasks(_metropolis_task, tasks, workers, tick)
+        for part in parts:
+            if "error" in part:
+                raise UsageError(f"samples={K}: {part['error']}; run more sweeps")
+        mean, stderr, extra = _combine_chains(parts)
+        if scene is not None:
+            extra = {"scene": scene.name, "P": scene.P, "F": scene.F, "j0": scene.j0,
+                     "pv": scene.pv, "mg": scene.mg, "ph": scene.ph, **extra}
+        extra = {"burn_in": burn, "kernel": parts[0]["kernel"], "move": args.move, **extra}
         return mean, stderr, extra
 
+    t0 = time.perf_counter()
     mean, stderr, extra = run_planned(plan, run, force=args.force, quiet=args.quiet)
+    seconds = time.perf_counter() - t0
+    ess = extra["effective_samples"]
+    if not args.quiet:
+        print(f"forcenet: {ess:.0f} effective samples in {seconds:.1f} s: {ess / seconds:.4g} per second "
+              f"({workers} worker{'s' if workers > 1 else ''}, {extra['kernel']} kernel)", file=sys.stderr)
     if scene is None:
         rows = lambda a: [[float(a[i, j]) for j in range(i + 1)] for i in range(N)]
     else:
         rows = lambda a: [[float(v) for v in row] for row in a]
-    out = {"N": N, "sampler": args.sampler, "samples": K, "seed": args.seed}
+    out = {"N": N, "sampler": args.sampler, "samples": K, "seed": args.seed, "workers": workers}
     out.update({k: (rows(v) if isinstance(v, np.ndarray) else v) for k, v in extra.items()})
+    if args.timing:  # opt-in: wall-clock figures make the output differ from run to run
+        out.update({"seconds": seconds, "effective_samples_per_second": ess / seconds})
     out.update({"mean_W": rows(mean), "stderr_W": rows(stderr)})
     if args.format == "json":
         emit(json_dumps(out), args.out)
         return 0
     where = "triangle" if scene is None else f"{scene.name} packing, P = {scene.P}"
-    lines = [f"{args.sampler} sampler, N = {N} ({where}), {K} samples",
+    lines = [f"{args.sampler} sampler, N = {N} ({where}), {K} samples, {ess:.0f} effective",
              "  bottom row <W_N,j>: " + " ".join(f"{m:.4f}±{e:.4f}" for m, e in zip(mean[-1], stderr[-1]))]
     if args.response:
         lines.append("  bottom row G(N,j): " + " ".join(f"{m:.4f}±{e:.4f}" for m, e in zip(extra["G"][-1], extra["stderr_G"][-1])))
@@ -132,6 +259,16 @@ def register(sub):
     p.add_argument("--mg", type=real("mg", 0), default=None, help="grain weight (packing; default 0)")
     p.add_argument("--j0", type=integer("j0", 1), default=None, help="overload column 1..P (default the middle)")
     p.add_argument("--response", action="store_true", help="also G(i,j) = (<W>_{p+F} - <W>_p)/F from a second chain (packing)")
+    p.add_argument("--move", choices=["metropolis", "slice"], default="metropolis",
+                   help="metropolis: the thesis's single-q move (default); slice: each q drawn from its conditional "
+                        "law on its allowed interval (compiled kernel; shorter autocorrelation times)")
+    p.add_argument("--workers", type=integer("workers", 1, 64), default=1,
+                   help="processes: independent chains (metropolis) or batches of samples (exact), the samples split "
+                        "evenly, seeds SeedSequence(seed).spawn(workers); the result depends on --seed and --workers "
+                        "only (default 1)")
+    p.add_argument("--timing", action="store_true",
+                   help="add wall-clock seconds and effective samples per second to the JSON (then it differs "
+                        "from run to run; without it the effective samples per second go to stderr)")
     add_format(p)
     add_force(p)
     add_quiet(p)

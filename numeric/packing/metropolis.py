@@ -52,6 +52,20 @@ class PackingMetropolis:
         q is allowed (``ph=None``); otherwise the network that maximizes the
         smallest force (a linear program, :func:`maximin_network`), with a
         clear error if no repulsive network exists.
+    kernel : {None, "compiled", "python"}
+        ``"python"``: the reference kernel (:meth:`_propose`, numpy, whole
+        arrays per move); ``"compiled"``:
+        :func:`forcenet.numeric.packing.kernels.packing_sweeps` (numba), which
+        draws the same random numbers and gives the same chain for a seed;
+        ``None`` (default): compiled when numba is available.
+    move : {"metropolis", "slice"}
+        ``"metropolis"``: the thesis's single-q move above.  ``"slice"``
+        (compiled kernel only): the grain's new q is drawn from its exact
+        conditional law given all the others, restricted to the interval of
+        q where every force stays non-negative (all forces are affine in one
+        q, so the allowed set is an interval, and the weight, a product of
+        affine functions, is log-concave on it), by slice sampling with
+        shrinkage (Neal 2003); no move is rejected.
 
     Examples
     --------
@@ -62,7 +76,17 @@ class PackingMetropolis:
     True
     """
 
-    def __init__(self, scene: Scene, seed=None, q0=None, step: float | None = None):
+    def __init__(self, scene: Scene, seed=None, q0=None, step: float | None = None, kernel: str | None = None,
+                 move: str = "metropolis"):
+        from ..jit import kernel_choice
+
+        self.kernel = kernel_choice(kernel)
+        if move not in ("metropolis", "slice"):
+            raise ValueError(f"move={move!r}: expected 'metropolis' or 'slice'")
+        if move == "slice" and (self.kernel != "compiled" or step is not None):
+            raise ValueError("move='slice' needs the compiled kernel (numba) and no step")
+        self.move = move
+        self.evaluations = 0
         if not isinstance(scene, Scene):
             raise TypeError(f"scene={scene!r}: expected a forcenet.numeric.packing.Scene")
         if step is not None and not (0 < step <= 1):
@@ -151,8 +175,39 @@ class PackingMetropolis:
         self.q[i, j] = old
         return False
 
+    def _compiled(self, sweeps: int, out: np.ndarray, qs: np.ndarray, thin: int = 1) -> None:
+        from .kernels import packing_state, packing_sweeps
+
+        scene = self.scene
+        cs, dd = packing_state(self.q, self.W, scene)
+        gi = np.array([g[0] for g in self.grains], dtype=np.int64)
+        gj = np.array([g[1] for g in self.grains], dtype=np.int64)
+        counters = np.array([self.attempted, self.accepted, self.rejected_by_constraint], dtype=np.int64)
+        ph = 0.0 if scene.ph is None else float(scene.ph)
+        tol = -1e-9 * max(1.0, ph)
+        step = 0.0 if self.step is None else float(self.step)
+        top = np.ascontiguousarray(scene.top_load, dtype=float)
+        if self.move == "slice":
+            from .kernels import packing_slice_sweeps
+
+            counters = np.concatenate([counters, [self.evaluations, 0]])
+            packing_slice_sweeps(self.q, self.W, cs, dd, gi, gj, self.rng, sweeps, ph, scene.ph is not None, tol,
+                                 top, float(scene.mg), out, qs, counters, thin)
+            if counters[4]:  # pragma: no cover - never observed
+                raise RuntimeError("slice move: an interval shrank 200 times without a point under the density")
+            self.evaluations = int(counters[3])
+        else:
+            packing_sweeps(self.q, self.W, cs, dd, gi, gj, self.rng, sweeps, ph, scene.ph is not None, tol, step,
+                           top, float(scene.mg), out, qs, counters, thin)
+        self.attempted, self.accepted, self.rejected_by_constraint = (int(x) for x in counters[:3])
+
     def sweep(self, count: int = 1) -> None:
         """``count`` sweeps of ``(N-1)(P-1)`` single-grain updates."""
+        if self.kernel == "compiled":
+            if count > 0:
+                N, P = self.scene.N, self.scene.P
+                self._compiled(count, np.empty((0, N, P)), np.empty((0, N - 1, P)))
+            return
         n = len(self.grains)
         for _ in range(count):
             for k, value in zip(self.rng.integers(n, size=n), self.rng.random(n)):
@@ -164,17 +219,28 @@ class PackingMetropolis:
                 if self._propose(i, j, value):
                     self.accepted += 1
 
-    def run(self, sweeps: int, burn_in: int = 0, progress=None, record_q: bool = False):
-        """Burn in, then record ``W`` (and ``q`` if asked) after each sweep.
+    def run(self, sweeps: int, burn_in: int = 0, progress=None, record_q: bool = False, thin: int = 1):
+        """Burn in, then record ``W`` (and ``q`` if asked) after every ``thin``-th of ``sweeps * thin`` sweeps.
 
-        Returns ``W`` of shape ``(sweeps, N, P)``, or ``(W, q)``.
+        Returns ``W`` of shape ``(sweeps, N, P)``, or ``(W, q)``; ``progress`` ticks once per record.
         """
         sweeps, burn_in = check_int(sweeps, "sweeps", 1), check_int(burn_in, "burn_in", 0)
+        thin = check_int(thin, "thin", 1)
         self.sweep(burn_in)
         out = np.empty((sweeps, self.scene.N, self.scene.P))
         qs = np.empty((sweeps,) + self.q.shape) if record_q else None
+        if self.kernel == "compiled":
+            N, P = self.scene.N, self.scene.P
+            block = max(1, min(sweeps, 1_000_000 // (N * P * max(N, 4) * thin)))  # ~0.1 s between progress ticks
+            for start in range(0, sweeps, block):
+                stop = min(sweeps, start + block)
+                q_out = qs[start:stop] if record_q else np.empty((0, N - 1, P))
+                self._compiled((stop - start) * thin, out[start:stop], q_out, thin)
+                if progress is not None:
+                    progress(stop - start)
+            return (out, qs) if record_q else out
         for t in range(sweeps):
-            self.sweep()
+            self.sweep(thin)
             out[t] = self.W
             if record_q:
                 qs[t] = self.q
@@ -183,13 +249,14 @@ class PackingMetropolis:
         return (out, qs) if record_q else out
 
 
-def response(scene: Scene, sweeps: int, burn_in: int, seed: int = 0, progress=None):
+def response(scene: Scene, sweeps: int, burn_in: int, seed=0, progress=None, move: str = "metropolis"):
     """Mean response ``G(i,j) = (<W>_{p+F} - <W>_p)/F`` with standard errors.
 
     Two independent chains, with and without the overload (Sec. 3.1); each
     error bar comes from the integrated autocorrelation time
     (:func:`forcenet.numeric.autocorr.mean_and_stderr`, which raises on a chain too
-    short to trust), and the two are added in quadrature.
+    short to trust), and the two are added in quadrature.  ``move``: as in
+    :class:`PackingMetropolis`.
 
     Returns
     -------
@@ -201,9 +268,9 @@ def response(scene: Scene, sweeps: int, burn_in: int, seed: int = 0, progress=No
 
     if scene.F <= 0:
         raise ValueError(f"F={scene.F}: the response needs an overload F > 0")
-    seeds = np.random.SeedSequence(seed).spawn(2)
-    loaded = PackingMetropolis(scene, seed=np.random.default_rng(seeds[0]))
-    base = PackingMetropolis(replace(scene, F=0.0), seed=np.random.default_rng(seeds[1]))
+    seeds = (seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)).spawn(2)
+    loaded = PackingMetropolis(scene, seed=np.random.default_rng(seeds[0]), move=move)
+    base = PackingMetropolis(replace(scene, F=0.0), seed=np.random.default_rng(seeds[1]), move=move)
     m1, e1, t1 = mean_and_stderr(loaded.run(sweeps, burn_in, progress))
     m0, e0, t0 = mean_and_stderr(base.run(sweeps, burn_in, progress))
     G = (m1 - m0) / scene.F
@@ -215,24 +282,47 @@ def response(scene: Scene, sweeps: int, burn_in: int, seed: int = 0, progress=No
     return G, err, info
 
 
-# measured seconds per move: gravity scene N = 12, P = 25 (every q allowed): 64 s for 2200 sweeps;
-# isotropic scene N = 8, P = 17 (finite ph): 311 s for 44000 sweeps
+# measured seconds per move of the reference kernel: gravity scene N = 12, P = 25 (every q allowed): 64 s for
+# 2200 sweeps; isotropic scene N = 8, P = 17 (finite ph): 311 s for 44000 sweeps
 _SECONDS_PER_MOVE = {True: 1.1e-4, False: 6.5e-5}
 
 
-def packing_plan(scene: Scene, sweeps: int, burn_in: int = 0, chains: int = 1, memory_bytes: int | None = None):
+def _compiled_seconds_per_move(scene: Scene) -> float:
+    """The compiled kernel's cost of one move (benchmarks/bench_samplers.py, notes/benchmarks.md).
+
+    A fixed part, the light cone (~N^2/4 forces on average), and with a finite
+    ``ph`` the lateral forces right of the grain in the layers below it (~N P/4
+    on average, often cut short by a rejection).  Measured: 0.61-0.80 us on the isotropic 8 x 17 scene,
+    0.45 us on the gravity 20 x 41 scene.
+    """
+    N, P = scene.N, scene.P
+    cone = min(N * N / 4, N * P / 2)
+    return 2.5e-7 + 2.5e-9 * cone + (1e-8 * N * P / 4 if scene.ph is not None else 0.0)
+
+
+def packing_plan(scene: Scene, sweeps: int, burn_in: int = 0, chains: int = 1, memory_bytes: int | None = None,
+                 kernel: str | None = None):
     """The cost of ``chains`` runs of :meth:`PackingMetropolis.run` (the chains are stored).
 
     Examples
     --------
-    >>> packing_plan(Scene(N=12, P=25, F=1000, mg=1), 2000, 200).seconds > 60
+    >>> packing_plan(Scene(N=12, P=25, F=1000, mg=1), 2000, 200, kernel="python").seconds > 60
+    True
+    >>> packing_plan(Scene(N=12, P=25, F=1000, mg=1), 2000, 200, kernel="python").seconds > 30 * (
+    ...     packing_plan(Scene(N=12, P=25, F=1000, mg=1), 2000, 200).seconds - 1.5)
     True
     """
     from forcenet.exact.plan import Plan
 
+    from ..jit import kernel_choice
+
     sweeps, burn_in = check_int(sweeps, "sweeps", 1), check_int(burn_in, "burn_in", 0)
     moves = (scene.N - 1) * (scene.P - 1) * (sweeps + burn_in) * chains
+    if kernel_choice(kernel) == "compiled":
+        per_move, start = _compiled_seconds_per_move(scene), 1.5  # + loading the cached kernel (~10 s cold)
+    else:
+        per_move, start = _SECONDS_PER_MOVE[scene.ph is None], 0.5
     plan = Plan(f"Metropolis on the {scene.N} x {scene.P} packing, {chains} x {sweeps} sweeps",
-                _SECONDS_PER_MOVE[scene.ph is None] * moves + 0.5,
+                per_move * moves + start,
                 sweeps * scene.N * scene.P * 8 + 150 * 2**20, sweeps * chains, "sweep")
     return plan.within_memory(memory_bytes)

@@ -26,7 +26,7 @@ import numpy as np
 from forcenet.exact.triangle.staircase import dimension
 from forcenet.exact.validation import check_int, check_layers
 
-__all__ = ["ExactSampler", "q_from_W", "removal_probabilities", "sample_tableaux", "tableaux_to_W"]
+__all__ = ["ExactSampler", "mean_and_error", "q_from_W", "removal_probabilities", "sample_tableaux", "tableaux_to_W"]
 
 
 def removal_probabilities(parts: np.ndarray) -> np.ndarray:
@@ -178,6 +178,20 @@ def q_from_W(W: np.ndarray) -> np.ndarray:
     return np.where(np.tril(np.ones((N - 1, N - 1), dtype=bool)), q, np.nan)
 
 
+def mean_and_error(total: np.ndarray, squares: np.ndarray, samples: int):
+    """Mean and standard error of the mean from the sum and the sum of squares of ``samples`` independent draws.
+
+    Examples
+    --------
+    >>> m, e = mean_and_error(np.array([6.0]), np.array([14.0]), 3)  # draws 1, 2, 3
+    >>> float(m[0]), round(float(e[0]) ** 2, 12)  # variance 1, over 3 draws
+    (2.0, 0.333333333333)
+    """
+    mean = total / samples
+    var = np.maximum(squares / samples - mean**2, 0.0) * samples / (samples - 1)
+    return mean, np.sqrt(var / samples)
+
+
 class ExactSampler:
     """Exact (independent, uniform) sampler of the fully mobilized triangle.
 
@@ -187,6 +201,17 @@ class ExactSampler:
         Number of layers.
     seed : int or numpy.random.Generator, optional
         Seed for reproducible streams.
+    batch : int
+        Samples per batch of the reference kernel.
+    kernel : {None, "compiled", "python"}
+        ``"python"``: the reference route, :func:`sample_tableaux` (Schur's
+        removal weights, ``O(d n)`` per tableau, vectorized over a batch) and
+        :func:`tableaux_to_W`; ``"compiled"``: Sagan's shifted hook walk
+        (:func:`forcenet.numeric.triangle.kernels.hook_walk_W`, numba,
+        ``O(d log n)`` per tableau, one sample at a time so the stream does not
+        depend on batching); ``None`` (default): compiled when numba is
+        available.  The two draw from the same distribution but consume the
+        random stream differently, so a seed gives different samples.
 
     Examples
     --------
@@ -196,7 +221,10 @@ class ExactSampler:
     True
     """
 
-    def __init__(self, N: int, seed=None, batch: int = 4096):
+    def __init__(self, N: int, seed=None, batch: int = 4096, kernel: str | None = None):
+        from ..jit import kernel_choice
+
+        self.kernel = kernel_choice(kernel)
         self.N = check_layers(N)
         self.rng = np.random.default_rng(seed)
         batch = check_int(batch, "batch", 1)
@@ -205,15 +233,41 @@ class ExactSampler:
 
     def sample_W(self, size: int) -> np.ndarray:
         """``size`` independent configurations, ``W`` of shape ``(size, N, N)``."""
+        size = check_int(size, "size", 0)
+        if self.kernel == "compiled":
+            from .kernels import hook_walk_W
+
+            W = np.empty((size, self.N, self.N))
+            empty = np.zeros((0, self.N, self.N))
+            hook_walk_W(self.rng, self.N, size, W, empty, empty, np.zeros(0, np.int64), np.zeros(1, np.int64))
+            return W
         T = sample_tableaux(self.N, size, self.rng)
         return tableaux_to_W(T, self.rng)
 
-    def moments(self, samples: int, orders=(1, 2), progress=None):
-        """Sample means of ``W**s`` and their standard errors (independent draws).
+    def moment_sums(self, samples: int, orders=(1, 2), progress=None):
+        """Raw sums over ``samples`` independent draws: ``{s: (sum W**s, sum W**(2s))}``, arrays ``(N, N)``.
 
-        Returns ``{s: (mean, stderr)}`` with arrays of shape ``(N, N)``.
+        Sums from independent runs add (e.g. from several processes, ``forcenet sample --workers``).
         """
-        samples = check_int(samples, "samples", 2)  # an error bar needs two
+        samples = check_int(samples, "samples", 1)
+        orders = tuple(check_int(s, "orders", 1) for s in orders)
+        if self.kernel == "compiled":
+            from .kernels import hook_walk_W
+
+            N = self.N
+            sums = np.zeros((len(orders), N, N))
+            squares = np.zeros((len(orders), N, N))
+            order_array = np.array(orders, dtype=np.int64)
+            empty = np.zeros((0, N, N))
+            chunk = max(1, min(samples, 20_000_000 // (N * N)))  # ~0.1-0.5 s between progress ticks
+            done = 0
+            while done < samples:
+                k = min(chunk, samples - done)
+                hook_walk_W(self.rng, N, k, empty, sums, squares, order_array, np.zeros(1, np.int64))
+                done += k
+                if progress is not None:
+                    progress(k)
+            return {s: (sums[o], squares[o]) for o, s in enumerate(orders)}
         sums = {s: np.zeros((self.N, self.N)) for s in orders}
         squares = {s: np.zeros((self.N, self.N)) for s in orders}
         done = 0
@@ -227,35 +281,51 @@ class ExactSampler:
             done += k
             if progress is not None:
                 progress(k)
-        out = {}
-        for s in orders:
-            mean = sums[s] / samples
-            var = np.maximum(squares[s] / samples - mean**2, 0.0) * samples / (samples - 1)
-            out[s] = (mean, np.sqrt(var / samples))
-        return out
+        return {s: (sums[s], squares[s]) for s in orders}
+
+    def moments(self, samples: int, orders=(1, 2), progress=None):
+        """Sample means of ``W**s`` and their standard errors (independent draws).
+
+        Returns ``{s: (mean, stderr)}`` with arrays of shape ``(N, N)``.
+        """
+        samples = check_int(samples, "samples", 2)  # an error bar needs two
+        return {s: mean_and_error(total, squares, samples)
+                for s, (total, squares) in self.moment_sums(samples, orders, progress).items()}
 
     def mean_W(self, samples: int, progress=None):
         """Sample mean of ``W`` and its standard error, arrays ``(N, N)``."""
         return self.moments(samples, (1,), progress)[1]
 
 
-_SECONDS_PER_CUBE = 6.5e-8  # seconds per sample and N^3, measured N = 12..300 (2 cores)
+_SECONDS_PER_CUBE = 6.5e-8  # reference kernel: seconds per sample and N^3, measured N = 12..300 (2 cores)
+_SECONDS_PER_SQUARE_LOG = 1.25e-8  # hook walk: seconds per sample and N^2 ln N, measured N = 200..2000
 
 
-def sample_plan(N: int, samples: int, memory_bytes: int | None = None):
+def sample_plan(N: int, samples: int, memory_bytes: int | None = None, kernel: str | None = None):
     """The cost of drawing ``samples`` exact samples of the ``N``-layer triangle.
 
     Examples
     --------
     >>> sample_plan(12, 20000).seconds < 3
     True
+    >>> sample_plan(1000, 1000).seconds < 300
+    True
     >>> sample_plan(100000, 2, memory_bytes=24 * 2**30).runnable
     False
     """
+    import math
+
     from forcenet.exact.plan import Plan
 
+    from ..jit import kernel_choice
+
     N, samples = check_layers(N), check_int(samples, "samples", 1)
-    batch = max(1, min(4096, 2**28 // (N * N), samples))
-    nbytes = batch * N * N * 32 + 100 * 2**20
-    plan = Plan(f"{samples} exact samples N={N}", _SECONDS_PER_CUBE * N**3 * samples + 0.3, nbytes, samples, "sample")
+    if kernel_choice(kernel) == "compiled":  # one sample at a time: T, W, sums and squares, O(N^2) each
+        nbytes = 8 * N * N * 8 + 100 * 2**20
+        seconds = _SECONDS_PER_SQUARE_LOG * N * N * math.log(N) * samples + 1.0  # + the cached kernel (~3 s cold)
+    else:
+        batch = max(1, min(4096, 2**28 // (N * N), samples))
+        nbytes = batch * N * N * 32 + 100 * 2**20
+        seconds = _SECONDS_PER_CUBE * N**3 * samples + 0.3
+    plan = Plan(f"{samples} exact samples N={N}", seconds, nbytes, samples, "sample")
     return plan.within_memory(memory_bytes)

@@ -94,9 +94,32 @@ class TriangleMetropolis:
         mobilized limit, and for finite ``ph`` the state that sends the load
         down the two lattice directions (every ``F4 = p_h``, feasible for any
         ``p_h > 0``).
+    kernel : {None, "compiled", "python"}
+        ``"python"``: the reference kernel below (numpy, whole rows per move);
+        ``"compiled"``: :func:`forcenet.numeric.triangle.kernels.triangle_sweeps`
+        (numba, the light cone only), which draws the same random numbers and
+        gives the same chain for the same seed, 30-100 times faster; ``None``
+        (default): compiled when numba is available.
+    move : {"metropolis", "slice"}
+        ``"metropolis"``: the thesis's move above.  ``"slice"`` (compiled
+        kernel only): the grain's new q is drawn from its exact conditional
+        law given the others (the weight is a product of forces affine in
+        that q, so log-concave), restricted with a finite ``ph`` to the
+        interval where every lateral force stays >= 0, by slice sampling
+        with shrinkage (Neal 2003); no move is rejected.
     """
 
-    def __init__(self, N: int, seed=None, ph: float | None = None, q0=None):
+    def __init__(self, N: int, seed=None, ph: float | None = None, q0=None, kernel: str | None = None,
+                 move: str = "metropolis"):
+        from ..jit import kernel_choice
+
+        self.kernel = kernel_choice(kernel)
+        if move not in ("metropolis", "slice"):
+            raise ValueError(f"move={move!r}: expected 'metropolis' or 'slice'")
+        if move == "slice" and self.kernel != "compiled":
+            raise ValueError("move='slice' needs the compiled kernel (numba)")
+        self.move = move
+        self.evaluations = 0
         self.N = check_layers(N)
         self.rng = np.random.default_rng(seed)
         if ph is not None and not (ph > 0 and math.isfinite(ph)):
@@ -158,8 +181,34 @@ class TriangleMetropolis:
         self.q[i, j] = old
         return False
 
+    def _compiled(self, sweeps: int, out: np.ndarray, thin: int = 1) -> None:
+        from .kernels import triangle_state, triangle_sweeps
+
+        flux, zeros = triangle_state(self.q, self.W)
+        gi = np.array([g[0] for g in self.grains], dtype=np.int64)
+        gj = np.array([g[1] for g in self.grains], dtype=np.int64)
+        counters = np.array([self.attempted, self.accepted, self.rejected_by_constraint], dtype=np.int64)
+        ph = 0.0 if self.ph is None else float(self.ph)
+        if self.move == "slice":
+            from .kernels import triangle_slice_sweeps
+
+            counters = np.concatenate([counters, [self.evaluations, 0]])
+            triangle_slice_sweeps(self.q, self.W, flux, zeros, gi, gj, self.rng, sweeps, ph, self.ph is not None,
+                                  out, counters, thin)
+            if counters[4]:  # pragma: no cover - never observed
+                raise RuntimeError("slice move: an interval shrank 200 times without a point under the density")
+            self.evaluations = int(counters[3])
+        else:
+            triangle_sweeps(self.q, self.W, flux, zeros, gi, gj, self.rng, sweeps, ph, self.ph is not None, out,
+                            counters, thin)
+        self.attempted, self.accepted, self.rejected_by_constraint = (int(x) for x in counters[:3])
+
     def sweep(self, count: int = 1) -> None:
         """``count`` sweeps; a sweep is ``N(N-1)/2`` single-grain updates."""
+        if self.kernel == "compiled":
+            if count > 0:
+                self._compiled(count, np.empty((0, self.N, self.N)))
+            return
         grains = self.grains
         for _ in range(count):
             picks = self.rng.integers(len(grains), size=len(grains))
@@ -170,17 +219,27 @@ class TriangleMetropolis:
                 if self._propose(i, j, value):
                     self.accepted += 1
 
-    def run(self, sweeps: int, burn_in: int = 0, progress=None) -> np.ndarray:
-        """Burn in, then record ``W`` after each of ``sweeps`` sweeps.
+    def run(self, sweeps: int, burn_in: int = 0, progress=None, thin: int = 1) -> np.ndarray:
+        """Burn in, then record ``W`` after every ``thin``-th of ``sweeps * thin`` sweeps.
 
-        Returns an array of shape ``(sweeps, N, N)``.
+        Returns an array of shape ``(sweeps, N, N)``; ``progress`` ticks once per record.
         """
         sweeps = check_int(sweeps, "sweeps", 1)
         burn_in = check_int(burn_in, "burn_in", 0)
+        thin = check_int(thin, "thin", 1)
         self.sweep(burn_in)
         out = np.empty((sweeps, self.N, self.N))
+        if self.kernel == "compiled":
+            out[:] = 0.0
+            block = max(1, min(sweeps, 2_000_000 // (self.N**3 * thin)))  # ~0.1 s between progress ticks
+            for start in range(0, sweeps, block):
+                stop = min(sweeps, start + block)
+                self._compiled((stop - start) * thin, out[start:stop], thin)
+                if progress is not None:
+                    progress(stop - start)
+            return out
         for t in range(sweeps):
-            self.sweep()
+            self.sweep(thin)
             out[t] = self.W
             if progress is not None:
                 progress(1)
@@ -203,22 +262,38 @@ def q_model_samples(N: int, size: int, rng: np.random.Generator) -> np.ndarray:
     return W
 
 
-_SECONDS_PER_MOVE = 4e-5  # measured: 35-50 us per single-q move (N = 24)
+_SECONDS_PER_MOVE = 4e-5  # reference kernel, measured: 35-50 us per single-q move (N = 24)
 
 
-def metropolis_plan(N: int, sweeps: int, burn_in: int = 0, memory_bytes: int | None = None):
+def _compiled_seconds_per_move(N: int, ph: bool) -> float:
+    """The compiled kernel's cost of one move: a fixed part and ~2.5 ns per force of the light cone (~N^2/9 on
+    average); a finite ``ph`` adds the running sums right of the grain (benchmarks/bench_samplers.py:
+    0.21, 0.52, 1.43 us at N = 11, 24, 50; 0.62 us at N = 24 with ``p_h = 0.3``)."""
+    return 2e-7 + 4e-9 * N * N / 9 * (1.5 if ph else 1)
+
+
+def metropolis_plan(N: int, sweeps: int, burn_in: int = 0, memory_bytes: int | None = None, ph: bool = False,
+                    kernel: str | None = None):
     """The cost of :meth:`TriangleMetropolis.run` (time per move measured; the chain is stored).
 
     Examples
     --------
-    >>> metropolis_plan(11, 20000, 2000).seconds < 60
+    >>> metropolis_plan(11, 20000, 2000, kernel="python").seconds < 60
+    True
+    >>> metropolis_plan(24, 20000, 2000).seconds < 5
     True
     """
     from forcenet.exact.plan import Plan
 
+    from ..jit import kernel_choice
+
     N = check_layers(N)
     sweeps, burn_in = check_int(sweeps, "sweeps", 1), check_int(burn_in, "burn_in", 0)
     moves = N * (N - 1) // 2 * (sweeps + burn_in)
-    plan = Plan(f"Metropolis N={N}, {sweeps} sweeps", _SECONDS_PER_MOVE * moves + 0.2,
+    if kernel_choice(kernel) == "compiled":
+        per_move, start = _compiled_seconds_per_move(N, ph), 1.0  # + loading the cached kernel (~5 s cold)
+    else:
+        per_move, start = _SECONDS_PER_MOVE, 0.2
+    plan = Plan(f"Metropolis N={N}, {sweeps} sweeps", per_move * moves + start,
                 sweeps * N * N * 8 + 100 * 2**20, sweeps, "sweep")
     return plan.within_memory(memory_bytes)

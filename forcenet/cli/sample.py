@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import os
 
+from forcenet.exact.validation import is_integer
+
 from .common import (
     UsageError,
     add_force,
@@ -119,7 +121,7 @@ def _metropolis_task(N, F, ph, scene, sweeps, burn, seed, response, move="metrop
         mean, stderr, tau = mean_and_stderr(chain)
         if response:
             # the response's two chains: seeded from the same integer as before (one worker), else from a child
-            child = seed if isinstance(seed, int) else seed.spawn(1)[0]
+            child = seed if is_integer(seed) else seed.spawn(1)[0]
             out["G"], out["stderr_G"], _ = packing_response(scene, sweeps, burn, seed=child, progress=progress,
                                                               move=move)
     except AutocorrError as exc:

@@ -13,7 +13,7 @@ small packings, the empty chicken-wire configuration.
   network with every force positive (a linear program decides), or to the
   fully mobilized scenes whose exact means :func:`forcenet.testing.exact_mean_W` computes;
 * :func:`torus_sizes`, :func:`chicken_wire_configurations` — chicken-wire
-  configurations on small tori, uniform over all of them (enumeration).
+  configurations on small tori, any of them (picked among all, enumerated).
 
 Examples
 --------
@@ -208,11 +208,19 @@ def packing_scenes(*, min_layers: int = 2, max_layers: int = 5, min_width: int =
     return scene()
 
 
-def torus_sizes(max_sites: int = 12, min_L: int = 2):
-    """``(L, M)`` with ``L >= min_L``, ``M >= 1``, ``L M <= max_sites`` (at most 20: enumeration)."""
+def torus_sizes(max_sites: int = 12, min_L: int = 2, max_L: int | None = None):
+    """``(L, M)`` with ``min_L <= L <= max_L``, ``M >= 1``, ``L M <= max_sites`` (at most 20: enumeration).
+
+    Examples
+    --------
+    >>> from hypothesis import find
+    >>> find(torus_sizes(max_L=4), lambda s: s[0] * s[1] >= 9)
+    (3, 3)
+    """
     max_sites = check_int(max_sites, "max_sites", 2, 20)
     min_L = check_int(min_L, "min_L", 2, max_sites)
-    return st.integers(min_L, max_sites).flatmap(lambda L: st.tuples(st.just(L), st.integers(1, max_sites // L)))
+    max_L = max_sites if max_L is None else check_int(max_L, "max_L", min_L, max_sites)
+    return st.integers(min_L, max_L).flatmap(lambda L: st.tuples(st.just(L), st.integers(1, max_sites // L)))
 
 
 @lru_cache(maxsize=64)
@@ -222,14 +230,14 @@ def _configurations(L: int, M: int) -> tuple:
     return tuple(torus_configurations(L, M))
 
 
-def chicken_wire_configurations(L=None, M=None, *, max_sites: int = 12):
-    """Chicken-wire configurations on small tori, uniform over all of them (Sec. 7.4.1).
+def chicken_wire_configurations(L=None, M=None, *, max_sites: int = 12, max_L: int | None = None):
+    """Chicken-wire configurations on small tori, any of them (Sec. 7.4.1).
 
     Parameters
     ----------
     L, M : int, optional
         The torus (``L >= 2`` sites per row, ``M >= 1`` rows); default any
-        size from :func:`torus_sizes` with ``L M <= max_sites``.
+        size from :func:`torus_sizes` with ``L M <= max_sites`` and ``L <= max_L``.
 
     Returns a strategy of :class:`forcenet.numeric.chicken_wire.monte_carlo.ChickenWire`.
     The configurations of a torus are enumerated once
@@ -246,7 +254,7 @@ def chicken_wire_configurations(L=None, M=None, *, max_sites: int = 12):
     from forcenet.numeric.chicken_wire.monte_carlo import ChickenWire
 
     if L is None and M is None:
-        sizes = torus_sizes(max_sites)
+        sizes = torus_sizes(max_sites, max_L=max_L)
     else:
         if L is None or M is None:
             raise ValueError("give both L and M, or neither")

@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import math
 import time
+import warnings
 
 import numpy as np
 from scipy.signal import lfilter
@@ -39,11 +40,11 @@ def ar1(rng, n, phi):
     return lfilter([1.0], [1.0, -phi], e)
 
 
-def rate(runs, make, exact, alpha, chain=False):
+def rate(runs, make, exact, alpha, chain=False, **batching):
     rejected = accepted = 0
     for r in range(runs):
         try:
-            rejected += not compare(make(r), exact, chain=chain, alpha=alpha).passed
+            rejected += not compare(make(r), exact, chain=chain, alpha=alpha, **batching).passed
             accepted += 1
         except AutocorrError:
             pass
@@ -55,7 +56,9 @@ def naive_chain_rate(runs, phi, n, alpha):
     rejected = accepted = 0
     for r in range(runs):
         x = ar1(np.random.default_rng(r), n, phi)
-        tau = integrated_time(x, quiet=True)[0]
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            tau = integrated_time(x, quiet=True)[0]
         if n < 100 * tau:
             continue
         m = x.reshape(10, -1).mean(axis=1)
@@ -100,6 +103,9 @@ def main():
     for name, alpha, runs, make, exact, chain in cases:
         t0 = time.time()
         row(name, alpha, rate(runs, make, exact, alpha, chain), time.time() - t0)
+    t0 = time.time()
+    row("no gaps (gap_factor=0): AR(1) tau = 19, 300 tau", 0.05,
+        rate(6000 // k, lambda s: ar1(np.random.default_rng(s), 5700, 0.9), 0.0, 0.05, True, gap_factor=0), time.time() - t0)
     t0 = time.time()
     row("naive: AR(1) tau = 19, 100 tau, tau on the whole chain, no gaps", 0.05,
         naive_chain_rate(6000 // k, 0.9, 1900, 0.05), time.time() - t0)

@@ -180,8 +180,8 @@ def packing_scenes(*, min_layers: int = 2, max_layers: int = 5, min_width: int =
         if side_pressure:
             raise ValueError("exact_means=True needs the fully mobilized scenes: side_pressure must be False or None")
         side_pressure = False
-        hi_n = min(hi_n, 3)
-        if lo_n > hi_n or (lo_n - 1) * (lo_p - 1) > 8:
+        hi_n = min(hi_n, 3, 1 + 8 // (lo_p - 1))  # every N left has a P >= min_width with (N-1)(P-1) <= 8
+        if lo_n > hi_n:
             raise ValueError(f"exact_means=True: no scene with N in {lo_n}..{max_layers}, P >= {lo_p} has "
                              "N <= 3 and (N-1)(P-1) <= 8")
     quarter = st.integers(1, 20).map(lambda k: k / 4)

@@ -57,7 +57,7 @@ import numpy as np
 
 from .autocorr import AutocorrError, integrated_time
 
-__all__ = ["TableAgreement", "batch_means", "compare_samples", "compare_chain", "compare_means"]
+__all__ = ["TableAgreement", "batch_means", "compare_samples", "compare_chain", "compare_means", "varying_columns"]
 
 _FIXED_RTOL = 1e-12  # a column is "fixed" when it varies by less than this (relative)
 
@@ -195,10 +195,21 @@ def _same(a: float, b: float) -> bool:
     return abs(a - b) <= 1e-9 * max(1.0, abs(b))
 
 
+def varying_columns(x: np.ndarray) -> np.ndarray:
+    """Columns of ``(K, G)`` that vary by more than rounding (``1e-12`` relative): the rest are fixed values.
+
+    Examples
+    --------
+    >>> varying_columns(np.array([[1.0, 0.2], [1.0 + 1e-15, 0.7]])).tolist()
+    [False, True]
+    """
+    spread = x.max(axis=0) - x.min(axis=0)
+    return spread > _FIXED_RTOL * np.maximum(1.0, np.abs(x).max(axis=0))
+
+
 def _split(x: np.ndarray, mu: np.ndarray, keys: list):
     """Separate the columns that never vary (compared exactly) from the others."""
-    spread = x.max(axis=0) - x.min(axis=0)
-    fixed = spread <= _FIXED_RTOL * np.maximum(1.0, np.abs(x).max(axis=0))
+    fixed = ~varying_columns(x)
     fixed_report = tuple((keys[g], float(x[0, g]), float(mu[g])) for g in np.flatnonzero(fixed))
     return ~fixed, fixed_report
 

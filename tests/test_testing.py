@@ -109,6 +109,16 @@ def test_short_chains_are_refused_with_the_length_to_run():
         compare(chain, [0.0], chain=True)
 
 
+def test_rounding_noise_is_a_fixed_value():
+    """A column that varies only by rounding (the top row of a packing) is compared exactly, never as a chain."""
+    from forcenet.numeric.packing import Scene, uniform_networks
+
+    W, _ = uniform_networks(Scene(N=2, P=3, F=1, j0=1, mg=1), 2000, np.random.default_rng(0))
+    assert np.ptp(W[:, 0], axis=0).max() > 0  # rounding in the lateral-force route
+    report = compare(W, exact_mean_W(Scene(N=2, P=3, F=1, j0=1, mg=1)))
+    assert report.passed and [key for key, _, _ in report.fixed] == [(1, 1), (1, 2), (1, 3)]
+
+
 def test_a_fixed_value_that_differs_fails():
     W = ExactSampler(3, seed=1).sample_W(500)
     table = [[2], *mean_W(3)[1:]]  # W_11 is always 1

@@ -38,7 +38,7 @@ from numbers import Number
 
 import numpy as np
 
-from forcenet.numeric.agreement import TableAgreement, compare_chain, compare_means, compare_samples
+from forcenet.numeric.agreement import TableAgreement, compare_chain, compare_means, compare_samples, varying_columns
 
 __all__ = ["DisagreementError", "TableAgreement", "assert_agrees", "assert_means_agree", "compare", "exact_array"]
 
@@ -123,7 +123,7 @@ def _autocorrelated(flat: np.ndarray):
     n = min(flat.shape[0], 4096)
     if n < 500:
         return None
-    cols = np.flatnonzero(np.ptp(flat, axis=0) > 0)
+    cols = np.flatnonzero(varying_columns(flat))
     if cols.size == 0:
         return None
     cols = cols[np.linspace(0, cols.size - 1, min(cols.size, 16)).astype(int)]

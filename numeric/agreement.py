@@ -1,19 +1,41 @@
 """Does a table of sampled means agree with its exact values?  Tests with a stated false-alarm rate.
 
-Two statistics for a whole table of ``G`` values estimated from ``K``
-independent samples, both with a p-value that is valid for the number of
-values tested (no "4-sigma surprise" from taking a maximum over 60 grains):
+The statistical engine of :mod:`forcenet.testing` (and through it of the
+command line's cross-check): one implementation.
 
-* Hotelling's ``T^2 = K d' S^{-1} d`` with ``d`` the deviations of the sample
-  means and ``S`` the sample covariance: ``(K-G)/(G(K-1)) T^2 ~ F(G, K-G)``
-  for a correct sampler (normal approximation of the means);
-* the largest ``|z|`` with its Bonferroni p-value ``min(1, 2 G (1 - Phi(|z|)))``,
-  conservative whatever the correlations.
+Rows
+    ``K`` independent samples (:func:`compare_samples`), or the ``B`` batch
+    means of a Markov chain (:func:`compare_chain`, :func:`batch_means`):
+    ``tau``, the largest integrated autocorrelation time, is measured on the
+    first quarter of the chain (:func:`forcenet.numeric.autocorr.integrated_time`,
+    which refuses a stretch shorter than ``50 tau``); the rest is cut into 10
+    to 50 batches of at least ``10 tau`` steps, ``2 tau`` apart. Chains
+    shorter than about ``200 tau`` are refused.
+Statistics on the rows, for the ``G`` values that vary
+    * each value: ``t = (mean - exact) / stderr``, Student ``t`` with
+      ``K - 1`` (or ``B - 1``) degrees of freedom;
+    * the largest ``|t|`` with its Bonferroni p-value
+      ``min(1, G P(|T| >= max |t|))``, valid whatever the correlations;
+    * Hotelling's ``T^2 = K d' S^+ d`` on the nondegenerate subspace of the
+      covariance ``S`` (constraints such as row sums make it singular):
+      ``(K - r)/(r (K - 1)) T^2 ~ F(r, K - r)`` with ``r`` the rank, run when
+      ``r >= 2`` and ``K >= max(5 r, r + 10)``.
+Values that never vary (``W_11 = 1``) are compared exactly.
 
-The table passes at level ``alpha`` when both p-values exceed ``alpha``; a
-correct sampler then fails with probability at most about ``2 alpha``.
+**What is guaranteed.** The table passes at level ``alpha`` when the
+maximum passes at ``alpha/2`` and Hotelling at ``alpha/2`` (the maximum at
+``alpha`` when Hotelling does not run). By the union bound a correct sampler
+fails with probability **at most alpha**, whatever the correlations between
+the values: exactly so for normal rows (the t and F references are exact),
+asymptotically as ``K`` grows for independent samples, and as the batch
+length over ``tau`` grows for a chain (fixed number of batches; the gaps
+and the separate measurement of ``tau`` remove the finite-length excess
+measured without them, ``1.1-1.4 alpha``). The bound is
+attained for a single value and approached when the values are nearly
+independent; correlated values make the maximum conservative. The measured
+rates are in ``tests/test_testing.py`` and ``notes/testing_against_exact.md``.
 
-May import: numpy, scipy.
+May import: numpy, scipy, :mod:`forcenet.numeric.autocorr`.
 
 Examples
 --------
@@ -33,115 +55,399 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["TableAgreement", "compare_samples", "compare_means"]
+from .autocorr import AutocorrError, integrated_time
+
+__all__ = ["TableAgreement", "batch_means", "compare_samples", "compare_chain", "compare_means", "varying_columns"]
+
+_FIXED_RTOL = 1e-12  # a column is "fixed" when it varies by less than this (relative)
+
+
+def _fmt_key(key) -> str:
+    return str(key)
 
 
 @dataclass(frozen=True)
 class TableAgreement:
-    """The outcome of a whole-table comparison (see the module docstring)."""
+    """The outcome of a whole-table comparison (see the module docstring).
 
-    values: int
-    samples: int
-    max_z: float
-    worst: object
-    p_max: float
-    chi2: float
-    dof: int
-    p_chi2: float
-    rms_z: float
+    Per tested (varying) value, in the order of ``keys``: the sampled
+    ``mean``, the ``exact`` value, the ``stderr`` of the mean, ``z`` and, for
+    a chain, its integrated time ``tau``. ``fixed`` lists the values that
+    never vary as ``(key, sampled, exact)``.
+    """
+
+    keys: tuple
+    mean: tuple
+    exact: tuple
+    stderr: tuple
+    z: tuple
+    df: int | None
     alpha: float
-    z_scores: tuple = ()
+    p_max: float
+    level_max: float
+    chi2: float | None = None
+    dof: int = 0
+    p_chi2: float | None = None
+    level_chi2: float = 0.0
+    fixed: tuple = ()
+    samples: int = 0
+    tau: tuple | None = None
+    batches: int | None = None
+    batch_length: int | None = None
+    batch_gap: int | None = None
+    pilot: int | None = None
+
+    @property
+    def values(self) -> int:
+        """Number of values tested statistically."""
+        return len(self.keys)
+
+    @property
+    def max_z(self) -> float:
+        return max((abs(z) for z in self.z), default=0.0)
+
+    @property
+    def worst(self):
+        return self.worst_values(1)[0][1] if self.keys else None
+
+    @property
+    def rms_z(self) -> float:
+        return math.sqrt(sum(z * z for z in self.z) / len(self.z)) if self.z else 0.0
+
+    @property
+    def z_scores(self) -> tuple:
+        """``(z, key)`` for every tested value."""
+        return tuple(zip(self.z, self.keys))
+
+    @property
+    def fixed_failures(self) -> tuple:
+        """The fixed values whose sample differs from the exact value."""
+        return tuple(f for f in self.fixed if not _same(f[1], f[2]))
 
     @property
     def passed(self) -> bool:
-        return self.p_max > self.alpha and self.p_chi2 > self.alpha
-
-    def summary(self) -> str:
-        """Two lines for a report."""
-        verdict = "agrees" if self.passed else "DISAGREES"
-        return (
-            f"Hotelling chi2 = {self.chi2:.1f} on {self.dof} degrees of freedom (p = {self.p_chi2:.3g}); "
-            f"max |z| = {self.max_z:.2f} at {self.worst} (Bonferroni p = {self.p_max:.3g} over {self.values} values)\n"
-            f"{verdict} at level {self.alpha:g} (a correct sampler fails at most ~{2 * self.alpha:g} of the time)"
-        )
+        if self.fixed_failures:
+            return False
+        if self.p_max <= self.level_max:
+            return False
+        return self.p_chi2 is None or self.p_chi2 > self.level_chi2
 
     def worst_values(self, k: int = 3):
-        """The ``k`` largest ``(|z|, key)``."""
-        return sorted(self.z_scores, key=lambda t: -abs(t[0]))[:k]
+        """The ``k`` largest ``(|z|, key)``, largest first (``z`` signed)."""
+        order = sorted(range(len(self.z)), key=lambda n: -abs(self.z[n]))[:k]
+        return [(self.z[n], self.keys[n]) for n in order]
+
+    def _chain_line(self) -> str:
+        if self.tau is None:
+            return ""
+        return (
+            f"chain of {self.samples} steps, tau = {max(self.tau):.3g} (largest over {self.values} values, "
+            f"measured on the first {self.pilot}): {self.batches} batch means of {self.batch_length} steps "
+            f"{self.batch_gap} apart, Student t with {self.df} dof\n"
+        )
+
+    def summary(self) -> str:
+        """A few lines for a report."""
+        lines = []
+        if self.p_chi2 is not None:
+            lines.append(
+                f"Hotelling chi2 = {self.chi2:.1f} on {self.dof} degrees of freedom "
+                f"(p = {self.p_chi2:.3g}, tested at {self.level_chi2:g}); "
+            )
+        else:
+            lines.append("Hotelling chi2 not run (too few rows for the covariance); ")
+        lines[-1] += (
+            f"max |z| = {self.max_z:.2f} at {_fmt_key(self.worst)} "
+            f"(Bonferroni p = {self.p_max:.3g} over {self.values} values, tested at {self.level_max:g})\n"
+        )
+        if self.fixed:
+            bad = self.fixed_failures
+            lines.append(f"{len(self.fixed)} fixed values compared exactly: "
+                         + ("all equal\n" if not bad else f"{len(bad)} differ\n"))
+        lines.append(self._chain_line())
+        verdict = "agrees" if self.passed else "DISAGREES"
+        lines.append(f"{verdict} at level {self.alpha:g} (a correct sampler fails at most {self.alpha:g} of the time)")
+        return "".join(lines)
+
+    def message(self, k: int = 3) -> str:
+        """The failure message: the worst values with their z (and tau), then the summary."""
+        head = "sampled means agree with the exact values" if self.passed else \
+            "sampled means DISAGREE with the exact values"
+        parts = []
+        index = {key: n for n, key in enumerate(self.keys)}
+        for z, key in self.worst_values(k):
+            n = index[key]
+            text = f"{_fmt_key(key)}: mean {self.mean[n]:.4g} vs exact {self.exact[n]:.4g}, z = {z:+.2f}"
+            if self.tau is not None:
+                text += f", tau = {self.tau[n]:.3g}"
+            parts.append(text)
+        lines = [f"{head} at level {self.alpha:g}", "  worst values: " + "; ".join(parts)]
+        for key, sampled, exact in self.fixed_failures[:k]:
+            lines.append(f"  fixed value {_fmt_key(key)}: sampled {sampled!r} (never varies), exact {exact!r}")
+        lines += ["  " + line for line in self.summary().splitlines()]
+        return "\n".join(lines)
+
+    def __str__(self) -> str:
+        return self.message()
 
 
-def _bonferroni(max_z: float, values: int) -> float:
-    tail = math.erfc(max_z / math.sqrt(2))  # 2 (1 - Phi(|z|))
+def _same(a: float, b: float) -> bool:
+    return abs(a - b) <= 1e-9 * max(1.0, abs(b))
+
+
+def varying_columns(x: np.ndarray) -> np.ndarray:
+    """Columns of ``(K, G)`` that vary by more than rounding (``1e-12`` relative): the rest are fixed values.
+
+    Examples
+    --------
+    >>> varying_columns(np.array([[1.0, 0.2], [1.0 + 1e-15, 0.7]])).tolist()
+    [False, True]
+    """
+    spread = x.max(axis=0) - x.min(axis=0)
+    return spread > _FIXED_RTOL * np.maximum(1.0, np.abs(x).max(axis=0))
+
+
+def _split(x: np.ndarray, mu: np.ndarray, keys: list):
+    """Separate the columns that never vary (compared exactly) from the others."""
+    fixed = ~varying_columns(x)
+    fixed_report = tuple((keys[g], float(x[0, g]), float(mu[g])) for g in np.flatnonzero(fixed))
+    return ~fixed, fixed_report
+
+
+def _bonferroni(max_z: float, values: int, df: int | None) -> float:
+    if values == 0:
+        return 1.0
+    if df is None:
+        tail = math.erfc(max_z / math.sqrt(2))  # 2 (1 - Phi(|z|))
+    else:
+        from scipy.stats import t as t_dist
+
+        tail = 2.0 * float(t_dist.sf(max_z, df))
     return min(1.0, values * tail)
 
 
-def compare_samples(samples, exact, keys=None, alpha: float = 1e-3) -> TableAgreement:
+def _hotelling(rows: np.ndarray, dev: np.ndarray):
+    """``(chi2, rank, p)`` on the nondegenerate subspace, or None when the rows are too few."""
+    from scipy.stats import f as f_dist
+
+    K, G = rows.shape
+    if G < 2:
+        return None
+    S = np.cov(rows, rowvar=False, ddof=1).reshape(G, G)
+    w, V = np.linalg.eigh(S)
+    keep = w > max(w.max(), 0.0) * 1e-10
+    r = int(keep.sum())
+    if r < 2 or K < max(5 * r, r + 10):
+        return None
+    proj = V[:, keep].T @ dev
+    chi2 = float(K * np.sum(proj**2 / w[keep]))
+    p = float(f_dist.sf(chi2 * (K - r) / (r * (K - 1)), r, K - r))
+    return chi2, r, p
+
+
+def _rows_test(rows, mu, keys, alpha, hotelling, fixed, **extra) -> TableAgreement:
+    """The core: t per value, Bonferroni maximum, Hotelling, on independent rows ``(K, G)``."""
+    K = rows.shape[0]
+    mean = rows.mean(axis=0)
+    dev = mean - mu
+    stderr = rows.std(axis=0, ddof=1) / math.sqrt(K) if K > 1 else np.full(mean.shape, np.inf)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        z = np.where(stderr > 0, dev / stderr, np.where(dev == 0, 0.0, np.inf * np.sign(dev)))
+    G = mean.size
+    df = K - 1
+    hot = _hotelling(rows, dev) if (hotelling is None or hotelling) and G >= 2 else None
+    if hotelling and hot is None and G >= 2:
+        raise ValueError(f"hotelling=True needs more rows: {K} rows for {G} values")
+    level_max, level_chi2 = (alpha / 2, alpha / 2) if hot is not None else (alpha, 0.0)
+    max_z = float(np.abs(z).max()) if G else 0.0
+    return TableAgreement(
+        keys=tuple(keys), mean=tuple(map(float, mean)), exact=tuple(map(float, mu)),
+        stderr=tuple(map(float, stderr)), z=tuple(map(float, z)), df=df, alpha=alpha,
+        p_max=_bonferroni(max_z, G, df), level_max=level_max,
+        chi2=None if hot is None else hot[0], dof=0 if hot is None else hot[1],
+        p_chi2=None if hot is None else hot[2], level_chi2=level_chi2, fixed=fixed, **extra,
+    )
+
+
+def _prepare(samples, exact, keys, name="samples"):
+    x = np.asarray(samples, dtype=float)
+    if x.ndim == 1:
+        x = x[:, None]
+    if x.ndim != 2:
+        raise ValueError(f"{name} has shape {x.shape}: expected (rows, values)")
+    if not np.isfinite(x).all():
+        bad = np.argwhere(~np.isfinite(x))[0]
+        raise ValueError(f"{name} contains a non-finite number (row {bad[0]}, column {bad[1]})")
+    mu = np.asarray([float(v) for v in np.ravel(np.asarray(exact, dtype=object))])
+    if mu.size != x.shape[1]:
+        raise ValueError(f"exact has {mu.size} values, {name} has {x.shape[1]} columns")
+    keys = list(keys) if keys is not None else list(range(x.shape[1]))
+    if len(keys) != x.shape[1]:
+        raise ValueError(f"keys has {len(keys)} names for {x.shape[1]} values")
+    return x, mu, keys
+
+
+def _check_alpha(alpha) -> float:
+    from forcenet.exact.validation import check_real
+
+    return check_real(alpha, "alpha", 0, 1, low_open=True, high_open=True)
+
+
+def compare_samples(samples, exact, keys=None, alpha: float = 1e-3, hotelling: bool | None = None) -> TableAgreement:
     """Compare independent samples ``(K, G)`` of ``G`` quantities with their exact means ``(G,)``.
 
     Parameters
     ----------
     samples : array_like, shape (K, G)
-        One row per independent sample (use batch means for a Markov chain).
+        One row per independent sample (for a Markov chain use :func:`compare_chain`).
     exact : array_like, shape (G,)
-        The exact expectations (converted to float here, at the edge).
+        The exact expectations (``Fraction``, sympy or float; converted to float here).
     keys : sequence, optional
         Names of the ``G`` quantities (e.g. grains), for the report.
     alpha : float
-        Level of each of the two tests.
+        Level of the whole-table test: a correct sampler fails with probability at most ``alpha``.
+    hotelling : bool, optional
+        Run Hotelling's test: ``None`` when the rows suffice, ``False`` never, ``True`` always (or raise).
     """
-    from scipy.stats import f as f_dist
-
-    x = np.asarray(samples, dtype=float)
-    mu = np.asarray([float(v) for v in exact])
-    K, G = x.shape
-    if K < G + 2:
-        raise ValueError(f"samples: {K} samples of {G} values; need at least G + 2 = {G + 2} for the covariance")
-    keys = list(keys) if keys is not None else list(range(G))
-    mean = x.mean(axis=0)
-    dev = mean - mu
-    S = np.cov(x, rowvar=False, ddof=1).reshape(G, G)
-    stderr = np.sqrt(np.maximum(np.diag(S), 0) / K)
-    z = np.divide(dev, stderr, out=np.zeros(G), where=stderr > 0)
-    # Hotelling on the nondegenerate subspace (constraints such as row sums make S singular)
-    w, V = np.linalg.eigh(S)
-    keep = w > w.max() * 1e-10
-    dof = int(keep.sum())
-    proj = V[:, keep].T @ dev
-    chi2 = float(K * np.sum(proj**2 / w[keep]))
-    if K - dof > 0:
-        p_chi2 = float(f_dist.sf(chi2 * (K - dof) / (dof * (K - 1)), dof, K - dof))
-    else:  # pragma: no cover - excluded by the check above
-        p_chi2 = float("nan")
-    k = int(np.argmax(np.abs(z)))
-    max_z = float(abs(z[k]))
-    return TableAgreement(
-        values=G, samples=K, max_z=max_z, worst=keys[k], p_max=_bonferroni(max_z, G),
-        chi2=chi2, dof=dof, p_chi2=p_chi2, rms_z=float(np.sqrt(np.mean(z**2))), alpha=alpha,
-        z_scores=tuple((float(zz), key) for zz, key in zip(z, keys)),
-    )
+    alpha = _check_alpha(alpha)
+    x, mu, keys = _prepare(samples, exact, keys)
+    if x.shape[0] < 2:
+        raise ValueError(f"samples: {x.shape[0]} row; an error bar needs at least 2")
+    vary, fixed = _split(x, mu, keys)
+    return _rows_test(x[:, vary], mu[vary], [k for k, v in zip(keys, vary) if v], alpha, hotelling, fixed,
+                      samples=x.shape[0])
 
 
-def compare_means(mean, stderr, exact, keys=None, alpha: float = 1e-3) -> TableAgreement:
-    """Max-|z| test only, from means and standard errors (e.g. from autocorrelation times).
+def batch_means(chain, batch_factor: float = 10.0, gap_factor: float = 2.0, pilot: float = 0.25,
+                max_batches: int = 50, min_batches: int = 10, c: float = 5.0, tol: float = 50.0):
+    """Spaced batch means of a chain ``(n, G)`` (steps along axis 0), batch length from a pilot's ``tau``.
 
-    The chi-square needs the covariance and is reported as not computed
-    (``dof = 0``, ``p_chi2 = 1``).
+    The first ``pilot`` fraction of the chain measures the integrated times
+    (:func:`integrated_time`: it must be longer than ``tol * tau``) and
+    decides the batch length ``b >= batch_factor * tau`` and the gap
+    ``gap_factor * tau`` left between batches; the rest is cut into
+    ``B = min(max_batches, ...)`` batches. Measuring ``tau`` on other steps
+    than the batches keeps the decision to refuse a chain (and the batch
+    length) independent of the batch means: a chain accepted because its
+    ``tau`` looked small would otherwise tend to have too small a spread of
+    batch means (both measure the same slow fluctuations) and fail too often.
+    The gaps make neighbouring batch means nearly independent.
+
+    Returns
+    -------
+    means : array (B, G)
+    tau : array (G,)
+        Integrated time of each column on the pilot (1 for columns that never vary).
+    layout : dict
+        ``pilot`` (steps), ``length`` (steps per batch), ``gap`` (steps between batches).
+
+    Raises
+    ------
+    AutocorrError
+        If the pilot is shorter than ``tol * tau`` or the rest holds fewer
+        than ``min_batches`` batches (in short: chains shorter than about
+        ``200 tau`` are refused).
 
     Examples
     --------
-    >>> compare_means([1.0, 2.02], [0.01, 0.01], [1, 2]).max_z
-    2.0000000000000018
+    >>> x = np.random.default_rng(0).normal(size=(2000, 2))
+    >>> means, tau, layout = batch_means(x)
+    >>> means.shape, layout
+    ((50, 2), {'pilot': 500, 'length': 27, 'gap': 3})
     """
+    from forcenet.exact.validation import check_int, check_real
+
+    batch_factor = check_real(batch_factor, "batch_factor", 0, low_open=True)
+    gap_factor = check_real(gap_factor, "gap_factor", 0)
+    pilot = check_real(pilot, "pilot", 0, 1, low_open=True, high_open=True)
+    max_batches = check_int(max_batches, "max_batches", 2)
+    min_batches = check_int(min_batches, "min_batches", 2, max_batches)
+    x = np.asarray(chain, dtype=float)
+    if x.ndim == 1:
+        x = x[:, None]
+    n = x.shape[0]
+    p = max(1, int(n * pilot))
+    try:
+        tau = integrated_time(x[:p], c=c, tol=tol)
+    except AutocorrError as exc:
+        need = math.ceil(tol * float(exc.tau.max()) / pilot)
+        raise AutocorrError(
+            f"the chain is too short to trust its autocorrelation time: {n} steps, tau = {exc.tau.max():.3g} "
+            f"measured on the first {p}; that part must exceed {tol:.0f} tau, run at least {need} steps", exc.tau
+        ) from None
+    t = float(tau.max())
+    length, gap = max(1, math.ceil(batch_factor * t)), math.ceil(gap_factor * t)
+    rest = n - p
+    B = min(max_batches, (rest + gap) // (length + gap))
+    if B < min_batches:
+        need = p + min_batches * (length + gap) - gap
+        raise AutocorrError(
+            f"the chain is too short for {min_batches} batch means of {batch_factor:g} tau: {n} steps, "
+            f"tau = {t:.3g}; run at least {max(need, math.ceil(need / (1 - pilot)))} steps", tau)
+    length = (rest + gap) // B - gap
+    starts = n - (B * (length + gap) - gap) + np.arange(B) * (length + gap)
+    means = np.stack([x[s:s + length].mean(axis=0) for s in starts])
+    return means, tau, {"pilot": p, "length": length, "gap": gap}
+
+
+def compare_chain(chain, exact, keys=None, alpha: float = 1e-3, hotelling: bool | None = None,
+                  **batching) -> TableAgreement:
+    """Compare a Markov chain ``(n, G)`` with exact means ``(G,)`` through batch means.
+
+    Same parameters as :func:`compare_samples`; ``batching`` goes to
+    :func:`batch_means` (``batch_factor``, ``gap_factor``, ``pilot``,
+    ``max_batches``, ``min_batches``). Raises :class:`forcenet.numeric.autocorr.AutocorrError`
+    on a chain too short to trust.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(1)
+    >>> x = np.zeros(20000)
+    >>> for t in range(1, x.size):  # AR(1) around 0, tau = 19
+    ...     x[t] = 0.9 * x[t - 1] + rng.normal()
+    >>> report = compare_chain(x, [0.0])
+    >>> report.passed, report.batches, bool(15 < report.tau[0] < 25)
+    (True, 50, True)
+    >>> compare_chain(x[:500], [0.0])
+    Traceback (most recent call last):
+    ...
+    forcenet.numeric.autocorr.AutocorrError: the chain is too short to trust its autocorrelation time: ...
+    """
+    alpha = _check_alpha(alpha)
+    x, mu, keys = _prepare(chain, exact, keys, name="chain")
+    vary, fixed = _split(x, mu, keys)
+    if not vary.any():
+        return _rows_test(x[:2, vary], mu[vary], [], alpha, False, fixed, samples=x.shape[0])
+    means, tau, layout = batch_means(x[:, vary], **batching)
+    return _rows_test(means, mu[vary], [k for k, v in zip(keys, vary) if v], alpha, hotelling, fixed,
+                      samples=x.shape[0], tau=tuple(map(float, tau)), batches=means.shape[0],
+                      batch_length=layout["length"], batch_gap=layout["gap"], pilot=layout["pilot"])
+
+
+def compare_means(mean, stderr, exact, keys=None, alpha: float = 1e-3, df: int | None = None) -> TableAgreement:
+    """Max-|z| test only, from means and standard errors (e.g. from autocorrelation times).
+
+    ``df=None`` takes ``z`` as standard normal (the standard errors are
+    trusted); pass the degrees of freedom of the standard errors otherwise.
+
+    Examples
+    --------
+    >>> report = compare_means([1.0, 2.02], [0.01, 0.01], [1, 2])
+    >>> round(report.max_z, 6), report.worst, report.passed
+    (2.0, 1, True)
+    """
+    alpha = _check_alpha(alpha)
     mean = np.asarray(mean, dtype=float).ravel()
     stderr = np.asarray(stderr, dtype=float).ravel()
-    mu = np.asarray([float(v) for v in np.ravel(exact)])
-    G = mean.size
-    keys = list(keys) if keys is not None else list(range(G))
-    z = np.divide(mean - mu, stderr, out=np.zeros(G), where=stderr > 0)
-    k = int(np.argmax(np.abs(z)))
-    max_z = float(abs(z[k]))
+    mu = np.asarray([float(v) for v in np.ravel(np.asarray(exact, dtype=object))])
+    if not (mean.size == stderr.size == mu.size):
+        raise ValueError(f"mean, stderr and exact have {mean.size}, {stderr.size} and {mu.size} values")
+    keys = list(keys) if keys is not None else list(range(mean.size))
+    dev = mean - mu
+    with np.errstate(divide="ignore", invalid="ignore"):
+        z = np.where(stderr > 0, dev / stderr, np.where(dev == 0, 0.0, np.inf * np.sign(dev)))
+    max_z = float(np.abs(z).max()) if z.size else 0.0
     return TableAgreement(
-        values=G, samples=0, max_z=max_z, worst=keys[k], p_max=_bonferroni(max_z, G), chi2=0.0, dof=0,
-        p_chi2=1.0, rms_z=float(np.sqrt(np.mean(z**2))), alpha=alpha,
-        z_scores=tuple((float(zz), key) for zz, key in zip(z, keys)),
+        keys=tuple(keys), mean=tuple(map(float, mean)), exact=tuple(map(float, mu)), stderr=tuple(map(float, stderr)),
+        z=tuple(map(float, z)), df=df, alpha=alpha, p_max=_bonferroni(max_z, mean.size, df), level_max=alpha,
     )

@@ -16,9 +16,10 @@ from forcenet.exact.chicken_wire.model import (
     transfer_matrix,
     vertex_counts_torus,
 )
-from forcenet.numeric.autocorr import mean_and_stderr
 from forcenet.numeric.chicken_wire.transfer import _Operator, largest_eigenvalue, perron_root, sector_entropies
 from forcenet.numeric.chicken_wire.monte_carlo import ChickenWire, HexagonMonteCarlo, component
+from forcenet.testing import assert_agrees
+from forcenet.testing import strategies as fst
 
 
 @settings(max_examples=12)
@@ -102,18 +103,32 @@ def test_sector_entropies_are_entropies():
 
 
 def test_hexagon_monte_carlo_against_its_component():
-    """Shrink/expand moves sample the component uniformly: MC means within 5 sigma of the exact ones."""
+    """Shrink/expand moves sample the component uniformly: the chain's means agree with the exact ones."""
+    from fractions import Fraction
+
     start = ChickenWire.honeycomb(12, 12, side=2)
     configs = component(start)
-    exact = np.mean([c.observables() for c in configs], axis=0)
+    exact = [Fraction(int(total), len(configs)) for total in np.sum([c.observables() for c in configs], axis=0)]
     assert len(configs) > 1000
-    chain = HexagonMonteCarlo(start, seed=2006).run(1000, burn_in=20)
-    mean, err, tau = mean_and_stderr(chain)
-    assert np.all(np.abs(mean - exact) < 5 * err), (mean, exact, err)
+    chain = HexagonMonteCarlo(start, seed=2006).run(4000, burn_in=20)  # tau ~ 14 sweeps: 200 tau are needed
+    assert_agrees(chain, exact, chain=True, keys=["sum of squared cells", "minimal hexagons"])
     # moves conserve the number of hexagons and every bond direction's count
     for c in configs[:50]:
         assert len(c.hexagons()) == 12
         assert not c.invalid_sites()
+
+
+@settings(max_examples=20)
+@given(fst.chicken_wire_configurations(max_sites=12, max_L=4))
+def test_a_configuration_has_a_vertex_content_the_transfer_matrix_counts(config):
+    """Two routes: a configuration from the enumeration, its vertex content among the transfer matrix's."""
+    from forcenet.exact.chicken_wire.model import VERTICES
+
+    names = list(VERTICES)
+    content = [0] * 6
+    for v in config.occ.values():
+        content[names.index(next(k for k, s in VERTICES.items() if s == v))] += 1
+    assert tuple(content) in vertex_counts_torus(config.L, config.M)
 
 
 @pytest.mark.parametrize("L, M", [(3, 3), (4, 4), (3, 5), (5, 3), (4, 5)])

@@ -4,17 +4,17 @@ from fractions import Fraction
 
 import pytest
 from hypothesis import given
-from hypothesis import strategies as st
 
 from forcenet.exact import mean_W, mean_W_grain, moment
 from forcenet.exact.reference.dictionary_dp import mean_W_dictionary
 from forcenet.exact.reference.integration import integrate_moment
 from forcenet.exact.reference.linear_extensions import linear_extension_moments
+from forcenet.testing import strategies as fst
 
-layers = st.integers(min_value=2, max_value=14)
+layers = fst.layers(2, 14)
 
 
-@given(st.integers(min_value=2, max_value=9))
+@given(fst.layers(2, 9))
 def test_fast_dp_equals_dictionary_dp(N):
     assert mean_W(N) == mean_W_dictionary(N)
 
@@ -59,17 +59,16 @@ def test_left_right_symmetry(N):
         assert row == row[::-1]
 
 
-@given(st.integers(min_value=3, max_value=16))
+@given(fst.layers(3, 16))
 def test_boundary_identities(N):
     table = mean_W(N)
     assert table[N - 1][0] == table[N - 2][0] / 2
     assert table[N - 2][0] == Fraction(4, N * (N - 1) + 2)
 
 
-@given(layers, st.data())
-def test_single_grain_equals_table_entry(N, data):
-    i = data.draw(st.integers(min_value=1, max_value=N))
-    j = data.draw(st.integers(min_value=1, max_value=i))
+@given(fst.layers_and_grains(2, 14))
+def test_single_grain_equals_table_entry(case):
+    N, (i, j) = case
     assert mean_W_grain(N, i, j) == mean_W(N)[i - 1][j - 1]
 
 

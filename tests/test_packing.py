@@ -10,6 +10,8 @@ from hypothesis import strategies as st
 
 from forcenet.exact.packing.mobilized import mean_W_mobilized
 from forcenet.numeric.autocorr import mean_and_stderr
+from forcenet.testing import assert_agrees, exact_mean_W
+from forcenet.testing import strategies as fst
 from forcenet.numeric.packing import (
     PackingMetropolis,
     Scene,
@@ -101,20 +103,21 @@ def test_exact_means_match_uniform_rejection(NP, j, F, mg, seed):
     assert all(sum(row) == F + (i + 1) * P * mg for i, row in enumerate(exact))  # load conservation
     scene = Scene(N=N, P=P, F=F, j0=1 + j % P, mg=float(mg))
     W, _ = uniform_networks(scene, 20000, np.random.default_rng(seed))
-    mean, err = W.mean(axis=0), W.std(axis=0, ddof=1) / math.sqrt(len(W))
-    z = (mean - exact.astype(float)) / np.where(err > 0, err, 1)
-    assert np.abs(z).max() < 5, z
+    assert_agrees(W, exact, alpha=1e-4)  # the top row never varies: compared exactly
 
 
 def test_metropolis_matches_exact_gravity_scene():
     scene = Scene(N=3, P=4, F=10, j0=2, mg=1)
-    exact = np.array(mean_W_mobilized(3, 4, F=10, j0=2, mg=1), dtype=float)
     chain = PackingMetropolis(scene, seed=2006).run(sweeps=8000, burn_in=200)
-    mean, err, tau = mean_and_stderr(chain)
-    free = err > 0
-    z = (mean - exact)[free] / err[free]
-    assert np.abs(z).max() < 5, z
-    np.testing.assert_allclose(mean[~free], exact[~free])  # the top row is fixed
+    assert_agrees(chain, mean_W_mobilized(3, 4, F=10, j0=2, mg=1), chain=True)  # the top row is compared exactly
+
+
+@settings(max_examples=5)
+@given(fst.packing_scenes(exact_means=True), fst.seeds())
+def test_metropolis_matches_exact_means_on_any_solvable_scene(scene, seed):
+    """Any fully mobilized scene with (N-1)(P-1) <= 8: the chain's whole table against the exact one."""
+    chain = PackingMetropolis(scene, seed=seed).run(sweeps=3000, burn_in=100)
+    assert_agrees(chain, exact_mean_W(scene), chain=True, alpha=1e-4)
 
 
 def test_metropolis_matches_rejection_isotropic_scene():

@@ -66,11 +66,11 @@ def _output_format(args):
 
 
 def _cross_check(N: int, means, samples: int, seed: int, progress):
-    """Exact-sampler samples of every free grain against the exact table (Hotelling and max |z|)."""
+    """Exact-sampler samples of every free grain against the exact table (:func:`forcenet.testing.compare`)."""
     import numpy as np
 
-    from forcenet.numeric.agreement import compare_samples
     from forcenet.numeric.triangle.exact_sampler import ExactSampler
+    from forcenet.testing import compare
 
     grains = [(i, j) for i in range(2, N + 1) for j in range(1, i)]  # W_{i,i} = 1 - the others
     sampler = ExactSampler(N, seed=seed)
@@ -84,7 +84,7 @@ def _cross_check(N: int, means, samples: int, seed: int, progress):
         if progress is not None:
             progress(k)
     exact = [means[i - 1][j - 1] for i, j in grains]
-    return compare_samples(np.concatenate(rows), exact, keys=grains)
+    return compare(np.concatenate(rows), exact, keys=grains)
 
 
 def cmd_table(args):

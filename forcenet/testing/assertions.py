@@ -1,0 +1,253 @@
+"""Sampled values against their exact counterparts, with a stated false-alarm rate.
+
+``samples`` has one row per sample (independent draws) or per step (a
+Markov chain, ``chain=True``) and the shape of the table after it:
+``(K,)`` for one value, ``(K, N, N)`` for the triangle's ``W``, ``(K, N, P)``
+for a packing. ``exact`` has the table's shape; it may be ragged (the rows
+of ``forcenet.exact.mean_W(N)``) and hold ``Fraction``, sympy numbers or
+``None``: missing entries and ``None`` are not tested. Every value that
+varies is tested (Student t per value, the Bonferroni maximum over the
+table and Hotelling's chi-square; batch means for a chain), values that
+never vary (``W_11 = 1``) are compared exactly.
+
+**Guarantee.** A correct sampler fails with probability at most ``alpha``,
+whatever the correlations between the values: exact for normal rows,
+asymptotic in the number of samples (independent draws) or in the batch
+length over the integrated time ``tau`` (a chain: ``tau`` measured on its
+first quarter, which must exceed ``50 tau`` as
+:func:`forcenet.numeric.autocorr.integrated_time` demands, then 10 to 50
+batches of at least ``10 tau`` steps, ``2 tau`` apart: chains shorter than
+about ``200 tau`` are refused). Details and measured
+rates: :mod:`forcenet.numeric.agreement`, ``notes/testing_against_exact.md``.
+
+Examples
+--------
+>>> from forcenet.exact import mean_W
+>>> from forcenet.numeric.triangle.exact_sampler import ExactSampler
+>>> W = ExactSampler(5, seed=1).sample_W(4000)
+>>> report = assert_agrees(W, mean_W(5))        # 14 varying grains; W_11 = 1 compared exactly
+>>> report.values, report.passed
+(14, True)
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from numbers import Number
+
+import numpy as np
+
+from forcenet.numeric.agreement import TableAgreement, compare_chain, compare_means, compare_samples, varying_columns
+
+__all__ = ["DisagreementError", "TableAgreement", "assert_agrees", "assert_means_agree", "compare", "exact_array"]
+
+
+class DisagreementError(AssertionError):
+    """Sampled values disagree with their exact counterparts; ``report`` holds the details."""
+
+    def __init__(self, report: TableAgreement):
+        super().__init__(report.message())
+        self.report = report
+
+
+def _to_float(value, where) -> float:
+    if value is None:
+        return math.nan
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"exact{where}={value!r} is not a number (Fraction, sympy, float or None)") from None
+
+
+def exact_array(exact, shape) -> np.ndarray:
+    """The exact table as floats of the given shape; ``NaN`` where nothing is to be tested.
+
+    Ragged rows are padded (``mean_W(N)`` row ``i`` has ``i`` entries),
+    ``None`` entries are not tested.
+
+    Examples
+    --------
+    >>> from fractions import Fraction
+    >>> exact_array([[1], [Fraction(1, 2), Fraction(1, 2)]], (2, 2)).tolist()
+    [[1.0, nan], [0.5, 0.5]]
+    >>> exact_array([[1, 2, 3]], (1, 2))
+    Traceback (most recent call last):
+    ...
+    ValueError: exact[0] has 3 entries, more than the samples' axis of length 2
+    """
+    shape = tuple(shape)
+    out = np.full(shape, np.nan)
+
+    def fill(value, index):
+        where = "".join(f"[{k}]" for k in index)
+        if len(index) == len(shape):
+            out[index] = _to_float(value, where)
+            return
+        if value is None:
+            return
+        if isinstance(value, (str, bytes, Number)) or not hasattr(value, "__len__"):
+            raise ValueError(f"exact{where} is a single number where the samples have an axis of length "
+                             f"{shape[len(index)]}")
+        if len(value) > shape[len(index)]:
+            raise ValueError(f"exact{where} has {len(value)} entries, more than the samples' axis of length "
+                             f"{shape[len(index)]}")
+        for k, item in enumerate(value):
+            fill(item, index + (k,))
+
+    if isinstance(exact, np.ndarray) and exact.dtype != object:
+        if exact.shape != shape:
+            raise ValueError(f"exact has shape {exact.shape}, the samples' values have shape {shape}")
+        return exact.astype(float)
+    fill(exact, ())
+    return out
+
+
+def _default_keys(shape, positions):
+    if len(shape) == 0:
+        return ["value"]
+    if len(shape) == 1:
+        return [int(p[0]) + 1 for p in positions]
+    return [tuple(int(k) + 1 for k in p) for p in positions]
+
+
+def _autocorrelated(flat: np.ndarray):
+    """The largest integrated time over a few columns, if the rows look like a chain (else None).
+
+    The threshold ``max(2, 1 + 45 / sqrt(n))`` sits far above the estimate's
+    spread for independent rows (its 99.9% quantile over 16 columns: 2.3 at
+    ``n = 500``, 1.8 at 1000, 1.5 at 2000); it catches chains, not all of them.
+    """
+    from forcenet.numeric.autocorr import integrated_time
+
+    n = min(flat.shape[0], 4096)
+    if n < 500:
+        return None
+    cols = np.flatnonzero(varying_columns(flat))
+    if cols.size == 0:
+        return None
+    cols = cols[np.linspace(0, cols.size - 1, min(cols.size, 16)).astype(int)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        tau = float(integrated_time(flat[:n, cols], quiet=True).max())
+    return tau if tau > max(2.0, 1.0 + 45.0 / math.sqrt(n)) else None
+
+
+def compare(samples, exact, *, chain: bool = False, alpha: float = 1e-3, keys=None, hotelling: bool | None = None,
+            **batching) -> TableAgreement:
+    """The whole-table comparison of ``samples`` with ``exact`` (see the module docstring).
+
+    Parameters
+    ----------
+    samples : array_like, shape (K, ...)
+        Independent samples, or the steps of a Markov chain (``chain=True``).
+    exact : scalar, array or nested (ragged) sequence
+        The exact means, shaped like one sample; ``None``/missing: not tested.
+    chain : bool
+        The rows are successive states of a Markov chain: spaced batch means
+        (:func:`forcenet.numeric.agreement.batch_means`; ``batching`` passes
+        ``batch_factor``, ``gap_factor``, ``pilot``, ``max_batches``,
+        ``min_batches``). With ``chain=False`` rows that look autocorrelated
+        (integrated time above ``max(2, 1 + 45/sqrt(n))`` on 500 rows or more) are refused.
+    alpha : float
+        The test's level: a correct sampler fails with probability at most ``alpha``.
+    keys : sequence, optional
+        One name per tested value (row-major order); default: 1-based indices,
+        ``(i, j)`` for a table (the thesis's grain ``(i, j)``).
+    hotelling : bool, optional
+        ``None``: run Hotelling's test when the rows suffice (see
+        :mod:`forcenet.numeric.agreement`); ``False``: only the maximum.
+
+    Returns
+    -------
+    TableAgreement
+        ``passed``, ``summary()``, ``message()``, ``worst_values(k)``, the z-scores and ``tau``.
+
+    Raises
+    ------
+    forcenet.numeric.autocorr.AutocorrError
+        If a chain is too short to trust.
+    ValueError
+        On shapes that do not match, non-finite samples, or independent rows that look like a chain.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> compare(rng.normal(0.5, 1, size=400), 0.5).passed           # one value
+    True
+    >>> compare(np.cumsum(rng.normal(size=4000)), 0.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: samples look autocorrelated (integrated time ...): pass chain=True
+    """
+    x = np.asarray(samples, dtype=float)
+    if x.ndim == 0:
+        raise ValueError("samples is a single number: give one row per sample")
+    shape = x.shape[1:]
+    mu = exact_array(exact, shape)
+    tested = ~np.isnan(mu)
+    if not tested.any():
+        raise ValueError("exact has no value to test")
+    positions = np.argwhere(tested) if shape else np.zeros((1, 0), dtype=int)
+    flat = x.reshape(x.shape[0], -1)[:, tested.ravel()]
+    names = _default_keys(shape, positions) if keys is None else list(keys)
+    if len(names) != flat.shape[1]:
+        raise ValueError(f"keys has {len(names)} names for {flat.shape[1]} tested values")
+    if chain:
+        return compare_chain(flat, mu[tested], keys=names, alpha=alpha, hotelling=hotelling, **batching)
+    if batching:
+        raise TypeError(f"{sorted(batching)}: batch options apply to chains (chain=True)")
+    if not np.isfinite(flat).all():
+        raise ValueError("samples contain a non-finite number")
+    tau = _autocorrelated(flat)
+    if tau is not None:
+        raise ValueError(f"samples look autocorrelated (integrated time {tau:.2g}): pass chain=True")
+    return compare_samples(flat, mu[tested], keys=names, alpha=alpha, hotelling=hotelling)
+
+
+def assert_agrees(samples, exact, **options) -> TableAgreement:
+    """:func:`compare`, raising :class:`DisagreementError` (an ``AssertionError``) when the table disagrees.
+
+    The message names the worst values, their z-scores and (for a chain)
+    their integrated times. Returns the report when the table agrees.
+
+    Examples
+    --------
+    >>> from forcenet.exact import mean_W
+    >>> from forcenet.numeric.triangle.metropolis import q_model_samples
+    >>> W = q_model_samples(5, 4000, np.random.default_rng(0))   # i.i.d. q: not the ensemble
+    >>> assert_agrees(W, mean_W(5))
+    Traceback (most recent call last):
+    ...
+    forcenet.testing.assertions.DisagreementError: sampled means DISAGREE with the exact values at level 0.001
+      worst values: (3, 2): mean 0.497 vs exact 0.3788, z = +31.81; (4, 4): mean 0.1262 vs exact 0.1818, z = -23.53; ...
+    """
+    report = compare(samples, exact, **options)
+    if not report.passed:
+        raise DisagreementError(report)
+    return report
+
+
+def assert_means_agree(mean, stderr, exact, *, alpha: float = 1e-3, keys=None, df: int | None = None) -> TableAgreement:
+    """Means with standard errors you trust (e.g. ``mean_and_stderr``) against exact values.
+
+    Only the Bonferroni maximum (no covariance); ``df=None`` takes the
+    z-scores as standard normal. Prefer :func:`assert_agrees` on the
+    samples themselves: the Student t of its batch means accounts for the
+    uncertainty of the standard errors, this one does not.
+
+    Examples
+    --------
+    >>> assert_means_agree([0.5, 0.26], [0.01, 0.01], [0.5, 0.25]).passed
+    True
+    """
+    mean = np.asarray(mean, dtype=float)
+    mu = exact_array(exact, mean.shape)
+    tested = ~np.isnan(mu)
+    positions = np.argwhere(tested) if mean.shape else np.zeros((1, 0), dtype=int)
+    names = _default_keys(mean.shape, positions) if keys is None else list(keys)
+    stderr = np.broadcast_to(np.asarray(stderr, dtype=float), mean.shape)
+    report = compare_means(mean[tested], stderr[tested], mu[tested], keys=names, alpha=alpha, df=df)
+    if not report.passed:
+        raise DisagreementError(report)
+    return report

@@ -1,0 +1,60 @@
+"""Exact counterparts of what the samplers estimate, in the shape ``assert_agrees`` takes.
+
+May import: :mod:`forcenet.exact`, :mod:`forcenet.numeric.packing` (the Scene).
+
+Examples
+--------
+>>> [str(w) for w in exact_mean_W(3)[-1]]
+['1/4', '1/2', '1/4']
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from functools import lru_cache
+
+__all__ = ["exact_mean_W"]
+
+
+@lru_cache(maxsize=128)
+def _packing(N, P, F, j0, pv, mg):
+    from forcenet.exact.packing.mobilized import mean_W_mobilized
+
+    return mean_W_mobilized(N, P, F=F, j0=j0, pv=pv, mg=mg)
+
+
+def exact_mean_W(target):
+    """Exact ``<W_{i,j}>``: of the ``N``-layer triangle (an int) or of a fully mobilized packing scene.
+
+    Parameters
+    ----------
+    target : int or forcenet.numeric.packing.Scene
+        ``N`` for the triangle under the overload
+        (:func:`forcenet.exact.mean_W`, rows of lengths ``1..N``), or a scene
+        with ``ph=None`` and ``(N-1)(P-1) <= 9``
+        (:func:`forcenet.exact.packing.mobilized.mean_W_mobilized`, an
+        ``N x P`` table; the scene's float loads are taken exactly).
+
+    Returns
+    -------
+    list of lists of Fraction
+
+    Examples
+    --------
+    >>> from forcenet.numeric.packing import Scene
+    >>> exact_mean_W(Scene(N=2, P=2, F=1.0, j0=1, mg=1.0))
+    [[Fraction(2, 1), Fraction(1, 1)], [Fraction(2, 1), Fraction(3, 1)]]
+    >>> exact_mean_W(Scene(N=2, P=2, F=1.0, mg=1.0, ph=2.0))
+    Traceback (most recent call last):
+    ...
+    ValueError: scene.ph=2.0: exact means are known when every q is allowed (ph=None)
+    """
+    from forcenet.numeric.packing import Scene
+
+    if isinstance(target, Scene):
+        if target.ph is not None:
+            raise ValueError(f"scene.ph={target.ph}: exact means are known when every q is allowed (ph=None)")
+        return _packing(target.N, target.P, Fraction(target.F), target.j0, Fraction(target.pv), Fraction(target.mg))
+    from forcenet.exact import mean_W
+
+    return mean_W(target)

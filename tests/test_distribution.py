@@ -260,6 +260,13 @@ def test_pooled_densities_are_normalized_with_unit_mean(N):
         assert integral(C, 0, 2 * i) == 1 and integral(C, 0, 2 * i, 1) == 1
 
 
+def test_a_single_polynomial_needs_its_support():
+    P = D.layer_force_density(5, 5)
+    with pytest.raises(ValueError, match="support"):
+        D.bin_probabilities(P, [0, 1])
+    assert sum(D.bin_probabilities(P, [0, 1, 5], support=(0, 5))) == 1
+
+
 def test_grain_scaled_pool_has_unit_mean():
     pieces = D.grain_scaled_pool_density(6, [(6, j) for j in range(1, 7)])
     assert sum(integral(pc.poly, pc.lo, pc.hi) for pc in pieces) == 1
@@ -345,7 +352,7 @@ def test_float_evaluation_matches_the_exact_polynomial(case, x):
     exact_F = float(D.cdf(N, grain).eval(sympy.Rational(x)))
     assert abs(float(density_values(gaps, x)) - exact_p) <= 1e-9 * max(1.0, abs(exact_p))
     assert abs(float(cdf_values(gaps, x)) - exact_F) <= 1e-9
-    assert float(piecewise_values(D.density(N, grain), x)) == exact_p  # exact evaluation, rounded once
+    assert float(piecewise_values(D.density(N, grain), x, support=(0, 1))) == exact_p  # exact evaluation, rounded once
 
 
 def test_exact_sampler_matches_the_cdf():

@@ -72,6 +72,7 @@ __all__ = [
     "contact_layer_force_density",
     "bin_probabilities",
     "piecewise_cdf",
+    "as_pieces",
     "grain_scaled_pool_density",
     "beta_mixture_density",
     "q_density",
@@ -306,6 +307,32 @@ def triangle_force_density(N: int, var=F_SYMBOL, layers=None, progress=None) -> 
     return _pieces(terms, var)
 
 
+def as_pieces(density, support=None) -> list[Piece]:
+    """A density as a list of :class:`Piece`: pieces pass through; one ``Poly`` needs its ``support`` ``(lo, hi)``.
+
+    The single-polynomial densities live on different intervals (a grain's on
+    ``[0, 1]``, a layer's ``P_i(f)`` on ``[0, i]``, a contact pool's on
+    ``[0, 2i]``), so the interval is never guessed.
+
+    Examples
+    --------
+    >>> as_pieces(layer_force_density(3, 3), (0, 3))[0][:2]
+    (0, 3)
+    """
+    if isinstance(density, sympy.Poly):
+        if support is None:
+            raise ValueError("support: a single polynomial density needs its interval (lo, hi), "
+                             "e.g. (0, 1) for a grain, (0, i) for layer i, (0, 2i) for the contacts below layer i")
+        lo, hi = (sympy.Rational(str(Fraction(x))) for x in support)
+        if not lo < hi:
+            raise ValueError(f"support={support!r}: need lo < hi")
+        return [Piece(lo, hi, density)]
+    pieces = list(density)
+    if not pieces or not all(isinstance(p, Piece) for p in pieces):
+        raise TypeError("density: need a sympy Poly (with support) or a list of Piece")
+    return pieces
+
+
 def piecewise_cdf(pieces) -> list[Piece]:
     """The distribution function of a piecewise density, as pieces on the same intervals.
 
@@ -323,19 +350,21 @@ def piecewise_cdf(pieces) -> list[Piece]:
     return out
 
 
-def bin_probabilities(pieces, edges) -> list[Fraction]:
+def bin_probabilities(pieces, edges, support=None) -> list[Fraction]:
     """Exact ``int_{e_k}^{e_{k+1}} P(f) df`` of a piecewise density for consecutive ``edges``.
 
-    ``pieces`` is a list of :class:`Piece` (or one ``Poly`` on ``[0, 1]``);
-    ``edges`` are numbers :class:`fractions.Fraction` accepts (floats exactly).
+    ``pieces`` is a list of :class:`Piece`, or one ``Poly`` with its
+    ``support`` (:func:`as_pieces`); ``edges`` are numbers
+    :class:`fractions.Fraction` accepts (floats exactly).
 
     Examples
     --------
     >>> [str(x) for x in bin_probabilities(triangle_force_density(3), [0, 1, 2, 3])]
     ['8/15', '2/5', '1/15']
+    >>> [str(x) for x in bin_probabilities(contact_layer_force_density(3, 2), [0, 1, 4], support=(0, 4))]
+    ['37/64', '27/64']
     """
-    if isinstance(pieces, sympy.Poly):
-        pieces = [Piece(sympy.Integer(0), sympy.Integer(1), pieces)]
+    pieces = as_pieces(pieces, support)
     edges = [Fraction(e) for e in edges]
     if any(b <= a for a, b in zip(edges, edges[1:])):
         raise ValueError("edges must increase strictly")

@@ -104,8 +104,8 @@ def _exact_eval(nums, den, x: float) -> float:
     return float(Fraction(acc, den * q**deg))
 
 
-def piecewise_values(pieces, f) -> np.ndarray:
-    """A piecewise exact density (list of ``Piece``, or one ``Poly`` on ``[0, 1]``) at floats ``f``; 0 outside.
+def piecewise_values(pieces, f, support=None) -> np.ndarray:
+    """A piecewise exact density at floats ``f``, 0 outside: a list of ``Piece``, or one ``Poly`` with its ``support``.
 
     Examples
     --------
@@ -113,12 +113,9 @@ def piecewise_values(pieces, f) -> np.ndarray:
     >>> round(float(piecewise_values(triangle_force_density(3), 1.0)), 12)
     0.566666666667
     """
-    import sympy
+    from forcenet.exact.triangle.distribution import as_pieces
 
-    from forcenet.exact.triangle.distribution import Piece
-
-    if isinstance(pieces, sympy.Poly):
-        pieces = [Piece(sympy.Integer(0), sympy.Integer(1), pieces)]
+    pieces = as_pieces(pieces, support)
     f = np.asarray(f, dtype=np.float64)
     flat = f.reshape(-1)
     out = np.zeros(flat.shape)

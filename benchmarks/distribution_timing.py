@@ -6,7 +6,9 @@ Cases:
   layers 2..N (N - 1 passes over the ideals, then the polynomials);
 * ``ensemble``: the exact ensemble P(f) (every grain of layers 2..N), pieces with exact coefficients;
 * ``floor``: the exact P(f) of the floor layer alone (one pass);
-* ``contacts``: the gap laws of every contact force F5, F6 (N - 1 row passes).
+* ``contacts``: the gap laws of every contact force F5, F6 (N - 1 row passes);
+* ``ratio``: every grain's moments s = 1..4 from the gap laws against ``moment()``
+  (the marked-chain DP), in the same process: the speed claim as a ratio.
 
 Each line reports the plan's estimate next to the measurement.
 
@@ -29,6 +31,19 @@ def main(argv=None):
     from forcenet.exact.triangle import distribution as D
     from forcenet.exact.triangle.gaps import contact_gap_counts, layer_gap_counts
 
+    if what == "ratio":
+        from forcenet.exact.triangle.moments import moment
+
+        grains = [(i, j) for i in range(2, N + 1) for j in range(1, i + 1)]
+        t0 = time.perf_counter()
+        via_gaps = {(g, s): D.moment_from_gaps(D.grain_gap_counts(N, g), s) for g in grains for s in range(1, 5)}
+        t1 = time.perf_counter()
+        via_dp = {(g, s): moment(N, g, s) for g in grains for s in range(1, 5)}
+        t2 = time.perf_counter()
+        assert via_gaps == via_dp
+        print(f"ratio N={N}: {len(via_gaps)} moments from the gap laws {t1 - t0:.2f} s, by moment() {t2 - t1:.2f} s "
+              f"(x{(t2 - t1) / (t1 - t0):.1f}); equal")
+        return
     kind = {"grains": "all", "ensemble": "ensemble", "floor": "layer", "contacts": "contacts"}[what]
     plan = D.distribution_plan(N, kind)
     t0 = time.perf_counter()

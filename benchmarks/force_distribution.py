@@ -131,7 +131,9 @@ def sampled(paths):
         e = z["edges"]
         width = np.diff(e)
         entry = {"N": N, "samples": int(z["samples"]), "centres": np.sqrt(e[1:] * np.maximum(e[:-1], 1e-4))}
-        for pool in ("floor", "mid", "ensemble"):
+        for pool in ("floor", "mid", "ensemble", "contacts"):
+            if f"hist_{pool}" not in z:
+                continue
             h = z[f"hist_{pool}"]
             entry[pool] = (h / (h.sum() * width), np.sqrt(h) / (h.sum() * width))
         for name in ("floor", "mid"):
@@ -187,10 +189,11 @@ def figures(Ns, cache, samples, outdir):
         ax[2].errorbar(s["centres"][keep], dens[keep], err[keep], fmt=m, ms=2.5, lw=0.5, color="k", alpha=0.6,
                        label=f"sampler N={N}")
     ax[0].semilogy(f, np.exp(-f), "k:", lw=0.8, label="exp(-f)")
-    ax[1].loglog(fl, 2 * fl**-3.0, "k--", lw=0.8, label="2 f^-3")
+    ax[1].axvline(max(samples) * (3 - 2 * np.sqrt(2)) / 4 if samples else 1, color="k", ls="--", lw=0.6,
+                  label="N (3 - 2 sqrt2)/4, largest N sampled")
     ax[0].set(xlabel="f = i W_ij (load / mean load of its layer)", ylabel="P(f)", ylim=(1e-5, 2), xlim=(0, 8),
               title="(a) every grain of layers 2..N")
-    ax[1].set(xlabel="f", ylabel="P(f)", ylim=(1e-7, 2), title="(b) the same, log-log: the f^-3 of the mean profile")
+    ax[1].set(xlabel="f", ylabel="P(f)", ylim=(1e-7, 2), title="(b) the same, log-log: the lattice-direction plateau")
     ax[2].set(xlabel="f = N W_Nj (floor)", ylabel="P(f)", ylim=(1e-5, 2), xlim=(0, 8), title="(c) the floor layer")
     for a in ax:
         a.legend(fontsize=7)
@@ -228,6 +231,12 @@ def figures(Ns, cache, samples, outdir):
         for i, ls in ((N - 1, "-"), (N // 2, "--")):
             vals, _ = contact_P(laws, N, i, f)
             ax.semilogy(f, vals, ls, color=colours[N], label=f"N={N}, below layer {i}")
+    for k, (N, s) in enumerate(sorted(samples.items())):
+        if "contacts" in s:
+            dens, err = s["contacts"]
+            keep = (dens > 0) & (s["centres"] < 8)
+            ax.errorbar(s["centres"][keep], dens[keep], err[keep], fmt=["o", "s", "^"][k % 3], ms=2.5, lw=0.5,
+                        color="k", alpha=0.6, label=f"sampler N={N}, below layer {N - 1}")
     ax.semilogy(f, np.exp(-f), "k:", label="exp(-f)")
     ax.set(xlabel="f = F / <F> (the 2i contacts between layers i and i+1)", ylabel="P(f)", ylim=(1e-6, 2),
            title="(e) contact forces F5, F6, exact")
@@ -265,11 +274,14 @@ def main(argv=None):
         print(f"  ensemble: P(f) for f > 4 peaks at f = {top:.1f}; the lattice directions' maximum N (3 - 2 sqrt2)/4 = "
               f"{N * (3 - 2 * np.sqrt(2)) / 4:.1f}; mean P(f) on (4, {0.03 * N:.0f}) = {dens[(c > 4) & (c < 0.03 * N)].mean():.2e}, "
               f"times N^2: {dens[(c > 4) & (c < 0.03 * N)].mean() * N * N:.0f}")
-        for pool in ("floor", "ensemble"):
+        for pool in ("floor", "ensemble", "contacts"):
+            if pool not in s:
+                continue
             dens, err = s[pool]
-            for lo, hi in ((0.1, 0.3), (0.01, 0.03)):
+            for lo, hi in ((0.1, 0.3), (0.01, 0.03), (0.003, 0.01)):
                 keep = (c > lo) & (c < hi)
-                print(f"  {pool}: mean P(f) on ({lo}, {hi}) = {dens[keep].mean():.3f}")
+                print(f"  {pool}: mean P(f) on ({lo}, {hi}) = {dens[keep].mean():.3f} "
+                      f"+- {np.sqrt((err[keep] ** 2).sum()) / keep.sum():.3f}")
     if args.figures:
         figures(args.N, args.cache, samples, args.figures)
 

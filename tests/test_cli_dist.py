@@ -133,3 +133,9 @@ def test_a_failed_write_leaves_neither_file(sandbox, capsys, monkeypatch):
                         "--format", "json", "--out", "p.json", "--quiet"], capsys)
     assert code == 2 and "Permission denied" in err
     assert _files(sandbox) == ["afile"]
+
+
+def test_a_short_metropolis_chain_is_flagged_not_hidden(sandbox, capsys):
+    code, _, err = run(["dist", "--N", "6", "--ensemble", "--plot", "p.png", "--samples", "200", "--sweeps", "20",
+                        "--bins", "8"], capsys)
+    assert code == 0 and "error bars unreliable" in err and (sandbox / "p.png").exists()

@@ -24,6 +24,7 @@ May import: :mod:`forcenet.exact`, :mod:`forcenet.numeric.autocorr`, :mod:`.exac
 from __future__ import annotations
 
 import math
+import warnings
 from fractions import Fraction
 from typing import NamedTuple
 
@@ -240,7 +241,9 @@ def metropolis_histogram(N: int, sweeps: int, edges, pool="ensemble", burn_in: i
     edges = _check_edges(edges)
     chain = TriangleMetropolis(N, seed=seed).run(sweeps, burn_in=burn_in, progress=progress)
     h = _per_configuration(chain, pool, edges)
-    tau = integrated_time(h, quiet=True) if sweeps > 1 else np.ones(h.shape[1])
+    with warnings.catch_warnings():  # a short chain is reported through ``reliable``, not a warning
+        warnings.simplefilter("ignore", RuntimeWarning)
+        tau = integrated_time(h, tol=50.0, quiet=True)
     reliable = bool(np.all(50 * tau <= sweeps))
     var = h.var(axis=0, ddof=1)
     return Histogram(edges, h.mean(axis=0), np.sqrt(var * tau / sweeps), sweeps, float(tau.max()), reliable)

@@ -83,7 +83,17 @@ def _grammar(tmp):
         _opt("--dps", st.sampled_from(["4", "5", "30", "10001", "x"])), _opt("--F", st.one_of(NUMBERS, st.just("2"))),
         _opt("--L-max", st.sampled_from(["10", "60", "x"])), _opt("--format", st.sampled_from(["text", "json"])), common_out, st.just(["--quiet"]),
     )
-    command = st.one_of(count, table, maps, limit, sample, transfer, bethe, entropy)
+    dist = st.tuples(
+        st.just(["dist"]), _req("--N", st.one_of(SMALL, NUMBERS, st.sampled_from(["12", "30", "31"]))),
+        st.one_of(_req("--grain", st.sampled_from(["3,2", "1,1", "7,7", "2,3", "x", "3", "3,2,1", "-1,1", "4,nan"])),
+                  _req("--layer", st.sampled_from(["1", "2", "5", "9", "x"])), st.just(["--ensemble"])),
+        _opt("--contact", st.sampled_from(["F1", "F2", "F5", "F6", "F3"])), _opt("--grid", st.sampled_from(["0", "1", "5", "x"])),
+        _opt("--format", st.sampled_from(["text", "json", "csv", "latex", "xml"])), common_out,
+        _opt("--plot", st.sampled_from([str(tmp / "p.png"), str(tmp / "p.pdf"), str(tmp / "missing" / "p.png"), str(tmp / "out.json")])),
+        _opt("--samples", st.sampled_from(["1", "50", "x"])), _opt("--sweeps", st.sampled_from(["0", "120"])),
+        _opt("--bins", st.sampled_from(["0", "5"])), _opt("--f-max", st.sampled_from(["-1", "inf", "3"])), st.just(["--quiet"]),
+    )
+    command = st.one_of(count, table, maps, limit, sample, transfer, bethe, entropy, dist)
     return command.map(lambda parts: [token for part in parts for token in part])
 
 

@@ -4,7 +4,8 @@
 * :mod:`.fundamental`: the printed fundamental relations (4.14)-(4.32), (4.46), (4.49);
 * :mod:`.recursions`: Lambda (4.50)-(4.51), the boundary (4.67), Gamma (4.73)-(4.77);
 * :mod:`.map_counting`: the maps of Sec. 4.6 (4.86)-(4.91) and their bijection with tableaux;
-* :mod:`.nested`: the layer-by-layer nested-matrix integration (4.14)-(4.46).
+* :mod:`.nested`: the layer-by-layer nested-matrix integration (4.14)-(4.46);
+* :mod:`.symbolic`: the same layers as sympy matrices, step by step, for small N (``notes/symbolic_session.md``).
 
 May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
 :mod:`forcenet.exact.triangle` (staircase, spacings).
@@ -25,6 +26,7 @@ from .map_counting import (
     tableau_from_map,
 )
 from .nested import integrate_layers, mean_W_nested, moment_nested, moment_table_nested, normalization_nested
+from .symbolic import integrate_layer_step, moment_symbolic, nested_layers
 from .recursions import (
     boundary_mean_W,
     count_lambda,
@@ -43,4 +45,5 @@ __all__ = [
     "maps", "is_map", "count_maps", "maps_by_bottom_row", "map_from_tableau", "tableau_from_map",
     "mean_W_thesis_maps", "moment_thesis_maps", "moments_by_maps", "mean_W_by_maps",
     "integrate_layers", "normalization_nested", "moment_nested", "moment_table_nested", "mean_W_nested",
+    "nested_layers", "integrate_layer_step", "moment_symbolic",
 ]

@@ -1,4 +1,4 @@
-"""Command line interface: ``forcenet count|table|maps|limit|sample|transfer|bethe|entropy``.
+"""Command line interface: ``forcenet count|table|maps|limit|sample|transfer|bethe|entropy|dist``.
 
 A small parser; one module per command family (:mod:`.table`, :mod:`.sample`,
 :mod:`.limit`, :mod:`.chicken_wire`), the shared arguments and the policy in
@@ -23,7 +23,7 @@ import sys
 
 from forcenet.exact.validation import is_integer
 
-from . import chicken_wire, limit, sample, table
+from . import chicken_wire, dist, limit, sample, table
 from .common import Parser, UsageError
 
 __all__ = ["main", "build_parser"]
@@ -32,7 +32,7 @@ __all__ = ["main", "build_parser"]
 def build_parser() -> Parser:
     parser = Parser(prog="forcenet", description="Exact results for the force network ensemble.")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
-    for family in (table, limit, sample, chicken_wire):
+    for family in (table, limit, sample, chicken_wire, dist):
         family.register(sub)
     return parser
 

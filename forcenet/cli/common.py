@@ -227,7 +227,7 @@ def check_output_dir(directory: str, name: str = "--out-dir") -> None:
 
 
 def write_files(files: dict, name: str = "--out", make_dir: str | None = None) -> None:
-    """Write every ``{path: text}`` atomically, all or none.
+    """Write every ``{path: text}`` atomically, all or none (``text`` may be ``bytes``).
 
     Every file is first written to a temporary file beside its target, then
     all are renamed; on any failure (or Ctrl-C) the temporaries, the files
@@ -249,7 +249,7 @@ def write_files(files: dict, name: str = "--out", make_dir: str | None = None) -
             umask = os.umask(0)
             os.umask(umask)
             os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600; give the usual permissions
-            with os.fdopen(fd, "w") as handle:
+            with os.fdopen(fd, "wb" if isinstance(text, bytes) else "w") as handle:  # bytes: e.g. a PNG
                 handle.write(text)
                 handle.flush()
                 os.fsync(handle.fileno())

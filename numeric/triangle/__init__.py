@@ -1,7 +1,8 @@
 """Samplers of the fully mobilized triangle.
 
 * :mod:`.exact_sampler`: independent uniform samples (random tableaux, no Markov chain);
-* :mod:`.metropolis`: the Metropolis sampler in q of Sec. 3.2.4 and the q-model contrast.
+* :mod:`.metropolis`: the Metropolis sampler in q of Sec. 3.2.4 and the q-model contrast;
+* :mod:`.force_distribution`: exact densities in floating point, sampled P(f) histograms with error bars.
 
 May import: :mod:`forcenet.exact`, :mod:`forcenet.numeric.autocorr`.
 """

@@ -1,0 +1,500 @@
+"""Exact force distributions of the fully mobilized triangle: densities, CDFs, pooled P(f).
+
+Every force that is a difference of two comparable partial sums is a spacing
+``U_(t) - U_(s)`` of ``d = N(N-1)/2`` sorted uniforms, Beta(``g``,
+``d + 1 - g``) given the tableau with ``g`` the rank gap (:mod:`.gaps`).  So
+its density on ``[0, 1]`` is the Bernstein polynomial of degree ``d - 1``
+
+    p(w) = sum_g P(gap = g) w^(g-1) (1-w)^(d-g) / B(g, d+1-g)
+         = d sum_{k=0}^{d-1} P(gap = k+1) C(d-1, k) w^k (1-w)^(d-1-k),
+
+and, since ``I_w(g, d+1-g) = P(Binomial(d, w) >= g)``, its distribution function
+the Bernstein polynomial of degree ``d`` whose coefficients are the
+distribution function of the gap,
+
+    P(W <= w) = sum_{k=0}^{d} P(gap <= k) C(d, k) w^k (1-w)^(d-k).
+
+The forces covered: the vertical loads ``W_{i,j}`` (:func:`density`,
+:func:`cdf`), the inter-layer contacts ``F1, F2, F5, F6`` in units of
+``2/sqrt3`` (:func:`contact_density`), pooled ``P(f)`` with ``f`` the force
+over the mean force of its layer (:func:`layer_force_density`,
+:func:`triangle_force_density`, :func:`contact_layer_force_density`), and
+``q_{i,j}`` (:func:`q_density`).  Everything is a sympy ``Poly`` over ``QQ``
+(exact rationals) or a list of :class:`Piece`; floating-point evaluation is in
+:mod:`forcenet.numeric.triangle.force_distribution`.  Derivation and physics:
+``notes/force_distribution.md``.
+
+Examples
+--------
+>>> density(4, (4, 2))
+Poly(-15*w**5 + 30*w**4 - 30*w**2 + 15*w, w, domain='QQ')
+>>> cdf(3, (3, 2))
+Poly(-2*w**3 + 3*w**2, w, domain='QQ')
+
+References
+----------
+S. Ostojic, PhD thesis (2006), Eqs. (3.2)-(3.4), (3.8), (4.5)-(4.9); the
+thesis's ``P(f)``: Figs. 2.4, 3.8, 7.3.
+
+May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.plan`,
+:mod:`.staircase`, :mod:`.spacings`, :mod:`.moments`, :mod:`.gaps`, :mod:`.joint_gaps`.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from math import comb
+from typing import NamedTuple
+
+import sympy
+
+from ..plan import Plan
+from ..validation import check_grain, check_int, check_layers
+from .gaps import GapCounts, contact_gap_counts, contact_gap_law, gap_laws_plan, grain_gap_counts, layer_gap_counts
+from .joint_gaps import q_gap_counts
+from .moments import mean_W_grain
+from .spacings import rising
+
+__all__ = [
+    "W_SYMBOL",
+    "F_SYMBOL",
+    "density_from_gaps",
+    "cdf_from_gaps",
+    "moment_from_gaps",
+    "density",
+    "cdf",
+    "contact_density",
+    "contact_cdf",
+    "pool_gaps",
+    "Piece",
+    "layer_force_density",
+    "triangle_force_density",
+    "contact_layer_force_density",
+    "bin_probabilities",
+    "piecewise_cdf",
+    "as_pieces",
+    "grain_scaled_pool_density",
+    "beta_mixture_density",
+    "q_density",
+    "poly_strings",
+    "distribution_plan",
+]
+
+W_SYMBOL = sympy.Symbol("w")
+F_SYMBOL = sympy.Symbol("f")
+
+
+def _poly(coeffs, var) -> sympy.Poly:
+    """``sum coeffs[m] var^m`` (Fractions or ints) as a Poly over QQ."""
+    return sympy.Poly.from_list([sympy.Rational(x.numerator, x.denominator) for x in reversed(coeffs)], var, domain="QQ")
+
+
+# ------------------------------------------------------------------ one spacing
+
+
+def _check_density_gaps(gaps: GapCounts) -> None:
+    if gaps.counts[0] or gaps.counts[gaps.d + 1]:
+        raise ValueError("the gap law has mass at g = 0 or g = d + 1 (a force identically 0 or 1, "
+                         "e.g. W_{1,1} = 1): it has no density")
+
+
+def density_from_gaps(gaps: GapCounts, var=W_SYMBOL) -> sympy.Poly:
+    """Exact density ``sum_g P(g) Beta(g, d+1-g)``, a polynomial of degree ``<= d - 1`` on ``[0, 1]``.
+
+    The Bernstein coefficients are ``d P(gap = k + 1)``, ``k = 0..d-1``.
+
+    Examples
+    --------
+    >>> density_from_gaps(GapCounts((0, 1, 0, 0), 1, 2))  # U_(1) of two uniforms
+    Poly(-2*w + 2, w, domain='QQ')
+    """
+    _check_density_gaps(gaps)
+    d, c = gaps.d, gaps.counts
+    coeffs = [0] * d  # integer coefficients of w^m, times total / d
+    for g in range(1, d + 1):
+        if not c[g]:
+            continue
+        a = c[g] * comb(d - 1, g - 1)
+        for t in range(d - g + 1):  # (1-w)^(d-g) = sum_t C(d-g, t) (-w)^t
+            coeffs[g - 1 + t] += a * comb(d - g, t) * (-1) ** t
+    return _poly([Fraction(d * x, gaps.total) for x in coeffs], var)
+
+
+def cdf_from_gaps(gaps: GapCounts, var=W_SYMBOL) -> sympy.Poly:
+    """Exact ``P(X <= w)`` on ``[0, 1]``: the Bernstein coefficients are ``P(gap <= k)``.
+
+    ``I_w(g, d+1-g) = P(Binomial(d, w) >= g)``; summing over ``g`` gives
+    ``sum_k P(gap <= k) C(d, k) w^k (1-w)^(d-k)``.
+
+    Examples
+    --------
+    >>> cdf_from_gaps(GapCounts((0, 1, 0, 0), 1, 2))
+    Poly(-w**2 + 2*w, w, domain='QQ')
+    """
+    _check_density_gaps(gaps)
+    d, c = gaps.d, gaps.counts
+    coeffs = [0] * (d + 1)
+    G = 0
+    for k in range(d + 1):
+        G += c[k]
+        if not G:
+            continue
+        a = G * comb(d, k)
+        for t in range(d - k + 1):
+            coeffs[k + t] += a * comb(d - k, t) * (-1) ** t
+    return _poly([Fraction(x, gaps.total) for x in coeffs], var)
+
+
+def moment_from_gaps(gaps: GapCounts, s: int) -> Fraction:
+    """``E[X^s] = E[g (g+1) ... (g+s-1)] / ((d+1) ... (d+s))``, exact.
+
+    Examples
+    --------
+    >>> moment_from_gaps(grain_gap_counts(5, (5, 1)), 2)
+    Fraction(1, 66)
+    """
+    s = check_int(s, "s", 0)
+    num = sum(c * rising(g, s) for g, c in enumerate(gaps.counts) if c)
+    return Fraction(num, gaps.total * rising(gaps.d + 1, s))
+
+
+def _load_gaps(N: int, grain, progress=None) -> GapCounts:
+    N = check_layers(N)
+    i, j = check_grain(N, grain)
+    if i == 1:
+        raise ValueError(f"grain={grain!r}: W_{{1,1}} = 1 is the overload, it has no density; "
+                         f"i must be an integer in 2..{N}")
+    return grain_gap_counts(N, (i, j), progress)
+
+
+def density(N: int, grain, var=W_SYMBOL, progress=None) -> sympy.Poly:
+    """Exact density of ``W_{i,j}`` on ``[0, 1]`` (layers ``i >= 2``), degree ``<= d - 1``.
+
+    Examples
+    --------
+    >>> density(3, (3, 2))
+    Poly(-6*w**2 + 6*w, w, domain='QQ')
+    """
+    return density_from_gaps(_load_gaps(N, grain, progress), var)
+
+
+def cdf(N: int, grain, var=W_SYMBOL, progress=None) -> sympy.Poly:
+    """Exact ``P(W_{i,j} <= w)`` on ``[0, 1]`` (layers ``i >= 2``).
+
+    Examples
+    --------
+    >>> cdf(3, (3, 2))
+    Poly(-2*w**3 + 3*w**2, w, domain='QQ')
+    """
+    return cdf_from_gaps(_load_gaps(N, grain, progress), var)
+
+
+def contact_density(N: int, grain, kind: str, var=W_SYMBOL, progress=None) -> sympy.Poly:
+    """Exact density of ``x = (sqrt3/2) F`` for the contact ``kind`` in F1, F2, F5, F6 of ``grain``.
+
+    ``F5 = (2/sqrt3) q W``, ``F6 = (2/sqrt3)(1-q) W`` (3.8) are spacings of
+    neighbouring cells (:func:`forcenet.exact.triangle.gaps.contact_spacing`);
+    the density of ``F`` itself is ``(sqrt3/2) p(sqrt3 F / 2)``.
+
+    Examples
+    --------
+    >>> contact_density(3, (2, 1), "F5")  # S_{3,1} = U_(1) of three uniforms
+    Poly(3*w**2 - 6*w + 3, w, domain='QQ')
+    """
+    return density_from_gaps(contact_gap_law(N, grain, kind, progress), var)
+
+
+def contact_cdf(N: int, grain, kind: str, var=W_SYMBOL, progress=None) -> sympy.Poly:
+    """Exact ``P((sqrt3/2) F <= x)`` for the contact ``kind`` of ``grain``.
+
+    Examples
+    --------
+    >>> contact_cdf(3, (2, 1), "F6")
+    Poly(w**3 - 3*w**2 + 3*w, w, domain='QQ')
+    """
+    return cdf_from_gaps(contact_gap_law(N, grain, kind, progress), var)
+
+
+# ------------------------------------------------------------------ pooled P(f)
+
+
+def pool_gaps(laws) -> GapCounts:
+    """Mixture of gap laws with equal weights (same ``d`` and ``total``).
+
+    Examples
+    --------
+    >>> pool_gaps(layer_gap_counts(3, 3)).counts
+    (0, 2, 1, 0, 0)
+    """
+    laws = list(laws)
+    if not laws:
+        raise ValueError("pool_gaps: need at least one gap law")
+    d, total = laws[0].d, laws[0].total
+    if any(g.d != d or g.total != total for g in laws):
+        raise ValueError("pool_gaps: all laws must have the same d and total")
+    counts = tuple(sum(col) for col in zip(*(g.counts for g in laws)))
+    return GapCounts(counts, total * len(laws), d)
+
+
+def _scaled(p: sympy.Poly, scale: Fraction, var) -> sympy.Poly:
+    """The density of ``f = X / scale``: ``scale * p(scale * f)`` (coefficients ``c_m scale^(m+1)``)."""
+    coeffs = [Fraction(int(c.p), int(c.q)) for c in reversed(p.all_coeffs())]
+    return _poly([c * scale ** (m + 1) for m, c in enumerate(coeffs)], var)
+
+
+def _check_layer(N: int, i, lowest: int, highest: int) -> tuple[int, int]:
+    N = check_layers(N)
+    return N, check_int(i, "i", lowest, highest(N) if callable(highest) else highest)
+
+
+def layer_force_density(N: int, i: int, var=F_SYMBOL, progress=None) -> sympy.Poly:
+    """Exact ``P_i(f)`` of ``f = i W_{i,j}`` pooled over the grains of layer ``i``.
+
+    Every layer carries the unit overload, so the mean of its ``i`` loads is
+    ``1/i`` in *every* configuration and ``f`` is the force over the mean force
+    of its layer, as in the thesis's ``P(f)``, ``f = F / <F>``.  Supported on
+    ``[0, i]``, ``int P = int f P = 1``.
+
+    Examples
+    --------
+    >>> layer_force_density(3, 3)
+    Poly(-2/9*f + 2/3, f, domain='QQ')
+    """
+    N = check_layers(N)
+    i = check_int(i, "i", 2, N)
+    p = density_from_gaps(pool_gaps(layer_gap_counts(N, i, progress)), var)
+    return _scaled(p, Fraction(1, i), var)
+
+
+class Piece(NamedTuple):
+    """A polynomial ``poly`` of a piecewise density on ``[lo, hi]``."""
+
+    lo: sympy.Rational
+    hi: sympy.Rational
+    poly: sympy.Poly
+
+
+def _pieces(terms, var) -> list[Piece]:
+    """Sum of ``(support end, poly)`` terms (each supported on ``[0, end]``) as pieces."""
+    breaks = sorted({b for b, _ in terms})
+    pieces, lo = [], sympy.Integer(0)
+    for hi in breaks:
+        poly = sum((p for b, p in terms if b >= hi), sympy.Poly(0, var, domain="QQ"))
+        pieces.append(Piece(lo, hi, poly))
+        lo = hi
+    return pieces
+
+
+def triangle_force_density(N: int, var=F_SYMBOL, layers=None, progress=None) -> list[Piece]:
+    """Exact ensemble ``P(f)`` pooled over every grain of layers ``2..N``, ``f = i W_{i,j}``.
+
+    Each grain has weight ``1 / (number of grains)``; each load is divided by
+    its layer's mean ``1/i`` (layer 1 is the overload ``W = 1`` and is left
+    out).  Piecewise polynomial with breaks at the integers (layer ``i`` lives
+    on ``[0, i]``); ``layers`` restricts the pool.  ``N - 1`` passes over the ideals.
+
+    Examples
+    --------
+    >>> [(p.lo, p.hi, p.poly.as_expr()) for p in triangle_force_density(3)]
+    [(0, 2, -3*f**2/10 + 7*f/15 + 2/5), (2, 3, 2/5 - 2*f/15)]
+    """
+    N = check_layers(N)
+    layers = list(range(2, N + 1)) if layers is None else sorted({check_int(i, "layer", 2, N) for i in layers})
+    if not layers:
+        raise ValueError("layers: need at least one layer in 2..N")
+    grains = sum(layers)
+    terms = [(sympy.Integer(i), layer_force_density(N, i, var, progress) * sympy.Rational(i, grains)) for i in layers]
+    return _pieces(terms, var)
+
+
+def as_pieces(density, support=None) -> list[Piece]:
+    """A density as a list of :class:`Piece`: pieces pass through; one ``Poly`` needs its ``support`` ``(lo, hi)``.
+
+    The single-polynomial densities live on different intervals (a grain's on
+    ``[0, 1]``, a layer's ``P_i(f)`` on ``[0, i]``, a contact pool's on
+    ``[0, 2i]``), so the interval is never guessed.
+
+    Examples
+    --------
+    >>> as_pieces(layer_force_density(3, 3), (0, 3))[0][:2]
+    (0, 3)
+    """
+    if isinstance(density, sympy.Poly):
+        if support is None:
+            raise ValueError("support: a single polynomial density needs its interval (lo, hi), "
+                             "e.g. (0, 1) for a grain, (0, i) for layer i, (0, 2i) for the contacts below layer i")
+        lo, hi = (sympy.Rational(str(Fraction(x))) for x in support)
+        if not lo < hi:
+            raise ValueError(f"support={support!r}: need lo < hi")
+        return [Piece(lo, hi, density)]
+    pieces = list(density)
+    if not pieces or not all(isinstance(p, Piece) for p in pieces):
+        raise TypeError("density: need a sympy Poly (with support) or a list of Piece")
+    return pieces
+
+
+def piecewise_cdf(pieces) -> list[Piece]:
+    """The distribution function of a piecewise density, as pieces on the same intervals.
+
+    Examples
+    --------
+    >>> [(p.lo, p.hi, p.poly.as_expr()) for p in piecewise_cdf(triangle_force_density(3))]
+    [(0, 2, -f**3/10 + 7*f**2/30 + 2*f/5), (2, 3, -f**2/15 + 2*f/5 + 2/5)]
+    """
+    out, mass = [], sympy.Integer(0)
+    for piece in pieces:
+        F = piece.poly.integrate()
+        F = F - F.eval(piece.lo) + mass
+        out.append(Piece(piece.lo, piece.hi, F))
+        mass = F.eval(piece.hi)
+    return out
+
+
+def bin_probabilities(pieces, edges, support=None) -> list[Fraction]:
+    """Exact ``int_{e_k}^{e_{k+1}} P(f) df`` of a piecewise density for consecutive ``edges``.
+
+    ``pieces`` is a list of :class:`Piece`, or one ``Poly`` with its
+    ``support`` (:func:`as_pieces`); ``edges`` are numbers
+    :class:`fractions.Fraction` accepts (floats exactly).
+
+    Examples
+    --------
+    >>> [str(x) for x in bin_probabilities(triangle_force_density(3), [0, 1, 2, 3])]
+    ['8/15', '2/5', '1/15']
+    >>> [str(x) for x in bin_probabilities(contact_layer_force_density(3, 2), [0, 1, 4], support=(0, 4))]
+    ['37/64', '27/64']
+    """
+    pieces = as_pieces(pieces, support)
+    edges = [Fraction(e) for e in edges]
+    if any(b <= a for a, b in zip(edges, edges[1:])):
+        raise ValueError("edges must increase strictly")
+    prims = [(Fraction(int(p.lo.p), int(p.lo.q)), Fraction(int(p.hi.p), int(p.hi.q)), p.poly.integrate()) for p in pieces]
+
+    def mass(a, b):
+        total = Fraction(0)
+        for lo, hi, F in prims:
+            x, y = max(a, lo), min(b, hi)
+            if x < y:
+                v = F.eval(sympy.Rational(y.numerator, y.denominator)) - F.eval(sympy.Rational(x.numerator, x.denominator))
+                total += Fraction(int(v.p), int(v.q))
+        return total
+
+    return [mass(a, b) for a, b in zip(edges, edges[1:])]
+
+
+def contact_layer_force_density(N: int, i: int, var=F_SYMBOL, progress=None) -> sympy.Poly:
+    """Exact ``P(f)`` of the ``2i`` contacts between layers ``i`` and ``i + 1`` (F5, F6 of layer ``i``).
+
+    They carry ``(2/sqrt3) sum_j W_{i,j} = 2/sqrt3`` in every configuration,
+    mean ``1/(sqrt3 i)``, so ``f = F/<F> = 2 i x`` with ``x = (sqrt3/2) F`` the
+    spacing; supported on ``[0, 2i]``.  Uses the ``N - 1`` row passes
+    (:func:`forcenet.exact.triangle.gaps.contact_gap_counts`).
+
+    Examples
+    --------
+    >>> contact_layer_force_density(3, 2)  # four Beta(1, 3) spacings, f = 4 x
+    Poly(3/64*f**2 - 3/8*f + 3/4, f, domain='QQ')
+    """
+    N = check_layers(N)
+    i = check_int(i, "i", 1, N - 1)
+    laws = contact_gap_counts(N, progress=progress)
+    pool = pool_gaps([laws[(i, j, kind)] for j in range(1, i + 1) for kind in ("F5", "F6")])
+    return _scaled(density_from_gaps(pool, var), Fraction(1, 2 * i), var)
+
+
+def grain_scaled_pool_density(N: int, grains, var=F_SYMBOL) -> list[Piece]:
+    """Exact density of ``f = W_{i,j} / <W_{i,j}>`` for a uniformly chosen grain of ``grains``.
+
+    The alternative normalization: each grain by its own ensemble mean.
+    Piecewise polynomial with breaks at ``1/<W_{i,j}>``.
+
+    Examples
+    --------
+    >>> [(p.lo, p.hi) for p in grain_scaled_pool_density(3, [(3, 1), (3, 2)])]
+    [(0, 2), (2, 4)]
+    """
+    N = check_layers(N)
+    grains = [check_grain(N, g) for g in grains]
+    if not grains:
+        raise ValueError("grains: need at least one grain")
+    terms = []
+    for i, j in grains:
+        mu = mean_W_grain(N, i, j)
+        poly = _scaled(density(N, (i, j), var), mu, var) * sympy.Rational(1, len(grains))
+        terms.append((sympy.Rational(mu.denominator, mu.numerator), poly))
+    return _pieces(terms, var)
+
+
+# ------------------------------------------------------------------ q = F5 / (F5 + F6)
+
+
+def beta_mixture_density(counts, total: int, var=sympy.Symbol("q")) -> sympy.Poly:
+    """``sum_{a,b} counts[a][b] / total * Beta(a, b)`` as an exact polynomial.
+
+    Examples
+    --------
+    >>> beta_mixture_density([[0, 0, 0], [0, 0, 1], [0, 1, 0]], 2)  # (Beta(1,2) + Beta(2,1)) / 2
+    Poly(1, q, domain='QQ')
+    """
+    top = max((a + b for a, row in enumerate(counts) for b, c in enumerate(row) if c), default=2)
+    coeffs = [Fraction(0)] * (top - 1)
+    for a, row in enumerate(counts):
+        for b, c in enumerate(row):
+            if not c:
+                continue
+            if a < 1 or b < 1:
+                raise ValueError("beta_mixture_density: both gaps must be >= 1")
+            norm = Fraction(c * rising(1, a + b - 1), total * rising(1, a - 1) * rising(1, b - 1))  # 1/B(a, b)
+            for t in range(b):  # q^(a-1) (1-q)^(b-1)
+                coeffs[a - 1 + t] += norm * comb(b - 1, t) * (-1) ** t
+    return _poly(coeffs, var)
+
+
+def q_density(N: int, grain, var=sympy.Symbol("q")) -> sympy.Poly:
+    """Exact density of ``q_{i,j}`` (3.8) on ``[0, 1]``: ``sum P(g5, g6) Beta(g5, g6)``.
+
+    Examples
+    --------
+    >>> q_density(4, (3, 2))  # above the floor q is exactly uniform
+    Poly(1, q, domain='QQ')
+    >>> q_density(5, (3, 2))
+    Poly(-2*q**2 + 2*q + 2/3, q, domain='QQ')
+    """
+    counts, total = q_gap_counts(N, grain)
+    return beta_mixture_density(counts, total, var)
+
+
+# ------------------------------------------------------------------ output and cost
+
+
+def poly_strings(poly: sympy.Poly) -> list[str]:
+    """Coefficients of ``poly`` from the constant term up, as ``"p/q"`` strings.
+
+    Examples
+    --------
+    >>> poly_strings(density(3, (3, 2)))
+    ['0', '6', '-6']
+    """
+    return [str(c) for c in reversed(poly.all_coeffs())]
+
+
+def distribution_plan(N: int, kind: str = "grain", memory_bytes: int | None = None) -> Plan:
+    """The cost of one density (``kind="grain"``, ``"contact"``, ``"layer"``) or of the
+    ensemble ``P(f)`` (``"ensemble"``: ``N - 1`` layer passes) or every grain
+    (``"all"``: the same passes) or every contact (``"contacts"``: ``N - 1`` row passes).
+
+    Examples
+    --------
+    >>> distribution_plan(12, "all").seconds < 5
+    True
+    >>> distribution_plan(20, "ensemble").seconds > 60
+    True
+    """
+    N = check_layers(N)
+    passes = {"grain": 1, "contact": 1, "layer": 1, "ensemble": N - 1, "all": N - 1, "contacts": N - 1}
+    if kind not in passes:
+        raise ValueError(f"kind={kind!r}: must be one of {', '.join(passes)}")
+    what = {"grain": f"exact density N={N}", "contact": f"exact contact density N={N}",
+            "layer": f"exact layer P(f) N={N}", "ensemble": f"exact ensemble P(f) N={N}",
+            "all": f"exact densities of every grain N={N}", "contacts": f"exact contact densities N={N}"}[kind]
+    return gap_laws_plan(N, passes[kind], memory_bytes, what=f"{what} ({passes[kind]} pass{'es' if passes[kind] > 1 else ''})")

@@ -1,0 +1,579 @@
+"""Exact laws of rank gaps in a uniform random tableau: the spacings of the triangle.
+
+A uniform point of the ensemble is a uniform random standard tableau ``T`` of
+the shifted staircase together with ``d = N(N-1)/2`` sorted uniforms placed by
+rank, ``S_x = U_(T(x))`` (``notes/order_polytope.md``).  Every force that is
+the difference of two comparable partial sums is a *spacing*
+``U_(T(a)) - U_(T(b))`` (``U_(0) = 0``, ``U_(d+1) = 1``), Beta(``g``,
+``d + 1 - g``) given ``T`` with ``g = T(a) - T(b)`` the rank gap
+(``notes/force_distribution.md``):
+
+* the vertical load ``W_{i,j} = S_{i,j} - S_{i,j-1}`` (4.5): diagonal
+  neighbours ``(j-1, c-1) -> (j, c)``, ``c = N - i + j``; a layer is a diagonal;
+* the lower contacts ``(sqrt3/2) F5^{(i,j)} = q W = S_{i+1,j} - S_{i,j-1}``
+  (vertical neighbours, a column) and ``(sqrt3/2) F6^{(i,j)} = (1 - q) W =
+  S_{i,j} - S_{i+1,j}`` (horizontal neighbours, a row), by (3.8), (4.6) and
+  the interlacing (4.8)-(4.9); the upper contacts follow by (3.4),
+  ``F1^{(i,j)} = F6^{(i-1,j-1)}``, ``F2^{(i,j)} = F5^{(i-1,j)}``.
+
+This module computes the exact law of the gap of every interval of a *chain*
+of cells (a layer, a row or a column) in one forward pass over the
+``2^(N-1)`` order ideals (:func:`chain_gap_counts`): the chain's cells cut
+every maximal chain of ideals into runs, and the state of an ideal is the
+level at which the current run began.  Arithmetic is modulo word-size primes
+(numpy), reconstructed by the Chinese remainder theorem
+(:mod:`forcenet.exact.modular`); results are Python integers.  Densities,
+distribution functions and pooled ``P(f)`` are in :mod:`.distribution`, joint
+laws of two gaps (for ``q``) in :mod:`.joint_gaps`.
+
+Examples
+--------
+>>> gaps = grain_gap_counts(4, (4, 2))
+>>> gaps.counts[:5], gaps.total
+((0, 0, 1, 1, 0), 2)
+
+References
+----------
+S. Ostojic, PhD thesis (2006), Eqs. (3.2)-(3.4), (3.8), (4.5)-(4.9).
+
+May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
+:mod:`forcenet.exact.plan`, :mod:`.staircase`, :mod:`.ideal_dp`.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from typing import NamedTuple
+
+import numpy as np
+
+from ..modular import crt, primes_for_bound
+from ..plan import Plan
+from ..validation import check_grain, check_int, check_layers
+from .ideal_dp import _predecessor_moves, forward_counts_mod, ideal_levels
+from .staircase import count, dimension
+
+__all__ = [
+    "GapCounts",
+    "layer_chain",
+    "row_chain",
+    "column_chain",
+    "chain_gap_counts",
+    "estimate_chain_cost",
+    "layer_gap_counts",
+    "grain_gap_counts",
+    "gap_distribution",
+    "contact_gap_counts",
+    "CONTACT_KINDS",
+    "contact_spacing",
+    "contact_gap_law",
+    "gap_laws_plan",
+]
+
+
+class GapCounts(NamedTuple):
+    """Integer law of a rank gap: ``P(gap = g) = counts[g] / total``.
+
+    ``counts`` has length ``d + 2`` (``g = 0 .. d + 1``); ``total`` is the number
+    of tableaux ``count(N)`` (or a multiple of it for pooled laws); ``d`` is the
+    dimension ``N (N - 1) / 2``.
+    """
+
+    counts: tuple
+    total: int
+    d: int
+
+    def probabilities(self) -> list[Fraction]:
+        """``[P(gap = g) for g in 0..d+1]`` as Fractions.
+
+        Examples
+        --------
+        >>> [str(p) for p in grain_gap_counts(3, (3, 2)).probabilities()]
+        ['0', '0', '1', '0', '0']
+        """
+        return [Fraction(c, self.total) for c in self.counts]
+
+    def mean(self) -> Fraction:
+        """``E[gap]``.
+
+        Examples
+        --------
+        >>> grain_gap_counts(4, (4, 2)).mean()
+        Fraction(5, 2)
+        """
+        return Fraction(sum(g * c for g, c in enumerate(self.counts)), self.total)
+
+
+# ---------------------------------------------------------------- chains of cells
+
+
+def layer_chain(N: int, i: int) -> list[tuple[int, int]]:
+    """Cells of the free partial sums ``S_{i,1} < ... < S_{i,i-1}`` of layer ``i``.
+
+    The chain's ``i`` intervals (``0 < S_{i,1}``, ..., ``S_{i,i-1} < 1``) are the
+    gaps of ``W_{i,1}, ..., W_{i,i}``: the diagonal ``c - r = N - i``.
+
+    Examples
+    --------
+    >>> layer_chain(5, 3)
+    [(1, 3), (2, 4)]
+    """
+    N = check_layers(N)
+    i = check_int(i, "i", 1, N)
+    return [(r, r + N - i) for r in range(1, i)]
+
+
+def row_chain(N: int, r: int) -> list[tuple[int, int]]:
+    """Row ``r`` of the staircase, ``(r, r) < (r, r+1) < ... < (r, N-1)``.
+
+    Interval ``k >= 1`` (from ``(r, r+k-1)`` to ``(r, r+k)``, or to 1 for the
+    last) is the lower-right contact ``(sqrt 3 / 2) F6^{(N-k, r)}``; interval 0
+    is the partial sum ``S_{N,r}`` of the floor.
+
+    Examples
+    --------
+    >>> row_chain(4, 2)
+    [(2, 2), (2, 3)]
+    """
+    N = check_layers(N)
+    r = check_int(r, "r", 1, N - 1)
+    return [(r, c) for c in range(r, N)]
+
+
+def column_chain(N: int, c: int) -> list[tuple[int, int]]:
+    """Column ``c`` of the staircase, ``(1, c) < (2, c) < ... < (c, c)``.
+
+    Interval ``k <= c - 1`` (from ``(k, c)``, or 0 for ``k = 0``, to
+    ``(k+1, c)``) is the lower-left contact ``(sqrt 3 / 2) F5^{(N-c+k, k+1)}``;
+    the last interval is ``1 - S_{N,c}``.
+
+    Examples
+    --------
+    >>> column_chain(4, 2)
+    [(1, 2), (2, 2)]
+    """
+    N = check_layers(N)
+    c = check_int(c, "c", 1, N - 1)
+    return [(r, c) for r in range(1, c + 1)]
+
+
+def _check_chain(N: int, chain) -> tuple[tuple[int, int], ...]:
+    n = N - 1
+    try:
+        cells = tuple((check_int(r, "chain row"), check_int(c, "chain column")) for r, c in chain)
+    except (TypeError, ValueError) as exc:
+        if isinstance(exc, ValueError) and "out of range" in str(exc):
+            raise
+        raise TypeError(f"chain={chain!r}: need a sequence of cells (r, c) with integer r, c") from None
+    for r, c in cells:
+        if not 1 <= r <= c <= n:
+            raise ValueError(f"cell {(r, c)} is not in the staircase of N={N}: need 1 <= r <= c <= {n}")
+    for (r1, c1), (r2, c2) in zip(cells, cells[1:]):
+        if not (r1 <= r2 and c1 <= c2 and (r1, c1) != (r2, c2)):
+            raise ValueError(f"chain={list(cells)}: cells must increase strictly in the poset (r and c non-decreasing)")
+    return cells
+
+
+def _down_size(r: int, c: int) -> int:
+    """Number of cells ``<= (r, c)``: rows ``1..r``, columns ``r'..c``."""
+    return sum(c - rr + 1 for rr in range(1, r + 1))
+
+
+# ---------------------------------------------------------------- the run-length DP
+
+
+def _level_layout(n: int, h: np.ndarray):
+    """Masks of each level grouped by ``h``; ``pos[mask]`` = index inside its group."""
+    order, bounds = ideal_levels(n)
+    d = dimension(n + 1)
+    pos = np.empty(1 << n, dtype=np.int64)
+    levels = []
+    for L in range(d + 1):
+        masks = order[bounds[L] : bounds[L + 1]].astype(np.int64)
+        hm = h[masks]
+        srt = np.argsort(hm, kind="stable")
+        masks, hm = masks[srt], hm[srt]
+        ks, starts = np.unique(hm, return_index=True)
+        ends = list(starts[1:]) + [masks.size]
+        groups = {}
+        for k, a, b in zip(ks.tolist(), starts.tolist(), ends):
+            block = masks[a:b]
+            pos[block] = np.arange(b - a)
+            groups[k] = block
+        levels.append(groups)
+    return levels, pos
+
+
+def _mulmod_sum(X: np.ndarray, u: np.ndarray, pvec: np.ndarray) -> np.ndarray:
+    """``sum_b X[b, e, p] * u[b, p] mod p`` without overflow (``X, u < 2**31``).
+
+    ``u`` is split into 16-bit limbs so that every partial sum stays below
+    ``2**63`` (at most ``2**15`` rows per block).
+    """
+    out = np.zeros(X.shape[1:], dtype=np.int64)
+    lo, hi = u & 0xFFFF, u >> 16
+    for a in range(0, X.shape[0], 1 << 15):
+        Xa = X[a : a + (1 << 15)]
+        out += np.einsum("bep,bp->ep", Xa, lo[a : a + (1 << 15)]) % pvec
+        out += (np.einsum("bep,bp->ep", Xa, hi[a : a + (1 << 15)]) % pvec << 16) % pvec
+    return out % pvec
+
+
+def _chain_residues(n: int, cells, primes, progress=None) -> np.ndarray:
+    """``out[k, g, p]`` = (number of tableaux whose ``k``-th interval has gap ``g``) mod ``p``.
+
+    Forward pass over the levels of the ideal lattice.  The state of an ideal
+    ``M`` containing ``k`` chain cells is the vector over ``e`` (the level at
+    which the ``k``-th chain cell was added, ``e >= |down(x_k)|``) of the number
+    of chains from the empty ideal to ``M``.  A move that keeps ``k`` carries
+    ``e`` along (a sparse 0/1 matrix per block); a move that adds ``x_{k+1}``
+    at level ``L`` ends run ``k`` with gap ``L - e``, weighted by the number of
+    chains from the new ideal to the top, ``f(complement)`` (complement lemma),
+    and starts run ``k + 1`` with ``e = L`` and weight ``f(M)``.
+    """
+    from scipy.sparse import csr_matrix
+
+    d = dimension(n + 1)
+    K = len(cells)
+    P = len(primes)
+    pvec = np.asarray(primes, dtype=np.int64)
+    masks_all = np.arange(1 << n, dtype=np.int64)
+    h = np.zeros(1 << n, dtype=np.int16)
+    for r, c in cells:  # (r, c) in the ideal <=> at least r parts >= c - r + 1
+        h += np.bitwise_count(masks_all >> (c - r)) >= r
+    del masks_all
+    f = forward_counts_mod(n, primes)
+    full = (1 << n) - 1
+    lo = [0] + [_down_size(r, c) for r, c in cells]  # earliest level of entering run k
+    levels, pos = _level_layout(n, h)
+    out = np.zeros((K + 1, d + 2, P), dtype=np.int64)
+    prev = {0: np.ones((1, 1, P), dtype=np.int64)}  # level 0: empty ideal, run 0 entered at 0
+    for L in range(1, d + 1):
+        cur = {}
+        for k, block in levels[L].items():
+            elo = 0 if k == 0 else lo[k]
+            width = 1 if k == 0 else L - elo + 1
+            acc = np.zeros((block.size, width, P), dtype=np.int64)
+            rows, cols, add_rows, add_pred = [], [], [], []
+            for sel, pred in _predecessor_moves(block, n):
+                add = h[pred] != k
+                rows.append(sel[~add])
+                cols.append(pos[pred[~add]])
+                add_rows.append(sel[add])
+                add_pred.append(pred[add])
+            rows, cols = np.concatenate(rows), np.concatenate(cols)
+            if rows.size:
+                src = prev[k]
+                A = csr_matrix(
+                    (np.ones(rows.size, dtype=np.int64), (rows, cols)), shape=(block.size, src.shape[0])
+                )
+                acc[:, : src.shape[1]] = (A @ src.reshape(src.shape[0], -1)).reshape(block.size, -1, P)
+            add_rows, add_pred = np.concatenate(add_rows), np.concatenate(add_pred)
+            if add_rows.size:  # the move adds x_k: run k-1 ends, run k starts at level L
+                acc[add_rows, L - elo] += f[add_pred]
+                X = prev[k - 1][pos[add_pred]]  # (a, width_{k-1}, P), e = elo_{k-1} + index
+                u = f[full ^ block[add_rows]].astype(np.int64)
+                Y = _mulmod_sum(X, u, pvec)
+                e = (0 if k == 1 else lo[k - 1]) + np.arange(Y.shape[0])
+                out[k - 1, L - e] += Y
+            cur[k] = acc % pvec
+        prev = cur
+        if progress is not None:
+            progress(1)
+    last = prev[K][0]  # the full ideal, run K entered at level e
+    e = (0 if K == 0 else lo[K]) + np.arange(last.shape[0])
+    out[K, d + 1 - e] += last
+    return out % pvec
+
+
+_BYTES_PER_STATE = 8 * 2  # int64 state and one transient copy (an upper bound in practice)
+
+
+def _level_sizes(n: int) -> list[int]:
+    """Ideals per level: the coefficients of ``prod_{k=1}^{n} (1 + x^k)`` (strict partitions, parts <= n)."""
+    sizes = [1]
+    for k in range(1, n + 1):
+        sizes = [a + (sizes[m - k] if 0 <= m - k < len(sizes) else 0) for m, a in enumerate(sizes + [0] * k)]
+    return sizes
+
+
+def estimate_chain_cost(N: int, chain, n_primes: int | None = None) -> int:
+    """Peak bytes of one pass of :func:`chain_gap_counts` (all primes at once), an upper bound.
+
+    Measured: N = 20 about 0.25 GiB (estimate 0.32), N = 22 about 0.76 GiB
+    (estimate 1.75) for the bottom layer.
+
+    Examples
+    --------
+    >>> estimate_chain_cost(12, layer_chain(12, 12)) < 2**24
+    True
+    """
+    N = check_layers(N)
+    n, d = N - 1, dimension(N)
+    if n_primes is None:
+        n_primes = len(primes_for_bound(count(N)))
+    width = max(_level_sizes(n))
+    return width * (d + 1) * n_primes * _BYTES_PER_STATE + (1 << n) * (4 * n_primes + 16)
+
+
+def chain_gap_counts(N: int, chain, *, memory_bytes: int = 4 * 2**30, progress=None) -> list[GapCounts]:
+    """Exact law of every interval of a chain of cells in a uniform tableau.
+
+    For a chain ``x_1 < ... < x_K`` of the staircase poset and the conventions
+    ``T(x_0) = 0``, ``T(x_{K+1}) = d + 1``, returns for ``k = 0..K`` the law of
+    the gap ``T(x_{k+1}) - T(x_k)``.  One forward pass over the order ideals
+    (rolling over levels, states = the level where the current run started)
+    gives all ``K + 1`` laws.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers.
+    chain : sequence of (r, c)
+        Cells ``1 <= r <= c <= N - 1``, strictly increasing in the poset.
+    memory_bytes : int
+        Budget; primes are processed in chunks that fit (:func:`estimate_chain_cost`).
+    progress : callable, optional
+        Called once per level and prime chunk.
+
+    Returns
+    -------
+    list of GapCounts
+
+    Examples
+    --------
+    >>> # S_{4,1} < S_{4,2}: the gaps of W_{4,1}, W_{4,2} and W_{4,3} + W_{4,4}
+    >>> [g.counts for g in chain_gap_counts(4, [(1, 1), (2, 2)])]
+    [(0, 2, 0, 0, 0, 0, 0, 0), (0, 0, 1, 1, 0, 0, 0, 0), (0, 0, 0, 1, 1, 0, 0, 0)]
+    """
+    N = check_layers(N)
+    cells = _check_chain(N, chain)
+    return _chain_gap_counts(N, cells, memory_bytes, progress)
+
+
+def _chain_gap_counts(N, cells, memory_bytes=4 * 2**30, progress=None):
+    n, d = N - 1, dimension(N)
+    total = count(N)
+    if n == 0 or not cells:
+        counts = [0] * (d + 2)
+        counts[d + 1] = total
+        return [GapCounts(tuple(counts), total, d)]
+    primes = primes_for_bound(total)
+    per_prime = estimate_chain_cost(N, cells, 1)
+    size = max(1, int(memory_bytes // per_prime))
+    chunks = [primes[k : k + size] for k in range(0, len(primes), size)]
+    out = np.concatenate([_chain_residues(n, cells, chunk, progress) for chunk in chunks], axis=2)
+    # self-checks modulo every prime: each interval's law has total mass count(N), and the
+    # K + 1 gaps of a tableau add up to d + 1
+    pvec = np.asarray(primes, dtype=np.int64)
+    tot = np.asarray([total % p for p in primes], dtype=np.int64)
+    if not (out.sum(axis=1) % pvec == tot).all():
+        raise ArithmeticError("a gap law does not sum to count(N)")
+    g = np.arange(d + 2, dtype=np.int64)[None, :, None]
+    if not ((out * g % pvec).sum(axis=(0, 1)) % pvec == (d + 1) * tot % pvec).all():
+        raise ArithmeticError("the gaps of a chain do not add up to d + 1")
+    result = []
+    for k in range(len(cells) + 1):
+        counts = tuple(crt(out[k, gg], primes) for gg in range(d + 2))
+        if sum(counts) != total:
+            raise ArithmeticError("CRT reconstruction of a gap law failed")
+        result.append(GapCounts(counts, total, d))
+    return result
+
+
+_CACHE: dict = {}  # (kind, N, index) -> laws of one chain pass; the most recent 64 are kept
+_CACHE_SIZE = 64
+
+
+def _chain_pass(kind: str, N: int, index: int, progress=None) -> tuple[GapCounts, ...]:
+    """The laws of one layer / row / column pass, cached (``progress`` ticks only when it runs)."""
+    key = (kind, N, index)
+    if key not in _CACHE:
+        chain = {"layer": layer_chain, "row": row_chain, "column": column_chain}[kind](N, index)
+        laws = tuple(_chain_gap_counts(N, tuple(chain), progress=progress))
+        if len(_CACHE) >= _CACHE_SIZE:
+            _CACHE.pop(next(iter(_CACHE)))
+        _CACHE[key] = laws
+    return _CACHE[key]
+
+
+def layer_gap_counts(N: int, i: int, progress=None) -> tuple[GapCounts, ...]:
+    """Exact gap laws of ``W_{i,1}, ..., W_{i,i}`` (one pass over the ideals, cached).
+
+    ``progress`` is called once per level of the ideal lattice (``d`` times) if
+    the pass runs.
+
+    Examples
+    --------
+    >>> [g.counts for g in layer_gap_counts(3, 3)]
+    [(0, 1, 0, 0, 0), (0, 0, 1, 0, 0), (0, 1, 0, 0, 0)]
+    """
+    N = check_layers(N)
+    i = check_int(i, "i", 1, N)
+    return _chain_pass("layer", N, i, progress)
+
+
+def grain_gap_counts(N: int, grain, progress=None) -> GapCounts:
+    """Exact law of the rank gap of ``W_{i,j}``.
+
+    Examples
+    --------
+    >>> grain_gap_counts(5, (5, 3)).counts[:8], count(5)
+    ((0, 0, 2, 4, 4, 2, 0, 0), 12)
+    """
+    N = check_layers(N)
+    i, j = check_grain(N, grain)
+    return layer_gap_counts(N, i, progress)[j - 1]
+
+
+def gap_distribution(N: int, grain) -> list[Fraction]:
+    """``[P(gap = g) for g in 0..d+1]`` of ``W_{i,j}``, exact.
+
+    Examples
+    --------
+    >>> [str(p) for p in gap_distribution(4, (4, 2))]
+    ['0', '0', '1/2', '1/2', '0', '0', '0', '0']
+    """
+    return grain_gap_counts(N, grain).probabilities()
+
+
+CONTACT_KINDS = ("F1", "F2", "F5", "F6")
+
+
+def contact_spacing(N: int, grain, kind: str) -> tuple[str, int, int]:
+    """Where the contact ``kind`` of ``grain`` lives: ``("row" | "column", index, interval)``.
+
+    ``(sqrt3/2) F6^{(i,j)} = S_{i,j} - S_{i+1,j}`` is interval ``N - i`` of row
+    ``j``; ``(sqrt3/2) F5^{(i,j)} = S_{i+1,j} - S_{i,j-1}`` is interval ``j - 1``
+    of column ``N - i + j - 1`` (Eqs. (3.8), (4.6)); by (3.4)
+    ``F1^{(i,j)} = F6^{(i-1,j-1)}`` and ``F2^{(i,j)} = F5^{(i-1,j)}``.  The
+    contacts that are not random are refused: the overload on the top grain,
+    the missing neighbours at the edges, and the bottom layer's lower contacts
+    (the floor, not part of the network).
+
+    Examples
+    --------
+    >>> contact_spacing(5, (3, 2), "F6"), contact_spacing(5, (3, 2), "F5"), contact_spacing(5, (4, 3), "F1")
+    (('row', 2, 2), ('column', 3, 1), ('row', 2, 2))
+    """
+    N = check_layers(N)
+    i, j = check_grain(N, grain)
+    if kind not in CONTACT_KINDS:
+        raise ValueError(f"kind={kind!r} is not a contact force that is a spacing: kind must be one of {', '.join(CONTACT_KINDS)} "
+                         "(F3, F4 are lateral forces, p_h plus signed sums of spacings)")
+    if kind in ("F1", "F2"):
+        if i == 1:
+            raise ValueError(f"grain={grain!r}: F1 = F2 = 1/sqrt3 on the top grain is the overload, not random")
+        if (kind == "F1" and j == 1) or (kind == "F2" and j == i):
+            raise ValueError(f"grain={grain!r}: {kind} is identically 0 there (no grain above on that side)")
+        i, j, kind = (i - 1, j - 1, "F6") if kind == "F1" else (i - 1, j, "F5")
+    elif i == N:
+        raise ValueError(f"grain={grain!r}: the bottom layer's {kind} presses on the floor, outside the network; "
+                         f"i must be an integer in 1..{N - 1} for {kind}")
+    if kind == "F6":
+        return "row", j, N - i
+    return "column", N - i + j - 1, j - 1
+
+
+def contact_gap_law(N: int, grain, kind: str, progress=None) -> GapCounts:
+    """Exact law of the rank gap of the contact force ``kind`` of ``grain`` (one pass).
+
+    The force is ``(2/sqrt3)`` times a spacing with this gap
+    (:func:`contact_spacing`).
+
+    Examples
+    --------
+    >>> contact_gap_law(4, (3, 2), "F6").counts[:5]
+    (0, 1, 1, 0, 0)
+    """
+    where, index, interval = contact_spacing(N, grain, kind)
+    N = check_layers(N)
+    return _chain_pass(where, N, index, progress)[interval]
+
+
+def contact_gap_counts(N: int, mirror: bool = True, progress=None) -> dict:
+    """Gap laws of the lower contact forces of every grain of layers ``1..N-1``.
+
+    Keys ``(i, j, 'F5')`` and ``(i, j, 'F6')``; the contact force is
+    ``(2/sqrt3)`` times the spacing, ``F5 = (2/sqrt3)(S_{i+1,j} - S_{i,j-1})``
+    (a column of the tableau) and ``F6 = (2/sqrt3)(S_{i,j} - S_{i+1,j})`` (a
+    row).  By (3.4) the upper contacts are ``F1^{(i,j)} = F6^{(i-1,j-1)}``,
+    ``F2^{(i,j)} = F5^{(i-1,j)}``.  With ``mirror=True`` (default) the
+    ``N - 1`` row passes suffice: ``F5^{(i,j)}`` has the law of
+    ``F6^{(i,i+1-j)}``, by the self-duality ``(r, c) -> (N - c, N - r)`` of the
+    staircase (the left-right mirror of the triangle); ``mirror=False`` runs
+    the ``N - 1`` column passes too (the tests check that both agree).
+
+    Examples
+    --------
+    >>> c = contact_gap_counts(3)
+    >>> c[(2, 1, 'F5')].counts, c[(2, 1, 'F6')].counts
+    ((0, 1, 0, 0, 0), (0, 1, 0, 0, 0))
+    """
+    N = check_layers(N)
+    out = {}
+    for r in range(1, N):
+        laws = _chain_pass("row", N, r, progress)
+        for k in range(1, len(laws)):
+            out[(N - k, r, "F6")] = laws[k]
+    if mirror:
+        for i in range(1, N):
+            for j in range(1, i + 1):
+                out[(i, j, "F5")] = out[(i, i + 1 - j, "F6")]
+        return out
+    for c in range(1, N):
+        laws = _chain_pass("column", N, c, progress)
+        for k in range(c):
+            out[(N - c + k, k + 1, "F5")] = laws[k]
+    return out
+
+
+# ------------------------------------------------------------------- cost of a pass
+
+# One pass costs about (ideals x entry levels x primes) states, 2^(N-1) d / 3 per
+# prime, plus a fixed cost per level; measured on the 2-core machine for the floor
+# pass (the costliest) at N = 12..20: 0.07 s, 0.31 s, 1.2 s, 5.8 s for N = 12, 16, 18, 20
+# (load ~2.5; notes/benchmarks.md).
+_SECONDS_PER_STATE = 1.4e-8
+_SECONDS_PER_LEVEL = 1.0e-3
+
+
+_AVERAGE_PASS = 0.6  # a layer / row pass averaged over the triangle, relative to the floor pass (N = 20: 63 s / 19 passes)
+
+
+def _pass_seconds(N: int, average: bool = False) -> float:
+    n, d = N - 1, dimension(N)
+    primes = len(primes_for_bound(count(N)))
+    states = _SECONDS_PER_STATE * (1 << n) * d / 3 * primes
+    return states * (_AVERAGE_PASS if average else 1.0) + _SECONDS_PER_LEVEL * d
+
+
+_MAX_LAYERS = 30  # 2^29 ideals: far beyond memory; the estimate is not even attempted
+
+
+def gap_laws_plan(N: int, passes: int = 1, memory_bytes: int | None = None, what: str | None = None) -> Plan:
+    """The cost of ``passes`` chain passes (:func:`chain_gap_counts`) at ``N`` layers.
+
+    One pass gives every interval of one chain: a layer (all its grains'
+    ``W``), a row or a column (contact forces).  All grains need ``N - 1``
+    passes, all contacts ``N - 1`` more.  A single pass is priced as the
+    floor pass (the costliest), several as the average over the triangle.
+
+    Examples
+    --------
+    >>> gap_laws_plan(12, 11).seconds < 5
+    True
+    >>> gap_laws_plan(31).refusal
+    'N=31 is out of range for exact gap laws: N must be an integer in 2..30'
+    """
+    N = check_layers(N)
+    passes = check_int(passes, "passes", 0)
+    what = what or f"exact gap laws N={N}, {passes} pass{'es' if passes != 1 else ''} over the ideals"
+    if N > _MAX_LAYERS:
+        return Plan(what, 0, refusal=f"N={N} is out of range for exact gap laws: N must be an integer in 2..{_MAX_LAYERS}")
+    primes = len(primes_for_bound(count(N)))
+    per_prime = estimate_chain_cost(N, (), 1)
+    chunk = max(1, min(primes, (4 * 2**30) // per_prime))  # primes per chunk, as chain_gap_counts does
+    nbytes = estimate_chain_cost(N, (), chunk) + 100 * 2**20
+    plan = Plan(what, passes * _pass_seconds(N, average=passes > 1), nbytes, passes * dimension(N), "level")
+    return plan.within_memory(memory_bytes)

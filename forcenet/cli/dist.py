@@ -1,0 +1,276 @@
+"""``forcenet dist``: exact force distributions (densities, CDFs, pooled P(f)) and the sampled comparison.
+
+Examples (shell)::
+
+    forcenet dist --N 12 --grain 12,6 --format json            # density and CDF of W_{12,6}, "p/q" coefficients
+    forcenet dist --N 12 --grain 6,3 --contact F5 --grid 10     # a contact force (units of 2/sqrt3), on a grid
+    forcenet dist --N 12 --layer 12 --format csv                # P(f) of the floor, f = N W
+    forcenet dist --N 16 --ensemble --plot out.png              # exact P(f) against exact-sampler and Metropolis histograms
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+
+from .common import (
+    UsageError,
+    add_force,
+    add_format,
+    add_layers,
+    add_quiet,
+    add_seed,
+    available_memory,
+    check_output_path,
+    emit,
+    integer,
+    json_dumps,
+    real,
+    run_planned,
+    write_files,
+)
+
+__all__ = ["register"]
+
+_MAX_LAYERS = 30
+
+
+def _grain(text):
+    """argparse type: ``i,j``."""
+    parts = text.replace(" ", "").split(",")
+    if len(parts) != 2:
+        raise argparse.ArgumentTypeError(f"grain={text!r} is not a grain: give it as i,j (two integers, e.g. 12,6)")
+    return tuple(integer(name, 1)(p) for name, p in zip(("grain i", "grain j"), parts))
+
+
+def _what(args):
+    """What to compute: ("grain", (i, j), kind) / ("layer", i) / ("ensemble",), validated against N."""
+    from forcenet.exact.validation import check_grain, check_int
+
+    N = args.N
+    if args.grain is not None:
+        grain = check_grain(N, args.grain)
+        if args.contact is None and grain[0] == 1:
+            raise UsageError(f"--grain={grain[0]},{grain[1]}: W_11 = 1 is the overload, it has no density; i must be in 2..{N}")
+        if args.contact is not None:
+            from forcenet.exact.triangle.gaps import contact_spacing
+
+            contact_spacing(N, grain, args.contact)  # refuses the contacts that are not random
+        return ("grain", grain, args.contact)
+    if args.contact is not None:
+        raise UsageError("--contact needs --grain i,j (the grain whose contact force is wanted)")
+    if args.layer is not None:
+        return ("layer", check_int(args.layer, "layer", 2, N))
+    return ("ensemble",)
+
+
+def _compute(args, what, tick=None):
+    """Exact objects: (title, variable, pieces of the density, pieces of the CDF, extra fields)."""
+    import sympy
+
+    from forcenet.exact.triangle import distribution as D
+    from forcenet.exact.triangle.gaps import contact_gap_law, grain_gap_counts
+
+    N = args.N
+    one = sympy.Integer(1)
+    if what[0] == "grain":
+        (i, j), kind = what[1], what[2]
+        gaps = grain_gap_counts(N, (i, j), tick) if kind is None else contact_gap_law(N, (i, j), kind, tick)
+        p, F = D.density_from_gaps(gaps), D.cdf_from_gaps(gaps)
+        name = f"W_{{{i},{j}}}" if kind is None else f"(sqrt3/2) {kind}^{{({i},{j})}}"
+        extra = {"mean": D.moment_from_gaps(gaps, 1), "second_moment": D.moment_from_gaps(gaps, 2)}
+        return name, "w", [D.Piece(sympy.Integer(0), one, p)], [D.Piece(sympy.Integer(0), one, F)], extra
+    if what[0] == "layer":
+        i = what[1]
+        p = D.layer_force_density(N, i, progress=tick)
+        pieces = [D.Piece(sympy.Integer(0), sympy.Integer(i), p)]
+        return f"P(f), f = {i} W_{{{i},j}} (layer {i})", "f", pieces, D.piecewise_cdf(pieces), {}
+    pieces = D.triangle_force_density(N, progress=tick)
+    return "P(f), f = i W_{i,j} over layers 2..N (ensemble)", "f", pieces, D.piecewise_cdf(pieces), {}
+
+
+def _grid(pieces, cdf_pieces, K: int):
+    from forcenet.numeric.triangle.force_distribution import piecewise_values
+
+    import numpy as np
+
+    top = float(pieces[-1].hi)
+    x = np.array([top * k / K for k in range(K + 1)])
+    return x, piecewise_values(pieces, x), piecewise_values(cdf_pieces, x)
+
+
+def _json(args, title, var, pieces, cdf_pieces, extra, grid):
+    from forcenet.exact.triangle.distribution import poly_strings
+
+    out = {"N": args.N, "quantity": title, "variable": var,
+           "pieces": [{"lo": str(p.lo), "hi": str(p.hi), "degree": p.poly.degree(), "density": poly_strings(p.poly),
+                       "cdf": poly_strings(F.poly)} for p, F in zip(pieces, cdf_pieces)],
+           "coefficients": "constant term first, exact rationals"}
+    out.update({k: str(v) for k, v in extra.items()})
+    if grid is not None:
+        x, p, F = grid
+        out["grid"] = [{var: float(a), "density": float(b), "cdf": float(c)} for a, b, c in zip(x, p, F)]
+    return json_dumps(out)
+
+
+def _csv(var, pieces, cdf_pieces, grid):
+    from forcenet.exact.triangle.distribution import poly_strings
+
+    if grid is not None:
+        x, p, F = grid
+        return "\n".join([f"{var},density,cdf"] + [f"{a!r},{b!r},{c!r}" for a, b, c in zip(x.tolist(), p.tolist(), F.tolist())])
+    lines = ["lo,hi,power,density,cdf"]
+    for piece, F in zip(pieces, cdf_pieces):
+        dens, cum = poly_strings(piece.poly), poly_strings(F.poly)
+        dens += ["0"] * (len(cum) - len(dens))
+        lines += [f"{piece.lo},{piece.hi},{m},{a},{b}" for m, (a, b) in enumerate(zip(dens, cum))]
+    return "\n".join(lines)
+
+
+def _latex(title, var, pieces, cdf_pieces, grid):
+    import sympy
+
+    def cases(ps):
+        if len(ps) == 1:
+            return sympy.latex(ps[0].poly.as_expr()) + rf" \qquad ({ps[0].lo} \le {var} \le {ps[0].hi})"
+        rows = [rf"{sympy.latex(p.poly.as_expr())} & {p.lo} \le {var} < {p.hi}" for p in ps]
+        return r"\begin{cases} " + r" \\ ".join(rows) + r" \end{cases}"
+
+    lines = [f"% {title}", r"\begin{align*}", rf"p({var}) &= {cases(pieces)} \\", rf"P(\le {var}) &= {cases(cdf_pieces)}",
+             r"\end{align*}"]
+    if grid is not None:
+        x, p, F = grid
+        lines += [r"\begin{tabular}{rrr}", rf"${var}$ & density & CDF \\ \hline"]
+        lines += [rf"{a:.6g} & {b:.10g} & {c:.10g} \\" for a, b, c in zip(x, p, F)]
+        lines += [r"\end{tabular}"]
+    return "\n".join(lines)
+
+
+def _text(args, title, var, pieces, cdf_pieces, extra, grid):
+    lines = [f"N = {args.N}: exact density of {title} (exact rationals; --format json for all coefficients)"]
+    for p in pieces:
+        lead = ", ".join(str(c) for c in list(reversed(p.poly.all_coeffs()))[:3])
+        lines.append(f"  on [{p.lo}, {p.hi}]: polynomial of degree {p.poly.degree()} in {var}; lowest coefficients {lead}, ...")
+    for k, v in extra.items():
+        lines.append(f"  {k} = {v}")
+    lines.append(f"  density at {var} = 0: {pieces[0].poly.eval(0)}")
+    if grid is not None:
+        lines.append(f"  {var:>10}  {'density':>14}  {'cdf':>14}")
+        lines += [f"  {a:10.6g}  {b:14.8g}  {c:14.8g}" for a, b, c in zip(*grid)]
+    return "\n".join(lines)
+
+
+def _plot_plan(args):
+    from forcenet.exact.plan import combine
+    from forcenet.numeric.triangle.exact_sampler import sample_plan
+    from forcenet.numeric.triangle.metropolis import metropolis_plan
+
+    memory = available_memory()
+    burn = max(100, args.sweeps // 10)
+    return [sample_plan(args.N, args.samples, memory), metropolis_plan(args.N, args.sweeps, burn, memory)], combine
+
+
+def cmd_dist(args):
+    from forcenet.exact.triangle.distribution import distribution_plan
+
+    N = args.N
+    what = _what(args)
+    check_output_path(args.out)
+    if args.plot is not None:
+        if what[0] == "grain":
+            raise UsageError("--plot compares a pooled P(f) with sampled histograms: use it with --ensemble or --layer")
+        if not args.plot.lower().endswith(".png"):
+            raise UsageError(f"--plot={args.plot}: the figure is a PNG; give a file name ending in .png")
+        check_output_path(args.plot, "--plot")
+        if args.out is not None and os.path.abspath(args.out) == os.path.abspath(args.plot):
+            raise UsageError("--out and --plot name the same file")
+    elif args.samples is not None or args.sweeps is not None or args.bins is not None or args.f_max is not None:
+        raise UsageError("--samples, --sweeps, --bins and --f-max set the sampled histograms of --plot")
+    memory = available_memory()
+    plans = [distribution_plan(N, {"grain": "contact" if len(what) > 2 and what[2] else "grain",
+                                   "layer": "layer", "ensemble": "ensemble"}[what[0]], memory)]
+    if args.plot is not None:
+        args.samples = 20000 if args.samples is None else args.samples
+        args.sweeps = 3000 if args.sweeps is None else args.sweeps
+        args.bins = 40 if args.bins is None else args.bins
+        args.f_max = 4.0 if args.f_max is None else args.f_max
+        more, combine = _plot_plan(args)
+        plan = combine(f"{plans[0].what} with its sampled comparison", plans + more, "step")
+    else:
+        plan = plans[0]
+
+    def run(tick):
+        title, var, pieces, cdf_pieces, extra = _compute(args, what, tick)
+        grid = _grid(pieces, cdf_pieces, args.grid) if args.grid is not None else None
+        png = _figure(args, what, pieces, tick) if args.plot is not None else None
+        return title, var, pieces, cdf_pieces, extra, grid, png
+
+    title, var, pieces, cdf_pieces, extra, grid, png = run_planned(plan, run, force=args.force, quiet=args.quiet)
+    text = {"json": lambda: _json(args, title, var, pieces, cdf_pieces, extra, grid),
+            "csv": lambda: _csv(var, pieces, cdf_pieces, grid),
+            "latex": lambda: _latex(title, var, pieces, cdf_pieces, grid),
+            "text": lambda: _text(args, title, var, pieces, cdf_pieces, extra, grid)}[args.format]()
+    if png is None:
+        emit(text, args.out)
+        return 0
+    files = {args.plot: png}
+    if args.out is not None:
+        files[args.out] = text if text.endswith("\n") else text + "\n"
+    write_files(files, name="--plot")
+    if args.out is None:
+        emit(text)
+    return 0
+
+
+def _figure(args, what, pieces, tick):
+    """The sampled histograms and the figure (PNG bytes); a summary line per sampler on stderr."""
+    import sys
+
+    import numpy as np
+
+    from forcenet.exact.triangle.distribution import bin_probabilities
+    from forcenet.numeric.triangle.force_distribution import (
+        chi_square,
+        comparison_png,
+        exact_sampler_histogram,
+        metropolis_histogram,
+    )
+
+    pool = "ensemble" if what[0] == "ensemble" else what[1]
+    edges = np.linspace(0.0, args.f_max, args.bins + 1)
+    exact_bins = bin_probabilities(pieces, edges)
+    hists = {f"exact sampler, {args.samples} samples": exact_sampler_histogram(args.N, args.samples, edges, pool, args.seed, tick),
+             f"Metropolis, {args.sweeps} sweeps": metropolis_histogram(args.N, args.sweeps, edges, pool, seed=args.seed,
+                                                                       progress=tick)}
+    notes = []
+    for label, h in hists.items():
+        chi2, bins, p = chi_square(h, exact_bins)
+        flag = "" if h.reliable else f"; chain shorter than 50 tau (tau = {h.tau:.0f} sweeps): error bars unreliable"
+        notes.append(f"{label.split(',')[0]}: chi2 = {chi2:.1f} over {bins} bins (p = {p:.2g}), tau = {h.tau:.1f}{flag}")
+    if not args.quiet:
+        for line in notes:
+            print(f"forcenet: {line}", file=sys.stderr)
+    pool_text = "every grain of layers 2..N, f = i W_ij" if pool == "ensemble" else f"layer {pool}, f = {pool} W_{pool},j"
+    title = f"N = {args.N}: exact P(f) ({pool_text}) against sampled histograms (1 sigma error bars)\n" + "; ".join(notes)
+    return comparison_png(pieces, exact_bins, hists, title, args.f_max)
+
+
+def register(sub):
+    p = sub.add_parser("dist", help="exact force distributions: density and CDF of a grain or contact, pooled P(f)")
+    add_layers(p, _MAX_LAYERS, help_text=f"number of layers (2..{_MAX_LAYERS}; one pass over the 2^(N-1) ideals per layer)")
+    which = p.add_mutually_exclusive_group(required=True)
+    which.add_argument("--grain", type=_grain, help="i,j: the density of W_ij (or of its contact force with --contact)")
+    which.add_argument("--layer", type=integer("layer", 2), help="P(f) of layer i, f = i W_ij pooled over j (2..N)")
+    which.add_argument("--ensemble", action="store_true", help="P(f) pooled over every grain of layers 2..N, f = i W_ij")
+    p.add_argument("--contact", choices=["F1", "F2", "F5", "F6"], help="with --grain: a contact force, in units of 2/sqrt3 (Eq. 3.8)")
+    p.add_argument("--grid", type=integer("grid", 1, 100000), help="also the values on K + 1 equally spaced points (K in 1..100000)")
+    add_format(p, ("text", "json", "csv", "latex"))
+    p.add_argument("--plot", help="with --ensemble or --layer: a PNG comparing the exact P(f) with sampled histograms (atomic)")
+    p.add_argument("--samples", type=integer("samples", 2), default=None, help="exact samples for --plot (default 20000)")
+    p.add_argument("--sweeps", type=integer("sweeps", 2), default=None, help="Metropolis sweeps for --plot (default 3000)")
+    p.add_argument("--bins", type=integer("bins", 1, 1000), default=None, help="histogram bins for --plot (default 40)")
+    p.add_argument("--f-max", type=real("f-max", 0, low_open=True), default=None, help="histogram range [0, f-max] for --plot (default 4)")
+    add_seed(p)
+    add_force(p)
+    add_quiet(p)
+    p.set_defaults(func=cmd_dist)

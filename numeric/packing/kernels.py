@@ -67,11 +67,9 @@ def _w(W, S, i, j, k, c):
 
 
 @njit
-def _packing_move(q, W, cs, dd, i, j, new, rng, ph, has_ph, tol, top_load, mg, counters, S, Cn, Dn):
+def _light_cone(q, W, S, i, j, mg):
+    """``S`` = the loads ``W`` after ``q[i, j]`` changed, on the light cone below it (Eq. 3.9)."""
     N, P = W.shape
-    old = q[i, j]
-    q[i, j] = new
-    # --- the light cone, Eq. (3.9)
     for c in range(max(j - 1, 0), min(j + 2, P)):
         S[i, c] = W[i, c]
     hi = j + 1
@@ -87,6 +85,15 @@ def _packing_move(q, W, cs, dd, i, j, new, rng, ph, has_ph, tol, top_load, mg, c
             if c >= 1:
                 a = a + (1.0 - q[k - 1, c - 1]) * S[k - 1, c - 1]
             S[k, c] = a
+
+
+@njit
+def _packing_move(q, W, cs, dd, i, j, new, rng, ph, has_ph, tol, top_load, mg, counters, S, Cn, Dn):
+    N, P = W.shape
+    old = q[i, j]
+    q[i, j] = new
+    # --- the light cone, Eq. (3.9)
+    _light_cone(q, W, S, i, j, mg)
     # --- every free W > 0
     hi = j + 1
     for k in range(i + 1, N - 1):
@@ -194,21 +201,7 @@ def _packing_commit(q, W, cs, dd, i, j, new, top_load, mg, has_ph, S, Cn, Dn):
     """Set ``q[i, j] = new`` and bring ``W`` (the cone) and the running sums up to date, as the Metropolis kernel does."""
     N, P = W.shape
     q[i, j] = new
-    for c in range(max(j - 1, 0), min(j + 2, P)):
-        S[i, c] = W[i, c]
-    hi = j + 1
-    for k in range(i + 1, N):
-        if k - 1 > i:
-            if j >= 1:
-                S[k - 1, j - 1] = W[k - 1, j - 1]
-            if hi < P:
-                S[k - 1, hi] = W[k - 1, hi]
-        hi = min(P, hi + 1)
-        for c in range(j, hi):
-            a = q[k - 1, c] * S[k - 1, c] + mg
-            if c >= 1:
-                a = a + (1.0 - q[k - 1, c - 1]) * S[k - 1, c - 1]
-            S[k, c] = a
+    _light_cone(q, W, S, i, j, mg)
     if has_ph:
         for k in range(i, N):
             changed = j + 1 if k == i else min(P, j + 1 + k - i)

@@ -60,13 +60,9 @@ def triangle_state(q: np.ndarray, W: np.ndarray):
 
 
 @njit
-def _triangle_move(q, W, flux, zeros, i, j, new, rng, ph, has_ph, counters, S, Fn):
-    """One single-q move at 0-based grain (i, j); returns True if accepted."""
+def _light_cone(q, W, S, i, j):
+    """``S`` = the loads ``W`` after ``q[i, j]`` changed, on the light cone ``S[k, j..j+k-i]``, ``k > i`` (Eq. 4.5)."""
     N = W.shape[0]
-    C = 2.0 / math.sqrt(3.0)
-    old = q[i, j]
-    q[i, j] = new
-    # --- the light cone: S[k, j..j+k-i] for k = i+1..N-1 (Eq. 4.5)
     for c in range(max(j - 1, 0), min(j + 1, i) + 1):
         S[i, c] = W[i, c]
     for k in range(i + 1, N):
@@ -82,6 +78,17 @@ def _triangle_move(q, W, flux, zeros, i, j, new, rng, ph, has_ph, counters, S, F
             if c >= 1:
                 a = a + (1.0 - q[k - 1, c - 1]) * S[k - 1, c - 1]
             S[k, c] = a
+
+
+@njit
+def _triangle_move(q, W, flux, zeros, i, j, new, rng, ph, has_ph, counters, S, Fn):
+    """One single-q move at 0-based grain (i, j); returns True if accepted."""
+    N = W.shape[0]
+    C = 2.0 / math.sqrt(3.0)
+    old = q[i, j]
+    q[i, j] = new
+    # --- the light cone: S[k, j..j+k-i] for k = i+1..N-1 (Eq. 4.5)
+    _light_cone(q, W, S, i, j)
     # --- lateral forces F4 >= 0 (finite p_h): layers L = i+1..N-1, columns j..L-1
     if has_ph:
         for L in range(i + 1, N):
@@ -347,21 +354,7 @@ def _triangle_commit(q, W, flux, zeros, i, j, new, has_ph, S):
     """Set ``q[i, j] = new``; recompute the light cone of ``W``, the zero counts and the running sums."""
     N = W.shape[0]
     q[i, j] = new
-    for c in range(max(j - 1, 0), min(j + 1, i) + 1):
-        S[i, c] = W[i, c]
-    for k in range(i + 1, N):
-        hi = j + k - i
-        if j >= 1:
-            S[k - 1, j - 1] = W[k - 1, j - 1]
-        if hi < k:
-            S[k - 1, hi] = W[k - 1, hi]
-        for c in range(j, hi + 1):
-            a = 0.0
-            if c < k:
-                a = q[k - 1, c] * S[k - 1, c]
-            if c >= 1:
-                a = a + (1.0 - q[k - 1, c - 1]) * S[k - 1, c - 1]
-            S[k, c] = a
+    _light_cone(q, W, S, i, j)
     for k in range(i + 1, N):
         dz = 0
         for c in range(j, j + k - i + 1):

@@ -88,6 +88,24 @@ def _light_cone(q, W, S, i, j, mg):
 
 
 @njit
+def _store(W, S, cs, dd, Cn, Dn, i, j, has_ph):
+    """Accept a new ``q[i, j]``: copy the light cone ``S`` into ``W`` and the new running sums."""
+    N, P = W.shape
+    hi = j + 1
+    for k in range(i + 1, N):
+        hi = min(P, hi + 1)
+        for c in range(j, hi):
+            W[k, c] = S[k, c]
+    if has_ph:
+        for k in range(i, N):
+            changed = j + 1 if k == i else min(P, j + 1 + k - i)
+            for c in range(j, changed):
+                dd[k, c] = Dn[k, c]
+            for c in range(j, P):
+                cs[k, c] = Cn[k, c]
+
+
+@njit
 def _packing_move(q, W, cs, dd, i, j, new, rng, ph, has_ph, tol, top_load, mg, counters, S, Cn, Dn):
     N, P = W.shape
     old = q[i, j]
@@ -137,18 +155,7 @@ def _packing_move(q, W, cs, dd, i, j, new, rng, ph, has_ph, tol, top_load, mg, c
     if not (log_ratio >= 0.0 or rng.random() < math.exp(log_ratio)):
         q[i, j] = old
         return False
-    hi = j + 1
-    for k in range(i + 1, N):
-        hi = min(P, hi + 1)
-        for c in range(j, hi):
-            W[k, c] = S[k, c]
-    if has_ph:
-        for k in range(i, N):
-            changed = j + 1 if k == i else min(P, j + 1 + k - i)
-            for c in range(j, changed):
-                dd[k, c] = Dn[k, c]
-            for c in range(j, P):
-                cs[k, c] = Cn[k, c]
+    _store(W, S, cs, dd, Cn, Dn, i, j, has_ph)
     return True
 
 
@@ -214,18 +221,7 @@ def _packing_commit(q, W, cs, dd, i, j, new, top_load, mg, has_ph, S, Cn, Dn):
                     x = dd[k, c]
                 run = x if c == 0 else run + x
                 Cn[k, c] = run
-    hi = j + 1
-    for k in range(i + 1, N):
-        hi = min(P, hi + 1)
-        for c in range(j, hi):
-            W[k, c] = S[k, c]
-    if has_ph:
-        for k in range(i, N):
-            changed = j + 1 if k == i else min(P, j + 1 + k - i)
-            for c in range(j, changed):
-                dd[k, c] = Dn[k, c]
-            for c in range(j, P):
-                cs[k, c] = Cn[k, c]
+    _store(W, S, cs, dd, Cn, Dn, i, j, has_ph)
 
 
 @njit

@@ -81,6 +81,21 @@ def _light_cone(q, W, S, i, j):
 
 
 @njit
+def _store_cone(W, S, zeros, i, j):
+    """Accept a new ``q[i, j]``: copy the light cone ``S`` into ``W``, keeping the zero counts per layer."""
+    N = W.shape[0]
+    for k in range(i + 1, N):
+        dz = 0
+        for c in range(j, j + k - i + 1):
+            if W[k, c] == 0.0:
+                dz -= 1
+            if S[k, c] == 0.0:
+                dz += 1
+            W[k, c] = S[k, c]
+        zeros[k] += dz
+
+
+@njit
 def _triangle_move(q, W, flux, zeros, i, j, new, rng, ph, has_ph, counters, S, Fn):
     """One single-q move at 0-based grain (i, j); returns True if accepted."""
     N = W.shape[0]
@@ -142,15 +157,7 @@ def _triangle_move(q, W, flux, zeros, i, j, new, rng, ph, has_ph, counters, S, F
     if not accept:
         q[i, j] = old
         return False
-    for k in range(i + 1, N):
-        dz = 0
-        for c in range(j, j + k - i + 1):
-            if W[k, c] == 0.0:
-                dz -= 1
-            if S[k, c] == 0.0:
-                dz += 1
-            W[k, c] = S[k, c]
-        zeros[k] += dz
+    _store_cone(W, S, zeros, i, j)
     if has_ph:
         for L in range(i + 1, N):
             for c in range(j, L + 1):
@@ -355,15 +362,7 @@ def _triangle_commit(q, W, flux, zeros, i, j, new, has_ph, S):
     N = W.shape[0]
     q[i, j] = new
     _light_cone(q, W, S, i, j)
-    for k in range(i + 1, N):
-        dz = 0
-        for c in range(j, j + k - i + 1):
-            if W[k, c] == 0.0:
-                dz -= 1
-            if S[k, c] == 0.0:
-                dz += 1
-            W[k, c] = S[k, c]
-        zeros[k] += dz
+    _store_cone(W, S, zeros, i, j)
     if has_ph:
         for L in range(i + 1, N):
             row = L - 1

@@ -1,0 +1,321 @@
+"""Compiled kernels of the Pfaffian route: linear algebra modulo a prime ``p < 2^23`` (numba).
+
+Residues are held as ``float64`` integers in ``[0, p)``.  A product of two
+residues is below ``2^46``, so it and short sums of such products are exact
+integers in double precision (below ``2^53``); :func:`_red` brings an exact
+integer back to ``[0, p)`` with one floating multiply, a floor and at most one
+correction (the quotient estimate is off by at most one).  Nothing here
+rounds: every value is an exact integer, so the results are exact residues.
+
+The hot loop is the pair elimination of :func:`point_values`.  Entries of
+rows that are not yet pivot rows are *not* reduced: each elimination step
+adds less than ``2 p^2`` to an entry, so ``p + 2 (n-1) p^2 < 2^53`` (the
+engine's choice of primes, :func:`forcenet.exact.triangle.pfaffian.engine.prime_limit`)
+keeps every entry exact for the whole elimination, and the update is two
+multiply-adds on doubles (vectorised by LLVM).  A pivot row is reduced when
+its pivot is taken.
+
+Compiled on first use and cached on disk (``cache=True``); the pure-Python
+twin :mod:`.kernels_python` has the same functions and is the reference of
+the tests.
+
+May import: nothing of the package.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import int64, njit, uint64
+
+__all__ = ["pfaffian_mod", "point_values", "dual_weights", "lagrange_matrix", "weighted_sum"]
+
+_JIT = {"cache": True, "boundscheck": False, "nogil": True}
+
+
+@njit(inline="always", **_JIT)
+def _red(x, p, pinv):
+    """The residue of the exact integer ``x`` (``|x| < 2^53``) in ``[0, p)``."""
+    x = x - np.floor(x * pinv) * p
+    if x < 0.0:
+        x += p
+    if x >= p:
+        x -= p
+    return x
+
+
+@njit(**_JIT)
+def _inv(a, p, pinv):
+    """``a^(p-2) = 1/a`` modulo ``p`` (Fermat); ``a`` a nonzero residue."""
+    result = 1.0
+    base = a
+    e = int64(p) - 2
+    while e > 0:
+        if e & 1:
+            result = _red(result * base, p, pinv)
+        base = _red(base * base, p, pinv)
+        e >>= 1
+    return result
+
+
+@njit(**_JIT)
+def pfaffian_mod(A, p):
+    """Pfaffian of the skew matrix ``A`` (residues, float64) modulo ``p``; ``A`` is overwritten."""
+    pinv = 1.0 / p
+    size = A.shape[0]
+    if size % 2:
+        return 0.0
+    result = 1.0
+    for k in range(0, size, 2):
+        piv = -1
+        for j in range(k + 1, size):
+            if A[k, j] != 0.0:
+                piv = j
+                break
+        if piv < 0:
+            return 0.0
+        if piv != k + 1:  # swap rows and columns k+1 <-> piv
+            for j in range(size):
+                A[k + 1, j], A[piv, j] = A[piv, j], A[k + 1, j]
+            for i in range(size):
+                A[i, k + 1], A[i, piv] = A[i, piv], A[i, k + 1]
+            result = _red(-result, p, pinv)
+        a = A[k, k + 1]
+        result = _red(result * a, p, pinv)
+        ainv = _inv(a, p, pinv)
+        for i in range(k + 2, size):
+            f1 = _red(A[i, k + 1] * ainv, p, pinv)
+            f0 = _red(A[i, k] * ainv, p, pinv)
+            for j in range(k + 2, size):
+                A[i, j] = _red(A[i, j] + f0 * A[k + 1, j] - f1 * A[k, j], p, pinv)
+    return result
+
+
+@njit(**_JIT)
+def _inverse(K, out, p, pinv):
+    """``out = K^{-1}`` modulo ``p`` by Gauss-Jordan with row pivoting; False if ``K`` is singular mod p."""
+    s = K.shape[0]
+    M = np.zeros((s, 2 * s))
+    for i in range(s):
+        for j in range(s):
+            M[i, j] = K[i, j]
+        M[i, s + i] = 1.0
+    for c in range(s):
+        r = -1
+        for i in range(c, s):
+            if M[i, c] != 0.0:
+                r = i
+                break
+        if r < 0:
+            return False
+        if r != c:
+            for j in range(2 * s):
+                M[c, j], M[r, j] = M[r, j], M[c, j]
+        f = _inv(M[c, c], p, pinv)
+        for j in range(2 * s):
+            M[c, j] = _red(M[c, j] * f, p, pinv)
+        for i in range(s):
+            if i != c and M[i, c] != 0.0:
+                g = M[i, c]
+                for j in range(2 * s):
+                    M[i, j] = _red(M[i, j] - g * M[c, j], p, pinv)
+    for i in range(s):
+        for j in range(s):
+            out[i, j] = M[i, s + j]
+    return True
+
+
+@njit(**_JIT)
+def _matmul(A, B, rows, cols, p, pinv):
+    """``(A @ B)[:rows, :cols]`` modulo ``p``, reducing every 64 products (64 p^2 < 2^53)."""
+    inner = A.shape[1]
+    out = np.zeros((rows, cols))
+    for i in range(rows):
+        for j in range(cols):
+            acc = 0.0
+            for k in range(inner):
+                acc += A[i, k] * B[k, j]
+                if k % 64 == 63:
+                    acc = _red(acc, p, pinv)
+            out[i, j] = _red(acc, p, pinv)
+    return out
+
+
+@njit(**_JIT)
+def _eliminate(A, n, p, pinv, c1, c2, out):
+    """Leading pair-Pfaffians of the skew matrix ``A`` (upper triangle, ``2n``-square), lazily reduced.
+
+    ``out[k] = Pf(A[:2k+2, :2k+2])``; False on a zero pivot (the caller moves the evaluation point).
+    """
+    size = uint64(2 * n)
+    one = uint64(1)
+    two = uint64(2)
+    pf = 1.0
+    for k in range(n):
+        i0 = uint64(2 * k)
+        i1 = i0 + one
+        for j in range(i1, size):  # the pivot rows become exact residues
+            A[i0, j] = _red(A[i0, j], p, pinv)
+        for j in range(i1 + one, size):
+            A[i1, j] = _red(A[i1, j], p, pinv)
+        a = A[i0, i1]
+        if a == 0.0:
+            return False
+        pf = _red(pf * a, p, pinv)
+        out[k] = pf
+        if k == n - 1:
+            break
+        ainv = _inv(a, p, pinv)
+        for i in range(i1 + one, size):
+            # Schur complement of the pivot block [[0, a], [-a, 0]]:
+            # A_ij <- A_ij + (A_{i1,i} A_{i0,j} - A_{i0,i} A_{i1,j}) / a
+            c1[i] = _red(A[i1, i] * ainv, p, pinv)
+            c2[i] = _red((p - A[i0, i]) * ainv, p, pinv)
+        i = i1 + one
+        while i + one < size:  # two rows at a time: the pivot rows are loaded once
+            a1 = c1[i]
+            a2 = c2[i]
+            b1 = c1[i + one]
+            b2 = c2[i + one]
+            A[i, i + one] = A[i, i + one] + a1 * A[i0, i + one] + a2 * A[i1, i + one]
+            for j in range(i + two, size):
+                x0 = A[i0, j]
+                x1 = A[i1, j]
+                A[i, j] = A[i, j] + a1 * x0 + a2 * x1
+                A[i + one, j] = A[i + one, j] + b1 * x0 + b2 * x1
+            i += two
+    return True
+
+
+@njit(**_JIT)
+def point_values(B, X1, expo, c, us, n, p, R):
+    """``R[j, k] = E_c[y_j^{N_m(B)}] Z``-free ratios at the level fugacity ``q = c``, modulo ``p``.
+
+    Builds ``K(c) = B + Q X1 Q`` (``Q = diag(c^expo)``), the kernel ``W`` from
+    ``K^{-1}`` and, for every ``u_j = y_j - 1`` of ``us``, the leading
+    pair-Pfaffians of ``J + D_u W D_u``: ``R[j, k]`` is the window of the
+    ``k + 1`` largest parts (``m = n - k``).  Returns False when ``K(c)`` is
+    singular or a pivot vanishes modulo ``p`` (the caller takes another ``c``).
+    """
+    pinv = 1.0 / p
+    s = B.shape[0]
+    qp = np.empty(s)
+    for i in range(s):
+        x = 1.0
+        for _ in range(expo[i]):
+            x = _red(x * c, p, pinv)
+        qp[i] = x
+    K = np.empty((s, s))
+    for i in range(s):
+        for j in range(s):
+            K[i, j] = _red(B[i, j] + _red(qp[i] * X1[i, j], p, pinv) * qp[j], p, pinv)
+    Ki = np.empty((s, s))
+    if not _inverse(K, Ki, p, pinv):
+        return False
+    BKi = _matmul(B, Ki, n, s, p, pinv)
+    BKiB = _matmul(BKi, B, n, n, p, pinv)
+    size = 2 * n
+    A = np.empty((size, size))
+    c1 = np.empty(size)
+    c2 = np.empty(size)
+    out = np.empty(n)
+    for jy in range(us.shape[0]):
+        u = us[jy]
+        uu = _red(u * u, p, pinv)
+        for a in range(n):
+            for b in range(a, n):
+                # W = -G0^{-1}; copies interleaved (2a: copy 0, scaled by u; 2a+1: copy 1); J on the pairs
+                if b > a:
+                    A[2 * a, 2 * b] = _red(_red(BKiB[a, b] - B[a, b], p, pinv) * uu, p, pinv)
+                    A[2 * a + 1, 2 * b] = _red((p - BKi[b, a]) * u, p, pinv)
+                    A[2 * a + 1, 2 * b + 1] = _red(p - Ki[a, b], p, pinv)
+                A[2 * a, 2 * b + 1] = _red(BKi[a, b] * u + (1.0 if a == b else 0.0), p, pinv)
+        if not _eliminate(A, n, p, pinv, c1, c2, out):
+            return False
+        for k in range(n):
+            R[jy, k] = out[k]
+    return True
+
+
+@njit(**_JIT)
+def _quotient_at(P, x, p, pinv, q):
+    """Synthetic division of the monic ``P`` (coefficients low to high) by ``(X - x)`` into ``q``."""
+    deg = P.shape[0] - 1
+    q[deg - 1] = 1.0
+    for k in range(deg - 1, 0, -1):
+        q[k - 1] = _red(P[k] + x * q[k], p, pinv)
+
+
+@njit(**_JIT)
+def _master(points, p, pinv):
+    """Coefficients (low to high) of ``prod_i (X - points_i)`` modulo ``p``."""
+    M = points.shape[0]
+    P = np.zeros(M + 1)
+    P[0] = 1.0
+    for i in range(M):
+        x = p - points[i]
+        for k in range(i + 1, 0, -1):
+            P[k] = _red(P[k - 1] + x * P[k], p, pinv)
+        P[0] = _red(x * P[0], p, pinv)
+    return P
+
+
+@njit(**_JIT)
+def dual_weights(points, g, p):
+    """``lam`` with ``sum_i lam_i points_i^l = g_l`` for ``l < M`` (transposed Vandermonde, O(M^2)).
+
+    ``lam_i = phi(L_i)`` for the Lagrange basis ``L_i`` and the functional ``phi(X^l) = g_l``.
+    """
+    pinv = 1.0 / p
+    M = points.shape[0]
+    P = _master(points, p, pinv)
+    q = np.empty(M)
+    lam = np.empty(M)
+    for i in range(M):
+        _quotient_at(P, points[i], p, pinv, q)
+        num = 0.0
+        den = 0.0
+        for k in range(M - 1, -1, -1):
+            num = _red(num + g[k] * q[k], p, pinv)
+            den = _red(den * points[i] + q[k], p, pinv)
+        lam[i] = _red(num * _inv(den, p, pinv), p, pinv)
+    return lam
+
+
+@njit(**_JIT)
+def lagrange_matrix(points, p):
+    """``L[k, j]``: coefficient of ``X^k`` in the Lagrange basis polynomial of ``points_j`` (the inverse Vandermonde)."""
+    pinv = 1.0 / p
+    M = points.shape[0]
+    P = _master(points, p, pinv)
+    q = np.empty(M)
+    L = np.empty((M, M))
+    for j in range(M):
+        _quotient_at(P, points[j], p, pinv, q)
+        den = 0.0
+        for k in range(M - 1, -1, -1):
+            den = _red(den * points[j] + q[k], p, pinv)
+        f = _inv(den, p, pinv)
+        for k in range(M):
+            L[k, j] = _red(q[k] * f, p, pinv)
+    return L
+
+
+@njit(**_JIT)
+def weighted_sum(w, R, p):
+    """``sum_i w_i R[i]`` modulo ``p`` for a stack ``R`` of shape ``(m, a, b)`` (lazy, every 64 terms)."""
+    pinv = 1.0 / p
+    m, a, b = R.shape
+    out = np.zeros((a, b))
+    for i in range(m):
+        wi = w[i]
+        for x in range(a):
+            for y in range(b):
+                out[x, y] += wi * R[i, x, y]
+        if i % 64 == 63:
+            for x in range(a):
+                for y in range(b):
+                    out[x, y] = _red(out[x, y], p, pinv)
+    for x in range(a):
+        for y in range(b):
+            out[x, y] = _red(out[x, y], p, pinv)
+    return out

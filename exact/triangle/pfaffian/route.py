@@ -14,8 +14,8 @@ May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
 
 Examples
 --------
->>> count(7), count(12) == 7869992667586560
-(33592, True)
+>>> count(7), count(10)  # d! * normalization, Eq. (4.1)
+(33592, 3973186258569120)
 >>> [str(x) for x in mean_W(5)[-1]]  # Eqs. (4.63)-(4.77): the bottom row, N = 5
 ['1/11', '1/4', '7/22', '1/4', '1/11']
 """

@@ -92,35 +92,49 @@ def pfaffian_mod(A, p):
 
 @njit(**_JIT)
 def _inverse(K, out, p, pinv):
-    """``out = K^{-1}`` modulo ``p`` by Gauss-Jordan with row pivoting; False if ``K`` is singular mod p."""
+    """``out = K^{-1}`` modulo ``p`` by Gauss-Jordan with row pivoting; False if ``K`` is singular mod p.
+
+    Rows other than the pivot row are reduced lazily: each round adds less
+    than ``p^2``, and everything is reduced after ``lazy`` rounds.
+    """
     s = K.shape[0]
     M = np.zeros((s, 2 * s))
     for i in range(s):
         for j in range(s):
             M[i, j] = K[i, j]
         M[i, s + i] = 1.0
+    lazy = max(1, int((2.0**53 - 2.0**24) / (p * p)) - 1)
+    rounds = 0
     for c in range(s):
         r = -1
         for i in range(c, s):
-            if M[i, c] != 0.0:
+            M[i, c] = _red(M[i, c], p, pinv)
+            if r < 0 and M[i, c] != 0.0:
                 r = i
-                break
         if r < 0:
             return False
         if r != c:
             for j in range(2 * s):
                 M[c, j], M[r, j] = M[r, j], M[c, j]
         f = _inv(M[c, c], p, pinv)
-        for j in range(2 * s):
-            M[c, j] = _red(M[c, j] * f, p, pinv)
+        for j in range(c, 2 * s):
+            M[c, j] = _red(_red(M[c, j], p, pinv) * f, p, pinv)
         for i in range(s):
-            if i != c and M[i, c] != 0.0:
-                g = M[i, c]
-                for j in range(2 * s):
-                    M[i, j] = _red(M[i, j] - g * M[c, j], p, pinv)
+            if i != c:
+                g = _red(M[i, c], p, pinv)
+                if g != 0.0:
+                    g = p - g
+                    for j in range(c, 2 * s):
+                        M[i, j] += g * M[c, j]
+        rounds += 1
+        if rounds >= lazy:
+            for i in range(s):
+                for j in range(c, 2 * s):
+                    M[i, j] = _red(M[i, j], p, pinv)
+            rounds = 0
     for i in range(s):
         for j in range(s):
-            out[i, j] = M[i, s + j]
+            out[i, j] = _red(M[i, s + j], p, pinv)
     return True
 
 
@@ -140,22 +154,31 @@ def _matmul(A, B, rows, cols, p, pinv):
     return out
 
 
-@njit(**_JIT)
+@njit(fastmath={"contract"}, **_JIT)
 def _eliminate(A, n, p, pinv, c1, c2, out):
     """Leading pair-Pfaffians of the skew matrix ``A`` (upper triangle, ``2n``-square), lazily reduced.
 
-    ``out[k] = Pf(A[:2k+2, :2k+2])``; False on a zero pivot (the caller moves the evaluation point).
+    ``out[k] = Pf(A[:2k+2, :2k+2])``; False on a zero pivot (the caller moves
+    the evaluation point).  ``A`` may be wider than ``2n`` (zero columns): rows
+    are updated in whole blocks of 8 from a multiple of 8, so the vector loop
+    has no remainder.  The entries this touches below the diagonal (zero at
+    the start) are never read for a result; they obey the same bound, since
+    the pivot rows are reduced from the first block on.  Contracting
+    ``a*b + c`` into one fused multiply-add is exact here (every result is an
+    integer below ``2^53``).
     """
     size = uint64(2 * n)
+    width = uint64(A.shape[1])
     one = uint64(1)
     two = uint64(2)
+    block = ~uint64(7)
     pf = 1.0
     for k in range(n):
         i0 = uint64(2 * k)
         i1 = i0 + one
-        for j in range(i1, size):  # the pivot rows become exact residues
+        start = i0 & block  # covers the pivot A[i0, i1] and every block the rows below read
+        for j in range(start, width):  # the pivot rows become exact residues
             A[i0, j] = _red(A[i0, j], p, pinv)
-        for j in range(i1 + one, size):
             A[i1, j] = _red(A[i1, j], p, pinv)
         a = A[i0, i1]
         if a == 0.0:
@@ -176,13 +199,17 @@ def _eliminate(A, n, p, pinv, c1, c2, out):
             a2 = c2[i]
             b1 = c1[i + one]
             b2 = c2[i + one]
-            A[i, i + one] = A[i, i + one] + a1 * A[i0, i + one] + a2 * A[i1, i + one]
-            for j in range(i + two, size):
+            for j in range((i + one) & block, width):
                 x0 = A[i0, j]
                 x1 = A[i1, j]
                 A[i, j] = A[i, j] + a1 * x0 + a2 * x1
                 A[i + one, j] = A[i + one, j] + b1 * x0 + b2 * x1
             i += two
+        if i < size:
+            a1 = c1[i]
+            a2 = c2[i]
+            for j in range((i + one) & block, width):
+                A[i, j] = A[i, j] + a1 * A[i0, j] + a2 * A[i1, j]
     return True
 
 
@@ -214,21 +241,36 @@ def point_values(B, X1, expo, c, us, n, p, R):
     BKi = _matmul(B, Ki, n, s, p, pinv)
     BKiB = _matmul(BKi, B, n, n, p, pinv)
     size = 2 * n
-    A = np.empty((size, size))
+    # W = -G0^{-1}, G0^{-1} = [[B - B K^-1 B, -B K^-1], [K^-1 B, K^-1]], copies interleaved
+    # (2a: copy 0, 2a+1: copy 1); upper triangle only
+    Wt = np.zeros((size, size))
+    for a in range(n):
+        for b in range(a, n):
+            if b > a:
+                Wt[2 * a, 2 * b] = _red(BKiB[a, b] - B[a, b], p, pinv)
+                Wt[2 * a + 1, 2 * b] = p - BKi[b, a]
+                Wt[2 * a + 1, 2 * b + 1] = p - Ki[a, b]
+            Wt[2 * a, 2 * b + 1] = BKi[a, b]
+    A = np.zeros((size, (size + 7) // 8 * 8))  # padded to whole blocks of 8 (zeros stay zero)
     c1 = np.empty(size)
     c2 = np.empty(size)
     out = np.empty(n)
+    scale = np.empty((2, size))
     for jy in range(us.shape[0]):
+        # J + D_u W D_u, D_u = diag(u, 1, u, 1, ...): entries below p^2, which the lazy bound allows
         u = us[jy]
         uu = _red(u * u, p, pinv)
+        for j in range(0, size, 2):
+            scale[0, j], scale[0, j + 1] = uu, u  # row of copy 0
+            scale[1, j], scale[1, j + 1] = u, 1.0  # row of copy 1
+        for i in range(size):
+            for j in range(i - i % 8, i + 1):  # the part of the first block below the diagonal
+                A[i, j] = 0.0
+            sc = scale[i % 2]
+            for j in range(i + 1, size):
+                A[i, j] = Wt[i, j] * sc[j]
         for a in range(n):
-            for b in range(a, n):
-                # W = -G0^{-1}; copies interleaved (2a: copy 0, scaled by u; 2a+1: copy 1); J on the pairs
-                if b > a:
-                    A[2 * a, 2 * b] = _red(_red(BKiB[a, b] - B[a, b], p, pinv) * uu, p, pinv)
-                    A[2 * a + 1, 2 * b] = _red((p - BKi[b, a]) * u, p, pinv)
-                    A[2 * a + 1, 2 * b + 1] = _red(p - Ki[a, b], p, pinv)
-                A[2 * a, 2 * b + 1] = _red(BKi[a, b] * u + (1.0 if a == b else 0.0), p, pinv)
+            A[2 * a, 2 * a + 1] += 1.0
         if not _eliminate(A, n, p, pinv, c1, c2, out):
             return False
         for k in range(n):

@@ -137,7 +137,7 @@ def prime_residues(N: int, p: int, backend: str = "numba", total_mod_p: int | No
     N : int
         Number of layers, ``N >= 2``.
     p : int
-        A prime below :func:`prime_limit` ``(N - 1)`` and above ``2 N``.
+        A prime below :func:`prime_limit` ``(N - 1)``, above ``2 N + 2`` and ``d + 1``.
     backend : {"numba", "python"}
         The compiled kernels or their pure-Python twins (small ``N`` only).
     total_mod_p : int, optional
@@ -157,9 +157,10 @@ def prime_residues(N: int, p: int, backend: str = "numba", total_mod_p: int | No
     N = check_layers(N)
     n, d = N - 1, N * (N - 1) // 2
     limit = prime_limit(max(n, 1))
-    p = check_int(p, "p", 2 * N + 3, limit - 1)
+    low = max(2 * N + 3, d + 2)  # p > d: d! and count are units mod p (count divides d!), B is invertible
+    p = check_int(p, "p", low, limit - 1)
     if not is_prime(p):
-        raise ValueError(f"p={p} is out of range: p must be a prime in {2 * N + 3}..{limit - 1}")
+        raise ValueError(f"p={p} is out of range: p must be a prime in {low}..{limit - 1}")
     K = _kernels(backend)
     S = np.zeros((n + 1, n + 1), dtype=np.int64)
     if n == 0:

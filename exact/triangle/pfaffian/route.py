@@ -47,7 +47,7 @@ MAX_N = 200
 _SECONDS_PER_UPDATE = 0.30e-9  # one multiply-add pair of the pair elimination (incl. the matrix set-up per y)
 _SECONDS_PER_KERNEL = 2.8e-9  # per s^3 of the kernel K(q)^-1, B K^-1, B K^-1 B (s = n + 1 or n + 2)
 _STARTUP_SECONDS = 1.5  # numba import and loading the cached kernels (first compilation ever: ~10 s more)
-_PARALLEL_MIN_SECONDS = 8.0  # below this, worker start-up costs more than it saves
+_PARALLEL_MIN_SECONDS = 20.0  # below this, starting workers (numba import, ~3 s each) costs more than it saves
 
 
 def route_primes(N: int):
@@ -61,7 +61,7 @@ def route_primes(N: int):
     """
     N = check_layers(N)
     p = prime_limit(max(N - 1, 1)) - 1
-    while p > 2 * N + 3:
+    while p > max(2 * N + 3, N * (N - 1) // 2 + 2):
         if is_prime(p):
             yield p
         p -= 1

@@ -60,6 +60,12 @@ def test_count_is_the_product_formula(N):
     assert route.count(N) == count(N)
 
 
+def test_normalization_is_eq_4_1():
+    from forcenet.exact import normalization
+
+    assert [route.normalization(N) for N in (2, 4, 9, 17)] == [normalization(N) for N in (2, 4, 9, 17)]
+
+
 @pytest.mark.parametrize("N", range(2, 9))
 def test_count_exact_fractions(N):
     assert schur.count_exact(N) == count(N)
@@ -190,7 +196,7 @@ def test_compiled_prime_residues_equal_pure_python(N):
     assert (engine.prime_residues(N, PRIME) == engine.prime_residues(N, PRIME, backend="python")).all()
 
 
-@pytest.mark.parametrize("n", [2, 3, 4, 5, 9, 17])
+@pytest.mark.parametrize("n", [1, 2, 3, 4, 5, 9, 16, 17])
 def test_lazy_pair_elimination_equals_textbook_elimination(n):
     rng = np.random.default_rng(n)
     M = rng.integers(0, PRIME, (2 * n, 2 * n))
@@ -198,8 +204,8 @@ def test_lazy_pair_elimination_equals_textbook_elimination(n):
     ref = kernels_python._pair_pfaffians([[int(x) for x in r] for r in M], PRIME, False)
     A = np.zeros((2 * n, (2 * n + 7) // 8 * 8))
     A[:, : 2 * n] = np.triu(M, 1)
-    out, c = np.zeros(n), np.zeros(2 * n)
-    assert kernels._eliminate(A, n, float(PRIME), 1 / PRIME, c, c.copy(), out)
+    out, c = np.zeros(n), np.zeros((4, 2 * n))
+    assert kernels._eliminate(A, n, float(PRIME), 1 / PRIME, c[0], c[1], c[2], c[3], out)
     assert out.astype(np.int64).tolist() == ref
 
 

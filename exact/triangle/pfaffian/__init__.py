@@ -21,6 +21,6 @@ Examples
 (286, ['1/7', '5/14', '5/14', '1/7'])
 """
 
-from .route import count, expected_entries, mean_W, survival_table, table_plan, table_run
+from .route import count, expected_entries, mean_W, normalization, survival_table, table_plan, table_run
 
-__all__ = ["count", "expected_entries", "mean_W", "survival_table", "table_plan", "table_run"]
+__all__ = ["count", "normalization", "expected_entries", "mean_W", "survival_table", "table_plan", "table_run"]

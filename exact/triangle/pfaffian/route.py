@@ -35,6 +35,7 @@ __all__ = [
     "MAX_N",
     "route_primes",
     "count",
+    "normalization",
     "survival_table",
     "mean_W",
     "expected_entries",
@@ -44,8 +45,9 @@ __all__ = [
 
 MAX_N = 200
 # measured on the 2-core machine (numba 0.68, AVX-512), CPU seconds; notes/benchmarks.md
-_SECONDS_PER_UPDATE = 0.30e-9  # one multiply-add pair of the pair elimination (incl. the matrix set-up per y)
-_SECONDS_PER_KERNEL = 2.8e-9  # per s^3 of the kernel K(q)^-1, B K^-1, B K^-1 B (s = n + 1 or n + 2)
+_SECONDS_PER_UPDATE = 0.10e-9  # one entry of the pair elimination (2n^3/3 per y), two fused multiply-adds
+_SECONDS_PER_ROW = 3.0e-9  # per n^2 and y: pivots (inverses), multipliers, the matrix set-up
+_SECONDS_PER_KERNEL = 0.65e-9  # per s^3 of the kernel K(q)^-1, B K^-1, B K^-1 B (s = n + 1 or n + 2)
 _STARTUP_SECONDS = 1.5  # numba import and loading the cached kernels (first compilation ever: ~10 s more)
 _PARALLEL_MIN_SECONDS = 20.0  # below this, starting workers (numba import, ~3 s each) costs more than it saves
 
@@ -109,6 +111,18 @@ def count(N: int, backend: str = "numba") -> int:
     N = check_layers(N, maximum=MAX_N)
     primes = _primes_above(factorial(N * (N - 1) // 2), N)
     return _CRT(primes)([count_residue(N, p, backend) for p in primes])
+
+
+def normalization(N: int, backend: str = "numba") -> Fraction:
+    """The normalization (4.1), the volume of the triangle's force space: ``count / d! = Pf(B)``.
+
+    Examples
+    --------
+    >>> normalization(4)
+    Fraction(1, 360)
+    """
+    N = check_layers(N, maximum=MAX_N)
+    return Fraction(count(N, backend), factorial(N * (N - 1) // 2))
 
 
 def _one_prime(args):
@@ -238,7 +252,8 @@ def _seconds(N: int) -> float:
     reps = level_points(d) // 2
     ys = 2 * ((n + 1) // 2)
     s = n + 1 + (n + 1) % 2
-    return reps * (ys * _SECONDS_PER_UPDATE * (2 * n**3 / 3 + 6 * n**2) + _SECONDS_PER_KERNEL * s**3) + 1e-3
+    per_y = _SECONDS_PER_UPDATE * 2 * n**3 / 3 + _SECONDS_PER_ROW * n**2
+    return reps * (ys * per_y + _SECONDS_PER_KERNEL * s**3) + 1e-3
 
 
 def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None, workers: int | None = None) -> Plan:

@@ -24,7 +24,8 @@ missing small ones are computed), and
 
 Usage::
 
-    python benchmarks/scaling_refit.py --N 8 12 16 20 24 28 32 40 48 56 64 --dir out
+    python benchmarks/scaling_refit.py --lattice 72 80 88 100 --dir out     # exact <W_(i,1)> only (minutes each)
+    python benchmarks/scaling_refit.py --N 8 12 16 20 24 28 32 40 48 56 64 --edge-N 72 80 88 100 --dir out
 """
 
 from __future__ import annotations
@@ -43,6 +44,38 @@ SAMPLED = {
     0.5: {50: (0.0302, 0.0003), 100: (0.0174, 0.0003), 200: (0.0106, 0.0003), 500: (0.0057, 0.0003), 1000: (0.0028, 0.0003)},
     0.75: {50: (0.0123, 0.0001), 100: (0.0071, 0.0001), 200: (0.0042, 0.0001), 500: (0.0021, 0.0001), 1000: (0.0012, 0.0001)},
 }
+
+
+def load_column(N: int, directory: str):
+    """``<W_{i,1}>``, ``i = 1..N``: from the full table if there is one, else from ``lattice_N{N}.json``."""
+    full = os.path.join(directory, f"mean_W_N{N}.json")
+    if os.path.exists(full) or N <= 40:
+        return [row[0] for row in load_table(N, directory)]
+    path = os.path.join(directory, f"lattice_N{N}.json")
+    if not os.path.exists(path):
+        raise SystemExit(f"{path} is missing: python benchmarks/scaling_refit.py --lattice {N} --dir {directory}")
+    with open(path) as handle:
+        return [float(Fraction(x)) for x in json.load(handle)["W_i1"]]
+
+
+def write_lattice(N: int, directory: str):
+    """Exact ``<W_{i,1}>`` by :func:`forcenet.exact.triangle.pfaffian.route.lattice_direction` into ``lattice_N{N}.json``."""
+    import time
+
+    from forcenet.exact.triangle.pfaffian.route import lattice_direction, lattice_direction_plan
+    from forcenet.exact.triangle.tables import write_atomic
+
+    plan = lattice_direction_plan(N)
+    t0, c0 = time.perf_counter(), time.process_time()
+    column = lattice_direction(N)
+    wall = time.perf_counter() - t0
+    import resource
+
+    cpu = time.process_time() - c0 + sum(getattr(resource.getrusage(resource.RUSAGE_CHILDREN), f) for f in ("ru_utime", "ru_stime"))
+    write_atomic(os.path.join(directory, f"lattice_N{N}.json"),
+                 json.dumps({"N": N, "W_i1": [f"{x.numerator}/{x.denominator}" for x in column]}) + "\n")
+    print(f"N={N}: lattice direction exact, {plan.ticks} primes, plan {plan.seconds:.0f} s, "
+          f"wall {wall:.0f} s, CPU {cpu:.0f} s, load {os.getloadavg()[0]:.1f}", flush=True)
 
 
 def load_table(N: int, directory: str):
@@ -95,12 +128,20 @@ def main(argv=None):
     parser.add_argument("--dir", default="out")
     parser.add_argument("--fit-from", type=int, default=16, help="smallest N used in the fits")
     parser.add_argument("--figures", default="notes/figures")
+    parser.add_argument("--edge-N", type=int, nargs="*", default=[], help="further N with the lattice direction only")
+    parser.add_argument("--lattice", type=int, nargs="*", default=[], help="compute lattice_N{N}.json for these N and stop")
     args = parser.parse_args(argv)
+    if args.lattice:
+        for N in args.lattice:
+            write_lattice(N, args.dir)
+        return
     Ns = sorted(N for N in args.N if N % 4 == 0)
     tables = {N: load_table(N, args.dir) for N in Ns}
+    edge_Ns = sorted(set(Ns) | {N for N in args.edge_N if N % 4 == 0})
+    columns = {N: (load_column(N, args.dir) if N not in tables else [row[0] for row in tables[N]]) for N in edge_Ns}
 
     def edge(z):
-        return lambda N: (tables[N][round(z * N) - 1][0], float(lattice_response(round(z * N) / N)))
+        return lambda N: (columns[N][round(z * N) - 1], float(lattice_response(round(z * N) / N)))
 
     def bulk(z):
         def probe(N):
@@ -111,27 +152,29 @@ def main(argv=None):
 
         return probe
 
-    probes = [("edge z=1/4", edge(0.25), None), ("edge z=1/2", edge(0.5), 0.5), ("edge z=3/4", edge(0.75), 0.75),
-              ("bulk z=1/2, x~0 (N<W>)", bulk(0.5), None), ("bulk z=3/4, x~0 (N<W>)", bulk(0.75), None)]
+    probes = [("edge z=1/4", edge(0.25), None, edge_Ns), ("edge z=1/2", edge(0.5), 0.5, edge_Ns),
+              ("edge z=3/4", edge(0.75), 0.75, edge_Ns),
+              ("bulk z=1/2, x~0 (N<W>)", bulk(0.5), None, Ns), ("bulk z=3/4, x~0 (N<W>)", bulk(0.75), None, Ns)]
     fitted = {}
-    print("| probe | limit | " + " | ".join(f"N={N}" for N in Ns) + " |")
-    print("|" + " --- |" * (len(Ns) + 2))
-    for name, probe, _ in probes:
-        values = [probe(N) for N in Ns]
-        devs = [ex - lim for ex, lim in values]
-        fitted[name] = devs
-        print(f"| {name} | {values[-1][1]:.5f} | " + " | ".join(f"{d:+.5f}" for d in devs) + " |")
+    print("| probe | limit | " + " | ".join(f"N={N}" for N in edge_Ns) + " |")
+    print("|" + " --- |" * (len(edge_Ns) + 2))
+    for name, probe, _, sizes in probes:
+        values = {N: probe(N) for N in sizes}
+        fitted[name] = {N: ex - lim for N, (ex, lim) in values.items()}
+        cells = " | ".join(f"{fitted[name][N]:+.5f}" if N in sizes else "-" for N in edge_Ns)
+        print(f"| {name} | {values[sizes[-1]][1]:.5f} | {cells} |")
     print("\nlocal exponents -dlog|delta|/dlogN between neighbouring N:")
     for name, devs in fitted.items():
-        loc = [-np.log(abs(devs[k + 1] / devs[k])) / np.log(Ns[k + 1] / Ns[k]) for k in range(len(Ns) - 1)]
-        print(f"  {name}: " + ", ".join(f"{Ns[k]}-{Ns[k + 1]}: {v:.2f}" for k, v in enumerate(loc)))
-    use = [N for N in Ns if N >= args.fit_from]
-    print(f"\nfits over N = {use[0]}..{use[-1]} (relative RMS residual), and the fit's prediction of the sampled deviations:")
-    print("| probe | model | parameters | rel. RMS | " + " | ".join(f"N={N} sampled" for N in SAMPLED[0.5]) + " |")
-    print("|" + " --- |" * (4 + len(SAMPLED[0.5])))
+        sizes = sorted(devs)
+        loc = [-np.log(abs(devs[b] / devs[a])) / np.log(b / a) for a, b in zip(sizes, sizes[1:])]
+        print(f"  {name}: " + ", ".join(f"{a}-{b}: {v:.2f}" for (a, b), v in zip(zip(sizes, sizes[1:]), loc)))
+    print(f"\nfits over N >= {args.fit_from} (relative RMS residual), and the fit's prediction of the sampled deviations:")
+    print("| probe | model | N range | parameters | rel. RMS | " + " | ".join(f"N={N} sampled" for N in SAMPLED[0.5]) + " |")
+    print("|" + " --- |" * (5 + len(SAMPLED[0.5])))
     results = {}
-    for name, _, z in probes:
-        devs = [fitted[name][Ns.index(N)] for N in use]
+    for name, _, z, sizes in probes:
+        use = [N for N in sizes if N >= args.fit_from]
+        devs = [fitted[name][N] for N in use]
         for model in MODELS:
             params, rms = fit(model, use, devs)
             results[(name, model)] = params
@@ -140,7 +183,7 @@ def main(argv=None):
                 cells = " | ".join(f"{predict(model, params, N):.4f} vs {d:.4f}±{e:.4f}" for N, (d, e) in SAMPLED[z].items())
             else:
                 cells = " | ".join("-" for _ in SAMPLED[0.5])
-            print(f"| {name} | {model} | " + ", ".join(f"{p:.4g}" for p in params) + f" | {rms:.2e} | {cells} |")
+            print(f"| {name} | {model} | {use[0]}-{use[-1]} | " + ", ".join(f"{p:.4g}" for p in params) + f" | {rms:.2e} | {cells} |")
 
     import matplotlib
 
@@ -149,9 +192,10 @@ def main(argv=None):
 
     os.makedirs(args.figures, exist_ok=True)
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
-    grid = np.geomspace(use[0], 1200, 200)
+    grid = np.geomspace(args.fit_from, 1200, 200)
     for ax, (name, z) in zip(axes, (("edge z=1/2", 0.5), ("edge z=3/4", 0.75))):
-        ax.loglog(Ns, np.abs(fitted[name]), "ko", ms=4, label="exact tables (Pfaffian route)")
+        sizes = sorted(fitted[name])
+        ax.loglog(sizes, [abs(fitted[name][N]) for N in sizes], "ko", ms=4, label="exact (Pfaffian route)")
         sN = list(SAMPLED[z])
         ax.errorbar(sN, [SAMPLED[z][N][0] for N in sN], yerr=[SAMPLED[z][N][1] for N in sN], fmt="s", color="C3",
                     ms=4, label="exact sampler (not fitted)")

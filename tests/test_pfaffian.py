@@ -43,6 +43,16 @@ def test_mean_W_equals_the_order_ideal_dp_slow(N):
     assert route.mean_W(N) == mean_W(N)
 
 
+@pytest.mark.parametrize("N", range(2, 17))
+def test_lattice_direction_equals_the_dp(N):
+    assert route.lattice_direction(N, workers=1) == [row[0] for row in mean_W(N)]
+
+
+@pytest.mark.parametrize("N", [2, 3, 5, 6])
+def test_lattice_direction_pure_python(N):
+    assert route.lattice_direction(N, workers=1, backend="python") == [row[0] for row in mean_W(N)]
+
+
 @settings(max_examples=10, deadline=None)
 @given(N=st.integers(min_value=2, max_value=14))
 def test_survival_table_equals_the_dp_survival_counts(N):
@@ -220,6 +230,20 @@ def test_interpolation_weights():
         assert ((V @ L) % PRIME == np.eye(4, dtype=np.int64)).all()
 
 
+def test_compiled_edge_values_equal_pure_python():
+    n, p = 6, PRIME
+    B, X1, expo = engine.setup_matrices(n, p)
+    R1, R2 = np.zeros((2, n)), np.zeros((2, n))
+    assert kernels.edge_values(B, X1, expo, 5.0, n, float(p), R1)
+    assert kernels_python.edge_values(B, X1, expo, 5.0, n, float(p), R2)
+    assert (R1 == R2).all()
+
+
+def test_edge_residues_are_the_first_column():
+    for N in (3, 7, 12):
+        assert (engine.edge_residues(N, PRIME)[1:] == engine.prime_residues(N, PRIME)[1:, 0]).all()
+
+
 def test_a_zero_pivot_moves_the_point(monkeypatch):
     """Evaluation points that fail modulo p are replaced; the result does not change."""
     real = kernels.point_values
@@ -233,6 +257,15 @@ def test_a_zero_pivot_moves_the_point(monkeypatch):
     monkeypatch.setattr(kernels, "point_values", flaky)
     assert (engine.prime_residues(7, PRIME) == expected).all()
     assert len(calls) > engine.level_points(21) // 2
+    real_edge, calls[:] = kernels.edge_values, []
+
+    def flaky_edge(B, X1, expo, c, n, p, R):
+        calls.append(c)
+        return False if len(calls) % 3 == 0 else real_edge(B, X1, expo, c, n, p, R)
+
+    edge = engine.edge_residues(7, PRIME)
+    monkeypatch.setattr(kernels, "edge_values", flaky_edge)
+    assert (engine.edge_residues(7, PRIME) == edge).all()
 
 
 def test_prime_limit_keeps_the_lazy_elimination_exact():
@@ -262,6 +295,7 @@ def test_bad_arguments(call):
 @pytest.mark.parametrize("N", [30, 34])
 def test_row_sums_and_mirror_symmetry_beyond_the_dp(N):
     W = route.mean_W(N)
+    assert route.lattice_direction(N) == [row[0] for row in W]
     assert all(sum(row) == 1 for row in W)
     assert all(W[i][j] == W[i][i - j] for i in range(N) for j in range(i + 1))  # not built into the route
     assert all(w > 0 for row in W for w in row)
@@ -314,6 +348,12 @@ def test_plan_and_refusals():
     assert "GiB of memory" in table_plan("pfaffian", 40, memory_bytes=2**20).refusal
     big = table_plan("pfaffian", 64)
     assert big.runnable and big.seconds > 60  # the command line asks for --force
+
+
+def test_lattice_direction_plan():
+    plan = route.lattice_direction_plan(100)
+    assert plan.runnable and plan.unit == "prime" and plan.seconds < table_plan("pfaffian", 100).seconds / 5
+    assert "N must be an integer in 2..200" in route.lattice_direction_plan(300).refusal
 
 
 def test_ticks_are_primes():

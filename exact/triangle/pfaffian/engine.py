@@ -37,7 +37,7 @@ from ...modular import is_prime
 from ...validation import check_int, check_layers
 from .schur import labels
 
-__all__ = ["prime_limit", "level_points", "setup_matrices", "prime_residues", "count_residue", "PointFailure"]
+__all__ = ["prime_limit", "level_points", "setup_matrices", "prime_residues", "edge_residues", "count_residue", "PointFailure"]
 
 MAX_POINT_FAILURES = 64
 
@@ -129,6 +129,58 @@ def _pair_points(p: int, taken: set):
         c += 1
 
 
+def _check_prime(N: int, p: int) -> int:
+    n, d = N - 1, N * (N - 1) // 2
+    limit = prime_limit(max(n, 1))
+    low = max(2 * N + 3, d + 2)  # p > d: d! and count are units mod p (count divides d!), B is invertible
+    p = check_int(p, "p", low, limit - 1)
+    if not is_prime(p):
+        raise ValueError(f"p={p} is out of range: p must be a prime in {low}..{limit - 1}")
+    return p
+
+
+def _level_sums(N: int, p: int, K, values, shape):
+    """Evaluate ``values(c, R)`` at the ``M/2`` representatives; the weighted sums over them and over their partners.
+
+    ``values`` fills ``R`` (shape ``shape``) at ``q = c`` and returns False on a
+    zero pivot or a singular ``K(c)``, which moves ``c`` to the next candidate.
+    Returns ``(T1, T2)``: ``sum_c lam(c) Z(c) R(c)`` and ``sum_c lam(1/c) Z(1/c) R(c)``,
+    where ``lam`` are the weights of the functional ``q^l -> l! (d - l)!`` on
+    the ``M`` points ``c, 1/c`` (the caller turns ``R(c)`` into ``R(1/c)`` by the
+    complement symmetry).
+    """
+    d = N * (N - 1) // 2
+    M = level_points(d)
+    taken: set = set()
+    reps, partners, stack = [], [], []
+    failures = 0
+    stream = _pair_points(p, taken)
+    while len(reps) < M // 2:
+        c, ci = next(stream)
+        R = np.ones(shape)
+        if not values(float(c), R):
+            failures += 1
+            if failures > MAX_POINT_FAILURES:
+                raise PointFailure(f"{failures} evaluation points failed modulo {p}")
+            continue
+        reps.append(c)
+        partners.append(ci)
+        stack.append(R)
+    R = np.stack(stack)
+    points = np.array(reps + partners, dtype=np.float64)
+    g = np.zeros(M)
+    fact = [1] * (d + 1)
+    for k in range(1, d + 1):
+        fact[k] = fact[k - 1] * k % p
+    g[: d + 1] = [fact[l] * fact[d - l] % p for l in range(d + 1)]
+    lam = K.dual_weights(points, g, float(p))
+    B, _, _ = setup_matrices(N - 1, p)
+    z0 = int(K.pfaffian_mod(B.copy(), float(p)))  # Z(q) = Z(0) (1 + q)^d
+    weight = np.array([int(lam[i]) * z0 * pow(1 + int(points[i]), d, p) % p for i in range(M)], dtype=np.float64)
+    half = M // 2
+    return K.weighted_sum(weight[:half], R, float(p)), K.weighted_sum(weight[half:], R, float(p))
+
+
 def prime_residues(N: int, p: int, backend: str = "numba", total_mod_p: int | None = None) -> np.ndarray:
     """``S[m][k] mod p`` (``m = 1..n`` rows, ``k = 0..n`` columns; row 0 unused) for ``N`` layers.
 
@@ -156,60 +208,26 @@ def prime_residues(N: int, p: int, backend: str = "numba", total_mod_p: int | No
     """
     N = check_layers(N)
     n, d = N - 1, N * (N - 1) // 2
-    limit = prime_limit(max(n, 1))
-    low = max(2 * N + 3, d + 2)  # p > d: d! and count are units mod p (count divides d!), B is invertible
-    p = check_int(p, "p", low, limit - 1)
-    if not is_prime(p):
-        raise ValueError(f"p={p} is out of range: p must be a prime in {low}..{limit - 1}")
+    p = _check_prime(N, p)
     K = _kernels(backend)
     S = np.zeros((n + 1, n + 1), dtype=np.int64)
     if n == 0:
         return S
     B, X1, expo = setup_matrices(n, p)
-    pf = float(p)
     # y points: 1 and pairs (c, 1/c), at least n + 1 of them
     y_stream = _pair_points(p, {1})
     ys = [1] + [v for _ in range((n + 1) // 2) for v in next(y_stream)]
     ny = len(ys)
     inv_index = [0] + [k + 1 + (1 if k % 2 == 0 else -1) for k in range(ny - 1)]
     us = np.array([(y - 1) % p for y in ys[1:]], dtype=np.float64)
-    # level points: M/2 representatives c (their partners 1/c come from the complement symmetry)
-    M = level_points(d)
-    taken: set = set()
-    reps, partners, values = [], [], []
-    failures = 0
-    stream = _pair_points(p, taken)
-    while len(reps) < M // 2:
-        c, ci = next(stream)
-        R = np.ones((ny, n))
-        if not K.point_values(B, X1, expo, float(c), us, n, pf, R[1:]):
-            failures += 1
-            if failures > MAX_POINT_FAILURES:
-                raise PointFailure(f"{failures} evaluation points failed modulo {p}")
-            continue
-        reps.append(c)
-        partners.append(ci)
-        values.append(R)
-    R = np.stack(values)  # (M/2, ny, n): R[i, j, k] = E_{c_i}[y_j^{N_m(B)}], m = n - k
-    # weights of the functional q^l -> l! (d-l)! on all M points, times Z(q)/Z(0) = (1 + q)^d
-    points = np.array(reps + partners, dtype=np.float64)
-    g = np.zeros(M)
-    fact = [1] * (d + 1)
-    for k in range(1, d + 1):
-        fact[k] = fact[k - 1] * k % p
-    g[: d + 1] = [fact[l] * fact[d - l] % p for l in range(d + 1)]
-    lam = K.dual_weights(points, g, pf)
-    z0 = int(K.pfaffian_mod(B.copy(), pf))
-    weight = np.array([int(lam[i]) * z0 * pow(1 + int(points[i]), d, p) % p for i in range(M)], dtype=np.float64)
-    half = M // 2
-    T1 = K.weighted_sum(weight[:half], R, pf)  # sum over the representatives
-    T2 = K.weighted_sum(weight[half:], R, pf)  # partners: R(1/c, y) = y^w R(c, 1/y)
+    # R[j, k] = E_c[y_j^{N_m(B)}], m = n - k (row 0: y = 1, all ones)
+    T1, T2 = _level_sums(N, p, K, lambda c, R: K.point_values(B, X1, expo, c, us, n, float(p), R[1:]), (ny, n))
     T = np.zeros((ny, n), dtype=np.int64)
     for j in range(ny):
         for k in range(n):
-            w = k + 1  # window size n - m + 1
+            w = k + 1  # window size n - m + 1; partners: R(1/c, y) = y^w R(c, 1/y)
             T[j, k] = (int(T1[j, k]) + pow(ys[j], w, p) * int(T2[inv_index[j], k])) % p
-    L = K.lagrange_matrix(np.array(ys, dtype=np.float64), pf).astype(np.int64)
+    L = K.lagrange_matrix(np.array(ys, dtype=np.float64), float(p)).astype(np.int64)
     coeff = _matmul_mod(L, T, p)  # coeff[t, k]: coefficient of y^t of the window k
     for k in range(n):
         w = k + 1
@@ -223,6 +241,39 @@ def prime_residues(N: int, p: int, backend: str = "numba", total_mod_p: int | No
         if any(int(S[m].sum()) % p != target for m in range(1, n + 1)):
             raise ArithmeticError(f"rows do not sum to (d + 1) count modulo {p}")
     return S
+
+
+def edge_residues(N: int, p: int, backend: str = "numba") -> np.ndarray:
+    """``S[m][0] mod p`` for ``m = 1..n`` (entry 0 unused): the lattice-direction column alone.
+
+    ``S[m][0] = sum_A w(A) [N_m(A) = 0]`` is the top coefficient in ``y`` of
+    ``Z(q) E_q[y^{N_m(B)}]`` for the representatives and, through the
+    complement symmetry, the value at ``y = 0`` for their partners: two
+    eliminations per level point (:func:`~.kernels.edge_values`) instead of
+    ``n + 1``.  The last column ``S[m][n - m + 1]`` comes from the same values
+    with the roles swapped; the mirror symmetry of the triangle says the two
+    are equal, which is checked.
+
+    Examples
+    --------
+    >>> edge_residues(4, 8388593).tolist()  # S[m][0]: compare prime_residues(4, p)[:, 0]
+    [0, 2, 4, 7]
+    """
+    N = check_layers(N)
+    n = N - 1
+    p = _check_prime(N, p)
+    K = _kernels(backend)
+    out = np.zeros(n + 1, dtype=np.int64)
+    if n == 0:
+        return out
+    B, X1, expo = setup_matrices(n, p)
+    T1, T2 = _level_sums(N, p, K, lambda c, R: K.edge_values(B, X1, expo, c, n, float(p), R), (2, n))
+    first = (T1[0].astype(np.int64) + T2[1].astype(np.int64)) % p  # all of the window in B
+    last = (T1[1].astype(np.int64) + T2[0].astype(np.int64)) % p  # none of the window in B
+    if (first != last).any():
+        raise ArithmeticError(f"the two lattice directions differ modulo {p}: inconsistent residues")
+    out[n - np.arange(n)] = first  # index k is the window of the k + 1 largest parts, m = n - k
+    return out
 
 
 def _matmul_mod(A, B, p):

@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 from numba import int64, njit, uint64
 
-__all__ = ["pfaffian_mod", "point_values", "dual_weights", "lagrange_matrix", "weighted_sum"]
+__all__ = ["pfaffian_mod", "point_values", "edge_values", "dual_weights", "lagrange_matrix", "weighted_sum"]
 
 _JIT = {"cache": True, "boundscheck": False, "nogil": True}
 
@@ -260,14 +260,12 @@ def _scaled_rows(A, Wt, scale):
 
 
 @njit(**_JIT)
-def point_values(B, X1, expo, c, us, n, p, R):
-    """``R[j, k] = E_c[y_j^{N_m(B)}] Z``-free ratios at the level fugacity ``q = c``, modulo ``p``.
+def _kernel_matrix(B, X1, expo, c, n, p, Wt):
+    """The kernel ``W`` at ``q = c`` (upper triangle, copies interleaved) into ``Wt``; False if ``K(c)`` is singular.
 
-    Builds ``K(c) = B + Q X1 Q`` (``Q = diag(c^expo)``), the kernel ``W`` from
-    ``K^{-1}`` and, for every ``u_j = y_j - 1`` of ``us``, the leading
-    pair-Pfaffians of ``J + D_u W D_u``: ``R[j, k]`` is the window of the
-    ``k + 1`` largest parts (``m = n - k``).  Returns False when ``K(c)`` is
-    singular or a pivot vanishes modulo ``p`` (the caller takes another ``c``).
+    ``K(c) = B + Q X1 Q`` (``Q = diag(c^expo)``), ``W = -G0^{-1}`` restricted to the sites,
+    ``G0^{-1} = [[B - B K^-1 B, -B K^-1], [K^-1 B, K^-1]]``; row ``2a`` is copy 0 of site ``a``
+    (the part ``n - a``), row ``2a + 1`` copy 1.
     """
     pinv = 1.0 / p
     s = B.shape[0]
@@ -286,10 +284,6 @@ def point_values(B, X1, expo, c, us, n, p, R):
         return False
     BKi = _matmul(B, Ki, n, s, p, pinv)
     BKiB = _matmul(BKi, B, n, n, p, pinv)
-    size = 2 * n
-    # W = -G0^{-1}, G0^{-1} = [[B - B K^-1 B, -B K^-1], [K^-1 B, K^-1]], copies interleaved
-    # (2a: copy 0, 2a+1: copy 1); upper triangle only
-    Wt = np.zeros((size, size))
     for a in range(n):
         for b in range(a, n):
             if b > a:
@@ -297,27 +291,76 @@ def point_values(B, X1, expo, c, us, n, p, R):
                 Wt[2 * a + 1, 2 * b] = p - BKi[b, a]
                 Wt[2 * a + 1, 2 * b + 1] = p - Ki[a, b]
             Wt[2 * a, 2 * b + 1] = BKi[a, b]
-    A = np.zeros((size, (size + 7) // 8 * 8))  # padded to whole blocks of 8 (zeros stay zero)
-    c1 = np.empty(size)
-    c2 = np.empty(size)
-    d1 = np.empty(size)
-    d2 = np.empty(size)
-    out = np.empty(n)
+    return True
+
+
+@njit(**_JIT)
+def _window_pfaffians(A, Wt, u, with_j, n, p, bufs, out):
+    """Leading pair-Pfaffians of ``D_u W D_u`` (``+ J`` if ``with_j``), ``D_u = diag(u, 1, u, 1, ...)``."""
+    pinv = 1.0 / p
+    size = 2 * n
     scale = np.empty((2, size))
-    for jy in range(us.shape[0]):
-        # J + D_u W D_u, D_u = diag(u, 1, u, 1, ...): entries below p^2, which the lazy bound allows
-        u = us[jy]
-        uu = _red(u * u, p, pinv)
-        for j in range(0, size, 2):
-            scale[0, j], scale[0, j + 1] = uu, u  # row of copy 0
-            scale[1, j], scale[1, j + 1] = u, 1.0  # row of copy 1
-        _scaled_rows(A, Wt, scale)
+    uu = _red(u * u, p, pinv)
+    for j in range(0, size, 2):
+        scale[0, j], scale[0, j + 1] = uu, u  # row of copy 0
+        scale[1, j], scale[1, j + 1] = u, 1.0  # row of copy 1
+    _scaled_rows(A, Wt, scale)  # entries below p^2, which the lazy bound allows
+    if with_j:
         for a in range(n):
             A[2 * a, 2 * a + 1] += 1.0
-        if not _eliminate(A, n, p, pinv, c1, c2, d1, d2, out):
+    return _eliminate(A, n, p, pinv, bufs[0], bufs[1], bufs[2], bufs[3], out)
+
+
+@njit(**_JIT)
+def point_values(B, X1, expo, c, us, n, p, R):
+    """``R[j, k] = E_c[y_j^{N_m(B)}]`` at the level fugacity ``q = c``, modulo ``p``, every ``y_j = 1 + u_j``.
+
+    Builds the kernel ``W`` (:func:`_kernel_matrix`) and, for every ``u_j`` of
+    ``us``, the leading pair-Pfaffians of ``J + D_u W D_u``: ``R[j, k]`` is the
+    window of the ``k + 1`` largest parts (``m = n - k``).  Returns False when
+    ``K(c)`` is singular or a pivot vanishes modulo ``p`` (the caller takes
+    another ``c``).
+    """
+    size = 2 * n
+    Wt = np.zeros((size, size))
+    if not _kernel_matrix(B, X1, expo, c, n, p, Wt):
+        return False
+    A = np.zeros((size, (size + 7) // 8 * 8))  # padded to whole blocks of 8 (zeros stay zero)
+    bufs = np.empty((4, size))
+    out = np.empty(n)
+    for jy in range(us.shape[0]):
+        if not _window_pfaffians(A, Wt, us[jy], True, n, p, bufs, out):
             return False
         for k in range(n):
             R[jy, k] = out[k]
+    return True
+
+
+@njit(**_JIT)
+def edge_values(B, X1, expo, c, n, p, R):
+    """The two extreme coefficients in ``y`` of every window at ``q = c``, modulo ``p``.
+
+    ``R[0, k] = P_c(every site of the window in B)``: the top coefficient of
+    ``Pf(J + D_u W D_u)`` in ``u``, i.e. the Pfaffian of ``W`` itself (a
+    correlation function of the point process); ``R[1, k] = P_c(no site of the
+    window in B)``: the value at ``y = 0`` (``u = -1``).  Two eliminations per
+    point instead of ``n + 1``.
+    """
+    size = 2 * n
+    Wt = np.zeros((size, size))
+    if not _kernel_matrix(B, X1, expo, c, n, p, Wt):
+        return False
+    A = np.zeros((size, (size + 7) // 8 * 8))
+    bufs = np.empty((4, size))
+    out = np.empty(n)
+    if not _window_pfaffians(A, Wt, 1.0, False, n, p, bufs, out):
+        return False
+    for k in range(n):
+        R[0, k] = out[k]
+    if not _window_pfaffians(A, Wt, p - 1.0, True, n, p, bufs, out):
+        return False
+    for k in range(n):
+        R[1, k] = out[k]
     return True
 
 

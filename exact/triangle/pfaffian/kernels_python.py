@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["pfaffian_mod", "point_values", "dual_weights", "lagrange_matrix", "weighted_sum"]
+__all__ = ["pfaffian_mod", "point_values", "edge_values", "dual_weights", "lagrange_matrix", "weighted_sum"]
 
 
 def _ints(A):
@@ -72,19 +72,19 @@ def _inverse(K, p):
     return [row[s:] for row in M]
 
 
-def point_values(B, X1, expo, c, us, n, p, R):
-    """Pure-Python twin of :func:`.kernels.point_values` (fills ``R``, returns False on a zero pivot)."""
-    p, c, n = int(p), int(c), int(n)
+def _kernel_matrix(B, X1, expo, c, n, p):
+    """The kernel ``W`` at ``q = c`` as a function ``(u, with_j) -> J + D_u W D_u`` (None if ``K(c)`` is singular)."""
     B, X1 = _ints(B), _ints(X1)
     s = len(B)
     qp = [pow(c, int(e), p) for e in expo]
     K = [[(B[i][j] + qp[i] * X1[i][j] * qp[j]) % p for j in range(s)] for i in range(s)]
     Ki = _inverse(K, p)
     if Ki is None:
-        return False
+        return None
     BKi = [[sum(B[i][k] * Ki[k][j] for k in range(s)) % p for j in range(s)] for i in range(s)]
     BKiB = [[sum(BKi[i][k] * B[k][j] for k in range(s)) % p for j in range(s)] for i in range(s)]
-    for jy, u in enumerate(int(x) for x in us):
+
+    def matrix(u, with_j):
         size = 2 * n
         A = [[0] * size for _ in range(size)]
         for a in range(n):
@@ -94,12 +94,39 @@ def point_values(B, X1, expo, c, us, n, p, R):
                 A[2 * a][2 * b + 1] = BKi[a][b] * u % p
                 A[2 * a + 1][2 * b] = -BKi[b][a] * u % p
                 A[2 * a + 1][2 * b + 1] = -Ki[a][b] % p
-            A[2 * a][2 * a + 1] = (A[2 * a][2 * a + 1] + 1) % p
-            A[2 * a + 1][2 * a] = (A[2 * a + 1][2 * a] - 1) % p
-        values = _pair_pfaffians(A, p, pivoting=False)
+            if with_j:
+                A[2 * a][2 * a + 1] = (A[2 * a][2 * a + 1] + 1) % p
+                A[2 * a + 1][2 * a] = (A[2 * a + 1][2 * a] - 1) % p
+        return A
+
+    return matrix
+
+
+def point_values(B, X1, expo, c, us, n, p, R):
+    """Pure-Python twin of :func:`.kernels.point_values` (fills ``R``, returns False on a zero pivot)."""
+    p, c, n = int(p), int(c), int(n)
+    matrix = _kernel_matrix(B, X1, expo, c, n, p)
+    if matrix is None:
+        return False
+    for jy, u in enumerate(int(x) for x in us):
+        values = _pair_pfaffians(matrix(u, True), p, pivoting=False)
         if values is None:
             return False
         R[jy, :] = values
+    return True
+
+
+def edge_values(B, X1, expo, c, n, p, R):
+    """Pure-Python twin of :func:`.kernels.edge_values`: ``R[0]`` Pfaffians of ``W``, ``R[1]`` at ``y = 0``."""
+    p, c, n = int(p), int(c), int(n)
+    matrix = _kernel_matrix(B, X1, expo, c, n, p)
+    if matrix is None:
+        return False
+    for row, (u, with_j) in enumerate(((1, False), (p - 1, True))):
+        values = _pair_pfaffians(matrix(u, with_j), p, pivoting=False)
+        if values is None:
+            return False
+        R[row, :] = values
     return True
 
 

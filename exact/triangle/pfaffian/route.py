@@ -29,7 +29,7 @@ from math import ceil, factorial, log2
 from ...modular import is_prime
 from ...plan import Plan
 from ...validation import check_int, check_layers
-from .engine import count_residue, level_points, prime_limit, prime_residues
+from .engine import count_residue, edge_residues, level_points, prime_limit, prime_residues
 
 __all__ = [
     "MAX_N",
@@ -39,6 +39,8 @@ __all__ = [
     "survival_table",
     "mean_W",
     "expected_entries",
+    "lattice_direction",
+    "lattice_direction_plan",
     "table_plan",
     "table_run",
 ]
@@ -130,6 +132,34 @@ def _one_prime(args):
     return p, prime_residues(N, p, backend, total_mod_p)
 
 
+def _one_prime_edge(args):
+    N, p, backend = args
+    return p, edge_residues(N, p, backend)
+
+
+def _run_primes(function, tasks, nworkers: int, progress):
+    """``{p: function(task)}`` over the tasks (``task[1]`` is the prime), in worker processes if ``nworkers > 1``."""
+    residues = {}
+    if nworkers == 1:
+        for task in tasks:
+            p, value = function(task)
+            residues[p] = value
+            if progress is not None:
+                progress(1)
+        return residues
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    # spawn: the parent may hold threads (progress bars); the children load the cached kernels
+    with ProcessPoolExecutor(nworkers, mp_context=multiprocessing.get_context("spawn")) as pool:
+        for future in as_completed([pool.submit(function, task) for task in tasks]):
+            p, value = future.result()
+            residues[p] = value
+            if progress is not None:
+                progress(1)
+    return residues
+
+
 def _workers(workers, tasks: int, seconds: float) -> int:
     if workers is None:
         workers = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
@@ -177,24 +207,7 @@ def survival_table(N: int, *, workers: int | None = None, progress=None, backend
     primes = _primes_above((d + 1) * total, N)
     tasks = [(N, p, backend, total % p) for p in primes]
     nworkers = _workers(workers, len(tasks), _seconds(N) * len(primes))
-    residues = {}
-    if nworkers == 1:
-        for task in tasks:
-            p, S = _one_prime(task)
-            residues[p] = S
-            if progress is not None:
-                progress(1)
-    else:
-        import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor, as_completed
-
-        # spawn: the parent may hold threads (progress bars); the children load the cached kernels
-        with ProcessPoolExecutor(nworkers, mp_context=multiprocessing.get_context("spawn")) as pool:
-            for future in as_completed([pool.submit(_one_prime, task) for task in tasks]):
-                p, S = future.result()
-                residues[p] = S
-                if progress is not None:
-                    progress(1)
+    residues = _run_primes(_one_prime, tasks, nworkers, progress)
     crt = _CRT(primes)
     out = [[0] * (n + 1)]
     for m in range(1, n + 1):
@@ -244,6 +257,64 @@ def expected_entries(N: int, **kwargs) -> dict:
     n = N - 1
     S, total = survival_table(N, **kwargs)
     return {(r, c): Fraction(sum(S[c - r + 1][:r]), total) for r in range(1, n + 1) for c in range(r, n + 1)}
+
+
+def lattice_direction(N: int, *, workers: int | None = None, progress=None, backend: str = "numba") -> list[Fraction]:
+    """Exact ``<W_{i,1}> = <W_{i,i}>`` for ``i = 1..N``: the response on the two lattice directions.
+
+    Only the first column ``S[m][0]`` of the survival table, from two
+    eliminations per level point instead of ``n + 1`` (:func:`~.engine.edge_residues`):
+    about ``n`` times cheaper than :func:`mean_W` (N = 100 in minutes, not
+    hours).  ``<W_{i,1}> (d + 1) count = S[N - i + 1][0]``.
+
+    Examples
+    --------
+    >>> [str(x) for x in lattice_direction(5)]
+    ['1', '1/2', '41/132', '2/11', '1/11']
+    """
+    N = check_layers(N, maximum=MAX_N)
+    n, d = N - 1, N * (N - 1) // 2
+    total = count(N, backend)
+    if n == 0:
+        return [Fraction(1)]
+    primes = _primes_above((d + 1) * total, N)
+    nworkers = _workers(workers, len(primes), _edge_seconds(N) * len(primes))
+    residues = _run_primes(_one_prime_edge, [(N, p, backend) for p in primes], nworkers, progress)
+    crt = _CRT(primes)
+    den = (d + 1) * total
+    column = {m: crt([residues[p][m] for p in primes]) for m in range(1, n + 1)}
+    if any(not 0 < v < den for v in column.values()):
+        raise ArithmeticError("reconstructed lattice-direction sums out of range")
+    return [Fraction(1)] + [Fraction(column[N - i + 1], den) for i in range(2, N + 1)]
+
+
+def _edge_seconds(N: int) -> float:
+    """CPU seconds of one prime of :func:`lattice_direction`."""
+    n, d = N - 1, N * (N - 1) // 2
+    s = n + 1 + (n + 1) % 2
+    per_y = _SECONDS_PER_UPDATE * 2 * n**3 / 3 + _SECONDS_PER_ROW * n**2
+    return level_points(d) // 2 * (2 * per_y + _SECONDS_PER_KERNEL * s**3) + 1e-3
+
+
+def lattice_direction_plan(N: int, memory_bytes: int | None = None, workers: int | None = None) -> Plan:
+    """The cost of :func:`lattice_direction` (the plan of ``notes/benchmarks.md``'s model).
+
+    Examples
+    --------
+    >>> lattice_direction_plan(100).runnable
+    True
+    """
+    N = check_layers(N)
+    what = f"<W_(i,1)> N={N} (Pfaffians)"
+    if N > MAX_N:
+        return Plan(what, 0, refusal=f"N={N} is out of range for the Pfaffian route: N must be an integer in 2..{MAX_N}")
+    n, d = N - 1, N * (N - 1) // 2
+    nprimes = ceil(((d + 1) * _count_bound(N)).bit_length() / log2(prime_limit(max(n, 1)) * 0.999))
+    cpu = _edge_seconds(N) * nprimes
+    nworkers = _workers(workers, nprimes, cpu)
+    per_worker = level_points(d) // 2 * 2 * n * 8 + 160 * 2**20
+    return Plan(what, _STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers, nworkers * per_worker, nprimes,
+                "prime").within_memory(memory_bytes)
 
 
 def _seconds(N: int) -> float:

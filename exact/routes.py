@@ -7,6 +7,7 @@ fast       order-ideal path sums (:mod:`.triangle.moments`)            N ~ 28-30
 thesis     nested-matrix integration (:mod:`.thesis.nested`)           N <= 9
 lambda     Lambda/Gamma recursions (:mod:`.thesis.recursions`)         N <= 12
 maps       map counting of Sec. 4.6 (:mod:`.thesis.map_counting`)      N <= 9
+pfaffian   Schur Pfaffians, minor summation (:mod:`.triangle.pfaffian`)  N ~ 64-100
 =========  ==========================================================  ==========
 
 Each engine owns its cost knowledge; :func:`table_plan` only asks it.
@@ -29,7 +30,7 @@ from .validation import check_int, check_layers
 
 __all__ = ["METHODS", "table_plan", "table_run"]
 
-METHODS = ("fast", "thesis", "lambda", "maps")
+METHODS = ("fast", "thesis", "lambda", "maps", "pfaffian")
 MAX_MOMENTS = 50
 
 
@@ -40,6 +41,8 @@ def _engine(method: str):
         from .thesis import recursions as engine
     elif method == "maps":
         from .thesis import map_counting as engine
+    elif method == "pfaffian":
+        from .triangle.pfaffian import route as engine
     else:
         raise ValueError(f"method={method!r} is out of range: method must be one of {', '.join(METHODS)}")
     return engine
@@ -58,7 +61,7 @@ def table_plan(method: str, N: int, moments: int = 1, memory_bytes: int | None =
 
     Parameters
     ----------
-    method : {"fast", "thesis", "lambda", "maps"}
+    method : {"fast", "thesis", "lambda", "maps", "pfaffian"}
     N : int
         Number of layers, ``>= 2``.
     moments : int

@@ -185,7 +185,8 @@ def register(sub):
         "--method", choices=list(METHODS), default="fast",
         help="fast: order-ideal DP (default); thesis: the nested-matrix integration of Secs. 4.3-4.5; "
         "lambda: the integer recursions Lambda (4.50) and Gamma (4.73)-(4.77); "
-        "maps: the map-counting formulas (4.67), (4.90)-(4.91) of Sec. 4.6",
+        "maps: the map-counting formulas (4.67), (4.90)-(4.91) of Sec. 4.6; "
+        "pfaffian: Schur Pfaffians and minor summation, polynomial in N (notes/free_fermions.md)",
     )
     add_force(p)
     add_quiet(p)

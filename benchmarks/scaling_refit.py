@@ -1,0 +1,214 @@
+"""Refit of the finite-size corrections of the response on exact tables to N = 64 (issue 18).
+
+``notes/scaling_limit.md`` asks whether the correction on the lattice
+directions is ``N^-1``, ``N^-2/3`` or a mix.  With the Pfaffian route the exact
+tables reach far beyond the order-ideal DP's N = 28; this script reads them
+(``out/mean_W_N{N}.json``, written by ``forcenet table --method pfaffian --N N
+--format json --out ...`` or ``benchmarks/pfaffian_table.py table --save out``;
+missing small ones are computed), and
+
+* fits the deviation from the limit ``delta(N) = exact - limit`` on the lattice
+  direction (``z = 1/4, 1/2, 3/4``, N a multiple of 4 so that ``z N`` is a row)
+  and in the bulk with three models, least squares in ``log |delta|`` for the
+  power law and relative least squares for the two-term laws:
+
+  - ``A N^-alpha`` (free exponent),
+  - ``a N^-1 + b N^-2`` (analytic corrections),
+  - ``a N^-2/3 + b N^-1`` (an edge term plus an analytic one), and with ``+ c N^-4/3``,
+  - ``a N^-1/2 + b N^-1``;
+
+* prints the local exponents ``-d log|delta| / d log N`` between neighbours;
+* extrapolates each fit to the exact-sampler values of ``notes/scaling_limit.md``
+  Sec. 3 (N = 100 ... 1000), which none of the fits saw;
+* draws ``notes/figures/scaling_refit.png``.
+
+Usage::
+
+    python benchmarks/scaling_refit.py --lattice 72 80 88 100 --dir out     # exact <W_(i,1)> only (minutes each)
+    python benchmarks/scaling_refit.py --N 8 12 16 20 24 28 32 40 48 56 64 --edge-N 72 80 88 100 --dir out
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+from fractions import Fraction
+
+import numpy as np
+
+from forcenet.numeric.limit_shape.surface import bulk_response, lattice_response
+
+# exact-sampler deviations from the limit, notes/scaling_limit.md Sec. 3 (seed 2026): N -> (delta, stderr)
+SAMPLED = {
+    0.5: {50: (0.0302, 0.0003), 100: (0.0174, 0.0003), 200: (0.0106, 0.0003), 500: (0.0057, 0.0003), 1000: (0.0028, 0.0003)},
+    0.75: {50: (0.0123, 0.0001), 100: (0.0071, 0.0001), 200: (0.0042, 0.0001), 500: (0.0021, 0.0001), 1000: (0.0012, 0.0001)},
+}
+
+
+def load_column(N: int, directory: str):
+    """``<W_{i,1}>``, ``i = 1..N``: from the full table if there is one, else from ``lattice_N{N}.json``."""
+    full = os.path.join(directory, f"mean_W_N{N}.json")
+    if os.path.exists(full) or N <= 40:
+        return [row[0] for row in load_table(N, directory)]
+    path = os.path.join(directory, f"lattice_N{N}.json")
+    if not os.path.exists(path):
+        raise SystemExit(f"{path} is missing: python benchmarks/scaling_refit.py --lattice {N} --dir {directory}")
+    with open(path) as handle:
+        return [float(Fraction(x)) for x in json.load(handle)["W_i1"]]
+
+
+def write_lattice(N: int, directory: str):
+    """Exact ``<W_{i,1}>`` by :func:`forcenet.exact.triangle.pfaffian.route.lattice_direction` into ``lattice_N{N}.json``."""
+    import time
+
+    from forcenet.exact.triangle.pfaffian.route import lattice_direction, lattice_direction_plan
+    from forcenet.exact.triangle.tables import write_atomic
+
+    plan = lattice_direction_plan(N)
+    t0, c0 = time.perf_counter(), time.process_time()
+    column = lattice_direction(N)
+    wall = time.perf_counter() - t0
+    import resource
+
+    cpu = time.process_time() - c0 + sum(getattr(resource.getrusage(resource.RUSAGE_CHILDREN), f) for f in ("ru_utime", "ru_stime"))
+    write_atomic(os.path.join(directory, f"lattice_N{N}.json"),
+                 json.dumps({"N": N, "W_i1": [f"{x.numerator}/{x.denominator}" for x in column]}) + "\n")
+    print(f"N={N}: lattice direction exact, {plan.ticks} primes, plan {plan.seconds:.0f} s, "
+          f"wall {wall:.0f} s, CPU {cpu:.0f} s, load {os.getloadavg()[0]:.1f}", flush=True)
+
+
+def load_table(N: int, directory: str):
+    path = os.path.join(directory, f"mean_W_N{N}.json")
+    if not os.path.exists(path):
+        if N > 40:
+            raise SystemExit(f"{path} is missing: run forcenet table --method pfaffian --N {N} --format json --out {path} --force")
+        from forcenet.exact.triangle.pfaffian.route import mean_W
+        from forcenet.exact.triangle.tables import exact_table, to_json, write_atomic
+
+        write_atomic(path, to_json(exact_table(N, mean_table=mean_W(N))) + "\n")
+    with open(path) as handle:
+        data = json.load(handle)
+    return [[float(Fraction(x)) for x in row] for row in data["mean_W"]]
+
+
+MODELS = {
+    "A N^-alpha": None,
+    "a/N + b/N^2": (1.0, 2.0),
+    "a/N^(2/3) + b/N": (2.0 / 3.0, 1.0),
+    "a/N^(2/3) + b/N + c/N^(4/3)": (2.0 / 3.0, 1.0, 4.0 / 3.0),
+    "a/N^(1/2) + b/N": (0.5, 1.0),
+}
+
+
+def fit(model, Ns, devs):
+    """Parameters and relative RMS residual of one model."""
+    Ns, devs = np.asarray(Ns, float), np.asarray(devs, float)
+    if MODELS[model] is None:
+        slope, intercept = np.polyfit(np.log(Ns), np.log(np.abs(devs)), 1)
+        params = (float(np.sign(devs[-1]) * np.exp(intercept)), float(-slope))
+        pred = params[0] * Ns ** -params[1]
+    else:
+        X = np.stack([Ns**-e for e in MODELS[model]], axis=1) / np.abs(devs)[:, None]
+        coef, *_ = np.linalg.lstsq(X, devs / np.abs(devs), rcond=None)
+        params = tuple(float(c) for c in coef)
+        pred = sum(c * Ns**-e for c, e in zip(coef, MODELS[model]))
+    return params, float(np.sqrt(np.mean(((pred - devs) / devs) ** 2)))
+
+
+def predict(model, params, N):
+    if MODELS[model] is None:
+        return params[0] * N ** -params[1]
+    return sum(c * N**-e for c, e in zip(params, MODELS[model]))
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--N", type=int, nargs="+", default=[8, 12, 16, 20, 24, 28, 32, 40, 48, 56, 64])
+    parser.add_argument("--dir", default="out")
+    parser.add_argument("--fit-from", type=int, default=16, help="smallest N used in the fits")
+    parser.add_argument("--figures", default="notes/figures")
+    parser.add_argument("--edge-N", type=int, nargs="*", default=[], help="further N with the lattice direction only")
+    parser.add_argument("--lattice", type=int, nargs="*", default=[], help="compute lattice_N{N}.json for these N and stop")
+    args = parser.parse_args(argv)
+    if args.lattice:
+        for N in args.lattice:
+            write_lattice(N, args.dir)
+        return
+    Ns = sorted(N for N in args.N if N % 4 == 0)
+    tables = {N: load_table(N, args.dir) for N in Ns}
+    edge_Ns = sorted(set(Ns) | {N for N in args.edge_N if N % 4 == 0})
+    columns = {N: (load_column(N, args.dir) if N not in tables else [row[0] for row in tables[N]]) for N in edge_Ns}
+
+    def edge(z):
+        return lambda N: (columns[N][round(z * N) - 1], float(lattice_response(round(z * N) / N)))
+
+    def bulk(z):
+        def probe(N):
+            i = round(z * N)
+            j = i // 2 + 1 if i % 2 else i // 2  # x = (2j - i - 1)/N = 0 or -1/N
+            x = (2 * j - i - 1) / N
+            return N * tables[N][i - 1][j - 1], float(bulk_response(x, i / N))
+
+        return probe
+
+    probes = [("edge z=1/4", edge(0.25), None, edge_Ns), ("edge z=1/2", edge(0.5), 0.5, edge_Ns),
+              ("edge z=3/4", edge(0.75), 0.75, edge_Ns),
+              ("bulk z=1/2, x~0 (N<W>)", bulk(0.5), None, Ns), ("bulk z=3/4, x~0 (N<W>)", bulk(0.75), None, Ns)]
+    fitted = {}
+    print("| probe | limit | " + " | ".join(f"N={N}" for N in edge_Ns) + " |")
+    print("|" + " --- |" * (len(edge_Ns) + 2))
+    for name, probe, _, sizes in probes:
+        values = {N: probe(N) for N in sizes}
+        fitted[name] = {N: ex - lim for N, (ex, lim) in values.items()}
+        cells = " | ".join(f"{fitted[name][N]:+.5f}" if N in sizes else "-" for N in edge_Ns)
+        print(f"| {name} | {values[sizes[-1]][1]:.5f} | {cells} |")
+    print("\nlocal exponents -dlog|delta|/dlogN between neighbouring N:")
+    for name, devs in fitted.items():
+        sizes = sorted(devs)
+        loc = [-np.log(abs(devs[b] / devs[a])) / np.log(b / a) for a, b in zip(sizes, sizes[1:])]
+        print(f"  {name}: " + ", ".join(f"{a}-{b}: {v:.2f}" for (a, b), v in zip(zip(sizes, sizes[1:]), loc)))
+    print(f"\nfits over N >= {args.fit_from} (relative RMS residual), and the fit's prediction of the sampled deviations:")
+    print("| probe | model | N range | parameters | rel. RMS | " + " | ".join(f"N={N} sampled" for N in SAMPLED[0.5]) + " |")
+    print("|" + " --- |" * (5 + len(SAMPLED[0.5])))
+    results = {}
+    for name, _, z, sizes in probes:
+        use = [N for N in sizes if N >= args.fit_from]
+        devs = [fitted[name][N] for N in use]
+        for model in MODELS:
+            params, rms = fit(model, use, devs)
+            results[(name, model)] = params
+            cells = ""
+            if z is not None:
+                cells = " | ".join(f"{predict(model, params, N):.4f} vs {d:.4f}±{e:.4f}" for N, (d, e) in SAMPLED[z].items())
+            else:
+                cells = " | ".join("-" for _ in SAMPLED[0.5])
+            print(f"| {name} | {model} | {use[0]}-{use[-1]} | " + ", ".join(f"{p:.4g}" for p in params) + f" | {rms:.2e} | {cells} |")
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    os.makedirs(args.figures, exist_ok=True)
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
+    grid = np.geomspace(args.fit_from, 1200, 200)
+    for ax, (name, z) in zip(axes, (("edge z=1/2", 0.5), ("edge z=3/4", 0.75))):
+        sizes = sorted(fitted[name])
+        ax.loglog(sizes, [abs(fitted[name][N]) for N in sizes], "ko", ms=4, label="exact (Pfaffian route)")
+        sN = list(SAMPLED[z])
+        ax.errorbar(sN, [SAMPLED[z][N][0] for N in sN], yerr=[SAMPLED[z][N][1] for N in sN], fmt="s", color="C3",
+                    ms=4, label="exact sampler (not fitted)")
+        for k, model in enumerate(MODELS):
+            ax.loglog(grid, [abs(predict(model, results[(name, model)], N)) for N in grid], f"C{k}-", lw=1, label=f"fit {model}")
+        ax.set_title(f"lattice direction, z = {z}: <W_(i,1)> - limit")
+        ax.set_xlabel("N")
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    path = os.path.join(args.figures, "scaling_refit.png")
+    fig.savefig(path, dpi=110)
+    print(f"\nfigure: {path}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,26 @@
+"""Exact ``<W>`` tables of the fully mobilized triangle in polynomial time: Schur Pfaffians.
+
+The route behind ``forcenet table --method pfaffian`` (derivation and proofs in
+``notes/free_fermions.md``):
+
+* :mod:`.schur`: Schur's Pfaffian, Pfaffian minor summation and the
+  point-process kernel, exactly (Fractions; the reference for small ``N``);
+* :mod:`.kernels`: the compiled word-size kernels (numba), with their
+  pure-Python twins in :mod:`.kernels_python`;
+* :mod:`.engine`: one prime: the survival table ``S[m][k]`` modulo ``p``;
+* :mod:`.route`: primes, Chinese remaindering, worker processes, the
+  ``<W>`` table (4.63)-(4.77), the count (4.1), the plan.
+
+May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
+:mod:`forcenet.exact.plan`, :mod:`forcenet.exact.triangle.staircase`.
+
+Examples
+--------
+>>> from forcenet.exact.triangle.pfaffian import mean_W, count
+>>> count(6), [str(x) for x in mean_W(4)[-1]]
+(286, ['1/7', '5/14', '5/14', '1/7'])
+"""
+
+from .route import count, expected_entries, mean_W, normalization, survival_table, table_plan, table_run
+
+__all__ = ["count", "normalization", "expected_entries", "mean_W", "survival_table", "table_plan", "table_run"]

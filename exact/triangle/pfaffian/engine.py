@@ -1,0 +1,284 @@
+"""One prime of the Pfaffian route: the survival table ``S[m][k]`` modulo ``p``.
+
+``S[m][k] = sum_A w(A) [N_m(A) = k]`` (``N_m(A)`` the number of parts ``>= m``
+of the ideal ``A``) is, by minor summation and the point-process kernel
+(:mod:`.schur`, ``notes/free_fermions.md`` Sec. 3),
+
+    S_B[m][k] = sum_l l! (d-l)! [q^l y^k] Z(q) E_q[y^{N_m(B)}],     Z(q) = count/d! (1 + q)^d,
+
+with ``B`` the complement, ``N_m(A) = (n - m + 1) - N_m(B)``.  Modulo ``p``:
+
+1. ``q`` runs over ``M`` points (``M`` = the even one of ``d+1``, ``d+2``), in
+   pairs ``c, 1/c``; only ``c`` is computed, since the complement ``A <-> B``
+   gives ``R(1/q, y, m) = y^(n-m+1) R(q, 1/y, m)``;
+2. ``y`` runs over ``1`` and pairs ``c, 1/c`` (at least ``n + 1`` points);
+3. for each ``c``, :func:`~.kernels.point_values` gives ``R(c, y, m)`` for
+   every ``y`` and ``m`` (one kernel and one pair elimination per ``y``);
+   a singular ``K(c)`` or a zero pivot moves ``c`` to the next candidate, so
+   a prime never fails;
+4. the functional ``q^l -> l! (d-l)!`` is a weight vector on the points
+   (transposed Vandermonde), and the ``y`` coefficients come from the
+   inverse Vandermonde; coefficients beyond the degree ``n - m + 1`` must
+   vanish (a check).
+
+Cost: ``M/2`` kernels and ``(M/2) * n`` eliminations of ``2n``-square
+matrices, about ``n^6 / 6`` multiply-adds per prime.
+
+May import: :mod:`forcenet.exact.validation` and its own package.
+"""
+
+from __future__ import annotations
+
+from math import isqrt
+
+import numpy as np
+
+from ...modular import is_prime
+from ...validation import check_int, check_layers
+from .schur import labels
+
+__all__ = ["prime_limit", "level_points", "setup_matrices", "prime_residues", "edge_residues", "count_residue", "PointFailure"]
+
+MAX_POINT_FAILURES = 64
+
+
+class PointFailure(ArithmeticError):
+    """Too many evaluation points failed modulo one prime (never seen; a structural zero would show here)."""
+
+
+def prime_limit(n: int) -> int:
+    """Largest prime size the lazy elimination allows: ``p + 2 (n-1) p^2 < 2^53`` and ``p < 2^23``.
+
+    Examples
+    --------
+    >>> prime_limit(31), prime_limit(99)
+    (8388608, 6744694)
+    """
+    n = check_int(n, "n", 1)
+    return min(2**23, isqrt((2**53 - 2**24) // (2 * max(n, 1))))
+
+
+def level_points(d: int) -> int:
+    """Number ``M`` of level-fugacity points: the even one of ``d + 1`` and ``d + 2``."""
+    return d + 1 if (d + 1) % 2 == 0 else d + 2
+
+
+def setup_matrices(n: int, p: int):
+    """``B`` (``q = 0``), ``X1`` and the exponents with ``K(q) = B + Q X1 Q``, ``Q = diag(q^expo)``, mod ``p``.
+
+    ``B_ij = beta_i beta_j M_ij``, ``X1_ij = -(-1)^(i+j) alpha_i alpha_j M_ij`` with
+    ``alpha_a = beta_a = 1/a!`` (``alpha_0' = 0``): :func:`.schur.minor_summation_matrix`
+    at ``q = 1`` split in its two parts.
+    """
+    values = labels(n)
+    s = len(values)
+    invfact = [1] * (n + 1)
+    f = 1
+    for a in range(1, n + 1):
+        f = f * a % p
+        invfact[a] = pow(f, p - 2, p)
+    inv = [0] + [pow(k, p - 2, p) for k in range(1, 2 * n + 1)]  # 1/(a + b), a + b <= 2n
+    beta = np.array([invfact[a] for a in values], dtype=np.int64)
+    alpha = beta.copy()
+    if n % 2 == 0:
+        alpha[n + 1] = 0  # the second zero 0'
+    a = np.array(values, dtype=np.int64)
+    M = (a[:, None] - a[None, :]) % p * np.array(inv, dtype=np.int64)[a[:, None] + a[None, :]] % p
+    if n % 2 == 0:
+        M[n, n + 1], M[n + 1, n] = 1, p - 1  # Schur's entry between the two zeros
+    B = beta[:, None] * beta[None, :] % p * M % p
+    idx = np.arange(s)
+    sign = np.where((idx[:, None] + idx[None, :]) % 2 == 0, p - 1, 1)  # -(-1)^(i+j)
+    X1 = alpha[:, None] * alpha[None, :] % p * M % p * sign % p
+    return B.astype(np.float64), X1.astype(np.float64), a
+
+
+def _kernels(backend: str):
+    if backend == "numba":
+        from . import kernels
+    elif backend == "python":
+        from . import kernels_python as kernels
+    else:
+        raise ValueError(f"backend={backend!r} is out of range: backend must be 'numba' or 'python'")
+    return kernels
+
+
+def count_residue(N: int, p: int, backend: str = "numba") -> int:
+    """``count(N) mod p = d! Pf(B) mod p`` (the normalization (4.1) at ``q = 0``)."""
+    n, d = N - 1, N * (N - 1) // 2
+    if n == 0:
+        return 1
+    B, _, _ = setup_matrices(n, p)
+    pf = int(_kernels(backend).pfaffian_mod(B.copy(), float(p)))
+    fact = 1
+    for k in range(2, d + 1):
+        fact = fact * k % p
+    return fact * pf % p
+
+
+def _pair_points(p: int, taken: set):
+    """Pairs ``(c, 1/c)``, ``c = 2, 3, ...``, with ``c != 1/c`` and neither already taken (both are then taken)."""
+    c = 2
+    while True:
+        if c >= p - 1:
+            raise PointFailure(f"ran out of evaluation points modulo {p}")
+        ci = pow(c, p - 2, p)
+        if ci != c and c not in taken and ci not in taken:
+            taken.update((c, ci))
+            yield c, ci
+        c += 1
+
+
+def _check_prime(N: int, p: int) -> int:
+    n, d = N - 1, N * (N - 1) // 2
+    limit = prime_limit(max(n, 1))
+    low = max(2 * N + 3, d + 2)  # p > d: d! and count are units mod p (count divides d!), B is invertible
+    p = check_int(p, "p", low, limit - 1)
+    if not is_prime(p):
+        raise ValueError(f"p={p} is out of range: p must be a prime in {low}..{limit - 1}")
+    return p
+
+
+def _level_sums(N: int, p: int, K, values, shape):
+    """Evaluate ``values(c, R)`` at the ``M/2`` representatives; the weighted sums over them and over their partners.
+
+    ``values`` fills ``R`` (shape ``shape``) at ``q = c`` and returns False on a
+    zero pivot or a singular ``K(c)``, which moves ``c`` to the next candidate.
+    Returns ``(T1, T2)``: ``sum_c lam(c) Z(c) R(c)`` and ``sum_c lam(1/c) Z(1/c) R(c)``,
+    where ``lam`` are the weights of the functional ``q^l -> l! (d - l)!`` on
+    the ``M`` points ``c, 1/c`` (the caller turns ``R(c)`` into ``R(1/c)`` by the
+    complement symmetry).
+    """
+    d = N * (N - 1) // 2
+    M = level_points(d)
+    taken: set = set()
+    reps, partners, stack = [], [], []
+    failures = 0
+    stream = _pair_points(p, taken)
+    while len(reps) < M // 2:
+        c, ci = next(stream)
+        R = np.ones(shape)
+        if not values(float(c), R):
+            failures += 1
+            if failures > MAX_POINT_FAILURES:
+                raise PointFailure(f"{failures} evaluation points failed modulo {p}")
+            continue
+        reps.append(c)
+        partners.append(ci)
+        stack.append(R)
+    R = np.stack(stack)
+    points = np.array(reps + partners, dtype=np.float64)
+    g = np.zeros(M)
+    fact = [1] * (d + 1)
+    for k in range(1, d + 1):
+        fact[k] = fact[k - 1] * k % p
+    g[: d + 1] = [fact[l] * fact[d - l] % p for l in range(d + 1)]
+    lam = K.dual_weights(points, g, float(p))
+    B, _, _ = setup_matrices(N - 1, p)
+    z0 = int(K.pfaffian_mod(B.copy(), float(p)))  # Z(q) = Z(0) (1 + q)^d
+    weight = np.array([int(lam[i]) * z0 * pow(1 + int(points[i]), d, p) % p for i in range(M)], dtype=np.float64)
+    half = M // 2
+    return K.weighted_sum(weight[:half], R, float(p)), K.weighted_sum(weight[half:], R, float(p))
+
+
+def prime_residues(N: int, p: int, backend: str = "numba", total_mod_p: int | None = None) -> np.ndarray:
+    """``S[m][k] mod p`` (``m = 1..n`` rows, ``k = 0..n`` columns; row 0 unused) for ``N`` layers.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+    p : int
+        A prime below :func:`prime_limit` ``(N - 1)``, above ``2 N + 2`` and ``d + 1``.
+    backend : {"numba", "python"}
+        The compiled kernels or their pure-Python twins (small ``N`` only).
+    total_mod_p : int, optional
+        ``count(N) mod p``; when given, every row is checked to sum to
+        ``(d + 1) count`` modulo ``p``.
+
+    Returns
+    -------
+    numpy.ndarray of int64, shape ``(n + 1, n + 1)``
+
+    Examples
+    --------
+    >>> S = prime_residues(4, 8388593)
+    >>> S[1].tolist(), S[3].tolist()  # sum_A w(A) [N_m(A) = k]; each row sums to (d+1) count = 14
+    ([2, 5, 5, 2], [7, 7, 0, 0])
+    """
+    N = check_layers(N)
+    n, d = N - 1, N * (N - 1) // 2
+    p = _check_prime(N, p)
+    K = _kernels(backend)
+    S = np.zeros((n + 1, n + 1), dtype=np.int64)
+    if n == 0:
+        return S
+    B, X1, expo = setup_matrices(n, p)
+    # y points: 1 and pairs (c, 1/c), at least n + 1 of them
+    y_stream = _pair_points(p, {1})
+    ys = [1] + [v for _ in range((n + 1) // 2) for v in next(y_stream)]
+    ny = len(ys)
+    inv_index = [0] + [k + 1 + (1 if k % 2 == 0 else -1) for k in range(ny - 1)]
+    us = np.array([(y - 1) % p for y in ys[1:]], dtype=np.float64)
+    # R[j, k] = E_c[y_j^{N_m(B)}], m = n - k (row 0: y = 1, all ones)
+    T1, T2 = _level_sums(N, p, K, lambda c, R: K.point_values(B, X1, expo, c, us, n, float(p), R[1:]), (ny, n))
+    T = np.zeros((ny, n), dtype=np.int64)
+    for j in range(ny):
+        for k in range(n):
+            w = k + 1  # window size n - m + 1; partners: R(1/c, y) = y^w R(c, 1/y)
+            T[j, k] = (int(T1[j, k]) + pow(ys[j], w, p) * int(T2[inv_index[j], k])) % p
+    L = K.lagrange_matrix(np.array(ys, dtype=np.float64), float(p)).astype(np.int64)
+    coeff = _matmul_mod(L, T, p)  # coeff[t, k]: coefficient of y^t of the window k
+    for k in range(n):
+        w = k + 1
+        if coeff[w + 1 :, k].any():
+            raise ArithmeticError(f"nonzero coefficient beyond the degree modulo {p}: inconsistent residues")
+        m = n - k
+        for t in range(w + 1):
+            S[m, w - t] = coeff[t, k]  # N_m(A) = w - N_m(B)
+    if total_mod_p is not None:
+        target = (d + 1) * total_mod_p % p
+        if any(int(S[m].sum()) % p != target for m in range(1, n + 1)):
+            raise ArithmeticError(f"rows do not sum to (d + 1) count modulo {p}")
+    return S
+
+
+def edge_residues(N: int, p: int, backend: str = "numba") -> np.ndarray:
+    """``S[m][0] mod p`` for ``m = 1..n`` (entry 0 unused): the lattice-direction column alone.
+
+    ``S[m][0] = sum_A w(A) [N_m(A) = 0]`` is the top coefficient in ``y`` of
+    ``Z(q) E_q[y^{N_m(B)}]`` for the representatives and, through the
+    complement symmetry, the value at ``y = 0`` for their partners: two
+    eliminations per level point (:func:`~.kernels.edge_values`) instead of
+    ``n + 1``.  The last column ``S[m][n - m + 1]`` comes from the same values
+    with the roles swapped; the mirror symmetry of the triangle says the two
+    are equal, which is checked.
+
+    Examples
+    --------
+    >>> edge_residues(4, 8388593).tolist()  # S[m][0]: compare prime_residues(4, p)[:, 0]
+    [0, 2, 4, 7]
+    """
+    N = check_layers(N)
+    n = N - 1
+    p = _check_prime(N, p)
+    K = _kernels(backend)
+    out = np.zeros(n + 1, dtype=np.int64)
+    if n == 0:
+        return out
+    B, X1, expo = setup_matrices(n, p)
+    T1, T2 = _level_sums(N, p, K, lambda c, R: K.edge_values(B, X1, expo, c, n, float(p), R), (2, n))
+    first = (T1[0].astype(np.int64) + T2[1].astype(np.int64)) % p  # all of the window in B
+    last = (T1[1].astype(np.int64) + T2[0].astype(np.int64)) % p  # none of the window in B
+    if (first != last).any():
+        raise ArithmeticError(f"the two lattice directions differ modulo {p}: inconsistent residues")
+    out[n - np.arange(n)] = first  # index k is the window of the k + 1 largest parts, m = n - k
+    return out
+
+
+def _matmul_mod(A, B, p):
+    """``A @ B mod p`` for int64 residues below ``2^23`` (rows of at most 2^17 terms stay exact)."""
+    out = np.zeros((A.shape[0], B.shape[1]), dtype=np.int64)
+    for start in range(0, A.shape[1], 1 << 16):
+        out = (out + A[:, start : start + (1 << 16)] @ B[start : start + (1 << 16)]) % p
+    return out

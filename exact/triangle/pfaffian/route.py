@@ -1,0 +1,377 @@
+"""The Pfaffian route: exact ``<W>`` tables and the normalization in time polynomial in ``N``.
+
+``--method pfaffian`` of ``forcenet table``.  Residues from :mod:`.engine`
+for enough word-size primes, rebuilt exactly by the Chinese remainder
+theorem (the bound ``0 <= S[m][k] <= (d+1) count`` is proven, so the
+reconstruction is exact); primes are spread over worker processes.
+
+Cost ``O(N^8 log N)`` word operations: ``~n^6/6`` multiply-adds per prime and
+``O(N^2 log N)`` primes.  Memory ``O(N^3)`` per worker.  It overtakes the
+order-ideal DP (``2^(N-1)`` ideals) near ``N = 20`` (``notes/benchmarks.md``).
+
+May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
+:mod:`forcenet.exact.plan` and its own package.
+
+Examples
+--------
+>>> count(7), count(10)  # d! * normalization, Eq. (4.1)
+(33592, 3973186258569120)
+>>> [str(x) for x in mean_W(5)[-1]]  # Eqs. (4.63)-(4.77): the bottom row, N = 5
+['1/11', '1/4', '7/22', '1/4', '1/11']
+"""
+
+from __future__ import annotations
+
+import os
+from fractions import Fraction
+from math import ceil, factorial, log2
+
+from ...modular import is_prime
+from ...plan import Plan
+from ...validation import check_int, check_layers
+from .engine import count_residue, edge_residues, level_points, prime_limit, prime_residues
+
+__all__ = [
+    "MAX_N",
+    "route_primes",
+    "count",
+    "normalization",
+    "survival_table",
+    "mean_W",
+    "expected_entries",
+    "lattice_direction",
+    "lattice_direction_plan",
+    "table_plan",
+    "table_run",
+]
+
+MAX_N = 200
+# measured on the 2-core machine (numba 0.68, AVX-512), CPU seconds; notes/benchmarks.md
+_SECONDS_PER_UPDATE = 0.10e-9  # one entry of the pair elimination (2n^3/3 per y), two fused multiply-adds
+_SECONDS_PER_ROW = 3.0e-9  # per n^2 and y: pivots (inverses), multipliers, the matrix set-up
+_SECONDS_PER_KERNEL = 0.65e-9  # per s^3 of the kernel K(q)^-1, B K^-1, B K^-1 B (s = n + 1 or n + 2)
+_STARTUP_SECONDS = 1.5  # numba import and loading the cached kernels (first compilation ever: ~10 s more)
+_PARALLEL_MIN_SECONDS = 20.0  # below this, starting workers (numba import, ~3 s each) costs more than it saves
+
+
+def route_primes(N: int):
+    """The primes of the route for ``N`` layers, largest first, below :func:`~.engine.prime_limit` ``(N - 1)``.
+
+    Examples
+    --------
+    >>> from itertools import islice
+    >>> list(islice(route_primes(32), 3))
+    [8388593, 8388587, 8388581]
+    """
+    N = check_layers(N)
+    p = prime_limit(max(N - 1, 1)) - 1
+    while p > max(2 * N + 3, N * (N - 1) // 2 + 2):
+        if is_prime(p):
+            yield p
+        p -= 1
+    raise ArithmeticError(f"N={N}: ran out of primes")  # pragma: no cover - millions of primes
+
+
+def _primes_above(bound: int, N: int) -> list[int]:
+    """Route primes whose product exceeds ``bound`` (a non-negative integer ``<= bound`` is then determined)."""
+    out, product = [], 1
+    for p in route_primes(N):
+        if product > bound:
+            break
+        out.append(p)
+        product *= p
+    return out
+
+
+class _CRT:
+    """Chinese remaindering with a precomputed basis: ``x = sum_i r_i e_i mod P``."""
+
+    def __init__(self, primes):
+        self.modulus = 1
+        for p in primes:
+            self.modulus *= p
+        self.basis = []
+        for p in primes:
+            rest = self.modulus // p
+            self.basis.append(rest * pow(rest % p, -1, p))
+
+    def __call__(self, residues) -> int:
+        return sum(int(r) * e for r, e in zip(residues, self.basis)) % self.modulus
+
+
+def count(N: int, backend: str = "numba") -> int:
+    """The number of tableaux, ``count = d! Pf(B)`` (the normalization (4.1) times ``d!``), by this route.
+
+    Multi-modular, with the proven bound ``count <= d!`` (linear extensions
+    of ``d`` elements).
+
+    Examples
+    --------
+    >>> [count(N) for N in range(2, 8)]
+    [1, 1, 2, 12, 286, 33592]
+    """
+    N = check_layers(N, maximum=MAX_N)
+    primes = _primes_above(factorial(N * (N - 1) // 2), N)
+    return _CRT(primes)([count_residue(N, p, backend) for p in primes])
+
+
+def normalization(N: int, backend: str = "numba") -> Fraction:
+    """The normalization (4.1), the volume of the triangle's force space: ``count / d! = Pf(B)``.
+
+    Examples
+    --------
+    >>> normalization(4)
+    Fraction(1, 360)
+    """
+    N = check_layers(N, maximum=MAX_N)
+    return Fraction(count(N, backend), factorial(N * (N - 1) // 2))
+
+
+def _one_prime(args):
+    N, p, backend, total_mod_p = args
+    return p, prime_residues(N, p, backend, total_mod_p)
+
+
+def _one_prime_edge(args):
+    N, p, backend = args
+    return p, edge_residues(N, p, backend)
+
+
+def _run_primes(function, tasks, nworkers: int, progress):
+    """``{p: function(task)}`` over the tasks (``task[1]`` is the prime), in worker processes if ``nworkers > 1``."""
+    residues = {}
+    if nworkers == 1:
+        for task in tasks:
+            p, value = function(task)
+            residues[p] = value
+            if progress is not None:
+                progress(1)
+        return residues
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    # spawn: the parent may hold threads (progress bars); the children load the cached kernels
+    with ProcessPoolExecutor(nworkers, mp_context=multiprocessing.get_context("spawn")) as pool:
+        for future in as_completed([pool.submit(function, task) for task in tasks]):
+            p, value = future.result()
+            residues[p] = value
+            if progress is not None:
+                progress(1)
+    return residues
+
+
+def _workers(workers, tasks: int, seconds: float) -> int:
+    if workers is None:
+        workers = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+        if seconds < _PARALLEL_MIN_SECONDS:
+            workers = 1
+    workers = check_int(workers, "workers", 1)
+    return max(1, min(workers, tasks))
+
+
+def survival_table(N: int, *, workers: int | None = None, progress=None, backend: str = "numba"):
+    """Exact ``S[m][k] = sum_A w(A) [N_m(A) = k]`` and ``count(N)``, by Pfaffians.
+
+    ``A`` runs over the order ideals (strict partitions with parts ``<= n``),
+    ``w(A)`` is the number of tableaux through ``A`` and ``N_m(A)`` the
+    number of parts ``>= m``; every row sums to ``(d + 1) count``.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``2..200``.
+    workers : int, optional
+        Worker processes (default: the available cores when the run is long
+        enough to pay for them, else 1).  Results do not depend on it.
+    progress : callable, optional
+        Called as ``progress(1)`` after each prime.
+    backend : {"numba", "python"}
+        Compiled kernels or their pure-Python twins (tests, small ``N``).
+
+    Returns
+    -------
+    (S, total) : (list of lists of int, int)
+        ``S[m][k]`` for ``m = 1..n`` (row 0 unused), ``k = 0..n``; ``total = count(N)``.
+
+    Examples
+    --------
+    >>> S, total = survival_table(4)
+    >>> total, S[1], S[3]
+    (2, [2, 5, 5, 2], [7, 7, 0, 0])
+    """
+    N = check_layers(N, maximum=MAX_N)
+    n, d = N - 1, N * (N - 1) // 2
+    total = count(N, backend)
+    if n == 0:
+        return [[0]], total
+    primes = _primes_above((d + 1) * total, N)
+    tasks = [(N, p, backend, total % p) for p in primes]
+    nworkers = _workers(workers, len(tasks), _seconds(N) * len(primes))
+    residues = _run_primes(_one_prime, tasks, nworkers, progress)
+    crt = _CRT(primes)
+    out = [[0] * (n + 1)]
+    for m in range(1, n + 1):
+        out.append([crt([residues[p][m, k] for p in primes]) for k in range(n + 1)])
+    if any(sum(row) != (d + 1) * total for row in out[1:]):
+        raise ArithmeticError("reconstructed rows do not sum to (d + 1) count")
+    return out, total
+
+
+def mean_W(N: int, **kwargs) -> list[list[Fraction]]:
+    """Exact ``<W_{i,j}>`` table, rows ``i = 1..N``, ``j = 1..i``, by Pfaffians (Eqs. (4.63)-(4.77)).
+
+    ``<W_ij> (d + 1) count = S[m][j - 1]`` with ``m = N - i + 1``: the grain's
+    bounding partial sums are eligible exactly when ``N_m(A) = j - 1``
+    (``notes/free_fermions.md`` Sec. 0).  Same layout as
+    :func:`forcenet.exact.triangle.moments.mean_W`; keyword arguments go to
+    :func:`survival_table`.
+
+    Examples
+    --------
+    >>> [str(x) for x in mean_W(4)[-1]]
+    ['1/7', '5/14', '5/14', '1/7']
+    """
+    N = check_layers(N, maximum=MAX_N)
+    S, total = survival_table(N, **kwargs)
+    den = total * (N * (N - 1) // 2 + 1)
+    table = [[Fraction(1)]]
+    for i in range(2, N + 1):
+        m = N - i + 1
+        table.append([Fraction(S[m][j - 1], den) for j in range(1, i + 1)])
+    return table
+
+
+def expected_entries(N: int, **kwargs) -> dict:
+    """``E[T(r, c)]`` of a uniform random standard tableau of the shifted staircase, every cell (exact).
+
+    ``T(x) = #{k : x not in I_k}`` along the chain, so
+    ``E[T(r, c)] count = sum_{k < r} S[c - r + 1][k]``.
+
+    Examples
+    --------
+    >>> E = expected_entries(3)
+    >>> E[(1, 1)], E[(1, 2)], E[(2, 2)]
+    (Fraction(1, 1), Fraction(2, 1), Fraction(3, 1))
+    """
+    N = check_layers(N, maximum=MAX_N)
+    n = N - 1
+    S, total = survival_table(N, **kwargs)
+    return {(r, c): Fraction(sum(S[c - r + 1][:r]), total) for r in range(1, n + 1) for c in range(r, n + 1)}
+
+
+def lattice_direction(N: int, *, workers: int | None = None, progress=None, backend: str = "numba") -> list[Fraction]:
+    """Exact ``<W_{i,1}> = <W_{i,i}>`` for ``i = 1..N``: the response on the two lattice directions.
+
+    Only the first column ``S[m][0]`` of the survival table, from two
+    eliminations per level point instead of ``n + 1`` (:func:`~.engine.edge_residues`):
+    about ``n`` times cheaper than :func:`mean_W` (N = 100 in minutes, not
+    hours).  ``<W_{i,1}> (d + 1) count = S[N - i + 1][0]``.
+
+    Examples
+    --------
+    >>> [str(x) for x in lattice_direction(5)]
+    ['1', '1/2', '41/132', '2/11', '1/11']
+    """
+    N = check_layers(N, maximum=MAX_N)
+    n, d = N - 1, N * (N - 1) // 2
+    total = count(N, backend)
+    if n == 0:
+        return [Fraction(1)]
+    primes = _primes_above((d + 1) * total, N)
+    nworkers = _workers(workers, len(primes), _edge_seconds(N) * len(primes))
+    residues = _run_primes(_one_prime_edge, [(N, p, backend) for p in primes], nworkers, progress)
+    crt = _CRT(primes)
+    den = (d + 1) * total
+    column = {m: crt([residues[p][m] for p in primes]) for m in range(1, n + 1)}
+    if any(not 0 < v < den for v in column.values()):
+        raise ArithmeticError("reconstructed lattice-direction sums out of range")
+    return [Fraction(1)] + [Fraction(column[N - i + 1], den) for i in range(2, N + 1)]
+
+
+def _edge_seconds(N: int) -> float:
+    """CPU seconds of one prime of :func:`lattice_direction`."""
+    n, d = N - 1, N * (N - 1) // 2
+    s = n + 1 + (n + 1) % 2
+    per_y = _SECONDS_PER_UPDATE * 2 * n**3 / 3 + _SECONDS_PER_ROW * n**2
+    return level_points(d) // 2 * (2 * per_y + _SECONDS_PER_KERNEL * s**3) + 1e-3
+
+
+def lattice_direction_plan(N: int, memory_bytes: int | None = None, workers: int | None = None) -> Plan:
+    """The cost of :func:`lattice_direction` (the plan of ``notes/benchmarks.md``'s model).
+
+    Examples
+    --------
+    >>> lattice_direction_plan(100).runnable
+    True
+    """
+    N = check_layers(N)
+    what = f"<W_(i,1)> N={N} (Pfaffians)"
+    if N > MAX_N:
+        return Plan(what, 0, refusal=f"N={N} is out of range for the Pfaffian route: N must be an integer in 2..{MAX_N}")
+    n, d = N - 1, N * (N - 1) // 2
+    nprimes = ceil(((d + 1) * _count_bound(N)).bit_length() / log2(prime_limit(max(n, 1)) * 0.999))
+    cpu = _edge_seconds(N) * nprimes
+    nworkers = _workers(workers, nprimes, cpu)
+    per_worker = level_points(d) // 2 * 2 * n * 8 + 160 * 2**20
+    return Plan(what, _STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers, nworkers * per_worker, nprimes,
+                "prime").within_memory(memory_bytes)
+
+
+def _seconds(N: int) -> float:
+    """CPU seconds of one prime (the model of ``notes/benchmarks.md``)."""
+    n, d = N - 1, N * (N - 1) // 2
+    reps = level_points(d) // 2
+    ys = 2 * ((n + 1) // 2)
+    s = n + 1 + (n + 1) % 2
+    per_y = _SECONDS_PER_UPDATE * 2 * n**3 / 3 + _SECONDS_PER_ROW * n**2
+    return reps * (ys * per_y + _SECONDS_PER_KERNEL * s**3) + 1e-3
+
+
+def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None, workers: int | None = None) -> Plan:
+    """The cost of :func:`table_run` (``forcenet table --method pfaffian``).
+
+    Examples
+    --------
+    >>> plan = table_plan(32)
+    >>> plan.runnable, plan.ticks, plan.unit
+    (True, 60, 'prime')
+    >>> table_plan(8, moments=2).refusal
+    'moments=2 is out of range for --method pfaffian: moments must be 1 (higher moments use --method fast, thesis or maps)'
+    >>> table_plan(201).refusal
+    'N=201 is out of range for --method pfaffian: N must be an integer in 2..200'
+    """
+    N, moments = check_layers(N), check_int(moments, "moments", 1)
+    what = f"exact table N={N} (Pfaffians)"
+    if moments > 1:
+        return Plan(what, 0, refusal=f"moments={moments} is out of range for --method pfaffian: moments must be 1 "
+                                     "(higher moments use --method fast, thesis or maps)")
+    if N > MAX_N:
+        return Plan(what, 0, refusal=f"N={N} is out of range for --method pfaffian: N must be an integer in 2..{MAX_N}")
+    n, d = N - 1, N * (N - 1) // 2
+    bits = ((d + 1) * _count_bound(N)).bit_length()
+    nprimes = ceil(bits / log2(prime_limit(max(n, 1)) * 0.999))
+    cpu = _seconds(N) * nprimes
+    nworkers = _workers(workers, nprimes, cpu)
+    seconds = _STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers
+    per_worker = level_points(d) // 2 * (n + 2) * n * 8 + 160 * 2**20
+    return Plan(what, seconds, nworkers * per_worker, nprimes, "prime").within_memory(memory_bytes)
+
+
+def _count_bound(N: int) -> int:
+    """``count(N)`` for the plan's prime count (the product formula; the run recomputes it by Pfaffians)."""
+    from ..staircase import count as product_formula
+
+    return product_formula(N)
+
+
+def table_run(N: int, moments: int = 1, progress=None, workers: int | None = None) -> dict:
+    """``{1: <W> table}`` by Pfaffians; ``progress(1)`` per prime.
+
+    Examples
+    --------
+    >>> [str(x) for x in table_run(5)[1][-1]]
+    ['1/11', '1/4', '7/22', '1/4', '1/11']
+    """
+    N = check_layers(N, maximum=MAX_N)
+    check_int(moments, "moments", 1, 1)
+    return {1: mean_W(N, progress=progress, workers=workers)}

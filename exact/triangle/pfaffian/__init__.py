@@ -9,7 +9,8 @@ The route behind ``forcenet table --method pfaffian`` (derivation and proofs in
   pure-Python twins in :mod:`.kernels_python`;
 * :mod:`.engine`: one prime: the survival table ``S[m][k]`` modulo ``p``;
 * :mod:`.route`: primes, Chinese remaindering, worker processes, the
-  ``<W>`` table (4.63)-(4.77), the count (4.1), the plan.
+  ``<W>`` table (4.63)-(4.77), the lattice directions alone
+  (``lattice_direction``, about ``n/2`` times cheaper), the count (4.1), the plans.
 
 May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
 :mod:`forcenet.exact.plan`, :mod:`forcenet.exact.triangle.staircase`.
@@ -21,6 +22,8 @@ Examples
 (286, ['1/7', '5/14', '5/14', '1/7'])
 """
 
-from .route import count, expected_entries, mean_W, normalization, survival_table, table_plan, table_run
+from .route import (count, expected_entries, lattice_direction, lattice_direction_plan, mean_W, normalization,
+                    survival_table, table_plan, table_run)
 
-__all__ = ["count", "normalization", "expected_entries", "mean_W", "survival_table", "table_plan", "table_run"]
+__all__ = ["count", "normalization", "expected_entries", "mean_W", "lattice_direction", "lattice_direction_plan",
+           "survival_table", "table_plan", "table_run"]

@@ -198,7 +198,7 @@ def main(argv=None):
 
     os.makedirs(args.figures, exist_ok=True)
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
-    grid = np.geomspace(args.fit_from, 1200, 200)
+    grid = np.geomspace(args.fit_from, 2500, 200)
     for ax, (name, z) in zip(axes, (("edge z=1/2", 0.5), ("edge z=3/4", 0.75))):
         sizes = sorted(fitted[name])
         ax.loglog(sizes, [abs(fitted[name][N]) for N in sizes], "ko", ms=4, label="exact (Pfaffian route)")

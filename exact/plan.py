@@ -23,7 +23,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
-__all__ = ["Plan", "duration_text", "combine"]
+__all__ = ["Plan", "duration_text", "combine", "first_moment_only"]
 
 
 def duration_text(seconds: float) -> str:
@@ -106,3 +106,19 @@ def combine(what: str, plans, unit: str = "step") -> Plan:
     refusal = next((p.refusal for p in plans if p.refusal), None)
     return Plan(what, sum(p.seconds for p in plans), max((p.nbytes for p in plans), default=0),
                 sum(p.ticks for p in plans), unit, refusal)
+
+
+def first_moment_only(what: str, method: str, moments: int) -> Plan | None:
+    """The refusal of a route that computes ``<W>`` only, or None when ``moments == 1``.
+
+    Examples
+    --------
+    >>> first_moment_only("x", "lambda", 2).refusal
+    'moments=2 is out of range for --method lambda: moments must be 1 (higher moments use --method fast, thesis or maps)'
+    >>> first_moment_only("x", "lambda", 1) is None
+    True
+    """
+    if moments == 1:
+        return None
+    return Plan(what, 0, refusal=f"moments={moments} is out of range for --method {method}: moments must be 1 "
+                                 "(higher moments use --method fast, thesis or maps)")

@@ -446,13 +446,12 @@ def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None):
     >>> table_plan(9, moments=2).refusal
     'moments=2 is out of range for --method lambda: moments must be 1 (higher moments use --method fast, thesis or maps)'
     """
-    from ..plan import Plan
+    from ..plan import Plan, first_moment_only
 
     N, moments = check_layers(N), check_int(moments, "moments", 1)
     what = f"--method lambda N={N}, Gamma recursions"
     if moments > 1:
-        return Plan(what, 0, refusal=f"moments={moments} is out of range for --method lambda: moments must be 1 "
-                                     "(higher moments use --method fast, thesis or maps)")
+        return first_moment_only(what, "lambda", moments)
     if N > _MAX_N:
         return Plan(what, 0, refusal=f"N={N} is out of range for --method lambda: N must be an integer in 2..{_MAX_N} "
                                      "(the index boxes of (4.32) outgrow memory)")

@@ -24,6 +24,10 @@ with ``B`` the complement, ``N_m(A) = (n - m + 1) - N_m(B)``.  Modulo ``p``:
 Cost: ``M/2`` kernels and ``(M/2) * n`` eliminations of ``2n``-square
 matrices, about ``n^6 / 6`` multiply-adds per prime.
 
+Residues travel to the kernels as ``float64`` arrays of exact integers in
+``[0, p)`` (their representation, :mod:`.kernels`; nothing is rounded) and
+come back as ``int64``.
+
 May import: :mod:`forcenet.exact.validation` and its own package.
 """
 

@@ -27,7 +27,7 @@ from fractions import Fraction
 from math import ceil, factorial, log2
 
 from ...modular import is_prime
-from ...plan import Plan
+from ...plan import Plan, first_moment_only
 from ...validation import check_int, check_layers
 from .engine import count_residue, edge_residues, level_points, prime_limit, prime_residues
 
@@ -343,8 +343,7 @@ def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None, worker
     N, moments = check_layers(N), check_int(moments, "moments", 1)
     what = f"exact table N={N} (Pfaffians)"
     if moments > 1:
-        return Plan(what, 0, refusal=f"moments={moments} is out of range for --method pfaffian: moments must be 1 "
-                                     "(higher moments use --method fast, thesis or maps)")
+        return first_moment_only(what, "pfaffian", moments)
     if N > MAX_N:
         return Plan(what, 0, refusal=f"N={N} is out of range for --method pfaffian: N must be an integer in 2..{MAX_N}")
     n, d = N - 1, N * (N - 1) // 2

@@ -13,6 +13,15 @@ from forcenet.exact.packing.mobilized import mean_W_mobilized
 from forcenet.cli import main
 
 
+
+def _assert_within_5_sigma(data, exact):
+    """Every sampled mean of a `forcenet sample` JSON within 5 of its standard errors of the exact table."""
+    for i, row in enumerate(exact):
+        for j, value in enumerate(row):
+            err = data["stderr_W"][i][j]
+            if err > 0:
+                assert abs(data["mean_W"][i][j] - float(value)) < 5 * err
+
 def run(argv, capsys):
     code = main(argv)
     out, err = capsys.readouterr()
@@ -118,12 +127,7 @@ def test_sample_command_json(capsys):
     code, out, _ = run(["sample", "--N", "5", "--samples", "3000", "--seed", "3", "--format", "json"], capsys)
     data = json.loads(out)
     assert data["sampler"] == "exact" and data["samples"] == 3000
-    exact = mean_W(5)
-    for i in range(5):
-        for j in range(i + 1):
-            err = data["stderr_W"][i][j]
-            if err > 0:
-                assert abs(data["mean_W"][i][j] - float(exact[i][j])) < 5 * err
+    _assert_within_5_sigma(data, mean_W(5))
     code, out, _ = run(["sample", "--N", "5", "--sampler", "metropolis", "--samples", "2000", "--format", "json"], capsys)
     data = json.loads(out)
     assert data["sampler"] == "metropolis" and 0 < data["acceptance"] <= 1 and data["tau_max"] >= 1
@@ -258,12 +262,7 @@ def test_sample_workers_are_reproducible(sampler, capsys):
     data = json.loads(first)
     assert data["workers"] == 2 and "seconds" not in data
     assert 0 < data["effective_samples"] <= 3000
-    exact = mean_W(5)
-    for i in range(5):
-        for j in range(i + 1):
-            err = data["stderr_W"][i][j]
-            if err > 0:
-                assert abs(data["mean_W"][i][j] - float(exact[i][j])) < 5 * err
+    _assert_within_5_sigma(data, mean_W(5))
     code, one, _ = run(argv[:-3] + ["--quiet"], capsys)
     assert json.loads(one)["workers"] == 1 and one != first
 
@@ -297,10 +296,5 @@ def test_sample_slice_move(capsys):
     code, out, _ = run(argv, capsys)
     data = json.loads(out)
     assert code == 0 and data["move"] == "slice" and data["acceptance"] == 1.0
-    exact = mean_W(6)
-    for i in range(6):
-        for j in range(i + 1):
-            err = data["stderr_W"][i][j]
-            if err > 0:
-                assert abs(data["mean_W"][i][j] - float(exact[i][j])) < 5 * err
+    _assert_within_5_sigma(data, mean_W(6))
     assert main(["sample", "--N", "6", "--move", "slice"]) == 2  # exact sampler: no move to choose

@@ -23,10 +23,11 @@ from forcenet.cli import main
 from forcenet.exact import count, mean_W
 from forcenet.exact.routes import METHODS, table_plan, table_run
 from forcenet.exact.triangle.ideal_dp import survival_counts
-from forcenet.exact.triangle.pfaffian import engine, kernels, kernels_python, route, schur
+from forcenet.exact.triangle.pfaffian import dense, engine, kernels, kernels_python, route, schur
 from forcenet.exact.triangle.staircase import shifted_tableaux_count
 
-PRIME = 8388593
+PRIME = 8388593  # below the dense baseline's bound too
+LARGE_PRIME = 33554393  # the largest prime of the route
 
 
 # ------------------------------------------------------------------ the tables
@@ -215,7 +216,7 @@ def test_lazy_pair_elimination_equals_textbook_elimination(n):
     A = np.zeros((2 * n, (2 * n + 7) // 8 * 8))
     A[:, : 2 * n] = np.triu(M, 1)
     out, c = np.zeros(n), np.zeros((4, 2 * n))
-    assert kernels._eliminate(A, n, float(PRIME), 1 / PRIME, c[0], c[1], c[2], c[3], out)
+    assert dense._eliminate(A, n, float(PRIME), 1 / PRIME, c[0], c[1], c[2], c[3], out)
     assert out.astype(np.int64).tolist() == ref
 
 
@@ -268,14 +269,60 @@ def test_a_zero_pivot_moves_the_point(monkeypatch):
     assert (engine.edge_residues(7, PRIME) == edge).all()
 
 
-def test_prime_limit_keeps_the_lazy_elimination_exact():
+def test_prime_limits_keep_the_word_arithmetic_exact():
     for n in (1, 10, 63, 99, 199):
-        p = engine.prime_limit(n)
+        p = engine.prime_limit(n) - 1  # the displacement kernels: loose residues below 2p, sums below 8 p^2
+        assert 8 * p * p < 2**53
+        p = engine.dense_prime_limit(n)  # the dense baseline: lazily reduced rows
         assert p + 2 * (n - 1) * p * p < 2**53 and 64 * p * p < 2**53
-    assert list(islice(route.route_primes(10), 2)) == [8388593, 8388587]
+    assert list(islice(route.route_primes(10), 2)) == [33554393, 33554383]
 
 
-@pytest.mark.parametrize("bad, error", [(1.5, TypeError), (8388592, ValueError), (7, ValueError), (2**24 + 1, ValueError)])
+@pytest.mark.parametrize("N", [2, 3, 4, 5, 6, 7, 10, 17, 24])
+@pytest.mark.parametrize("c", [2, 5, 1234567])
+def test_displacement_generators_equal_the_dense_kernel(N, c):
+    """Sec. 4.1: (x_i + x_j) W_ij = F_i0 F_j1 - F_i1 F_j0 for every i < j, and the pair entries, from four solves.
+
+    The dense kernel (inverse and products) is the independent route; the
+    check covers every entry, so it also checks the lemma that the
+    displacement has rank two.
+    """
+    p, n = LARGE_PRIME, N - 1
+    size = 2 * n
+    B, X1, expo = engine.setup_matrices(n, p)
+    Wt = np.zeros((size, size))
+    assert dense._kernel_matrix(B, X1, expo, float(c), n, float(p), Wt)
+    F, Wd = np.zeros((size, 2)), np.zeros(n)
+    assert kernels._kernel_generators(B, X1, expo, float(c), n, float(p), F, Wd)
+    x = [(n - i // 2) * (1 if i % 2 == 0 else -1) for i in range(size)]
+    F = F.astype(np.int64).tolist()
+    for i in range(size):
+        for j in range(i + 1, size):
+            assert (x[i] + x[j]) * int(Wt[i, j]) % p == (F[i][0] * F[j][1] - F[i][1] * F[j][0]) % p
+    assert [int(v) for v in Wd] == [int(Wt[2 * b, 2 * b + 1]) for b in range(n)]
+    G = np.zeros((size, 2))  # the generators read off the dense displacement agree as a form
+    assert dense.displacement_generators(Wt, n, float(p), G)
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 4, 5, 9, 16, 17, 30])
+def test_displacement_elimination_equals_the_dense_elimination(n):
+    """Every y of :func:`point_values` (groups of 8 and a narrower last group) against the dense pair elimination."""
+    p = PRIME  # below both bounds
+    B, X1, expo = engine.setup_matrices(n, p)
+    us = np.array([(3 + 7 * j) % p for j in range(n + 3)], dtype=np.float64)
+    R1, R2 = np.zeros((len(us), n)), np.zeros((len(us), n))
+    assert kernels.point_values(B, X1, expo, 5.0, us, n, float(p), R1)
+    assert dense.point_values_dense(B, X1, expo, 5.0, us, n, float(p), R2)
+    assert (R1 == R2).all()
+
+
+@pytest.mark.parametrize("N", [3, 6, 9])
+def test_large_primes_agree_with_pure_python(N):
+    """Primes near 2^25, where the loose residues come closest to 2^53."""
+    assert (engine.prime_residues(N, LARGE_PRIME) == engine.prime_residues(N, LARGE_PRIME, backend="python")).all()
+
+
+@pytest.mark.parametrize("bad, error", [(1.5, TypeError), (8388592, ValueError), (7, ValueError), (2**25 + 15, ValueError)])
 def test_prime_residues_checks_its_arguments(bad, error):
     with pytest.raises(error):
         engine.prime_residues(5, bad)

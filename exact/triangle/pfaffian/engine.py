@@ -21,8 +21,9 @@ with ``B`` the complement, ``N_m(A) = (n - m + 1) - N_m(B)``.  Modulo ``p``:
    inverse Vandermonde; coefficients beyond the degree ``n - m + 1`` must
    vanish (a check).
 
-Cost: ``M/2`` kernels and ``(M/2) * n`` eliminations of ``2n``-square
-matrices, about ``n^6 / 6`` multiply-adds per prime.
+Cost: ``M/2`` kernels (``O(n^3)`` each) and ``(M/2) * n`` eliminations by
+displacement (``O(n^2)`` each, :func:`~.kernels.point_values`): ``O(n^5)``
+word operations per prime.
 
 Residues travel to the kernels as ``float64`` arrays of exact integers in
 ``[0, p)`` (their representation, :mod:`.kernels`; nothing is rounded) and
@@ -41,7 +42,7 @@ from ...modular import is_prime
 from ...validation import check_int, check_layers
 from .schur import labels
 
-__all__ = ["prime_limit", "level_points", "setup_matrices", "prime_residues", "edge_residues", "count_residue", "PointFailure"]
+__all__ = ["prime_limit", "dense_prime_limit", "level_points", "setup_matrices", "prime_residues", "edge_residues", "count_residue", "PointFailure"]
 
 MAX_POINT_FAILURES = 64
 
@@ -51,11 +52,27 @@ class PointFailure(ArithmeticError):
 
 
 def prime_limit(n: int) -> int:
-    """Largest prime size the lazy elimination allows: ``p + 2 (n-1) p^2 < 2^53`` and ``p < 2^23``.
+    """Bound on the primes of the route: ``p < 2^25``, so ``8 p^2 < 2^53`` (the displacement kernels' bound).
+
+    ``n`` is accepted for the interface; the bound of the displacement
+    elimination does not depend on it (that of the dense baseline does:
+    :func:`dense_prime_limit`).
 
     Examples
     --------
     >>> prime_limit(31), prime_limit(99)
+    (33554432, 33554432)
+    """
+    check_int(n, "n", 1)
+    return 2**25
+
+
+def dense_prime_limit(n: int) -> int:
+    """Bound of the dense lazy elimination (:func:`~.dense.point_values_dense`): ``p + 2 (n-1) p^2 < 2^53``, ``p < 2^23``.
+
+    Examples
+    --------
+    >>> dense_prime_limit(31), dense_prime_limit(99)
     (8388608, 6744694)
     """
     n = check_int(n, "n", 1)
@@ -156,21 +173,21 @@ def _level_sums(N: int, p: int, K, values, shape):
     d = N * (N - 1) // 2
     M = level_points(d)
     taken: set = set()
-    reps, partners, stack = [], [], []
+    reps, partners = [], []
     failures = 0
     stream = _pair_points(p, taken)
+    R = np.ones((M // 2,) + tuple(shape))  # filled in place, one slice per representative
     while len(reps) < M // 2:
         c, ci = next(stream)
-        R = np.ones(shape)
-        if not values(float(c), R):
+        slot = R[len(reps)]
+        if not values(float(c), slot):
             failures += 1
             if failures > MAX_POINT_FAILURES:
                 raise PointFailure(f"{failures} evaluation points failed modulo {p}")
+            slot[...] = 1.0
             continue
         reps.append(c)
         partners.append(ci)
-        stack.append(R)
-    R = np.stack(stack)
     points = np.array(reps + partners, dtype=np.float64)
     g = np.zeros(M)
     fact = [1] * (d + 1)
@@ -281,8 +298,8 @@ def edge_residues(N: int, p: int, backend: str = "numba") -> np.ndarray:
 
 
 def _matmul_mod(A, B, p):
-    """``A @ B mod p`` for int64 residues below ``2^23`` (rows of at most 2^17 terms stay exact)."""
+    """``A @ B mod p`` for int64 residues below ``2^25`` (sums of 2^12 products stay below 2^63)."""
     out = np.zeros((A.shape[0], B.shape[1]), dtype=np.int64)
-    for start in range(0, A.shape[1], 1 << 16):
-        out = (out + A[:, start : start + (1 << 16)] @ B[start : start + (1 << 16)]) % p
+    for start in range(0, A.shape[1], 1 << 12):
+        out = (out + A[:, start : start + (1 << 12)] @ B[start : start + (1 << 12)]) % p
     return out

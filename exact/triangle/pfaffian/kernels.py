@@ -1,19 +1,25 @@
-"""Compiled kernels of the Pfaffian route: linear algebra modulo a prime ``p < 2^23`` (numba).
+"""Compiled kernels of the Pfaffian route: linear algebra modulo a prime ``p < 2^25`` (numba).
 
-Residues are held as ``float64`` integers in ``[0, p)``.  A product of two
-residues is below ``2^46``, so it and short sums of such products are exact
-integers in double precision (below ``2^53``); :func:`_red` brings an exact
-integer back to ``[0, p)`` with one floating multiply, a floor and at most one
-correction (the quotient estimate is off by at most one).  Nothing here
-rounds: every value is an exact integer, so the results are exact residues.
+Residues are held as ``float64`` integers.  A product of two residues is
+below ``2^50``, so it and short sums of such products are exact integers in
+double precision (below ``2^53``); :func:`_red` brings an exact integer back
+to ``[0, p)`` with one floating multiply, a floor and at most one correction
+(the quotient estimate is off by at most one), and :func:`_lred` does the same
+without the correction, to a value in ``(-p, 2p)``.  Nothing here rounds:
+every value is an exact integer, so the results are exact residues.
 
-The hot loop is the pair elimination of :func:`point_values`.  Entries of
-rows that are not yet pivot rows are *not* reduced: each elimination step
-adds less than ``2 p^2`` to an entry, so ``p + 2 (n-1) p^2 < 2^53`` (the
-engine's choice of primes, :func:`forcenet.exact.triangle.pfaffian.engine.prime_limit`)
-keeps every entry exact for the whole elimination, and the update is two
-multiply-adds on doubles (vectorised by LLVM).  A pivot row is reduced when
-its pivot is taken.
+The hot loop is :func:`point_values`: for every ``y`` the leading
+pair-Pfaffians of ``J + D_u W D_u`` by a **displacement-structure (GKO-type)
+elimination** (``notes/free_fermions.md`` Sec. 4.1).  With node values ``+a``
+on copy 0 and ``-a`` on copy 1 of the part ``a``, ``(x_i + x_j) A_ij`` has rank
+two, so the matrix is carried by two generator columns and the pair entries
+``A[2b, 2b+1]`` (where ``x_i + x_j = 0``); each pivot costs ``O(n)`` instead of
+``O(n^2)``.  Eight values of ``y`` go in lockstep (one modular inverse per
+pivot for all eight), the loop over rows is a vector loop.  Bounds: loose
+residues are below ``2p`` in size, so every sum formed is below ``8 p^2 < 2^53``.
+
+The dense pair elimination that this replaced lives in :mod:`.dense` (the
+baseline of the benchmarks and a second route in the tests).
 
 Compiled on first use and cached on disk (``cache=True``); the pure-Python
 twin :mod:`.kernels_python` has the same functions and is the reference of
@@ -27,7 +33,9 @@ from __future__ import annotations
 import numpy as np
 from numba import int64, njit, uint64
 
-__all__ = ["pfaffian_mod", "point_values", "edge_values", "dual_weights", "lagrange_matrix", "weighted_sum"]
+__all__ = ["pfaffian_mod", "point_values", "edge_values", "dual_weights", "lagrange_matrix", "weighted_sum", "LANES"]
+
+LANES = 8  # values of y eliminated in lockstep
 
 _JIT = {"cache": True, "boundscheck": False, "nogil": True}
 
@@ -41,6 +49,12 @@ def _red(x, p, pinv):
     if x >= p:
         x -= p
     return x
+
+
+@njit(inline="always", **_JIT)
+def _lred(x, p, pinv):
+    """A value in ``(-p, 2p)`` congruent to the exact integer ``x`` (``|x| < 2^53``): :func:`_red` without corrections."""
+    return x - np.floor(x * pinv) * p
 
 
 @njit(**_JIT)
@@ -96,20 +110,140 @@ def _axpy(M, i, c, g, lo, hi):
         M[i, j] += g * M[c, j]
 
 
-@njit(**_JIT)
-def _inverse(K, out, p, pinv):
-    """``out = K^{-1}`` modulo ``p`` by Gauss-Jordan with row pivoting; False if ``K`` is singular mod p.
+@njit(inline="always", **_JIT)
+def _node(i, n):
+    """Node value of row ``i``: ``+a`` on copy 0 (even rows) and ``-a`` on copy 1 of the part ``a = n - i // 2``."""
+    a = n - i // 2
+    return a if i % 2 == 0 else -a
 
-    Rows other than the pivot row are reduced lazily: each round adds less
-    than ``p^2``, and everything is reduced after ``lazy`` rounds.
+
+@njit(**_JIT)
+def _pivot_inverses(n, p):
+    """``T[pc, rc, k, b] = 1/(x_row + x_pivot)`` modulo ``p``: pivot copy ``pc`` of site ``k``, row copy ``rc`` of site ``b > k``.
+
+    With the node values ``x = +a`` (copy 0) and ``-a`` (copy 1) of the part
+    ``a = n - site``, the sums are ``+-(n - b) +- (n - k)``, never zero for ``b != k``.
     """
+    pinv = 1.0 / p
+    size = 2 * n
+    inv = np.zeros(2 * size + 1)  # 1/v for v = -2n..2n at index v + 2n
+    for v in range(1, size + 1):
+        iv = _inv(float(v), p, pinv)
+        inv[size + v] = iv
+        inv[size - v] = 0.0 if iv == 0.0 else p - iv
+    T = np.zeros((2, 2, n, (n + 7) // 8 * 8))  # padded to whole blocks of 8 (zeros)
+    for k in range(n):
+        for b in range(k + 1, n):
+            for pc in range(2):
+                for rc in range(2):
+                    T[pc, rc, k, b] = inv[size + _node(2 * b + rc, n) + _node(2 * k + pc, n)]
+    return T
+
+
+@njit(fastmath={"contract"}, **_JIT)
+def _gko_sites(G, Np, T, k, n, h, q, c, p, pinv):
+    """One pivot (site ``k``) on the sites ``b > k`` of one lane: a vector loop over ``b``.
+
+    ``G[0], G[1]``: the generators of the copy-0 rows, ``G[2], G[3]`` of the
+    copy-1 rows; ``Np[b] = A[2b, 2b+1]``.  For each row ``i``:
+    ``e0 = A[i, i0]/c``, ``e1 = A[i, i1]/c`` from the generators (``h`` = the pivot
+    generators turned by ``Omega`` and divided by ``c``; ``T`` the inverse node
+    sums), then ``F_i <- F_i - e1 F_i0 + e0 F_i1`` (``q`` = the pivot generators),
+    and ``A[2b, 2b+1] += c (e1(2b) e0(2b+1) - e0(2b) e1(2b+1))``, the Schur
+    complement of the entries the generators do not carry.  Loose residues
+    (size below ``2p``): every sum formed is below ``8 p^2``.
+    """
+    h00, h01, h10, h11 = h[0], h[1], h[2], h[3]
+    q00, q01, q10, q11 = q[0], q[1], q[2], q[3]
+    ge0, ge1, go0, go1 = G[0], G[1], G[2], G[3]
+    t00, t01, t10, t11 = T[0, 0, k], T[0, 1, k], T[1, 0, k], T[1, 1, k]
+    # whole blocks of 8 sites (the arrays are padded): sites <= k meet T = 0 and stay bounded, never read again
+    for b in range(uint64(k + 1) & ~uint64(7), uint64(ge0.shape[0])):
+        a0 = ge0[b]
+        a1 = ge1[b]
+        x0 = _lred(_lred(a0 * h00 + a1 * h01, p, pinv) * t00[b], p, pinv)
+        x1 = _lred(_lred(a0 * h10 + a1 * h11, p, pinv) * t10[b], p, pinv)
+        ge0[b] = _lred(a0 - x1 * q00 + x0 * q10, p, pinv)
+        ge1[b] = _lred(a1 - x1 * q01 + x0 * q11, p, pinv)
+        b0 = go0[b]
+        b1 = go1[b]
+        y0 = _lred(_lred(b0 * h00 + b1 * h01, p, pinv) * t01[b], p, pinv)
+        y1 = _lred(_lred(b0 * h10 + b1 * h11, p, pinv) * t11[b], p, pinv)
+        go0[b] = _lred(b0 - y1 * q00 + y0 * q10, p, pinv)
+        go1[b] = _lred(b1 - y1 * q01 + y0 * q11, p, pinv)
+        Np[b] = _lred(Np[b] + c * _lred(x1 * y0 - x0 * y1, p, pinv), p, pinv)
+
+
+@njit(fastmath={"contract"}, **_JIT)
+def _gko_windows(F, Wd, T, us, js, n, p, out, G, Npair):
+    """Leading pair-Pfaffians of ``js J + D_u W D_u`` for every lane ``l`` (``u = us[l]``), by displacement.
+
+    ``F``: the generators of ``W`` (:func:`displacement_generators`); ``Wd[b] = W[2b, 2b+1]``,
+    the entries the generators do not determine; ``T``: :func:`_pivot_inverses`.
+    ``out[l, k] = Pf`` of the leading ``2k + 2`` block.  The Schur complement
+    after a pivot is again of this form (Gohberg-Kailath-Olshevsky): the
+    generators of the remaining rows get ``- A21 A11^{-1} F1`` and the pair
+    entries their own rank-2 update (:func:`_gko_sites`).  Work arrays:
+    ``G (L, 4, n8)``, ``Npair (L, n8)``, ``n8`` = ``n`` rounded up to a multiple
+    of 8, zero beyond ``n``.  Returns False on a zero pivot.
+    """
+    pinv = 1.0 / p
+    L = us.shape[0]
+    for l in range(L):
+        u = us[l]
+        for b in range(n):
+            G[l, 0, b] = _red(F[2 * b, 0] * u, p, pinv)  # D_u scales copy 0
+            G[l, 1, b] = _red(F[2 * b, 1] * u, p, pinv)
+            G[l, 2, b] = F[2 * b + 1, 0]
+            G[l, 3, b] = F[2 * b + 1, 1]
+            Npair[l, b] = _red(js[l] + u * Wd[b], p, pinv)
+    pf = np.ones(L)
+    c = np.empty(L)
+    ci = np.empty(L)
+    pre = np.empty(L)
+    h = np.empty(4)
+    q = np.empty(4)
+    for k in range(n):
+        for l in range(L):
+            c[l] = _red(Npair[l, k], p, pinv)
+            if c[l] == 0.0:
+                return False
+            pf[l] = _red(pf[l] * c[l], p, pinv)
+            out[l, k] = pf[l]
+        if k == n - 1:
+            break
+        acc = 1.0  # one inverse for all lanes (Montgomery's trick)
+        for l in range(L):
+            pre[l] = acc
+            acc = _red(acc * c[l], p, pinv)
+        inv = _inv(acc, p, pinv)
+        for l in range(L - 1, -1, -1):
+            ci[l] = _red(inv * pre[l], p, pinv)
+            inv = _red(inv * c[l], p, pinv)
+        for l in range(L):
+            for r in range(4):
+                q[r] = _red(G[l, r, k], p, pinv)  # F_i0 = (q0, q1), F_i1 = (q2, q3)
+            cl = ci[l]
+            h[0] = _red(q[1] * cl, p, pinv)  # Omega F_i0 / c = (F_i0,1, -F_i0,0) / c
+            h[1] = _red((p - q[0]) * cl, p, pinv)
+            h[2] = _red(q[3] * cl, p, pinv)
+            h[3] = _red((p - q[2]) * cl, p, pinv)
+            _gko_sites(G[l], Npair[l], T, k, n, h, q, c[l], p, pinv)
+    return True
+
+
+@njit(**_JIT)
+def _solve(K, Rhs, p, pinv):
+    """``K^{-1} Rhs`` modulo ``p`` by Gauss-Jordan with row pivoting (lazily reduced, as :func:`_inverse`); None if singular."""
     s = K.shape[0]
-    M = np.zeros((s, 2 * s))
+    m = Rhs.shape[1]
+    M = np.zeros((s, s + m))
     for i in range(s):
         for j in range(s):
             M[i, j] = K[i, j]
-        M[i, s + i] = 1.0
-    lazy = max(1, int((2.0**53 - 2.0**24) / (p * p)) - 1)
+        for j in range(m):
+            M[i, s + j] = Rhs[i, j]
+    lazy = max(1, int((2.0**53 - 2.0**26) / (p * p)) - 1)
     rounds = 0
     for c in range(s):
         r = -1
@@ -118,221 +252,150 @@ def _inverse(K, out, p, pinv):
             if r < 0 and M[i, c] != 0.0:
                 r = i
         if r < 0:
-            return False
+            return None
         if r != c:
-            for j in range(2 * s):
+            for j in range(s + m):
                 M[c, j], M[r, j] = M[r, j], M[c, j]
         f = _inv(M[c, c], p, pinv)
-        for j in range(c, 2 * s):
+        for j in range(c, s + m):
             M[c, j] = _red(_red(M[c, j], p, pinv) * f, p, pinv)
         for i in range(s):
             if i != c:
                 g = _red(M[i, c], p, pinv)
                 if g != 0.0:
-                    _axpy(M, i, c, p - g, uint64(c), uint64(2 * s))
+                    _axpy(M, i, c, p - g, uint64(c), uint64(s + m))
         rounds += 1
         if rounds >= lazy:
             for i in range(s):
-                for j in range(c, 2 * s):
+                for j in range(c, s + m):
                     M[i, j] = _red(M[i, j], p, pinv)
             rounds = 0
+    out = np.empty((s, m))
     for i in range(s):
-        for j in range(s):
+        for j in range(m):
             out[i, j] = _red(M[i, s + j], p, pinv)
-    return True
-
-
-@njit(fastmath={"contract"}, **_JIT)
-def _matmul(A, B, rows, cols, p, pinv):
-    """``(A @ B)[:rows, :cols]`` modulo ``p``, reducing after every 64 inner terms (64 p^2 < 2^53)."""
-    inner = uint64(A.shape[1])
-    rows, cols = uint64(rows), uint64(cols)
-    out = np.zeros((rows, cols))
-    for k0 in range(uint64(0), inner, uint64(64)):
-        for i in range(rows):
-            for k in range(k0, min(k0 + uint64(64), inner)):
-                a = A[i, k]
-                for j in range(cols):
-                    out[i, j] += a * B[k, j]
-        for i in range(rows):
-            for j in range(cols):
-                out[i, j] = _red(out[i, j], p, pinv)
     return out
 
 
-@njit(inline="always", **_JIT)
-def _pivot(A, i0, i1, width, p, pinv, c1, c2, size):
-    """Reduce the pivot rows ``i0, i1`` (from the first block any row below reads) and fill the multipliers.
-
-    ``c1[i] = A[i1, i] / a``, ``c2[i] = -A[i0, i] / a`` for ``i > i1``: the Schur complement of the pivot
-    block ``[[0, a], [-a, 0]]`` is ``A_ij + c1[i] A[i0, j] + c2[i] A[i1, j]``.  Returns the pivot ``a``.
-    """
-    for j in range(i0 & ~uint64(7), width):
-        A[i0, j] = _red(A[i0, j], p, pinv)
-        A[i1, j] = _red(A[i1, j], p, pinv)
-    a = A[i0, i1]
-    if a != 0.0:
-        ainv = _inv(a, p, pinv)
-        for i in range(i1 + uint64(1), size):
-            c1[i] = _red(A[i1, i] * ainv, p, pinv)
-            c2[i] = _red((p - A[i0, i]) * ainv, p, pinv)
-    return a
-
-
-@njit(fastmath={"contract"}, **_JIT)
-def _eliminate(A, n, p, pinv, c1, c2, d1, d2, out):
-    """Leading pair-Pfaffians of the skew matrix ``A`` (upper triangle, ``2n``-square), lazily reduced.
-
-    ``out[k] = Pf(A[:2k+2, :2k+2])``; False on a zero pivot (the caller moves
-    the evaluation point).  Two pivots per sweep: the second pivot's rows get
-    the first update, then every row below receives both (a rank-4 update),
-    so the trailing matrix is read and written once per two pivots.
-
-    ``A`` may be wider than ``2n`` (zero columns): rows are updated in whole
-    blocks of 8 from a multiple of 8, so the vector loop has no remainder.
-    The entries this touches below the diagonal (zero at the start) are never
-    read for a result; they obey the same bound, since the pivot rows are
-    reduced from the first block on.  Contracting ``a*b + c`` into one fused
-    multiply-add is exact here (every result is an integer below ``2^53``).
-    """
-    size = uint64(2 * n)
-    width = uint64(A.shape[1])
-    one = uint64(1)
-    two = uint64(2)
-    block = ~uint64(7)
-    pf = 1.0
-    k = 0
-    while k < n:
-        i0 = uint64(2 * k)
-        i1 = i0 + one
-        a = _pivot(A, i0, i1, width, p, pinv, c1, c2, size)
-        if a == 0.0:
-            return False
-        pf = _red(pf * a, p, pinv)
-        out[k] = pf
-        if k == n - 1:
-            break
-        j0 = i1 + one  # the next pivot rows: first update, then pivot
-        j1 = j0 + one
-        a1, a2, b1, b2 = c1[j0], c2[j0], c1[j1], c2[j1]
-        for j in range(i0 & block, width):
-            x0 = A[i0, j]
-            x1 = A[i1, j]
-            A[j0, j] = A[j0, j] + a1 * x0 + a2 * x1
-            A[j1, j] = A[j1, j] + b1 * x0 + b2 * x1
-        b = _pivot(A, j0, j1, width, p, pinv, d1, d2, size)
-        if b == 0.0:
-            return False
-        pf = _red(pf * b, p, pinv)
-        out[k + 1] = pf
-        if k + 1 == n - 1:
-            break
-        i = j1 + one
-        while i + one < size:  # two rows at a time, both pivots at once
-            e1, e2, f1, f2 = c1[i], c2[i], d1[i], d2[i]
-            g1, g2, h1, h2 = c1[i + one], c2[i + one], d1[i + one], d2[i + one]
-            for j in range((i + one) & block, width):
-                x0 = A[i0, j]
-                x1 = A[i1, j]
-                y0 = A[j0, j]
-                y1 = A[j1, j]
-                A[i, j] = A[i, j] + e1 * x0 + e2 * x1 + f1 * y0 + f2 * y1
-                A[i + one, j] = A[i + one, j] + g1 * x0 + g2 * x1 + h1 * y0 + h2 * y1
-            i += two
-        if i < size:
-            e1, e2, f1, f2 = c1[i], c2[i], d1[i], d2[i]
-            for j in range((i + one) & block, width):
-                A[i, j] = A[i, j] + e1 * A[i0, j] + e2 * A[i1, j] + f1 * A[j0, j] + f2 * A[j1, j]
-        k += 2
-    return True
-
-
 @njit(**_JIT)
-def _scaled_rows(A, Wt, scale):
-    """Upper triangle of ``D_u W D_u`` into ``A`` (row ``i`` scaled by ``scale[i % 2]``), zeros below it in the first block."""
-    size = uint64(Wt.shape[0])
-    for i in range(size):
-        for j in range(i & ~uint64(7), i + uint64(1)):
-            A[i, j] = 0.0
-        r = i % uint64(2)
-        for j in range(i + uint64(1), size):
-            A[i, j] = Wt[i, j] * scale[r, j]
+def _kernel_generators(B, X1, expo, c, n, p, F, Wd):
+    """The kernel ``W`` at ``q = c`` as its two displacement generators ``F`` and pair entries ``Wd``, in ``O(n^3/2)``.
 
+    ``notes/free_fermions.md`` Sec. 4.1: with ``D B + B D = u v^T - v u^T``
+    (``u = beta a``, ``v = beta``), ``D X + X D = -(u' v'^T - v' u'^T)``
+    (``u' = Q S alpha a``, ``v' = Q S alpha``) and ``K = B + X``,
 
-@njit(**_JIT)
-def _kernel_matrix(B, X1, expo, c, n, p, Wt):
-    """The kernel ``W`` at ``q = c`` (upper triangle, copies interleaved) into ``Wt``; False if ``K(c)`` is singular.
+        F_0 = [v - B K^-1 v ; K^-1 v],   F_1 = [u - B K^-1 (u + u') ; K^-1 (u + u')]
 
-    ``K(c) = B + Q X1 Q`` (``Q = diag(c^expo)``), ``W = -G0^{-1}`` restricted to the sites,
-    ``G0^{-1} = [[B - B K^-1 B, -B K^-1], [K^-1 B, K^-1]]``; row ``2a`` is copy 0 of site ``a``
-    (the part ``n - a``), row ``2a + 1`` copy 1.
+    on the parts (copy 0 ; copy 1), and ``W[2b, 2b+1] = (B K^-1)_bb`` with
+    ``K^-1`` read off its own displacement ``K^-1 (D K + K D) K^-1`` (four
+    solves with ``K``, no inverse, no matrix product).  ``alpha``, ``beta``
+    are read off the columns of the zero label of ``B`` and ``X1``.  Returns
+    False if ``K(c)`` is singular modulo ``p``.
     """
     pinv = 1.0 / p
     s = B.shape[0]
+    z = n  # the (first) zero label
+    sign_z = 1.0 if n % 2 == 0 else p - 1.0  # (-1)^z
     qp = np.empty(s)
     for i in range(s):
         x = 1.0
         for _ in range(expo[i]):
             x = _red(x * c, p, pinv)
         qp[i] = x
+    Rhs = np.zeros((s, 4))  # u, v, u', v'
+    for i in range(s):
+        a = float(expo[i])
+        if i < n:
+            v = B[i, z]  # beta_i beta_0 M_i0 = beta_i
+            sa = _red(X1[i, z] * (p - sign_z), p, pinv)  # (S alpha)_i = -(-1)^z X1[i, z]
+        else:
+            v = 1.0
+            sa = sign_z if i == z else 0.0  # alpha_0 = 1, alpha_0' = 0
+        Rhs[i, 0] = _red(v * a, p, pinv)
+        Rhs[i, 1] = v
+        Rhs[i, 2] = _red(_red(sa * a, p, pinv) * qp[i], p, pinv)
+        Rhs[i, 3] = _red(sa * qp[i], p, pinv)
     K = np.empty((s, s))
     for i in range(s):
         for j in range(s):
             K[i, j] = _red(B[i, j] + _red(qp[i] * X1[i, j], p, pinv) * qp[j], p, pinv)
-    Ki = np.empty((s, s))
-    if not _inverse(K, Ki, p, pinv):
+    Y = _solve(K, Rhs, p, pinv)
+    if Y is None:
         return False
-    BKi = _matmul(B, Ki, n, s, p, pinv)
-    BKiB = _matmul(BKi, B, n, n, p, pinv)
+    # f = u + u' side, g = v side; B times K^-1 (u + u') and K^-1 v
+    yk = np.empty(s)
+    for i in range(s):
+        yk[i] = _red(Y[i, 0] + Y[i, 2], p, pinv)
+    chunk = max(1, min(64, int((2.0**53 - p) / (p * p))))  # p + chunk p^2 < 2^53
+    yv = Y[:, 1].copy()
     for a in range(n):
-        for b in range(a, n):
-            if b > a:
-                Wt[2 * a, 2 * b] = _red(BKiB[a, b] - B[a, b], p, pinv)
-                Wt[2 * a + 1, 2 * b] = p - BKi[b, a]
-                Wt[2 * a + 1, 2 * b + 1] = p - Ki[a, b]
-            Wt[2 * a, 2 * b + 1] = BKi[a, b]
+        bk = 0.0
+        bv = 0.0
+        for j in range(s):
+            bk += B[a, j] * yk[j]
+            bv += B[a, j] * yv[j]
+            if j % chunk == chunk - 1:
+                bk = _red(bk, p, pinv)
+                bv = _red(bv, p, pinv)
+        bk = _red(bk, p, pinv)
+        bv = _red(bv, p, pinv)
+        F[2 * a, 0] = _red(Rhs[a, 1] + p - bv, p, pinv)
+        F[2 * a + 1, 0] = Y[a, 1]
+        F[2 * a, 1] = _red(Rhs[a, 0] + p - bk, p, pinv)
+        F[2 * a + 1, 1] = yk[a]
+    # (K^-1)_jb = (-y_u y_v^T + y_v y_u^T + y_u' y_v'^T - y_v' y_u'^T)_jb / (a_j + a_b), b a part
+    inv = np.zeros(2 * n + 1)
+    for v in range(1, 2 * n + 1):
+        inv[v] = _inv(float(v), p, pinv)
+    y0 = Y[:, 0].copy()
+    y2 = Y[:, 2].copy()
+    y3 = Y[:, 3].copy()
+    kcol = np.empty(s)
+    for b in range(n):
+        c0, c1, c2, c3 = Y[b, 0], Y[b, 1], Y[b, 2], Y[b, 3]
+        for j in range(s):  # column b of K^-1 (its diagonal entry is zero)
+            g = yv[j] * c0 + (p - y0[j]) * c1 + y2[j] * c3 + (p - y3[j]) * c2
+            kcol[j] = 0.0 if j == b else _red(_red(g, p, pinv) * inv[expo[j] + expo[b]], p, pinv)
+        acc = 0.0
+        for j in range(s):
+            acc += B[b, j] * kcol[j]
+            if j % chunk == chunk - 1:
+                acc = _red(acc, p, pinv)
+        Wd[b] = _red(acc, p, pinv)
     return True
-
-
-@njit(**_JIT)
-def _window_pfaffians(A, Wt, u, with_j, n, p, bufs, out):
-    """Leading pair-Pfaffians of ``D_u W D_u`` (``+ J`` if ``with_j``), ``D_u = diag(u, 1, u, 1, ...)``."""
-    pinv = 1.0 / p
-    size = 2 * n
-    scale = np.empty((2, size))
-    uu = _red(u * u, p, pinv)
-    for j in range(0, size, 2):
-        scale[0, j], scale[0, j + 1] = uu, u  # row of copy 0
-        scale[1, j], scale[1, j + 1] = u, 1.0  # row of copy 1
-    _scaled_rows(A, Wt, scale)  # entries below p^2, which the lazy bound allows
-    if with_j:
-        for a in range(n):
-            A[2 * a, 2 * a + 1] += 1.0
-    return _eliminate(A, n, p, pinv, bufs[0], bufs[1], bufs[2], bufs[3], out)
 
 
 @njit(**_JIT)
 def point_values(B, X1, expo, c, us, n, p, R):
     """``R[j, k] = E_c[y_j^{N_m(B)}]`` at the level fugacity ``q = c``, modulo ``p``, every ``y_j = 1 + u_j``.
 
-    Builds the kernel ``W`` (:func:`_kernel_matrix`) and, for every ``u_j`` of
-    ``us``, the leading pair-Pfaffians of ``J + D_u W D_u``: ``R[j, k]`` is the
-    window of the ``k + 1`` largest parts (``m = n - k``).  Returns False when
-    ``K(c)`` is singular or a pivot vanishes modulo ``p`` (the caller takes
-    another ``c``).
+    Builds the kernel ``W`` (:func:`_kernel_matrix`), its two displacement
+    generators, and, for every ``u_j`` of ``us`` (:data:`LANES` at a time), the
+    leading pair-Pfaffians of ``J + D_u W D_u`` (:func:`_gko_windows`):
+    ``R[j, k]`` is the window of the ``k + 1`` largest parts (``m = n - k``).
+    Returns False when ``K(c)`` is singular, a pivot vanishes modulo ``p`` or
+    the displacement check fails (the caller takes another ``c``).
     """
     size = 2 * n
-    Wt = np.zeros((size, size))
-    if not _kernel_matrix(B, X1, expo, c, n, p, Wt):
+    F = np.empty((size, 2))
+    Wd = np.empty(n)
+    if not _kernel_generators(B, X1, expo, c, n, p, F, Wd):
         return False
-    A = np.zeros((size, (size + 7) // 8 * 8))  # padded to whole blocks of 8 (zeros stay zero)
-    bufs = np.empty((4, size))
-    out = np.empty(n)
-    for jy in range(us.shape[0]):
-        if not _window_pfaffians(A, Wt, us[jy], True, n, p, bufs, out):
+    T = _pivot_inverses(n, p)
+    L = LANES
+    G = np.zeros((L, 4, (n + 7) // 8 * 8))  # padded to whole blocks of 8
+    Npair = np.zeros((L, (n + 7) // 8 * 8))
+    out = np.empty((L, n))
+    js = np.ones(L)
+    ny = us.shape[0]
+    for j0 in range(0, ny, L):
+        lanes = min(L, ny - j0)  # the last group may be narrower
+        if not _gko_windows(F, Wd, T, us[j0 : j0 + lanes], js[:lanes], n, p, out, G, Npair):
             return False
-        for k in range(n):
-            R[jy, k] = out[k]
+        for l in range(lanes):
+            for k in range(n):
+                R[j0 + l, k] = out[l, k]
     return True
 
 
@@ -344,23 +407,24 @@ def edge_values(B, X1, expo, c, n, p, R):
     ``Pf(J + D_u W D_u)`` in ``u``, i.e. the Pfaffian of ``W`` itself (a
     correlation function of the point process); ``R[1, k] = P_c(no site of the
     window in B)``: the value at ``y = 0`` (``u = -1``).  Two eliminations per
-    point instead of ``n + 1``.
+    point instead of ``n + 1``, both by displacement (two lanes).
     """
     size = 2 * n
-    Wt = np.zeros((size, size))
-    if not _kernel_matrix(B, X1, expo, c, n, p, Wt):
+    F = np.empty((size, 2))
+    Wd = np.empty(n)
+    if not _kernel_generators(B, X1, expo, c, n, p, F, Wd):
         return False
-    A = np.zeros((size, (size + 7) // 8 * 8))
-    bufs = np.empty((4, size))
-    out = np.empty(n)
-    if not _window_pfaffians(A, Wt, 1.0, False, n, p, bufs, out):
+    T = _pivot_inverses(n, p)
+    us = np.array([1.0, p - 1.0])
+    js = np.array([0.0, 1.0])  # W alone; J + D_u W D_u at u = -1
+    G = np.zeros((2, 4, (n + 7) // 8 * 8))
+    Npair = np.zeros((2, (n + 7) // 8 * 8))
+    out = np.empty((2, n))
+    if not _gko_windows(F, Wd, T, us, js, n, p, out, G, Npair):
         return False
-    for k in range(n):
-        R[0, k] = out[k]
-    if not _window_pfaffians(A, Wt, p - 1.0, True, n, p, bufs, out):
-        return False
-    for k in range(n):
-        R[1, k] = out[k]
+    for r in range(2):
+        for k in range(n):
+            R[r, k] = out[r, k]
     return True
 
 
@@ -387,25 +451,41 @@ def _master(points, p, pinv):
     return P
 
 
-@njit(**_JIT)
+@njit(fastmath={"contract"}, **_JIT)
 def dual_weights(points, g, p):
     """``lam`` with ``sum_i lam_i points_i^l = g_l`` for ``l < M`` (transposed Vandermonde, O(M^2)).
 
-    ``lam_i = phi(L_i)`` for the Lagrange basis ``L_i`` and the functional ``phi(X^l) = g_l``.
+    ``lam_i = phi(L_i)`` for the Lagrange basis ``L_i`` and the functional
+    ``phi(X^l) = g_l``: with ``Q_i = P / (X - x_i)`` (``P`` the master
+    polynomial), ``lam_i = sum_k g_k [X^k] Q_i / Q_i(x_i)``.  The synthetic
+    division, the dot product and the Horner value run in one sweep over
+    ``k``, eight points side by side (independent recurrences, loose residues).
     """
     pinv = 1.0 / p
     M = points.shape[0]
     P = _master(points, p, pinv)
-    q = np.empty(M)
     lam = np.empty(M)
-    for i in range(M):
-        _quotient_at(P, points[i], p, pinv, q)
-        num = 0.0
-        den = 0.0
+    W = 8
+    x = np.empty(W)
+    q = np.empty(W)
+    num = np.empty(W)
+    den = np.empty(W)
+    for i0 in range(0, M, W):
+        for l in range(W):
+            x[l] = points[min(i0 + l, M - 1)]
+            q[l] = 1.0  # [X^(M-1)] Q_i
+            num[l] = 0.0
+            den[l] = 0.0
         for k in range(M - 1, -1, -1):
-            num = _red(num + g[k] * q[k], p, pinv)
-            den = _red(den * points[i] + q[k], p, pinv)
-        lam[i] = _red(num * _inv(den, p, pinv), p, pinv)
+            gk = g[k]
+            Pk = P[k]
+            for l in range(W):
+                qk = q[l]
+                num[l] = _lred(num[l] + gk * qk, p, pinv)
+                den[l] = _lred(den[l] * x[l] + qk, p, pinv)
+                q[l] = _lred(Pk + x[l] * qk, p, pinv)  # [X^(k-1)] Q_i
+        for l in range(min(W, M - i0)):
+            lam[i0 + l] = _red(_red(num[l], p, pinv) * _inv(_red(den[l], p, pinv), p, pinv), p, pinv)
     return lam
 
 
@@ -430,16 +510,17 @@ def lagrange_matrix(points, p):
 
 @njit(**_JIT)
 def weighted_sum(w, R, p):
-    """``sum_i w_i R[i]`` modulo ``p`` for a stack ``R`` of shape ``(m, a, b)`` (lazy, every 64 terms)."""
+    """``sum_i w_i R[i]`` modulo ``p`` for a stack ``R`` of shape ``(m, a, b)`` (lazy: ``p + chunk p^2 < 2^53``)."""
     pinv = 1.0 / p
     m, a, b = R.shape
+    chunk = max(1, min(64, int((2.0**53 - p) / (p * p))))
     out = np.zeros((a, b))
     for i in range(m):
         wi = w[i]
         for x in range(a):
             for y in range(b):
                 out[x, y] += wi * R[i, x, y]
-        if i % 64 == 63:
+        if i % chunk == chunk - 1:
             for x in range(a):
                 for y in range(b):
                     out[x, y] = _red(out[x, y], p, pinv)

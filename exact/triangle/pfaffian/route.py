@@ -47,9 +47,9 @@ __all__ = [
 
 MAX_N = 200
 # measured on the 2-core machine (numba 0.68, AVX-512), CPU seconds; notes/benchmarks.md
-_SECONDS_PER_UPDATE = 0.10e-9  # one entry of the pair elimination (2n^3/3 per y), two fused multiply-adds
-_SECONDS_PER_ROW = 3.0e-9  # per n^2 and y: pivots (inverses), multipliers, the matrix set-up
-_SECONDS_PER_KERNEL = 0.65e-9  # per s^3 of the kernel K(q)^-1, B K^-1, B K^-1 B (s = n + 1 or n + 2)
+_SECONDS_PER_ROW = 2.5e-9  # per n^2 and y: the displacement elimination (n pivots of O(n) rows), measured at N = 100
+_SECONDS_PER_KERNEL = 3.3e-10  # per s^3 of the kernel set-up (four solves with K(q), s = n + 1 or n + 2)
+_SECONDS_PER_WEIGHT = 1.6e-8  # per M^2: the weights of the level functional (transposed Vandermonde)
 _STARTUP_SECONDS = 1.5  # numba import and loading the cached kernels (first compilation ever: ~10 s more)
 _PARALLEL_MIN_SECONDS = 20.0  # below this, starting workers (numba import, ~3 s each) costs more than it saves
 
@@ -61,7 +61,7 @@ def route_primes(N: int):
     --------
     >>> from itertools import islice
     >>> list(islice(route_primes(32), 3))
-    [8388593, 8388587, 8388581]
+    [33554393, 33554383, 33554371]
     """
     N = check_layers(N)
     p = prime_limit(max(N - 1, 1)) - 1
@@ -292,8 +292,8 @@ def _edge_seconds(N: int) -> float:
     """CPU seconds of one prime of :func:`lattice_direction`."""
     n, d = N - 1, N * (N - 1) // 2
     s = n + 1 + (n + 1) % 2
-    per_y = _SECONDS_PER_UPDATE * 2 * n**3 / 3 + _SECONDS_PER_ROW * n**2
-    return level_points(d) // 2 * (2 * per_y + _SECONDS_PER_KERNEL * s**3) + 1e-3
+    per_y = _SECONDS_PER_ROW * n**2
+    return level_points(d) // 2 * (2 * per_y + _SECONDS_PER_KERNEL * s**3) + _SECONDS_PER_WEIGHT * level_points(d) ** 2 + 1e-3
 
 
 def lattice_direction_plan(N: int, memory_bytes: int | None = None, workers: int | None = None) -> Plan:
@@ -323,8 +323,8 @@ def _seconds(N: int) -> float:
     reps = level_points(d) // 2
     ys = 2 * ((n + 1) // 2)
     s = n + 1 + (n + 1) % 2
-    per_y = _SECONDS_PER_UPDATE * 2 * n**3 / 3 + _SECONDS_PER_ROW * n**2
-    return reps * (ys * per_y + _SECONDS_PER_KERNEL * s**3) + 1e-3
+    per_y = _SECONDS_PER_ROW * n**2
+    return reps * (ys * per_y + _SECONDS_PER_KERNEL * s**3) + _SECONDS_PER_WEIGHT * level_points(d) ** 2 + 1e-3
 
 
 def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None, workers: int | None = None) -> Plan:
@@ -334,7 +334,7 @@ def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None, worker
     --------
     >>> plan = table_plan(32)
     >>> plan.runnable, plan.ticks, plan.unit
-    (True, 60, 'prime')
+    (True, 55, 'prime')
     >>> table_plan(8, moments=2).refusal
     'moments=2 is out of range for --method pfaffian: moments must be 1 (higher moments use --method fast, thesis or maps)'
     >>> table_plan(201).refusal

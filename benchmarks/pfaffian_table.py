@@ -7,7 +7,10 @@ largest worker).  Modes:
 * ``table``: the full exact <W> table by Pfaffians, and by the order-ideal DP
   (``fast``) where ``N <= --dp-max``; ratios are DP / Pfaffian;
 * ``prime``: one prime of the Pfaffian route (the work is the same for every
-  prime), the number of primes needed, and the extrapolated full table;
+  prime), the number of primes needed, and the extrapolated full table; the
+  same for the dense elimination of every ``(q, y)`` (``backend='dense'``,
+  the route before the displacement elimination, at its own largest prime),
+  with the ratio of the extrapolated tables;
 * ``compile``: the first call of the numba kernels with an empty cache
   (compilation) and with the cache (loading).
 
@@ -54,6 +57,14 @@ SNIPPETS = {
              "p = next(route.route_primes({N})); engine.prime_residues(3, p) if {N} > 3 else None\n"
              "c0 = time.process_time(); t0 = time.perf_counter(); engine.prime_residues({N}, p)\n"
              "extra = {{'prime_cpu': time.process_time() - c0, 'primes': route.table_plan({N}).ticks}}",
+    # the baseline: the same prime's work by the dense elimination, at the largest prime its bound allows
+    "prime_dense": "import math\nfrom forcenet.exact.modular import is_prime\n"
+                   "from forcenet.exact.triangle.pfaffian import engine, route\n"
+                   "p = engine.dense_prime_limit({N} - 1) - 1\nwhile not is_prime(p): p -= 1\n"
+                   "engine.prime_residues(3, p, backend='dense') if {N} > 3 else None\n"
+                   "c0 = time.process_time(); engine.prime_residues({N}, p, backend='dense')\n"
+                   "bits = ({N} * ({N} - 1) // 2 + 1) * route._count_bound({N})\n"
+                   "extra = {{'prime_cpu': time.process_time() - c0, 'primes': math.ceil(bits.bit_length() / math.log2(p))}}",
     "compile": "from forcenet.exact.triangle.pfaffian import engine\nimport numba\nt1 = time.perf_counter()\n"
                "engine.prime_residues(3, 8388593); engine.count_residue(5, 8388593)\n"
                "extra = {{'first_call': time.perf_counter() - t1}}",
@@ -108,18 +119,25 @@ def table(args):
 
 
 def prime(args):
-    print("| N | one prime CPU s | primes | extrapolated CPU s | on 2 cores | load |")
-    print("| --- | --- | --- | --- | --- | --- |")
+    print("| N | one prime CPU s | primes | extrapolated CPU s | on 2 cores | dense: one prime CPU s | dense: primes | "
+          "dense: extrapolated CPU s | dense / displacement (table) | load |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     points = []
     for N in args.N:
         res, err = measure("prime", N, timeout=args.timeout)
         if err:
-            print(f"| {N} | {err} | | | | |", flush=True)
+            print(f"| {N} | {err} | | | | | | | | |", flush=True)
             continue
         total = res["prime_cpu"] * res["primes"]
         points.append((N, res["prime_cpu"], total))
-        print(f"| {N} | {res['prime_cpu']:.2f} | {res['primes']} | {total:.0f} | {total / 2 / 60:.1f} min | {res['load']:.1f} |",
-              flush=True)
+        base, base_err = measure("prime_dense", N, timeout=args.timeout) if N <= args.dense_max else (None, "-")
+        if base is None:
+            dense_cols = f"{base_err} | | | "
+        else:
+            dense_total = base["prime_cpu"] * base["primes"]
+            dense_cols = f"{base['prime_cpu']:.2f} | {base['primes']} | {dense_total:.0f} | {dense_total / total:.2f}x"
+        print(f"| {N} | {res['prime_cpu']:.2f} | {res['primes']} | {total:.0f} | {total / 2 / 60:.1f} min | {dense_cols} | "
+              f"{res['load']:.1f} |", flush=True)
     if len(points) >= 2:
         xs = [p[0] - 1 for p in points]
         print(f"\nfitted exponents in n = N - 1: one prime {_fit(xs, [p[1] for p in points]):.2f}, "
@@ -142,6 +160,7 @@ def main(argv=None):
     parser.add_argument("mode", choices=["table", "prime", "compile"])
     parser.add_argument("--N", type=int, nargs="+", default=[24, 28, 32])
     parser.add_argument("--dp-max", type=int, default=26, help="run the order-ideal DP up to this N")
+    parser.add_argument("--dense-max", type=int, default=100, help="prime mode: run the dense baseline up to this N")
     parser.add_argument("--workers", type=int, default=0, help="worker processes (0: the route's own choice)")
     parser.add_argument("--timeout", type=float, default=3600.0)
     parser.add_argument("--save", default="", help="also write each Pfaffian table as DIR/mean_W_N{N}.json (exact)")

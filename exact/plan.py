@@ -23,7 +23,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
-__all__ = ["Plan", "duration_text", "combine", "first_moment_only"]
+__all__ = ["Plan", "duration_text", "combine", "combine_by_time", "phase_progress", "first_moment_only"]
 
 
 def duration_text(seconds: float) -> str:
@@ -106,6 +106,43 @@ def combine(what: str, plans, unit: str = "step") -> Plan:
     refusal = next((p.refusal for p in plans if p.refusal), None)
     return Plan(what, sum(p.seconds for p in plans), max((p.nbytes for p in plans), default=0),
                 sum(p.ticks for p in plans), unit, refusal)
+
+
+def combine_by_time(what: str, plans) -> Plan:
+    """One plan for runs of different units (primes, samples) on one bar counted in estimated seconds.
+
+    A phase's tick of ``k`` of its own units advances the bar by ``k`` times
+    its seconds per unit (:func:`phase_progress`), so the bar's remaining time
+    is right when the phases differ in speed.
+
+    Examples
+    --------
+    >>> combine_by_time("both", [Plan("a", 20, 10, 4, "prime"), Plan("b", 5, 30, 1000, "sample")])
+    Plan(what='both', seconds=25, nbytes=30, ticks=25, unit='s', refusal=None)
+    """
+    plans = list(plans)
+    plan = combine(what, plans, "s")
+    return Plan(plan.what, plan.seconds, plan.nbytes, max(1, round(plan.seconds)), "s", plan.refusal)
+
+
+def phase_progress(progress, plan: Plan):
+    """``progress`` (of a :func:`combine_by_time` bar) in the units of one phase ``plan``; None stays None.
+
+    Examples
+    --------
+    >>> seen = []
+    >>> phase_progress(seen.append, Plan("a", 20, 10, 4, "prime"))(2)
+    >>> seen
+    [10.0]
+    """
+    if progress is None:
+        return None
+    rate = plan.seconds / plan.ticks if plan.ticks else 0.0
+
+    def tick(k=1):
+        progress(k * rate)
+
+    return tick
 
 
 def first_moment_only(what: str, method: str, moments: int) -> Plan | None:

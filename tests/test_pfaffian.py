@@ -316,6 +316,12 @@ def test_displacement_elimination_equals_the_dense_elimination(n):
     assert (R1 == R2).all()
 
 
+@pytest.mark.parametrize("N", [2, 5, 8, 13])
+def test_dense_backend_gives_the_same_residues(N):
+    """The benchmarks' baseline (dense elimination of every (q, y)) is the same route, term by term."""
+    assert (engine.prime_residues(N, PRIME, backend="dense") == engine.prime_residues(N, PRIME)).all()
+
+
 @pytest.mark.parametrize("N", [3, 6, 9])
 def test_large_primes_agree_with_pure_python(N):
     """Primes near 2^25, where the loose residues come closest to 2^53."""
@@ -386,11 +392,18 @@ def test_lattice_direction_agrees_with_the_exact_sampler_at_N64():
 
 
 @pytest.mark.slow
-def test_exact_sampler_agrees_at_N100():  # pragma: no cover - hours on two cores (notes/benchmarks.md)
+def test_exact_sampler_agrees_at_N64():
+    """The whole N = 64 table (2016 grains; ~2 min on two cores) against exact samples."""
+    result = _sampler_agreement(64, 8000, seed=64)
+    assert result.passed, result.summary()
+
+
+@pytest.mark.slow
+def test_exact_sampler_agrees_at_N100():  # pragma: no cover - most of an hour on two cores (notes/benchmarks.md)
     import os
 
     if os.environ.get("FORCENET_HOURS") != "1":
-        pytest.skip("the N = 100 table takes ~2.5 h on the 2-core machine; set FORCENET_HOURS=1 to run it")
+        pytest.skip("the N = 100 table takes ~50 min on the 2-core machine; set FORCENET_HOURS=1 to run it")
     result = _sampler_agreement(100, 8000, seed=100)
     assert result.passed, result.summary()
 

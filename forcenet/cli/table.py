@@ -88,7 +88,7 @@ def _cross_check(N: int, means, samples: int, seed: int, progress):
 
 
 def cmd_table(args):
-    from forcenet.exact.plan import combine
+    from forcenet.exact.plan import combine_by_time, phase_progress
     from forcenet.exact.routes import table_plan, table_run
     from forcenet.exact.triangle.tables import exact_table, fraction_str, to_csv, to_json, to_latex
 
@@ -106,12 +106,15 @@ def cmd_table(args):
         from forcenet.numeric.triangle.exact_sampler import sample_plan
 
         plans.append(sample_plan(args.N, args.samples, memory))
-    plan = combine(plans[0].what if len(plans) == 1 else f"{plans[0].what} and its Monte Carlo cross-check", plans,
-                   plans[0].unit if len(plans) == 1 else "step")
+    if len(plans) == 1:
+        plan = plans[0]
+    else:  # primes or ideals, then samples: one bar in estimated seconds
+        plan = combine_by_time(f"{plans[0].what} and its Monte Carlo cross-check", plans)
 
     def run(tick):
-        tables = table_run(args.method, args.N, args.moments, progress=tick, memory_bytes=memory)
-        check = _cross_check(args.N, tables[1], args.samples, args.seed, tick) if cross else None
+        phase = [tick] * len(plans) if len(plans) == 1 else [phase_progress(tick, p) for p in plans]
+        tables = table_run(args.method, args.N, args.moments, progress=phase[0], memory_bytes=memory)
+        check = _cross_check(args.N, tables[1], args.samples, args.seed, phase[-1]) if cross else None
         return tables, check
 
     tables, check = run_planned(plan, run, force=args.force, quiet=args.quiet)

@@ -5,8 +5,10 @@ The route behind ``forcenet table --method pfaffian`` (derivation and proofs in
 
 * :mod:`.schur`: Schur's Pfaffian, Pfaffian minor summation and the
   point-process kernel, exactly (Fractions; the reference for small ``N``);
-* :mod:`.kernels`: the compiled word-size kernels (numba), with their
-  pure-Python twins in :mod:`.kernels_python`;
+* :mod:`.kernels`: the compiled word-size kernels (numba): the kernel's
+  displacement generators and the displacement elimination, with their
+  pure-Python twins in :mod:`.kernels_python`; :mod:`.dense`: the dense
+  elimination they replaced (benchmark baseline, second route in the tests);
 * :mod:`.engine`: one prime: the survival table ``S[m][k]`` modulo ``p``;
 * :mod:`.route`: primes, Chinese remaindering, worker processes, the
   ``<W>`` table (4.63)-(4.77), the lattice directions alone

@@ -119,8 +119,15 @@ def _kernels(backend: str):
         from . import kernels
     elif backend == "python":
         from . import kernels_python as kernels
+    elif backend == "dense":  # the dense elimination of every (q, y): the benchmarks' baseline (p < dense_prime_limit)
+        from types import SimpleNamespace
+
+        from . import dense, kernels as compiled
+
+        kernels = SimpleNamespace(**{name: getattr(compiled, name) for name in compiled.__all__})
+        kernels.point_values = dense.point_values_dense
     else:
-        raise ValueError(f"backend={backend!r} is out of range: backend must be 'numba' or 'python'")
+        raise ValueError(f"backend={backend!r} is out of range: backend must be 'numba', 'python' or 'dense'")
     return kernels
 
 
@@ -211,8 +218,10 @@ def prime_residues(N: int, p: int, backend: str = "numba", total_mod_p: int | No
         Number of layers, ``N >= 2``.
     p : int
         A prime below :func:`prime_limit` ``(N - 1)``, above ``2 N + 2`` and ``d + 1``.
-    backend : {"numba", "python"}
-        The compiled kernels or their pure-Python twins (small ``N`` only).
+    backend : {"numba", "python", "dense"}
+        The compiled kernels, their pure-Python twins (small ``N`` only), or
+        the compiled dense elimination of :mod:`.dense` (the benchmarks'
+        baseline; needs ``p <`` :func:`dense_prime_limit`).
     total_mod_p : int, optional
         ``count(N) mod p``; when given, every row is checked to sum to
         ``(d + 1) count`` modulo ``p``.

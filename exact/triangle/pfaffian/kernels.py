@@ -15,7 +15,7 @@ on copy 0 and ``-a`` on copy 1 of the part ``a``, ``(x_i + x_j) A_ij`` has rank
 two, so the matrix is carried by two generator columns and the pair entries
 ``A[2b, 2b+1]`` (where ``x_i + x_j = 0``); each pivot costs ``O(n)`` instead of
 ``O(n^2)``.  Eight values of ``y`` go in lockstep (one modular inverse per
-pivot for all eight), the loop over rows is a vector loop.  Bounds: loose
+pivot for all eight), the loop over the parts is a vector loop.  Bounds: loose
 residues are below ``2p`` in size, so every sum formed is below ``8 p^2 < 2^53``.
 
 The dense pair elimination that this replaced lives in :mod:`.dense` (the

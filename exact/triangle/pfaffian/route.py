@@ -5,8 +5,9 @@ for enough word-size primes, rebuilt exactly by the Chinese remainder
 theorem (the bound ``0 <= S[m][k] <= (d+1) count`` is proven, so the
 reconstruction is exact); primes are spread over worker processes.
 
-Cost ``O(N^8 log N)`` word operations: ``~n^6/6`` multiply-adds per prime and
-``O(N^2 log N)`` primes.  Memory ``O(N^3)`` per worker.  It overtakes the
+Cost ``O(N^7 log N)`` word operations: ``O(n^5)`` per prime (``d/2`` level
+points, ``n + 1`` values of ``y``, an ``O(n^2)`` displacement elimination
+each) and ``O(N^2 log N)`` primes.  Memory ``O(N^3)`` per worker.  It overtakes the
 order-ideal DP (``2^(N-1)`` ideals) near ``N = 20`` (``notes/benchmarks.md``).
 
 May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,

@@ -12,7 +12,7 @@ The route behind ``forcenet table --method pfaffian`` (derivation and proofs in
 * :mod:`.engine`: one prime: the survival table ``S[m][k]`` modulo ``p``;
 * :mod:`.route`: primes, Chinese remaindering, worker processes, the
   ``<W>`` table (4.63)-(4.77), the lattice directions alone
-  (``lattice_direction``, about ``n/2`` times cheaper), the count (4.1), the plans.
+  (``lattice_direction``, two eliminations per level point instead of ``n + 1``), the count (4.1), the plans.
 
 May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
 :mod:`forcenet.exact.plan`, :mod:`forcenet.exact.triangle.staircase`.

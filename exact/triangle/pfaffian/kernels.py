@@ -119,10 +119,11 @@ def _node(i, n):
 
 @njit(**_JIT)
 def _pivot_inverses(n, p):
-    """``T[pc, rc, k, b] = 1/(x_row + x_pivot)`` modulo ``p``: pivot copy ``pc`` of site ``k``, row copy ``rc`` of site ``b > k``.
+    """``T[k, 2 pc + rc, b] = 1/(x_row + x_pivot)`` modulo ``p``: pivot copy ``pc`` of site ``k``, row copy ``rc`` of site ``b > k``.
 
     With the node values ``x = +a`` (copy 0) and ``-a`` (copy 1) of the part
-    ``a = n - site``, the sums are ``+-(n - b) +- (n - k)``, never zero for ``b != k``.
+    ``a = n - site``, the sums are ``+-(n - b) +- (n - k)``, never zero for
+    ``b != k``.  Zero for ``b <= k`` and in the padding ``b >= n`` (width ``n + 8``).
     """
     pinv = 1.0 / p
     size = 2 * n
@@ -131,81 +132,95 @@ def _pivot_inverses(n, p):
         iv = _inv(float(v), p, pinv)
         inv[size + v] = iv
         inv[size - v] = 0.0 if iv == 0.0 else p - iv
-    T = np.zeros((2, 2, n, (n + 7) // 8 * 8))  # padded to whole blocks of 8 (zeros)
+    T = np.zeros((n, 4, n + 8))
     for k in range(n):
-        for b in range(k + 1, n):
-            for pc in range(2):
-                for rc in range(2):
-                    T[pc, rc, k, b] = inv[size + _node(2 * b + rc, n) + _node(2 * k + pc, n)]
+        for pc in range(2):
+            for rc in range(2):
+                for b in range(k + 1, n):
+                    T[k, 2 * pc + rc, b] = inv[size + _node(2 * b + rc, n) + _node(2 * k + pc, n)]
     return T
 
 
+# Row stride of the lanes' state (:func:`_gko_windows`): a compile-time constant, so the
+# compiler sees that the five rows of a lane never overlap (no run-time alias checks in
+# the vector loop); not a power of two (no cache-set conflicts). Needs n + 8 <= _STRIDE.
+_STRIDE = 216
+_USTRIDE = uint64(_STRIDE)
+
+
 @njit(fastmath={"contract"}, **_JIT)
-def _gko_sites(G, Np, T, k, n, h, q, c, p, pinv):
+def _gko_sites(Z, o, Tk, k, n, h00, h01, h10, h11, q00, q01, q10, q11, c, p, pinv):
     """One pivot (site ``k``) on the sites ``b > k`` of one lane: a vector loop over ``b``.
 
-    ``G[0], G[1]``: the generators of the copy-0 rows, ``G[2], G[3]`` of the
-    copy-1 rows; ``Np[b] = A[2b, 2b+1]``.  For each row ``i``:
-    ``e0 = A[i, i0]/c``, ``e1 = A[i, i1]/c`` from the generators (``h`` = the pivot
-    generators turned by ``Omega`` and divided by ``c``; ``T`` the inverse node
-    sums), then ``F_i <- F_i - e1 F_i0 + e0 F_i1`` (``q`` = the pivot generators),
-    and ``A[2b, 2b+1] += c (e1(2b) e0(2b+1) - e0(2b) e1(2b+1))``, the Schur
+    ``Z[o + r S + b]`` (``S`` = :data:`_STRIDE`): rows ``r = 0, 1`` the
+    generators of the copy-0 rows, ``2, 3`` of the copy-1 rows, ``4`` the pair
+    entries ``A[2b, 2b+1]``.  For each row ``i``: ``e0 = A[i, i0]/c``,
+    ``e1 = A[i, i1]/c`` from the generators (``h`` = the pivot generators turned
+    by ``Omega`` and divided by ``c``; ``Tk`` the inverse node sums), then
+    ``F_i <- F_i - e1 F_i0 + e0 F_i1`` (``q`` = the pivot generators), and
+    ``A[2b, 2b+1] += c (e1(2b) e0(2b+1) - e0(2b) e1(2b+1))``, the Schur
     complement of the entries the generators do not carry.  Loose residues
-    (size below ``2p``): every sum formed is below ``8 p^2``.
+    (size below ``2p``): every sum formed is below ``8 p^2``.  The loop runs
+    over whole blocks of 8 from ``k + 1``; the padding (``Tk = 0`` there) stays
+    bounded and is never read.
     """
-    h00, h01, h10, h11 = h[0], h[1], h[2], h[3]
-    q00, q01, q10, q11 = q[0], q[1], q[2], q[3]
-    ge0, ge1, go0, go1 = G[0], G[1], G[2], G[3]
-    t00, t01, t10, t11 = T[0, 0, k], T[0, 1, k], T[1, 0, k], T[1, 1, k]
-    # whole blocks of 8 sites (the arrays are padded): sites <= k meet T = 0 and stay bounded, never read again
-    for b in range(uint64(k + 1) & ~uint64(7), uint64(ge0.shape[0])):
-        a0 = ge0[b]
-        a1 = ge1[b]
-        x0 = _lred(_lred(a0 * h00 + a1 * h01, p, pinv) * t00[b], p, pinv)
-        x1 = _lred(_lred(a0 * h10 + a1 * h11, p, pinv) * t10[b], p, pinv)
-        ge0[b] = _lred(a0 - x1 * q00 + x0 * q10, p, pinv)
-        ge1[b] = _lred(a1 - x1 * q01 + x0 * q11, p, pinv)
-        b0 = go0[b]
-        b1 = go1[b]
-        y0 = _lred(_lred(b0 * h00 + b1 * h01, p, pinv) * t01[b], p, pinv)
-        y1 = _lred(_lred(b0 * h10 + b1 * h11, p, pinv) * t11[b], p, pinv)
-        go0[b] = _lred(b0 - y1 * q00 + y0 * q10, p, pinv)
-        go1[b] = _lred(b1 - y1 * q01 + y0 * q11, p, pinv)
-        Np[b] = _lred(Np[b] + c * _lred(x1 * y0 - x0 * y1, p, pinv), p, pinv)
+    lo = uint64(k + 1)
+    for b in range(lo, lo + ((uint64(n) - lo + uint64(7)) & ~uint64(7))):
+        i0 = uint64(o) + b
+        i1 = i0 + _USTRIDE
+        i2 = i1 + _USTRIDE
+        i3 = i2 + _USTRIDE
+        i4 = i3 + _USTRIDE
+        a0 = Z[i0]
+        a1 = Z[i1]
+        x0 = _lred(_lred(a0 * h00 + a1 * h01, p, pinv) * Tk[0, b], p, pinv)
+        x1 = _lred(_lred(a0 * h10 + a1 * h11, p, pinv) * Tk[2, b], p, pinv)
+        Z[i0] = _lred(a0 - x1 * q00 + x0 * q10, p, pinv)
+        Z[i1] = _lred(a1 - x1 * q01 + x0 * q11, p, pinv)
+        b0 = Z[i2]
+        b1 = Z[i3]
+        y0 = _lred(_lred(b0 * h00 + b1 * h01, p, pinv) * Tk[1, b], p, pinv)
+        y1 = _lred(_lred(b0 * h10 + b1 * h11, p, pinv) * Tk[3, b], p, pinv)
+        Z[i2] = _lred(b0 - y1 * q00 + y0 * q10, p, pinv)
+        Z[i3] = _lred(b1 - y1 * q01 + y0 * q11, p, pinv)
+        Z[i4] = _lred(Z[i4] + c * _lred(x1 * y0 - x0 * y1, p, pinv), p, pinv)
 
 
-@njit(fastmath={"contract"}, **_JIT)
-def _gko_windows(F, Wd, T, us, js, n, p, out, G, Npair):
+@njit(**_JIT)
+def _gko_windows(F, Wd, T, us, js, n, p, out, Z):
     """Leading pair-Pfaffians of ``js J + D_u W D_u`` for every lane ``l`` (``u = us[l]``), by displacement.
 
-    ``F``: the generators of ``W`` (:func:`displacement_generators`); ``Wd[b] = W[2b, 2b+1]``,
+    ``F``: the generators of ``W`` (:func:`_kernel_generators`); ``Wd[b] = W[2b, 2b+1]``,
     the entries the generators do not determine; ``T``: :func:`_pivot_inverses`.
     ``out[l, k] = Pf`` of the leading ``2k + 2`` block.  The Schur complement
     after a pivot is again of this form (Gohberg-Kailath-Olshevsky): the
     generators of the remaining rows get ``- A21 A11^{-1} F1`` and the pair
-    entries their own rank-2 update (:func:`_gko_sites`).  Work arrays:
-    ``G (L, 4, n8)``, ``Npair (L, n8)``, ``n8`` = ``n`` rounded up to a multiple
-    of 8, zero beyond ``n``.  Returns False on a zero pivot.
+    entries their own rank-2 update (:func:`_gko_sites`).  ``Z``: the lanes'
+    state, ``5 S`` values per lane (``S`` = :data:`_STRIDE`).  Returns False on
+    a zero pivot.
     """
     pinv = 1.0 / p
     L = us.shape[0]
+    S = _STRIDE
     for l in range(L):
         u = us[l]
+        o = 5 * S * l
+        for b in range(n, n + 8):  # the padding of the last block
+            for r in range(5):
+                Z[o + r * S + b] = 0.0
         for b in range(n):
-            G[l, 0, b] = _red(F[2 * b, 0] * u, p, pinv)  # D_u scales copy 0
-            G[l, 1, b] = _red(F[2 * b, 1] * u, p, pinv)
-            G[l, 2, b] = F[2 * b + 1, 0]
-            G[l, 3, b] = F[2 * b + 1, 1]
-            Npair[l, b] = _red(js[l] + u * Wd[b], p, pinv)
+            Z[o + b] = _red(F[2 * b, 0] * u, p, pinv)  # D_u scales copy 0
+            Z[o + S + b] = _red(F[2 * b, 1] * u, p, pinv)
+            Z[o + 2 * S + b] = F[2 * b + 1, 0]
+            Z[o + 3 * S + b] = F[2 * b + 1, 1]
+            Z[o + 4 * S + b] = _red(js[l] + u * Wd[b], p, pinv)
     pf = np.ones(L)
     c = np.empty(L)
     ci = np.empty(L)
     pre = np.empty(L)
-    h = np.empty(4)
-    q = np.empty(4)
     for k in range(n):
         for l in range(L):
-            c[l] = _red(Npair[l, k], p, pinv)
+            c[l] = _red(Z[5 * S * l + 4 * S + k], p, pinv)
             if c[l] == 0.0:
                 return False
             pf[l] = _red(pf[l] * c[l], p, pinv)
@@ -220,15 +235,17 @@ def _gko_windows(F, Wd, T, us, js, n, p, out, G, Npair):
         for l in range(L - 1, -1, -1):
             ci[l] = _red(inv * pre[l], p, pinv)
             inv = _red(inv * c[l], p, pinv)
+        Tk = T[k]
         for l in range(L):
-            for r in range(4):
-                q[r] = _red(G[l, r, k], p, pinv)  # F_i0 = (q0, q1), F_i1 = (q2, q3)
+            o = 5 * S * l
+            q0 = _red(Z[o + k], p, pinv)  # F_i0 = (q0, q1), F_i1 = (q2, q3)
+            q1 = _red(Z[o + S + k], p, pinv)
+            q2 = _red(Z[o + 2 * S + k], p, pinv)
+            q3 = _red(Z[o + 3 * S + k], p, pinv)
             cl = ci[l]
-            h[0] = _red(q[1] * cl, p, pinv)  # Omega F_i0 / c = (F_i0,1, -F_i0,0) / c
-            h[1] = _red((p - q[0]) * cl, p, pinv)
-            h[2] = _red(q[3] * cl, p, pinv)
-            h[3] = _red((p - q[2]) * cl, p, pinv)
-            _gko_sites(G[l], Npair[l], T, k, n, h, q, c[l], p, pinv)
+            # Omega F_i0 / c = (F_i0,1, -F_i0,0) / c, the same for F_i1
+            _gko_sites(Z, o, Tk, k, n, _red(q1 * cl, p, pinv), _red((p - q0) * cl, p, pinv),
+                       _red(q3 * cl, p, pinv), _red((p - q2) * cl, p, pinv), q0, q1, q2, q3, c[l], p, pinv)
     return True
 
 
@@ -370,13 +387,15 @@ def _kernel_generators(B, X1, expo, c, n, p, F, Wd):
 def point_values(B, X1, expo, c, us, n, p, R):
     """``R[j, k] = E_c[y_j^{N_m(B)}]`` at the level fugacity ``q = c``, modulo ``p``, every ``y_j = 1 + u_j``.
 
-    Builds the kernel ``W`` (:func:`_kernel_matrix`), its two displacement
-    generators, and, for every ``u_j`` of ``us`` (:data:`LANES` at a time), the
-    leading pair-Pfaffians of ``J + D_u W D_u`` (:func:`_gko_windows`):
-    ``R[j, k]`` is the window of the ``k + 1`` largest parts (``m = n - k``).
-    Returns False when ``K(c)`` is singular, a pivot vanishes modulo ``p`` or
-    the displacement check fails (the caller takes another ``c``).
+    Builds the kernel ``W`` as its two displacement generators
+    (:func:`_kernel_generators`) and, for every ``u_j`` of ``us``
+    (:data:`LANES` at a time), the leading pair-Pfaffians of
+    ``J + D_u W D_u`` (:func:`_gko_windows`): ``R[j, k]`` is the window of
+    the ``k + 1`` largest parts (``m = n - k``).  Returns False when ``K(c)``
+    is singular or a pivot vanishes modulo ``p`` (the caller takes another ``c``).
     """
+    if n + 8 > _STRIDE:
+        raise ValueError("n is out of range: the kernels need n + 8 <= 216")
     size = 2 * n
     F = np.empty((size, 2))
     Wd = np.empty(n)
@@ -384,14 +403,13 @@ def point_values(B, X1, expo, c, us, n, p, R):
         return False
     T = _pivot_inverses(n, p)
     L = LANES
-    G = np.zeros((L, 4, (n + 7) // 8 * 8))  # padded to whole blocks of 8
-    Npair = np.zeros((L, (n + 7) // 8 * 8))
+    Z = np.empty(5 * _STRIDE * L)
     out = np.empty((L, n))
     js = np.ones(L)
     ny = us.shape[0]
     for j0 in range(0, ny, L):
         lanes = min(L, ny - j0)  # the last group may be narrower
-        if not _gko_windows(F, Wd, T, us[j0 : j0 + lanes], js[:lanes], n, p, out, G, Npair):
+        if not _gko_windows(F, Wd, T, us[j0 : j0 + lanes], js[:lanes], n, p, out, Z):
             return False
         for l in range(lanes):
             for k in range(n):
@@ -409,6 +427,8 @@ def edge_values(B, X1, expo, c, n, p, R):
     window in B)``: the value at ``y = 0`` (``u = -1``).  Two eliminations per
     point instead of ``n + 1``, both by displacement (two lanes).
     """
+    if n + 8 > _STRIDE:
+        raise ValueError("n is out of range: the kernels need n + 8 <= 216")
     size = 2 * n
     F = np.empty((size, 2))
     Wd = np.empty(n)
@@ -417,10 +437,9 @@ def edge_values(B, X1, expo, c, n, p, R):
     T = _pivot_inverses(n, p)
     us = np.array([1.0, p - 1.0])
     js = np.array([0.0, 1.0])  # W alone; J + D_u W D_u at u = -1
-    G = np.zeros((2, 4, (n + 7) // 8 * 8))
-    Npair = np.zeros((2, (n + 7) // 8 * 8))
+    Z = np.empty(5 * _STRIDE * 2)
     out = np.empty((2, n))
-    if not _gko_windows(F, Wd, T, us, js, n, p, out, G, Npair):
+    if not _gko_windows(F, Wd, T, us, js, n, p, out, Z):
         return False
     for r in range(2):
         for k in range(n):

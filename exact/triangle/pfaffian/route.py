@@ -48,9 +48,10 @@ __all__ = [
 
 MAX_N = 200
 # measured on the 2-core machine (numba 0.68, AVX-512), CPU seconds; notes/benchmarks.md
-_SECONDS_PER_ROW = 2.5e-9  # per n^2 and y: the displacement elimination (n pivots of O(n) rows), measured at N = 100
+_SECONDS_PER_ROW = 9.4e-10  # per n^2 and y: the displacement elimination (n pivots of O(n) rows), fitted on N = 20, 100
+_SECONDS_PER_PIVOT = 5.4e-8  # per n and y: a pivot's set-up (the lanes' shared inverse, the pivot generators)
 _SECONDS_PER_KERNEL = 3.3e-10  # per s^3 of the kernel set-up (four solves with K(q), s = n + 1 or n + 2)
-_SECONDS_PER_WEIGHT = 1.6e-8  # per M^2: the weights of the level functional (transposed Vandermonde)
+_SECONDS_PER_WEIGHT = 9e-9  # per M^2: the weights of the level functional, the sums over the points, the set-up
 _STARTUP_SECONDS = 1.5  # numba import and loading the cached kernels (first compilation ever: ~10 s more)
 _PARALLEL_MIN_SECONDS = 20.0  # below this, starting workers (numba import, ~3 s each) costs more than it saves
 
@@ -264,9 +265,9 @@ def lattice_direction(N: int, *, workers: int | None = None, progress=None, back
     """Exact ``<W_{i,1}> = <W_{i,i}>`` for ``i = 1..N``: the response on the two lattice directions.
 
     Only the first column ``S[m][0]`` of the survival table, from two
-    eliminations per level point instead of ``n + 1`` (:func:`~.engine.edge_residues`):
-    about ``n`` times cheaper than :func:`mean_W` (N = 100 in minutes, not
-    hours).  ``<W_{i,1}> (d + 1) count = S[N - i + 1][0]``.
+    eliminations per level point instead of ``n + 1`` (:func:`~.engine.edge_residues`);
+    the kernel set-up, the same for both, is then most of the work: about 4
+    times cheaper than :func:`mean_W` at N = 100 (``notes/benchmarks.md``).  ``<W_{i,1}> (d + 1) count = S[N - i + 1][0]``.
 
     Examples
     --------
@@ -293,7 +294,7 @@ def _edge_seconds(N: int) -> float:
     """CPU seconds of one prime of :func:`lattice_direction`."""
     n, d = N - 1, N * (N - 1) // 2
     s = n + 1 + (n + 1) % 2
-    per_y = _SECONDS_PER_ROW * n**2
+    per_y = _SECONDS_PER_PIVOT * n + _SECONDS_PER_ROW * n**2
     return level_points(d) // 2 * (2 * per_y + _SECONDS_PER_KERNEL * s**3) + _SECONDS_PER_WEIGHT * level_points(d) ** 2 + 1e-3
 
 
@@ -324,7 +325,7 @@ def _seconds(N: int) -> float:
     reps = level_points(d) // 2
     ys = 2 * ((n + 1) // 2)
     s = n + 1 + (n + 1) % 2
-    per_y = _SECONDS_PER_ROW * n**2
+    per_y = _SECONDS_PER_PIVOT * n + _SECONDS_PER_ROW * n**2
     return reps * (ys * per_y + _SECONDS_PER_KERNEL * s**3) + _SECONDS_PER_WEIGHT * level_points(d) ** 2 + 1e-3
 
 

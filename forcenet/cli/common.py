@@ -149,7 +149,10 @@ def available_memory() -> int:
 def _progress_bar(total: int, desc: str, unit: str):
     from tqdm import tqdm
 
-    return tqdm(total=total, desc=desc, unit=unit, unit_scale=total >= 10_000, file=sys.stderr, leave=False)
+    # a bar counted in estimated seconds (phases of different units, exact.plan.combine_by_time) moves by fractions
+    fmt = "{l_bar}{bar}| {n:.0f}/{total_fmt} estimated s [{elapsed}<{remaining}]" if unit == "s" else None
+    return tqdm(total=total, desc=desc, unit=unit, unit_scale=total >= 10_000, file=sys.stderr, leave=False,
+                bar_format=fmt)
 
 
 def run_planned(plan: Plan, run, *, force: bool = False, quiet: bool = False):

@@ -14,9 +14,14 @@ elimination** (``notes/free_fermions.md`` Sec. 4.1).  With node values ``+a``
 on copy 0 and ``-a`` on copy 1 of the part ``a``, ``(x_i + x_j) A_ij`` has rank
 two, so the matrix is carried by two generator columns and the pair entries
 ``A[2b, 2b+1]`` (where ``x_i + x_j = 0``); each pivot costs ``O(n)`` instead of
-``O(n^2)``.  Eight values of ``y`` go in lockstep (one modular inverse per
-pivot for all eight), the loop over the parts is a vector loop.  Bounds: loose
-residues are below ``2p`` in size, so every sum formed is below ``8 p^2 < 2^53``.
+``O(n^2)``.  The elimination is fraction-free (no modular inverse until the
+end: a serial inverse per pivot cost a quarter of the time), eight values of
+``y`` go side by side, and the loop over the parts is a vector loop.  The state of
+the eight lanes lives in one flat array at a compile-time row stride
+(:data:`_STRIDE`), so the compiler proves that the rows never overlap and the
+vector loop runs without run-time alias checks (1.4x at N = 100 against one
+array per row, ``notes/benchmarks.md``).  Bounds: loose residues are below
+``2p`` in size, so every sum formed is below ``8 p^2 < 2^53``.
 
 The dense pair elimination that this replaced lives in :mod:`.dense` (the
 baseline of the benchmarks and a second route in the tests).
@@ -150,19 +155,20 @@ _USTRIDE = uint64(_STRIDE)
 
 @njit(fastmath={"contract"}, **_JIT)
 def _gko_sites(Z, o, Tk, k, n, h00, h01, h10, h11, q00, q01, q10, q11, c, p, pinv):
-    """One pivot (site ``k``) on the sites ``b > k`` of one lane: a vector loop over ``b``.
+    """One fraction-free pivot (site ``k``, pivot value ``c``) on the sites ``b > k`` of one lane: a vector loop over ``b``.
 
     ``Z[o + r S + b]`` (``S`` = :data:`_STRIDE`): rows ``r = 0, 1`` the
     generators of the copy-0 rows, ``2, 3`` of the copy-1 rows, ``4`` the pair
-    entries ``A[2b, 2b+1]``.  For each row ``i``: ``e0 = A[i, i0]/c``,
-    ``e1 = A[i, i1]/c`` from the generators (``h`` = the pivot generators turned
-    by ``Omega`` and divided by ``c``; ``Tk`` the inverse node sums), then
-    ``F_i <- F_i - e1 F_i0 + e0 F_i1`` (``q`` = the pivot generators), and
-    ``A[2b, 2b+1] += c (e1(2b) e0(2b+1) - e0(2b) e1(2b+1))``, the Schur
-    complement of the entries the generators do not carry.  Loose residues
-    (size below ``2p``): every sum formed is below ``8 p^2``.  The loop runs
-    over whole blocks of 8 from ``k + 1``; the padding (``Tk = 0`` there) stays
-    bounded and is never read.
+    entries ``A[2b, 2b+1]``.  For each row ``i``: ``E0 = A[i, i0]``,
+    ``E1 = A[i, i1]`` from the generators (``h`` = the pivot generators turned
+    by ``Omega``; ``Tk`` the inverse node sums), then
+    ``F_i <- c F_i - E1 F_i0 + E0 F_i1`` (``q`` = the pivot generators) and
+    ``A[2b, 2b+1] <- c (c A[2b, 2b+1] + E1(2b) E0(2b+1) - E0(2b) E1(2b+1))``:
+    the Schur complement times ``c^2``, with no division
+    (``notes/free_fermions.md`` Sec. 4.1).  Loose residues (size below
+    ``2p``): every sum formed is below ``8 p^2``.  The loop runs over whole
+    blocks of 8 from ``k + 1``; the padding (``Tk = 0`` there) stays bounded
+    and is never read.
     """
     lo = uint64(k + 1)
     for b in range(lo, lo + ((uint64(n) - lo + uint64(7)) & ~uint64(7))):
@@ -175,15 +181,15 @@ def _gko_sites(Z, o, Tk, k, n, h00, h01, h10, h11, q00, q01, q10, q11, c, p, pin
         a1 = Z[i1]
         x0 = _lred(_lred(a0 * h00 + a1 * h01, p, pinv) * Tk[0, b], p, pinv)
         x1 = _lred(_lred(a0 * h10 + a1 * h11, p, pinv) * Tk[2, b], p, pinv)
-        Z[i0] = _lred(a0 - x1 * q00 + x0 * q10, p, pinv)
-        Z[i1] = _lred(a1 - x1 * q01 + x0 * q11, p, pinv)
+        Z[i0] = _lred(c * a0 - x1 * q00 + x0 * q10, p, pinv)
+        Z[i1] = _lred(c * a1 - x1 * q01 + x0 * q11, p, pinv)
         b0 = Z[i2]
         b1 = Z[i3]
         y0 = _lred(_lred(b0 * h00 + b1 * h01, p, pinv) * Tk[1, b], p, pinv)
         y1 = _lred(_lred(b0 * h10 + b1 * h11, p, pinv) * Tk[3, b], p, pinv)
-        Z[i2] = _lred(b0 - y1 * q00 + y0 * q10, p, pinv)
-        Z[i3] = _lred(b1 - y1 * q01 + y0 * q11, p, pinv)
-        Z[i4] = _lred(Z[i4] + c * _lred(x1 * y0 - x0 * y1, p, pinv), p, pinv)
+        Z[i2] = _lred(c * b0 - y1 * q00 + y0 * q10, p, pinv)
+        Z[i3] = _lred(c * b1 - y1 * q01 + y0 * q11, p, pinv)
+        Z[i4] = _lred(c * _lred(c * Z[i4] + _lred(x1 * y0 - x0 * y1, p, pinv), p, pinv), p, pinv)
 
 
 @njit(**_JIT)
@@ -195,9 +201,12 @@ def _gko_windows(F, Wd, T, us, js, n, p, out, Z):
     ``out[l, k] = Pf`` of the leading ``2k + 2`` block.  The Schur complement
     after a pivot is again of this form (Gohberg-Kailath-Olshevsky): the
     generators of the remaining rows get ``- A21 A11^{-1} F1`` and the pair
-    entries their own rank-2 update (:func:`_gko_sites`).  ``Z``: the lanes'
-    state, ``5 S`` values per lane (``S`` = :data:`_STRIDE`).  Returns False on
-    a zero pivot.
+    entries their own rank-2 update (:func:`_gko_sites`).  The elimination is
+    fraction-free: after pivot ``k`` the state is the Schur complement times
+    ``sigma_(k+1)^2``, ``sigma_(k+1) = c'_k sigma_k``, so the pivot seen is
+    ``c'_k = sigma_k^2 c_k``; the scales are divided out at the end, one
+    modular inverse per lane.  ``Z``: the lanes' state, ``5 S`` values per lane
+    (``S`` = :data:`_STRIDE`).  Returns False on a zero pivot.
     """
     pinv = 1.0 / p
     L = us.shape[0]
@@ -214,27 +223,14 @@ def _gko_windows(F, Wd, T, us, js, n, p, out, Z):
             Z[o + 2 * S + b] = F[2 * b + 1, 0]
             Z[o + 3 * S + b] = F[2 * b + 1, 1]
             Z[o + 4 * S + b] = _red(js[l] + u * Wd[b], p, pinv)
-    pf = np.ones(L)
-    c = np.empty(L)
-    ci = np.empty(L)
-    pre = np.empty(L)
     for k in range(n):
         for l in range(L):
-            c[l] = _red(Z[5 * S * l + 4 * S + k], p, pinv)
-            if c[l] == 0.0:
+            c = _red(Z[5 * S * l + 4 * S + k], p, pinv)  # the pivot, scaled by sigma_k^2
+            if c == 0.0:
                 return False
-            pf[l] = _red(pf[l] * c[l], p, pinv)
-            out[l, k] = pf[l]
+            out[l, k] = c
         if k == n - 1:
             break
-        acc = 1.0  # one inverse for all lanes (Montgomery's trick)
-        for l in range(L):
-            pre[l] = acc
-            acc = _red(acc * c[l], p, pinv)
-        inv = _inv(acc, p, pinv)
-        for l in range(L - 1, -1, -1):
-            ci[l] = _red(inv * pre[l], p, pinv)
-            inv = _red(inv * c[l], p, pinv)
         Tk = T[k]
         for l in range(L):
             o = 5 * S * l
@@ -242,11 +238,29 @@ def _gko_windows(F, Wd, T, us, js, n, p, out, Z):
             q1 = _red(Z[o + S + k], p, pinv)
             q2 = _red(Z[o + 2 * S + k], p, pinv)
             q3 = _red(Z[o + 3 * S + k], p, pinv)
-            cl = ci[l]
-            # Omega F_i0 / c = (F_i0,1, -F_i0,0) / c, the same for F_i1
-            _gko_sites(Z, o, Tk, k, n, _red(q1 * cl, p, pinv), _red((p - q0) * cl, p, pinv),
-                       _red(q3 * cl, p, pinv), _red((p - q2) * cl, p, pinv), q0, q1, q2, q3, c[l], p, pinv)
+            # Omega F_i0 = (F_i0,1, -F_i0,0), the same for F_i1 (not divided by the pivot: fraction-free)
+            _gko_sites(Z, o, Tk, k, n, q1, p - q0, q3, p - q2, q0, q1, q2, q3, out[l, k], p, pinv)
+    # undo the scales: sigma_0 = 1, sigma_(k+1) = c'_k sigma_k, c_k = c'_k / sigma_k^2, Pf_k = prod_(j<=k) c_j
+    sig = np.ones(L)
+    den = np.ones(L)
+    num = np.ones(L)
+    sq = np.empty((L, n))
+    for k in range(n):
+        for l in range(L):
+            s2 = _red(sig[l] * sig[l], p, pinv)
+            sq[l, k] = s2
+            den[l] = _red(den[l] * s2, p, pinv)
+            num[l] = _red(num[l] * out[l, k], p, pinv)
+            sig[l] = _red(sig[l] * out[l, k], p, pinv)
+            out[l, k] = num[l]  # prod_(j<=k) c'_j; divided by prod_(j<=k) sigma_j^2 below
+    for l in range(L):
+        dinv = _inv(den[l], p, pinv)
+        for k in range(n - 1, -1, -1):
+            out[l, k] = _red(out[l, k] * dinv, p, pinv)
+            dinv = _red(dinv * sq[l, k], p, pinv)
     return True
+
+
 
 
 @njit(**_JIT)

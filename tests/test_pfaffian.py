@@ -304,7 +304,7 @@ def test_displacement_generators_equal_the_dense_kernel(N, c):
     assert dense.displacement_generators(Wt, n, float(p), G)
 
 
-@pytest.mark.parametrize("n", [1, 2, 3, 4, 5, 9, 16, 17, 30])
+@pytest.mark.parametrize("n", [1, 2, 3, 4, 5, 9, 16, 17, 30, 99])
 def test_displacement_elimination_equals_the_dense_elimination(n):
     """Every y of :func:`point_values` (groups of 8 and a narrower last group) against the dense pair elimination."""
     p = PRIME  # below both bounds
@@ -326,6 +326,17 @@ def test_dense_backend_gives_the_same_residues(N):
 def test_large_primes_agree_with_pure_python(N):
     """Primes near 2^25, where the loose residues come closest to 2^53."""
     assert (engine.prime_residues(N, LARGE_PRIME) == engine.prime_residues(N, LARGE_PRIME, backend="python")).all()
+
+
+def test_fraction_free_elimination_at_a_large_prime_and_many_pivots():
+    """n = 60 pivots at a prime near 2^25: the scaled (fraction-free) state against textbook elimination."""
+    n, p = 60, LARGE_PRIME
+    B, X1, expo = engine.setup_matrices(n, p)
+    us = np.array([p - 2.0, 12345.0])
+    R1, R2 = np.zeros((2, n)), np.zeros((2, n))
+    assert kernels.point_values(B, X1, expo, 7.0, us, n, float(p), R1)
+    assert kernels_python.point_values(B, X1, expo, 7.0, us, n, float(p), R2)
+    assert (R1 == R2).all()
 
 
 @pytest.mark.parametrize("bad, error", [(1.5, TypeError), (8388592, ValueError), (7, ValueError), (2**25 + 15, ValueError)])

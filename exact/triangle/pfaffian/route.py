@@ -48,8 +48,8 @@ __all__ = [
 
 MAX_N = 200
 # measured on the 2-core machine (numba 0.68, AVX-512), CPU seconds; notes/benchmarks.md
-_SECONDS_PER_ROW = 9.4e-10  # per n^2 and y: the displacement elimination (n pivots of O(n) rows), fitted on N = 20, 100
-_SECONDS_PER_PIVOT = 5.4e-8  # per n and y: a pivot's set-up (the lanes' shared inverse, the pivot generators)
+_SECONDS_PER_ROW = 1.14e-9  # per n^2 and y: the displacement elimination (n pivots of O(n) rows), fitted on N = 20, 100
+_SECONDS_PER_PIVOT = 3.1e-8  # per n and y: a pivot's set-up (reading the pivot, the lanes' loop overhead)
 _SECONDS_PER_KERNEL = 3.3e-10  # per s^3 of the kernel set-up (four solves with K(q), s = n + 1 or n + 2)
 _SECONDS_PER_WEIGHT = 9e-9  # per M^2: the weights of the level functional, the sums over the points, the set-up
 _STARTUP_SECONDS = 1.5  # numba import and loading the cached kernels (first compilation ever: ~10 s more)

@@ -1,4 +1,4 @@
-"""Refit of the finite-size corrections of the response on exact tables to N = 64 (issue 18).
+"""Refit of the finite-size corrections of the response on exact tables (to N = 100) and lattice columns (to N = 120) (issue 18).
 
 ``notes/scaling_limit.md`` asks whether the correction on the lattice
 directions is ``N^-1``, ``N^-2/3`` or a mix.  With the Pfaffian route the exact
@@ -24,8 +24,9 @@ missing small ones are computed), and
 
 Usage::
 
-    python benchmarks/scaling_refit.py --lattice 72 80 88 100 --dir out     # exact <W_(i,1)> only (minutes each)
-    python benchmarks/scaling_refit.py --N 8 12 16 20 24 28 32 40 48 56 64 --edge-N 72 80 88 100 --dir out
+    python benchmarks/scaling_refit.py --lattice 112 120 --dir out     # exact <W_(i,1)> only (19 and 27 min)
+    python benchmarks/scaling_refit.py --N 8 12 16 20 24 28 32 36 40 44 48 52 56 60 64 72 80 88 100 \
+        --edge-N 112 120 --fit-from 32 --dir out      # the data of notes/scaling_limit.md Sec. 4
 """
 
 from __future__ import annotations

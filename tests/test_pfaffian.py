@@ -410,11 +410,11 @@ def test_exact_sampler_agrees_at_N64():
 
 
 @pytest.mark.slow
-def test_exact_sampler_agrees_at_N100():  # pragma: no cover - most of an hour on two cores (notes/benchmarks.md)
+def test_exact_sampler_agrees_at_N100():  # pragma: no cover - ~35 min on two cores (notes/benchmarks.md)
     import os
 
     if os.environ.get("FORCENET_HOURS") != "1":
-        pytest.skip("the N = 100 table takes ~50 min on the 2-core machine; set FORCENET_HOURS=1 to run it")
+        pytest.skip("the N = 100 table takes ~35 min on the 2-core machine; set FORCENET_HOURS=1 to run it")
     result = _sampler_agreement(100, 8000, seed=100)
     assert result.passed, result.summary()
 

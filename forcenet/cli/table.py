@@ -68,17 +68,21 @@ def _output_format(args):
 # peak bytes of the comparison per stored value (samples x free grains doubles): the matrix, its
 # concatenation, and the centred and scaled copies of forcenet.testing.compare (5.5-5.7 measured at N = 40, 60, 100)
 _CROSS_CHECK_COPIES = 6
+# seconds per stored value of the comparison (the autocorrelation guard, z-scores, Hotelling when it runs):
+# 0.6-0.75 us measured at 20000 rows of 780-4950 grains
+_CROSS_CHECK_SECONDS_PER_VALUE = 7e-7
 
 
 def _cross_check_plan(N: int, samples: int, memory):
-    """The cost of :func:`_cross_check`: drawing the samples, and the memory of comparing every free grain."""
+    """The cost of :func:`_cross_check`: drawing the samples, and the time and memory of comparing every free grain."""
     from dataclasses import replace
 
     from forcenet.numeric.triangle.exact_sampler import sample_plan
 
     plan = sample_plan(N, samples)
     grains = N * (N - 1) // 2
-    return replace(plan, nbytes=plan.nbytes + _CROSS_CHECK_COPIES * 8 * samples * grains).within_memory(memory)
+    return replace(plan, seconds=plan.seconds + _CROSS_CHECK_SECONDS_PER_VALUE * samples * grains,
+                   nbytes=plan.nbytes + _CROSS_CHECK_COPIES * 8 * samples * grains).within_memory(memory)
 
 
 def _cross_check(N: int, means, samples: int, seed: int, progress):

@@ -155,6 +155,14 @@ _STRIDE = 216
 _USTRIDE = uint64(_STRIDE)
 
 
+@njit(inline="always", fastmath={"contract"}, **_JIT)
+def _row_update(a0, a1, t0, t1, h00, h01, h10, h11, q00, q01, q10, q11, c, p, pinv):
+    """One row with generators ``(a0, a1)``: ``E0, E1`` (its entries in the two pivot columns) and ``c F - E1 F_i0 + E0 F_i1``."""
+    e0 = _lred(_lred(a0 * h00 + a1 * h01, p, pinv) * t0, p, pinv)
+    e1 = _lred(_lred(a0 * h10 + a1 * h11, p, pinv) * t1, p, pinv)
+    return e0, e1, _lred(c * a0 - e1 * q00 + e0 * q10, p, pinv), _lred(c * a1 - e1 * q01 + e0 * q11, p, pinv)
+
+
 @njit(fastmath={"contract"}, **_JIT)
 def _gko_sites(Z, o, Tk, k, n, h00, h01, h10, h11, q00, q01, q10, q11, c, p, pinv):
     """One fraction-free pivot (site ``k``, pivot value ``c``) on the sites ``b > k`` of one lane: a vector loop over ``b``.
@@ -179,18 +187,10 @@ def _gko_sites(Z, o, Tk, k, n, h00, h01, h10, h11, q00, q01, q10, q11, c, p, pin
         i2 = i1 + _USTRIDE
         i3 = i2 + _USTRIDE
         i4 = i3 + _USTRIDE
-        a0 = Z[i0]
-        a1 = Z[i1]
-        x0 = _lred(_lred(a0 * h00 + a1 * h01, p, pinv) * Tk[0, b], p, pinv)
-        x1 = _lred(_lred(a0 * h10 + a1 * h11, p, pinv) * Tk[2, b], p, pinv)
-        Z[i0] = _lred(c * a0 - x1 * q00 + x0 * q10, p, pinv)
-        Z[i1] = _lred(c * a1 - x1 * q01 + x0 * q11, p, pinv)
-        b0 = Z[i2]
-        b1 = Z[i3]
-        y0 = _lred(_lred(b0 * h00 + b1 * h01, p, pinv) * Tk[1, b], p, pinv)
-        y1 = _lred(_lred(b0 * h10 + b1 * h11, p, pinv) * Tk[3, b], p, pinv)
-        Z[i2] = _lred(c * b0 - y1 * q00 + y0 * q10, p, pinv)
-        Z[i3] = _lred(c * b1 - y1 * q01 + y0 * q11, p, pinv)
+        x0, x1, Z[i0], Z[i1] = _row_update(Z[i0], Z[i1], Tk[0, b], Tk[2, b], h00, h01, h10, h11, q00, q01, q10, q11, c,
+                                           p, pinv)  # the copy-0 row of site b
+        y0, y1, Z[i2], Z[i3] = _row_update(Z[i2], Z[i3], Tk[1, b], Tk[3, b], h00, h01, h10, h11, q00, q01, q10, q11, c,
+                                           p, pinv)  # the copy-1 row
         Z[i4] = _lred(c * _lred(c * Z[i4] + _lred(x1 * y0 - x0 * y1, p, pinv), p, pinv), p, pinv)
 
 

@@ -18,12 +18,12 @@ two, so the matrix is carried by two generator columns and the pair entries
 end: the serial inverse per pivot took 16 % of the elimination at N = 100,
 the extra multiplications take most of that back; net 2-11 % at N = 100-60),
 eight values of ``y`` go side by side, and the loop over the parts is a
-vector loop.  The state of
-the eight lanes lives in one flat array at a compile-time row stride
-(:data:`_STRIDE`), so the compiler proves that the rows never overlap and the
-vector loop runs without run-time alias checks (1.4x at N = 100 against one
-array per row, ``notes/benchmarks.md``).  Bounds: loose residues are below
-``2p`` in size, so every sum formed is below ``8 p^2 < 2^53``.
+vector loop.  The state of the eight lanes lives in one flat array at a
+compile-time row stride (:data:`_STRIDE`), so the compiler proves that the
+rows never overlap and the vector loop runs without run-time alias checks
+(1.4x per elimination at N = 100 against one array per row,
+``notes/benchmarks.md``).  Bounds: loose residues are below ``2p`` in size,
+so every sum formed is below ``8 p^2 < 2^53``.
 
 The dense pair elimination that this replaced lives in :mod:`.dense` (the
 baseline of the benchmarks and a second route in the tests).
@@ -42,7 +42,7 @@ from numba import int64, njit, uint64
 
 __all__ = ["pfaffian_mod", "point_values", "edge_values", "dual_weights", "lagrange_matrix", "weighted_sum", "LANES"]
 
-LANES = 8  # values of y eliminated in lockstep
+LANES = 8  # values of y eliminated side by side
 
 _JIT = {"cache": True, "boundscheck": False, "nogil": True}
 

@@ -18,6 +18,9 @@ keeps every entry exact for the whole elimination, and the update is two
 multiply-adds on doubles (vectorised by LLVM).  A pivot row is reduced when
 its pivot is taken.
 
+It also carries the whole kernel interface of :mod:`.kernels` with
+``point_values`` = :func:`point_values_dense` (the engine's ``backend="dense"``).
+
 May import: :mod:`.kernels`.
 """
 
@@ -26,9 +29,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, uint64
 
-from .kernels import _JIT, _axpy, _inv, _node, _red
+from .kernels import _JIT, _axpy, _inv, _node, _red, dual_weights, edge_values, lagrange_matrix, pfaffian_mod, weighted_sum
 
-__all__ = ["point_values_dense", "displacement_generators"]
+__all__ = ["point_values_dense", "displacement_generators", "pfaffian_mod", "point_values", "edge_values", "dual_weights",
+           "lagrange_matrix", "weighted_sum"]
 
 
 @njit(**_JIT)
@@ -324,3 +328,8 @@ def displacement_generators(Wt, n, p, F):
     return True
 
 
+
+
+# The kernel interface of :mod:`.kernels` with the dense elimination in place of the displacement one
+# (engine backend "dense"): every other kernel is shared.
+point_values = point_values_dense

@@ -121,12 +121,7 @@ def _kernels(backend: str):
     elif backend == "python":
         from . import kernels_python as kernels
     elif backend == "dense":  # the dense elimination of every (q, y): the benchmarks' baseline (p < dense_prime_limit)
-        from types import SimpleNamespace
-
-        from . import dense, kernels as compiled
-
-        kernels = SimpleNamespace(**{name: getattr(compiled, name) for name in compiled.__all__})
-        kernels.point_values = dense.point_values_dense
+        from . import dense as kernels
     else:
         raise ValueError(f"backend={backend!r} is out of range: backend must be 'numba', 'python' or 'dense'")
     return kernels

@@ -155,6 +155,13 @@ _STRIDE = 216
 _USTRIDE = uint64(_STRIDE)
 
 
+@njit(**_JIT)
+def _check_width(n):
+    """Refuse ``n`` parts that do not fit the lanes' rows (``n + 8 <= _STRIDE``: N <= 209, beyond the route's 200)."""
+    if n + 8 > _STRIDE:
+        raise ValueError("n is out of range: the kernels need n + 8 <= _STRIDE (216)")
+
+
 @njit(inline="always", fastmath={"contract"}, **_JIT)
 def _row_update(a0, a1, t0, t1, h00, h01, h10, h11, q00, q01, q10, q11, c, p, pinv):
     """One row with generators ``(a0, a1)``: ``E0, E1`` (its entries in the two pivot columns) and ``c F - E1 F_i0 + E0 F_i1``."""
@@ -261,8 +268,6 @@ def _gko_windows(F, Wd, T, us, js, n, p, out, Z):
             out[l, k] = _red(out[l, k] * dinv, p, pinv)
             dinv = _red(dinv * sq[l, k], p, pinv)
     return True
-
-
 
 
 @njit(**_JIT)
@@ -410,8 +415,7 @@ def point_values(B, X1, expo, c, us, n, p, R):
     the ``k + 1`` largest parts (``m = n - k``).  Returns False when ``K(c)``
     is singular or a pivot vanishes modulo ``p`` (the caller takes another ``c``).
     """
-    if n + 8 > _STRIDE:
-        raise ValueError("n is out of range: the kernels need n + 8 <= 216")
+    _check_width(n)
     size = 2 * n
     F = np.empty((size, 2))
     Wd = np.empty(n)
@@ -443,8 +447,7 @@ def edge_values(B, X1, expo, c, n, p, R):
     window in B)``: the value at ``y = 0`` (``u = -1``).  Two eliminations per
     point instead of ``n + 1``, both by displacement (two lanes).
     """
-    if n + 8 > _STRIDE:
-        raise ValueError("n is out of range: the kernels need n + 8 <= 216")
+    _check_width(n)
     size = 2 * n
     F = np.empty((size, 2))
     Wd = np.empty(n)

@@ -1,24 +1,15 @@
 """The house rules of notes/architecture.md, checked on the source of every module."""
 
 import ast
-import os
 from pathlib import Path
 
 import pytest
-
-import forcenet
-
-ROOT = Path(forcenet.__file__).resolve().parent  # the forcenet package (exact/ and numeric/ are linked into it)
+from installed import installed_modules
 
 
 def _modules():
-    out = []
-    paths = [Path(d) / f for d, _, files in os.walk(ROOT, followlinks=True) for f in files if f.endswith(".py")]
-    for path in sorted(paths):
-        rel = path.relative_to(ROOT)
-        name = "forcenet." + ".".join(rel.with_suffix("").parts).replace(".__init__", "")
-        out.append((name.removesuffix(".__init__"), path))
-    return out
+    """(name, file) of every module of the installed package (the sources under their import names)."""
+    return installed_modules()
 
 
 MODULES = _modules()

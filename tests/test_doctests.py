@@ -2,19 +2,14 @@
 
 import doctest
 import importlib
-import pkgutil
 
 import pytest
-
-import forcenet
+from installed import installed_modules
 
 
 def _modules():
-    names = ["forcenet"]
-    for info in pkgutil.walk_packages(forcenet.__path__, prefix="forcenet."):
-        if not info.name.endswith("__main__"):  # importing it runs the command line
-            names.append(info.name)
-    return sorted(names)
+    # importing __main__ runs the command line
+    return [name for name, _ in installed_modules() if not name.endswith("__main__")]
 
 
 MODULES = _modules()

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import os
 import sys
+from importlib.metadata import version
 
 from forcenet.exact.validation import is_integer
 
@@ -31,6 +32,7 @@ __all__ = ["main", "build_parser"]
 
 def build_parser() -> Parser:
     parser = Parser(prog="forcenet", description="Exact results for the force network ensemble.")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {version('forcenet')}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
     for family in (table, limit, sample, chicken_wire, dist):
         family.register(sub)

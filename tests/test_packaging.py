@@ -8,6 +8,7 @@ metadata, and that a type checker resolves every ``forcenet.*`` import.
 
 from __future__ import annotations
 
+import ast
 import email.parser
 import importlib.util
 import json
@@ -247,6 +248,18 @@ def test_a_type_checker_resolves_every_forcenet_import(tmp_path):
     _lay_out(control, tmp_path / "control")
     _, unresolved = _mypy(tmp_path / "control")
     assert any("forcenet.numeric" in line for line in unresolved)
+
+
+def test_tests_and_benchmarks_import_forcenet_names_only():
+    """From the checkout root exact/ and numeric/ are importable as generic names: nothing may use that."""
+    bad = []
+    for path in sorted([*(ROOT / "tests").rglob("*.py"), *(ROOT / "benchmarks").rglob("*.py")]):
+        for node in ast.walk(ast.parse(path.read_text())):
+            names = [a.name for a in node.names] if isinstance(node, ast.Import) else []
+            if isinstance(node, ast.ImportFrom) and node.level == 0:
+                names = [node.module or ""]
+            bad += [f"{path.relative_to(ROOT)}:{node.lineno} {n}" for n in names if n.split(".")[0] in ("exact", "numeric")]
+    assert not bad, f"generic imports: {bad}"
 
 
 def test_the_checkout_root_cannot_shadow_the_package():

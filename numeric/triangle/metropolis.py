@@ -181,27 +181,39 @@ class TriangleMetropolis:
         self.q[i, j] = old
         return False
 
-    def _compiled(self, sweeps: int, out: np.ndarray, thin: int = 1) -> None:
-        from .kernels import triangle_state, triangle_sweeps
+    def _compiled(self, units: int, out: np.ndarray, thin: int = 1, progress=None) -> None:
+        """``units`` records of ``thin`` sweeps into ``out`` (or, ``out`` empty, ``units`` sweeps), compiled.
+
+        The sweeps run in calls of ~0.15 s (:func:`forcenet.numeric.jit.chunks`),
+        cut between sweeps, where ``q``, ``W``, the running sums and the
+        counters are complete: Ctrl-C is seen between two calls, and the chain
+        is the one a single call gives.  ``progress(k)`` after each call that
+        recorded ``k`` records.
+        """
+        from ..jit import chunks, first_chunk
+        from .kernels import triangle_slice_sweeps, triangle_state, triangle_sweeps
 
         flux, zeros = triangle_state(self.q, self.W)
         gi = np.array([g[0] for g in self.grains], dtype=np.int64)
         gj = np.array([g[1] for g in self.grains], dtype=np.int64)
-        counters = np.array([self.attempted, self.accepted, self.rejected_by_constraint], dtype=np.int64)
+        counters = np.array([self.attempted, self.accepted, self.rejected_by_constraint, self.evaluations, 0],
+                            dtype=np.int64)
         ph = 0.0 if self.ph is None else float(self.ph)
-        if self.move == "slice":
-            from .kernels import triangle_slice_sweeps
-
-            counters = np.concatenate([counters, [self.evaluations, 0]])
-            triangle_slice_sweeps(self.q, self.W, flux, zeros, gi, gj, self.rng, sweeps, ph, self.ph is not None,
-                                  out, counters, thin)
-            if counters[4]:  # pragma: no cover - never observed
-                raise RuntimeError("slice move: an interval shrank 200 times without a point under the density")
+        kernel = triangle_slice_sweeps if self.move == "slice" else triangle_sweeps
+        record = out.shape[0] > 0
+        per_unit = _compiled_seconds_per_move(self.N, self.ph is not None) * len(self.grains) * (thin if record else 1)
+        try:
+            for start, stop in chunks(units, first_chunk(per_unit)):
+                part = out[start:stop] if record else out
+                kernel(self.q, self.W, flux, zeros, gi, gj, self.rng, (stop - start) * (thin if record else 1), ph,
+                       self.ph is not None, part, counters, thin)
+                if progress is not None and record:
+                    progress(stop - start)
+        finally:  # also on Ctrl-C: the counters of the sweeps done
+            self.attempted, self.accepted, self.rejected_by_constraint = (int(x) for x in counters[:3])
             self.evaluations = int(counters[3])
-        else:
-            triangle_sweeps(self.q, self.W, flux, zeros, gi, gj, self.rng, sweeps, ph, self.ph is not None, out,
-                            counters, thin)
-        self.attempted, self.accepted, self.rejected_by_constraint = (int(x) for x in counters[:3])
+        if counters[4]:  # pragma: no cover - never observed
+            raise RuntimeError("slice move: an interval shrank 200 times without a point under the density")
 
     def sweep(self, count: int = 1) -> None:
         """``count`` sweeps; a sweep is ``N(N-1)/2`` single-grain updates."""
@@ -231,12 +243,7 @@ class TriangleMetropolis:
         out = np.empty((sweeps, self.N, self.N))
         if self.kernel == "compiled":
             out[:] = 0.0
-            block = max(1, min(sweeps, 2_000_000 // (self.N**3 * thin)))  # ~0.1 s between progress ticks
-            for start in range(0, sweeps, block):
-                stop = min(sweeps, start + block)
-                self._compiled((stop - start) * thin, out[start:stop], thin)
-                if progress is not None:
-                    progress(stop - start)
+            self._compiled(sweeps, out, thin, progress)
             return out
         for t in range(sweeps):
             self.sweep(thin)

@@ -21,9 +21,13 @@ False
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, replace
 
-__all__ = ["Plan", "duration_text", "combine", "combine_by_time", "phase_progress", "first_moment_only"]
+__all__ = ["Plan", "duration_text", "combine", "combine_by_time", "phase_progress", "first_moment_only", "chunks",
+           "first_chunk", "CHUNK_SECONDS"]
+
+CHUNK_SECONDS = 0.15  # compiled work per call: Ctrl-C is seen within this, the calls' overhead stays far below 1 %
 
 
 def duration_text(seconds: float) -> str:
@@ -159,3 +163,48 @@ def first_moment_only(what: str, method: str, moments: int) -> Plan | None:
         return None
     return Plan(what, 0, refusal=f"moments={moments} is out of range for --method {method}: moments must be 1 "
                                  "(higher moments use --method fast, thesis or maps)")
+
+
+# ------------------------------------------------- compiled work in bounded calls
+
+
+def chunks(total: int, first: int, seconds: float = CHUNK_SECONDS):
+    """Consecutive ranges ``(start, stop)`` covering ``0..total``, each taking about ``seconds``.
+
+    The first range has ``first`` units (the caller's estimate of ``seconds``
+    worth); every later one is sized from the measured time of the one before
+    (the loop body between two ``yield``s: the compiled call, a progress tick),
+    growing at most twofold, so a first call that also compiled or loaded the
+    kernel is followed by short ranges that grow back.  The work done does not
+    depend on the sizes: callers cut only where the state is complete.
+
+    Examples
+    --------
+    >>> ranges = list(chunks(10, 4))
+    >>> ranges[0], ranges[-1][1], all(a[1] == b[0] for a, b in zip(ranges, ranges[1:]))
+    ((0, 4), 10, True)
+    >>> list(chunks(0, 5))
+    []
+    """
+    start, size = 0, max(1, int(first))
+    while start < total:
+        stop = min(total, start + size)
+        t0 = time.perf_counter()
+        yield start, stop
+        elapsed = time.perf_counter() - t0
+        grown = 2 * size
+        size = grown if elapsed <= 0 else max(1, min(grown, int((stop - start) * seconds / elapsed)))
+        start = stop
+
+
+def first_chunk(seconds_per_unit: float, seconds: float = CHUNK_SECONDS) -> int:
+    """The units of the first range of :func:`chunks`, from the model's cost of one unit.
+
+    Examples
+    --------
+    >>> first_chunk(1e-3)
+    150
+    >>> first_chunk(10.0)
+    1
+    """
+    return max(1, int(seconds / seconds_per_unit)) if seconds_per_unit > 0 else 1

@@ -14,12 +14,13 @@ processes load it in well under a second.
 
 A compiled call does not return to Python until it is done, and Python acts
 on Ctrl-C (``KeyboardInterrupt``) only between bytecodes, so long compiled
-work is cut into calls of about :data:`CHUNK_SECONDS` each (:func:`chunks`):
+work is cut into calls of about ``CHUNK_SECONDS`` each (:func:`chunks`, from
+:mod:`forcenet.exact.plan`, which the exact kernels use too):
 the interrupt is then seen within a fraction of a second, and the state
 between two calls is the state the one long call would have passed through
 (the chains go on bit for bit).
 
-May import: nothing of the package.
+May import: :mod:`forcenet.exact.plan`.
 
 Examples
 --------
@@ -31,11 +32,9 @@ True
 
 from __future__ import annotations
 
-import time
+from forcenet.exact.plan import CHUNK_SECONDS, chunks, first_chunk
 
 __all__ = ["HAVE_NUMBA", "njit", "kernel_choice", "chunks", "first_chunk", "CHUNK_SECONDS"]
-
-CHUNK_SECONDS = 0.15  # compiled work per call: Ctrl-C is seen within this, the calls' overhead stays far below 1 %
 
 try:  # pragma: no branch
     import numba
@@ -66,44 +65,3 @@ def kernel_choice(kernel) -> str:
         raise ValueError("kernel='compiled' needs numba (pip install numba); use kernel='python'")
     return kernel
 
-
-def chunks(total: int, first: int, seconds: float = CHUNK_SECONDS):
-    """Consecutive ranges ``(start, stop)`` covering ``0..total``, each taking about ``seconds``.
-
-    The first range has ``first`` units (the caller's estimate of ``seconds``
-    worth); every later one is sized from the measured time of the one before
-    (the loop body between two ``yield``s: the compiled call, a progress tick),
-    growing at most twofold, so a first call that also compiled or loaded the
-    kernel is followed by short ranges that grow back.  The work done does not
-    depend on the sizes: callers cut only where the state is complete.
-
-    Examples
-    --------
-    >>> ranges = list(chunks(10, 4))
-    >>> ranges[0], ranges[-1][1], all(a[1] == b[0] for a, b in zip(ranges, ranges[1:]))
-    ((0, 4), 10, True)
-    >>> list(chunks(0, 5))
-    []
-    """
-    start, size = 0, max(1, int(first))
-    while start < total:
-        stop = min(total, start + size)
-        t0 = time.perf_counter()
-        yield start, stop
-        elapsed = time.perf_counter() - t0
-        grown = 2 * size
-        size = grown if elapsed <= 0 else max(1, min(grown, int((stop - start) * seconds / elapsed)))
-        start = stop
-
-
-def first_chunk(seconds_per_unit: float, seconds: float = CHUNK_SECONDS) -> int:
-    """The units of the first range of :func:`chunks`, from the model's cost of one unit.
-
-    Examples
-    --------
-    >>> first_chunk(1e-3)
-    150
-    >>> first_chunk(10.0)
-    1
-    """
-    return max(1, int(seconds / seconds_per_unit)) if seconds_per_unit > 0 else 1

@@ -306,29 +306,42 @@ def _compiled_seconds_per_move(scene: Scene) -> float:
     return 2.5e-7 + 2.5e-9 * cone + (1e-8 * N * P / 4 if scene.ph is not None else 0.0)
 
 
+# compiling the kernel on a first run (empty numba cache), CPU seconds: benchmarks/compile_times.py
+COMPILE_SECONDS = {"metropolis": 0.0, "slice": 0.0}
+
+
 def packing_plan(scene: Scene, sweeps: int, burn_in: int = 0, chains: int = 1, memory_bytes: int | None = None,
-                 kernel: str | None = None):
+                 kernel: str | None = None, move: str = "metropolis"):
     """The cost of ``chains`` runs of :meth:`PackingMetropolis.run` (the chains are stored).
 
     Examples
     --------
     >>> packing_plan(Scene(N=12, P=25, F=1000, mg=1), 2000, 200, kernel="python").seconds > 60
     True
+    >>> compiled = packing_plan(Scene(N=12, P=25, F=1000, mg=1), 2000, 200)  # (+ compiling it on a first run)
     >>> packing_plan(Scene(N=12, P=25, F=1000, mg=1), 2000, 200, kernel="python").seconds > 30 * (
-    ...     packing_plan(Scene(N=12, P=25, F=1000, mg=1), 2000, 200).seconds - 1.5)
+    ...     compiled.seconds - compiled.compile_seconds - 1.5)
     True
     """
-    from forcenet.exact.plan import Plan
+    from forcenet.exact.plan import Plan, with_compilation
 
     from ..jit import kernel_choice
 
     sweeps, burn_in = check_int(sweeps, "sweeps", 1), check_int(burn_in, "burn_in", 0)
+    if move not in COMPILE_SECONDS:
+        raise ValueError(f"move={move!r}: expected 'metropolis' or 'slice'")
     moves = (scene.N - 1) * (scene.P - 1) * (sweeps + burn_in) * chains
-    if kernel_choice(kernel) == "compiled":
-        per_move, start = _compiled_seconds_per_move(scene), 1.5  # + loading the cached kernel (~10 s cold)
+    compiled = kernel_choice(kernel) == "compiled"
+    if compiled:
+        per_move, start = _compiled_seconds_per_move(scene), 1.5  # + loading the cached kernel
     else:
         per_move, start = _SECONDS_PER_MOVE[scene.ph is None], 0.5
     plan = Plan(f"Metropolis on the {scene.N} x {scene.P} packing, {chains} x {sweeps} sweeps",
                 per_move * moves + start,
                 sweeps * scene.N * scene.P * 8 + 150 * 2**20, sweeps * chains, "sweep")
+    if compiled:  # a first run (numba's cache lacks the kernel) compiles it
+        from . import kernels
+
+        entry = kernels.packing_slice_sweeps if move == "slice" else kernels.packing_sweeps
+        plan = with_compilation(plan, f"packing {move}", COMPILE_SECONDS[move], [entry])
     return plan.within_memory(memory_bytes)

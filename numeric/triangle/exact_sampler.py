@@ -311,6 +311,7 @@ class ExactSampler:
 
 _SECONDS_PER_CUBE = 6.5e-8  # reference kernel: seconds per sample and N^3, measured N = 12..300 (2 cores)
 _SECONDS_PER_SQUARE_LOG = 1.25e-8  # hook walk: seconds per sample and N^2 ln N, measured N = 200..2000
+COMPILE_SECONDS = 0.0  # compiling the hook walk on a first run (empty numba cache): benchmarks/compile_times.py
 
 
 def sample_plan(N: int, samples: int, memory_bytes: int | None = None, kernel: str | None = None):
@@ -325,17 +326,22 @@ def sample_plan(N: int, samples: int, memory_bytes: int | None = None, kernel: s
     >>> sample_plan(100000, 2, memory_bytes=24 * 2**30).runnable
     False
     """
-    from forcenet.exact.plan import Plan
+    from forcenet.exact.plan import Plan, with_compilation
 
     from ..jit import kernel_choice
 
     N, samples = check_layers(N), check_int(samples, "samples", 1)
-    if kernel_choice(kernel) == "compiled":  # one sample at a time: T, W, sums and squares, O(N^2) each
+    compiled = kernel_choice(kernel) == "compiled"
+    if compiled:  # one sample at a time: T, W, sums and squares, O(N^2) each
         nbytes = 8 * N * N * 8 + 100 * 2**20
-        seconds = _SECONDS_PER_SQUARE_LOG * N * N * math.log(N) * samples + 1.0  # + the cached kernel (~3 s cold)
+        seconds = _SECONDS_PER_SQUARE_LOG * N * N * math.log(N) * samples + 1.0  # + loading the cached kernel
     else:
         batch = max(1, min(4096, 2**28 // (N * N), samples))
         nbytes = batch * N * N * 32 + 100 * 2**20
         seconds = _SECONDS_PER_CUBE * N**3 * samples + 0.3
     plan = Plan(f"{samples} exact samples N={N}", seconds, nbytes, samples, "sample")
+    if compiled:  # a first run (numba's cache lacks the hook walk) compiles it
+        from .kernels import hook_walk_W
+
+        plan = with_compilation(plan, "exact sampler", COMPILE_SECONDS, [hook_walk_W])
     return plan.within_memory(memory_bytes)

@@ -272,6 +272,10 @@ def q_model_samples(N: int, size: int, rng: np.random.Generator) -> np.ndarray:
 _SECONDS_PER_MOVE = 4e-5  # reference kernel, measured: 35-50 us per single-q move (N = 24)
 
 
+# compiling the kernel on a first run (empty numba cache), CPU seconds: benchmarks/compile_times.py
+COMPILE_SECONDS = {"metropolis": 0.0, "slice": 0.0}
+
+
 def _compiled_seconds_per_move(N: int, ph: bool) -> float:
     """The compiled kernel's cost of one move: a fixed part and ~2.5 ns per force of the light cone (~N^2/9 on
     average); a finite ``ph`` adds the running sums right of the grain (benchmarks/bench_samplers.py:
@@ -280,27 +284,39 @@ def _compiled_seconds_per_move(N: int, ph: bool) -> float:
 
 
 def metropolis_plan(N: int, sweeps: int, burn_in: int = 0, memory_bytes: int | None = None, ph: bool = False,
-                    kernel: str | None = None):
+                    kernel: str | None = None, move: str = "metropolis"):
     """The cost of :meth:`TriangleMetropolis.run` (time per move measured; the chain is stored).
+
+    With the compiled kernel and numba's cache lacking it (a first run), the
+    plan includes compiling it (:data:`COMPILE_SECONDS`).
 
     Examples
     --------
     >>> metropolis_plan(11, 20000, 2000, kernel="python").seconds < 60
     True
-    >>> metropolis_plan(24, 20000, 2000).seconds < 5
+    >>> plan = metropolis_plan(24, 20000, 2000)
+    >>> plan.seconds - plan.compile_seconds < 5
     True
     """
-    from forcenet.exact.plan import Plan
+    from forcenet.exact.plan import Plan, with_compilation
 
     from ..jit import kernel_choice
 
     N = check_layers(N)
     sweeps, burn_in = check_int(sweeps, "sweeps", 1), check_int(burn_in, "burn_in", 0)
+    if move not in COMPILE_SECONDS:
+        raise ValueError(f"move={move!r}: expected 'metropolis' or 'slice'")
     moves = N * (N - 1) // 2 * (sweeps + burn_in)
-    if kernel_choice(kernel) == "compiled":
-        per_move, start = _compiled_seconds_per_move(N, ph), 1.0  # + loading the cached kernel (~5 s cold)
+    compiled = kernel_choice(kernel) == "compiled"
+    if compiled:
+        per_move, start = _compiled_seconds_per_move(N, ph), 1.0  # + loading the cached kernel
     else:
         per_move, start = _SECONDS_PER_MOVE, 0.2
     plan = Plan(f"Metropolis N={N}, {sweeps} sweeps", per_move * moves + start,
                 sweeps * N * N * 8 + 100 * 2**20, sweeps, "sweep")
+    if compiled:
+        from . import kernels
+
+        entry = kernels.triangle_slice_sweeps if move == "slice" else kernels.triangle_sweeps
+        plan = with_compilation(plan, f"triangle {move}", COMPILE_SECONDS[move], [entry])
     return plan.within_memory(memory_bytes)

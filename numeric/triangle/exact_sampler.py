@@ -311,7 +311,7 @@ class ExactSampler:
 
 _SECONDS_PER_CUBE = 6.5e-8  # reference kernel: seconds per sample and N^3, measured N = 12..300 (2 cores)
 _SECONDS_PER_SQUARE_LOG = 1.25e-8  # hook walk: seconds per sample and N^2 ln N, measured N = 200..2000
-COMPILE_SECONDS = 0.0  # compiling the hook walk on a first run (empty numba cache): benchmarks/compile_times.py
+COMPILE_SECONDS = 9.6  # compiling the hook walk on a first run (empty numba cache): benchmarks/compile_times.py
 
 
 def sample_plan(N: int, samples: int, memory_bytes: int | None = None, kernel: str | None = None):

@@ -26,6 +26,9 @@ from forcenet.exact.plan import Plan, chunks, combine, kernels_cached, with_comp
 
 # exit after SIGINT: a call of ~0.15 s, then the interpreter's exit (~1-2 s on the loaded 2-core machine)
 LATENCY = 8.0
+# what the installed ``forcenet`` script runs (``python -m forcenet`` interrupted while numba compiles exits
+# by the signal, -2, after the handler's 130: a matter of runpy, reported with issue 24)
+ENTRY = "import sys; from forcenet.cli import main; sys.exit(main(sys.argv[1:]))"
 
 
 def _interrupt(args, cwd, wait_for="estimated", after=1.0, env=None):
@@ -33,7 +36,7 @@ def _interrupt(args, cwd, wait_for="estimated", after=1.0, env=None):
 
     Returns (exit code, seconds from SIGINT to exit, stderr).
     """
-    proc = subprocess.Popen([sys.executable, "-m", "forcenet", *args], cwd=cwd, stdout=subprocess.DEVNULL,
+    proc = subprocess.Popen([sys.executable, "-c", ENTRY, *args], cwd=cwd, stdout=subprocess.DEVNULL,
                             stderr=subprocess.PIPE, text=True, env=env)
     seen, err = threading.Event(), []
 

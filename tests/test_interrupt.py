@@ -91,7 +91,7 @@ def test_ctrl_c_inside_a_compiled_kernel_exits_130_within_seconds(tmp_path, case
 
 @pytest.mark.slow
 def test_ctrl_c_inside_the_histograms_of_dist_plot(tmp_path):
-    args = ["dist", "--N", "60", "--ensemble", "--plot", "p.png", "--samples", "400000", "--sweeps", "3000", "--force"]
+    args = ["dist", "--N", "12", "--ensemble", "--plot", "p.png", "--samples", "3000000", "--sweeps", "3000", "--force"]
     code, latency, err = _interrupt(args, tmp_path, after=3.0)
     assert code == 130 and latency < LATENCY, (code, latency, err)
     assert os.listdir(tmp_path) == []

@@ -21,9 +21,13 @@ False
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, replace
 
-__all__ = ["Plan", "duration_text", "combine", "combine_by_time", "phase_progress", "first_moment_only"]
+__all__ = ["Plan", "duration_text", "combine", "combine_by_time", "phase_progress", "first_moment_only", "chunks",
+           "first_chunk", "CHUNK_SECONDS", "kernels_cached", "with_compilation"]
+
+CHUNK_SECONDS = 0.15  # compiled work per call: Ctrl-C is seen within this, the calls' overhead stays far below 1 %
 
 
 def duration_text(seconds: float) -> str:
@@ -61,6 +65,10 @@ class Plan:
         What one tick is (a grain, an ideal, a sample, ...).
     refusal : str or None
         Why the run cannot be done at all (range, memory); None if it can.
+    compiling : tuple of (str, float)
+        The kernel groups that will be compiled first (numba's cache does not
+        hold them, :func:`with_compilation`) and their seconds, included in
+        ``seconds``.
     """
 
     what: str
@@ -69,16 +77,30 @@ class Plan:
     ticks: int = 0
     unit: str = "step"
     refusal: str | None = None
+    compiling: tuple = ()
 
     @property
     def runnable(self) -> bool:
         return self.refusal is None
 
+    @property
+    def compile_seconds(self) -> float:
+        """The part of ``seconds`` spent compiling kernels (a first run, :func:`with_compilation`)."""
+        return sum(seconds for _, seconds in self.compiling)
+
     def describe(self) -> str:
-        """``'~12 min, ~3.2 GiB'``."""
+        """``'~12 min, ~3.2 GiB'``; with a cold cache ``'~40 s (compiling the kernels, once: ~25 s)'``.
+
+        Examples
+        --------
+        >>> Plan("x", 40, compiling=(("sampler", 25.0),)).describe()
+        '~40 s (compiling the kernels, once: ~25 s)'
+        """
         text = f"~{duration_text(self.seconds)}"
         if self.nbytes:
             text += f", ~{self.nbytes / 2**30:.2g} GiB"
+        if self.compiling:
+            text += f" (compiling the kernels, once: ~{duration_text(self.compile_seconds)})"
         return text
 
     def refuse(self, reason: str) -> "Plan":
@@ -100,12 +122,25 @@ def combine(what: str, plans, unit: str = "step") -> Plan:
     Examples
     --------
     >>> combine("both", [Plan("a", 2, 10, 3), Plan("b", 5, 30, 4)])
-    Plan(what='both', seconds=7, nbytes=30, ticks=7, unit='step', refusal=None)
+    Plan(what='both', seconds=7, nbytes=30, ticks=7, unit='step', refusal=None, compiling=())
+
+    A kernel group compiled by several runs is compiled (and counted) once:
+
+    >>> c = (("k", 4.0),)
+    >>> combine("both", [Plan("a", 6, compiling=c), Plan("b", 5, compiling=c)]).seconds
+    7.0
     """
     plans = list(plans)
     refusal = next((p.refusal for p in plans if p.refusal), None)
-    return Plan(what, sum(p.seconds for p in plans), max((p.nbytes for p in plans), default=0),
-                sum(p.ticks for p in plans), unit, refusal)
+    compiling, repeated = {}, 0
+    for plan in plans:
+        for name, seconds in plan.compiling:
+            if name in compiling:
+                repeated += seconds
+            else:
+                compiling[name] = seconds
+    return Plan(what, sum(p.seconds for p in plans) - repeated, max((p.nbytes for p in plans), default=0),
+                sum(p.ticks for p in plans), unit, refusal, tuple(compiling.items()))
 
 
 def combine_by_time(what: str, plans) -> Plan:
@@ -118,11 +153,11 @@ def combine_by_time(what: str, plans) -> Plan:
     Examples
     --------
     >>> combine_by_time("both", [Plan("a", 20, 10, 4, "prime"), Plan("b", 5, 30, 1000, "sample")])
-    Plan(what='both', seconds=25, nbytes=30, ticks=25, unit='s', refusal=None)
+    Plan(what='both', seconds=25, nbytes=30, ticks=25, unit='s', refusal=None, compiling=())
     """
     plans = list(plans)
     plan = combine(what, plans, "s")
-    return Plan(plan.what, plan.seconds, plan.nbytes, max(1, round(plan.seconds)), "s", plan.refusal)
+    return replace(plan, ticks=max(1, round(plan.seconds)))
 
 
 def phase_progress(progress, plan: Plan):
@@ -159,3 +194,96 @@ def first_moment_only(what: str, method: str, moments: int) -> Plan | None:
         return None
     return Plan(what, 0, refusal=f"moments={moments} is out of range for --method {method}: moments must be 1 "
                                  "(higher moments use --method fast, thesis or maps)")
+
+
+# ------------------------------------------------- compiled work in bounded calls
+
+
+def chunks(total: int, first: int, seconds: float = CHUNK_SECONDS):
+    """Consecutive ranges ``(start, stop)`` covering ``0..total``, each taking about ``seconds``.
+
+    The first range has ``first`` units (the caller's estimate of ``seconds``
+    worth); every later one is sized from the measured time of the one before
+    (the loop body between two ``yield``s: the compiled call, a progress tick),
+    growing at most twofold, so a first call that also compiled or loaded the
+    kernel is followed by short ranges that grow back.  The work done does not
+    depend on the sizes: callers cut only where the state is complete.
+
+    Examples
+    --------
+    >>> ranges = list(chunks(10, 4))
+    >>> ranges[0], ranges[-1][1], all(a[1] == b[0] for a, b in zip(ranges, ranges[1:]))
+    ((0, 4), 10, True)
+    >>> list(chunks(0, 5))
+    []
+    """
+    start, size = 0, max(1, int(first))
+    while start < total:
+        stop = min(total, start + size)
+        t0 = time.perf_counter()
+        yield start, stop
+        elapsed = time.perf_counter() - t0
+        grown = 2 * size
+        size = grown if elapsed <= 0 else max(1, min(grown, int((stop - start) * seconds / elapsed)))
+        start = stop
+
+
+def first_chunk(seconds_per_unit: float, seconds: float = CHUNK_SECONDS) -> int:
+    """The units of the first range of :func:`chunks`, from the model's cost of one unit.
+
+    Examples
+    --------
+    >>> first_chunk(1e-3)
+    150
+    >>> first_chunk(10.0)
+    1
+    """
+    return max(1, int(seconds / seconds_per_unit)) if seconds_per_unit > 0 else 1
+
+
+# ------------------------------------------------- the first run: compiling the kernels
+
+
+def kernels_cached(kernels) -> bool:
+    """Whether numba holds machine code for every dispatcher of ``kernels`` without compiling.
+
+    True when each is compiled in this process already or its on-disk cache
+    (``cache=True``: the ``.nbi`` index beside the module, or under
+    ``NUMBA_CACHE_DIR``) has an entry for this machine and this source.
+
+    Examples
+    --------
+    >>> kernels_cached([])
+    True
+    """
+    for kernel in kernels:
+        if kernel.overloads:
+            continue
+        try:  # numba's cache index: {(signature, machine, source hash): file}
+            cache = kernel._cache
+            codegen = kernel.targetctx.codegen()
+            index = cache._cache_file._load_index()
+            hit = any(cache._index_key(key[0], codegen) == key for key in index)
+        except (AttributeError, OSError, TypeError, ValueError, EOFError):  # unreadable: count the compilation
+            return False
+        if not hit:
+            return False
+    return True
+
+
+def with_compilation(plan: Plan, name: str, seconds: float, kernels) -> Plan:
+    """``plan`` plus ``seconds`` of compiling the kernel group ``name`` if numba's cache does not hold ``kernels``.
+
+    ``kernels``: the group's entry points (numba dispatchers) the run will
+    call; ``seconds``: their measured compile time on the reference machine
+    (``benchmarks/compile_times.py``).  A refused plan, or one that counts
+    ``name`` already, is returned as it is.
+
+    Examples
+    --------
+    >>> with_compilation(Plan("x", 3), "none", 5.0, []).seconds  # nothing to compile
+    3
+    """
+    if not plan.runnable or any(n == name for n, _ in plan.compiling) or kernels_cached(kernels):
+        return plan
+    return replace(plan, seconds=plan.seconds + seconds, compiling=plan.compiling + ((name, seconds),))

@@ -12,7 +12,15 @@ seconds, reported separately by ``benchmarks/bench_samplers.py``); numba
 caches the machine code next to the module (``__pycache__``), so later
 processes load it in well under a second.
 
-May import: nothing of the package.
+A compiled call does not return to Python until it is done, and Python acts
+on Ctrl-C (``KeyboardInterrupt``) only between bytecodes, so long compiled
+work is cut into calls of about ``CHUNK_SECONDS`` each (:func:`chunks`, from
+:mod:`forcenet.exact.plan`, which the exact kernels use too):
+the interrupt is then seen within a fraction of a second, and the state
+between two calls is the state the one long call would have passed through
+(the chains go on bit for bit).
+
+May import: :mod:`forcenet.exact.plan`.
 
 Examples
 --------
@@ -24,7 +32,9 @@ True
 
 from __future__ import annotations
 
-__all__ = ["HAVE_NUMBA", "njit", "kernel_choice"]
+from forcenet.exact.plan import CHUNK_SECONDS, chunks, first_chunk
+
+__all__ = ["HAVE_NUMBA", "njit", "kernel_choice", "chunks", "first_chunk", "CHUNK_SECONDS"]
 
 try:  # pragma: no branch
     import numba
@@ -54,3 +64,4 @@ def kernel_choice(kernel) -> str:
     if kernel == "compiled" and not HAVE_NUMBA:
         raise ValueError("kernel='compiled' needs numba (pip install numba); use kernel='python'")
     return kernel
+

@@ -175,31 +175,43 @@ class PackingMetropolis:
         self.q[i, j] = old
         return False
 
-    def _compiled(self, sweeps: int, out: np.ndarray, qs: np.ndarray, thin: int = 1) -> None:
-        from .kernels import packing_state, packing_sweeps
+    def _compiled(self, units: int, out: np.ndarray, qs: np.ndarray, thin: int = 1, progress=None) -> None:
+        """``units`` records of ``thin`` sweeps into ``out`` (and ``qs`` if non-empty), or (``out`` empty) ``units``
+        sweeps, compiled, in calls of ~0.15 s cut between sweeps (:func:`forcenet.numeric.jit.chunks`): Ctrl-C
+        is seen between two calls, and the chain is the one a single call gives; ``progress(k)`` per call."""
+        from ..jit import chunks, first_chunk
+        from .kernels import packing_slice_sweeps, packing_state, packing_sweeps
 
         scene = self.scene
         cs, dd = packing_state(self.q, self.W, scene)
         gi = np.array([g[0] for g in self.grains], dtype=np.int64)
         gj = np.array([g[1] for g in self.grains], dtype=np.int64)
-        counters = np.array([self.attempted, self.accepted, self.rejected_by_constraint], dtype=np.int64)
+        counters = np.array([self.attempted, self.accepted, self.rejected_by_constraint, self.evaluations, 0],
+                            dtype=np.int64)
         ph = 0.0 if scene.ph is None else float(scene.ph)
         tol = -1e-9 * max(1.0, ph)
         step = 0.0 if self.step is None else float(self.step)
         top = np.ascontiguousarray(scene.top_load, dtype=float)
-        if self.move == "slice":
-            from .kernels import packing_slice_sweeps
-
-            counters = np.concatenate([counters, [self.evaluations, 0]])
-            packing_slice_sweeps(self.q, self.W, cs, dd, gi, gj, self.rng, sweeps, ph, scene.ph is not None, tol,
-                                 top, float(scene.mg), out, qs, counters, thin)
-            if counters[4]:  # pragma: no cover - never observed
-                raise RuntimeError("slice move: an interval shrank 200 times without a point under the density")
+        record = out.shape[0] > 0
+        per_unit = _compiled_seconds_per_move(scene) * len(self.grains) * (thin if record else 1)
+        try:
+            for start, stop in chunks(units, first_chunk(per_unit)):
+                sweeps = (stop - start) * (thin if record else 1)
+                W_part = out[start:stop] if record else out
+                q_part = qs[start:stop] if qs.shape[0] else qs
+                if self.move == "slice":
+                    packing_slice_sweeps(self.q, self.W, cs, dd, gi, gj, self.rng, sweeps, ph, scene.ph is not None,
+                                         tol, top, float(scene.mg), W_part, q_part, counters, thin)
+                else:
+                    packing_sweeps(self.q, self.W, cs, dd, gi, gj, self.rng, sweeps, ph, scene.ph is not None, tol,
+                                   step, top, float(scene.mg), W_part, q_part, counters, thin)
+                if progress is not None and record:
+                    progress(stop - start)
+        finally:  # also on Ctrl-C: the counters of the sweeps done
+            self.attempted, self.accepted, self.rejected_by_constraint = (int(x) for x in counters[:3])
             self.evaluations = int(counters[3])
-        else:
-            packing_sweeps(self.q, self.W, cs, dd, gi, gj, self.rng, sweeps, ph, scene.ph is not None, tol, step,
-                           top, float(scene.mg), out, qs, counters, thin)
-        self.attempted, self.accepted, self.rejected_by_constraint = (int(x) for x in counters[:3])
+        if counters[4]:  # pragma: no cover - never observed
+            raise RuntimeError("slice move: an interval shrank 200 times without a point under the density")
 
     def sweep(self, count: int = 1) -> None:
         """``count`` sweeps of ``(N-1)(P-1)`` single-grain updates."""
@@ -231,13 +243,7 @@ class PackingMetropolis:
         qs = np.empty((sweeps,) + self.q.shape) if record_q else None
         if self.kernel == "compiled":
             N, P = self.scene.N, self.scene.P
-            block = max(1, min(sweeps, 1_000_000 // (N * P * max(N, 4) * thin)))  # ~0.1 s between progress ticks
-            for start in range(0, sweeps, block):
-                stop = min(sweeps, start + block)
-                q_out = qs[start:stop] if record_q else np.empty((0, N - 1, P))
-                self._compiled((stop - start) * thin, out[start:stop], q_out, thin)
-                if progress is not None:
-                    progress(stop - start)
+            self._compiled(sweeps, out, qs if record_q else np.empty((0, N - 1, P)), thin, progress)
             return (out, qs) if record_q else out
         for t in range(sweeps):
             self.sweep(thin)
@@ -300,29 +306,42 @@ def _compiled_seconds_per_move(scene: Scene) -> float:
     return 2.5e-7 + 2.5e-9 * cone + (1e-8 * N * P / 4 if scene.ph is not None else 0.0)
 
 
+# compiling the kernel on a first run (empty numba cache), CPU seconds: benchmarks/compile_times.py
+COMPILE_SECONDS = {"metropolis": 11.5, "slice": 15.7}
+
+
 def packing_plan(scene: Scene, sweeps: int, burn_in: int = 0, chains: int = 1, memory_bytes: int | None = None,
-                 kernel: str | None = None):
+                 kernel: str | None = None, move: str = "metropolis"):
     """The cost of ``chains`` runs of :meth:`PackingMetropolis.run` (the chains are stored).
 
     Examples
     --------
     >>> packing_plan(Scene(N=12, P=25, F=1000, mg=1), 2000, 200, kernel="python").seconds > 60
     True
+    >>> compiled = packing_plan(Scene(N=12, P=25, F=1000, mg=1), 2000, 200)  # (+ compiling it on a first run)
     >>> packing_plan(Scene(N=12, P=25, F=1000, mg=1), 2000, 200, kernel="python").seconds > 30 * (
-    ...     packing_plan(Scene(N=12, P=25, F=1000, mg=1), 2000, 200).seconds - 1.5)
+    ...     compiled.seconds - compiled.compile_seconds - 1.5)
     True
     """
-    from forcenet.exact.plan import Plan
+    from forcenet.exact.plan import Plan, with_compilation
 
     from ..jit import kernel_choice
 
     sweeps, burn_in = check_int(sweeps, "sweeps", 1), check_int(burn_in, "burn_in", 0)
+    if move not in COMPILE_SECONDS:
+        raise ValueError(f"move={move!r}: expected 'metropolis' or 'slice'")
     moves = (scene.N - 1) * (scene.P - 1) * (sweeps + burn_in) * chains
-    if kernel_choice(kernel) == "compiled":
-        per_move, start = _compiled_seconds_per_move(scene), 1.5  # + loading the cached kernel (~10 s cold)
+    compiled = kernel_choice(kernel) == "compiled"
+    if compiled:
+        per_move, start = _compiled_seconds_per_move(scene), 1.5  # + loading the cached kernel
     else:
         per_move, start = _SECONDS_PER_MOVE[scene.ph is None], 0.5
     plan = Plan(f"Metropolis on the {scene.N} x {scene.P} packing, {chains} x {sweeps} sweeps",
                 per_move * moves + start,
                 sweeps * scene.N * scene.P * 8 + 150 * 2**20, sweeps * chains, "sweep")
+    if compiled:  # a first run (numba's cache lacks the kernel) compiles it
+        from . import kernels
+
+        entry = kernels.packing_slice_sweeps if move == "slice" else kernels.packing_sweeps
+        plan = with_compilation(plan, f"packing {move}", COMPILE_SECONDS[move], [entry])
     return plan.within_memory(memory_bytes)

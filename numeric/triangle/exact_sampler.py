@@ -21,6 +21,8 @@ True
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from forcenet.exact.triangle.staircase import dimension
@@ -231,15 +233,35 @@ class ExactSampler:
         # a batch holds B tableaux of N^2 int32 entries: keep it under ~1 GiB
         self.batch = max(1, min(batch, 2**28 // (self.N * self.N)))
 
+    def _compiled(self, size: int, W_out=None, sums=None, squares=None, orders=None, progress=None) -> None:
+        """``size`` hook-walk samples into ``W_out`` or added to ``sums``/``squares``, in calls of ~0.15 s.
+
+        Each sample consumes its own stretch of the stream, so the calls
+        (:func:`forcenet.numeric.jit.chunks`) change nothing but when Ctrl-C is
+        seen; ``progress(k)`` after each call of ``k`` samples.
+        """
+        from ..jit import chunks, first_chunk
+        from .kernels import hook_walk_W
+
+        N = self.N
+        empty = np.zeros((0, N, N))
+        stats = np.zeros(1, np.int64)
+        orders = np.zeros(0, np.int64) if orders is None else orders
+        sums = empty if sums is None else sums
+        squares = empty if squares is None else squares
+        per_sample = _SECONDS_PER_SQUARE_LOG * N * N * math.log(max(N, 2))
+        for start, stop in chunks(size, first_chunk(per_sample)):
+            out = empty if W_out is None else W_out[start:stop]
+            hook_walk_W(self.rng, N, stop - start, out, sums, squares, orders, stats)
+            if progress is not None:
+                progress(stop - start)
+
     def sample_W(self, size: int) -> np.ndarray:
         """``size`` independent configurations, ``W`` of shape ``(size, N, N)``."""
         size = check_int(size, "size", 0)
         if self.kernel == "compiled":
-            from .kernels import hook_walk_W
-
             W = np.empty((size, self.N, self.N))
-            empty = np.zeros((0, self.N, self.N))
-            hook_walk_W(self.rng, self.N, size, W, empty, empty, np.zeros(0, np.int64), np.zeros(1, np.int64))
+            self._compiled(size, W_out=W)
             return W
         T = sample_tableaux(self.N, size, self.rng)
         return tableaux_to_W(T, self.rng)
@@ -252,21 +274,11 @@ class ExactSampler:
         samples = check_int(samples, "samples", 1)
         orders = tuple(check_int(s, "orders", 1) for s in orders)
         if self.kernel == "compiled":
-            from .kernels import hook_walk_W
-
             N = self.N
             sums = np.zeros((len(orders), N, N))
             squares = np.zeros((len(orders), N, N))
-            order_array = np.array(orders, dtype=np.int64)
-            empty = np.zeros((0, N, N))
-            chunk = max(1, min(samples, 20_000_000 // (N * N)))  # ~0.1-0.5 s between progress ticks
-            done = 0
-            while done < samples:
-                k = min(chunk, samples - done)
-                hook_walk_W(self.rng, N, k, empty, sums, squares, order_array, np.zeros(1, np.int64))
-                done += k
-                if progress is not None:
-                    progress(k)
+            self._compiled(samples, sums=sums, squares=squares, orders=np.array(orders, dtype=np.int64),
+                           progress=progress)
             return {s: (sums[o], squares[o]) for o, s in enumerate(orders)}
         sums = {s: np.zeros((self.N, self.N)) for s in orders}
         squares = {s: np.zeros((self.N, self.N)) for s in orders}
@@ -299,6 +311,7 @@ class ExactSampler:
 
 _SECONDS_PER_CUBE = 6.5e-8  # reference kernel: seconds per sample and N^3, measured N = 12..300 (2 cores)
 _SECONDS_PER_SQUARE_LOG = 1.25e-8  # hook walk: seconds per sample and N^2 ln N, measured N = 200..2000
+COMPILE_SECONDS = 9.6  # compiling the hook walk on a first run (empty numba cache): benchmarks/compile_times.py
 
 
 def sample_plan(N: int, samples: int, memory_bytes: int | None = None, kernel: str | None = None):
@@ -313,19 +326,22 @@ def sample_plan(N: int, samples: int, memory_bytes: int | None = None, kernel: s
     >>> sample_plan(100000, 2, memory_bytes=24 * 2**30).runnable
     False
     """
-    import math
-
-    from forcenet.exact.plan import Plan
+    from forcenet.exact.plan import Plan, with_compilation
 
     from ..jit import kernel_choice
 
     N, samples = check_layers(N), check_int(samples, "samples", 1)
-    if kernel_choice(kernel) == "compiled":  # one sample at a time: T, W, sums and squares, O(N^2) each
+    compiled = kernel_choice(kernel) == "compiled"
+    if compiled:  # one sample at a time: T, W, sums and squares, O(N^2) each
         nbytes = 8 * N * N * 8 + 100 * 2**20
-        seconds = _SECONDS_PER_SQUARE_LOG * N * N * math.log(N) * samples + 1.0  # + the cached kernel (~3 s cold)
+        seconds = _SECONDS_PER_SQUARE_LOG * N * N * math.log(N) * samples + 1.0  # + loading the cached kernel
     else:
         batch = max(1, min(4096, 2**28 // (N * N), samples))
         nbytes = batch * N * N * 32 + 100 * 2**20
         seconds = _SECONDS_PER_CUBE * N**3 * samples + 0.3
     plan = Plan(f"{samples} exact samples N={N}", seconds, nbytes, samples, "sample")
+    if compiled:  # a first run (numba's cache lacks the hook walk) compiles it
+        from .kernels import hook_walk_W
+
+        plan = with_compilation(plan, "exact sampler", COMPILE_SECONDS, [hook_walk_W])
     return plan.within_memory(memory_bytes)

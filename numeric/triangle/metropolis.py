@@ -181,27 +181,39 @@ class TriangleMetropolis:
         self.q[i, j] = old
         return False
 
-    def _compiled(self, sweeps: int, out: np.ndarray, thin: int = 1) -> None:
-        from .kernels import triangle_state, triangle_sweeps
+    def _compiled(self, units: int, out: np.ndarray, thin: int = 1, progress=None) -> None:
+        """``units`` records of ``thin`` sweeps into ``out`` (or, ``out`` empty, ``units`` sweeps), compiled.
+
+        The sweeps run in calls of ~0.15 s (:func:`forcenet.numeric.jit.chunks`),
+        cut between sweeps, where ``q``, ``W``, the running sums and the
+        counters are complete: Ctrl-C is seen between two calls, and the chain
+        is the one a single call gives.  ``progress(k)`` after each call that
+        recorded ``k`` records.
+        """
+        from ..jit import chunks, first_chunk
+        from .kernels import triangle_slice_sweeps, triangle_state, triangle_sweeps
 
         flux, zeros = triangle_state(self.q, self.W)
         gi = np.array([g[0] for g in self.grains], dtype=np.int64)
         gj = np.array([g[1] for g in self.grains], dtype=np.int64)
-        counters = np.array([self.attempted, self.accepted, self.rejected_by_constraint], dtype=np.int64)
+        counters = np.array([self.attempted, self.accepted, self.rejected_by_constraint, self.evaluations, 0],
+                            dtype=np.int64)
         ph = 0.0 if self.ph is None else float(self.ph)
-        if self.move == "slice":
-            from .kernels import triangle_slice_sweeps
-
-            counters = np.concatenate([counters, [self.evaluations, 0]])
-            triangle_slice_sweeps(self.q, self.W, flux, zeros, gi, gj, self.rng, sweeps, ph, self.ph is not None,
-                                  out, counters, thin)
-            if counters[4]:  # pragma: no cover - never observed
-                raise RuntimeError("slice move: an interval shrank 200 times without a point under the density")
+        kernel = triangle_slice_sweeps if self.move == "slice" else triangle_sweeps
+        record = out.shape[0] > 0
+        per_unit = _compiled_seconds_per_move(self.N, self.ph is not None) * len(self.grains) * (thin if record else 1)
+        try:
+            for start, stop in chunks(units, first_chunk(per_unit)):
+                part = out[start:stop] if record else out
+                kernel(self.q, self.W, flux, zeros, gi, gj, self.rng, (stop - start) * (thin if record else 1), ph,
+                       self.ph is not None, part, counters, thin)
+                if progress is not None and record:
+                    progress(stop - start)
+        finally:  # also on Ctrl-C: the counters of the sweeps done
+            self.attempted, self.accepted, self.rejected_by_constraint = (int(x) for x in counters[:3])
             self.evaluations = int(counters[3])
-        else:
-            triangle_sweeps(self.q, self.W, flux, zeros, gi, gj, self.rng, sweeps, ph, self.ph is not None, out,
-                            counters, thin)
-        self.attempted, self.accepted, self.rejected_by_constraint = (int(x) for x in counters[:3])
+        if counters[4]:  # pragma: no cover - never observed
+            raise RuntimeError("slice move: an interval shrank 200 times without a point under the density")
 
     def sweep(self, count: int = 1) -> None:
         """``count`` sweeps; a sweep is ``N(N-1)/2`` single-grain updates."""
@@ -231,12 +243,7 @@ class TriangleMetropolis:
         out = np.empty((sweeps, self.N, self.N))
         if self.kernel == "compiled":
             out[:] = 0.0
-            block = max(1, min(sweeps, 2_000_000 // (self.N**3 * thin)))  # ~0.1 s between progress ticks
-            for start in range(0, sweeps, block):
-                stop = min(sweeps, start + block)
-                self._compiled((stop - start) * thin, out[start:stop], thin)
-                if progress is not None:
-                    progress(stop - start)
+            self._compiled(sweeps, out, thin, progress)
             return out
         for t in range(sweeps):
             self.sweep(thin)
@@ -265,6 +272,10 @@ def q_model_samples(N: int, size: int, rng: np.random.Generator) -> np.ndarray:
 _SECONDS_PER_MOVE = 4e-5  # reference kernel, measured: 35-50 us per single-q move (N = 24)
 
 
+# compiling the kernel on a first run (empty numba cache), CPU seconds: benchmarks/compile_times.py
+COMPILE_SECONDS = {"metropolis": 6.5, "slice": 7.6}
+
+
 def _compiled_seconds_per_move(N: int, ph: bool) -> float:
     """The compiled kernel's cost of one move: a fixed part and ~2.5 ns per force of the light cone (~N^2/9 on
     average); a finite ``ph`` adds the running sums right of the grain (benchmarks/bench_samplers.py:
@@ -273,27 +284,39 @@ def _compiled_seconds_per_move(N: int, ph: bool) -> float:
 
 
 def metropolis_plan(N: int, sweeps: int, burn_in: int = 0, memory_bytes: int | None = None, ph: bool = False,
-                    kernel: str | None = None):
+                    kernel: str | None = None, move: str = "metropolis"):
     """The cost of :meth:`TriangleMetropolis.run` (time per move measured; the chain is stored).
+
+    With the compiled kernel and numba's cache lacking it (a first run), the
+    plan includes compiling it (:data:`COMPILE_SECONDS`).
 
     Examples
     --------
     >>> metropolis_plan(11, 20000, 2000, kernel="python").seconds < 60
     True
-    >>> metropolis_plan(24, 20000, 2000).seconds < 5
+    >>> plan = metropolis_plan(24, 20000, 2000)
+    >>> plan.seconds - plan.compile_seconds < 5
     True
     """
-    from forcenet.exact.plan import Plan
+    from forcenet.exact.plan import Plan, with_compilation
 
     from ..jit import kernel_choice
 
     N = check_layers(N)
     sweeps, burn_in = check_int(sweeps, "sweeps", 1), check_int(burn_in, "burn_in", 0)
+    if move not in COMPILE_SECONDS:
+        raise ValueError(f"move={move!r}: expected 'metropolis' or 'slice'")
     moves = N * (N - 1) // 2 * (sweeps + burn_in)
-    if kernel_choice(kernel) == "compiled":
-        per_move, start = _compiled_seconds_per_move(N, ph), 1.0  # + loading the cached kernel (~5 s cold)
+    compiled = kernel_choice(kernel) == "compiled"
+    if compiled:
+        per_move, start = _compiled_seconds_per_move(N, ph), 1.0  # + loading the cached kernel
     else:
         per_move, start = _SECONDS_PER_MOVE, 0.2
     plan = Plan(f"Metropolis N={N}, {sweeps} sweeps", per_move * moves + start,
                 sweeps * N * N * 8 + 100 * 2**20, sweeps, "sweep")
+    if compiled:
+        from . import kernels
+
+        entry = kernels.triangle_slice_sweeps if move == "slice" else kernels.triangle_sweeps
+        plan = with_compilation(plan, f"triangle {move}", COMPILE_SECONDS[move], [entry])
     return plan.within_memory(memory_bytes)

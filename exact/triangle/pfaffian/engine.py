@@ -29,7 +29,8 @@ Residues travel to the kernels as ``float64`` arrays of exact integers in
 ``[0, p)`` (their representation, :mod:`.kernels`; nothing is rounded) and
 come back as ``int64``.
 
-May import: :mod:`forcenet.exact.validation` and its own package.
+May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
+:mod:`forcenet.exact.plan` and its own package.
 """
 
 from __future__ import annotations
@@ -40,12 +41,16 @@ from math import isqrt
 import numpy as np
 
 from ...modular import is_prime
+from ...plan import Plan, with_compilation
 from ...validation import check_int, check_layers
 from .schur import labels
 
-__all__ = ["prime_limit", "dense_prime_limit", "level_points", "setup_matrices", "prime_residues", "edge_residues", "count_residue", "PointFailure"]
+__all__ = ["prime_limit", "dense_prime_limit", "level_points", "setup_matrices", "prime_residues", "edge_residues", "count_residue",
+           "PointFailure", "with_kernels_compiled"]
 
 MAX_POINT_FAILURES = 64
+# compiling the kernels on a first run (empty numba cache), CPU seconds: benchmarks/compile_times.py
+COMPILE_SECONDS = {"table": 19.4, "lattice": 18.8}
 
 
 class PointFailure(ArithmeticError):
@@ -138,6 +143,26 @@ def count_residue(N: int, p: int, backend: str = "numba") -> int:
     for k in range(2, d + 1):
         fact = fact * k % p
     return fact * pf % p
+
+
+def with_kernels_compiled(plan: Plan, lattice: bool = False) -> Plan:
+    """``plan`` plus compiling the compiled kernels of :func:`prime_residues` (``lattice``: of
+    :func:`edge_residues`) when numba's cache lacks them (a first run, :data:`COMPILE_SECONDS`).
+
+    Examples
+    --------
+    >>> plan = with_kernels_compiled(Plan("x", 3.0))
+    >>> plan.seconds - plan.compile_seconds
+    3.0
+    """
+    from . import kernels
+
+    entries = [kernels.pfaffian_mod, kernels._master_factors, kernels._dual_block, kernels._weighted_rows,
+               kernels.edge_values if lattice else kernels.point_values]
+    if not lattice:
+        entries.append(kernels.lagrange_matrix)
+    name = "lattice" if lattice else "table"
+    return with_compilation(plan, f"Pfaffian {name}", COMPILE_SECONDS[name], entries)
 
 
 def _pair_points(p: int, taken: set):

@@ -135,3 +135,96 @@ def test_lattice_laws_agree_with_the_exact_sampler_at_N64():
     keys = [f"W2_{i}" for i in range(2, N + 1)] + [f"cdf_{i}" for i in range(2, N + 1)]
     result = compare_samples(data, expected, keys=keys, alpha=1e-3)
     assert result.passed, result.summary()
+
+
+# ------------------------------------------- interior gaps are two-time quantities
+
+
+def _successors(A, n):
+    """The ideals one cell above ``A`` (a sorted tuple of parts): a part ``a`` moves to ``a + 1``, or a part 1 appears."""
+    parts = set(A)
+    out = [parts - {a} | {a + 1} for a in A if a + 1 <= n and a + 1 not in parts]
+    if 1 not in parts:
+        out.append(parts | {1})
+    return [tuple(sorted(B, reverse=True)) for B in out]
+
+
+def _chains(n):
+    """Every maximal chain of order ideals of the staircase, as the tuple of its ideals."""
+    full, out = tuple(range(n, 0, -1)), []
+
+    def grow(chain):
+        if chain[-1] == full:
+            out.append(tuple(chain))
+        for B in _successors(chain[-1], n):
+            grow(chain + [B])
+
+    grow([()])
+    return out
+
+
+def _gap(chain, N, i, j):
+    """The rank gap of ``W_{i,j}``: the number of ideals of the chain with ``N_m = j - 1``, ``m = N - i + 1``."""
+    m = N - i + 1
+    return sum(1 for A in chain if sum(a >= m for a in A) == j - 1)
+
+
+def _swap_quadruple(chains, N, n):
+    """``(C1, C2, C3, C4, i, j)``: C2 (C4) is C1 (C3) with the two cells added at levels l+1, l+2 swapped, C1 and C3
+    through the same ideals at l and l+2 but different ones at l+1, and <g_ij^2> changes when C1, C3 move to C2, C4."""
+    swaps = {}
+    for c in chains:
+        for l in range(len(c) - 2):
+            for D in _successors(c[l], n):
+                if D != c[l + 1] and c[l + 2] in _successors(D, n):
+                    swaps.setdefault((l, c[l], c[l + 2]), []).append((c, c[: l + 1] + (D,) + c[l + 2 :]))
+    grains = [(i, j) for i in range(3, N + 1) for j in range(2, i)]
+    for (l, _, _), members in swaps.items():
+        for c1, c2 in members:
+            for c3, c4 in members:
+                if c3[l + 1] == c1[l + 1] or c3 in (c1, c2):
+                    continue
+                for i, j in grains:
+                    g = [_gap(c, N, i, j) for c in (c1, c2, c3, c4)]
+                    if g[1] ** 2 - g[0] ** 2 + g[3] ** 2 - g[2] ** 2:
+                        return c1, c2, c3, c4, i, j
+    return None
+
+
+def test_one_time_marginals_do_not_determine_the_second_moment():
+    """notes/fluctuations.md Sec. 3: a measure on maximal chains with every one-time marginal of the uniform one.
+
+    C1 = (alpha, x, y, beta) -> C2 = (alpha, y, x, beta) and C3 = (alpha', y, x, beta') -> C4 = (alpha', x, y, beta')
+    (the same ideals at the levels l and l + 2): the masses of A+x and A+y at level l + 1 are restored, so the law of
+    I_l is the uniform measure's for every l, hence <g> of every grain too; <g^2> of an interior grain is not.
+    """
+    N = 6
+    n, d = N - 1, N * (N - 1) // 2
+    chains = _chains(n)
+    assert len(chains) == count(N)
+    found = _swap_quadruple(chains, N, n)
+    assert found is not None
+    c1, c2, c3, c4, i, j = found
+    uniform = {c: Fraction(1, len(chains)) for c in chains}
+    new = dict(uniform)
+    for lose, gain in ((c1, c2), (c3, c4)):
+        new[lose] -= Fraction(1, len(chains))
+        new[gain] += Fraction(1, len(chains))
+    assert min(new.values()) >= 0 and sum(new.values()) == 1
+
+    def marginal(mu, l):
+        out = {}
+        for c, w in mu.items():
+            out[c[l]] = out.get(c[l], 0) + w
+        return {A: w for A, w in out.items() if w}
+
+    def mean(mu, f):
+        return sum(w * f(c) for c, w in mu.items())
+
+    assert all(marginal(new, l) == marginal(uniform, l) for l in range(d + 1))
+    for jj in range(1, i + 1):
+        assert mean(new, lambda c: _gap(c, N, i, jj)) == mean(uniform, lambda c: _gap(c, N, i, jj))
+    second = mean(uniform, lambda c: _gap(c, N, i, j) ** 2)
+    law = layer_gap_counts(N, i)[j - 1]  # the enumeration is the DP's law
+    assert second * law.total == sum(g * g * k for g, k in enumerate(law.counts))
+    assert mean(new, lambda c: _gap(c, N, i, j) ** 2) != second

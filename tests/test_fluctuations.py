@@ -228,3 +228,34 @@ def test_one_time_marginals_do_not_determine_the_second_moment():
     law = layer_gap_counts(N, i)[j - 1]  # the enumeration is the DP's law
     assert second * law.total == sum(g * g * k for g, k in enumerate(law.counts))
     assert mean(new, lambda c: _gap(c, N, i, j) ** 2) != second
+
+
+# ------------------------------------------------ the floor is a Legendre orthogonal ensemble
+
+
+@pytest.mark.parametrize("N", [3, 4, pytest.param(5, marks=pytest.mark.slow)])
+def test_floor_partial_sums_have_the_vandermonde_density(N):
+    """notes/fluctuations.md Sec. 5: the free partial sums of the floor have density prod_{a<b} (v_b - v_a) / Z.
+
+    Every moment <W_{N,j}^s> (s = 1, 2) of the floor from that density (sympy, ordered simplex) equals the DP's.
+    """
+    import sympy
+
+    n = N - 1
+    v = sympy.symbols(f"v1:{n + 1}")
+    vand = sympy.prod(v[b] - v[a] for a in range(n) for b in range(a + 1, n))
+
+    def ordered_integral(f):
+        for k in range(n):  # v_1 in (0, v_2), ..., v_n in (0, 1)
+            f = sympy.integrate(f, (v[k], 0, v[k + 1] if k + 1 < n else 1))
+        return f
+
+    Z = ordered_integral(vand)
+    volume = sympy.Rational(count(N), sympy.factorial(N * (N - 1) // 2))  # (4.1)
+    assert Z / sympy.prod(sympy.factorial(k) for k in range(1, n)) == volume  # the GT patterns above: Delta / prod k!
+    points = (0,) + v + (1,)
+    for s in (1, 2):
+        table = moment_table(N, s)
+        for j in range(1, N + 1):
+            value = ordered_integral(vand * (points[j] - points[j - 1]) ** s) / Z
+            assert Fraction(int(value.p), int(value.q)) == table[N - 1][j - 1]

@@ -60,7 +60,11 @@ __all__ = ["edge_level_residues", "lattice_level_sums", "lattice_gap_laws", "lat
            "lattice_gap_laws_plan"]
 
 MAX_LAW_N = 128  # the interpolation's exact float64 products need M < 2^13
-_SECONDS_PER_INTERPOLATION = 2.5e-10  # per M^2 (n + 2): the Lagrange matrix and the two BLAS products (measured)
+# CPU seconds on the reference machine.  Measured on 2026-11-25 on the loaded 2-core machine at N = 40 and scaled by
+# the ratio (8x) of the lattice directions' measured time to their model (route._edge_seconds) in the same run.
+_SECONDS_PER_LAGRANGE = 1e-8  # per M^2: the Lagrange matrix
+_SECONDS_PER_INTERPOLATION = 5.4e-10  # per M^2 (n + 2): the two BLAS products and the assembly
+_SECONDS_PER_CRT = 3e-7  # per value and prime: the Chinese remainders, in the parent process
 
 
 def _matmul_mod(A: np.ndarray, B: np.ndarray, p: int) -> np.ndarray:
@@ -265,7 +269,8 @@ def lattice_mean_W2(N: int, **kwargs) -> list[Fraction]:
 def _prime_seconds(N: int) -> float:
     """CPU seconds of one prime: the lattice directions' evaluations and the interpolation."""
     n, d = N - 1, N * (N - 1) // 2
-    return _edge_seconds(N) + _SECONDS_PER_INTERPOLATION * level_points(d) ** 2 * (n + 2)
+    M = level_points(d)
+    return _edge_seconds(N) + _SECONDS_PER_LAGRANGE * M**2 + _SECONDS_PER_INTERPOLATION * M**2 * (n + 2)
 
 
 def lattice_gap_laws_plan(N: int, memory_bytes: int | None = None, workers: int | None = None) -> Plan:
@@ -289,5 +294,6 @@ def lattice_gap_laws_plan(N: int, memory_bytes: int | None = None, workers: int 
     nworkers = _workers(workers, nprimes, cpu)
     M = level_points(d)
     per_worker = 8 * (3 * M * M + 2 * M * n) + 160 * 2**20
-    return Plan(what, _STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers, nworkers * per_worker, nprimes,
+    crt = _SECONDS_PER_CRT * n * (d + 1) * nprimes
+    return Plan(what, _STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers + crt, nworkers * per_worker, nprimes,
                 "prime").within_memory(memory_bytes)

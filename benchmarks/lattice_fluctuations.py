@@ -2,8 +2,9 @@
 
 For each N: the exact gap law of every W_(i,1) (``lattice_gap_laws``), its first
 four moments E[W^s] = E[g (g+1) ... (g+s-1)] / ((d+1) ... (d+s)) as exact
-fractions (written as strings), the wall time, and a printed summary of the
-standard deviation at fixed depths z = i/N.
+fractions (written as strings), the wall time, and a printed summary at fixed
+depths z = i/N: the mean, the standard deviation, and its tableau part
+sd(g)/(d+1) (the rest is the Dirichlet noise of the spacings).
 
 Usage::
 
@@ -46,7 +47,10 @@ def main(argv=None):
         for z in (0.25, 0.5, 0.75, 1.0):
             i = max(2, round(z * N))
             m1, m2 = (Fraction(x) for x in moments[i][:2])
-            row.append(f"z={i / N:.2f}: <W>={float(m1):.5f} sd={float(m2 - m1 * m1) ** 0.5:.5f}")
+            d = N * (N - 1) // 2
+            g1, g2 = m1 * (d + 1), m2 * (d + 1) * (d + 2) - m1 * (d + 1)  # E[g], E[g^2]
+            rank = float(g2 - g1 * g1) ** 0.5 / (d + 1)  # the tableau part of the fluctuation, sd(g)/(d+1)
+            row.append(f"z={i / N:.2f}: <W>={float(m1):.5f} sd={float(m2 - m1 * m1) ** 0.5:.5f} rank sd={rank:.5f}")
         print(f"N={N} ({seconds:.0f} s): " + "; ".join(row), flush=True)
 
 

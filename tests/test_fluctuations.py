@@ -46,6 +46,25 @@ def test_lattice_gap_laws_equal_the_dp_slow(N):
         assert laws[i] == layer_gap_counts(N, i)[0]
 
 
+@settings(max_examples=10, deadline=None)
+@given(N=st.integers(min_value=3, max_value=12), data=st.data())
+def test_one_grain_equals_the_dp_and_the_whole_table(N, data):
+    i = data.draw(st.integers(min_value=2, max_value=N))
+    j = data.draw(st.sampled_from([1, i]))
+    law = fl.grain_gap_law(N, (i, j), workers=1)
+    assert law == layer_gap_counts(N, i)[j - 1]
+    assert law == fl.lattice_gap_laws(N, workers=1)[i]
+
+
+def test_interior_grains_are_refused():
+    with pytest.raises(ValueError, match=r"grain=\(6, 3\) is out of range.*two-time"):
+        fl.grain_gap_law(6, (6, 3))
+    with pytest.raises(ValueError, match="out of range"):
+        fl.grain_gap_law(6, (1, 1))
+    with pytest.raises(ValueError, match="i="):
+        fl.lattice_gap_laws(6, layers=[1])
+
+
 @settings(max_examples=8, deadline=None)
 @given(N=st.integers(min_value=2, max_value=10))
 def test_lattice_mean_W2_equals_the_dp_moment(N):
@@ -110,6 +129,7 @@ def test_plan():
     assert plan.runnable and plan.unit == "prime" and plan.ticks > 100
     assert fl.lattice_gap_laws_plan(129).refusal.startswith("N=129 is out of range")
     assert fl.lattice_gap_laws_plan(100, memory_bytes=2**20).refusal is not None
+    assert fl.lattice_gap_laws_plan(64, layers=1).seconds < plan.seconds
 
 
 @pytest.mark.slow

@@ -49,14 +49,14 @@ from math import ceil, log2
 import numpy as np
 
 from ...plan import Plan
-from ...validation import check_int, check_layers
+from ...validation import check_grain, check_int, check_layers
 from ..gaps import GapCounts
 from .engine import (MAX_POINT_FAILURES, PointFailure, _check_prime, _kernels, _pair_points, level_points,
                      prime_limit, setup_matrices)
 from .route import (_CRT, _STARTUP_SECONDS, _count_bound, _edge_seconds, _primes_above, _run_primes,
                     _workers, count)
 
-__all__ = ["edge_level_residues", "lattice_level_sums", "lattice_gap_laws", "lattice_mean_W2",
+__all__ = ["edge_level_residues", "lattice_level_sums", "lattice_gap_laws", "lattice_mean_W2", "grain_gap_law",
            "lattice_gap_laws_plan"]
 
 MAX_LAW_N = 128  # the interpolation's exact float64 products need M < 2^13
@@ -84,7 +84,7 @@ def _matmul_mod(A: np.ndarray, B: np.ndarray, p: int) -> np.ndarray:
     return (high * 8192 + low) % p
 
 
-def edge_level_residues(N: int, p: int, backend: str = "numba") -> np.ndarray:
+def edge_level_residues(N: int, p: int, backend: str = "numba", windows=None) -> np.ndarray:
     """``E[m][l] = sum_{|A| = l} w(A) [N_m(A) = 0] mod p``, ``m = 1..n`` (row 0 unused), ``l = 0..d``.
 
     ``F_m(q) = Z(q) P_q(no part >= m) = sum_l q^l E[m][l] / (l! (d - l)!)`` is
@@ -102,6 +102,8 @@ def edge_level_residues(N: int, p: int, backend: str = "numba") -> np.ndarray:
         A prime of the route (:func:`~.route.route_primes`).
     backend : {"numba", "python"}
         The compiled kernels or their pure-Python twins.
+    windows : sequence of int, optional
+        The ``m`` to interpolate (default: all of ``1..n``); the other rows stay 0.
 
     Returns
     -------
@@ -124,6 +126,8 @@ def edge_level_residues(N: int, p: int, backend: str = "numba") -> np.ndarray:
     out = np.zeros((n + 1, d + 1), dtype=np.int64)
     if n == 0:
         return out
+    windows = range(1, n + 1) if windows is None else [check_int(m, "m", 1, n) for m in windows]
+    columns = [n - m for m in windows]  # the window m is the column of the n - m + 1 largest parts
     B, X1, expo = setup_matrices(n, p)
     M = level_points(d)
     reps, partners, values = [], [], []
@@ -139,33 +143,39 @@ def edge_level_residues(N: int, p: int, backend: str = "numba") -> np.ndarray:
             continue
         reps.append(c)
         partners.append(ci)
-        values.append(R.astype(np.int64))
+        values.append(R[:, columns].astype(np.int64))
     z0 = int(K.pfaffian_mod(B.copy(), float(p)))  # Z(q) = Z(0) (1 + q)^d
     points = reps + partners
-    F = np.empty((M, n), dtype=np.int64)
+    F = np.empty((M, len(columns)), dtype=np.int64)
     for i, c in enumerate(points):
         z = z0 * pow(1 + c, d, p) % p
         # representatives: every site of the window in B; partners (complement symmetry): none in B at c
         F[i] = z * (values[i][0] if i < M // 2 else values[i - M // 2][1]) % p
     L = K.lagrange_matrix(np.array(points, dtype=np.float64), float(p)).astype(np.int64)
-    coeff = _matmul_mod(L, F, p)  # coeff[l, k]: q^l of the window of the k + 1 largest parts
+    coeff = _matmul_mod(L, F, p)  # coeff[l, t]: q^l of the window windows[t]
     if coeff[d + 1 :].any():
         raise ArithmeticError(f"nonzero coefficient beyond the degree d modulo {p}: inconsistent residues")
     fact = [1] * (d + 1)
     for k in range(1, d + 1):
         fact[k] = fact[k - 1] * k % p
     scale = np.array([fact[l] * fact[d - l] % p for l in range(d + 1)], dtype=np.int64)
-    for k in range(n):
-        out[n - k] = coeff[: d + 1, k] * scale % p
+    for t, m in enumerate(windows):
+        out[m] = coeff[: d + 1, t] * scale % p
     return out
 
 
 def _one_prime(args):
-    N, p, backend = args
-    return p, edge_level_residues(N, p, backend)
+    N, p, backend, windows = args
+    return p, edge_level_residues(N, p, backend, windows)
 
 
-def lattice_level_sums(N: int, *, workers: int | None = None, progress=None, backend: str = "numba"):
+def _check_layer_list(N: int, layers) -> list[int]:
+    if layers is None:
+        return list(range(2, N + 1))
+    return sorted({check_int(i, "i", 2, N) for i in layers})
+
+
+def lattice_level_sums(N: int, *, layers=None, workers: int | None = None, progress=None, backend: str = "numba"):
     """Exact ``E[m][l] = sum_{|A| = l} w(A) [N_m(A) = 0]`` for every ``m`` and level ``l``, and ``count(N)``.
 
     ``E[m][l] / count = P(T(1, m) > l)``: the law of the tableau entry of the
@@ -178,6 +188,9 @@ def lattice_level_sums(N: int, *, workers: int | None = None, progress=None, bac
     ----------
     N : int
         Number of layers, ``2..128``.
+    layers : sequence of int, optional
+        The layers ``i`` (windows ``m = N - i + 1``) wanted, default all of ``2..N``;
+        fewer layers save the interpolation and the reconstruction, not the Pfaffians.
     workers : int, optional
         Worker processes (default: the available cores when the run is long
         enough); results do not depend on it.
@@ -188,8 +201,9 @@ def lattice_level_sums(N: int, *, workers: int | None = None, progress=None, bac
 
     Returns
     -------
-    (E, total) : (list of lists of int, int)
-        ``E[m][l]``, ``m = 1..n`` (row 0 unused), ``l = 0..d``; ``total = count(N)``.
+    (E, total) : (list, int)
+        ``E[m]`` the list of ``E[m][l]``, ``l = 0..d``, for the requested windows
+        (None for the others and for ``m = 0``); ``total = count(N)``.
 
     Raises
     ------
@@ -204,35 +218,37 @@ def lattice_level_sums(N: int, *, workers: int | None = None, progress=None, bac
     """
     N = check_layers(N, maximum=MAX_LAW_N)
     n, d = N - 1, N * (N - 1) // 2
+    windows = [N - i + 1 for i in _check_layer_list(N, layers)]
     total = count(N, backend)
+    E = [None] * (n + 1)
     if n == 0:
-        return [[total]], total
+        return E, total
     primes = _primes_above(total, N)
-    nworkers = _workers(workers, len(primes), _prime_seconds(N) * len(primes))
-    residues = _run_primes(_one_prime, [(N, p, backend) for p in primes], nworkers, progress)
+    nworkers = _workers(workers, len(primes), _prime_seconds(N, len(windows)) * len(primes))
+    residues = _run_primes(_one_prime, [(N, p, backend, windows) for p in primes], nworkers, progress)
     crt = _CRT(primes)
-    E = [[0] * (d + 1)]
-    for m in range(1, n + 1):
+    for m in windows:
         row = [crt([residues[p][m, l] for p in primes]) for l in range(d + 1)]
         if row[0] != total or row[d] != 0 or any(a < b for a, b in zip(row, row[1:])):
             raise ArithmeticError(f"reconstructed level sums of m={m} break the exact checks")
-        E.append(row)
+        E[m] = row
     return E, total
 
 
-def lattice_gap_laws(N: int, **kwargs) -> dict[int, GapCounts]:
+def lattice_gap_laws(N: int, layers=None, **kwargs) -> dict[int, GapCounts]:
     """Exact rank-gap laws of ``W_{i,1}`` (``= W_{i,i}`` in law, by the mirror symmetry), every layer ``i = 2..N``.
 
     ``W_{i,1} = S_{i,1}`` is a single tableau entry ``T(1, m)``,
     ``m = N - i + 1``: ``count P(g = h) = E[m][h - 1] - E[m][h]``
     (:func:`lattice_level_sums`).  The law gives the density, the CDF and every
     moment by the Beta mixture of :mod:`forcenet.exact.triangle.distribution`.
-    Keyword arguments go to :func:`lattice_level_sums`.
+    ``layers`` (default all of ``2..N``) and the keyword arguments go to
+    :func:`lattice_level_sums`.
 
     Returns
     -------
     dict
-        ``{i: GapCounts}`` for ``i = 2..N`` (``counts`` of length ``d + 2``, ``total = count(N)``).
+        ``{i: GapCounts}`` for the layers ``i`` (``counts`` of length ``d + 2``, ``total = count(N)``).
 
     Examples
     --------
@@ -241,9 +257,10 @@ def lattice_gap_laws(N: int, **kwargs) -> dict[int, GapCounts]:
     """
     N = check_layers(N, maximum=MAX_LAW_N)
     d = N * (N - 1) // 2
-    E, total = lattice_level_sums(N, **kwargs)
+    layers = _check_layer_list(N, layers)
+    E, total = lattice_level_sums(N, layers=layers, **kwargs)
     laws = {}
-    for i in range(2, N + 1):
+    for i in layers:
         row = E[N - i + 1]
         laws[i] = GapCounts(tuple([0] + [row[h - 1] - row[h] for h in range(1, d + 1)] + [0]), total, d)
     return laws
@@ -266,15 +283,45 @@ def lattice_mean_W2(N: int, **kwargs) -> list[Fraction]:
     return out
 
 
-def _prime_seconds(N: int) -> float:
-    """CPU seconds of one prime: the lattice directions' evaluations and the interpolation."""
+def _prime_seconds(N: int, windows: int | None = None) -> float:
+    """CPU seconds of one prime: the lattice directions' evaluations and the interpolation of ``windows`` windows."""
     n, d = N - 1, N * (N - 1) // 2
     M = level_points(d)
-    return _edge_seconds(N) + _SECONDS_PER_LAGRANGE * M**2 + _SECONDS_PER_INTERPOLATION * M**2 * (n + 2)
+    windows = n if windows is None else windows
+    return _edge_seconds(N) + _SECONDS_PER_LAGRANGE * M**2 + _SECONDS_PER_INTERPOLATION * M**2 * (windows + 3)
 
 
-def lattice_gap_laws_plan(N: int, memory_bytes: int | None = None, workers: int | None = None) -> Plan:
-    """The cost of :func:`lattice_gap_laws` (and :func:`lattice_mean_W2`), one tick per prime.
+def grain_gap_law(N: int, grain, **kwargs) -> GapCounts:
+    """Exact rank-gap law of one lattice-direction grain ``(i, 1)`` or ``(i, i)``, ``2 <= i <= N``, by Pfaffians.
+
+    The polynomial route of :func:`lattice_gap_laws` for one layer (the same
+    Pfaffian evaluations, one window interpolated).  Interior grains
+    ``1 < j < i`` are refused: their gap is the difference of two tableau
+    entries, which no functional of the one-time level polynomial gives
+    (``notes/fluctuations.md`` Sec. 3); the order-ideal DP
+    (:func:`forcenet.exact.triangle.gaps.grain_gap_counts`) has them to N of about 22.
+
+    Raises
+    ------
+    ValueError
+        If the grain is not on a lattice direction, or ``i = 1`` (``W_{1,1} = 1``).
+
+    Examples
+    --------
+    >>> grain_gap_law(5, (3, 3)).counts[:6]
+    (0, 0, 0, 7, 5, 0)
+    """
+    N = check_layers(N, maximum=MAX_LAW_N)
+    i, j = check_grain(N, grain)
+    if i == 1 or j not in (1, i):
+        raise ValueError(f"grain={tuple(grain)!r} is out of range for the Pfaffian gap law: it must be (i, 1) or "
+                         f"(i, i) with 2 <= i <= {N} (interior gaps are two-time quantities, notes/fluctuations.md)")
+    return lattice_gap_laws(N, layers=[i], **kwargs)[i]
+
+
+def lattice_gap_laws_plan(N: int, memory_bytes: int | None = None, workers: int | None = None,
+                          layers: int | None = None) -> Plan:
+    """The cost of :func:`lattice_gap_laws` (and :func:`lattice_mean_W2`; ``layers``: how many, default all), one tick per prime.
 
     Examples
     --------
@@ -290,10 +337,11 @@ def lattice_gap_laws_plan(N: int, memory_bytes: int | None = None, workers: int 
         return Plan(what, 0, refusal=f"N={N} is out of range for the lattice gap laws: N must be an integer in 2..{MAX_LAW_N}")
     n, d = N - 1, N * (N - 1) // 2
     nprimes = ceil(_count_bound(N).bit_length() / log2(prime_limit(max(n, 1)) * 0.999))
-    cpu = _prime_seconds(N) * nprimes
+    windows = n if layers is None else check_int(layers, "layers", 1, n)
+    cpu = _prime_seconds(N, windows) * nprimes
     nworkers = _workers(workers, nprimes, cpu)
     M = level_points(d)
     per_worker = 8 * (3 * M * M + 2 * M * n) + 160 * 2**20
-    crt = _SECONDS_PER_CRT * n * (d + 1) * nprimes
+    crt = _SECONDS_PER_CRT * windows * (d + 1) * nprimes
     return Plan(what, _STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers + crt, nworkers * per_worker, nprimes,
                 "prime").within_memory(memory_bytes)

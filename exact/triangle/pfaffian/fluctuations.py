@@ -242,8 +242,14 @@ def lattice_gap_laws(N: int, layers=None, **kwargs) -> dict[int, GapCounts]:
     ``m = N - i + 1``: ``count P(g = h) = E[m][h - 1] - E[m][h]``
     (:func:`lattice_level_sums`).  The law gives the density, the CDF and every
     moment by the Beta mixture of :mod:`forcenet.exact.triangle.distribution`.
-    ``layers`` (default all of ``2..N``) and the keyword arguments go to
-    :func:`lattice_level_sums`.
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``2..128``.
+    layers : sequence of int, optional
+        The layers ``i`` wanted (default all of ``2..N``).
+    **kwargs
+        ``workers``, ``progress``, ``backend`` of :func:`lattice_level_sums`.
 
     Returns
     -------
@@ -268,6 +274,18 @@ def lattice_gap_laws(N: int, layers=None, **kwargs) -> dict[int, GapCounts]:
 
 def lattice_mean_W2(N: int, **kwargs) -> list[Fraction]:
     """Exact ``<W_{i,1}^2> = <W_{i,i}^2>`` for ``i = 1..N``: ``E[g (g + 1)] / ((d + 1)(d + 2))``.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``2..128``.
+    **kwargs
+        As for :func:`lattice_gap_laws` (all layers).
+
+    Returns
+    -------
+    list of Fraction
+        ``<W_{i,1}^2>`` for ``i = 1..N`` (``W_{1,1} = 1``).
 
     Examples
     --------
@@ -301,6 +319,20 @@ def grain_gap_law(N: int, grain, **kwargs) -> GapCounts:
     (``notes/fluctuations.md`` Sec. 3); the order-ideal DP
     (:func:`forcenet.exact.triangle.gaps.grain_gap_counts`) has them to N of about 22.
 
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``2..128``.
+    grain : (int, int)
+        ``(i, j)`` with ``j = 1`` or ``j = i``, ``2 <= i <= N``.
+    **kwargs
+        ``workers``, ``progress``, ``backend`` of :func:`lattice_level_sums`.
+
+    Returns
+    -------
+    GapCounts
+        ``counts[g]`` tableaux with gap ``g``, ``total = count(N)``.
+
     Raises
     ------
     ValueError
@@ -321,7 +353,23 @@ def grain_gap_law(N: int, grain, **kwargs) -> GapCounts:
 
 def lattice_gap_laws_plan(N: int, memory_bytes: int | None = None, workers: int | None = None,
                           layers: int | None = None) -> Plan:
-    """The cost of :func:`lattice_gap_laws` (and :func:`lattice_mean_W2`; ``layers``: how many, default all), one tick per prime.
+    """The cost of :func:`lattice_gap_laws`, :func:`lattice_mean_W2` and :func:`grain_gap_law`, one tick per prime.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers.
+    memory_bytes : int, optional
+        Refuse if the estimated peak memory exceeds it.
+    workers : int, optional
+        Worker processes, as for the run.
+    layers : int, optional
+        How many layers are interpolated (default all ``N - 1``; 1 for :func:`grain_gap_law`).
+
+    Returns
+    -------
+    Plan
+        Seconds on the 2-core reference machine, bytes, ticks (primes), or a refusal (N > 128, memory).
 
     Examples
     --------

@@ -279,3 +279,49 @@ def test_floor_partial_sums_have_the_vandermonde_density(N):
         for j in range(1, N + 1):
             value = ordered_integral(vand * (points[j] - points[j - 1]) ** s) / Z
             assert Fraction(int(value.p), int(value.q)) == table[N - 1][j - 1]
+
+
+@pytest.mark.parametrize("N", [4, 5])
+def test_two_time_formula_gives_the_second_moment(N):
+    """notes/fluctuations.md Sec. 4: <W^2> = 2 int_{s<t} P(N_m(I(s)) = N_m(I(t)) = j - 1), with the integrand
+
+    (d!/count) [y^(j-1)] <full| e^{(1-t) H} e^{(t-s) H_m} y^{N_m} e^{s H} |empty>, H the covering moves of the
+    ideal lattice and H_m the same without the moves across m - 1 -> m (exact polynomials in s, t; sympy).
+    """
+    import sympy
+    from math import factorial
+
+    n, d = N - 1, N * (N - 1) // 2
+    s, t, y = sympy.symbols("s t y")
+    ideals = sorted({A for c in _chains(n) for A in c}, key=lambda A: (sum(A), A))
+    where = {A: k for k, A in enumerate(ideals)}
+    size = len(ideals)
+
+    def moves(m=None):
+        H = sympy.zeros(size, size)
+        for A in ideals:
+            for B in _successors(A, n):
+                crossing = m is not None and sum(b >= m for b in B) > sum(a >= m for a in A)
+                if not crossing:
+                    H[where[B], where[A]] = 1
+        return H
+
+    def expm(H, x):  # H is nilpotent (it raises the level): a polynomial
+        out, term = sympy.eye(size), sympy.eye(size)
+        for k in range(1, d + 1):
+            term = term * H * x / k
+            out += term
+        return out
+
+    H = moves()
+    start, end = where[()], where[tuple(range(n, 0, -1))]
+    table = moment_table(N, 2)
+    for i in range(3, N + 1):
+        m = N - i + 1
+        Y = sympy.diag(*[y ** sum(a >= m for a in A) for A in ideals])
+        amplitude = (expm(H, 1 - t) * expm(moves(m), t - s) * Y * expm(H, s))[end, start]
+        poly = sympy.Poly(sympy.expand(amplitude), y)
+        for j in range(2, i):
+            integrand = poly.coeff_monomial(y ** (j - 1)) * factorial(d) / count(N)
+            value = 2 * sympy.integrate(sympy.integrate(integrand, (s, 0, t)), (t, 0, 1))
+            assert Fraction(int(value.p), int(value.q)) == table[i - 1][j - 1]

@@ -135,23 +135,29 @@ def test_plan():
 @pytest.mark.slow
 def test_lattice_laws_agree_with_the_exact_sampler_at_N64():
     """<W_{i,1}^2> and P(W_{i,1} <= median-ish w) of every layer against 20000 exact samples (alpha = 1e-3)."""
+    from scipy.stats import binom
+
     from forcenet.numeric.agreement import compare_samples
     from forcenet.numeric.triangle.exact_sampler import ExactSampler
 
     N, samples = 64, 20000
     laws = fl.lattice_gap_laws(N)
-    second = fl.lattice_mean_W2(N)
-    column = route.lattice_direction(N)
+    second = [moment_from_gaps(laws[i], 2) for i in range(2, N + 1)]
+    column = [None] + [laws[i].mean() / (N * (N - 1) // 2 + 1) for i in range(2, N + 1)]
     sampler, rows, drawn = ExactSampler(N, seed=2764), [], 0
     while drawn < samples:
         W = sampler.sample_W(min(sampler.batch, samples - drawn))
         rows.append(W[:, 1:, 0])
         drawn += W.shape[0]
     X = np.concatenate(rows)
-    cuts = [float(column[i - 1]) for i in range(2, N + 1)]  # P(W <= <W>) from the exact CDF
-    exact_cdf = [cdf_from_gaps(laws[i]).eval(Fraction(cuts[i - 2])) for i in range(2, N + 1)]
+    cuts = [float(column[i - 1]) for i in range(2, N + 1)]  # P(W <= <W>): the Beta mixture at w = <W>
+    d = N * (N - 1) // 2
+    exact_cdf = []
+    for i, w in zip(range(2, N + 1), cuts):  # I_w(g, d+1-g) = P(Binomial(d, w) >= g); floats only at this edge
+        law = laws[i]
+        exact_cdf.append(sum(float(Fraction(c, law.total)) * binom.sf(g - 1, d, w) for g, c in enumerate(law.counts) if c))
     data = np.concatenate([X**2, (X <= np.array(cuts)).astype(float)], axis=1)
-    expected = second[1:] + exact_cdf
+    expected = [float(x) for x in second] + exact_cdf
     keys = [f"W2_{i}" for i in range(2, N + 1)] + [f"cdf_{i}" for i in range(2, N + 1)]
     result = compare_samples(data, expected, keys=keys, alpha=1e-3)
     assert result.passed, result.summary()

@@ -1,0 +1,395 @@
+"""Beyond the mean by Pfaffians: exact gap laws of the lattice-direction grains in polynomial time.
+
+``notes/fluctuations.md`` has the derivations.  The force ``W_{i,1}`` is the
+partial sum ``S_{i,1}``, a *single* tableau entry: its rank gap is
+``g = T(x)`` for the cell ``x = (1, m)``, ``m = N - i + 1``, and
+``T(x) > l`` exactly when the ideal ``I_l`` at level ``l`` has no part
+``>= m`` (``N_m(I_l) = 0``).  So
+
+    count * P(g > l) = E[m][l] := sum_{|A| = l} w(A) [N_m(A) = 0],
+
+one level at a time: the coefficient of ``q^l`` of the level polynomial the
+mean's route already evaluates (``notes/free_fermions.md`` Sec. 3-4), times
+``l! (d - l)!``.  The mean sums these coefficients with weight one; the law
+needs them one by one, i.e. the polynomial interpolated instead of a
+functional applied: one ``M x M`` Lagrange matrix per prime, the same
+Pfaffian evaluations (two eliminations per level point,
+:func:`~.kernels.edge_values`).  By the mirror symmetry ``W_{i,i}`` has the
+same law.  Densities, CDFs and every moment follow from the Beta mixture
+(:mod:`forcenet.exact.triangle.distribution`).
+
+Interior grains ``1 < j < i`` are a different matter: their gap is the
+difference of two entries, a *two-time* quantity of the chain of ideals, and
+no single-level functional gives it (``notes/fluctuations.md`` Sec. 3-4,
+with the proof and the cost of the two-time route).
+
+Cost: the lattice directions' Pfaffian work (``O(n^4)`` per prime) plus the
+interpolation, ``O(M^2 n)`` per prime with ``M ~ d``: ``O(n^5)``; primes
+``~ log2(count) / 25``.  Memory ``O(M^2)`` (the Lagrange matrix: 0.2 GB at
+N = 100).
+
+May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.plan`,
+:mod:`forcenet.exact.triangle.gaps` (``GapCounts``) and its own package.
+
+Examples
+--------
+>>> law = lattice_gap_laws(5)[3]  # W_{3,1} for N = 5: g = T(1, 3) is 3 or 4
+>>> law.counts, law.total
+((0, 0, 0, 7, 5, 0, 0, 0, 0, 0, 0, 0), 12)
+>>> from forcenet.exact.triangle.distribution import moment_from_gaps
+>>> moment_from_gaps(law, 2)  # <W_{3,1}^2>
+Fraction(23, 198)
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from math import ceil, log2
+
+import numpy as np
+
+from ...plan import Plan
+from ...validation import check_grain, check_int, check_layers
+from ..gaps import GapCounts
+from .engine import (MAX_POINT_FAILURES, PointFailure, _check_prime, _kernels, _pair_points, level_points,
+                     prime_limit, setup_matrices)
+from .route import (_CRT, _STARTUP_SECONDS, _count_bound, _edge_seconds, _primes_above, _run_primes,
+                    _workers, count)
+
+__all__ = ["edge_level_residues", "lattice_level_sums", "lattice_gap_laws", "lattice_mean_W2", "grain_gap_law",
+           "lattice_gap_laws_plan"]
+
+MAX_LAW_N = 128  # the interpolation's exact float64 products need M < 2^13
+# CPU seconds on the reference machine.  Measured on 2026-11-25 on the loaded 2-core machine at N = 40 and scaled by
+# the ratio (8x) of the lattice directions' measured time to their model (route._edge_seconds) in the same run.
+_SECONDS_PER_LAGRANGE = 1e-8  # per M^2: the Lagrange matrix
+_SECONDS_PER_INTERPOLATION = 5.4e-10  # per M^2 (n + 2): the two BLAS products and the assembly
+_SECONDS_PER_CRT = 3e-7  # per value and prime: the Chinese remainders, in the parent process
+
+
+def _matmul_mod(A: np.ndarray, B: np.ndarray, p: int) -> np.ndarray:
+    """``A @ B mod p`` for residues below ``2^25`` and inner size below ``2^13``, by two exact float64 products.
+
+    ``A = A1 2^13 + A0`` with ``0 <= A0, A1 < 2^13`` (``A1 < 2^12``): every
+    partial product is below ``2^38`` and a sum of ``k < 2^13`` of them below
+    ``2^51``, so the BLAS products are exact integers.
+    """
+    if A.shape[1] >= 1 << 13:
+        raise ValueError(f"inner size {A.shape[1]} is out of range: it must be below 8192 (N <= 128)")
+    A = A.astype(np.int64)
+    A1, A0 = (A >> 13).astype(np.float64), (A & 8191).astype(np.float64)
+    B = np.asarray(B, dtype=np.float64)
+    high = np.fmod(A1 @ B, p).astype(np.int64)
+    low = np.fmod(A0 @ B, p).astype(np.int64)
+    return (high * 8192 + low) % p
+
+
+def edge_level_residues(N: int, p: int, backend: str = "numba", windows=None) -> np.ndarray:
+    """``E[m][l] = sum_{|A| = l} w(A) [N_m(A) = 0] mod p``, ``m = 1..n`` (row 0 unused), ``l = 0..d``.
+
+    ``F_m(q) = Z(q) P_q(no part >= m) = sum_l q^l E[m][l] / (l! (d - l)!)`` is
+    evaluated at the ``M`` level points of the mean's route (the window's top
+    coefficient at ``c`` and its value at ``y = 0`` for the partner ``1/c``,
+    :func:`~.kernels.edge_values`) and interpolated; the coefficients of
+    degree above ``d`` must vanish (checked), ``E[m][0] = count`` (the empty
+    ideal) and ``E[m][d] = 0`` (the full one).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+    p : int
+        A prime of the route (:func:`~.route.route_primes`).
+    backend : {"numba", "python"}
+        The compiled kernels or their pure-Python twins.
+    windows : sequence of int, optional
+        The ``m`` to interpolate (default: all of ``1..n``); the other rows stay 0.
+
+    Returns
+    -------
+    numpy.ndarray of int64, shape ``(n + 1, d + 1)``
+
+    Raises
+    ------
+    ArithmeticError
+        If a coefficient above the degree ``d`` does not vanish (inconsistent residues).
+
+    Examples
+    --------
+    >>> edge_level_residues(4, 8388593)[3].tolist()  # m = 3: P(T(1, 3) > l) count, l = 0..6
+    [2, 2, 2, 1, 0, 0, 0]
+    """
+    N = check_layers(N)
+    n, d = N - 1, N * (N - 1) // 2
+    p = _check_prime(N, p)
+    K = _kernels(backend)
+    out = np.zeros((n + 1, d + 1), dtype=np.int64)
+    if n == 0:
+        return out
+    windows = range(1, n + 1) if windows is None else [check_int(m, "m", 1, n) for m in windows]
+    columns = [n - m for m in windows]  # the window m is the column of the n - m + 1 largest parts
+    B, X1, expo = setup_matrices(n, p)
+    M = level_points(d)
+    reps, partners, values = [], [], []
+    failures = 0
+    stream = _pair_points(p, set())
+    R = np.empty((2, n))
+    while len(reps) < M // 2:
+        c, ci = next(stream)
+        if not K.edge_values(B, X1, expo, float(c), n, float(p), R):
+            failures += 1
+            if failures > MAX_POINT_FAILURES:
+                raise PointFailure(f"{failures} evaluation points failed modulo {p}")
+            continue
+        reps.append(c)
+        partners.append(ci)
+        values.append(R[:, columns].astype(np.int64))
+    z0 = int(K.pfaffian_mod(B.copy(), float(p)))  # Z(q) = Z(0) (1 + q)^d
+    points = reps + partners
+    F = np.empty((M, len(columns)), dtype=np.int64)
+    for i, c in enumerate(points):
+        z = z0 * pow(1 + c, d, p) % p
+        # representatives: every site of the window in B; partners (complement symmetry): none in B at c
+        F[i] = z * (values[i][0] if i < M // 2 else values[i - M // 2][1]) % p
+    L = K.lagrange_matrix(np.array(points, dtype=np.float64), float(p)).astype(np.int64)
+    coeff = _matmul_mod(L, F, p)  # coeff[l, t]: q^l of the window windows[t]
+    if coeff[d + 1 :].any():
+        raise ArithmeticError(f"nonzero coefficient beyond the degree d modulo {p}: inconsistent residues")
+    fact = [1] * (d + 1)
+    for k in range(1, d + 1):
+        fact[k] = fact[k - 1] * k % p
+    scale = np.array([fact[l] * fact[d - l] % p for l in range(d + 1)], dtype=np.int64)
+    for t, m in enumerate(windows):
+        out[m] = coeff[: d + 1, t] * scale % p
+    return out
+
+
+def _one_prime(args):
+    N, p, backend, windows = args
+    return p, edge_level_residues(N, p, backend, windows)
+
+
+def _check_layer_list(N: int, layers) -> list[int]:
+    if layers is None:
+        return list(range(2, N + 1))
+    return sorted({check_int(i, "i", 2, N) for i in layers})
+
+
+def lattice_level_sums(N: int, *, layers=None, workers: int | None = None, progress=None, backend: str = "numba"):
+    """Exact ``E[m][l] = sum_{|A| = l} w(A) [N_m(A) = 0]`` for every ``m`` and level ``l``, and ``count(N)``.
+
+    ``E[m][l] / count = P(T(1, m) > l)``: the law of the tableau entry of the
+    cell ``(1, m)`` (the partial sum ``S_{N-m+1, 1}``).  Multi-modular with the
+    proven bound ``0 <= E[m][l] <= count``; checked exactly after the
+    reconstruction: ``E[m][0] = count``, ``E[m][d] = 0``, non-increasing in
+    ``l`` (``T > l + 1`` implies ``T > l``).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``2..128``.
+    layers : sequence of int, optional
+        The layers ``i`` (windows ``m = N - i + 1``) wanted, default all of ``2..N``;
+        fewer layers save the interpolation and the reconstruction, not the Pfaffians.
+    workers : int, optional
+        Worker processes (default: the available cores when the run is long
+        enough); results do not depend on it.
+    progress : callable, optional
+        ``progress(1)`` after each prime.
+    backend : {"numba", "python"}
+        Compiled kernels or their pure-Python twins.
+
+    Returns
+    -------
+    (E, total) : (list, int)
+        ``E[m]`` the list of ``E[m][l]``, ``l = 0..d``, for the requested windows
+        (None for the others and for ``m = 0``); ``total = count(N)``.
+
+    Raises
+    ------
+    ArithmeticError
+        If a reconstructed value breaks one of the exact checks.
+
+    Examples
+    --------
+    >>> E, total = lattice_level_sums(4)
+    >>> total, E[3]
+    (2, [2, 2, 2, 1, 0, 0, 0])
+    """
+    N = check_layers(N, maximum=MAX_LAW_N)
+    n, d = N - 1, N * (N - 1) // 2
+    windows = [N - i + 1 for i in _check_layer_list(N, layers)]
+    total = count(N, backend)
+    E = [None] * (n + 1)
+    if n == 0:
+        return E, total
+    primes = _primes_above(total, N)
+    nworkers = _workers(workers, len(primes), _prime_seconds(N, len(windows)) * len(primes))
+    residues = _run_primes(_one_prime, [(N, p, backend, windows) for p in primes], nworkers, progress)
+    crt = _CRT(primes)
+    for m in windows:
+        row = [crt([residues[p][m, l] for p in primes]) for l in range(d + 1)]
+        if row[0] != total or row[d] != 0 or any(a < b for a, b in zip(row, row[1:])):
+            raise ArithmeticError(f"reconstructed level sums of m={m} break the exact checks")
+        E[m] = row
+    return E, total
+
+
+def lattice_gap_laws(N: int, layers=None, **kwargs) -> dict[int, GapCounts]:
+    """Exact rank-gap laws of ``W_{i,1}`` (``= W_{i,i}`` in law, by the mirror symmetry), every layer ``i = 2..N``.
+
+    ``W_{i,1} = S_{i,1}`` is a single tableau entry ``T(1, m)``,
+    ``m = N - i + 1``: ``count P(g = h) = E[m][h - 1] - E[m][h]``
+    (:func:`lattice_level_sums`).  The law gives the density, the CDF and every
+    moment by the Beta mixture of :mod:`forcenet.exact.triangle.distribution`.
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``2..128``.
+    layers : sequence of int, optional
+        The layers ``i`` wanted (default all of ``2..N``).
+    **kwargs
+        ``workers``, ``progress``, ``backend`` of :func:`lattice_level_sums`.
+
+    Returns
+    -------
+    dict
+        ``{i: GapCounts}`` for the layers ``i`` (``counts`` of length ``d + 2``, ``total = count(N)``).
+
+    Examples
+    --------
+    >>> lattice_gap_laws(4)[3].counts  # W_{3,1}, N = 4: g = T(1, 2) = 2 in both tableaux
+    (0, 0, 2, 0, 0, 0, 0, 0)
+    """
+    N = check_layers(N, maximum=MAX_LAW_N)
+    d = N * (N - 1) // 2
+    layers = _check_layer_list(N, layers)
+    E, total = lattice_level_sums(N, layers=layers, **kwargs)
+    laws = {}
+    for i in layers:
+        row = E[N - i + 1]
+        laws[i] = GapCounts(tuple([0] + [row[h - 1] - row[h] for h in range(1, d + 1)] + [0]), total, d)
+    return laws
+
+
+def lattice_mean_W2(N: int, **kwargs) -> list[Fraction]:
+    """Exact ``<W_{i,1}^2> = <W_{i,i}^2>`` for ``i = 1..N``: ``E[g (g + 1)] / ((d + 1)(d + 2))``.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``2..128``.
+    **kwargs
+        As for :func:`lattice_gap_laws` (all layers).
+
+    Returns
+    -------
+    list of Fraction
+        ``<W_{i,1}^2>`` for ``i = 1..N`` (``W_{1,1} = 1``).
+
+    Examples
+    --------
+    >>> [str(x) for x in lattice_mean_W2(4)]
+    ['1', '2/7', '3/28', '1/28']
+    """
+    N = check_layers(N, maximum=MAX_LAW_N)
+    d = N * (N - 1) // 2
+    out = [Fraction(1)]
+    for i, law in sorted(lattice_gap_laws(N, **kwargs).items()):
+        num = sum(g * (g + 1) * c for g, c in enumerate(law.counts))
+        out.append(Fraction(num, law.total * (d + 1) * (d + 2)))
+    return out
+
+
+def _prime_seconds(N: int, windows: int | None = None) -> float:
+    """CPU seconds of one prime: the lattice directions' evaluations and the interpolation of ``windows`` windows."""
+    n, d = N - 1, N * (N - 1) // 2
+    M = level_points(d)
+    windows = n if windows is None else windows
+    return _edge_seconds(N) + _SECONDS_PER_LAGRANGE * M**2 + _SECONDS_PER_INTERPOLATION * M**2 * (windows + 3)
+
+
+def grain_gap_law(N: int, grain, **kwargs) -> GapCounts:
+    """Exact rank-gap law of one lattice-direction grain ``(i, 1)`` or ``(i, i)``, ``2 <= i <= N``, by Pfaffians.
+
+    The polynomial route of :func:`lattice_gap_laws` for one layer (the same
+    Pfaffian evaluations, one window interpolated).  Interior grains
+    ``1 < j < i`` are refused: their gap is the difference of two tableau
+    entries, which no functional of the one-time level polynomial gives
+    (``notes/fluctuations.md`` Sec. 3); the order-ideal DP
+    (:func:`forcenet.exact.triangle.gaps.grain_gap_counts`) has them to N of about 22.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``2..128``.
+    grain : (int, int)
+        ``(i, j)`` with ``j = 1`` or ``j = i``, ``2 <= i <= N``.
+    **kwargs
+        ``workers``, ``progress``, ``backend`` of :func:`lattice_level_sums`.
+
+    Returns
+    -------
+    GapCounts
+        ``counts[g]`` tableaux with gap ``g``, ``total = count(N)``.
+
+    Raises
+    ------
+    ValueError
+        If the grain is not on a lattice direction, or ``i = 1`` (``W_{1,1} = 1``).
+
+    Examples
+    --------
+    >>> grain_gap_law(5, (3, 3)).counts[:6]
+    (0, 0, 0, 7, 5, 0)
+    """
+    N = check_layers(N, maximum=MAX_LAW_N)
+    i, j = check_grain(N, grain)
+    if i == 1 or j not in (1, i):
+        raise ValueError(f"grain={tuple(grain)!r} is out of range for the Pfaffian gap law: it must be (i, 1) or "
+                         f"(i, i) with 2 <= i <= {N} (interior gaps are two-time quantities, notes/fluctuations.md)")
+    return lattice_gap_laws(N, layers=[i], **kwargs)[i]
+
+
+def lattice_gap_laws_plan(N: int, memory_bytes: int | None = None, workers: int | None = None,
+                          layers: int | None = None) -> Plan:
+    """The cost of :func:`lattice_gap_laws`, :func:`lattice_mean_W2` and :func:`grain_gap_law`, one tick per prime.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers.
+    memory_bytes : int, optional
+        Refuse if the estimated peak memory exceeds it.
+    workers : int, optional
+        Worker processes, as for the run.
+    layers : int, optional
+        How many layers are interpolated (default all ``N - 1``; 1 for :func:`grain_gap_law`).
+
+    Returns
+    -------
+    Plan
+        Seconds on the 2-core reference machine, bytes, ticks (primes), or a refusal (N > 128, memory).
+
+    Examples
+    --------
+    >>> plan = lattice_gap_laws_plan(64)
+    >>> plan.runnable, plan.unit
+    (True, 'prime')
+    >>> lattice_gap_laws_plan(300).refusal
+    'N=300 is out of range for the lattice gap laws: N must be an integer in 2..128'
+    """
+    N = check_layers(N)
+    what = f"gap laws of W_(i,1) N={N} (Pfaffians)"
+    if N > MAX_LAW_N:
+        return Plan(what, 0, refusal=f"N={N} is out of range for the lattice gap laws: N must be an integer in 2..{MAX_LAW_N}")
+    n, d = N - 1, N * (N - 1) // 2
+    nprimes = ceil(_count_bound(N).bit_length() / log2(prime_limit(max(n, 1)) * 0.999))
+    windows = n if layers is None else check_int(layers, "layers", 1, n)
+    cpu = _prime_seconds(N, windows) * nprimes
+    nworkers = _workers(workers, nprimes, cpu)
+    M = level_points(d)
+    per_worker = 8 * (3 * M * M + 2 * M * n) + 160 * 2**20
+    crt = _SECONDS_PER_CRT * windows * (d + 1) * nprimes
+    return Plan(what, _STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers + crt, nworkers * per_worker, nprimes,
+                "prime").within_memory(memory_bytes)

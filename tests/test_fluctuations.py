@@ -1,0 +1,333 @@
+"""Fluctuations by Pfaffians (issue 27): the exact gap laws of the lattice-direction grains.
+
+Checked against independent routes:
+
+* the order-ideal DP's gap laws (forcenet.exact.triangle.gaps) and second moments
+  (forcenet.exact.triangle.moments) for every layer, N <= 11 (N <= 20 in the slow suite);
+* the pure-Python kernels;
+* beyond the DP: the law's mean against the Pfaffian mean route (another functional of
+  other evaluations), the mirror grain's sampled law, and the exact sampler at N = 64 (slow);
+* the two-time nature of interior gaps (notes/fluctuations.md Sec. 3): a measure on
+  maximal chains with the one-time marginals of the uniform one and another <g^2>.
+"""
+
+from fractions import Fraction
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from forcenet.exact.triangle.distribution import cdf_from_gaps, density_from_gaps, moment_from_gaps
+from forcenet.exact.triangle.gaps import layer_gap_counts
+from forcenet.exact.triangle.moments import moment_table
+from forcenet.exact.triangle.pfaffian import fluctuations as fl
+from forcenet.exact.triangle.pfaffian import route
+from forcenet.exact.triangle.staircase import count
+
+PRIME = 8388593
+
+
+@pytest.mark.parametrize("N", range(2, 12))
+def test_lattice_gap_laws_equal_the_dp(N):
+    laws = fl.lattice_gap_laws(N, workers=1)
+    assert sorted(laws) == list(range(2, N + 1))
+    for i in range(2, N + 1):
+        dp = layer_gap_counts(N, i)
+        assert laws[i] == dp[0]
+        assert laws[i].counts == dp[-1].counts  # the mirror grain W_{i,i}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("N", range(12, 21))
+def test_lattice_gap_laws_equal_the_dp_slow(N):
+    laws = fl.lattice_gap_laws(N)
+    for i in range(2, N + 1):
+        assert laws[i] == layer_gap_counts(N, i)[0]
+
+
+@settings(max_examples=10, deadline=None)
+@given(N=st.integers(min_value=3, max_value=12), data=st.data())
+def test_one_grain_equals_the_dp_and_the_whole_table(N, data):
+    i = data.draw(st.integers(min_value=2, max_value=N))
+    j = data.draw(st.sampled_from([1, i]))
+    law = fl.grain_gap_law(N, (i, j), workers=1)
+    assert law == layer_gap_counts(N, i)[j - 1]
+    assert law == fl.lattice_gap_laws(N, workers=1)[i]
+
+
+def test_interior_grains_are_refused():
+    with pytest.raises(ValueError, match=r"grain=\(6, 3\) is out of range.*two-time"):
+        fl.grain_gap_law(6, (6, 3))
+    with pytest.raises(ValueError, match="out of range"):
+        fl.grain_gap_law(6, (1, 1))
+    with pytest.raises(ValueError, match="i="):
+        fl.lattice_gap_laws(6, layers=[1])
+
+
+@settings(max_examples=8, deadline=None)
+@given(N=st.integers(min_value=2, max_value=10))
+def test_lattice_mean_W2_equals_the_dp_moment(N):
+    """<W_{i,1}^2> against the DP's marked-chain moment pass (a different DP from the gap laws')."""
+    table = moment_table(N, 2)
+    assert fl.lattice_mean_W2(N, workers=1) == [row[0] for row in table]
+
+
+@pytest.mark.parametrize("N", [3, 5, 6])
+def test_pure_python_backend(N):
+    p = PRIME
+    assert (fl.edge_level_residues(N, p, "python") == fl.edge_level_residues(N, p)).all()
+
+
+@pytest.mark.parametrize("N", [22, 26])
+def test_law_mean_is_the_pfaffian_mean_beyond_the_dp(N):
+    """E[g]/(d+1) of the interpolated laws = the mean route's functional of its own evaluations."""
+    laws = fl.lattice_gap_laws(N)
+    column = route.lattice_direction(N)
+    d = N * (N - 1) // 2
+    total = count(N)
+    for i in range(2, N + 1):
+        law = laws[i]
+        assert law.total == total and sum(law.counts) == total
+        assert all(c >= 0 for c in law.counts)
+        assert law.mean() / (d + 1) == column[i - 1]
+        assert law.counts[: N - i + 1] == (0,) * (N - i + 1)  # T(1, m) >= m: the cells (1, 1..m-1) come first
+
+
+def test_density_integrates_to_one_with_the_exact_mean():
+    N, i = 22, 11
+    law = fl.lattice_gap_laws(N)[i]
+    f = density_from_gaps(law)
+    assert f.integrate().eval(1) - f.integrate().eval(0) == 1
+    w = f.gen
+    assert (f * w).integrate().eval(1) - (f * w).integrate().eval(0) == route.lattice_direction(N)[i - 1]
+    assert cdf_from_gaps(law).eval(1) == 1
+
+
+def test_residue_checks_and_arguments():
+    E = fl.edge_level_residues(6, PRIME)
+    assert (E[1:, 0] == count(6) % PRIME).all() and (E[1:, -1] == 0).all()
+    with pytest.raises(ValueError, match="N=129"):
+        fl.lattice_gap_laws(129)
+    with pytest.raises(ValueError, match="p="):
+        fl.edge_level_residues(6, 8388592)
+    with pytest.raises(ValueError, match="inner size"):
+        fl._matmul_mod(np.zeros((2, 8192), dtype=np.int64), np.zeros((8192, 1)), PRIME)
+
+
+def test_blas_products_are_exact():
+    rng = np.random.default_rng(27)
+    p = 33554393
+    A = rng.integers(0, p, size=(40, 3000))
+    B = rng.integers(0, p, size=(3000, 7))
+    exact = [[sum(int(a) * int(b) for a, b in zip(A[r], B[:, c])) % p for c in range(7)] for r in range(40)]
+    assert fl._matmul_mod(A, B, p).tolist() == exact
+
+
+def test_plan():
+    plan = fl.lattice_gap_laws_plan(64)
+    assert plan.runnable and plan.unit == "prime" and plan.ticks > 100
+    assert fl.lattice_gap_laws_plan(129).refusal.startswith("N=129 is out of range")
+    assert fl.lattice_gap_laws_plan(100, memory_bytes=2**20).refusal is not None
+    assert fl.lattice_gap_laws_plan(64, layers=1).seconds < plan.seconds
+
+
+@pytest.mark.slow
+def test_lattice_laws_agree_with_the_exact_sampler_at_N64():
+    """<W_{i,1}^2> and P(W_{i,1} <= median-ish w) of every layer against 20000 exact samples (alpha = 1e-3)."""
+    from scipy.stats import binom
+
+    from forcenet.numeric.agreement import compare_samples
+    from forcenet.numeric.triangle.exact_sampler import ExactSampler
+
+    N, samples = 64, 20000
+    laws = fl.lattice_gap_laws(N)
+    second = [moment_from_gaps(laws[i], 2) for i in range(2, N + 1)]
+    column = [None] + [laws[i].mean() / (N * (N - 1) // 2 + 1) for i in range(2, N + 1)]
+    sampler, rows, drawn = ExactSampler(N, seed=2764), [], 0
+    while drawn < samples:
+        W = sampler.sample_W(min(sampler.batch, samples - drawn))
+        rows.append(W[:, 1:, 0])
+        drawn += W.shape[0]
+    X = np.concatenate(rows)
+    cuts = [float(column[i - 1]) for i in range(2, N + 1)]  # P(W <= <W>): the Beta mixture at w = <W>
+    d = N * (N - 1) // 2
+    exact_cdf = []
+    for i, w in zip(range(2, N + 1), cuts):  # I_w(g, d+1-g) = P(Binomial(d, w) >= g); floats only at this edge
+        law = laws[i]
+        exact_cdf.append(sum(float(Fraction(c, law.total)) * binom.sf(g - 1, d, w) for g, c in enumerate(law.counts) if c))
+    data = np.concatenate([X**2, (X <= np.array(cuts)).astype(float)], axis=1)
+    expected = [float(x) for x in second] + exact_cdf
+    keys = [f"W2_{i}" for i in range(2, N + 1)] + [f"cdf_{i}" for i in range(2, N + 1)]
+    result = compare_samples(data, expected, keys=keys, alpha=1e-3)
+    assert result.passed, result.summary()
+
+
+# ------------------------------------------- interior gaps are two-time quantities
+
+
+def _successors(A, n):
+    """The ideals one cell above ``A`` (a sorted tuple of parts): a part ``a`` moves to ``a + 1``, or a part 1 appears."""
+    parts = set(A)
+    out = [parts - {a} | {a + 1} for a in A if a + 1 <= n and a + 1 not in parts]
+    if 1 not in parts:
+        out.append(parts | {1})
+    return [tuple(sorted(B, reverse=True)) for B in out]
+
+
+def _chains(n):
+    """Every maximal chain of order ideals of the staircase, as the tuple of its ideals."""
+    full, out = tuple(range(n, 0, -1)), []
+
+    def grow(chain):
+        if chain[-1] == full:
+            out.append(tuple(chain))
+        for B in _successors(chain[-1], n):
+            grow(chain + [B])
+
+    grow([()])
+    return out
+
+
+def _gap(chain, N, i, j):
+    """The rank gap of ``W_{i,j}``: the number of ideals of the chain with ``N_m = j - 1``, ``m = N - i + 1``."""
+    m = N - i + 1
+    return sum(1 for A in chain if sum(a >= m for a in A) == j - 1)
+
+
+def _swap_quadruple(chains, N, n):
+    """``(C1, C2, C3, C4, i, j)``: C2 (C4) is C1 (C3) with the two cells added at levels l+1, l+2 swapped, C1 and C3
+    through the same ideals at l and l+2 but different ones at l+1, and <g_ij^2> changes when C1, C3 move to C2, C4."""
+    swaps = {}
+    for c in chains:
+        for l in range(len(c) - 2):
+            for D in _successors(c[l], n):
+                if D != c[l + 1] and c[l + 2] in _successors(D, n):
+                    swaps.setdefault((l, c[l], c[l + 2]), []).append((c, c[: l + 1] + (D,) + c[l + 2 :]))
+    grains = [(i, j) for i in range(3, N + 1) for j in range(2, i)]
+    for (l, _, _), members in swaps.items():
+        for c1, c2 in members:
+            for c3, c4 in members:
+                if c3[l + 1] == c1[l + 1] or c3 in (c1, c2):
+                    continue
+                for i, j in grains:
+                    g = [_gap(c, N, i, j) for c in (c1, c2, c3, c4)]
+                    if g[1] ** 2 - g[0] ** 2 + g[3] ** 2 - g[2] ** 2:
+                        return c1, c2, c3, c4, i, j
+    return None
+
+
+def test_one_time_marginals_do_not_determine_the_second_moment():
+    """notes/fluctuations.md Sec. 3: a measure on maximal chains with every one-time marginal of the uniform one.
+
+    C1 = (alpha, x, y, beta) -> C2 = (alpha, y, x, beta) and C3 = (alpha', y, x, beta') -> C4 = (alpha', x, y, beta')
+    (the same ideals at the levels l and l + 2): the masses of A+x and A+y at level l + 1 are restored, so the law of
+    I_l is the uniform measure's for every l, hence <g> of every grain too; <g^2> of an interior grain is not.
+    """
+    N = 6
+    n, d = N - 1, N * (N - 1) // 2
+    chains = _chains(n)
+    assert len(chains) == count(N)
+    found = _swap_quadruple(chains, N, n)
+    assert found is not None
+    c1, c2, c3, c4, i, j = found
+    uniform = {c: Fraction(1, len(chains)) for c in chains}
+    new = dict(uniform)
+    for lose, gain in ((c1, c2), (c3, c4)):
+        new[lose] -= Fraction(1, len(chains))
+        new[gain] += Fraction(1, len(chains))
+    assert min(new.values()) >= 0 and sum(new.values()) == 1
+
+    def marginal(mu, l):
+        out = {}
+        for c, w in mu.items():
+            out[c[l]] = out.get(c[l], 0) + w
+        return {A: w for A, w in out.items() if w}
+
+    def mean(mu, f):
+        return sum(w * f(c) for c, w in mu.items())
+
+    assert all(marginal(new, l) == marginal(uniform, l) for l in range(d + 1))
+    for jj in range(1, i + 1):
+        assert mean(new, lambda c: _gap(c, N, i, jj)) == mean(uniform, lambda c: _gap(c, N, i, jj))
+    second = mean(uniform, lambda c: _gap(c, N, i, j) ** 2)
+    law = layer_gap_counts(N, i)[j - 1]  # the enumeration is the DP's law
+    assert second * law.total == sum(g * g * k for g, k in enumerate(law.counts))
+    assert mean(new, lambda c: _gap(c, N, i, j) ** 2) != second
+
+
+# ------------------------------------------------ the floor is a Legendre orthogonal ensemble
+
+
+@pytest.mark.parametrize("N", [3, 4, pytest.param(5, marks=pytest.mark.slow)])
+def test_floor_partial_sums_have_the_vandermonde_density(N):
+    """notes/fluctuations.md Sec. 5: the free partial sums of the floor have density prod_{a<b} (v_b - v_a) / Z.
+
+    Every moment <W_{N,j}^s> (s = 1, 2) of the floor from that density (sympy, ordered simplex) equals the DP's.
+    """
+    import sympy
+
+    n = N - 1
+    v = sympy.symbols(f"v1:{n + 1}")
+    vand = sympy.prod(v[b] - v[a] for a in range(n) for b in range(a + 1, n))
+
+    def ordered_integral(f):
+        for k in range(n):  # v_1 in (0, v_2), ..., v_n in (0, 1)
+            f = sympy.integrate(f, (v[k], 0, v[k + 1] if k + 1 < n else 1))
+        return f
+
+    Z = ordered_integral(vand)
+    volume = sympy.Rational(count(N), sympy.factorial(N * (N - 1) // 2))  # (4.1)
+    assert Z / sympy.prod(sympy.factorial(k) for k in range(1, n)) == volume  # the GT patterns above: Delta / prod k!
+    points = (0,) + v + (1,)
+    for s in (1, 2):
+        table = moment_table(N, s)
+        for j in range(1, N + 1):
+            value = ordered_integral(vand * (points[j] - points[j - 1]) ** s) / Z
+            assert Fraction(int(value.p), int(value.q)) == table[N - 1][j - 1]
+
+
+@pytest.mark.parametrize("N", [4, 5])
+def test_two_time_formula_gives_the_second_moment(N):
+    """notes/fluctuations.md Sec. 4: <W^2> = 2 int_{s<t} P(N_m(I(s)) = N_m(I(t)) = j - 1), with the integrand
+
+    (d!/count) [y^(j-1)] <full| e^{(1-t) H} e^{(t-s) H_m} y^{N_m} e^{s H} |empty>, H the covering moves of the
+    ideal lattice and H_m the same without the moves across m - 1 -> m (exact polynomials in s, t; sympy).
+    """
+    import sympy
+    from math import factorial
+
+    n, d = N - 1, N * (N - 1) // 2
+    s, t, y = sympy.symbols("s t y")
+    ideals = sorted({A for c in _chains(n) for A in c}, key=lambda A: (sum(A), A))
+    where = {A: k for k, A in enumerate(ideals)}
+    size = len(ideals)
+
+    def moves(m=None):
+        H = sympy.zeros(size, size)
+        for A in ideals:
+            for B in _successors(A, n):
+                crossing = m is not None and sum(b >= m for b in B) > sum(a >= m for a in A)
+                if not crossing:
+                    H[where[B], where[A]] = 1
+        return H
+
+    def expm(H, x):  # H is nilpotent (it raises the level): a polynomial
+        out, term = sympy.eye(size), sympy.eye(size)
+        for k in range(1, d + 1):
+            term = term * H * x / k
+            out += term
+        return out
+
+    H = moves()
+    start, end = where[()], where[tuple(range(n, 0, -1))]
+    table = moment_table(N, 2)
+    for i in range(3, N + 1):
+        m = N - i + 1
+        Y = sympy.diag(*[y ** sum(a >= m for a in A) for A in ideals])
+        amplitude = (expm(H, 1 - t) * expm(moves(m), t - s) * Y * expm(H, s))[end, start]
+        poly = sympy.Poly(sympy.expand(amplitude), y)
+        for j in range(2, i):
+            integrand = poly.coeff_monomial(y ** (j - 1)) * factorial(d) / count(N)
+            value = 2 * sympy.integrate(sympy.integrate(integrand, (s, 0, t)), (t, 0, 1))
+            assert Fraction(int(value.p), int(value.q)) == table[i - 1][j - 1]

@@ -60,6 +60,9 @@ from .autocorr import AutocorrError, integrated_time
 __all__ = ["TableAgreement", "batch_means", "compare_samples", "compare_chain", "compare_means", "varying_columns"]
 
 _FIXED_RTOL = 1e-12  # a column is "fixed" when it varies by less than this (relative)
+# fewest independent rows the t route judges (without bounds): below, the Bonferroni tail of t is too
+# optimistic on skewed observables (notes/testing_against_exact.md, measured false-alarm rates)
+T_MIN_ROWS = 1000
 
 
 def _fmt_key(key) -> str:
@@ -96,6 +99,8 @@ class TableAgreement:
     batch_length: int | None = None
     batch_gap: int | None = None
     pilot: int | None = None
+    method: str = "t"
+    reason: str | None = None
 
     @property
     def values(self) -> int:
@@ -125,12 +130,23 @@ class TableAgreement:
         return tuple(f for f in self.fixed if not _same(f[1], f[2]))
 
     @property
+    def disagrees(self) -> bool:
+        """A disagreement the statistics support (at level ``alpha``), whatever else is said."""
+        if self.fixed_failures or self.p_max <= self.level_max:
+            return True
+        return self.p_chi2 is not None and self.p_chi2 <= self.level_chi2
+
+    @property
+    def verdict(self) -> str:
+        """``"agrees"``, ``"DISAGREES"`` or ``"cannot judge"`` (then ``reason`` says why)."""
+        if self.disagrees:
+            return "DISAGREES"
+        return "cannot judge" if self.reason else "agrees"
+
+    @property
     def passed(self) -> bool:
-        if self.fixed_failures:
-            return False
-        if self.p_max <= self.level_max:
-            return False
-        return self.p_chi2 is None or self.p_chi2 > self.level_chi2
+        """The table agrees: no disagreement, and the statistics can judge it."""
+        return self.verdict == "agrees"
 
     def worst_values(self, k: int = 3):
         """The ``k`` largest ``(|z|, key)``, largest first (``z`` signed)."""
@@ -146,33 +162,45 @@ class TableAgreement:
             f"{self.batch_gap} apart, Student t with {self.df} dof\n"
         )
 
+    def _verdict_line(self) -> str:
+        if self.verdict == "cannot judge":
+            return f"cannot judge: {self.reason}"
+        return (f"{self.verdict} at level {self.alpha:g} "
+                f"(a correct sampler fails at most {self.alpha:g} of the time)")
+
     def summary(self) -> str:
         """A few lines for a report."""
         lines = []
-        if self.p_chi2 is not None:
+        if self.method == "bounded":
             lines.append(
-                f"Hotelling chi2 = {self.chi2:.1f} on {self.dof} degrees of freedom "
-                f"(p = {self.p_chi2:.3g}, tested at {self.level_chi2:g}); "
-            )
+                f"bounded test (betting, valid at any number of rows): Bonferroni p = {self.p_max:.3g} "
+                f"over {self.values} values, tested at {self.level_max:g}; max |z| = {self.max_z:.2f} at "
+                f"{_fmt_key(self.worst)}\n")
         else:
-            lines.append("Hotelling chi2 not run (too few rows for the covariance); ")
-        lines[-1] += (
-            f"max |z| = {self.max_z:.2f} at {_fmt_key(self.worst)} "
-            f"(Bonferroni p = {self.p_max:.3g} over {self.values} values, tested at {self.level_max:g})\n"
-        )
+            if self.p_chi2 is not None:
+                lines.append(
+                    f"Hotelling chi2 = {self.chi2:.1f} on {self.dof} degrees of freedom "
+                    f"(p = {self.p_chi2:.3g}, tested at {self.level_chi2:g}); "
+                )
+            else:
+                lines.append("Hotelling chi2 not run (too few rows for the covariance); ")
+            lines[-1] += (
+                f"max |z| = {self.max_z:.2f} at {_fmt_key(self.worst)} "
+                f"(Bonferroni p = {self.p_max:.3g} over {self.values} values, tested at {self.level_max:g})\n"
+            )
         if self.fixed:
             bad = self.fixed_failures
             lines.append(f"{len(self.fixed)} fixed values compared exactly: "
                          + ("all equal\n" if not bad else f"{len(bad)} differ\n"))
         lines.append(self._chain_line())
-        verdict = "agrees" if self.passed else "DISAGREES"
-        lines.append(f"{verdict} at level {self.alpha:g} (a correct sampler fails at most {self.alpha:g} of the time)")
+        lines.append(self._verdict_line())
         return "".join(lines)
 
     def message(self, k: int = 3) -> str:
         """The failure message: the worst values with their z (and tau), then the summary."""
-        head = "sampled means agree with the exact values" if self.passed else \
-            "sampled means DISAGREE with the exact values"
+        head = {"agrees": "sampled means agree with the exact values",
+                "DISAGREES": "sampled means DISAGREE with the exact values",
+                "cannot judge": "sampled means CANNOT BE JUDGED against the exact values"}[self.verdict]
         parts = []
         index = {key: n for n, key in enumerate(self.keys)}
         for z, key in self.worst_values(k):
@@ -183,7 +211,8 @@ class TableAgreement:
             parts.append(text)
         lines = [f"{head} at level {self.alpha:g}", "  worst values: " + "; ".join(parts)]
         for key, sampled, exact in self.fixed_failures[:k]:
-            lines.append(f"  fixed value {_fmt_key(key)}: sampled {sampled!r} (never varies), exact {exact!r}")
+            why = "its exact mean is an end of its range" if self.method == "bounded" else "never varies"
+            lines.append(f"  fixed value {_fmt_key(key)}: sampled {sampled!r} ({why}), exact {exact!r}")
         lines += ["  " + line for line in self.summary().splitlines()]
         return "\n".join(lines)
 
@@ -245,28 +274,106 @@ def _hotelling(rows: np.ndarray, dev: np.ndarray):
     return chi2, r, p
 
 
-def _rows_test(rows, mu, keys, alpha, hotelling, fixed, **extra) -> TableAgreement:
-    """The core: t per value, Bonferroni maximum, Hotelling, on independent rows ``(K, G)``."""
+def _z_scores(rows, mu):
+    """Means, ``(mean - exact) / stderr`` (infinite where a constant column differs) and the stderrs."""
     K = rows.shape[0]
     mean = rows.mean(axis=0)
     dev = mean - mu
     stderr = rows.std(axis=0, ddof=1) / math.sqrt(K) if K > 1 else np.full(mean.shape, np.inf)
     with np.errstate(divide="ignore", invalid="ignore"):
         z = np.where(stderr > 0, dev / stderr, np.where(dev == 0, 0.0, np.inf * np.sign(dev)))
+    return mean, dev, stderr, z
+
+
+def _report(keys, mean, mu, stderr, z, **fields) -> TableAgreement:
+    return TableAgreement(keys=tuple(keys), mean=tuple(map(float, mean)), exact=tuple(map(float, mu)),
+                          stderr=tuple(map(float, stderr)), z=tuple(map(float, z)), **fields)
+
+
+def _rows_test(rows, mu, keys, alpha, hotelling, fixed, reason=None, **extra) -> TableAgreement:
+    """The t route: t per value, Bonferroni maximum, Hotelling, on rows ``(K, G)``."""
+    K = rows.shape[0]
+    mean, dev, stderr, z = _z_scores(rows, mu)
     G = mean.size
-    df = K - 1
     hot = _hotelling(rows, dev) if (hotelling is None or hotelling) and G >= 2 else None
     if hotelling and hot is None and G >= 2:
         raise ValueError(f"hotelling=True needs more rows: {K} rows for {G} values")
     level_max, level_chi2 = (alpha / 2, alpha / 2) if hot is not None else (alpha, 0.0)
     max_z = float(np.abs(z).max()) if G else 0.0
-    return TableAgreement(
-        keys=tuple(keys), mean=tuple(map(float, mean)), exact=tuple(map(float, mu)),
-        stderr=tuple(map(float, stderr)), z=tuple(map(float, z)), df=df, alpha=alpha,
-        p_max=_bonferroni(max_z, G, df), level_max=level_max,
-        chi2=None if hot is None else hot[0], dof=0 if hot is None else hot[1],
-        p_chi2=None if hot is None else hot[2], level_chi2=level_chi2, fixed=fixed, **extra,
-    )
+    return _report(keys, mean, mu, stderr, z, df=K - 1, alpha=alpha, p_max=_bonferroni(max_z, G, K - 1),
+                   level_max=level_max, chi2=None if hot is None else hot[0], dof=0 if hot is None else hot[1],
+                   p_chi2=None if hot is None else hot[2], level_chi2=level_chi2, fixed=fixed, reason=reason, **extra)
+
+
+def _bounds(bounds, G: int):
+    """``(lo, hi)`` as two float arrays of length ``G`` (scalars or one entry per value)."""
+    try:
+        lo, hi = bounds
+    except (TypeError, ValueError):
+        raise ValueError(f"bounds={bounds!r}: give (lo, hi), two numbers or two arrays of one entry per value") from None
+    out = []
+    for name, end in (("lo", lo), ("hi", hi)):
+        arr = np.asarray(end, dtype=float).ravel()
+        if arr.size not in (1, G):
+            raise ValueError(f"bounds: {name} has {arr.size} entries for {G} values")
+        out.append(np.broadcast_to(arr, (G,)))
+    return out
+
+
+def _inside(rows, mu, keys, bounds):
+    """The bounds as arrays and their rounding tolerance; raises if a bound, exact value or sample is off."""
+    G = rows.shape[1]
+    lo, hi = _bounds(bounds, G)
+    tol = 1e-9 * np.maximum(np.abs(hi - lo), 1.0)
+    bad = ~(np.isfinite(lo) & np.isfinite(hi) & (lo < hi))
+    if bad.any():
+        n = int(np.argmax(bad))
+        raise ValueError(f"bounds of {_fmt_key(keys[n])}: [{lo[n]:g}, {hi[n]:g}] must be finite with lo < hi")
+    bad = (mu < lo - tol) | (mu > hi + tol)
+    if bad.any():
+        n = int(np.argmax(bad))
+        raise ValueError(f"exact value of {_fmt_key(keys[n])} = {mu[n]:.6g} lies outside its bounds "
+                         f"[{lo[n]:g}, {hi[n]:g}]")
+    out = (rows < lo - tol) | (rows > hi + tol)
+    if out.any():
+        r, n = (int(v) for v in np.argwhere(out)[0])
+        raise ValueError(f"samples of {_fmt_key(keys[n])}: row {r} = {rows[r, n]:.6g} lies outside the bounds "
+                         f"[{lo[n]:g}, {hi[n]:g}] (wrong bounds, or a sampler outside the model)")
+    return lo, hi, tol
+
+
+def _bounded_test(rows, mu, keys, alpha, bounds, fixed=(), **extra) -> TableAgreement:
+    """The bounded route: a betting p-value per value (:mod:`.betting`), Bonferroni over the values.
+
+    A value whose exact mean is an end of its range is that end almost surely: compared exactly.
+    """
+    from .betting import betting_pvalues, extreme_pvalues, rows_needed
+
+    K, G = rows.shape
+    lo, hi, tol = _inside(rows, mu, keys, bounds)
+    at_end = (mu - lo <= tol) | (hi - mu <= tol)
+    far = np.abs(rows - mu).argmax(axis=0)
+    fixed = tuple(fixed) + tuple((keys[n], float(rows[far[n], n]), float(mu[n])) for n in np.flatnonzero(at_end))
+    test = ~at_end
+    if extra.get("tau") is not None:
+        extra["tau"] = tuple(float(t) for t in np.asarray(extra["tau"])[test])
+    keys = [k for k, t in zip(keys, test) if t]
+    rows, mu, lo, hi = rows[:, test], mu[test], lo[test], hi[test]
+    G = rows.shape[1]
+    mean, dev, stderr, z = _z_scores(rows, mu)
+    share = alpha / max(G, 1)  # Bonferroni share of each value
+    p = betting_pvalues(rows, mu, lo, hi, share) if G else np.ones(0)
+    reason = None
+    blind = extreme_pvalues(K, mu, lo, hi, share) > share if G else np.zeros(0, bool)
+    if blind.any():
+        n = int(np.flatnonzero(blind)[0])
+        others = f" (and {int(blind.sum()) - 1} other values)" if blind.sum() > 1 else ""
+        reason = (f"{K} rows are too few: no sample of {K} rows could reveal a wrong mean of {_fmt_key(keys[n])}"
+                  f"{others} at level {alpha:g} over {G} values; "
+                  f"the bounded test needs at least {rows_needed(mu, lo, hi, share)} rows")
+    return _report(keys, mean, mu, stderr, z, df=K - 1, alpha=alpha,
+                   p_max=float(min(1.0, G * p.min())) if G else 1.0, level_max=alpha, fixed=fixed,
+                   method="bounded", reason=reason, **extra)
 
 
 def _prepare(samples, exact, keys, name="samples"):
@@ -293,7 +400,20 @@ def _check_alpha(alpha) -> float:
     return check_real(alpha, "alpha", 0, 1, low_open=True, high_open=True)
 
 
-def compare_samples(samples, exact, keys=None, alpha: float = 1e-3, hotelling: bool | None = None) -> TableAgreement:
+def _t_reason(K: int | None, fixed) -> str | None:
+    """Why the t route cannot judge: too few independent rows ``K``, or a constant value off its exact mean."""
+    if K is not None and K < T_MIN_ROWS:
+        return (f"{K} rows: without bounds the t statistics keep their level from {T_MIN_ROWS} rows on (measured "
+                f"on skewed observables); pass bounds=(lo, hi) for a test valid at any number of rows, or draw more")
+    for key, sampled, exact in fixed:
+        if not _same(sampled, exact):
+            return (f"{_fmt_key(key)} never varies in {K} rows ({sampled!r}) but its exact mean is {exact!r}: "
+                    f"a wrong fixed value, or too few rows to see it vary; pass bounds=(lo, hi) to decide")
+    return None
+
+
+def compare_samples(samples, exact, keys=None, alpha: float = 1e-3, hotelling: bool | None = None,
+                    bounds=None) -> TableAgreement:
     """Compare independent samples ``(K, G)`` of ``G`` quantities with their exact means ``(G,)``.
 
     Parameters
@@ -307,15 +427,27 @@ def compare_samples(samples, exact, keys=None, alpha: float = 1e-3, hotelling: b
     alpha : float
         Level of the whole-table test: a correct sampler fails with probability at most ``alpha``.
     hotelling : bool, optional
-        Run Hotelling's test: ``None`` when the rows suffice, ``False`` never, ``True`` always (or raise).
+        Run Hotelling's test (t route only): ``None`` when the rows suffice, ``False`` never, ``True`` always (or raise).
+    bounds : (lo, hi), optional
+        Every sample of a value lies in ``[lo, hi]`` (numbers, or arrays of one entry per value): the
+        bounded test, valid at any ``K``. Without bounds, the t route judges from ``T_MIN_ROWS`` rows on.
+
+    Returns
+    -------
+    TableAgreement
+        ``verdict`` ``"cannot judge"`` (``passed`` False, ``reason`` set) when the rows cannot support one.
     """
     alpha = _check_alpha(alpha)
     x, mu, keys = _prepare(samples, exact, keys)
     if x.shape[0] < 2:
         raise ValueError(f"samples: {x.shape[0]} row; an error bar needs at least 2")
+    if bounds is not None:
+        if hotelling:
+            raise ValueError("hotelling=True: Hotelling's test belongs to the t route (no bounds)")
+        return _bounded_test(x, mu, keys, alpha, bounds, samples=x.shape[0])
     vary, fixed = _split(x, mu, keys)
     return _rows_test(x[:, vary], mu[vary], [k for k, v in zip(keys, vary) if v], alpha, hotelling, fixed,
-                      samples=x.shape[0])
+                      reason=_t_reason(x.shape[0], fixed), samples=x.shape[0])
 
 
 def batch_means(chain, batch_factor: float = 10.0, gap_factor: float = 2.0, pilot: float = 0.25,
@@ -390,7 +522,7 @@ def batch_means(chain, batch_factor: float = 10.0, gap_factor: float = 2.0, pilo
     return means, tau, {"pilot": p, "length": length, "gap": gap}
 
 
-def compare_chain(chain, exact, keys=None, alpha: float = 1e-3, hotelling: bool | None = None,
+def compare_chain(chain, exact, keys=None, alpha: float = 1e-3, hotelling: bool | None = None, bounds=None,
                   **batching) -> TableAgreement:
     """Compare a Markov chain ``(n, G)`` with exact means ``(G,)`` through batch means.
 
@@ -416,12 +548,23 @@ def compare_chain(chain, exact, keys=None, alpha: float = 1e-3, hotelling: bool 
     alpha = _check_alpha(alpha)
     x, mu, keys = _prepare(chain, exact, keys, name="chain")
     vary, fixed = _split(x, mu, keys)
+    if bounds is not None and hotelling:
+        raise ValueError("hotelling=True: Hotelling's test belongs to the t route (no bounds)")
     if not vary.any():
-        return _rows_test(x[:2, vary], mu[vary], [], alpha, False, fixed, samples=x.shape[0])
+        if bounds is not None:
+            return _bounded_test(x[:2], mu, keys, alpha, bounds, samples=x.shape[0])
+        return _rows_test(x[:2, vary], mu[vary], [], alpha, False, fixed, reason=_t_reason(None, fixed),
+                          samples=x.shape[0])
     means, tau, layout = batch_means(x[:, vary], **batching)
+    extra = dict(samples=x.shape[0], batches=means.shape[0], batch_length=layout["length"],
+                 batch_gap=layout["gap"], pilot=layout["pilot"])
+    if bounds is not None:  # the constant values' batch means are their constant, their tau 1
+        _inside(x, mu, keys, bounds)
+        full, taus = np.empty((means.shape[0], x.shape[1])), np.ones(x.shape[1])
+        full[:, vary], full[:, ~vary], taus[vary] = means, x[0, ~vary], tau
+        return _bounded_test(full, mu, keys, alpha, bounds, tau=taus, **extra)
     return _rows_test(means, mu[vary], [k for k, v in zip(keys, vary) if v], alpha, hotelling, fixed,
-                      samples=x.shape[0], tau=tuple(map(float, tau)), batches=means.shape[0],
-                      batch_length=layout["length"], batch_gap=layout["gap"], pilot=layout["pilot"])
+                      reason=_t_reason(None, fixed), tau=tuple(map(float, tau)), **extra)
 
 
 def compare_means(mean, stderr, exact, keys=None, alpha: float = 1e-3, df: int | None = None) -> TableAgreement:

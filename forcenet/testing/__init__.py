@@ -26,10 +26,11 @@ Examples
 True
 """
 
-from .assertions import DisagreementError, TableAgreement, assert_agrees, assert_means_agree, compare, exact_array
+from .assertions import CannotJudgeError, DisagreementError, TableAgreement, assert_agrees, assert_means_agree, compare, exact_array
 from .counterparts import exact_mean_W
 
 __all__ = [
+    "CannotJudgeError",
     "DisagreementError",
     "TableAgreement",
     "assert_agrees",

@@ -40,7 +40,7 @@ import numpy as np
 
 from forcenet.numeric.agreement import TableAgreement, compare_chain, compare_means, compare_samples, varying_columns
 
-__all__ = ["DisagreementError", "TableAgreement", "assert_agrees", "assert_means_agree", "compare", "exact_array"]
+__all__ = ["CannotJudgeError", "DisagreementError", "TableAgreement", "assert_agrees", "assert_means_agree", "compare", "exact_array"]
 
 
 class DisagreementError(AssertionError):
@@ -49,6 +49,34 @@ class DisagreementError(AssertionError):
     def __init__(self, report: TableAgreement):
         super().__init__(report.message())
         self.report = report
+
+
+class CannotJudgeError(AssertionError):
+    """The samples cannot support a verdict (too few rows, a constant value); ``report.reason`` says why."""
+
+    def __init__(self, report: TableAgreement):
+        super().__init__(report.message())
+        self.report = report
+
+
+def _bounds_array(bounds, shape, tested):
+    """``bounds=(lo, hi)``: each a number or a table shaped like ``exact``; as arrays over the tested values."""
+    try:
+        ends = list(bounds)
+    except TypeError:
+        ends = []
+    if len(ends) != 2:
+        raise ValueError(f"bounds={bounds!r}: give (lo, hi), numbers or tables shaped like exact")
+    out = []
+    for end in ends:
+        if not isinstance(end, (list, tuple, np.ndarray)):
+            out.append(np.full(int(tested.sum()), _to_float(end, "")))
+        else:
+            table = exact_array(end, shape)
+            if np.isnan(table[tested]).any():
+                raise ValueError("bounds: a tested value has no bound (None or missing)")
+            out.append(table[tested])
+    return tuple(out)
 
 
 def _to_float(value, where) -> float:
@@ -133,8 +161,8 @@ def _autocorrelated(flat: np.ndarray):
     return tau if tau > max(2.0, 1.0 + 45.0 / math.sqrt(n)) else None
 
 
-def compare(samples, exact, *, chain: bool = False, alpha: float = 1e-3, keys=None, hotelling: bool | None = None,
-            **batching) -> TableAgreement:
+def compare(samples, exact, *, chain: bool = False, alpha: float = 1e-3, keys=None, bounds=None,
+            hotelling: bool | None = None, **batching) -> TableAgreement:
     """The whole-table comparison of ``samples`` with ``exact`` (see the module docstring).
 
     Parameters
@@ -193,8 +221,10 @@ def compare(samples, exact, *, chain: bool = False, alpha: float = 1e-3, keys=No
     names = _default_keys(shape, positions) if keys is None else list(keys)
     if len(names) != flat.shape[1]:
         raise ValueError(f"keys has {len(names)} names for {flat.shape[1]} tested values")
+    if bounds is not None:
+        bounds = _bounds_array(bounds, shape, tested)
     if chain:
-        return compare_chain(flat, mu[tested], keys=names, alpha=alpha, hotelling=hotelling, **batching)
+        return compare_chain(flat, mu[tested], keys=names, alpha=alpha, hotelling=hotelling, bounds=bounds, **batching)
     if batching:
         raise TypeError(f"{sorted(batching)}: batch options apply to chains (chain=True)")
     if not np.isfinite(flat).all():
@@ -202,7 +232,7 @@ def compare(samples, exact, *, chain: bool = False, alpha: float = 1e-3, keys=No
     tau = _autocorrelated(flat)
     if tau is not None:
         raise ValueError(f"samples look autocorrelated (integrated time {tau:.2g}): pass chain=True")
-    return compare_samples(flat, mu[tested], keys=names, alpha=alpha, hotelling=hotelling)
+    return compare_samples(flat, mu[tested], keys=names, alpha=alpha, hotelling=hotelling, bounds=bounds)
 
 
 def assert_agrees(samples, exact, **options) -> TableAgreement:
@@ -223,6 +253,8 @@ def assert_agrees(samples, exact, **options) -> TableAgreement:
       worst values: (3, 2): mean 0.497 vs exact 0.3788, z = +31.81; (4, 4): mean 0.1262 vs exact 0.1818, z = -23.53; ...
     """
     report = compare(samples, exact, **options)
+    if report.verdict == "cannot judge":
+        raise CannotJudgeError(report)
     if not report.passed:
         raise DisagreementError(report)
     return report

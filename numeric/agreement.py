@@ -52,6 +52,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -101,6 +102,7 @@ class TableAgreement:
     pilot: int | None = None
     method: str = "t"
     reason: str | None = None
+    fixed_certain: bool = False
 
     @property
     def values(self) -> int:
@@ -131,8 +133,12 @@ class TableAgreement:
 
     @property
     def disagrees(self) -> bool:
-        """A disagreement the statistics support (at level ``alpha``), whatever else is said."""
-        if self.fixed_failures or self.p_max <= self.level_max:
+        """A disagreement the statistics support (at level ``alpha``), whatever else is said.
+
+        A fixed value that differs is one for the bounded test (an exact mean at the end of its range is
+        that end); for the t route a value constant in the sample may still vary: ``reason`` says so.
+        """
+        if (self.fixed_failures and self.fixed_certain) or self.p_max <= self.level_max:
             return True
         return self.p_chi2 is not None and self.p_chi2 <= self.level_chi2
 
@@ -211,7 +217,7 @@ class TableAgreement:
             parts.append(text)
         lines = [f"{head} at level {self.alpha:g}", "  worst values: " + "; ".join(parts)]
         for key, sampled, exact in self.fixed_failures[:k]:
-            why = "its exact mean is an end of its range" if self.method == "bounded" else "never varies"
+            why = "its exact mean is an end of its range" if self.fixed_certain else "never varies"
             lines.append(f"  fixed value {_fmt_key(key)}: sampled {sampled!r} ({why}), exact {exact!r}")
         lines += ["  " + line for line in self.summary().splitlines()]
         return "\n".join(lines)
@@ -342,12 +348,27 @@ def _inside(rows, mu, keys, bounds):
     return lo, hi, tol
 
 
+@lru_cache(maxsize=64)
+def _blind(K, mu, lo, hi, share) -> np.ndarray:
+    """The values no sample of ``K`` rows could fail (cached: tests and benchmarks repeat one table)."""
+    from .betting import extreme_pvalues
+
+    return extreme_pvalues(K, np.array(mu), np.array(lo), np.array(hi), share) > share
+
+
+@lru_cache(maxsize=64)
+def _rows_needed(mu, lo, hi, share) -> int:
+    from .betting import rows_needed
+
+    return rows_needed(np.array(mu), np.array(lo), np.array(hi), share)
+
+
 def _bounded_test(rows, mu, keys, alpha, bounds, fixed=(), **extra) -> TableAgreement:
     """The bounded route: a betting p-value per value (:mod:`.betting`), Bonferroni over the values.
 
     A value whose exact mean is an end of its range is that end almost surely: compared exactly.
     """
-    from .betting import betting_pvalues, extreme_pvalues, rows_needed
+    from .betting import betting_pvalues
 
     K, G = rows.shape
     lo, hi, tol = _inside(rows, mu, keys, bounds)
@@ -364,16 +385,16 @@ def _bounded_test(rows, mu, keys, alpha, bounds, fixed=(), **extra) -> TableAgre
     share = alpha / max(G, 1)  # Bonferroni share of each value
     p = betting_pvalues(rows, mu, lo, hi, share) if G else np.ones(0)
     reason = None
-    blind = extreme_pvalues(K, mu, lo, hi, share) > share if G else np.zeros(0, bool)
+    blind = _blind(K, tuple(mu), tuple(lo), tuple(hi), share) if G else np.zeros(0, bool)
     if blind.any():
         n = int(np.flatnonzero(blind)[0])
         others = f" (and {int(blind.sum()) - 1} other values)" if blind.sum() > 1 else ""
         reason = (f"{K} rows are too few: no sample of {K} rows could reveal a wrong mean of {_fmt_key(keys[n])}"
                   f"{others} at level {alpha:g} over {G} values; "
-                  f"the bounded test needs at least {rows_needed(mu, lo, hi, share)} rows")
+                  f"the bounded test needs at least {_rows_needed(tuple(mu), tuple(lo), tuple(hi), share)} rows")
     return _report(keys, mean, mu, stderr, z, df=K - 1, alpha=alpha,
                    p_max=float(min(1.0, G * p.min())) if G else 1.0, level_max=alpha, fixed=fixed,
-                   method="bounded", reason=reason, **extra)
+                   method="bounded", reason=reason, fixed_certain=True, **extra)
 
 
 def _prepare(samples, exact, keys, name="samples"):
@@ -531,6 +552,16 @@ def compare_chain(chain, exact, keys=None, alpha: float = 1e-3, hotelling: bool 
     ``max_batches``, ``min_batches``). Raises :class:`forcenet.numeric.autocorr.AutocorrError`
     on a chain too short to trust.
 
+    The batch means always go to the t route (Student t with ``B - 1``
+    degrees of freedom, Bonferroni maximum, Hotelling when the batches
+    suffice): batch means are not independent, so no test on them has a
+    level guaranteed at finite length, and the bounded test on 10-50 batch
+    means, whose spread is far below the range, loses most of its power
+    (measured: ``notes/testing_against_exact.md``). ``bounds``, when given,
+    are checked on every step, and a value whose exact mean is an end of its
+    range is compared exactly (a certain verdict). A value that never varies
+    along the chain while its exact mean differs cannot be judged.
+
     Examples
     --------
     >>> rng = np.random.default_rng(1)
@@ -548,23 +579,24 @@ def compare_chain(chain, exact, keys=None, alpha: float = 1e-3, hotelling: bool 
     alpha = _check_alpha(alpha)
     x, mu, keys = _prepare(chain, exact, keys, name="chain")
     vary, fixed = _split(x, mu, keys)
-    if bounds is not None and hotelling:
-        raise ValueError("hotelling=True: Hotelling's test belongs to the t route (no bounds)")
+    certain = bounds is not None
+    if certain:  # values checked; a mean at an end of its range is compared exactly, with certainty
+        lo, hi, tol = _inside(x, mu, keys, bounds)
+        at_end = (mu - lo <= tol) | (hi - mu <= tol)
+        far = np.abs(x - mu).argmax(axis=0)
+        reason = _t_reason(None, [f for f, end in zip(fixed, at_end[~vary]) if not end])
+        fixed = tuple((keys[n], float(x[far[n], n]), float(mu[n])) for n in np.flatnonzero(at_end))
+        vary &= ~at_end
+    else:
+        reason = _t_reason(None, fixed)
     if not vary.any():
-        if bounds is not None:
-            return _bounded_test(x[:2], mu, keys, alpha, bounds, samples=x.shape[0])
-        return _rows_test(x[:2, vary], mu[vary], [], alpha, False, fixed, reason=_t_reason(None, fixed),
+        return _rows_test(x[:2, vary], mu[vary], [], alpha, False, fixed, reason=reason, fixed_certain=certain,
                           samples=x.shape[0])
     means, tau, layout = batch_means(x[:, vary], **batching)
-    extra = dict(samples=x.shape[0], batches=means.shape[0], batch_length=layout["length"],
-                 batch_gap=layout["gap"], pilot=layout["pilot"])
-    if bounds is not None:  # the constant values' batch means are their constant, their tau 1
-        _inside(x, mu, keys, bounds)
-        full, taus = np.empty((means.shape[0], x.shape[1])), np.ones(x.shape[1])
-        full[:, vary], full[:, ~vary], taus[vary] = means, x[0, ~vary], tau
-        return _bounded_test(full, mu, keys, alpha, bounds, tau=taus, **extra)
     return _rows_test(means, mu[vary], [k for k, v in zip(keys, vary) if v], alpha, hotelling, fixed,
-                      reason=_t_reason(None, fixed), tau=tuple(map(float, tau)), **extra)
+                      reason=reason, fixed_certain=certain, samples=x.shape[0], tau=tuple(map(float, tau)),
+                      batches=means.shape[0], batch_length=layout["length"], batch_gap=layout["gap"],
+                      pilot=layout["pilot"])
 
 
 def compare_means(mean, stderr, exact, keys=None, alpha: float = 1e-3, df: int | None = None) -> TableAgreement:

@@ -11,29 +11,45 @@ Rows
     which refuses a stretch shorter than ``50 tau``); the rest is cut into 10
     to 50 batches of at least ``10 tau`` steps, ``2 tau`` apart. Chains
     shorter than about ``200 tau`` are refused.
-Statistics on the rows, for the ``G`` values that vary
-    * each value: ``t = (mean - exact) / stderr``, Student ``t`` with
-      ``K - 1`` (or ``B - 1``) degrees of freedom;
-    * the largest ``|t|`` with its Bonferroni p-value
-      ``min(1, G P(|T| >= max |t|))``, valid whatever the correlations;
-    * Hotelling's ``T^2 = K d' S^+ d`` on the nondegenerate subspace of the
-      covariance ``S`` (constraints such as row sums make it singular):
-      ``(K - r)/(r (K - 1)) T^2 ~ F(r, K - r)`` with ``r`` the rank, run when
-      ``r >= 2`` and ``K >= max(5 r, r + 10)``.
-Values that never vary (``W_11 = 1``) are compared exactly.
+Two routes, for the ``G`` values that vary
+    * **bounded** (``bounds=(lo, hi)`` given, independent rows): a betting
+      p-value per value (:mod:`forcenet.numeric.betting`: a nonnegative
+      martingale under the exact mean and Ville's inequality), Bonferroni
+      over the values: ``p = min(1, G min p_g)``, failing at ``p <= alpha``.
+      **Guaranteed at every K** for any distribution inside the bounds: no
+      normal approximation. A mean at an end of its range is that end
+      almost surely: compared exactly, a difference is a certain failure.
+    * **t** (no bounds, or the batch means of a chain): ``t = (mean -
+      exact) / stderr`` per value, Student ``t`` with ``K - 1`` (or ``B - 1``)
+      degrees of freedom; the largest ``|t|`` with its Bonferroni p-value
+      ``min(1, G P(|T| >= max |t|))``; Hotelling's ``T^2 = K d' S^+ d`` on the
+      nondegenerate subspace of the covariance (``(K - r)/(r (K - 1)) T^2 ~
+      F(r, K - r)``, ``r`` the rank, run when ``r >= 2`` and ``K >= max(5 r,
+      r + 10)``); the maximum and Hotelling at ``alpha/2`` each (the maximum
+      at ``alpha`` when Hotelling does not run). Exact for normal rows,
+      asymptotic otherwise: independent rows are judged from
+      ``T_MIN_ROWS`` rows on, where the measured rate on the project's
+      skewed observables is within its error of ``alpha``.
 
-**What is guaranteed.** The table passes at level ``alpha`` when the
-maximum passes at ``alpha/2`` and Hotelling at ``alpha/2`` (the maximum at
-``alpha`` when Hotelling does not run). By the union bound a correct sampler
-fails with probability **at most alpha**, whatever the correlations between
-the values: exactly so for normal rows (the t and F references are exact),
-asymptotically as ``K`` grows for independent samples, and as the batch
-length over ``tau`` grows for a chain (fixed number of batches; the gaps
-and the separate measurement of ``tau`` remove the finite-length excess
-measured without them, ``1.1-1.4 alpha``). The bound is
-attained for a single value and approached when the values are nearly
-independent; correlated values make the maximum conservative. The measured
-rates are in ``tests/test_testing.py`` and ``notes/testing_against_exact.md``.
+**Cannot judge.** A report whose statistics cannot support a verdict says
+``verdict == "cannot judge"`` with its ``reason`` (``passed`` is False):
+fewer independent rows than the bounded test could ever fail on (every row
+at an end of the range would not reach ``alpha``), fewer than
+``T_MIN_ROWS`` on the t route, a value that never varies while its exact
+mean differs (zero variance: no t statistic). A chain too short for its
+guard, or for ``min_batches`` batches, is refused up front
+(:class:`forcenet.numeric.autocorr.AutocorrError`). A disagreement the
+statistics support is reported whatever else is said.
+
+**What is guaranteed.** Independent rows with bounds: a correct sampler
+fails with probability at most ``alpha`` at every ``K`` (the union bound
+over the values, Ville's inequality per value). The t route: at most
+``alpha`` by the union bound, exactly so for normal rows, asymptotically as
+``K`` grows, and for a chain as the batch length over ``tau`` grows (fixed
+number of batches; the gaps and the separate measurement of ``tau`` remove
+the finite-length excess measured without them, ``1.1-1.4 alpha``). The
+measured rates are in ``tests/test_testing.py`` and
+``notes/testing_against_exact.md``.
 
 May import: numpy, scipy, :mod:`forcenet.numeric.autocorr`.
 

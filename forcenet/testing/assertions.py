@@ -5,29 +5,40 @@ Markov chain, ``chain=True``) and the shape of the table after it:
 ``(K,)`` for one value, ``(K, N, N)`` for the triangle's ``W``, ``(K, N, P)``
 for a packing. ``exact`` has the table's shape; it may be ragged (the rows
 of ``forcenet.exact.mean_W(N)``) and hold ``Fraction``, sympy numbers or
-``None``: missing entries and ``None`` are not tested. Every value that
-varies is tested (Student t per value, the Bonferroni maximum over the
-table and Hotelling's chi-square; batch means for a chain), values that
-never vary (``W_11 = 1``) are compared exactly.
+``None``: missing entries and ``None`` are not tested.
+
+``bounds=(lo, hi)`` (numbers, or tables shaped like ``exact``) says where
+every sample lies: every ``W`` of the triangle in ``[0, 1]``, a packing's
+``W`` in ``[0, the row's load]``, an observable in ``[min, max]`` over the
+configurations a chain can visit. With bounds, independent samples get the
+bounded test (betting, :mod:`forcenet.numeric.betting`) whose level holds at
+every number of samples; without, the t route (Student t per value, the
+Bonferroni maximum, Hotelling's chi-square) judges from
+``T_MIN_ROWS = 1000`` rows on. A chain (``chain=True``) is cut into spaced
+batch means tested by the t route (bounds, when given, are checked and a
+mean at an end of its range is compared exactly).
 
 **Guarantee.** A correct sampler fails with probability at most ``alpha``,
-whatever the correlations between the values: exact for normal rows,
-asymptotic in the number of samples (independent draws) or in the batch
-length over the integrated time ``tau`` (a chain: ``tau`` measured on its
-first quarter, which must exceed ``50 tau`` as
-:func:`forcenet.numeric.autocorr.integrated_time` demands, then 10 to 50
+whatever the correlations between the values: at every ``K`` with bounds;
+exact for normal rows and asymptotic otherwise on the t route; for a chain
+asymptotic in the batch length over the integrated time ``tau`` (``tau``
+measured on its first quarter, which must exceed ``50 tau``, then 10 to 50
 batches of at least ``10 tau`` steps, ``2 tau`` apart: chains shorter than
-about ``200 tau`` are refused). Details and measured
-rates: :mod:`forcenet.numeric.agreement`, ``notes/testing_against_exact.md``.
+about ``200 tau`` are refused). When the rows cannot support a verdict the
+report says ``cannot judge`` with its reason and :func:`assert_agrees` raises
+:class:`CannotJudgeError`. Details and measured rates:
+:mod:`forcenet.numeric.agreement`, ``notes/testing_against_exact.md``.
 
 Examples
 --------
 >>> from forcenet.exact import mean_W
 >>> from forcenet.numeric.triangle.exact_sampler import ExactSampler
 >>> W = ExactSampler(5, seed=1).sample_W(4000)
->>> report = assert_agrees(W, mean_W(5))        # 14 varying grains; W_11 = 1 compared exactly
+>>> report = assert_agrees(W, mean_W(5), bounds=(0, 1))   # 14 varying grains; W_11 = 1 compared exactly
 >>> report.values, report.passed
 (14, True)
+>>> compare(W[:12], mean_W(5), bounds=(0, 1)).verdict
+'cannot judge'
 """
 
 from __future__ import annotations
@@ -182,14 +193,22 @@ def compare(samples, exact, *, chain: bool = False, alpha: float = 1e-3, keys=No
     keys : sequence, optional
         One name per tested value (row-major order); default: 1-based indices,
         ``(i, j)`` for a table (the thesis's grain ``(i, j)``).
+    bounds : (lo, hi), optional
+        Every sample of a value lies in ``[lo, hi]``; each a number or a table
+        shaped like ``exact``. Independent samples then get the bounded test,
+        valid at every number of samples; samples or exact values outside are
+        refused (``ValueError``).
     hotelling : bool, optional
         ``None``: run Hotelling's test when the rows suffice (see
-        :mod:`forcenet.numeric.agreement`); ``False``: only the maximum.
+        :mod:`forcenet.numeric.agreement`); ``False``: only the maximum. The
+        t route only.
 
     Returns
     -------
     TableAgreement
-        ``passed``, ``summary()``, ``message()``, ``worst_values(k)``, the z-scores and ``tau``.
+        ``verdict`` (``"agrees"``, ``"DISAGREES"``, ``"cannot judge"`` with its
+        ``reason``), ``passed``, ``summary()``, ``message()``, ``worst_values(k)``,
+        the z-scores and ``tau``.
 
     Raises
     ------
@@ -201,7 +220,11 @@ def compare(samples, exact, *, chain: bool = False, alpha: float = 1e-3, keys=No
     Examples
     --------
     >>> rng = np.random.default_rng(0)
-    >>> compare(rng.normal(0.5, 1, size=400), 0.5).passed           # one value
+    >>> compare(rng.uniform(size=400), 0.5, bounds=(0, 1)).passed   # one value in [0, 1]
+    True
+    >>> compare(rng.normal(0.5, 1, size=400), 0.5).reason           # doctest: +ELLIPSIS
+    '400 rows: without bounds the t statistics keep their level from 1000 rows on ...'
+    >>> compare(rng.normal(0.5, 1, size=1000), 0.5).passed
     True
     >>> compare(np.cumsum(rng.normal(size=4000)), 0.0)
     Traceback (most recent call last):
@@ -239,7 +262,9 @@ def assert_agrees(samples, exact, **options) -> TableAgreement:
     """:func:`compare`, raising :class:`DisagreementError` (an ``AssertionError``) when the table disagrees.
 
     The message names the worst values, their z-scores and (for a chain)
-    their integrated times. Returns the report when the table agrees.
+    their integrated times. Raises :class:`CannotJudgeError` (an
+    ``AssertionError`` too) when the samples cannot support a verdict.
+    Returns the report when the table agrees.
 
     Examples
     --------

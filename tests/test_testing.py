@@ -44,13 +44,13 @@ def binomial_sd(p, runs):
     return math.sqrt(p * (1 - p) / runs)
 
 
-def chain_rejection_rate(runs, chain, exact, alpha):
+def chain_rejection_rate(runs, chain, exact, alpha, **options):
     """Rejection rate over the chains that are long enough (a refusal does not bias the others: tau is
     measured on the first quarter, the test uses the rest); returns (rate, accepted)."""
     outcomes = []
     for r in range(runs):
         try:
-            outcomes.append(not compare(chain(r), exact, chain=True, alpha=alpha).passed)
+            outcomes.append(not compare(chain(r), exact, chain=True, alpha=alpha, **options).passed)
         except AutocorrError:
             pass
     return sum(outcomes) / max(1, len(outcomes)), len(outcomes)
@@ -333,15 +333,10 @@ def test_false_alarm_rate_of_the_bounded_test_at_small_K():
 def test_false_alarm_rate_of_the_metropolis_table():
     alpha, runs, N = 0.2, 50, 3
     for options in ({}, {"bounds": (0, 1)}):
-        outcomes = []
-        for s in range(runs):
-            try:
-                outcomes.append(not compare(TriangleMetropolis(N, seed=s).run(sweeps=1500), mean_W(N), chain=True,
-                                            alpha=alpha, **options).passed)
-            except AutocorrError:
-                pass
-        assert len(outcomes) > 0.8 * runs
-        assert np.mean(outcomes) < alpha + 4 * binomial_sd(alpha, len(outcomes)), options
+        rate, accepted = chain_rejection_rate(runs, lambda s: TriangleMetropolis(N, seed=s).run(sweeps=1500), mean_W(N),
+                                              alpha, **options)
+        assert accepted > 0.8 * runs
+        assert rate < alpha + 4 * binomial_sd(alpha, accepted), options
 
 
 # ---------------------------------------------------------------- the false-alarm rate (long versions)
@@ -433,15 +428,10 @@ def test_false_alarm_rate_of_a_skewed_bounded_chain():
 def test_false_alarm_rate_of_the_metropolis_long():
     alpha, runs, N = 0.05, 300, 4
     for options in ({}, {"bounds": (0, 1)}):
-        outcomes = []
-        for s in range(runs):
-            try:
-                outcomes.append(not compare(TriangleMetropolis(N, seed=s).run(sweeps=2500), mean_W(N), chain=True,
-                                            alpha=alpha, **options).passed)
-            except AutocorrError:
-                pass
-        assert len(outcomes) > 0.9 * runs
-        assert np.mean(outcomes) < alpha + 4 * binomial_sd(alpha, len(outcomes)), options
+        rate, accepted = chain_rejection_rate(runs, lambda s: TriangleMetropolis(N, seed=s).run(sweeps=2500), mean_W(N),
+                                              alpha, **options)
+        assert accepted > 0.9 * runs
+        assert rate < alpha + 4 * binomial_sd(alpha, accepted), options
 
 
 # ---------------------------------------------------------------- strategies

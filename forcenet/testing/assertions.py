@@ -184,7 +184,7 @@ def compare(samples, exact, *, chain: bool = False, alpha: float = 1e-3, keys=No
         The exact means, shaped like one sample; ``None``/missing: not tested.
     chain : bool
         The rows are successive states of a Markov chain: spaced batch means
-        (:func:`forcenet.numeric.agreement.batch_means`; ``batching`` passes
+        (:func:`forcenet.numeric.autocorr.batch_means`; ``batching`` passes
         ``batch_factor``, ``gap_factor``, ``pilot``, ``max_batches``,
         ``min_batches``). With ``chain=False`` rows that look autocorrelated
         (integrated time above ``max(2, 1 + 45/sqrt(n))`` on 500 rows or more) are refused.

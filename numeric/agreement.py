@@ -197,7 +197,7 @@ class TableAgreement:
             lines.append(
                 f"bounded test (betting, valid at any number of rows): Bonferroni p = {self.p_max:.3g} "
                 f"over {self.values} values, tested at {self.level_max:g}; max |z| = {self.max_z:.2f} at "
-                f"{_fmt_key(self.worst)}\n")
+                f"{_fmt_key(self.worst)}; Hotelling chi2 not run (its level is only asymptotic)\n")
         else:
             if self.p_chi2 is not None:
                 lines.append(

@@ -1,17 +1,25 @@
-"""Measured false-alarm rates of forcenet.testing: correct samplers, many seeds, against the stated level.
+"""Measured false-alarm rates and power of forcenet.testing on the project's own observables.
 
-Each row: a correct sampler (or a synthetic process with known mean), the
-level ``alpha``, the number of accepted runs (chains too short are refused,
-not counted), the rejection rate and its binomial standard deviation at
-``alpha``. The promise (forcenet.numeric.agreement): at most ``alpha``, equal
-to it for a single value. The ``naive`` rows show what the two design choices
-remove: ``tau`` measured on the whole chain (the batches then depend on it)
-and no gaps between batches.
+Level rows: many independent tables from a correct sampler (or chains of a
+correct Markov chain), each compared with its exact means at ``alpha``; the
+rate must be at most ``alpha``. ``(rate - alpha)/sd`` is in binomial standard
+deviations at ``alpha``; ``runs`` counts the accepted runs (chains too short
+are refused and not counted). The exact means come from the exact routes:
+``mean_W`` (triangle), ``contact_gap_law(...).mean()`` (contact forces),
+``exact_mean_W(scene)`` (packing), the enumerated component (chicken wire).
+
+Routes: ``bounded`` is the default when bounds are given (betting,
+:mod:`forcenet.numeric.betting`); ``t`` is the route without bounds, which
+refuses fewer than ``T_MIN_ROWS`` independent rows; ``t, old`` is that route
+with the refusal switched off (the behaviour before it, issue 28).
+
+Power rows: a wrong sampler (a shift of +-0.05 on two grains of N = 6, the
+q-model) and the fraction of tables it fails.
 
 Usage::
 
-    python benchmarks/false_alarm_rates.py            # ~10 min on the 2-core machine
-    python benchmarks/false_alarm_rates.py --quick    # ~1 min, fewer runs
+    OMP_NUM_THREADS=1 python benchmarks/false_alarm_rates.py            # ~40 min on the 2-core machine
+    OMP_NUM_THREADS=1 python benchmarks/false_alarm_rates.py --quick    # ~5 min, 1/8 of the runs
 
 Prints a Markdown table (notes/testing_against_exact.md).
 """
@@ -21,94 +29,222 @@ from __future__ import annotations
 import argparse
 import math
 import time
-import warnings
+from fractions import Fraction
 
 import numpy as np
-from scipy.signal import lfilter
-from scipy.stats import t as t_dist
+from scipy.special import ndtr
+from scipy.stats import beta as beta_dist
 
+import forcenet.numeric.agreement as agreement
 from forcenet.exact import mean_W
-from forcenet.numeric.autocorr import AutocorrError, integrated_time
+from forcenet.numeric.autocorr import AutocorrError
 from forcenet.numeric.triangle.exact_sampler import ExactSampler
-from forcenet.numeric.triangle.metropolis import TriangleMetropolis
-from forcenet.testing import compare
+from forcenet.numeric.triangle.metropolis import TriangleMetropolis, q_model_samples
+from forcenet.testing import compare, exact_mean_W
 
 
-def ar1(rng, n, phi):
+def tables(draw, K, runs, chunk=200_000):
+    """``runs`` independent tables of ``K`` rows from ``draw(n)`` (n rows at a time)."""
+    per = max(1, chunk // K)
+    done = 0
+    while done < runs:
+        n = min(per, runs - done)
+        rows = draw(n * K)
+        for r in range(n):
+            yield rows[r * K:(r + 1) * K]
+        done += n
+
+
+def triangle(N, seed):
+    sampler = ExactSampler(N, seed=seed)
+    return lambda n: sampler.sample_W(n)
+
+
+def contact_forces(N, seed):
+    """(sqrt3/2) F5 and F6 of every grain of layers 1..N-1 (Eq. (3.8)): spacings of the partial sums."""
+    sampler = ExactSampler(N, seed=seed)
+
+    def draw(n):
+        W = sampler.sample_W(n)
+        S = np.concatenate([np.zeros((n, N, 1)), np.cumsum(W, axis=2)], axis=2)
+        cols = []
+        for i in range(1, N):
+            for j in range(1, i + 1):
+                cols.append(S[:, i, j] - S[:, i - 1, j - 1])  # F5 = S_{i+1,j} - S_{i,j-1}
+                cols.append(S[:, i - 1, j] - S[:, i, j])  # F6 = S_{i,j} - S_{i+1,j}
+        return np.stack(cols, axis=1)
+    return draw
+
+
+def contact_means(N):
+    """Exact means: a spacing of d uniforms of rank gap g has mean E[g] / (d + 1) (order statistics)."""
+    from forcenet.exact.triangle.gaps import contact_gap_law
+
+    d = N * (N - 1) // 2
+    return [contact_gap_law(N, (i, j), kind).mean() / (d + 1) for i in range(1, N) for j in range(1, i + 1)
+            for kind in ("F5", "F6")]
+
+
+def packing(scene, seed):
+    from forcenet.numeric.packing import uniform_networks
+
+    rng = np.random.default_rng(seed)
+    return lambda n: uniform_networks(scene, n, rng)[0]
+
+
+def packing_bounds(scene):
+    """Each W of row i lies in [0, the row's load F + P pv + i P mg] (repulsive forces, load conservation)."""
+    hi = [[float(scene.F + scene.P * scene.pv + (i + 1) * scene.P * scene.mg)] * scene.P for i in range(scene.N)]
+    return 0.0, hi
+
+
+def chicken_wire(seed):
+    """Independent uniform draws from the enumerated component of the 12 x 12 honeycomb of side 2 (1230 foams)."""
+    from forcenet.numeric.chicken_wire.monte_carlo import ChickenWire, component
+
+    obs = np.array([c.observables() for c in component(ChickenWire.honeycomb(12, 12, side=2))])
+    exact = [Fraction(int(v), len(obs)) for v in obs.sum(axis=0)]
+    rng = np.random.default_rng(seed)
+    return (lambda n: obs[rng.integers(len(obs), size=n)]), exact, (obs.min(axis=0), obs.max(axis=0))
+
+
+def skewed_chain(seed, n, phi=0.9, a=1.0, b=8.0):
+    """A bounded, skewed stationary chain: Beta(a, b) marginal through a Gaussian AR(1) (tau ~ 19 at phi 0.9)."""
+    from scipy.signal import lfilter
+
+    rng = np.random.default_rng(seed)
     e = rng.normal(size=n) * math.sqrt(1 - phi**2)
     e[0] /= math.sqrt(1 - phi**2)
-    return lfilter([1.0], [1.0, -phi], e)
+    return beta_dist.ppf(ndtr(lfilter([1.0], [1.0, -phi], e)), a, b)
 
 
-def rate(runs, make, exact, alpha, chain=False, **batching):
-    rejected = accepted = 0
-    for r in range(runs):
+def rate(samples, exact, alpha, **options):
+    """(DISAGREES verdicts, judged runs, runs refused: 'cannot judge' or a chain too short)."""
+    rejected = accepted = refused = 0
+    for x in samples:
         try:
-            rejected += not compare(make(r), exact, chain=chain, alpha=alpha, **batching).passed
-            accepted += 1
+            verdict = compare(x, exact, alpha=alpha, **options).verdict
         except AutocorrError:
-            pass
-    return rejected, accepted
+            verdict = "cannot judge"
+        refused += verdict == "cannot judge"
+        accepted += verdict != "cannot judge"
+        rejected += verdict == "DISAGREES"
+    return rejected, accepted, refused
 
 
-def naive_chain_rate(runs, phi, n, alpha):
-    """The rejected design: tau on the whole chain, 10 contiguous batches of n/10 >= 10 tau (refused otherwise)."""
-    rejected = accepted = 0
-    for r in range(runs):
-        x = ar1(np.random.default_rng(r), n, phi)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            tau = integrated_time(x, quiet=True)[0]
-        if n < 100 * tau:
-            continue
-        m = x.reshape(10, -1).mean(axis=1)
-        t = m.mean() / (m.std(ddof=1) / math.sqrt(10))
-        rejected += abs(t) > t_dist.ppf(1 - alpha / 2, 9)
-        accepted += 1
-    return rejected, accepted
+class Old:
+    """The t route as before issue 28: no smallest number of rows."""
+
+    def __enter__(self):
+        self.saved, agreement.T_MIN_ROWS = agreement.T_MIN_ROWS, 2
+
+    def __exit__(self, *exc):
+        agreement.T_MIN_ROWS = self.saved
+
+
+def shifted(draw, N, grains, shift=0.05):
+    """A wrong sampler: +shift on the first grain, -shift on the second (clipped to [0, 1])."""
+    def wrong(n):
+        W = draw(n).copy()
+        (i, j), (k, m) = grains
+        W[:, i - 1, j - 1] = np.clip(W[:, i - 1, j - 1] + shift, 0, 1)
+        W[:, k - 1, m - 1] = np.clip(W[:, k - 1, m - 1] - shift, 0, 1)
+        return W
+    return wrong
 
 
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--only", choices=["level", "t", "power", "chains"], help="one part of the table")
     args = parser.parse_args()
-    k = 5 if args.quick else 1
-    rows = []
+    k = 8 if args.quick else 1
+    print("| case | route | K | alpha | judged (cannot judge) | false alarms | rate / alpha | (rate - alpha)/sd | s |\n"
+          "| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
 
-    def row(name, alpha, result, seconds):
-        rejected, accepted = result
+    def row(case, route, K, alpha, result, t0):
+        rejected, accepted, refused = result
         r = rejected / max(accepted, 1)
         sd = math.sqrt(alpha * (1 - alpha) / max(accepted, 1))
-        rows.append(f"| {name} | {alpha:g} | {accepted} | {r:.4f} | {(r - alpha) / sd:+.1f} | {seconds:.0f} |")
-        print(rows[-1], flush=True)
+        print(f"| {case} | {route} | {K} | {alpha:g} | {accepted} ({refused}) | {rejected} | {r / alpha:.2f} | "
+              f"{(r - alpha) / sd:+.1f} | {time.time() - t0:.0f} |", flush=True)
 
-    cases = [
-        ("one normal value, K = 30", 0.05, 20000 // k, lambda s: np.random.default_rng(s).normal(size=30), 0.0, False),
-        ("20 independent normal values, K = 300", 0.05, 10000 // k,
-         lambda s: np.random.default_rng(s).normal(size=(300, 20)), np.zeros(20), False),
-        ("20 normal values, correlation 0.9, K = 300", 0.05, 10000 // k,
-         lambda s: (lambda g: math.sqrt(0.1) * g.normal(size=(300, 20)) + math.sqrt(0.9) * g.normal(size=(300, 1)))(
-             np.random.default_rng(s)), np.zeros(20), False),
-        ("30 independent normal values, K = 400", 1e-3, 20000 // k,
-         lambda s: np.random.default_rng(s).normal(size=(400, 30)), np.zeros(30), False),
-        ("exact sampler N = 6 (20 values), K = 1000", 0.01, 5000 // k,
-         lambda s: ExactSampler(6, seed=s).sample_W(1000), mean_W(6), False),
-        ("AR(1) tau = 19, 210 tau (just above refusal)", 0.05, 6000 // k,
-         lambda s: ar1(np.random.default_rng(s), 3990, 0.9), 0.0, True),
-        ("AR(1) tau = 19, 1000 tau", 0.01, 6000 // k, lambda s: ar1(np.random.default_rng(s), 19000, 0.9), 0.0, True),
-        ("Metropolis N = 4 (9 values), 2500 sweeps", 0.05, 300 // k,
-         lambda s: TriangleMetropolis(4, seed=s).run(sweeps=2500), mean_W(4), True),
-    ]
-    print("| sampler | alpha | runs | rate | (rate - alpha)/sd | s |\n| --- | --- | --- | --- | --- | --- |")
-    for name, alpha, runs, make, exact, chain in cases:
+    def power(case, route, K, result, t0):
+        rejected, accepted, refused = result
+        print(f"| {case} | {route} | {K} | 0.001 | {accepted} ({refused}) | caught {rejected} | | | "
+              f"{time.time() - t0:.0f} |", flush=True)
+
+    if args.only in (None, "level"):
+        level = []
+        for N, Ks in ((4, (20, 100)), (6, (10, 20, 100, 200)), (10, (20, 200))):
+            level += [(f"triangle W, N = {N}", triangle(N, 100 + N), mean_W(N), {"bounds": (0, 1)}, K) for K in Ks]
+        level += [("contact forces F5, F6, N = 6", contact_forces(6, 7), contact_means(6), {"bounds": (0, 1)}, K)
+                  for K in (20, 100)]
+        from forcenet.numeric.packing import Scene
+
+        scene = Scene(N=3, P=4, F=10, j0=2, mg=1)
+        level += [("packing N = 3, P = 4, F = 10, mg = 1", packing(scene, 8), exact_mean_W(scene),
+                   {"bounds": packing_bounds(scene)}, K) for K in (20, 100)]
+        draw, exact, bounds = chicken_wire(9)
+        level += [("chicken wire, 12 x 12 component", draw, exact, {"bounds": bounds}, K) for K in (20, 100)]
+        for case, draw, exact, options, K in level:
+            for alpha, runs in ((1e-3, 16000), (0.01, 4000)):
+                t0 = time.time()
+                runs = runs if K > 10 else 1000  # below the bounded test's smallest K: every table is refused
+                row(case, "bounded", K, alpha, rate(tables(draw, K, runs // k), exact, alpha, **options), t0)
+    if args.only in (None, "t"):
+        for N, K, runs in ((6, 1000, 4000), (10, 1000, 2000)):
+            for alpha in (1e-3, 0.01):
+                t0 = time.time()
+                row(f"triangle W, N = {N}", "t", K, alpha, rate(tables(triangle(N, 300 + N), K, runs // k), mean_W(N),
+                                                                 alpha), t0)
+        with Old():
+            for N, K in ((6, 20), (6, 100), (10, 200)):
+                for alpha in (1e-3, 0.01):
+                    t0 = time.time()
+                    row(f"triangle W, N = {N}", "t, old", K, alpha,
+                        rate(tables(triangle(N, 500 + N), K, 4000 // k), mean_W(N), alpha), t0)
+    if args.only in (None, "chains"):
+        exact = beta_dist.mean(1.0, 8.0)
+        for n_over_tau in (210, 1000):
+            for alpha, runs in ((1e-3, 8000), (0.01, 4000)):
+                t0 = time.time()
+                chains = (skewed_chain(s, 19 * n_over_tau) for s in range(runs // k))
+                row(f"Beta(1, 8) chain, tau = 19, {n_over_tau} tau", "t, batch means", "10-50", alpha,
+                    rate(chains, exact, alpha, chain=True, bounds=(0, 1)), t0)
+        for alpha, runs in ((0.05, 400), (0.01, 1600)):
+            t0 = time.time()
+            chains = (TriangleMetropolis(4, seed=s).run(sweeps=2500) for s in range(runs // k))
+            row("Metropolis N = 4 (9 values), 2500 sweeps", "t, batch means", "10-50", alpha,
+                rate(chains, mean_W(4), alpha, chain=True, bounds=(0, 1)), t0)
+    if args.only in (None, "power"):
+        N = 6
+        for grains in (((5, 2), (5, 3)), ((4, 1), (4, 2))):
+            for K in (100, 200, 400):
+                wrong = shifted(triangle(N, 700 + K), N, grains)
+                case = f"shift +-0.05 on {grains[0]}, {grains[1]}, N = 6"
+                t0 = time.time()
+                power(case, "bounded", K, rate(tables(wrong, K, 500 // k), mean_W(N), 1e-3, bounds=(0, 1)), t0)
+                with Old():
+                    t0 = time.time()
+                    power(case, "t, old", K, rate(tables(wrong, K, 500 // k), mean_W(N), 1e-3), t0)
+        rng = np.random.default_rng(11)
+        for K in (20, 50, 100):
+            t0 = time.time()
+            power("q-model, N = 6", "bounded", K, rate(tables(lambda n: q_model_samples(N, n, rng), K, 500 // k),
+                                                          mean_W(N), 1e-3, bounds=(0, 1)), t0)
+            with Old():
+                t0 = time.time()
+                power("q-model, N = 6", "t, old", K, rate(tables(lambda n: q_model_samples(N, n, rng), K, 500 // k),
+                                                           mean_W(N), 1e-3), t0)
         t0 = time.time()
-        row(name, alpha, rate(runs, make, exact, alpha, chain), time.time() - t0)
-    t0 = time.time()
-    row("no gaps (gap_factor=0): AR(1) tau = 19, 300 tau", 0.05,
-        rate(6000 // k, lambda s: ar1(np.random.default_rng(s), 5700, 0.9), 0.0, 0.05, True, gap_factor=0), time.time() - t0)
-    t0 = time.time()
-    row("naive: AR(1) tau = 19, 100 tau, tau on the whole chain, no gaps", 0.05,
-        naive_chain_rate(6000 // k, 0.9, 1900, 0.05), time.time() - t0)
+
+        def biased(s):
+            chain = TriangleMetropolis(4, seed=s).run(sweeps=3000, burn_in=100)
+            chain[:, 3, 0] += 0.02  # W_41 + 0.02: about 5 standard errors
+            return chain
+        power("Metropolis N = 4, W_41 + 0.02", "t, batch means", "10-50",
+              rate((biased(s) for s in range(200 // k)), mean_W(4), 1e-3, chain=True), t0)
 
 
 if __name__ == "__main__":

@@ -20,9 +20,11 @@ True
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-__all__ = ["AutocorrError", "autocorr_function", "integrated_time", "mean_and_stderr"]
+__all__ = ["AutocorrError", "autocorr_function", "batch_means", "integrated_time", "mean_and_stderr"]
 
 
 class AutocorrError(Exception):
@@ -108,3 +110,75 @@ def mean_and_stderr(samples: np.ndarray, c: float = 5.0, tol: float = 50.0):
     var = flat.var(axis=0, ddof=1)
     stderr = np.sqrt(var * tau / flat.shape[0])
     return flat.mean(axis=0).reshape(shape), stderr.reshape(shape), tau.reshape(shape)
+
+
+def batch_means(chain, batch_factor: float = 10.0, gap_factor: float = 2.0, pilot: float = 0.25,
+                max_batches: int = 50, min_batches: int = 10, c: float = 5.0, tol: float = 50.0):
+    """Spaced batch means of a chain ``(n, G)`` (steps along axis 0), batch length from a pilot's ``tau``.
+
+    The first ``pilot`` fraction of the chain measures the integrated times
+    (:func:`integrated_time`: it must be longer than ``tol * tau``) and
+    decides the batch length ``b >= batch_factor * tau`` and the gap
+    ``gap_factor * tau`` left between batches; the rest is cut into
+    ``B = min(max_batches, ...)`` batches. Measuring ``tau`` on other steps
+    than the batches keeps the decision to refuse a chain (and the batch
+    length) independent of the batch means: a chain accepted because its
+    ``tau`` looked small would otherwise tend to have too small a spread of
+    batch means (both measure the same slow fluctuations) and fail too often.
+    The gaps make neighbouring batch means nearly independent.
+
+    Returns
+    -------
+    means : array (B, G)
+    tau : array (G,)
+        Integrated time of each column on the pilot (1 for columns that never vary).
+    layout : dict
+        ``pilot`` (steps), ``length`` (steps per batch), ``gap`` (steps between batches).
+
+    Raises
+    ------
+    AutocorrError
+        If the pilot is shorter than ``tol * tau`` or the rest holds fewer
+        than ``min_batches`` batches (in short: chains shorter than about
+        ``200 tau`` are refused).
+
+    Examples
+    --------
+    >>> x = np.random.default_rng(0).normal(size=(2000, 2))
+    >>> means, tau, layout = batch_means(x)
+    >>> means.shape, layout
+    ((50, 2), {'pilot': 500, 'length': 27, 'gap': 3})
+    """
+    from forcenet.exact.validation import check_int, check_real
+
+    batch_factor = check_real(batch_factor, "batch_factor", 0, low_open=True)
+    gap_factor = check_real(gap_factor, "gap_factor", 0)
+    pilot = check_real(pilot, "pilot", 0, 1, low_open=True, high_open=True)
+    max_batches = check_int(max_batches, "max_batches", 2)
+    min_batches = check_int(min_batches, "min_batches", 2, max_batches)
+    x = np.asarray(chain, dtype=float)
+    if x.ndim == 1:
+        x = x[:, None]
+    n = x.shape[0]
+    p = max(1, int(n * pilot))
+    try:
+        tau = integrated_time(x[:p], c=c, tol=tol)
+    except AutocorrError as exc:
+        need = math.ceil(tol * float(exc.tau.max()) / pilot)
+        raise AutocorrError(
+            f"the chain is too short to trust its autocorrelation time: {n} steps, tau = {exc.tau.max():.3g} "
+            f"measured on the first {p}; that part must exceed {tol:.0f} tau, run at least {need} steps", exc.tau
+        ) from None
+    t = float(tau.max())
+    length, gap = max(1, math.ceil(batch_factor * t)), math.ceil(gap_factor * t)
+    rest = n - p
+    B = min(max_batches, (rest + gap) // (length + gap))
+    if B < min_batches:
+        need = p + min_batches * (length + gap) - gap
+        raise AutocorrError(
+            f"the chain is too short for {min_batches} batch means of {batch_factor:g} tau: {n} steps, "
+            f"tau = {t:.3g}; run at least {max(need, math.ceil(need / (1 - pilot)))} steps", tau)
+    length = (rest + gap) // B - gap
+    starts = n - (B * (length + gap) - gap) + np.arange(B) * (length + gap)
+    means = np.stack([x[s:s + length].mean(axis=0) for s in starts])
+    return means, tau, {"pilot": p, "length": length, "gap": gap}

@@ -2,11 +2,15 @@
 
 The false-alarm rate is tested as promised in forcenet.numeric.agreement: over
 many seeds of a correct sampler the rejection rate is at most alpha (exactly
-alpha for a single value) within its binomial error (4 standard deviations,
-fixed seeds). Cheap versions run by default, the long ones with -m slow.
+alpha for a single normal value on the t route) within its binomial error (4
+standard deviations, fixed seeds), with enough tables that a rate of 2 alpha
+would fail. Cheap versions run by default, the long ones with -m slow. Every
+route is also tested for power against a wrong sampler, and every path where
+the statistics cannot judge says so.
 """
 
 import math
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -17,7 +21,10 @@ from forcenet.exact import mean_W, moment_table
 from forcenet.numeric.autocorr import AutocorrError
 from forcenet.numeric.triangle.exact_sampler import ExactSampler
 from forcenet.numeric.triangle.metropolis import TriangleMetropolis, q_model_samples
-from forcenet.testing import DisagreementError, assert_agrees, assert_means_agree, compare, exact_array, exact_mean_W
+from forcenet.numeric.agreement import T_MIN_ROWS
+from forcenet.numeric.betting import rows_needed
+from forcenet.testing import (CannotJudgeError, DisagreementError, assert_agrees, assert_means_agree, compare,
+                              exact_array, exact_mean_W)
 from forcenet.testing import strategies as fst
 
 
@@ -37,13 +44,13 @@ def binomial_sd(p, runs):
     return math.sqrt(p * (1 - p) / runs)
 
 
-def chain_rejection_rate(runs, chain, exact, alpha):
+def chain_rejection_rate(runs, chain, exact, alpha, **options):
     """Rejection rate over the chains that are long enough (a refusal does not bias the others: tau is
     measured on the first quarter, the test uses the rest); returns (rate, accepted)."""
     outcomes = []
     for r in range(runs):
         try:
-            outcomes.append(not compare(chain(r), exact, chain=True, alpha=alpha).passed)
+            outcomes.append(not compare(chain(r), exact, chain=True, alpha=alpha, **options).passed)
         except AutocorrError:
             pass
     return sum(outcomes) / max(1, len(outcomes)), len(outcomes)
@@ -119,13 +126,36 @@ def test_rounding_noise_is_a_fixed_value():
     assert report.passed and [key for key, _, _ in report.fixed] == [(1, 1), (1, 2), (1, 3)]
 
 
-def test_a_fixed_value_that_differs_fails():
-    W = ExactSampler(3, seed=1).sample_W(500)
-    table = [[2], *mean_W(3)[1:]]  # W_11 is always 1
-    report = compare(W, table)
-    assert not report.passed and report.fixed_failures == (((1, 1), 1.0, 2.0),)
-    with pytest.raises(DisagreementError, match=r"fixed value \(1, 1\): sampled 1.0 \(never varies\), exact 2.0"):
+def test_a_fixed_value_that_differs_cannot_be_judged_without_bounds_and_fails_with_them():
+    W = ExactSampler(3, seed=1).sample_W(T_MIN_ROWS)
+    table = [[Fraction(1, 2)], *mean_W(3)[1:]]  # W_11 is always 1
+    report = compare(W, table)  # t route: a constant value off its mean has no t statistic
+    assert report.verdict == "cannot judge" and "(1, 1) never varies" in report.reason
+    with pytest.raises(CannotJudgeError, match="pass bounds"):
         assert_agrees(W, table)
+    assert compare(W[:300], table, bounds=(0, 1)).verdict == "DISAGREES"  # the bounded test decides it
+    with pytest.raises(ValueError, match=r"exact value of \(1, 1\) = 2 lies outside its bounds \[0, 1\]"):
+        compare(W, [[2], *mean_W(3)[1:]], bounds=(0, 1))
+
+
+def test_a_mean_at_the_end_of_its_range_is_compared_exactly():
+    W = ExactSampler(3, seed=1).sample_W(200)
+    assert compare(W, mean_W(3), bounds=(0, 1)).fixed == (((1, 1), 1.0, 1.0),)
+    W[7, 0, 0] = 0.999  # W_11 has mean 1 in [0, 1]: any other value is a certain disagreement
+    with pytest.raises(DisagreementError, match=r"fixed value \(1, 1\): sampled 0.999 \(its exact mean is an end"):
+        assert_agrees(W, mean_W(3), bounds=(0, 1))
+
+
+def test_bounds_are_checked():
+    W = ExactSampler(3, seed=1).sample_W(100)
+    with pytest.raises(ValueError, match=r"samples of \(3, 2\): row .* lies outside the bounds \[0, 0.5\]"):
+        compare(W, mean_W(3), bounds=(0, [[1], [1, 1], [1, 0.5, 1]]))
+    with pytest.raises(ValueError, match="must be finite with lo < hi"):
+        compare(W, mean_W(3), bounds=(1, 0))
+    with pytest.raises(ValueError, match=r"give \(lo, hi\)"):
+        compare(W, mean_W(3), bounds=1)
+    with pytest.raises(ValueError, match="Hotelling's test belongs to the t route"):
+        compare(W, mean_W(3), bounds=(0, 1), hotelling=True)
 
 
 def test_means_with_trusted_errors():
@@ -174,12 +204,86 @@ def test_second_moments_of_the_metropolis_chain():
     assert_agrees(chain**2, moment_table(N, 2), chain=True)
 
 
+def test_power_of_the_bounded_test_on_independent_rows():
+    """+-0.05 on two grains of N = 6 (0.38-0.45 sd) at K = 400, and the q-model at K = 100: caught."""
+    N = 6
+    W = ExactSampler(N, seed=21).sample_W(400)
+    assert compare(W, mean_W(N), bounds=(0, 1)).passed
+    W[:, 4, 1] = np.clip(W[:, 4, 1] + 0.05, 0, 1)
+    W[:, 4, 2] = np.clip(W[:, 4, 2] - 0.05, 0, 1)
+    with pytest.raises(DisagreementError, match="DISAGREES at level 0.001"):
+        assert_agrees(W, mean_W(N), bounds=(0, 1))
+    q = q_model_samples(N, 100, np.random.default_rng(3))
+    assert compare(q, mean_W(N), bounds=(0, 1)).verdict == "DISAGREES"
+
+
+def test_a_chain_with_bounds_keeps_the_t_route_on_its_batch_means():
+    N = 4
+    chain = TriangleMetropolis(N, seed=7).run(sweeps=3000, burn_in=100)
+    assert_agrees(chain, mean_W(N), chain=True, bounds=(0, 1))
+    biased = chain.copy()
+    biased[:, 3, 0] += 0.04  # W_41 + 0.04, about 10 standard errors
+    report = compare(biased, mean_W(N), chain=True, bounds=(0, 1))
+    assert report.verdict == "DISAGREES" and report.method == "t" and report.fixed == (((1, 1), 1.0, 1.0),)
+    biased[5, 0, 0] = 0.99  # W_11: mean 1 at the end of [0, 1], any other value is certain
+    assert compare(biased, mean_W(N), chain=True, bounds=(0, 1)).fixed_failures == (((1, 1), 0.99, 1.0),)
+    with pytest.raises(ValueError, match="outside the bounds"):
+        compare(biased + 0.5, mean_W(N), chain=True, bounds=(0, 1))
+
+
+# ---------------------------------------------------------------- cannot judge: every path says so
+
+
+def test_too_few_rows_for_the_bounded_test():
+    """Below the fewest rows that could ever fail a value the verdict is 'cannot judge'; from there on it judges."""
+    N = 6
+    exact = [float(v) for row in mean_W(N)[1:] for v in row]
+    need = rows_needed(np.array(exact), 0, 1, 1e-3 / len(exact))
+    W = ExactSampler(N, seed=4).sample_W(need)
+    short = compare(W[:need - 1], mean_W(N), bounds=(0, 1))
+    assert short.verdict == "cannot judge" and not short.passed
+    assert f"the bounded test needs at least {need} rows" in short.reason
+    with pytest.raises(CannotJudgeError, match=f"cannot judge: {need - 1} rows are too few"):
+        assert_agrees(W[:need - 1], mean_W(N), bounds=(0, 1))
+    assert compare(W, mean_W(N), bounds=(0, 1)).verdict == "agrees"
+    W[:, 5, 0] = 1.0  # a wrong sampler so extreme that the fewest rows show it
+    W[:, 5, 1:] = 0.0
+    assert compare(W, mean_W(N), bounds=(0, 1)).verdict == "DISAGREES"
+
+
+def test_too_few_rows_for_the_t_route():
+    W = ExactSampler(5, seed=1).sample_W(T_MIN_ROWS - 1)
+    report = compare(W, mean_W(5))
+    assert report.verdict == "cannot judge" and "pass bounds=(lo, hi)" in report.reason
+    assert "cannot judge" in report.summary().splitlines()[-1] and "agrees" not in report.summary()
+    assert compare(W, mean_W(5), bounds=(0, 1)).passed
+
+
+def test_two_samples_of_a_far_off_sampler_are_not_called_agreement():
+    """Issue 24 item 4: two samples, max |z| in the hundreds: never 'agrees'."""
+    W = ExactSampler(12, seed=2006).sample_W(2)
+    for options in ({}, {"bounds": (0, 1)}):
+        report = compare(W, mean_W(12), **options)
+        assert report.verdict == "cannot judge" and report.max_z > 20, options
+
+
+def test_the_main_job_says_cannot_judge(tmp_path, capsys):
+    from forcenet.cli import main
+
+    code = main(["table", "--N", "12", "--samples", "2", "--out-dir", str(tmp_path), "--quiet"])
+    out = capsys.readouterr().out
+    assert code == 1 and "cannot judge: 2 rows are too few" in out and "agrees" not in out
+    code = main(["table", "--N", "6", "--samples", "400", "--out-dir", str(tmp_path), "--quiet"])
+    assert code == 0 and "agrees at level 0.001" in capsys.readouterr().out
+
+
 # ---------------------------------------------------------------- the false-alarm rate (cheap versions)
 
 
 def test_false_alarm_rate_of_one_value_is_alpha():
     alpha, runs = 0.1, 2000
-    rate = rejection_rate(runs, lambda s: not compare(np.random.default_rng(s).normal(size=30), 0.0, alpha=alpha).passed)
+    rate = rejection_rate(runs, lambda s: not compare(np.random.default_rng(s).normal(size=T_MIN_ROWS), 0.0,
+                                                      alpha=alpha).passed)
     assert abs(rate - alpha) < 4 * binomial_sd(alpha, runs), rate
 
 
@@ -190,7 +294,8 @@ def test_false_alarm_rate_of_a_table_is_at_most_alpha(rho):
 
     def fails(seed):
         rng = np.random.default_rng(seed)
-        x = math.sqrt(1 - rho) * rng.normal(size=(300, G)) + math.sqrt(rho) * rng.normal(size=(300, 1))
+        K = T_MIN_ROWS
+        x = math.sqrt(1 - rho) * rng.normal(size=(K, G)) + math.sqrt(rho) * rng.normal(size=(K, 1))
         return not compare(x, np.zeros(G), alpha=alpha).passed
 
     rate = rejection_rate(runs, fails)
@@ -208,28 +313,85 @@ def test_false_alarm_rate_of_one_chain_value_is_alpha():
     assert abs(rate - alpha) < 4 * binomial_sd(alpha, accepted), rate
 
 
-def test_false_alarm_rate_of_the_exact_sampler_table():
-    alpha, runs, N = 0.1, 300, 4
-    table = mean_W(N)
-    rate = rejection_rate(runs, lambda s: not compare(ExactSampler(N, seed=s).sample_W(500), table, alpha=alpha).passed)
+def bounded_rate(draw, K, runs, exact, alpha, **options):
+    """Rate of DISAGREES over ``runs`` independent tables of ``K`` rows cut from ``draw(K * runs)``."""
+    rows = draw(K * runs)
+    verdicts = [compare(rows[r * K:(r + 1) * K], exact, alpha=alpha, bounds=(0, 1), **options).verdict
+                for r in range(runs)]
+    assert "cannot judge" not in verdicts
+    return verdicts.count("DISAGREES") / runs
+
+
+def test_false_alarm_rate_of_the_bounded_test_at_small_K():
+    """The exact sampler, N = 6, K = 20, alpha = 0.01: 2400 tables, enough to fail at 2 alpha."""
+    alpha, runs = 0.01, 2400
+    assert alpha + 4 * binomial_sd(alpha, runs) < 2 * alpha
+    rate = bounded_rate(ExactSampler(6, seed=28).sample_W, 20, runs, mean_W(6), alpha)
     assert rate < alpha + 4 * binomial_sd(alpha, runs), rate
 
 
 def test_false_alarm_rate_of_the_metropolis_table():
     alpha, runs, N = 0.2, 50, 3
-    rate, accepted = chain_rejection_rate(runs, lambda s: TriangleMetropolis(N, seed=s).run(sweeps=1500), mean_W(N), alpha)
-    assert accepted > 0.8 * runs
-    assert rate < alpha + 4 * binomial_sd(alpha, accepted), rate
+    for options in ({}, {"bounds": (0, 1)}):
+        rate, accepted = chain_rejection_rate(runs, lambda s: TriangleMetropolis(N, seed=s).run(sweeps=1500), mean_W(N),
+                                              alpha, **options)
+        assert accepted > 0.8 * runs
+        assert rate < alpha + 4 * binomial_sd(alpha, accepted), options
 
 
 # ---------------------------------------------------------------- the false-alarm rate (long versions)
 
 
 @pytest.mark.slow
-def test_false_alarm_rate_at_the_default_level():
-    """alpha = 1e-3 on 30 independent normal values, 20000 runs: at most ~20 false alarms."""
-    alpha, runs = 1e-3, 20000
-    rate = rejection_rate(runs, lambda s: not compare(np.random.default_rng(s).normal(size=(400, 30)), np.zeros(30)).passed)
+@pytest.mark.parametrize("N, K", [(4, 20), (6, 20), (10, 20), (6, 100)])
+def test_false_alarm_rate_of_the_bounded_test_at_the_default_level(N, K):
+    """alpha = 1e-3, 16000 tables of the exact sampler: a rate of 2 alpha would fail (a user's hypothesis test of
+    100 examples then fails spuriously at most 1 - (1 - 1e-3)^100 = 9.5% of the time)."""
+    alpha, runs = 1e-3, 16000
+    assert alpha + 4 * binomial_sd(alpha, runs) < 2 * alpha
+    rate = bounded_rate(ExactSampler(N, seed=1000 + N + K).sample_W, K, runs, mean_W(N), alpha)
+    assert rate < alpha + 4 * binomial_sd(alpha, runs), rate
+
+
+@pytest.mark.slow
+def test_false_alarm_rate_of_the_bounded_test_on_contact_forces_and_second_moments():
+    """(sqrt3/2) F5 = S_{i+1,j} - S_{i,j-1} of N = 5 (Eq. (3.8)) and W^2, K = 20, alpha = 0.01: 2400 tables each."""
+    from forcenet.exact.triangle.gaps import contact_gap_law
+
+    N, K, alpha, runs = 5, 20, 0.01, 2400
+    d = N * (N - 1) // 2
+    grains = [(i, j) for i in range(1, N) for j in range(1, i + 1)]
+    exact = [contact_gap_law(N, g, "F5").mean() / (d + 1) for g in grains]  # a spacing's mean: E[rank gap] / (d + 1)
+    sampler = ExactSampler(N, seed=5)
+
+    def F5(n):
+        S = np.concatenate([np.zeros((n, N, 1)), np.cumsum(sampler.sample_W(n), axis=2)], axis=2)
+        return np.stack([S[:, i, j] - S[:, i - 1, j - 1] for i, j in grains], axis=1)
+
+    assert bounded_rate(F5, K, runs, exact, alpha) < alpha + 4 * binomial_sd(alpha, runs)
+    square = ExactSampler(N, seed=6)
+    assert bounded_rate(lambda n: square.sample_W(n) ** 2, K, runs, moment_table(N, 2), alpha) < \
+        alpha + 4 * binomial_sd(alpha, runs)
+
+
+@pytest.mark.slow
+def test_false_alarm_rate_of_the_bounded_test_on_the_packing():
+    from forcenet.numeric.packing import Scene, uniform_networks
+
+    scene, K, alpha, runs = Scene(N=3, P=4, F=10, j0=2, mg=1), 20, 0.01, 2400
+    load = [[scene.F + (i + 1) * scene.P * scene.mg] * scene.P for i in range(scene.N)]  # 0 <= W <= the row's load
+    rows = uniform_networks(scene, K * runs, np.random.default_rng(2))[0]
+    verdicts = [compare(rows[r * K:(r + 1) * K], exact_mean_W(scene), alpha=alpha, bounds=(0, load)).verdict
+                for r in range(runs)]
+    assert verdicts.count("DISAGREES") / runs < alpha + 4 * binomial_sd(alpha, runs)
+
+
+@pytest.mark.slow
+def test_false_alarm_rate_of_the_t_route_at_its_smallest_K():
+    alpha, runs, N = 0.01, 2400, 6
+    rows = ExactSampler(N, seed=61).sample_W(T_MIN_ROWS * runs)
+    rate = np.mean([not compare(rows[r * T_MIN_ROWS:(r + 1) * T_MIN_ROWS], mean_W(N), alpha=alpha).passed
+                    for r in range(runs)])
     assert rate < alpha + 4 * binomial_sd(alpha, runs), rate
 
 
@@ -246,19 +408,30 @@ def test_false_alarm_rate_of_chains_long(phi, n_over_tau):
 
 
 @pytest.mark.slow
-def test_false_alarm_rate_of_the_exact_sampler_long():
-    alpha, runs, N = 0.01, 5000, 6
-    table = mean_W(N)
-    rate = rejection_rate(runs, lambda s: not compare(ExactSampler(N, seed=s).sample_W(1000), table, alpha=alpha).passed)
-    assert rate < alpha + 4 * binomial_sd(alpha, runs), rate
+def test_false_alarm_rate_of_a_skewed_bounded_chain():
+    """Beta(1, 8) marginal (skewness 1.7) through a Gaussian AR(1), tau ~ 19, 210 tau: batch means, bounded test."""
+    from scipy.special import ndtr
+    from scipy.stats import beta
+
+    alpha, runs = 0.01, 2400
+    chains = beta.ppf(ndtr(ar1(np.random.default_rng(8), 19 * 210, 0.9, columns=runs)), 1, 8)
+    outcomes = []
+    for r in range(runs):
+        try:
+            outcomes.append(compare(chains[:, r], 1 / 9, chain=True, alpha=alpha, bounds=(0, 1)).verdict == "DISAGREES")
+        except AutocorrError:
+            pass
+    assert len(outcomes) > runs / 2 and np.mean(outcomes) < alpha + 4 * binomial_sd(alpha, len(outcomes))
 
 
 @pytest.mark.slow
 def test_false_alarm_rate_of_the_metropolis_long():
     alpha, runs, N = 0.05, 300, 4
-    rate, accepted = chain_rejection_rate(runs, lambda s: TriangleMetropolis(N, seed=s).run(sweeps=2500), mean_W(N), alpha)
-    assert accepted > 0.9 * runs
-    assert rate < alpha + 4 * binomial_sd(alpha, accepted), rate
+    for options in ({}, {"bounds": (0, 1)}):
+        rate, accepted = chain_rejection_rate(runs, lambda s: TriangleMetropolis(N, seed=s).run(sweeps=2500), mean_W(N),
+                                              alpha, **options)
+        assert accepted > 0.9 * runs
+        assert rate < alpha + 4 * binomial_sd(alpha, accepted), options
 
 
 # ---------------------------------------------------------------- strategies

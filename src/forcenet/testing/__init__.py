@@ -5,8 +5,10 @@ Assertions (numpy and scipy only, :mod:`.assertions`):
 * :func:`assert_agrees` / :func:`compare` — samples (independent, or a
   Markov chain with ``chain=True``) of one value or a whole table against
   the exact values, at a level ``alpha`` that bounds the false-alarm rate
-  of a correct sampler for the whole table; the failure message names the
-  worst values, their z-scores and the chain's integrated time;
+  of a correct sampler for the whole table (at every number of samples
+  with ``bounds=(lo, hi)``); the failure message names the worst values,
+  their z-scores and the chain's integrated time; samples that cannot
+  support a verdict raise :class:`CannotJudgeError` with the reason;
 * :func:`assert_means_agree` — means with trusted standard errors;
 * :func:`exact_mean_W` — exact tables of the triangle and of fully mobilized
   packings, shaped as the samplers' output.
@@ -22,14 +24,15 @@ Examples
 --------
 >>> from forcenet.testing import assert_agrees, exact_mean_W
 >>> from forcenet.numeric.triangle.exact_sampler import ExactSampler
->>> assert_agrees(ExactSampler(4, seed=0).sample_W(2000), exact_mean_W(4)).passed
+>>> assert_agrees(ExactSampler(4, seed=0).sample_W(200), exact_mean_W(4), bounds=(0, 1)).passed
 True
 """
 
-from .assertions import DisagreementError, TableAgreement, assert_agrees, assert_means_agree, compare, exact_array
+from .assertions import CannotJudgeError, DisagreementError, TableAgreement, assert_agrees, assert_means_agree, compare, exact_array
 from .counterparts import exact_mean_W
 
 __all__ = [
+    "CannotJudgeError",
     "DisagreementError",
     "TableAgreement",
     "assert_agrees",

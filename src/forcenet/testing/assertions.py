@@ -5,29 +5,40 @@ Markov chain, ``chain=True``) and the shape of the table after it:
 ``(K,)`` for one value, ``(K, N, N)`` for the triangle's ``W``, ``(K, N, P)``
 for a packing. ``exact`` has the table's shape; it may be ragged (the rows
 of ``forcenet.exact.mean_W(N)``) and hold ``Fraction``, sympy numbers or
-``None``: missing entries and ``None`` are not tested. Every value that
-varies is tested (Student t per value, the Bonferroni maximum over the
-table and Hotelling's chi-square; batch means for a chain), values that
-never vary (``W_11 = 1``) are compared exactly.
+``None``: missing entries and ``None`` are not tested.
+
+``bounds=(lo, hi)`` (numbers, or tables shaped like ``exact``) says where
+every sample lies: every ``W`` of the triangle in ``[0, 1]``, a packing's
+``W`` in ``[0, the row's load]``, an observable in ``[min, max]`` over the
+configurations a chain can visit. With bounds, independent samples get the
+bounded test (betting, :mod:`forcenet.numeric.betting`) whose level holds at
+every number of samples; without, the t route (Student t per value, the
+Bonferroni maximum, Hotelling's chi-square) judges from
+``T_MIN_ROWS = 1000`` rows on. A chain (``chain=True``) is cut into spaced
+batch means tested by the t route (bounds, when given, are checked and a
+mean at an end of its range is compared exactly).
 
 **Guarantee.** A correct sampler fails with probability at most ``alpha``,
-whatever the correlations between the values: exact for normal rows,
-asymptotic in the number of samples (independent draws) or in the batch
-length over the integrated time ``tau`` (a chain: ``tau`` measured on its
-first quarter, which must exceed ``50 tau`` as
-:func:`forcenet.numeric.autocorr.integrated_time` demands, then 10 to 50
+whatever the correlations between the values: at every ``K`` with bounds;
+exact for normal rows and asymptotic otherwise on the t route; for a chain
+asymptotic in the batch length over the integrated time ``tau`` (``tau``
+measured on its first quarter, which must exceed ``50 tau``, then 10 to 50
 batches of at least ``10 tau`` steps, ``2 tau`` apart: chains shorter than
-about ``200 tau`` are refused). Details and measured
-rates: :mod:`forcenet.numeric.agreement`, ``notes/testing_against_exact.md``.
+about ``200 tau`` are refused). When the rows cannot support a verdict the
+report says ``cannot judge`` with its reason and :func:`assert_agrees` raises
+:class:`CannotJudgeError`. Details and measured rates:
+:mod:`forcenet.numeric.agreement`, ``notes/testing_against_exact.md``.
 
 Examples
 --------
 >>> from forcenet.exact import mean_W
 >>> from forcenet.numeric.triangle.exact_sampler import ExactSampler
 >>> W = ExactSampler(5, seed=1).sample_W(4000)
->>> report = assert_agrees(W, mean_W(5))        # 14 varying grains; W_11 = 1 compared exactly
+>>> report = assert_agrees(W, mean_W(5), bounds=(0, 1))   # 14 varying grains; W_11 = 1 compared exactly
 >>> report.values, report.passed
 (14, True)
+>>> compare(W[:12], mean_W(5), bounds=(0, 1)).verdict
+'cannot judge'
 """
 
 from __future__ import annotations
@@ -40,7 +51,7 @@ import numpy as np
 
 from forcenet.numeric.agreement import TableAgreement, compare_chain, compare_means, compare_samples, varying_columns
 
-__all__ = ["DisagreementError", "TableAgreement", "assert_agrees", "assert_means_agree", "compare", "exact_array"]
+__all__ = ["CannotJudgeError", "DisagreementError", "TableAgreement", "assert_agrees", "assert_means_agree", "compare", "exact_array"]
 
 
 class DisagreementError(AssertionError):
@@ -49,6 +60,34 @@ class DisagreementError(AssertionError):
     def __init__(self, report: TableAgreement):
         super().__init__(report.message())
         self.report = report
+
+
+class CannotJudgeError(AssertionError):
+    """The samples cannot support a verdict (too few rows, a constant value); ``report.reason`` says why."""
+
+    def __init__(self, report: TableAgreement):
+        super().__init__(report.message())
+        self.report = report
+
+
+def _bounds_array(bounds, shape, tested):
+    """``bounds=(lo, hi)``: each a number or a table shaped like ``exact``; as arrays over the tested values."""
+    try:
+        ends = list(bounds)
+    except TypeError:
+        ends = []
+    if len(ends) != 2:
+        raise ValueError(f"bounds={bounds!r}: give (lo, hi), numbers or tables shaped like exact")
+    out = []
+    for end in ends:
+        if not isinstance(end, (list, tuple, np.ndarray)):
+            out.append(np.full(int(tested.sum()), _to_float(end, "")))
+        else:
+            table = exact_array(end, shape)
+            if np.isnan(table[tested]).any():
+                raise ValueError("bounds: a tested value has no bound (None or missing)")
+            out.append(table[tested])
+    return tuple(out)
 
 
 def _to_float(value, where) -> float:
@@ -114,9 +153,12 @@ def _default_keys(shape, positions):
 def _autocorrelated(flat: np.ndarray):
     """The largest integrated time over a few columns, if the rows look like a chain (else None).
 
-    The threshold ``max(2, 1 + 45 / sqrt(n))`` sits far above the estimate's
+    The threshold ``max(3.5, 1 + 80 / sqrt(n))`` sits far above the estimate's
     spread for independent rows (its 99.9% quantile over 16 columns: 2.3 at
-    ``n = 500``, 1.8 at 1000, 1.5 at 2000); it catches chains, not all of them.
+    ``n = 500``, 1.8 at 1000 for normal rows; 2.1 at 1000 for the skewed
+    ``W`` of N = 10, largest of 800 tables 2.6: the former threshold 2.4
+    refused independent rows about once in 1000 tables, as often as a
+    false alarm at the default level); it catches chains, not all of them.
     """
     from forcenet.numeric.autocorr import integrated_time
 
@@ -130,11 +172,11 @@ def _autocorrelated(flat: np.ndarray):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         tau = float(integrated_time(flat[:n, cols], quiet=True).max())
-    return tau if tau > max(2.0, 1.0 + 45.0 / math.sqrt(n)) else None
+    return tau if tau > max(3.5, 1.0 + 80.0 / math.sqrt(n)) else None
 
 
-def compare(samples, exact, *, chain: bool = False, alpha: float = 1e-3, keys=None, hotelling: bool | None = None,
-            **batching) -> TableAgreement:
+def compare(samples, exact, *, chain: bool = False, alpha: float = 1e-3, keys=None, bounds=None,
+            hotelling: bool | None = None, **batching) -> TableAgreement:
     """The whole-table comparison of ``samples`` with ``exact`` (see the module docstring).
 
     Parameters
@@ -145,23 +187,31 @@ def compare(samples, exact, *, chain: bool = False, alpha: float = 1e-3, keys=No
         The exact means, shaped like one sample; ``None``/missing: not tested.
     chain : bool
         The rows are successive states of a Markov chain: spaced batch means
-        (:func:`forcenet.numeric.agreement.batch_means`; ``batching`` passes
+        (:func:`forcenet.numeric.autocorr.batch_means`; ``batching`` passes
         ``batch_factor``, ``gap_factor``, ``pilot``, ``max_batches``,
         ``min_batches``). With ``chain=False`` rows that look autocorrelated
-        (integrated time above ``max(2, 1 + 45/sqrt(n))`` on 500 rows or more) are refused.
+        (integrated time above ``max(3.5, 1 + 80/sqrt(n))`` on 500 rows or more) are refused.
     alpha : float
         The test's level: a correct sampler fails with probability at most ``alpha``.
     keys : sequence, optional
         One name per tested value (row-major order); default: 1-based indices,
         ``(i, j)`` for a table (the thesis's grain ``(i, j)``).
+    bounds : (lo, hi), optional
+        Every sample of a value lies in ``[lo, hi]``; each a number or a table
+        shaped like ``exact``. Independent samples then get the bounded test,
+        valid at every number of samples; samples or exact values outside are
+        refused (``ValueError``).
     hotelling : bool, optional
         ``None``: run Hotelling's test when the rows suffice (see
-        :mod:`forcenet.numeric.agreement`); ``False``: only the maximum.
+        :mod:`forcenet.numeric.agreement`); ``False``: only the maximum. The
+        t route only.
 
     Returns
     -------
     TableAgreement
-        ``passed``, ``summary()``, ``message()``, ``worst_values(k)``, the z-scores and ``tau``.
+        ``verdict`` (``"agrees"``, ``"DISAGREES"``, ``"cannot judge"`` with its
+        ``reason``), ``passed``, ``summary()``, ``message()``, ``worst_values(k)``,
+        the z-scores and ``tau``.
 
     Raises
     ------
@@ -173,7 +223,11 @@ def compare(samples, exact, *, chain: bool = False, alpha: float = 1e-3, keys=No
     Examples
     --------
     >>> rng = np.random.default_rng(0)
-    >>> compare(rng.normal(0.5, 1, size=400), 0.5).passed           # one value
+    >>> compare(rng.uniform(size=400), 0.5, bounds=(0, 1)).passed   # one value in [0, 1]
+    True
+    >>> compare(rng.normal(0.5, 1, size=400), 0.5).reason           # doctest: +ELLIPSIS
+    '400 rows: without bounds the t statistics keep their level from 1000 rows on ...'
+    >>> compare(rng.normal(0.5, 1, size=1000), 0.5).passed
     True
     >>> compare(np.cumsum(rng.normal(size=4000)), 0.0)
     Traceback (most recent call last):
@@ -193,8 +247,10 @@ def compare(samples, exact, *, chain: bool = False, alpha: float = 1e-3, keys=No
     names = _default_keys(shape, positions) if keys is None else list(keys)
     if len(names) != flat.shape[1]:
         raise ValueError(f"keys has {len(names)} names for {flat.shape[1]} tested values")
+    if bounds is not None:
+        bounds = _bounds_array(bounds, shape, tested)
     if chain:
-        return compare_chain(flat, mu[tested], keys=names, alpha=alpha, hotelling=hotelling, **batching)
+        return compare_chain(flat, mu[tested], keys=names, alpha=alpha, hotelling=hotelling, bounds=bounds, **batching)
     if batching:
         raise TypeError(f"{sorted(batching)}: batch options apply to chains (chain=True)")
     if not np.isfinite(flat).all():
@@ -202,14 +258,16 @@ def compare(samples, exact, *, chain: bool = False, alpha: float = 1e-3, keys=No
     tau = _autocorrelated(flat)
     if tau is not None:
         raise ValueError(f"samples look autocorrelated (integrated time {tau:.2g}): pass chain=True")
-    return compare_samples(flat, mu[tested], keys=names, alpha=alpha, hotelling=hotelling)
+    return compare_samples(flat, mu[tested], keys=names, alpha=alpha, hotelling=hotelling, bounds=bounds)
 
 
 def assert_agrees(samples, exact, **options) -> TableAgreement:
     """:func:`compare`, raising :class:`DisagreementError` (an ``AssertionError``) when the table disagrees.
 
     The message names the worst values, their z-scores and (for a chain)
-    their integrated times. Returns the report when the table agrees.
+    their integrated times. Raises :class:`CannotJudgeError` (an
+    ``AssertionError`` too) when the samples cannot support a verdict.
+    Returns the report when the table agrees.
 
     Examples
     --------
@@ -223,6 +281,8 @@ def assert_agrees(samples, exact, **options) -> TableAgreement:
       worst values: (3, 2): mean 0.497 vs exact 0.3788, z = +31.81; (4, 4): mean 0.1262 vs exact 0.1818, z = -23.53; ...
     """
     report = compare(samples, exact, **options)
+    if report.verdict == "cannot judge":
+        raise CannotJudgeError(report)
     if not report.passed:
         raise DisagreementError(report)
     return report

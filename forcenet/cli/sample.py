@@ -48,6 +48,33 @@ def _scene(args):
     return Scene(N=args.N, P=args.P, F=args.F, j0=args.j0, pv=args.pv or 0.0, mg=args.mg or 0.0, ph=args.ph)
 
 
+# loads of the packing (and the triangle's ph/F): their squares enter the error bars, so they stay far from overflow
+_LOAD_RANGE = (1e-100, 1e100)
+
+
+def _check_loads(args):
+    """Refuse loads whose squares would overflow or vanish (the triangle's F alone scales out: any finite F)."""
+    low, high = _LOAD_RANGE
+    if args.P is not None:
+        for name in ("F", "pv", "mg", "ph"):
+            value = getattr(args, name)
+            if value is not None and value != 0 and not low <= value <= high:
+                raise UsageError(f"{name}={value:g} is out of range: with --P the loads --F, --pv, --mg, --ph must lie "
+                                 f"in [{low:g}, {high:g}] (0 allowed for --pv, --mg)")
+    elif args.ph is not None and not low <= args.ph / args.F <= high:
+        raise UsageError(f"ph={args.ph:g} with F={args.F:g}: the ratio ph/F must lie in [{low:g}, {high:g}]")
+
+
+def _finite(mean, stderr, extra):
+    """Never a nan or an infinity as a result: refuse it (an overflow of the model's numbers)."""
+    import numpy as np
+
+    values = [mean, stderr, extra["effective_samples"]] + [extra[k] for k in ("G", "stderr_G") if k in extra]
+    if not all(np.all(np.isfinite(v)) for v in values):
+        raise UsageError("the run produced non-finite values (the loads overflow the floating-point range); "
+                         f"give loads in [{_LOAD_RANGE[0]:g}, {_LOAD_RANGE[1]:g}]")
+
+
 def _plan(args, scene, burn):
     from dataclasses import replace
 
@@ -112,7 +139,7 @@ def _metropolis_task(N, F, ph, scene, sweeps, burn, seed, response, move="metrop
             from forcenet.numeric.triangle.metropolis import TriangleMetropolis
 
             sampler = TriangleMetropolis(N, seed=rng, ph=None if ph is None else ph / F, move=move)
-            chain = sampler.run(sweeps, burn_in=burn, progress=progress) * F
+            chain = sampler.run(sweeps, burn_in=burn, progress=progress)  # in units of F (scaled at the end)
         else:
             from forcenet.numeric.packing.metropolis import PackingMetropolis, response as packing_response
 
@@ -186,6 +213,7 @@ def cmd_sample(args):
     check_output_path(args.out)
     if args.sampler == "exact" and args.ph is not None:
         raise UsageError("--ph applies to --sampler metropolis only (the exact sampler is the fully mobilized ensemble)")
+    _check_loads(args)
     scene = _scene(args)
     if args.response and scene is None:
         raise UsageError("--response needs the full packing (--P): on the triangle G(i, j) = <W_ij>/F")
@@ -211,7 +239,9 @@ def cmd_sample(args):
             if "error" in part:
                 raise UsageError(f"samples={K}: {part['error']}; run more sweeps")
         mean, stderr, extra = _combine_chains(parts)
-        if scene is not None:
+        if scene is None:  # the triangle's statistics in units of F, scaled last: any finite F
+            mean, stderr, extra["std_W"] = mean * args.F, stderr * args.F, extra["std_W"] * args.F
+        else:
             extra = {"scene": scene.name, "P": scene.P, "F": scene.F, "j0": scene.j0,
                      "pv": scene.pv, "mg": scene.mg, "ph": scene.ph, **extra}
         extra = {"burn_in": burn, "kernel": parts[0]["kernel"], "move": args.move, **extra}
@@ -220,6 +250,7 @@ def cmd_sample(args):
     t0 = time.perf_counter()
     mean, stderr, extra = run_planned(plan, run, force=args.force, quiet=args.quiet)
     seconds = time.perf_counter() - t0
+    _finite(mean, stderr, extra)
     ess = extra["effective_samples"]
     if not args.quiet:
         print(f"forcenet: {ess:.0f} effective samples in {seconds:.1f} s: {ess / seconds:.4g} per second "

@@ -177,7 +177,7 @@ def test_6_file_system_errors_are_one_line(argv, needle, sandbox, capsys):
 
 
 def test_6_permission_errors_during_the_write_leave_nothing(sandbox, capsys, monkeypatch):
-    from forcenet.cli import common
+    from forcenet.cli import output as common
 
     def denied(src, dst):
         raise PermissionError(13, "Permission denied", dst)
@@ -189,7 +189,7 @@ def test_6_permission_errors_during_the_write_leave_nothing(sandbox, capsys, mon
 
 
 def test_6_interruption_during_the_write_leaves_nothing(sandbox, capsys, monkeypatch):
-    from forcenet.cli import common
+    from forcenet.cli import output as common
 
     calls = []
 

@@ -24,7 +24,8 @@ import sys
 from forcenet.exact.validation import is_integer
 
 from . import chicken_wire, dist, limit, sample, table
-from .common import Parser, UsageError
+from .common import Parser, UsageError, given
+from .output import check_stdout, destination
 
 __all__ = ["main", "build_parser"]
 
@@ -35,6 +36,24 @@ def build_parser() -> Parser:
     for family in (table, limit, sample, chicken_wire, dist):
         family.register(sub)
     return parser
+
+
+_EXTENSION_FORMATS = {".json": "json", ".csv": "csv", ".tex": "latex"}
+
+
+def _check_destinations(args) -> None:
+    """Every destination of the result, before any work: the files named, else standard output."""
+    for name in ("out", "plot"):
+        if getattr(args, name, None) is not None:
+            destination(getattr(args, name), f"--{name}")
+    if getattr(args, "out", None) is None:
+        check_stdout()
+    elif given(args, "format"):  # the name's extension says a format: it must be the one asked for
+        extension = os.path.splitext(args.out)[1].lower()
+        implied = _EXTENSION_FORMATS.get(extension)
+        if implied is not None and implied != args.format:
+            raise UsageError(f"--format {args.format} and --out={args.out} contradict each other: a {extension} file "
+                             f"holds {implied}; drop --format or rename the file")
 
 
 def _error(message: str) -> int:
@@ -51,6 +70,7 @@ def main(argv=None) -> int:
     except SystemExit as exc:  # argparse: --help (0) or a one-line usage error (2)
         return exc.code if is_integer(exc.code) else 2
     try:
+        _check_destinations(args)
         return args.func(args)
     except UsageError as exc:
         return _error(str(exc))
@@ -64,7 +84,7 @@ def main(argv=None) -> int:
     except BrokenPipeError:  # e.g. `forcenet maps --N 9 | head`
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
-    except OSError as exc:  # the file system: permissions, missing directories, full disks
+    except OSError as exc:  # the file system (the writers name the argument; this is the last resort)
         where = f" ({exc.filename})" if exc.filename else ""
         return _error(f"{exc.strerror or exc}{where}")
 

@@ -2,7 +2,14 @@
 
 from __future__ import annotations
 
-from .common import UsageError, add_format, emit, integer, json_dumps, real
+from .common import (
+    UsageError,
+    add_format,
+    integer,
+    json_dumps,
+    real,
+)
+from .output import emit
 
 __all__ = ["register"]
 

@@ -23,13 +23,12 @@ from .common import (
     add_quiet,
     add_seed,
     available_memory,
-    check_output_path,
-    emit,
     integer,
     json_dumps,
     real,
     run_planned,
 )
+from .output import emit
 
 __all__ = ["register"]
 
@@ -210,7 +209,6 @@ def cmd_sample(args):
     import numpy as np
 
     N, K, workers = args.N, args.samples, args.workers
-    check_output_path(args.out)
     if args.sampler == "exact" and args.ph is not None:
         raise UsageError("--ph applies to --sampler metropolis only (the exact sampler is the fully mobilized ensemble)")
     _check_loads(args)
@@ -219,6 +217,11 @@ def cmd_sample(args):
         raise UsageError("--response needs the full packing (--P): on the triangle G(i, j) = <W_ij>/F")
     if args.move != "metropolis" and args.sampler == "exact":
         raise UsageError("--move applies to --sampler metropolis only")
+    if args.burn_in is not None and args.sampler == "exact":
+        raise UsageError("--burn-in applies to --sampler metropolis only (exact samples need none)")
+    if args.timing and args.format != "json":
+        raise UsageError(f"--timing and --format {args.format} contradict each other: --timing adds to the JSON "
+                         "(the text output has its rate on stderr)")
     if workers > K:
         raise UsageError(f"--workers={workers}: more workers than samples ({K}); use at most {K}")
     burn = args.burn_in if args.burn_in is not None else max(100, K // 10)

@@ -13,14 +13,13 @@ from .common import (
     add_quiet,
     add_seed,
     available_memory,
-    check_output_dir,
-    check_output_path,
-    emit,
+    given,
     integer,
     json_dumps,
+    refuse_together,
     run_planned,
-    write_files,
 )
+from .output import check_output_dir, emit, write_files, write_stdout
 
 __all__ = ["register"]
 
@@ -38,7 +37,6 @@ def _decimal(n: int) -> str:
 def cmd_count(args):
     from forcenet.exact.triangle.staircase import count, count_plan
 
-    check_output_path(args.out)
     plan = count_plan(args.N, available_memory())
     text = run_planned(plan, lambda tick: _decimal(count(args.N)), force=args.force, quiet=args.quiet)
     emit(text, args.out)
@@ -107,18 +105,28 @@ def _cross_check(N: int, means, samples: int, seed: int, progress):
     return compare(np.concatenate(rows), exact, keys=grains)
 
 
+def _refuse_ignored(args):
+    """What the main job alone uses, refused beside --format or --out (it would be ignored)."""
+    single = next((name for name in ("format", "out") if given(args, name)), None)
+    if single is not None:
+        for name in ("out_dir", "samples", "seed"):
+            refuse_together(args, name, single, f"--{name.replace('_', '-')} belongs to the main job (three files "
+                            "and a Monte Carlo cross-check), which --format and --out replace by one exact table")
+    elif args.samples == 0:
+        refuse_together(args, "seed", "samples", "the seed drives the cross-check's samples, and --samples 0 asks for none")
+
+
 def cmd_table(args):
     from forcenet.exact.plan import combine_by_time, phase_progress
     from forcenet.exact.routes import table_plan, table_run
     from forcenet.exact.triangle.tables import exact_table, fraction_str, to_csv, to_json, to_latex
 
+    _refuse_ignored(args)
     fmt = _output_format(args)
     if fmt is None and args.out is not None:  # pragma: no cover - _output_format infers it
         raise UsageError("--out needs --format")
-    if fmt is not None:
-        check_output_path(args.out)
-    else:
-        check_output_dir(args.out_dir)
+    if fmt is None:
+        check_output_dir(args.out_dir, files=[f"mean_W_N{args.N}.{ext}" for ext in ("json", "csv", "tex")])
     memory = available_memory()
     plans = [table_plan(args.method, args.N, args.moments, memory)]
     cross = fmt is None and args.samples > 0
@@ -145,7 +153,6 @@ def cmd_table(args):
     N = args.N
     stem = os.path.join(args.out_dir, f"mean_W_N{N}")
     files = {f"{stem}.{ext}": render[fmt_name](table) for ext, fmt_name in (("json", "json"), ("csv", "csv"), ("tex", "latex"))}
-    write_files(files, name="--out-dir", make_dir=args.out_dir)
     bottom = table["mean_W"][-1]
     lines = [
         f"Fully mobilized triangle, N = {N} layers, d = {N * (N - 1) // 2} free forces",
@@ -160,7 +167,8 @@ def cmd_table(args):
                      f"of the {check.values} free grains against the exact table:")
         lines += ["  " + line for line in check.summary().splitlines()]
         lines.append(f"  RMS of (sampled - exact)/stderr = {check.rms_z:.2f} (about 1 expected)")
-    print("\n".join(lines))
+    # the summary is printed last, before the files are kept: if standard output fails, no file stays
+    write_files(files, name="--out-dir", make_dir=args.out_dir, then=lambda: write_stdout("\n".join(lines) + "\n"))
     return 0 if check is None or check.passed else 1
 
 

@@ -18,6 +18,7 @@ Examples (shell)::
 
 from __future__ import annotations
 
+import argparse
 import os
 import sys
 
@@ -30,8 +31,34 @@ from .output import check_stdout, destination
 __all__ = ["main", "build_parser"]
 
 
+_DESCRIPTION = """\
+Exact results for the force network ensemble of static granular matter
+(Ostojic's 2006 thesis): the fully mobilized triangle of N layers of grains
+under a unit overload, exactly (fractions) and by Monte Carlo.
+
+Each command has its own help: forcenet COMMAND --help."""
+
+_EXAMPLES = """\
+examples, one per command (each takes a few seconds at most):
+  forcenet count --N 12                       # how many force networks (tableaux) the triangle has
+  forcenet table --N 12                       # the main job: 3 files in ./forcenet-tables/, a summary, a Monte Carlo check
+  forcenet table --N 12 --format json         # just the exact table of <W_ij>, on stdout
+  forcenet maps --N 7                         # the thesis's map counting (Sec. 4.6)
+  forcenet limit --x 0.2 --z 0.6              # N <W> far from the top, in the scaling limit
+  forcenet sample --N 10 --samples 2000       # Monte Carlo <W> with error bars
+  forcenet transfer --L 6                     # chicken-wire model: transfer matrix of a cylinder of width 6
+  forcenet bethe --L 6 --n 2 --m 1            # chicken-wire model: one sector by the Bethe ansatz
+  forcenet entropy --phi 0.3                  # chicken-wire entropy on the isotropic line, Eq. (7.1)
+  forcenet dist --N 12 --grain 12,6           # exact probability density of one force
+
+Results go to stdout (or to --out FILE, written atomically); costs, progress
+and errors go to stderr. Runs announced at over a minute need --force.
+More: the README (README.md of the source, or the package page)."""
+
+
 def build_parser() -> Parser:
-    parser = Parser(prog="forcenet", description="Exact results for the force network ensemble.")
+    parser = Parser(prog="forcenet", description=_DESCRIPTION, epilog=_EXAMPLES,
+                    formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
     for family in (table, limit, sample, chicken_wire, dist):
         family.register(sub)

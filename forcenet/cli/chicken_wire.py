@@ -312,7 +312,8 @@ def register(sub):
 
     p = sub.add_parser("entropy", help="chicken-wire model: entropy on the isotropic line, Eqs. (7.1)-(7.4), closed form")
     mode = p.add_mutually_exclusive_group(required=True)
-    mode.add_argument("--phi", type=_phi, help="parameter of Eqs. (7.1)-(7.2), -pi/2 <= phi <= pi/2 (every digit given counts)")
+    mode.add_argument("--phi", type=_phi, help="parameter of Eqs. (7.1)-(7.2), -pi/2 <= phi <= pi/2; read at full precision: every digit given "
+                           "counts (0.3 is exactly 3/10, not the nearest float)")
     mode.add_argument("--Q", type=_density, help="bond density per direction, a number or fraction in [0, 1/3]")
     mode.add_argument("--max", action="store_true", help="the maxima: per site (mu = 0) and per tiling vertex (phi = 0)")
     p.add_argument("--dps", type=integer("dps", 5, 10000), default=50, help="decimal digits (5..10000, default 50)")

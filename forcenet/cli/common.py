@@ -186,7 +186,32 @@ def available_memory() -> int:
     return 16 * 2**30
 
 
-def _progress_bar(total: int, desc: str, unit: str):
+PLAIN_PROGRESS_SECONDS = 60  # off a terminal, a run announced at over a minute reports every ~10 %
+
+
+class _PlainProgress:
+    """Progress off a terminal (a log file, a pipe): a plain line per ~10 %, no carriage return, no animation."""
+
+    def __init__(self, total: float, desc: str, unit: str):
+        self.total, self.desc, self.unit = total, desc, unit
+        self.n, self.next_tenth, self.t0 = 0.0, 1, time.perf_counter()
+
+    def update(self, k: float = 1) -> None:
+        self.n += k
+        while self.next_tenth < 10 and self.n >= self.total * self.next_tenth / 10:
+            unit = "estimated s" if self.unit == "s" else self.unit
+            print(f"forcenet: {self.desc}: {10 * self.next_tenth} % ({self.n:.0f}/{self.total:.0f} {unit}) after "
+                  f"{time.perf_counter() - self.t0:.0f} s", file=sys.stderr, flush=True)
+            self.next_tenth += 1
+
+    def close(self) -> None:
+        pass
+
+
+def _progress_bar(total: int, desc: str, unit: str, seconds: float = 0.0):
+    """An animated bar on a terminal; elsewhere plain lines (over a minute) or nothing."""
+    if not (sys.stderr is not None and sys.stderr.isatty()):
+        return _PlainProgress(total, desc, unit) if seconds > PLAIN_PROGRESS_SECONDS else None
     from tqdm import tqdm
 
     # a bar counted in estimated seconds (phases of different units, exact.plan.combine_by_time) moves by fractions
@@ -208,7 +233,7 @@ def run_planned(plan: Plan, run, *, force: bool = False, quiet: bool = False):
         return run(None)
     print(f"forcenet: {plan.what}: estimated {plan.describe()}", file=sys.stderr)
     t0 = time.perf_counter()
-    bar = _progress_bar(plan.ticks, plan.what, plan.unit) if plan.ticks else None
+    bar = _progress_bar(plan.ticks, plan.what, plan.unit, plan.seconds) if plan.ticks else None
     try:
         result = run(bar.update if bar else None)
     finally:

@@ -282,7 +282,9 @@ def cmd_sample(args):
 def register(sub):
     p = sub.add_parser("sample", help="Monte Carlo <W> with standard errors (exact sampler or Metropolis)")
     add_layers(p)
-    p.add_argument("--sampler", choices=["exact", "metropolis"], default="exact")
+    p.add_argument("--sampler", choices=["exact", "metropolis"], default="exact",
+                   help="exact: independent exact samples of the triangle (default); metropolis: a Markov chain "
+                        "of the thesis's moves (also the full N x P packing, --P)")
     p.add_argument("--samples", type=integer("samples", 2), default=1000,
                    help="independent samples, or recorded sweeps (metropolis); an integer >= 2 (default 1000)")
     p.add_argument("--burn-in", type=integer("burn-in", 0), default=None, help="metropolis burn-in sweeps (default max(100, samples/10))")

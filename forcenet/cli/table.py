@@ -190,8 +190,9 @@ def cmd_maps(args):
 
 def register(sub):
     """Add ``count``, ``table`` and ``maps`` to the subcommands."""
-    p = sub.add_parser("count", help="how many force networks: standard shifted staircase tableaux, "
-                                      "d! * normalization (4.1) (d = N(N-1)/2 free forces; an exact integer)")
+    what = ("how many force networks: standard shifted staircase tableaux, d! * normalization (4.1) "
+            "(d = N(N-1)/2 free forces; an exact integer)")
+    p = sub.add_parser("count", help=what, description=what[0].upper() + what[1:] + ".")
     add_layers(p)
     p.add_argument("--out", help="write the integer to this file (atomically; its directory must exist)")
     add_force(p)

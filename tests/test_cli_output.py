@@ -7,7 +7,6 @@ subprocess.
 """
 
 import errno
-import io
 import json
 import os
 import stat
@@ -20,16 +19,6 @@ import pytest
 
 from forcenet.cli import main
 from forcenet.exact import count
-
-
-def run(argv, capsys):
-    code = main(argv)
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def _files(root):
-    return sorted(str(p.relative_to(root)) for p in Path(root).rglob("*"))
 
 
 def make_device(path, minor):
@@ -50,51 +39,51 @@ def sandbox(tmp_path, monkeypatch):
 # ------------------------------------------------------------ item 1: what --out must not destroy
 
 
-def test_1_a_full_device_is_written_in_place_and_fails(sandbox, capsys):
+def test_1_a_full_device_is_written_in_place_and_fails(sandbox, cli, files):
     full = make_device(sandbox / "full", 7)
     for argv in (["count", "--N", "10", "--out", "full"], ["table", "--N", "5", "--format", "json", "--out", "full"]):
-        code, out, err = run(argv, capsys)
+        code, out, err = cli(argv)
         assert code == 2 and err == "forcenet: error: --out=full: No space left on device\n"
-        assert stat.S_ISCHR(os.lstat(full).st_mode) and _files(sandbox) == ["full"]
+        assert stat.S_ISCHR(os.lstat(full).st_mode) and files(sandbox) == ["full"]
 
 
-def test_1_a_null_device_stays_a_device(sandbox, capsys):
+def test_1_a_null_device_stays_a_device(sandbox, cli, files):
     null = make_device(sandbox / "null", 3)
-    code, out, err = run(["count", "--N", "10", "--out", "null"], capsys)
+    code, out, err = cli(["count", "--N", "10", "--out", "null"])
     assert code == 0 and out == "" and stat.S_ISCHR(os.lstat(null).st_mode)
-    code, _, _ = run(["dist", "--N", "5", "--ensemble", "--plot", "null", "--samples", "200", "--sweeps", "300",
-                      "--quiet"], capsys)
+    code, _, _ = cli(["dist", "--N", "5", "--ensemble", "--plot", "null", "--samples", "200", "--sweeps", "300",
+                      "--quiet"])
     assert code == 2  # a PNG needs a .png name; the device is untouched
-    assert stat.S_ISCHR(os.lstat(null).st_mode) and _files(sandbox) == ["null"]
+    assert stat.S_ISCHR(os.lstat(null).st_mode) and files(sandbox) == ["null"]
 
 
-def test_1_a_fifo_is_written_in_place(sandbox, capsys):
+def test_1_a_fifo_is_written_in_place(sandbox, cli, files):
     fifo = sandbox / "pipe"
     os.mkfifo(fifo)
     received = []
     reader = threading.Thread(target=lambda: received.append(Path(fifo).read_text()))
     reader.start()
-    code, _, err = run(["count", "--N", "12", "--out", str(fifo)], capsys)
+    code, _, err = cli(["count", "--N", "12", "--out", str(fifo)])
     reader.join(timeout=30)
     assert code == 0 and received == [f"{count(12)}\n"]
-    assert stat.S_ISFIFO(os.lstat(fifo).st_mode) and _files(sandbox) == ["pipe"]
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode) and files(sandbox) == ["pipe"]
 
 
-def test_1_a_link_is_followed_and_stays(sandbox, capsys):
+def test_1_a_link_is_followed_and_stays(sandbox, cli, files):
     (sandbox / "data").mkdir()
     target = sandbox / "data" / "n.txt"
     target.write_text("old\n")
     os.chmod(target, 0o640)
     os.symlink("data/n.txt", sandbox / "link")
-    code, _, _ = run(["count", "--N", "9", "--out", "link"], capsys)
+    code, _, _ = cli(["count", "--N", "9", "--out", "link"])
     assert code == 0 and os.path.islink(sandbox / "link") and os.readlink(sandbox / "link") == "data/n.txt"
     assert target.read_text() == f"{count(9)}\n" and stat.S_IMODE(os.stat(target).st_mode) == 0o640  # mode kept
     os.symlink("data/new.json", sandbox / "dangling")  # a link to a file not yet there: created at the target
-    code, _, _ = run(["table", "--N", "4", "--out", "dangling"], capsys)
+    code, _, _ = cli(["table", "--N", "4", "--out", "dangling"])
     assert code == 2  # no extension: the format must be given
-    code, _, _ = run(["table", "--N", "4", "--format", "json", "--out", "dangling"], capsys)
+    code, _, _ = cli(["table", "--N", "4", "--format", "json", "--out", "dangling"])
     assert code == 0 and os.path.islink(sandbox / "dangling") and json.loads((sandbox / "data" / "new.json").read_text())["N"] == 4
-    assert _files(sandbox) == ["dangling", "data", "data/n.txt", "data/new.json", "link"]
+    assert files(sandbox) == ["dangling", "data", "data/n.txt", "data/new.json", "link"]
 
 
 @pytest.mark.parametrize("argv, path", [
@@ -102,14 +91,14 @@ def test_1_a_link_is_followed_and_stays(sandbox, capsys):
     (["dist", "--N", "5", "--ensemble", "--plot", "ro.png", "--samples", "200", "--sweeps", "300"], "ro.png"),
     (["table", "--N", "5", "--samples", "0", "--out-dir", "tables"], "tables/mean_W_N5.csv"),
 ])
-def test_1_a_read_only_file_is_refused_even_as_root(argv, path, sandbox, capsys, monkeypatch):
+def test_1_a_read_only_file_is_refused_even_as_root(argv, path, sandbox, monkeypatch, cli):
     from forcenet.cli import common
 
     (sandbox / "tables").mkdir()
     (sandbox / path).write_text("keep me\n")
     os.chmod(sandbox / path, 0o444)
     monkeypatch.setattr(common, "run_planned", _no_work)
-    code, out, err = run(argv, capsys)
+    code, out, err = cli(argv)
     assert code == 2 and f"{path}: is read-only (mode 444)" in err and len(err.splitlines()) == 1
     assert (sandbox / path).read_text() == "keep me\n" and stat.S_IMODE(os.stat(sandbox / path).st_mode) == 0o444
 
@@ -133,56 +122,46 @@ def _no_work(*args, **kwargs):
     (["transfer", "--L", "5", "--out", "nonexistent/t.txt"], "the directory"),
     (["dist", "--N", "5", "--ensemble", "--plot", "nonexistent/p.png"], "--plot=nonexistent/p.png: the directory"),
 ])
-def test_7_every_destination_before_any_computation(argv, needle, sandbox, capsys, monkeypatch):
+def test_7_every_destination_before_any_computation(argv, needle, sandbox, monkeypatch, cli, files):
     from forcenet.cli import chicken_wire, dist, sample, table
 
     for module in (chicken_wire, dist, sample, table):
         monkeypatch.setattr(module, "run_planned", _no_work)
-    code, out, err = run(argv, capsys)
+    code, out, err = cli(argv)
     assert code == 2 and needle in err and len(err.splitlines()) == 1 and ".tmp-" not in err
-    assert _files(sandbox) == []
+    assert files(sandbox) == []
 
 
 # ------------------------------------------------------ item 8: messages name the user's path
 
 
-def test_8_a_failed_write_names_the_users_path(sandbox, capsys, monkeypatch):
+def test_8_a_failed_write_names_the_users_path(sandbox, monkeypatch, cli, files):
     from forcenet.cli import output
 
     def full(fd):
         raise OSError(errno.ENOSPC, "No space left on device")
 
     monkeypatch.setattr(output.os, "fsync", full)
-    code, _, err = run(["count", "--N", "10", "--out", "c.txt"], capsys)
+    code, _, err = cli(["count", "--N", "10", "--out", "c.txt"])
     assert code == 2 and err == "forcenet: error: --out=c.txt: No space left on device\n"
-    assert _files(sandbox) == []
+    assert files(sandbox) == []
 
 
-class _FullStream(io.StringIO):
-    """Standard output on a full disk."""
-
-    def write(self, text):
-        raise OSError(errno.ENOSPC, "No space left on device")
-
-    def fileno(self):
-        raise io.UnsupportedOperation("fileno")
-
-
-def test_8_9_a_full_stdout_is_named_and_the_main_job_keeps_no_file(sandbox, capsys, monkeypatch):
+def test_8_9_a_full_stdout_is_named_and_the_main_job_keeps_no_file(sandbox, capsys, monkeypatch, files, full_stream):
     (sandbox / "tables").mkdir()
     old = sandbox / "tables" / "mean_W_N5.json"
     old.write_text("an earlier table\n")
-    monkeypatch.setattr(sys, "stdout", _FullStream())
+    monkeypatch.setattr(sys, "stdout", full_stream)
     code = main(["count", "--N", "10"])
     assert code == 2 and capsys.readouterr().err == "forcenet: error: standard output: No space left on device\n"
     code = main(["table", "--N", "5", "--samples", "40", "--out-dir", "tables", "--quiet"])
     assert code == 2 and "standard output: No space left on device" in capsys.readouterr().err
-    assert _files(sandbox) == ["tables", "tables/mean_W_N5.json"] and old.read_text() == "an earlier table\n"
+    assert files(sandbox) == ["tables", "tables/mean_W_N5.json"] and old.read_text() == "an earlier table\n"
     code = main(["table", "--N", "5", "--samples", "40", "--out-dir", "new", "--quiet"])
     assert code == 2 and not (sandbox / "new").exists()
 
 
-def test_5_8_9_real_closed_and_full_stdout(sandbox):
+def test_5_8_9_real_closed_and_full_stdout(sandbox, files):
     """Subprocesses with file descriptor 1 closed, and on a full device (a node made here)."""
     env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parents[1]))
     cmd = [sys.executable, "-m", "forcenet", "table", "--N", "12", "--format", "json"]
@@ -195,10 +174,10 @@ def test_5_8_9_real_closed_and_full_stdout(sandbox):
         proc = subprocess.run([sys.executable, "-m", "forcenet", "table", "--N", "6", "--samples", "40", "--quiet"],
                               stdout=stdout, stderr=subprocess.PIPE, text=True, env=env)
     assert proc.returncode == 2 and proc.stderr == "forcenet: error: standard output: No space left on device\n"
-    assert _files(sandbox) == ["full"]  # no forcenet-tables/ left
+    assert files(sandbox) == ["full"]  # no forcenet-tables/ left
 
 
-def test_1_dev_stdout_is_written_in_place(sandbox):
+def test_1_dev_stdout_is_written_in_place(sandbox, files):
     env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parents[1]))
     log = sandbox / "log.txt"
     log.write_text("before\n")
@@ -206,7 +185,7 @@ def test_1_dev_stdout_is_written_in_place(sandbox):
         proc = subprocess.run([sys.executable, "-m", "forcenet", "count", "--N", "9", "--out", "/dev/stdout"],
                               stdout=stdout, stderr=subprocess.PIPE, text=True, env=env)
     assert proc.returncode == 0 and log.read_text() == f"before\n{count(9)}\n"  # appended, the file not replaced
-    assert _files(sandbox) == ["log.txt"]
+    assert files(sandbox) == ["log.txt"]
 
 
 # ------------------------------------------------------ item 10: contradictions
@@ -234,16 +213,16 @@ def test_1_dev_stdout_is_written_in_place(sandbox):
     (["entropy", "--Q", "\u0661/\u0666"], "is not a number"),
     (["dist", "--N", "5", "--grain", "\u0663,2"], "is not an integer"),
 ])
-def test_10_contradictions_are_refused_in_one_line(argv, needle, sandbox, capsys):
-    code, out, err = run(argv, capsys)
+def test_10_contradictions_are_refused_in_one_line(argv, needle, sandbox, cli, files):
+    code, out, err = cli(argv)
     assert code == 2 and needle.replace(" set", "") in err.replace(", --seed", " --seed").replace(" set", "") and out == ""
-    assert len(err.splitlines()) == 1 and _files(sandbox) == []
+    assert len(err.splitlines()) == 1 and files(sandbox) == []
 
 
-def test_10_agreeing_arguments_still_run(sandbox, capsys):
-    code, _, _ = run(["table", "--N", "4", "--format", "csv", "--out", "t.csv"], capsys)
+def test_10_agreeing_arguments_still_run(sandbox, cli):
+    code, _, _ = cli(["table", "--N", "4", "--format", "csv", "--out", "t.csv"])
     assert code == 0 and (sandbox / "t.csv").read_text().startswith("i,j,mean_W")
-    code, out, _ = run(["table", "--N", "4", "--format", "json", "--out", "t.txt"], capsys)  # no format implied
+    code, out, _ = cli(["table", "--N", "4", "--format", "json", "--out", "t.txt"])  # no format implied
     assert code == 0 and json.loads((sandbox / "t.txt").read_text())["N"] == 4
 
 
@@ -307,9 +286,9 @@ def test_14_help(capsys):
     "forcenet sample --N 10 --samples 2000", "forcenet transfer --L 6", "forcenet bethe --L 6 --n 2 --m 1",
     "forcenet entropy --phi 0.3", "forcenet dist --N 12 --grain 12,6",
 ])
-def test_14_the_help_examples_run(line, capsys):
+def test_14_the_help_examples_run(line, cli):
     from forcenet.cli import _EXAMPLES
 
     assert line in _EXAMPLES
-    code, out, _ = run(line.split()[1:] + ["--quiet"] * (line.split()[1] in ("sample", "transfer", "bethe", "entropy")), capsys)
+    code, out, _ = cli(line.split()[1:] + ["--quiet"] * (line.split()[1] in ("sample", "transfer", "bethe", "entropy")))
     assert code == 0 and out

@@ -166,7 +166,7 @@ def cmd_table(args):
                      f"of the {check.values} free grains against the exact table:")
         lines += ["  " + line for line in check.summary().splitlines()]
         lines.append(f"  RMS of (sampled - exact)/stderr = {check.rms_z:.2f} (about 1 expected)")
-    # the summary is printed last, before the files are kept: if standard output fails, no file stays
+    # the summary is printed once the files are in place; if standard output fails, they are taken back
     write_files(files, name="--out-dir", make_dir=args.out_dir, then=lambda: write_stdout("\n".join(lines) + "\n"))
     return 0 if check is None or check.passed else 1
 

@@ -1,8 +1,11 @@
 """The command line's promise: no traceback, no file left behind on failure, costs announced.
 
 A property-based test draws argument vectors from a grammar of every
-subcommand (valid, boundary and invalid values); then one regression test per
-numbered item of issue 15.
+subcommand (valid, boundary and invalid values, non-ASCII digits, repeated
+and contradictory options; destinations that are devices, FIFOs-free links,
+dangling links, read-only files, empty names, names ending in '/'; standard
+output open, closed or full); then one regression test per numbered item of
+issue 15.  Issue 24's items are in ``test_cli_output.py`` and ``test_cli_values.py``.
 """
 
 import json
@@ -33,7 +36,8 @@ def run(argv, capsys):
 
 # ------------------------------------------------------------------ the grammar
 
-NUMBERS = st.sampled_from(["-1", "0", "1", "2", "3", "5", "nan", "inf", "-inf", "x", "", "1e400", "2.5", "1/3", "10000000000000000000000"])
+NUMBERS = st.sampled_from(["-1", "0", "1", "2", "3", "5", "nan", "inf", "-inf", "x", "", "1e400", "2.5", "1/3", "10000000000000000000000",
+                          "\u0663", "\uff15", "1e300", "1e-300"])
 SMALL = st.integers(min_value=-3, max_value=7).map(str)
 
 
@@ -48,8 +52,10 @@ def _req(name, values):
 
 
 def _grammar(tmp):
-    bad_paths = [str(tmp / "missing" / "x.json"), str(tmp), "/proc/forcenet-test.json", str(tmp / "afile" / "x.json")]
-    paths = st.sampled_from(bad_paths + [str(tmp / "out.json"), str(tmp / "t.csv")])
+    bad_paths = [str(tmp / "missing" / "x.json"), str(tmp), "/proc/forcenet-test.json", str(tmp / "afile" / "x.json"),
+                 "", "newdir/", "readonly.json", "readonly.png"]
+    special = ["null", "full", "link.json", "dangling.json", "link.png"]  # devices (when root), links
+    paths = st.sampled_from(bad_paths + special + [str(tmp / "out.json"), str(tmp / "t.csv")])
     common_out = _opt("--out", paths)
     count = st.tuples(st.just(["count"]), _req("--N", st.one_of(SMALL, NUMBERS, st.just("1000000"))), common_out)
     table = st.tuples(
@@ -89,12 +95,59 @@ def _grammar(tmp):
                   _req("--layer", st.sampled_from(["1", "2", "5", "9", "x"])), st.just(["--ensemble"])),
         _opt("--contact", st.sampled_from(["F1", "F2", "F5", "F6", "F3"])), _opt("--grid", st.sampled_from(["0", "1", "5", "x"])),
         _opt("--format", st.sampled_from(["text", "json", "csv", "latex", "xml"])), common_out,
-        _opt("--plot", st.sampled_from([str(tmp / "p.png"), str(tmp / "p.pdf"), str(tmp / "missing" / "p.png"), str(tmp / "out.json")])),
+        _opt("--plot", st.sampled_from([str(tmp / "p.png"), str(tmp / "p.pdf"), str(tmp / "missing" / "p.png"), str(tmp / "out.json"),
+                                        "readonly.png", "link.png", "full"])),
         _opt("--samples", st.sampled_from(["1", "50", "x"])), _opt("--sweeps", st.sampled_from(["0", "120"])),
         _opt("--bins", st.sampled_from(["0", "5"])), _opt("--f-max", st.sampled_from(["-1", "inf", "3"])), st.just(["--quiet"]),
     )
     command = st.one_of(count, table, maps, limit, sample, transfer, bethe, entropy, dist)
-    return command.map(lambda parts: [token for part in parts for token in part])
+    return st.tuples(command.map(lambda parts: [token for part in parts for token in part]), st.integers(0, 9)).map(_repeat)
+
+
+def _repeat(drawn):
+    """One time in ten, an option given twice (refused: "--X given twice")."""
+    argv, k = drawn
+    options = [i for i, token in enumerate(argv) if token.startswith("--")]
+    if k or not options:
+        return argv
+    i = options[0]
+    end = i + 2 if i + 1 < len(argv) and not argv[i + 1].startswith("--") else i + 1
+    return argv + argv[i:end]
+
+
+def _special_files(root):
+    """Device nodes (root only), links and read-only files the commands must leave as they are."""
+    import stat
+
+    made = {}
+    for name, minor in (("null", 3), ("full", 7)):
+        try:
+            os.mknod(root / name, stat.S_IFCHR | 0o666, os.makedev(1, minor))
+            made[name] = "char"
+        except (PermissionError, AttributeError):
+            pass
+    (root / "linked").mkdir()
+    (root / "linked" / "target.json").write_text("old")
+    os.symlink("linked/target.json", root / "link.json")
+    os.symlink("linked/target.png", root / "link.png")
+    os.symlink("linked/nothing.json", root / "dangling.json")
+    for name in ("readonly.json", "readonly.png"):
+        (root / name).write_text("keep")
+        os.chmod(root / name, 0o444)
+    return made
+
+
+def _kinds(root):
+    """What must survive any command: device nodes, links (as links), read-only files (content and mode)."""
+    import stat
+
+    out = {}
+    for name in ("null", "full", "link.json", "link.png", "dangling.json", "readonly.json", "readonly.png"):
+        path = root / name
+        if os.path.lexists(path):
+            st = os.lstat(path)
+            out[name] = (stat.S_IFMT(st.st_mode), stat.S_IMODE(st.st_mode), path.read_text() if name.startswith("readonly") else None)
+    return out
 
 
 @pytest.fixture
@@ -104,31 +157,50 @@ def sandbox(tmp_path, monkeypatch):
     return tmp_path
 
 
-def _check_one(argv, root, capsys):
-    before = _files(root)
-    code = main(argv)  # an exception escaping main() is a bug: the test fails with its traceback
+@pytest.fixture
+def special_sandbox(sandbox):
+    _special_files(sandbox)
+    return sandbox
+
+
+def _check_one(argv, root, capsys, stdout="open", full_stream=None):
+    before, kinds = _files(root), _kinds(root)
+    real = sys.stdout
+    sys.stdout = {"open": real, "closed": None, "full": full_stream}[stdout]
+    try:
+        code = main(argv)  # an exception escaping main() is a bug: the test fails with its traceback
+    finally:
+        sys.stdout = real
     out, err = capsys.readouterr()
     assert code in (0, 2), (argv, code, err)
     assert "Traceback" not in err and "Traceback" not in out, argv
+    assert _kinds(root) == kinds, argv  # devices, links and read-only files untouched
+    assert not [f for f in _files(root) if os.path.basename(f).startswith((".tmp-", ".bak-"))], argv
+    if stdout != "open" and "--out" not in argv and "--help" not in argv and code == 0:
+        raise AssertionError(f"{argv}: exit 0 with standard output {stdout}")
     if code == 2:
         assert err.startswith(("forcenet: error:", "usage:", "forcenet ")) or "error:" in err, (argv, err)
         assert len([line for line in err.splitlines() if "error" in line]) == 1, (argv, err)
         assert _files(root) == before, (argv, err)
+        assert ".tmp-" not in err, err  # the user's path, never a temporary file
+
+
+_STDOUT = st.sampled_from(["open"] * 8 + ["closed", "full"])
 
 
 @settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 @given(data=st.data())
-def test_every_command_line_ends_cleanly(sandbox, capsys, data):
-    argv = data.draw(_grammar(sandbox))
-    _check_one(argv, sandbox, capsys)
+def test_every_command_line_ends_cleanly(special_sandbox, capsys, full_stream, data):
+    argv = data.draw(_grammar(special_sandbox))
+    _check_one(argv, special_sandbox, capsys, data.draw(_STDOUT), full_stream)
 
 
 @pytest.mark.slow
 @settings(max_examples=1500, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 @given(data=st.data())
-def test_every_command_line_ends_cleanly_long(sandbox, capsys, data):
-    argv = data.draw(_grammar(sandbox))
-    _check_one(argv, sandbox, capsys)
+def test_every_command_line_ends_cleanly_long(special_sandbox, capsys, full_stream, data):
+    argv = data.draw(_grammar(special_sandbox))
+    _check_one(argv, special_sandbox, capsys, data.draw(_STDOUT), full_stream)
 
 
 # ------------------------------------------------- regression tests, issue 15 items
@@ -177,7 +249,7 @@ def test_6_file_system_errors_are_one_line(argv, needle, sandbox, capsys):
 
 
 def test_6_permission_errors_during_the_write_leave_nothing(sandbox, capsys, monkeypatch):
-    from forcenet.cli import common
+    from forcenet.cli import output as common
 
     def denied(src, dst):
         raise PermissionError(13, "Permission denied", dst)
@@ -189,7 +261,7 @@ def test_6_permission_errors_during_the_write_leave_nothing(sandbox, capsys, mon
 
 
 def test_6_interruption_during_the_write_leaves_nothing(sandbox, capsys, monkeypatch):
-    from forcenet.cli import common
+    from forcenet.cli import output as common
 
     calls = []
 

@@ -116,7 +116,7 @@ def test_bad_input_is_one_line_and_writes_nothing(argv, needle, sandbox, capsys)
 
 
 def test_a_failed_write_leaves_neither_file(sandbox, capsys, monkeypatch):
-    from forcenet.cli import common
+    from forcenet.cli import output as common
 
     calls = []
 

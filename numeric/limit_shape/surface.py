@@ -124,7 +124,7 @@ def _limit_surface(u, v, dps):
         return lo
     if v >= 2 - abs(u):
         return hi
-    eps = mpmath.mpf(10) ** (-(dps + GUARD // 2))
+    eps = (hi - lo) * mpmath.mpf(10) ** (-(dps + GUARD // 2))  # relative to the bracket (narrow at small depth)
     f = lambda a: _level_curve(a, u) - v  # increasing in a
     a = mpmath.findroot(f, (lo + eps, hi - eps), solver="anderson", tol=eps)
     for _ in range(4):  # Newton polish with dh/da = k / (pi a (1 - a))
@@ -154,6 +154,11 @@ def limit_surface(u, v, dps: int = 30):
     return guarded(compute, dps)
 
 
+def _depth_digits(depth) -> int:
+    """Extra working digits at a small depth ``z``: ``u = z - 1`` and ``v = 1 + x`` keep every digit of ``z`` and ``x``."""
+    return max(0, -int(mpmath.floor(mpmath.log10(depth))))
+
+
 def lattice_response(z, dps: int = 30):
     """Limit of ``<W_{i,1}> = <W_{i,i}>`` at depth ``z = i/N``, ``0 <= z <= 1`` (independent of N).
 
@@ -166,7 +171,11 @@ def lattice_response(z, dps: int = 30):
 
     def compute():
         depth = _in_interval(to_mpf(z, "z"), "z", 0, 1)
-        return mpmath.mpf(1) if depth == 0 else _limit_surface(depth - 1, 1 - depth, dps)
+        if depth == 0:
+            return mpmath.mpf(1)
+        with mpmath.workdps(mpmath.mp.dps + _depth_digits(depth)):
+            depth = to_mpf(z, "z")
+            return _limit_surface(depth - 1, 1 - depth, dps)
 
     return guarded(compute, dps)
 
@@ -194,8 +203,9 @@ def bulk_response(x, z, dps: int = 30):
         if abs(h) > depth or (abs(h) == depth and depth < 1):  # at the bottom corners (|x| = z = 1) it vanishes
             raise ValueError(f"x={mpmath.nstr(h, 15)} is out of range: the bulk response needs |x| < z = "
                              f"{mpmath.nstr(depth, 15)} (on the lattice directions |x| = z < 1 it diverges; use lattice_response)")
-        u, v = depth - 1, 1 + h
-        a = _limit_surface(u, v, dps)
-        return mpmath.mpf(0) if a in (0, 1) else 2 / _slope(a, u)
+        with mpmath.workdps(mpmath.mp.dps + _depth_digits(depth)):
+            u, v = to_mpf(z, "z") - 1, 1 + to_mpf(x, "x")
+            a = _limit_surface(u, v, dps)
+            return mpmath.mpf(0) if a in (0, 1) else 2 / _slope(a, u)
 
     return guarded(compute, dps)

@@ -18,6 +18,7 @@ Examples (shell)::
 
 from __future__ import annotations
 
+import argparse
 import os
 import sys
 from importlib.metadata import version
@@ -25,18 +26,63 @@ from importlib.metadata import version
 from forcenet.exact.validation import is_integer
 
 from . import chicken_wire, dist, limit, sample, table
-from .common import Parser, UsageError
+from .common import Parser, UsageError, given
+from .output import check_stdout, destination
 
 __all__ = ["main", "build_parser"]
 
 
+_DESCRIPTION = """\
+Exact results for the force network ensemble of static granular matter
+(Ostojic's 2006 thesis): the fully mobilized triangle of N layers of grains
+under a unit overload, exactly (fractions) and by Monte Carlo.
+
+Each command has its own help: forcenet COMMAND --help."""
+
+_EXAMPLES = """\
+examples, one per command (each takes a few seconds at most):
+  forcenet count --N 12                       # how many force networks (tableaux) the triangle has
+  forcenet table --N 12                       # the main job: 3 files in ./forcenet-tables/, a summary, a Monte Carlo check
+  forcenet table --N 12 --format json         # just the exact table of <W_ij>, on stdout
+  forcenet maps --N 7                         # the thesis's map counting (Sec. 4.6)
+  forcenet limit --x 0.2 --z 0.6              # N <W> far from the top, in the scaling limit
+  forcenet sample --N 10 --samples 2000       # Monte Carlo <W> with error bars
+  forcenet transfer --L 6                     # chicken-wire model: transfer matrix of a cylinder of width 6
+  forcenet bethe --L 6 --n 2 --m 1            # chicken-wire model: one sector by the Bethe ansatz
+  forcenet entropy --phi 0.3                  # chicken-wire entropy on the isotropic line, Eq. (7.1)
+  forcenet dist --N 12 --grain 12,6           # exact probability density of one force
+
+Results go to stdout (or to --out FILE, written atomically); costs, progress
+and errors go to stderr. Runs announced at over a minute need --force.
+More: the README (README.md of the source, or the package page)."""
+
+
 def build_parser() -> Parser:
-    parser = Parser(prog="forcenet", description="Exact results for the force network ensemble.")
+    parser = Parser(prog="forcenet", description=_DESCRIPTION, epilog=_EXAMPLES,
+                    formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--version", action="version", version=f"%(prog)s {version('forcenet')}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
     for family in (table, limit, sample, chicken_wire, dist):
         family.register(sub)
     return parser
+
+
+_EXTENSION_FORMATS = {".json": "json", ".csv": "csv", ".tex": "latex"}
+
+
+def _check_destinations(args) -> None:
+    """Every destination of the result, before any work: the files named, else standard output."""
+    for name in ("out", "plot"):
+        if getattr(args, name, None) is not None:
+            destination(getattr(args, name), f"--{name}")
+    if getattr(args, "out", None) is None:
+        check_stdout()
+    elif given(args, "format"):  # the name's extension says a format: it must be the one asked for
+        extension = os.path.splitext(args.out)[1].lower()
+        implied = _EXTENSION_FORMATS.get(extension)
+        if implied is not None and implied != args.format:
+            raise UsageError(f"--format {args.format} and --out={args.out} contradict each other: a {extension} file "
+                             f"holds {implied}; drop --format or rename the file")
 
 
 def _error(message: str) -> int:
@@ -53,6 +99,7 @@ def main(argv=None) -> int:
     except SystemExit as exc:  # argparse: --help (0) or a one-line usage error (2)
         return exc.code if is_integer(exc.code) else 2
     try:
+        _check_destinations(args)
         return args.func(args)
     except UsageError as exc:
         return _error(str(exc))
@@ -66,7 +113,7 @@ def main(argv=None) -> int:
     except BrokenPipeError:  # e.g. `forcenet maps --N 9 | head`
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
-    except OSError as exc:  # the file system: permissions, missing directories, full disks
+    except OSError as exc:  # the file system (the writers name the argument; this is the last resort)
         where = f" ({exc.filename})" if exc.filename else ""
         return _error(f"{exc.strerror or exc}{where}")
 

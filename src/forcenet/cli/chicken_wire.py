@@ -7,14 +7,16 @@ import math
 from .common import (
     UsageError,
     add_force,
+    given,
+    refuse_together,
     add_format,
     add_quiet,
-    emit,
     integer,
     json_dumps,
     real,
     run_planned,
 )
+from .output import emit
 
 __all__ = ["register"]
 
@@ -116,6 +118,8 @@ def _density(text):
     from fractions import Fraction
 
     try:
+        if not text.isascii():
+            raise ValueError(text)
         q = Fraction(text.strip())
     except (ValueError, ZeroDivisionError):
         raise argparse.ArgumentTypeError(f"Q={text!r} is not a number: Q must be a number or fraction in [0, 1/3]") from None
@@ -125,9 +129,29 @@ def _density(text):
 
 
 def _phi(text):
-    """--phi: a finite number in [-pi/2, pi/2], kept as the string given (every digit counts)."""
-    real("phi", -math.pi / 2 - 1e-12, math.pi / 2 + 1e-12)(text)  # the exact range check comes later, at full precision
-    return text.strip()
+    """--phi: a finite number in [-pi/2, pi/2] (compared with pi/2 at the digits given), kept as the string given."""
+    import argparse
+
+    import mpmath
+
+    real("phi")(text)  # a finite ASCII number
+    text = text.strip()
+    with mpmath.workdps(len(text) + 20):  # more digits than given: the comparison is exact
+        if abs(mpmath.mpf(text)) > mpmath.pi / 2:
+            raise argparse.ArgumentTypeError(f"phi={text} is out of range: phi must lie in [-pi/2, pi/2] "
+                                             "= [-1.5707963267948966192..., 1.5707963267948966192...]")
+    return text
+
+
+def _inside(args) -> bool:
+    """Whether the point is strictly inside ``0 < Q < 1/3`` (``|phi| < pi/2``), decided exactly."""
+    import mpmath
+    from fractions import Fraction
+
+    if args.Q is not None:
+        return 0 < args.Q < Fraction(1, 3)
+    with mpmath.workdps(len(args.phi) + 20):
+        return abs(mpmath.mpf(args.phi)) < mpmath.pi / 2
 
 
 def _closed_form_rows(args, dps):
@@ -153,15 +177,35 @@ def _closed_form_rows(args, dps):
         ("empty_per_site", "empty sites per site = square-triangle tiling vertices per site, 1 - 3Q + 3Q^2", iso.empty_density(**point, dps=dps)),
         ("s_per_tiling_vertex", "entropy per square-triangle tiling vertex, v / e", iso.tiling_entropy(**point, dps=dps)),
     ]
-    if 0 < Q < mpmath.mpf(1) / 3:
+    if _inside(args):
         rows.append(("mu", "log-fugacity of each bond direction, -(1/3) dv/dQ", iso.chemical_potential(**point, dps=dps)))
     if eps > 0:
         rows.append(("eps", "pi/2 - phi", eps))
-        rows.append(("v_series_7_3", "approximation of v by the leading term of Eq. (7.3), corrected: eps^2 (log(108/eps^2) - 3)/18",
-                     iso.entropy_series_7_3(eps, 2, dps)))
+        rows.append(_series_row(args, eps, rows[2][2], dps))
     rows.append(("g_per_grain_7_4", f"entropy per grain in the continuum limit, Eq. (7.4) corrected: log(6 l) - 3/2 at l = {args.F}",
                  iso.entropy_per_grain(args.F, dps)))
     return rows
+
+
+# the leading term of (7.3) is shown as an approximation of v where it is one: within 1 % of v
+_SERIES_TOLERANCE = 0.01
+
+
+def _series_row(args, eps, v, dps):
+    """The leading term of (7.3) at ``eps``, described with its deviation from ``v`` where it is no approximation."""
+    from fractions import Fraction
+
+    import mpmath
+
+    from forcenet.numeric.chicken_wire import isotropic as iso
+
+    # Q = 1/3 is eps = pi exactly (the rounded eps may exceed pi in its last digit)
+    series = iso.entropy_series_7_3(mpmath.pi if args.Q == Fraction(1, 3) else eps, 2, dps)
+    what = "approximation of v by the leading term of Eq. (7.3), corrected: eps^2 (log(108/eps^2) - 3)/18"
+    if not abs(series - v) <= _SERIES_TOLERANCE * v:
+        what += (f"; NOT VALID here: eps = {mpmath.nstr(eps, 3)} is not small, it differs from v by "
+                 f"{mpmath.nstr(abs(series - v), 2)}")
+    return ("v_series_7_3", what, series)
 
 
 def _maximum_rows(dps):
@@ -191,6 +235,9 @@ def cmd_entropy(args):
     dps = args.dps
     if args.max and args.bethe:
         raise UsageError("--bethe goes with --phi or --Q (the maximum comes from the closed form)")
+    refuse_together(args, "max", "F", "the maxima do not depend on the hexagon side l of Eq. (7.4)")
+    if given(args, "L_max") and not args.bethe:
+        raise UsageError("--L-max sets the widths of --bethe: add --bethe or drop --L-max")
     # measured: one evaluation 0.02 s at 1000 digits, 1.1 s at 9000; the maximum 2.8 s at 1000, 15 s at 3000
     seconds = 0.1 + 3.0 * (dps / 1000) ** 1.5 if args.max else 0.05 + 8 * 0.02 * (dps / 1000) ** 1.8
     closed = Plan(f"closed forms (7.1)-(7.4) to {dps} digits", seconds, 50 * 2**20)
@@ -211,6 +258,7 @@ def cmd_entropy(args):
     rows, bethe = run_planned(plan, run, force=args.force, quiet=args.quiet)
     out = {"dps": dps}
     out.update({key: mpmath.nstr(value, dps) for key, _, value in rows})
+    out.update({f"{key}_note": what.split("; ", 1)[1] for key, what, _ in rows if "; NOT VALID here" in what})
     if bethe:
         out.update(bethe)
     if args.format == "json":
@@ -264,7 +312,8 @@ def register(sub):
 
     p = sub.add_parser("entropy", help="chicken-wire model: entropy on the isotropic line, Eqs. (7.1)-(7.4), closed form")
     mode = p.add_mutually_exclusive_group(required=True)
-    mode.add_argument("--phi", type=_phi, help="parameter of Eqs. (7.1)-(7.2), -pi/2 <= phi <= pi/2 (every digit given counts)")
+    mode.add_argument("--phi", type=_phi, help="parameter of Eqs. (7.1)-(7.2), -pi/2 <= phi <= pi/2; read at full precision: every digit given "
+                           "counts (0.3 is exactly 3/10, not the nearest float)")
     mode.add_argument("--Q", type=_density, help="bond density per direction, a number or fraction in [0, 1/3]")
     mode.add_argument("--max", action="store_true", help="the maxima: per site (mu = 0) and per tiling vertex (phi = 0)")
     p.add_argument("--dps", type=integer("dps", 5, 10000), default=50, help="decimal digits (5..10000, default 50)")

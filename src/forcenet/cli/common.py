@@ -9,17 +9,16 @@ The policy, in one place:
   announced at over two seconds prints its estimate and a progress bar on
   stderr (``--quiet``: neither);
 * results go to stdout or to files written atomically, all at the end, all
-  or none; timings go to stderr, never into a result.
+  or none (:mod:`.output`); timings go to stderr, never into a result.
 """
 
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import math
-import os
 import sys
-import tempfile
 import time
 
 from forcenet.exact.plan import Plan
@@ -28,6 +27,8 @@ from forcenet.exact.validation import check_int, check_real
 __all__ = [
     "UsageError",
     "Parser",
+    "given",
+    "refuse_together",
     "integer",
     "real",
     "add_layers",
@@ -37,8 +38,6 @@ __all__ = [
     "add_seed",
     "available_memory",
     "run_planned",
-    "emit",
-    "write_files",
     "json_dumps",
 ]
 
@@ -51,10 +50,47 @@ class UsageError(Exception):
 
 
 class Parser(argparse.ArgumentParser):
-    """argparse with one-line errors and exit code 2."""
+    """argparse with one-line errors, exit code 2, and every option given at most once.
+
+    The options given on the command line are recorded in ``args._given``
+    (their ``dest``): :func:`given` tells an explicit value from a default.
+    """
 
     def error(self, message):
         self.exit(2, f"{self.prog}: error: {message}\n")
+
+    def _add_action(self, action):  # every option of this parser and of its mutually exclusive groups
+        action = super()._add_action(action)
+        if action.option_strings and not isinstance(action, (argparse._HelpAction, argparse._VersionAction)):
+            action.__class__ = _once(type(action))
+        return action
+
+
+@functools.lru_cache(maxsize=None)
+def _once(cls):
+    """The action class ``cls`` refusing a second occurrence of its option ("--N given twice")."""
+
+    class Once(cls):
+        def __call__(self, parser, namespace, values, option_string=None):
+            seen = vars(namespace).setdefault("_given", set())
+            if self.dest in seen:
+                parser.error(f"{'/'.join(self.option_strings)} given twice; give it once")
+            seen.add(self.dest)
+            super().__call__(parser, namespace, values, option_string)
+
+    Once.__name__ = Once.__qualname__ = cls.__name__
+    return Once
+
+
+def given(args, dest: str) -> bool:
+    """Whether the option ``dest`` was given on the command line (not its default)."""
+    return dest in vars(args).get("_given", ())
+
+
+def refuse_together(args, first: str, second: str, why: str) -> None:
+    """A contradiction: ``first`` and ``second`` (dests, both given) refused in one line naming both."""
+    if given(args, first) and given(args, second):
+        raise UsageError(f"--{first.replace('_', '-')} and --{second.replace('_', '-')} contradict each other: {why}")
 
 
 # ----------------------------------------------------------------- argument types
@@ -70,6 +106,8 @@ def integer(name: str, minimum: int | None = None, maximum: int | None = None):
     """
 
     def parse(text):
+        if not text.isascii():
+            raise ValueError(f"{name}={text!r} is not an integer: use the ASCII digits 0-9")
         try:
             value = int(text)
         except ValueError:
@@ -89,6 +127,8 @@ def real(name: str, low=None, high=None, *, low_open: bool = False, high_open: b
     """
 
     def parse(text):
+        if not text.isascii():
+            raise ValueError(f"{name}={text!r} is not a number: use the ASCII digits 0-9")
         return check_real(text, name, low, high, low_open=low_open, high_open=high_open)
 
     return _argparse_type(parse)
@@ -146,7 +186,32 @@ def available_memory() -> int:
     return 16 * 2**30
 
 
-def _progress_bar(total: int, desc: str, unit: str):
+PLAIN_PROGRESS_SECONDS = 60  # off a terminal, a run announced at over a minute reports every ~10 %
+
+
+class _PlainProgress:
+    """Progress off a terminal (a log file, a pipe): a plain line per ~10 %, no carriage return, no animation."""
+
+    def __init__(self, total: float, desc: str, unit: str):
+        self.total, self.desc, self.unit = total, desc, unit
+        self.n, self.next_tenth, self.t0 = 0.0, 1, time.perf_counter()
+
+    def update(self, k: float = 1) -> None:
+        self.n += k
+        while self.next_tenth < 10 and self.n >= self.total * self.next_tenth / 10:
+            unit = "estimated s" if self.unit == "s" else self.unit
+            print(f"forcenet: {self.desc}: {10 * self.next_tenth} % ({self.n:.0f}/{self.total:.0f} {unit}) after "
+                  f"{time.perf_counter() - self.t0:.0f} s", file=sys.stderr, flush=True)
+            self.next_tenth += 1
+
+    def close(self) -> None:
+        pass
+
+
+def _progress_bar(total: int, desc: str, unit: str, seconds: float = 0.0):
+    """An animated bar on a terminal; elsewhere plain lines (over a minute) or nothing."""
+    if not (sys.stderr is not None and sys.stderr.isatty()):
+        return _PlainProgress(total, desc, unit) if seconds > PLAIN_PROGRESS_SECONDS else None
     from tqdm import tqdm
 
     # a bar counted in estimated seconds (phases of different units, exact.plan.combine_by_time) moves by fractions
@@ -168,7 +233,7 @@ def run_planned(plan: Plan, run, *, force: bool = False, quiet: bool = False):
         return run(None)
     print(f"forcenet: {plan.what}: estimated {plan.describe()}", file=sys.stderr)
     t0 = time.perf_counter()
-    bar = _progress_bar(plan.ticks, plan.what, plan.unit) if plan.ticks else None
+    bar = _progress_bar(plan.ticks, plan.what, plan.unit, plan.seconds) if plan.ticks else None
     try:
         result = run(bar.update if bar else None)
     finally:
@@ -184,91 +249,6 @@ def run_planned(plan: Plan, run, *, force: bool = False, quiet: bool = False):
 def json_dumps(obj) -> str:
     """JSON without NaN/Infinity (refused: they are not JSON)."""
     return json.dumps(obj, allow_nan=False)
-
-
-def _check_directory(path: str, name: str):
-    directory = os.path.dirname(os.path.abspath(path)) or "."
-    if not os.path.isdir(directory):
-        raise UsageError(f"{name}={path}: the directory {directory} does not exist (create it first)")
-    if not os.access(directory, os.W_OK | os.X_OK):
-        raise UsageError(f"{name}={path}: the directory {directory} is not writable")
-    if os.path.isdir(path):
-        raise UsageError(f"{name}={path}: is a directory; give a file name")
-
-
-def emit(text: str, out: str | None = None, name: str = "--out") -> None:
-    """Print ``text`` on stdout, or write it to ``out`` atomically."""
-    if not text.endswith("\n"):
-        text += "\n"
-    if out is None:
-        sys.stdout.write(text)
-        sys.stdout.flush()
-        return
-    write_files({out: text}, name=name)
-
-
-def check_output_path(path: str | None, name: str = "--out") -> None:
-    """Fail early (before any computation) on an output file that cannot be written."""
-    if path is not None:
-        _check_directory(path, name)
-
-
-def check_output_dir(directory: str, name: str = "--out-dir") -> None:
-    """Fail early on an output directory that is a file or whose parent is missing or read-only."""
-    absolute = os.path.abspath(directory)
-    if os.path.exists(absolute):
-        if not os.path.isdir(absolute):
-            raise UsageError(f"{name}={directory}: exists and is not a directory")
-        if not os.access(absolute, os.W_OK | os.X_OK):
-            raise UsageError(f"{name}={directory}: the directory is not writable")
-        return
-    parent = os.path.dirname(absolute)
-    if not os.path.isdir(parent):
-        raise UsageError(f"{name}={directory}: its parent {parent} does not exist or is not a directory")
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise UsageError(f"{name}={directory}: cannot be created, {parent} is not writable")
-
-
-def write_files(files: dict, name: str = "--out", make_dir: str | None = None) -> None:
-    """Write every ``{path: text}`` atomically, all or none (``text`` may be ``bytes``).
-
-    Every file is first written to a temporary file beside its target, then
-    all are renamed; on any failure (or Ctrl-C) the temporaries, the files
-    renamed so far and the directory ``make_dir`` (if this call created it)
-    are removed, so nothing is left behind.
-    """
-    created = None
-    if make_dir is not None and not os.path.isdir(make_dir):
-        check_output_dir(make_dir)
-        os.mkdir(make_dir)
-        created = make_dir
-    temps, renamed = {}, []
-    try:
-        for path, text in files.items():
-            _check_directory(path, name)
-            directory = os.path.dirname(os.path.abspath(path))
-            fd, tmp = tempfile.mkstemp(dir=directory, prefix=".tmp-", suffix=os.path.basename(path))
-            temps[path] = tmp
-            umask = os.umask(0)
-            os.umask(umask)
-            os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600; give the usual permissions
-            with os.fdopen(fd, "wb" if isinstance(text, bytes) else "w") as handle:  # bytes: e.g. a PNG
-                handle.write(text)
-                handle.flush()
-                os.fsync(handle.fileno())
-        for path, tmp in temps.items():
-            os.replace(tmp, path)
-            renamed.append(path)
-    except BaseException:
-        for tmp in temps.values():
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-        for path in renamed:
-            if os.path.exists(path):
-                os.unlink(path)
-        if created is not None and os.path.isdir(created) and not os.listdir(created):
-            os.rmdir(created)
-        raise
 
 
 def finite_or_none(x: float):

@@ -11,7 +11,6 @@ Examples (shell)::
 from __future__ import annotations
 
 import argparse
-import os
 
 from .common import (
     UsageError,
@@ -21,14 +20,13 @@ from .common import (
     add_quiet,
     add_seed,
     available_memory,
-    check_output_path,
-    emit,
+    given,
     integer,
     json_dumps,
     real,
     run_planned,
-    write_files,
 )
+from .output import destination, emit, write_files
 
 __all__ = ["register"]
 
@@ -175,17 +173,16 @@ def cmd_dist(args):
 
     N = args.N
     what = _what(args)
-    check_output_path(args.out)
     if args.plot is not None:
         if what[0] == "grain":
             raise UsageError("--plot compares a pooled P(f) with sampled histograms: use it with --ensemble or --layer")
         if not args.plot.lower().endswith(".png"):
             raise UsageError(f"--plot={args.plot}: the figure is a PNG; give a file name ending in .png")
-        check_output_path(args.plot, "--plot")
-        if args.out is not None and os.path.abspath(args.out) == os.path.abspath(args.plot):
-            raise UsageError("--out and --plot name the same file")
-    elif args.samples is not None or args.sweeps is not None or args.bins is not None or args.f_max is not None:
-        raise UsageError("--samples, --sweeps, --bins and --f-max set the sampled histograms of --plot")
+        if args.out is not None and destination(args.out).target == destination(args.plot, "--plot").target:
+            raise UsageError(f"--out={args.out} and --plot={args.plot} name the same file")
+    elif (args.samples is not None or args.sweeps is not None or args.bins is not None or args.f_max is not None
+          or given(args, "seed")):
+        raise UsageError("--samples, --sweeps, --bins, --f-max and --seed set the sampled histograms of --plot")
     memory = available_memory()
     plans = [distribution_plan(N, {"grain": "contact" if len(what) > 2 and what[2] else "grain",
                                    "layer": "layer", "ensemble": "ensemble"}[what[0]], memory)]
@@ -216,7 +213,7 @@ def cmd_dist(args):
     files = {args.plot: png}
     if args.out is not None:
         files[args.out] = text if text.endswith("\n") else text + "\n"
-    write_files(files, name="--plot")
+    write_files(files, name="--plot", names={args.out: "--out"} if args.out is not None else None)
     if args.out is None:
         emit(text)
     return 0

@@ -2,7 +2,14 @@
 
 from __future__ import annotations
 
-from .common import UsageError, add_format, emit, integer, json_dumps, real
+from .common import (
+    UsageError,
+    add_format,
+    integer,
+    json_dumps,
+    real,
+)
+from .output import emit
 
 __all__ = ["register"]
 
@@ -37,7 +44,8 @@ def cmd_limit(args):
 def register(sub):
     p = sub.add_parser("limit", help="scaling limit of the response at reduced coordinates (x, z)")
     # the coordinates stay strings: they are converted inside mpmath.workdps, so every digit given counts
-    p.add_argument("--x", type=_decimal("x", -1, 1), required=True, help="horizontal coordinate (2j - i - 1)/N, |x| <= z")
+    p.add_argument("--x", type=_decimal("x", -1, 1), required=True, help="horizontal coordinate (2j - i - 1)/N, |x| <= z; "
+                   "read at full precision (every digit given counts)")
     p.add_argument("--z", type=_decimal("z", 0, 1, low_open=True), required=True, help="depth i/N in (0, 1]")
     p.add_argument("--dps", type=integer("dps", 5, 1000), default=20, help="decimal digits (5..1000, default 20)")
     add_format(p)

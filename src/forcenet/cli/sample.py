@@ -23,13 +23,12 @@ from .common import (
     add_quiet,
     add_seed,
     available_memory,
-    check_output_path,
-    emit,
     integer,
     json_dumps,
     real,
     run_planned,
 )
+from .output import emit
 
 __all__ = ["register"]
 
@@ -46,6 +45,33 @@ def _scene(args):
     if args.sampler == "exact":
         raise UsageError("--P: the exact sampler is the fully mobilized triangle; use --sampler metropolis for the packing")
     return Scene(N=args.N, P=args.P, F=args.F, j0=args.j0, pv=args.pv or 0.0, mg=args.mg or 0.0, ph=args.ph)
+
+
+# loads of the packing (and the triangle's ph/F): their squares enter the error bars, so they stay far from overflow
+_LOAD_RANGE = (1e-100, 1e100)
+
+
+def _check_loads(args):
+    """Refuse loads whose squares would overflow or vanish (the triangle's F alone scales out: any finite F)."""
+    low, high = _LOAD_RANGE
+    if args.P is not None:
+        for name in ("F", "pv", "mg", "ph"):
+            value = getattr(args, name)
+            if value is not None and value != 0 and not low <= value <= high:
+                raise UsageError(f"{name}={value:g} is out of range: with --P the loads --F, --pv, --mg, --ph must lie "
+                                 f"in [{low:g}, {high:g}] (0 allowed for --pv, --mg)")
+    elif args.ph is not None and not low <= args.ph / args.F <= high:
+        raise UsageError(f"ph={args.ph:g} with F={args.F:g}: the ratio ph/F must lie in [{low:g}, {high:g}]")
+
+
+def _finite(mean, stderr, extra):
+    """Never a nan or an infinity as a result: refuse it (an overflow of the model's numbers)."""
+    import numpy as np
+
+    values = [mean, stderr, extra["effective_samples"]] + [extra[k] for k in ("G", "stderr_G") if k in extra]
+    if not all(np.all(np.isfinite(v)) for v in values):
+        raise UsageError("the run produced non-finite values (the loads overflow the floating-point range); "
+                         f"give loads in [{_LOAD_RANGE[0]:g}, {_LOAD_RANGE[1]:g}]")
 
 
 def _plan(args, scene, burn):
@@ -112,7 +138,7 @@ def _metropolis_task(N, F, ph, scene, sweeps, burn, seed, response, move="metrop
             from forcenet.numeric.triangle.metropolis import TriangleMetropolis
 
             sampler = TriangleMetropolis(N, seed=rng, ph=None if ph is None else ph / F, move=move)
-            chain = sampler.run(sweeps, burn_in=burn, progress=progress) * F
+            chain = sampler.run(sweeps, burn_in=burn, progress=progress)  # in units of F (scaled at the end)
         else:
             from forcenet.numeric.packing.metropolis import PackingMetropolis, response as packing_response
 
@@ -183,14 +209,19 @@ def cmd_sample(args):
     import numpy as np
 
     N, K, workers = args.N, args.samples, args.workers
-    check_output_path(args.out)
     if args.sampler == "exact" and args.ph is not None:
         raise UsageError("--ph applies to --sampler metropolis only (the exact sampler is the fully mobilized ensemble)")
+    _check_loads(args)
     scene = _scene(args)
     if args.response and scene is None:
         raise UsageError("--response needs the full packing (--P): on the triangle G(i, j) = <W_ij>/F")
     if args.move != "metropolis" and args.sampler == "exact":
         raise UsageError("--move applies to --sampler metropolis only")
+    if args.burn_in is not None and args.sampler == "exact":
+        raise UsageError("--burn-in applies to --sampler metropolis only (exact samples need none)")
+    if args.timing and args.format != "json":
+        raise UsageError(f"--timing and --format {args.format} contradict each other: --timing adds to the JSON "
+                         "(the text output has its rate on stderr)")
     if workers > K:
         raise UsageError(f"--workers={workers}: more workers than samples ({K}); use at most {K}")
     burn = args.burn_in if args.burn_in is not None else max(100, K // 10)
@@ -211,7 +242,9 @@ def cmd_sample(args):
             if "error" in part:
                 raise UsageError(f"samples={K}: {part['error']}; run more sweeps")
         mean, stderr, extra = _combine_chains(parts)
-        if scene is not None:
+        if scene is None:  # the triangle's statistics in units of F, scaled last: any finite F
+            mean, stderr, extra["std_W"] = mean * args.F, stderr * args.F, extra["std_W"] * args.F
+        else:
             extra = {"scene": scene.name, "P": scene.P, "F": scene.F, "j0": scene.j0,
                      "pv": scene.pv, "mg": scene.mg, "ph": scene.ph, **extra}
         extra = {"burn_in": burn, "kernel": parts[0]["kernel"], "move": args.move, **extra}
@@ -220,6 +253,7 @@ def cmd_sample(args):
     t0 = time.perf_counter()
     mean, stderr, extra = run_planned(plan, run, force=args.force, quiet=args.quiet)
     seconds = time.perf_counter() - t0
+    _finite(mean, stderr, extra)
     ess = extra["effective_samples"]
     if not args.quiet:
         print(f"forcenet: {ess:.0f} effective samples in {seconds:.1f} s: {ess / seconds:.4g} per second "
@@ -248,7 +282,9 @@ def cmd_sample(args):
 def register(sub):
     p = sub.add_parser("sample", help="Monte Carlo <W> with standard errors (exact sampler or Metropolis)")
     add_layers(p)
-    p.add_argument("--sampler", choices=["exact", "metropolis"], default="exact")
+    p.add_argument("--sampler", choices=["exact", "metropolis"], default="exact",
+                   help="exact: independent exact samples of the triangle (default); metropolis: a Markov chain "
+                        "of the thesis's moves (also the full N x P packing, --P)")
     p.add_argument("--samples", type=integer("samples", 2), default=1000,
                    help="independent samples, or recorded sweeps (metropolis); an integer >= 2 (default 1000)")
     p.add_argument("--burn-in", type=integer("burn-in", 0), default=None, help="metropolis burn-in sweeps (default max(100, samples/10))")

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import os
 
+import argparse
+
 from forcenet.exact.routes import MAX_MOMENTS, METHODS
 
 from .common import (
@@ -11,16 +13,14 @@ from .common import (
     add_force,
     add_layers,
     add_quiet,
-    add_seed,
     available_memory,
-    check_output_dir,
-    check_output_path,
-    emit,
+    given,
     integer,
     json_dumps,
+    refuse_together,
     run_planned,
-    write_files,
 )
+from .output import check_output_dir, emit, write_files, write_stdout
 
 __all__ = ["register"]
 
@@ -38,7 +38,6 @@ def _decimal(n: int) -> str:
 def cmd_count(args):
     from forcenet.exact.triangle.staircase import count, count_plan
 
-    check_output_path(args.out)
     plan = count_plan(args.N, available_memory())
     text = run_planned(plan, lambda tick: _decimal(count(args.N)), force=args.force, quiet=args.quiet)
     emit(text, args.out)
@@ -49,8 +48,6 @@ def _samples(text):
     """--samples of the cross-check: 0 (none) or an integer >= 2 (an error bar needs two)."""
     value = integer("samples", 0)(text)
     if value == 1:
-        import argparse
-
         raise argparse.ArgumentTypeError("samples=1 is out of range: samples must be 0 (no cross-check) or an integer >= 2")
     return value
 
@@ -107,18 +104,28 @@ def _cross_check(N: int, means, samples: int, seed: int, progress):
     return compare(np.concatenate(rows), exact, keys=grains, bounds=(0, 1))  # every W lies in [0, 1]: any K
 
 
+def _refuse_ignored(args):
+    """What the main job alone uses, refused beside --format or --out (it would be ignored)."""
+    single = next((name for name in ("format", "out") if given(args, name)), None)
+    if single is not None:
+        for name in ("out_dir", "samples", "seed"):
+            refuse_together(args, name, single, f"--{name.replace('_', '-')} belongs to the main job (three files "
+                            "and a Monte Carlo cross-check), which --format and --out replace by one exact table")
+    elif args.samples == 0:
+        refuse_together(args, "seed", "samples", "the seed drives the cross-check's samples, and --samples 0 asks for none")
+
+
 def cmd_table(args):
     from forcenet.exact.plan import combine_by_time, phase_progress
     from forcenet.exact.routes import table_plan, table_run
     from forcenet.exact.triangle.tables import exact_table, fraction_str, to_csv, to_json, to_latex
 
+    _refuse_ignored(args)
     fmt = _output_format(args)
     if fmt is None and args.out is not None:  # pragma: no cover - _output_format infers it
         raise UsageError("--out needs --format")
-    if fmt is not None:
-        check_output_path(args.out)
-    else:
-        check_output_dir(args.out_dir)
+    if fmt is None:
+        check_output_dir(args.out_dir, files=[f"mean_W_N{args.N}.{ext}" for ext in ("json", "csv", "tex")])
     memory = available_memory()
     plans = [table_plan(args.method, args.N, args.moments, memory)]
     cross = fmt is None and args.samples > 0
@@ -145,7 +152,6 @@ def cmd_table(args):
     N = args.N
     stem = os.path.join(args.out_dir, f"mean_W_N{N}")
     files = {f"{stem}.{ext}": render[fmt_name](table) for ext, fmt_name in (("json", "json"), ("csv", "csv"), ("tex", "latex"))}
-    write_files(files, name="--out-dir", make_dir=args.out_dir)
     bottom = table["mean_W"][-1]
     lines = [
         f"Fully mobilized triangle, N = {N} layers, d = {N * (N - 1) // 2} free forces",
@@ -161,7 +167,8 @@ def cmd_table(args):
         lines += ["  " + line for line in check.summary().splitlines()]  # its last line: the verdict or "cannot judge: ..."
         if check.verdict != "cannot judge":
             lines.append(f"  RMS of (sampled - exact)/stderr = {check.rms_z:.2f} (about 1 expected)")
-    print("\n".join(lines))
+    # the summary is printed once the files are in place; if standard output fails, they are taken back
+    write_files(files, name="--out-dir", make_dir=args.out_dir, then=lambda: write_stdout("\n".join(lines) + "\n"))
     return 0 if check is None or check.passed else 1
 
 
@@ -184,31 +191,53 @@ def cmd_maps(args):
 
 def register(sub):
     """Add ``count``, ``table`` and ``maps`` to the subcommands."""
-    p = sub.add_parser("count", help="number of standard shifted staircase tableaux, d! * normalization (4.1)")
+    what = ("how many force networks: standard shifted staircase tableaux, d! * normalization (4.1) "
+            "(d = N(N-1)/2 free forces; an exact integer)")
+    p = sub.add_parser("count", help=what, description=what[0].upper() + what[1:] + ".")
     add_layers(p)
     p.add_argument("--out", help="write the integer to this file (atomically; its directory must exist)")
     add_force(p)
     add_quiet(p)
     p.set_defaults(func=cmd_count)
 
-    p = sub.add_parser("table", help="exact table of <W_ij> (and higher moments): the main job")
+    p = sub.add_parser(
+        "table", help="exact table of <W_ij> (and higher moments): the main job",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        description="The exact mean weight <W_ij> of every grain of the fully mobilized triangle of N layers\n"
+                    "(Sec. 4.2), as exact fractions.",
+        epilog="the main job (no --format, no --out) writes three files into ./forcenet-tables/ (--out-dir):\n"
+               "  mean_W_N<N>.json, mean_W_N<N>.csv and mean_W_N<N>.tex, the same exact table in three formats,\n"
+               "prints a summary (the count, the normalization, the bottom row) and checks the table against\n"
+               "20000 independent exact-sampler samples (--samples; --seed 2006 fixes them): a Monte Carlo\n"
+               "cross-check with a stated false-alarm rate (exit code 1 if it disagrees). --seed affects only\n"
+               "that cross-check, never the exact table.\n"
+               "with --format or --out: one format of the exact table only, no files in ./forcenet-tables/,\n"
+               "no cross-check.\n\n"
+               "examples:\n"
+               "  forcenet table --N 12                   # the main job (~2 s)\n"
+               "  forcenet table --N 9 --out table.csv    # one CSV file, the format from the extension")
     add_layers(p)
-    p.add_argument("--format", choices=["json", "csv", "latex"], help="print one format instead of the main job")
+    p.add_argument("--format", choices=["json", "csv", "latex"], help="print one format of the exact table instead of "
+                                                                       "the main job (no files, no cross-check)")
     p.add_argument("--out", help="write that format to this file (atomically; its directory must exist); "
                                  "the format follows the extension .json/.csv/.tex if --format is not given")
     p.add_argument("--moments", type=integer("moments", 1, MAX_MOMENTS), default=1,
                    help=f"highest moment s of W^s (1..{MAX_MOMENTS}, default 1)")
     p.add_argument("--out-dir", default="forcenet-tables",
-                   help="directory of the main job's three files (created if missing; its parent must exist)")
+                   help="directory of the main job's three files (default ./forcenet-tables, created if missing; "
+                        "its parent must exist)")
     p.add_argument("--samples", type=_samples, default=20000,
                    help="exact-sampler samples of the main job's cross-check (0: none, else >= 2; default 20000)")
-    add_seed(p, default=2006)
+    p.add_argument("--seed", type=integer("seed", 0, 2**63 - 1), default=2006,
+                   help="seed of the main job's cross-check samples, an integer >= 0 (default 2006); "
+                        "the exact table does not depend on it")
     p.add_argument(
         "--method", choices=list(METHODS), default="fast",
-        help="fast: order-ideal DP (default); thesis: the nested-matrix integration of Secs. 4.3-4.5; "
+        help="fast: order-ideal DP, a dynamic program over the 2^(N-1) order ideals (sets of grains closed "
+        "upwards), exact, up to N ~ 30 (default); thesis: the nested-matrix integration of Secs. 4.3-4.5; "
         "lambda: the integer recursions Lambda (4.50) and Gamma (4.73)-(4.77); "
         "maps: the map-counting formulas (4.67), (4.90)-(4.91) of Sec. 4.6; "
-        "pfaffian: Schur Pfaffians and minor summation, polynomial in N (notes/free_fermions.md)",
+        "pfaffian: Schur Pfaffians and minor summation, polynomial in N, for large N (notes/free_fermions.md)",
     )
     add_force(p)
     add_quiet(p)

@@ -120,10 +120,10 @@ class CheckpointStore:
 
     def encode(self, key: int, value) -> bytes:
         """The record of ``value`` (an integer array or integer) under ``key``."""
-        array = np.ascontiguousarray(np.asarray(value, dtype=np.int64))
+        array = np.asarray(value, dtype=np.int64)
         header = dict(self.request, prime=int(key), dtype="<i8", shape=list(array.shape))
         head = json.dumps(header, sort_keys=True).encode()
-        body = _MAGIC + _LENGTH.pack(len(head)) + head + array.astype("<i8").tobytes()
+        body = _MAGIC + _LENGTH.pack(len(head)) + head + array.astype("<i8").tobytes(order="C")
         return body + hashlib.sha256(body).digest()
 
     def decode(self, key: int, data: bytes):

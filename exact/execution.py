@@ -33,7 +33,7 @@ import os
 from concurrent.futures import Executor, as_completed
 from math import ceil
 
-__all__ = ["available_cores", "as_executor", "executor_workers", "wall_seconds", "run_tasks"]
+__all__ = ["available_cores", "as_executor", "executor_workers", "executor_label", "wall_seconds", "run_tasks"]
 
 
 def available_cores() -> int:
@@ -97,6 +97,22 @@ def executor_workers(executor) -> int | None:
         return max(1, sum(client.nthreads().values()))
     workers = getattr(executor, "_max_workers", None)
     return workers if isinstance(workers, int) and workers > 0 else None
+
+
+def executor_label(executor) -> str:
+    """Where an executor runs its tasks, for announcements: ``"Dask scheduler tcp://..."`` or its class name.
+
+    Examples
+    --------
+    >>> from concurrent.futures import ThreadPoolExecutor
+    >>> with ThreadPoolExecutor(1) as pool:
+    ...     executor_label(pool)
+    'ThreadPoolExecutor'
+    """
+    executor = as_executor(executor)
+    client = getattr(executor, "_client", None)
+    address = getattr(getattr(client, "scheduler", None), "address", None)
+    return f"Dask scheduler {address}" if address else type(executor).__name__
 
 
 def wall_seconds(per_task: float, tasks: int, workers: int, overhead: float = 0.0) -> float:

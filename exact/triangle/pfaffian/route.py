@@ -35,7 +35,7 @@ from fractions import Fraction
 from math import ceil, factorial, log2
 
 from ...checkpoints import CheckpointStore
-from ...execution import as_executor, available_cores, executor_workers, run_tasks, wall_seconds
+from ...execution import as_executor, available_cores, executor_label, executor_workers, run_tasks, wall_seconds
 from ...modular import is_prime
 from ...plan import Plan, first_moment_only
 from ...validation import check_int, check_layers
@@ -353,7 +353,7 @@ def _primes_plan(what: str, N: int, per_prime: float, per_worker: int, workers, 
     overhead = _TASK_OVERHEAD_SECONDS if executor is not None else 0.0
     seconds = _STARTUP_SECONDS * (1 + (nworkers > 1)) + wall_seconds(per_prime, nprimes - reused, nworkers, overhead)
     if executor is not None:
-        what += f" on {nworkers} worker{'s' if nworkers > 1 else ''} of {type(executor).__name__}"
+        what += f" on {nworkers} worker{'s' if nworkers > 1 else ''} of {executor_label(executor)}"
     if store is not None:
         what += f"; checkpoints in {store.path}: {reused} of {nprimes} primes recorded"
     local = 1 if executor is not None else nworkers  # a cluster's workers hold their share on their own machines

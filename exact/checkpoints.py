@@ -21,6 +21,9 @@ the format version, and describes the payload (an integer numpy array:
   version is ignored (and overwritten by the recomputed one);
 * **concurrent writers**: two processes on the same request write distinct
   temporary files and rename them; the last rename wins and both are whole;
+* **killed writers**: a temporary file left by a writer killed before its
+  rename never counts as a record, and is removed by the next run after
+  ten minutes;
 * **full disk** (or any write error): the temporary file is removed, the
   problem reported once in one line, and the run continues without further
   checkpoints; records already written stay valid.
@@ -50,6 +53,7 @@ import os
 import struct
 import sys
 import tempfile
+import time
 
 import numpy as np
 
@@ -59,6 +63,8 @@ FORMAT_VERSION = 1
 _MAGIC = b"forcenet-checkpoint\n"
 _LENGTH = struct.Struct("<Q")
 _DIGEST = 32
+_TEMP_PREFIX = ".tmp-"
+_STALE_SECONDS = 600  # a temporary file this old belongs to a killed writer
 _write = os.write  # one name for every byte written (the full-disk tests fault it)
 
 
@@ -178,7 +184,9 @@ class CheckpointStore:
         tmp = None
         try:
             os.makedirs(self.path, exist_ok=True)
-            fd, tmp = tempfile.mkstemp(dir=self.path, prefix=".tmp-", suffix=".rec")
+            if self.saved == 0:
+                _sweep(self.path)
+            fd, tmp = tempfile.mkstemp(dir=self.path, prefix=_TEMP_PREFIX)
             try:
                 view = memoryview(data)
                 while view:
@@ -200,6 +208,18 @@ class CheckpointStore:
                     os.unlink(tmp)
                 except OSError:
                     pass
+
+
+def _sweep(path: str) -> None:
+    """Remove temporary files left by writers killed before their rename (older than a live write can be)."""
+    now = time.time()
+    for name in os.listdir(path):
+        if name.startswith(_TEMP_PREFIX):
+            try:
+                if now - os.path.getmtime(os.path.join(path, name)) > _STALE_SECONDS:
+                    os.unlink(os.path.join(path, name))
+            except OSError:  # another process removed it first
+                pass
 
 
 def _sync_directory(path: str) -> None:

@@ -16,15 +16,15 @@ cluster.  No scheduler is written here; this module only
   at once, so Ctrl-C ends the run within a second or two even while workers
   sit inside compiled kernels; the exception is then re-raised.
 
-May import: nothing of the package.
+May import: :mod:`forcenet.exact.validation`.
 
 Examples
 --------
 >>> from operator import mul
 >>> run_tasks(mul, [(2, 3), (4, 5)])
 [6, 20]
->>> wall_seconds(per_task=2.0, tasks=10, workers=4, overhead=0.01)
-6.03
+>>> wall_seconds(per_task=2.0, tasks=10, workers=4, overhead=0.5)
+7.5
 """
 
 from __future__ import annotations
@@ -32,6 +32,8 @@ from __future__ import annotations
 import os
 from concurrent.futures import Executor, as_completed
 from math import ceil
+
+from .validation import check_int, is_integer
 
 __all__ = ["available_cores", "as_executor", "executor_workers", "executor_label", "wall_seconds", "run_tasks"]
 
@@ -96,7 +98,7 @@ def executor_workers(executor) -> int | None:
     if client is not None and callable(getattr(client, "nthreads", None)):
         return max(1, sum(client.nthreads().values()))
     workers = getattr(executor, "_max_workers", None)
-    return workers if isinstance(workers, int) and workers > 0 else None
+    return workers if is_integer(workers) and workers > 0 else None
 
 
 def executor_label(executor) -> str:
@@ -192,6 +194,7 @@ def run_tasks(function, tasks, *, executor=None, workers: int = 1, progress=None
     [3, 7, 11]
     """
     tasks = list(tasks)
+    workers = check_int(workers, "workers", 1)
     if store is not None and (keys is None or len(keys) != len(tasks)):
         raise ValueError("keys must give one store key per task when a store is given")
     weights = [1] * len(tasks) if weights is None else list(weights)

@@ -63,7 +63,7 @@ _SECONDS_PER_KERNEL = 3.3e-10  # per s^3 of the kernel set-up (four solves with 
 _SECONDS_PER_WEIGHT = 9e-9  # per M^2: the weights of the level functional, the sums over the points, the set-up
 _STARTUP_SECONDS = 1.5  # numba import and loading the cached kernels (first compilation ever: ~10 s more)
 _PARALLEL_MIN_SECONDS = 20.0  # below this, starting workers (numba import, ~3 s each) costs more than it saves
-_TASK_OVERHEAD_SECONDS = 0.01  # a Dask scheduler's cost per task on loopback, result transfer included (benchmarks)
+_TASK_OVERHEAD_SECONDS = 0.025  # a Dask scheduler's cost per task and worker on loopback, result included (benchmarks)
 _ROUTES = {"count": "pfaffian-count", "table": "pfaffian-table", "lattice": "pfaffian-lattice"}
 
 

@@ -209,8 +209,12 @@ def predict(sizes):
         for K in (16, 64):
             table = wall_seconds(route._seconds(N), nprimes, K, route._TASK_OVERHEAD_SECONDS)
             column = wall_seconds(route._edge_seconds(N), edge, K, route._TASK_OVERHEAD_SECONDS)
-            print(f"N={N}: {nprimes} primes of {route._seconds(N):.1f} s; K={K}: table {table / 3600:.2f} h, "
-                  f"lattice column {column / 3600:.2f} h ({edge} primes of {route._edge_seconds(N):.1f} s)", flush=True)
+            crt = route._CRT_SECONDS * nprimes**2 * (N - 1) ** 2
+            print(f"N={N}: {nprimes} primes of {route._seconds(N):.1f} s; K={K}: table {table / 3600:.2f} h "
+                  f"+ CRT {crt / 3600:.2f} h (client), lattice column {column / 3600:.2f} h "
+                  f"({edge} primes of {route._edge_seconds(N):.1f} s); plan: table "
+                  f"{route.table_plan(N, workers=K).seconds / 3600:.2f} h, column "
+                  f"{route.lattice_direction_plan(N, workers=K).seconds / 3600:.2f} h", flush=True)
 
 
 if __name__ == "__main__":

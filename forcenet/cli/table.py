@@ -186,7 +186,7 @@ def _table(args, fmt, memory, client, store):
     from forcenet.exact.routes import table_plan, table_run
     from forcenet.exact.triangle.tables import exact_table, fraction_str, to_csv, to_json, to_latex
 
-    options = {"executor": client, "checkpoint": store}
+    options = {k: v for k, v in (("executor", client), ("checkpoint", store)) if v is not None}
     plans = [table_plan(args.method, args.N, args.moments, memory, **options)]
     cross = fmt is None and args.samples > 0
     if cross:

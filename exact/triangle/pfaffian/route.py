@@ -64,6 +64,7 @@ _SECONDS_PER_WEIGHT = 9e-9  # per M^2: the weights of the level functional, the 
 _STARTUP_SECONDS = 1.5  # numba import and loading the cached kernels (first compilation ever: ~10 s more)
 _PARALLEL_MIN_SECONDS = 20.0  # below this, starting workers (numba import, ~3 s each) costs more than it saves
 _TASK_OVERHEAD_SECONDS = 0.025  # a Dask scheduler's cost per task and worker on loopback, result included (benchmarks)
+_CRT_SECONDS = 2.3e-9  # per reconstructed entry and prime^2: the client's Chinese remaindering (benchmarks)
 _ROUTES = {"count": "pfaffian-count", "table": "pfaffian-table", "lattice": "pfaffian-lattice"}
 
 
@@ -336,12 +337,14 @@ def lattice_direction_plan(N: int, memory_bytes: int | None = None, workers: int
     n, d = N - 1, N * (N - 1) // 2
     per_worker = level_points(d) // 2 * 2 * n * 8 + 160 * 2**20
     return _primes_plan(what, N, _edge_seconds(N), per_worker, workers, executor, _store(checkpoint, "lattice", N),
-                        memory_bytes)
+                        memory_bytes, entries=n)
 
 
-def _primes_plan(what: str, N: int, per_prime: float, per_worker: int, workers, executor, store, memory_bytes) -> Plan:
+def _primes_plan(what: str, N: int, per_prime: float, per_worker: int, workers, executor, store, memory_bytes,
+                 entries: int) -> Plan:
     """The plan of a run over the route's primes: ``per_prime`` CPU seconds each, spread over the workers (those of
-    ``executor``, else local processes), the primes recorded in ``store`` not counted."""
+    ``executor``, else local processes), the primes recorded in ``store`` not counted; then the client's Chinese
+    remaindering of ``entries`` integers (quadratic in the number of primes)."""
     n, d = N - 1, N * (N - 1) // 2
     nprimes = ceil(((d + 1) * _count_bound(N)).bit_length() / log2(prime_limit(max(n, 1)) * 0.999))
     reused = 0
@@ -351,7 +354,8 @@ def _primes_plan(what: str, N: int, per_prime: float, per_worker: int, workers, 
     executor = as_executor(executor)
     nworkers = _workers(workers, max(1, nprimes - reused), per_prime * (nprimes - reused), executor)
     overhead = _TASK_OVERHEAD_SECONDS if executor is not None else 0.0
-    seconds = _STARTUP_SECONDS * (1 + (nworkers > 1)) + wall_seconds(per_prime, nprimes - reused, nworkers, overhead)
+    seconds = (_STARTUP_SECONDS * (1 + (nworkers > 1)) + wall_seconds(per_prime, nprimes - reused, nworkers, overhead)
+               + _CRT_SECONDS * entries * nprimes**2)
     if executor is not None:
         what += f" on {nworkers} worker{'s' if nworkers > 1 else ''} of {executor_label(executor)}"
     if store is not None:
@@ -394,7 +398,7 @@ def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None, worker
     n, d = N - 1, N * (N - 1) // 2
     per_worker = level_points(d) // 2 * (n + 2) * n * 8 + 160 * 2**20
     return _primes_plan(what, N, _seconds(N), per_worker, workers, executor, _store(checkpoint, "table", N),
-                        memory_bytes)
+                        memory_bytes, entries=n * n)
 
 
 def _count_bound(N: int) -> int:

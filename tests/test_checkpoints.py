@@ -197,3 +197,31 @@ def test_sigkill_at_random_points_resumes_to_the_same_bytes(tmp_path, capsys):
     result = subprocess.run(_cli("--N", str(N), "--checkpoint", str(directory)), capture_output=True, text=True)
     assert result.returncode == 0 and result.stdout == expected
     assert f"reused {recorded} of {total} primes, computed {total - recorded}" in result.stderr
+
+
+def test_runs_over_a_minute_checkpoint_by_default_in_the_cache(monkeypatch, tmp_path):
+    import argparse
+
+    from forcenet.cli.table import _engine_options
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    args = argparse.Namespace(method="pfaffian", N=64, moments=1, scheduler=None, checkpoint=None, no_checkpoint=False)
+    client, store = _engine_options(args, plan_seconds=61)
+    assert client is None and store.path.startswith(os.path.join(str(tmp_path), "forcenet", "pfaffian-table-N64"))
+    assert _engine_options(args, plan_seconds=59) == (None, None)
+    args.no_checkpoint = True
+    assert _engine_options(args, plan_seconds=3600) == (None, None)
+    plan = route.table_plan(64, checkpoint=store)
+    assert f"checkpoints in {store.path}: 0 of {plan.ticks} primes recorded" in plan.what
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--method", "pfaffian", "--checkpoint", "ck", "--no-checkpoint"], "--checkpoint and --no-checkpoint contradict"),
+    (["--method", "fast", "--checkpoint", "ck"], "--checkpoint applies to --method pfaffian only"),
+    (["--method", "pfaffian", "--checkpoint", "no/such/dir"], "--checkpoint=no/such/dir: its parent"),
+])
+def test_checkpoint_options_refused_in_one_line(argv, message, capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(["table", "--N", "12", "--format", "json", *argv]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err and os.listdir(tmp_path) == []

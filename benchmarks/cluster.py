@@ -161,8 +161,9 @@ def acceptance(port: int = 8799):
         victim = [child.pid for child in psutil.Process(procs[1].pid).children()]
         for pid in victim:
             os.kill(pid, signal.SIGKILL)
+        at = _records(directory, 44)
         out, _ = run.communicate()
-        print(f"N=44: worker process {victim} killed at {_records(directory, 44)}/{total} primes; "
+        print(f"N=44: worker process {victim} killed at {at}/{total} primes; "
               f"bytes unchanged: {out == reference}; load {_load()}", flush=True)
 
         reference = _cli("--N", "48", "--no-checkpoint", "--scheduler", address)

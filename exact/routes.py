@@ -56,7 +56,7 @@ def _fast_plan(N: int, moments: int, memory_bytes: int | None) -> Plan:
     return combine(what, plans, "ideal")
 
 
-def table_plan(method: str, N: int, moments: int = 1, memory_bytes: int | None = None) -> Plan:
+def table_plan(method: str, N: int, moments: int = 1, memory_bytes: int | None = None, **options) -> Plan:
     """What ``forcenet table --method METHOD --N N --moments MOMENTS`` will cost.
 
     Parameters
@@ -68,6 +68,8 @@ def table_plan(method: str, N: int, moments: int = 1, memory_bytes: int | None =
         Highest moment ``s`` of ``W^s``, ``1..50``.
     memory_bytes : int, optional
         Memory available to the run; a plan that needs more is refused.
+    **options
+        ``executor=``, ``checkpoint=`` of the multi-modular route (pfaffian).
 
     Returns
     -------
@@ -75,20 +77,31 @@ def table_plan(method: str, N: int, moments: int = 1, memory_bytes: int | None =
     """
     N = check_layers(N)
     moments = check_int(moments, "moments", 1, MAX_MOMENTS)
+    options = _check_options(method, options)
     if method == "fast":
         return _fast_plan(N, moments, memory_bytes)
-    return _engine(method).table_plan(N, moments, memory_bytes)
+    return _engine(method).table_plan(N, moments, memory_bytes, **options)
 
 
-def table_run(method: str, N: int, moments: int = 1, progress=None, memory_bytes: int | None = None) -> dict:
+def _check_options(method: str, options: dict) -> dict:
+    """The given (not None) engine options; refused for a route that has no independent tasks."""
+    given = {k: v for k, v in options.items() if v is not None}
+    if given and method != "pfaffian":
+        raise ValueError(f"{', '.join(f'{k}=' for k in given)} applies to method='pfaffian' only "
+                         "(the route over independent primes)")
+    return given
+
+
+def table_run(method: str, N: int, moments: int = 1, progress=None, memory_bytes: int | None = None, **options) -> dict:
     """``{s: table of <W_{i,j}^s>}`` for ``s = 1..moments`` by the chosen route (exact Fractions).
 
-    ``progress(k=1)`` is called with the plan's ticks.
+    ``progress(k=1)`` is called with the plan's ticks; ``options`` as in :func:`table_plan`.
     """
     N = check_layers(N)
     moments = check_int(moments, "moments", 1, MAX_MOMENTS)
+    options = _check_options(method, options)
     if method != "fast":
-        return _engine(method).table_run(N, moments, progress=progress)
+        return _engine(method).table_run(N, moments, progress=progress, **options)
     from .triangle.moments import _residue_budget, mean_W, moment_table
 
     tables = {1: mean_W(N, progress=progress, memory_bytes=_residue_budget(memory_bytes))}

@@ -3,7 +3,14 @@
 ``--method pfaffian`` of ``forcenet table``.  Residues from :mod:`.engine`
 for enough word-size primes, rebuilt exactly by the Chinese remainder
 theorem (the bound ``0 <= S[m][k] <= (d+1) count`` is proven, so the
-reconstruction is exact); primes are spread over worker processes.
+reconstruction is exact).  The primes are independent tasks run by
+:func:`forcenet.exact.execution.run_tasks` on an executor: a local process
+pool by default, or any :class:`concurrent.futures.Executor` given as
+``executor=`` (a Dask cluster: ``client.get_executor()``, or the client
+itself); ``checkpoint=`` (a directory or a
+:class:`~forcenet.exact.checkpoints.CheckpointStore`) records every finished
+prime, so a rerun recomputes only the missing ones.  The result never depends
+on either.
 
 Cost ``O(N^7 log N)`` word operations: ``O(n^5)`` per prime (``d/2`` level
 points, ``n + 1`` values of ``y``, an ``O(n^2)`` displacement elimination
@@ -11,7 +18,8 @@ each) and ``O(N^2 log N)`` primes.  Memory ``O(N^3)`` per worker.  It overtakes 
 order-ideal DP (``2^(N-1)`` ideals) near ``N = 20`` (``notes/benchmarks.md``).
 
 May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
-:mod:`forcenet.exact.plan` and its own package.
+:mod:`forcenet.exact.plan`, :mod:`forcenet.exact.execution`,
+:mod:`forcenet.exact.checkpoints` and its own package.
 
 Examples
 --------
@@ -23,10 +31,11 @@ Examples
 
 from __future__ import annotations
 
-import os
 from fractions import Fraction
 from math import ceil, factorial, log2
 
+from ...checkpoints import CheckpointStore
+from ...execution import as_executor, available_cores, executor_label, executor_workers, run_tasks, wall_seconds
 from ...modular import is_prime
 from ...plan import Plan, first_moment_only
 from ...validation import check_int, check_layers
@@ -54,6 +63,9 @@ _SECONDS_PER_KERNEL = 3.3e-10  # per s^3 of the kernel set-up (four solves with 
 _SECONDS_PER_WEIGHT = 9e-9  # per M^2: the weights of the level functional, the sums over the points, the set-up
 _STARTUP_SECONDS = 1.5  # numba import and loading the cached kernels (first compilation ever: ~10 s more)
 _PARALLEL_MIN_SECONDS = 20.0  # below this, starting workers (numba import, ~3 s each) costs more than it saves
+_TASK_OVERHEAD_SECONDS = 0.025  # a Dask scheduler's cost per task and worker on loopback, result included (benchmarks)
+_CRT_SECONDS = 2.3e-9  # per reconstructed entry and prime^2: the client's Chinese remaindering (benchmarks)
+_ROUTES = {"count": "pfaffian-count", "table": "pfaffian-table", "lattice": "pfaffian-lattice"}
 
 
 def route_primes(N: int):
@@ -101,11 +113,12 @@ class _CRT:
         return sum(int(r) * e for r, e in zip(residues, self.basis)) % self.modulus
 
 
-def count(N: int, backend: str = "numba") -> int:
+def count(N: int, backend: str = "numba", *, executor=None, checkpoint=None) -> int:
     """The number of tableaux, ``count = d! Pf(B)`` (the normalization (4.1) times ``d!``), by this route.
 
     Multi-modular, with the proven bound ``count <= d!`` (linear extensions
-    of ``d`` elements).
+    of ``d`` elements).  ``executor`` and ``checkpoint`` as in
+    :func:`survival_table` (by default the primes run in this process).
 
     Examples
     --------
@@ -114,7 +127,9 @@ def count(N: int, backend: str = "numba") -> int:
     """
     N = check_layers(N, maximum=MAX_N)
     primes = _primes_above(factorial(N * (N - 1) // 2), N)
-    return _CRT(primes)([count_residue(N, p, backend) for p in primes])
+    residues = _run_primes(count_residue, [(N, p, backend) for p in primes], executor, 1, None,
+                           _store(checkpoint, "count", N))
+    return _CRT(primes)([int(r) for r in residues])
 
 
 def normalization(N: int, backend: str = "numba") -> Fraction:
@@ -129,49 +144,40 @@ def normalization(N: int, backend: str = "numba") -> Fraction:
     return Fraction(count(N, backend), factorial(N * (N - 1) // 2))
 
 
-def _one_prime(args):
-    N, p, backend, total_mod_p = args
-    return p, prime_residues(N, p, backend, total_mod_p)
+def _store(checkpoint, route: str, N: int):
+    """The checkpoint store of one route's request: None, from a directory, or a given store (reused when it is
+    this request's, else its directory and report)."""
+    if checkpoint is None:
+        return None
+    name = _ROUTES[route]
+    if isinstance(checkpoint, CheckpointStore):
+        if checkpoint.request["route"] == name and checkpoint.request["N"] == N:
+            return checkpoint
+        return CheckpointStore(checkpoint.directory, name, N, report=checkpoint.report)
+    return CheckpointStore(checkpoint, name, N)
 
 
-def _one_prime_edge(args):
-    N, p, backend = args
-    return p, edge_residues(N, p, backend)
+def _run_primes(function, tasks, executor, nworkers: int, progress, store):
+    """``[function(*task)]`` over the tasks (``task[1]`` is the prime, the checkpoint key), in task order: on the
+    executor, else in ``nworkers`` local processes (spawn: the parent may hold threads, the children load the
+    cached kernels)."""
+    return run_tasks(function, tasks, executor=executor, workers=nworkers, progress=progress, store=store,
+                     keys=[task[1] for task in tasks])
 
 
-def _run_primes(function, tasks, nworkers: int, progress):
-    """``{p: function(task)}`` over the tasks (``task[1]`` is the prime), in worker processes if ``nworkers > 1``."""
-    residues = {}
-    if nworkers == 1:
-        for task in tasks:
-            p, value = function(task)
-            residues[p] = value
-            if progress is not None:
-                progress(1)
-        return residues
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-
-    # spawn: the parent may hold threads (progress bars); the children load the cached kernels
-    with ProcessPoolExecutor(nworkers, mp_context=multiprocessing.get_context("spawn")) as pool:
-        for future in as_completed([pool.submit(function, task) for task in tasks]):
-            p, value = future.result()
-            residues[p] = value
-            if progress is not None:
-                progress(1)
-    return residues
-
-
-def _workers(workers, tasks: int, seconds: float) -> int:
+def _workers(workers, tasks: int, seconds: float, executor=None) -> int:
+    """Tasks run at once: the executor's workers, else ``workers`` local processes (default: the cores when the
+    run pays for starting them)."""
+    if executor is not None:
+        return max(1, executor_workers(executor) or 1)
     if workers is None:
-        workers = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-        if seconds < _PARALLEL_MIN_SECONDS:
-            workers = 1
+        workers = available_cores() if seconds >= _PARALLEL_MIN_SECONDS else 1
     workers = check_int(workers, "workers", 1)
     return max(1, min(workers, tasks))
 
 
-def survival_table(N: int, *, workers: int | None = None, progress=None, backend: str = "numba"):
+def survival_table(N: int, *, workers: int | None = None, progress=None, backend: str = "numba", executor=None,
+                   checkpoint=None):
     """Exact ``S[m][k] = sum_A w(A) [N_m(A) = k]`` and ``count(N)``, by Pfaffians.
 
     ``A`` runs over the order ideals (strict partitions with parts ``<= n``),
@@ -186,9 +192,17 @@ def survival_table(N: int, *, workers: int | None = None, progress=None, backend
         Worker processes (default: the available cores when the run is long
         enough to pay for them, else 1).  Results do not depend on it.
     progress : callable, optional
-        Called as ``progress(1)`` after each prime.
+        Called as ``progress(1)`` after each prime (at once for a prime
+        taken from the checkpoint).
     backend : {"numba", "python"}
         Compiled kernels or their pure-Python twins (tests, small ``N``).
+    executor : concurrent.futures.Executor or dask.distributed.Client, optional
+        Runs the per-prime tasks instead of local processes (e.g. a Dask
+        cluster's ``client.get_executor()``; its workers need forcenet
+        installed, nothing else).  Results do not depend on it.
+    checkpoint : str, os.PathLike or CheckpointStore, optional
+        Directory of the checkpoint records: finished primes are recorded
+        there and not recomputed by a rerun of the same request.
 
     Returns
     -------
@@ -203,17 +217,18 @@ def survival_table(N: int, *, workers: int | None = None, progress=None, backend
     """
     N = check_layers(N, maximum=MAX_N)
     n, d = N - 1, N * (N - 1) // 2
-    total = count(N, backend)
+    executor = as_executor(executor)
+    total = count(N, backend, executor=executor, checkpoint=checkpoint)
     if n == 0:
         return [[0]], total
     primes = _primes_above((d + 1) * total, N)
     tasks = [(N, p, backend, total % p) for p in primes]
-    nworkers = _workers(workers, len(tasks), _seconds(N) * len(primes))
-    residues = _run_primes(_one_prime, tasks, nworkers, progress)
+    nworkers = _workers(workers, len(tasks), _seconds(N) * len(primes), executor)
+    residues = _run_primes(prime_residues, tasks, executor, nworkers, progress, _store(checkpoint, "table", N))
     crt = _CRT(primes)
     out = [[0] * (n + 1)]
     for m in range(1, n + 1):
-        out.append([crt([residues[p][m, k] for p in primes]) for k in range(n + 1)])
+        out.append([crt([r[m, k] for r in residues]) for k in range(n + 1)])
     if any(sum(row) != (d + 1) * total for row in out[1:]):
         raise ArithmeticError("reconstructed rows do not sum to (d + 1) count")
     return out, total
@@ -261,13 +276,15 @@ def expected_entries(N: int, **kwargs) -> dict:
     return {(r, c): Fraction(sum(S[c - r + 1][:r]), total) for r in range(1, n + 1) for c in range(r, n + 1)}
 
 
-def lattice_direction(N: int, *, workers: int | None = None, progress=None, backend: str = "numba") -> list[Fraction]:
+def lattice_direction(N: int, *, workers: int | None = None, progress=None, backend: str = "numba", executor=None,
+                      checkpoint=None) -> list[Fraction]:
     """Exact ``<W_{i,1}> = <W_{i,i}>`` for ``i = 1..N``: the response on the two lattice directions.
 
     Only the first column ``S[m][0]`` of the survival table, from two
     eliminations per level point instead of ``n + 1`` (:func:`~.engine.edge_residues`);
     the kernel set-up, the same for both, is then most of the work: about 4
     times cheaper than :func:`mean_W` at N = 100 (``notes/benchmarks.md``).  ``<W_{i,1}> (d + 1) count = S[N - i + 1][0]``.
+    The keyword arguments are those of :func:`survival_table`.
 
     Examples
     --------
@@ -276,15 +293,17 @@ def lattice_direction(N: int, *, workers: int | None = None, progress=None, back
     """
     N = check_layers(N, maximum=MAX_N)
     n, d = N - 1, N * (N - 1) // 2
-    total = count(N, backend)
+    executor = as_executor(executor)
+    total = count(N, backend, executor=executor, checkpoint=checkpoint)
     if n == 0:
         return [Fraction(1)]
     primes = _primes_above((d + 1) * total, N)
-    nworkers = _workers(workers, len(primes), _edge_seconds(N) * len(primes))
-    residues = _run_primes(_one_prime_edge, [(N, p, backend) for p in primes], nworkers, progress)
+    nworkers = _workers(workers, len(primes), _edge_seconds(N) * len(primes), executor)
+    residues = _run_primes(edge_residues, [(N, p, backend) for p in primes], executor, nworkers, progress,
+                           _store(checkpoint, "lattice", N))
     crt = _CRT(primes)
     den = (d + 1) * total
-    column = {m: crt([residues[p][m] for p in primes]) for m in range(1, n + 1)}
+    column = {m: crt([r[m] for r in residues]) for m in range(1, n + 1)}
     if any(not 0 < v < den for v in column.values()):
         raise ArithmeticError("reconstructed lattice-direction sums out of range")
     return [Fraction(1)] + [Fraction(column[N - i + 1], den) for i in range(2, N + 1)]
@@ -298,8 +317,13 @@ def _edge_seconds(N: int) -> float:
     return level_points(d) // 2 * (2 * per_y + _SECONDS_PER_KERNEL * s**3) + _SECONDS_PER_WEIGHT * level_points(d) ** 2 + 1e-3
 
 
-def lattice_direction_plan(N: int, memory_bytes: int | None = None, workers: int | None = None) -> Plan:
+def lattice_direction_plan(N: int, memory_bytes: int | None = None, workers: int | None = None, *, executor=None,
+                           checkpoint=None) -> Plan:
     """The cost of :func:`lattice_direction` (the plan of ``notes/benchmarks.md``'s model).
+
+    With ``executor`` the plan counts its workers (and the scheduler's cost
+    per task); with ``checkpoint`` it counts only the primes not yet recorded
+    and says so.
 
     Examples
     --------
@@ -311,12 +335,33 @@ def lattice_direction_plan(N: int, memory_bytes: int | None = None, workers: int
     if N > MAX_N:
         return Plan(what, 0, refusal=f"N={N} is out of range for the Pfaffian route: N must be an integer in 2..{MAX_N}")
     n, d = N - 1, N * (N - 1) // 2
-    nprimes = ceil(((d + 1) * _count_bound(N)).bit_length() / log2(prime_limit(max(n, 1)) * 0.999))
-    cpu = _edge_seconds(N) * nprimes
-    nworkers = _workers(workers, nprimes, cpu)
     per_worker = level_points(d) // 2 * 2 * n * 8 + 160 * 2**20
-    return Plan(what, _STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers, nworkers * per_worker, nprimes,
-                "prime").within_memory(memory_bytes)
+    return _primes_plan(what, N, _edge_seconds(N), per_worker, workers, executor, _store(checkpoint, "lattice", N),
+                        memory_bytes, entries=n)
+
+
+def _primes_plan(what: str, N: int, per_prime: float, per_worker: int, workers, executor, store, memory_bytes,
+                 entries: int) -> Plan:
+    """The plan of a run over the route's primes: ``per_prime`` CPU seconds each, spread over the workers (those of
+    ``executor``, else local processes), the primes recorded in ``store`` not counted; then the client's Chinese
+    remaindering of ``entries`` integers (quadratic in the number of primes)."""
+    n, d = N - 1, N * (N - 1) // 2
+    nprimes = ceil(((d + 1) * _count_bound(N)).bit_length() / log2(prime_limit(max(n, 1)) * 0.999))
+    reused = 0
+    if store is not None:
+        primes = _primes_above((d + 1) * _count_bound(N), N)
+        nprimes, reused = len(primes), sum(store.holds(p) for p in primes)
+    executor = as_executor(executor)
+    nworkers = _workers(workers, max(1, nprimes - reused), per_prime * (nprimes - reused), executor)
+    overhead = _TASK_OVERHEAD_SECONDS if executor is not None else 0.0
+    seconds = (_STARTUP_SECONDS * (1 + (nworkers > 1)) + wall_seconds(per_prime, nprimes - reused, nworkers, overhead)
+               + _CRT_SECONDS * entries * nprimes**2)
+    if executor is not None:
+        what += f" on {nworkers} worker{'s' if nworkers > 1 else ''} of {executor_label(executor)}"
+    if store is not None:
+        what += f"; checkpoints in {store.path}: {reused} of {nprimes} primes recorded"
+    local = 1 if executor is not None else nworkers  # a cluster's workers hold their share on their own machines
+    return Plan(what, seconds, local * per_worker, nprimes, "prime").within_memory(memory_bytes)
 
 
 def _seconds(N: int) -> float:
@@ -329,8 +374,10 @@ def _seconds(N: int) -> float:
     return reps * (ys * per_y + _SECONDS_PER_KERNEL * s**3) + _SECONDS_PER_WEIGHT * level_points(d) ** 2 + 1e-3
 
 
-def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None, workers: int | None = None) -> Plan:
-    """The cost of :func:`table_run` (``forcenet table --method pfaffian``).
+def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None, workers: int | None = None, *,
+               executor=None, checkpoint=None) -> Plan:
+    """The cost of :func:`table_run` (``forcenet table --method pfaffian``); ``executor`` and ``checkpoint`` as in
+    :func:`lattice_direction_plan`.
 
     Examples
     --------
@@ -349,13 +396,9 @@ def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None, worker
     if N > MAX_N:
         return Plan(what, 0, refusal=f"N={N} is out of range for --method pfaffian: N must be an integer in 2..{MAX_N}")
     n, d = N - 1, N * (N - 1) // 2
-    bits = ((d + 1) * _count_bound(N)).bit_length()
-    nprimes = ceil(bits / log2(prime_limit(max(n, 1)) * 0.999))
-    cpu = _seconds(N) * nprimes
-    nworkers = _workers(workers, nprimes, cpu)
-    seconds = _STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers
     per_worker = level_points(d) // 2 * (n + 2) * n * 8 + 160 * 2**20
-    return Plan(what, seconds, nworkers * per_worker, nprimes, "prime").within_memory(memory_bytes)
+    return _primes_plan(what, N, _seconds(N), per_worker, workers, executor, _store(checkpoint, "table", N),
+                        memory_bytes, entries=n * n)
 
 
 def _count_bound(N: int) -> int:
@@ -365,8 +408,9 @@ def _count_bound(N: int) -> int:
     return product_formula(N)
 
 
-def table_run(N: int, moments: int = 1, progress=None, workers: int | None = None) -> dict:
-    """``{1: <W> table}`` by Pfaffians; ``progress(1)`` per prime.
+def table_run(N: int, moments: int = 1, progress=None, workers: int | None = None, *, executor=None,
+              checkpoint=None) -> dict:
+    """``{1: <W> table}`` by Pfaffians; ``progress(1)`` per prime; the keywords of :func:`survival_table`.
 
     Examples
     --------
@@ -375,4 +419,4 @@ def table_run(N: int, moments: int = 1, progress=None, workers: int | None = Non
     """
     N = check_layers(N, maximum=MAX_N)
     check_int(moments, "moments", 1, 1)
-    return {1: mean_W(N, progress=progress, workers=workers)}
+    return {1: mean_W(N, progress=progress, workers=workers, executor=executor, checkpoint=checkpoint)}

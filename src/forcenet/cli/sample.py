@@ -185,21 +185,20 @@ def _combine_chains(parts):
 
 
 def _run_tasks(func, tasks, K, tick):
-    """Run ``func(*task)`` for every task: in this process for one worker, else in ``K`` processes."""
+    """Run ``func(*task)`` for every task: in this process for one worker, else in ``K`` processes.
+
+    The results come in task order (they do not depend on timing); Ctrl-C
+    terminates the worker processes at once (:func:`forcenet.exact.execution.run_tasks`).
+    """
     if K == 1:
         return [func(*tasks[0], progress=tick)]
     import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor
+
+    from forcenet.exact.execution import run_tasks
 
     method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
-    with ProcessPoolExecutor(max_workers=K, mp_context=multiprocessing.get_context(method)) as pool:
-        futures = [pool.submit(func, *task) for task in tasks]
-        results = []
-        for future, task in zip(futures, tasks):
-            results.append(future.result())  # in task order: the result does not depend on timing
-            if tick is not None:
-                tick(task[1] if func is _exact_task else task[4] * (2 if task[7] else 1))
-        return results
+    weights = [task[1] if func is _exact_task else task[4] * (2 if task[7] else 1) for task in tasks]
+    return run_tasks(func, tasks, workers=K, progress=tick, weights=weights, start_method=method)
 
 
 def cmd_sample(args):

@@ -115,10 +115,64 @@ def _refuse_ignored(args):
         refuse_together(args, "seed", "samples", "the seed drives the cross-check's samples, and --samples 0 asks for none")
 
 
+_DISTRIBUTED_MISSING = "--scheduler needs Dask's distributed scheduler: pip install 'forcenet[distributed]'"
+_CONNECT_SECONDS = 10  # waiting for the scheduler, then for its first worker
+
+
+def _connect(address: str):
+    """A Dask client of the scheduler at ``address`` (``tcp://host:port`` or a scheduler file), with a worker."""
+    try:
+        from distributed import Client
+    except ImportError:
+        raise UsageError(_DISTRIBUTED_MISSING) from None
+    if os.path.isfile(address):
+        where = {"scheduler_file": address}
+    elif "://" in address:
+        where = {"address": address}
+    else:
+        raise UsageError(f"--scheduler={address}: give the tcp://host:port of a running `dask scheduler` "
+                         "or its scheduler file")
+    try:
+        client = Client(**where, timeout=_CONNECT_SECONDS, set_as_default=False)
+    except (OSError, TimeoutError, ValueError) as exc:
+        reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise UsageError(f"--scheduler={address}: cannot connect ({reason})") from None
+    try:
+        client.wait_for_workers(1, timeout=_CONNECT_SECONDS)
+    except (OSError, TimeoutError):
+        client.close()
+        raise UsageError(f"--scheduler={address}: the cluster has no workers (start `dask worker {address}`)") from None
+    return client
+
+
+def _engine_options(args, plan_seconds):
+    """``--scheduler``, ``--checkpoint``, ``--no-checkpoint``: (client or None, checkpoint store or None).
+
+    Runs announced at over a minute checkpoint by default in the user's cache directory.
+    """
+    from forcenet.exact.checkpoints import CheckpointStore, default_directory
+
+    from .common import FORCE_SECONDS
+
+    if args.checkpoint is not None and args.no_checkpoint:
+        raise UsageError("--checkpoint and --no-checkpoint contradict each other: give one")
+    if args.method != "pfaffian":
+        for name in ("scheduler", "checkpoint"):
+            if getattr(args, name) is not None:
+                raise UsageError(f"--{name} applies to --method pfaffian only (the route over independent primes)")
+        return None, None
+    directory = args.checkpoint
+    if directory is not None:
+        check_output_dir(directory, "--checkpoint")
+    elif not args.no_checkpoint and plan_seconds > FORCE_SECONDS:
+        directory = default_directory()
+    store = None if directory is None else CheckpointStore(directory, "pfaffian-table", args.N, args.moments)
+    client = _connect(args.scheduler) if args.scheduler is not None else None
+    return client, store
+
+
 def cmd_table(args):
-    from forcenet.exact.plan import combine_by_time, phase_progress
-    from forcenet.exact.routes import table_plan, table_run
-    from forcenet.exact.triangle.tables import exact_table, fraction_str, to_csv, to_json, to_latex
+    from forcenet.exact.routes import table_plan
 
     _refuse_ignored(args)
     fmt = _output_format(args)
@@ -127,7 +181,21 @@ def cmd_table(args):
     if fmt is None:
         check_output_dir(args.out_dir, files=[f"mean_W_N{args.N}.{ext}" for ext in ("json", "csv", "tex")])
     memory = available_memory()
-    plans = [table_plan(args.method, args.N, args.moments, memory)]
+    client, store = _engine_options(args, table_plan(args.method, args.N, args.moments, memory).seconds)
+    try:
+        return _table(args, fmt, memory, client, store)
+    finally:
+        if client is not None:
+            client.close()
+
+
+def _table(args, fmt, memory, client, store):
+    from forcenet.exact.plan import combine_by_time, phase_progress
+    from forcenet.exact.routes import table_plan, table_run
+    from forcenet.exact.triangle.tables import exact_table, fraction_str, to_csv, to_json, to_latex
+
+    options = {k: v for k, v in (("executor", client), ("checkpoint", store)) if v is not None}
+    plans = [table_plan(args.method, args.N, args.moments, memory, **options)]
     cross = fmt is None and args.samples > 0
     if cross:
         plans.append(_cross_check_plan(args.N, args.samples, memory))
@@ -138,11 +206,16 @@ def cmd_table(args):
 
     def run(tick):
         phase = [tick] * len(plans) if len(plans) == 1 else [phase_progress(tick, p) for p in plans]
-        tables = table_run(args.method, args.N, args.moments, progress=phase[0], memory_bytes=memory)
+        tables = table_run(args.method, args.N, args.moments, progress=phase[0], memory_bytes=memory, **options)
         check = _cross_check(args.N, tables[1], args.samples, args.seed, phase[-1]) if cross else None
         return tables, check
 
     tables, check = run_planned(plan, run, force=args.force, quiet=args.quiet)
+    if store is not None and not args.quiet:
+        import sys
+
+        print(f"forcenet: checkpoints in {store.path}: reused {store.reused} of {plans[0].ticks} primes, "
+              f"computed {plans[0].ticks - store.reused}", file=sys.stderr)
     table = exact_table(args.N, args.moments, mean_table=tables[1], moment_tables={s: t for s, t in tables.items() if s > 1})
     render = {"json": to_json, "csv": to_csv, "latex": to_latex}
     if fmt is not None:
@@ -239,6 +312,15 @@ def register(sub):
         "maps: the map-counting formulas (4.67), (4.90)-(4.91) of Sec. 4.6; "
         "pfaffian: Schur Pfaffians and minor summation, polynomial in N, for large N (notes/free_fermions.md)",
     )
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run --method pfaffian's per-prime tasks on a Dask cluster: the tcp://host:port of a running "
+                        "`dask scheduler`, or its scheduler file (workers need forcenet installed; "
+                        "pip install 'forcenet[distributed]')")
+    p.add_argument("--checkpoint", metavar="DIR",
+                   help="record every finished prime of --method pfaffian in DIR; a rerun of the same request "
+                        "recomputes only what is missing (default for runs announced at over a minute: "
+                        "$XDG_CACHE_HOME/forcenet, else ~/.cache/forcenet)")
+    p.add_argument("--no-checkpoint", action="store_true", help="no checkpoints, even for runs over a minute")
     add_force(p)
     add_quiet(p)
     p.set_defaults(func=cmd_table)

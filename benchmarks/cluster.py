@@ -1,0 +1,236 @@
+"""The Pfaffian route's per-prime tasks beyond one process: cost model, scheduler overhead, 1 vs 2 workers.
+
+Usage (needs ``pip install '.[distributed]'``)::
+
+    python benchmarks/cluster.py model 20 28 36 44 52 64   # CPU seconds per prime vs the plan's model
+    python benchmarks/cluster.py overhead 400              # a Dask scheduler's cost per task (loopback)
+    python benchmarks/cluster.py scaling 64                # a local cluster of 1, then 2 worker processes
+    python benchmarks/cluster.py crt 64 100 128            # the client's Chinese remaindering of the table
+    python benchmarks/cluster.py predict 128 150 200       # predicted wall time on 16 and 64 workers
+    python benchmarks/cluster.py acceptance                # the issue's scenario on `dask scheduler`/`dask worker`
+
+Each line printed is one measurement; notes/benchmarks.md quotes them.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+from itertools import islice
+
+
+def _load() -> str:
+    return " ".join(f"{x:.1f}" for x in os.getloadavg())
+
+
+def model(sizes):
+    """CPU seconds of one prime (process time, insensitive to other processes' load) against ``route._seconds``."""
+    from forcenet.exact.triangle.pfaffian import route
+    from forcenet.exact.triangle.pfaffian.engine import edge_residues, prime_residues
+
+    for N in sizes:
+        primes = list(islice(route.route_primes(N), 4))
+        prime_residues(N, primes[0])  # kernels loaded
+        t0 = time.process_time()
+        for p in primes[1:]:
+            prime_residues(N, p)
+        table = (time.process_time() - t0) / 3
+        t0 = time.process_time()
+        for p in primes[1:]:
+            edge_residues(N, p)
+        edge = (time.process_time() - t0) / 3
+        print(f"N={N} table: {table:.4f} s/prime (model {route._seconds(N):.4f}, ratio {table / route._seconds(N):.2f}); "
+              f"lattice: {edge:.4f} s/prime (model {route._edge_seconds(N):.4f}, ratio {edge / route._edge_seconds(N):.2f}); "
+              f"load {_load()}", flush=True)
+
+
+def _echo(array):
+    return array
+
+
+def overhead(tasks: int):
+    """Wall seconds per task of a loopback Dask cluster (2 workers) returning a 64 x 64 int64 residue table."""
+    import numpy as np
+    from distributed import Client, LocalCluster
+
+    from forcenet.exact.execution import run_tasks
+
+    payload = np.zeros((64, 64), dtype=np.int64)
+    with LocalCluster(n_workers=2, threads_per_worker=1, host="127.0.0.1", dashboard_address=None) as cluster, \
+            Client(cluster) as client:
+        run_tasks(_echo, [(payload,)] * 20, executor=client)
+        t0 = time.perf_counter()
+        run_tasks(_echo, [(payload + k,) for k in range(tasks)], executor=client)
+        wall = time.perf_counter() - t0
+    print(f"{tasks} tasks on 2 workers: {wall:.2f} s, {2 * wall / tasks * 1e3:.1f} ms per task per worker; "
+          f"load {_load()}", flush=True)
+
+
+def _warm():
+    from forcenet.exact.triangle.pfaffian.engine import count_residue
+
+    return count_residue(12, 33554393)
+
+
+def scaling(N: int):
+    """Wall time of the table at ``N`` on a local cluster of 1 and of 2 worker processes (kernels loaded first)."""
+    from distributed import Client, LocalCluster
+
+    from forcenet.exact.triangle.pfaffian import route
+
+    walls = {}
+    for workers in (1, 2):
+        with LocalCluster(n_workers=workers, threads_per_worker=1, host="127.0.0.1", dashboard_address=None) as cluster, \
+                Client(cluster) as client:
+            client.run(_warm)
+            t0 = time.perf_counter()
+            route.mean_W(N, executor=client)
+            walls[workers] = time.perf_counter() - t0
+            print(f"N={N} on {workers} worker process(es): {walls[workers]:.1f} s; load {_load()}", flush=True)
+    print(f"ratio 1 worker / 2 workers: {walls[1] / walls[2]:.2f}", flush=True)
+
+
+def crt(sizes):
+    """Client seconds of the Chinese remaindering of the whole table (n^2 entries over all primes)."""
+    import random
+
+    from forcenet.exact.triangle.pfaffian import route
+
+    for N in sizes:
+        n = N - 1
+        primes = list(islice(route.route_primes(N), route.table_plan(N).ticks))
+        rng = random.Random(N)
+        rows = [[rng.randrange(p) for p in primes] for _ in range(50)]
+        t0 = time.process_time()
+        solve = route._CRT(primes)
+        for residues in rows:
+            solve(residues)
+        per_entry = (time.process_time() - t0) / 50
+        print(f"N={N}: {len(primes)} primes, CRT {per_entry * 1e3:.2f} ms per entry, {n * n * per_entry:.1f} s "
+              f"for the n^2 = {n * n} entries; load {_load()}", flush=True)
+
+
+def _cli(*args, **kwargs):
+    import subprocess
+
+    return subprocess.run([sys.executable, "-m", "forcenet", "table", "--method", "pfaffian", "--format", "json",
+                           "--force", *args], capture_output=True, text=True, **kwargs)
+
+
+def _records(directory: str, N: int) -> int:
+    path = os.path.join(directory, f"pfaffian-table-N{N}-m1-v1")
+    return len([f for f in os.listdir(path) if f.endswith(".rec")]) if os.path.isdir(path) else 0
+
+
+def acceptance(port: int = 8799):
+    """The issue's scenario: `dask scheduler` and two `dask worker` on loopback; N = 36 bytes, N = 44 with a
+    worker killed at 30 %, N = 48 with --checkpoint killed (SIGKILL) at 40 % and resumed, a truncated record."""
+    import signal
+    import subprocess
+    import tempfile
+
+    from forcenet.exact.triangle.pfaffian import route
+
+    address = f"tcp://127.0.0.1:{port}"
+    procs = [subprocess.Popen(["dask", "scheduler", "--host", "127.0.0.1", "--port", str(port),
+                               "--dashboard-address", ":0"], stderr=subprocess.DEVNULL)]
+    time.sleep(3)
+    procs += [subprocess.Popen(["dask", "worker", address, "--nthreads", "1"], stderr=subprocess.DEVNULL)
+              for _ in range(2)]
+    try:
+        time.sleep(5)
+        t0 = time.perf_counter()
+        local = _cli("--N", "36", "--no-checkpoint").stdout
+        t_local = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        remote = _cli("--N", "36", "--scheduler", address, "--no-checkpoint")
+        print(f"N=36: cluster bytes == local bytes: {remote.stdout == local} (local {t_local:.1f} s, "
+              f"cluster {time.perf_counter() - t0:.1f} s); load {_load()}", flush=True)
+
+        reference = _cli("--N", "44", "--no-checkpoint").stdout
+        directory = tempfile.mkdtemp()
+        run = subprocess.Popen([sys.executable, "-m", "forcenet", "table", "--method", "pfaffian", "--format", "json",
+                                "--force", "--N", "44", "--scheduler", address, "--checkpoint", directory],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        total = route.table_plan(44).ticks
+        while run.poll() is None and _records(directory, 44) < 0.3 * total:
+            time.sleep(0.02)
+        import psutil  # installed with distributed
+
+        victim = [child.pid for child in psutil.Process(procs[1].pid).children()]
+        for pid in victim:
+            os.kill(pid, signal.SIGKILL)
+        at = _records(directory, 44)
+        out, _ = run.communicate()
+        print(f"N=44: worker process {victim} killed at {at}/{total} primes; "
+              f"bytes unchanged: {out == reference}; load {_load()}", flush=True)
+
+        reference = _cli("--N", "48", "--no-checkpoint", "--scheduler", address)
+        t0 = time.perf_counter()
+        full = _cli("--N", "48", "--no-checkpoint", "--scheduler", address)
+        t_full = time.perf_counter() - t0
+        directory = tempfile.mkdtemp()
+        total = route.table_plan(48).ticks
+        run = subprocess.Popen([sys.executable, "-m", "forcenet", "table", "--method", "pfaffian", "--format", "json",
+                                "--force", "--N", "48", "--scheduler", address, "--checkpoint", directory],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        while run.poll() is None and _records(directory, 48) < 0.4 * total:
+            time.sleep(0.02)
+        run.send_signal(signal.SIGKILL)
+        run.communicate()
+        kept = _records(directory, 48)
+        t0 = time.perf_counter()
+        resumed = _cli("--N", "48", "--scheduler", address, "--checkpoint", directory)
+        t_resumed = time.perf_counter() - t0
+        print(f"N=48: killed (SIGKILL) at {kept}/{total} primes; full run {t_full:.1f} s, resumed {t_resumed:.1f} s "
+              f"({t_resumed / t_full:.0%} of a full run); same bytes: {resumed.stdout == full.stdout == reference.stdout}; "
+              f"{resumed.stderr.strip().splitlines()[-1]}; load {_load()}", flush=True)
+        path = os.path.join(directory, "pfaffian-table-N48-m1-v1")
+        victim = os.path.join(path, sorted(os.listdir(path))[0])
+        with open(victim, "r+b") as handle:
+            handle.truncate(100)
+        again = _cli("--N", "48", "--scheduler", address, "--checkpoint", directory)
+        print(f"N=48 after truncating {os.path.basename(victim)}: same bytes: {again.stdout == full.stdout}; "
+              f"stderr: {' | '.join(again.stderr.strip().splitlines())}", flush=True)
+    finally:
+        for proc in reversed(procs):
+            proc.terminate()
+            proc.wait(10)
+
+
+def predict(sizes):
+    """The plan's wall time on 16 and 64 workers (the measured per-prime cost and per-task overhead)."""
+    from forcenet.exact.execution import wall_seconds
+    from forcenet.exact.triangle.pfaffian import route
+
+    for N in sizes:
+        nprimes = route.table_plan(N).ticks
+        edge = route.lattice_direction_plan(N).ticks
+        for K in (16, 64):
+            table = wall_seconds(route._seconds(N), nprimes, K, route._TASK_OVERHEAD_SECONDS)
+            column = wall_seconds(route._edge_seconds(N), edge, K, route._TASK_OVERHEAD_SECONDS)
+            crt = route._CRT_SECONDS * nprimes**2 * (N - 1) ** 2
+            print(f"N={N}: {nprimes} primes of {route._seconds(N):.1f} s; K={K}: table {table / 3600:.2f} h "
+                  f"+ CRT {crt / 3600:.2f} h (client), lattice column {column / 3600:.2f} h "
+                  f"({edge} primes of {route._edge_seconds(N):.1f} s); plan: table "
+                  f"{route.table_plan(N, workers=K).seconds / 3600:.2f} h, column "
+                  f"{route.lattice_direction_plan(N, workers=K).seconds / 3600:.2f} h", flush=True)
+
+
+if __name__ == "__main__":
+    what, *rest = sys.argv[1:]
+    if what == "model":
+        model([int(x) for x in rest])
+    elif what == "overhead":
+        overhead(int(rest[0]) if rest else 400)
+    elif what == "scaling":
+        scaling(int(rest[0]) if rest else 64)
+    elif what == "acceptance":
+        acceptance()
+    elif what == "crt":
+        crt([int(x) for x in rest])
+    elif what == "predict":
+        predict([int(x) for x in rest])
+    else:
+        raise SystemExit(f"unknown measurement {what!r}: model, overhead, scaling or predict")

@@ -1,0 +1,240 @@
+"""Independent tasks on an executor: the one engine of every multi-modular route.
+
+The per-prime tasks of the Pfaffian route (and the independent chains of
+``forcenet sample``) are handed to a :class:`concurrent.futures.Executor`:
+a local process pool by default (the standard library, nothing more), or
+any executor the caller gives, e.g. Dask's ``Client.get_executor()`` for a
+cluster.  No scheduler is written here; this module only
+
+* submits the tasks a checkpoint store does not already hold,
+* collects the results in the order of the tasks (the same result, hence
+  the same bytes, for any number of workers and any completion order),
+* reports progress per finished task and records each result in the store
+  (:mod:`forcenet.exact.checkpoints`) as it arrives,
+* is interruptible: on ``KeyboardInterrupt`` (or a failed task) the pending
+  futures are cancelled and the workers of a pool it started are terminated
+  at once, so Ctrl-C ends the run within a second or two even while workers
+  sit inside compiled kernels; the exception is then re-raised.
+
+May import: :mod:`forcenet.exact.validation`.
+
+Examples
+--------
+>>> from operator import mul
+>>> run_tasks(mul, [(2, 3), (4, 5)])
+[6, 20]
+>>> wall_seconds(per_task=2.0, tasks=10, workers=4, overhead=0.5)
+7.5
+"""
+
+from __future__ import annotations
+
+import os
+from concurrent.futures import Executor, as_completed
+from math import ceil
+
+from .validation import check_int, is_integer
+
+__all__ = ["available_cores", "as_executor", "executor_workers", "executor_label", "wall_seconds", "run_tasks"]
+
+
+def available_cores() -> int:
+    """Cores this process may run on (its affinity), at least 1.
+
+    Examples
+    --------
+    >>> available_cores() >= 1
+    True
+    """
+    if hasattr(os, "sched_getaffinity"):
+        return max(1, len(os.sched_getaffinity(0)))
+    return os.cpu_count() or 1  # pragma: no cover - platforms without affinity
+
+
+def as_executor(executor):
+    """``executor`` as a :class:`concurrent.futures.Executor`: a Dask ``Client`` gives its ``get_executor()``.
+
+    Parameters
+    ----------
+    executor : Executor, object with ``get_executor()``, or None
+
+    Returns
+    -------
+    Executor or None
+
+    Raises
+    ------
+    TypeError
+        If ``executor`` is neither.
+
+    Examples
+    --------
+    >>> as_executor(None) is None
+    True
+    >>> as_executor(3)
+    Traceback (most recent call last):
+    ...
+    TypeError: executor=3 is not a concurrent.futures.Executor (nor a Dask Client)
+    """
+    if executor is None or isinstance(executor, Executor):
+        return executor
+    if callable(getattr(executor, "get_executor", None)):
+        return executor.get_executor()
+    raise TypeError(f"executor={executor!r} is not a concurrent.futures.Executor (nor a Dask Client)")
+
+
+def executor_workers(executor) -> int | None:
+    """How many tasks ``executor`` runs at once: a pool's workers, a Dask cluster's threads; None if unknown.
+
+    Examples
+    --------
+    >>> from concurrent.futures import ThreadPoolExecutor
+    >>> with ThreadPoolExecutor(3) as pool:
+    ...     executor_workers(pool)
+    3
+    """
+    executor = as_executor(executor)
+    client = getattr(executor, "_client", None)  # distributed.cfexecutor.ClientExecutor
+    if client is not None and callable(getattr(client, "nthreads", None)):
+        return max(1, sum(client.nthreads().values()))
+    workers = getattr(executor, "_max_workers", None)
+    return workers if is_integer(workers) and workers > 0 else None
+
+
+def executor_label(executor) -> str:
+    """Where an executor runs its tasks, for announcements: ``"Dask scheduler tcp://..."`` or its class name.
+
+    Examples
+    --------
+    >>> from concurrent.futures import ThreadPoolExecutor
+    >>> with ThreadPoolExecutor(1) as pool:
+    ...     executor_label(pool)
+    'ThreadPoolExecutor'
+    """
+    executor = as_executor(executor)
+    client = getattr(executor, "_client", None)
+    address = getattr(getattr(client, "scheduler", None), "address", None)
+    return f"Dask scheduler {address}" if address else type(executor).__name__
+
+
+def wall_seconds(per_task: float, tasks: int, workers: int, overhead: float = 0.0) -> float:
+    """Wall time of ``tasks`` equal tasks on ``workers``: ``ceil(tasks / workers)`` rounds of ``per_task + overhead``.
+
+    ``overhead`` is the scheduler's cost per task (submission, transfer of
+    the result), measured in ``notes/benchmarks.md``.
+    """
+    return ceil(tasks / max(1, workers)) * (per_task + overhead)
+
+
+def _local_pool(workers: int, start_method: str):
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(start_method))
+
+
+def _terminate(pool) -> None:
+    """Stop a local process pool now: pending work cancelled, worker processes terminated (then killed)."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        if process.is_alive():
+            process.terminate()
+    for process in processes:
+        process.join(1.0)
+        if process.is_alive():  # pragma: no cover - a worker ignoring SIGTERM
+            process.kill()
+            process.join(1.0)
+
+
+def run_tasks(function, tasks, *, executor=None, workers: int = 1, progress=None, weights=None,
+              store=None, keys=None, start_method: str = "spawn") -> list:
+    """``[function(*task) for task in tasks]``, the tasks run independently on an executor.
+
+    Parameters
+    ----------
+    function : callable
+        A module-level function (it is pickled to the workers).
+    tasks : sequence of tuples
+        The arguments of each call.
+    executor : concurrent.futures.Executor or Dask Client, optional
+        Where the tasks run (it is not shut down here).  Default: this
+        process when ``workers == 1``, else a local process pool of
+        ``workers`` processes started with ``start_method``.
+    workers : int
+        Processes of the local pool (ignored when ``executor`` is given).
+    progress : callable, optional
+        Called as ``progress(weight)`` once per task when its result is
+        available (at once for results taken from ``store``).
+    weights : sequence, optional
+        The progress weight of each task (default 1 each).
+    store : object with ``load(key)`` and ``save(key, value)``, optional
+        A checkpoint store (:class:`forcenet.exact.checkpoints.CheckpointStore`):
+        results it holds are not recomputed, new ones are saved as they arrive.
+    keys : sequence, optional
+        The store's key of each task (required with ``store``).
+
+    Returns
+    -------
+    list
+        The results, in the order of ``tasks`` whatever the completion order.
+
+    Raises
+    ------
+    KeyboardInterrupt
+        Re-raised after cancelling the pending tasks and terminating the
+        local pool's workers.
+    Exception
+        The first failed task's exception, after the same clean-up.
+
+    Examples
+    --------
+    >>> from operator import add
+    >>> run_tasks(add, [(1, 2), (3, 4), (5, 6)], progress=lambda k: None)
+    [3, 7, 11]
+    """
+    tasks = list(tasks)
+    workers = check_int(workers, "workers", 1)
+    if store is not None and (keys is None or len(keys) != len(tasks)):
+        raise ValueError("keys must give one store key per task when a store is given")
+    weights = [1] * len(tasks) if weights is None else list(weights)
+    results: list = [None] * len(tasks)
+    pending = []
+    for i in range(len(tasks)):
+        value = store.load(keys[i]) if store is not None else None
+        if value is None:
+            pending.append(i)
+            continue
+        results[i] = value
+        if progress is not None:
+            progress(weights[i])
+
+    def finish(i, value):
+        results[i] = value
+        if store is not None:
+            store.save(keys[i], value)
+        if progress is not None:
+            progress(weights[i])
+
+    executor = as_executor(executor)
+    if executor is None and (workers <= 1 or len(pending) <= 1):
+        for i in pending:
+            finish(i, function(*tasks[i]))
+        return results
+    own = executor is None
+    pool = _local_pool(min(workers, len(pending)), start_method) if own else executor
+    futures = {}
+    try:
+        for i in pending:
+            futures[pool.submit(function, *tasks[i])] = i
+        for future in as_completed(futures):
+            finish(futures[future], future.result())
+    except BaseException:
+        for future in futures:
+            future.cancel()
+        if own:
+            _terminate(pool)
+        raise
+    if own:
+        pool.shutdown(wait=True)
+    return results

@@ -164,11 +164,6 @@ def edge_level_residues(N: int, p: int, backend: str = "numba", windows=None) ->
     return out
 
 
-def _one_prime(args):
-    N, p, backend, windows = args
-    return p, edge_level_residues(N, p, backend, windows)
-
-
 def _check_layer_list(N: int, layers) -> list[int]:
     if layers is None:
         return list(range(2, N + 1))
@@ -225,10 +220,11 @@ def lattice_level_sums(N: int, *, layers=None, workers: int | None = None, progr
         return E, total
     primes = _primes_above(total, N)
     nworkers = _workers(workers, len(primes), _prime_seconds(N, len(windows)) * len(primes))
-    residues = _run_primes(_one_prime, [(N, p, backend, windows) for p in primes], nworkers, progress)
+    residues = _run_primes(edge_level_residues, [(N, p, backend, windows) for p in primes], None, nworkers,
+                           progress, None)  # in the order of the primes
     crt = _CRT(primes)
     for m in windows:
-        row = [crt([residues[p][m, l] for p in primes]) for l in range(d + 1)]
+        row = [crt([r[m, l] for r in residues]) for l in range(d + 1)]
         if row[0] != total or row[d] != 0 or any(a < b for a, b in zip(row, row[1:])):
             raise ArithmeticError(f"reconstructed level sums of m={m} break the exact checks")
         E[m] = row

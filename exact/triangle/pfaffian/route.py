@@ -39,7 +39,7 @@ from ...execution import as_executor, available_cores, executor_label, executor_
 from ...modular import is_prime
 from ...plan import Plan, first_moment_only
 from ...validation import check_int, check_layers
-from .engine import count_residue, edge_residues, level_points, prime_limit, prime_residues
+from .engine import count_residue, edge_residues, level_points, prime_limit, prime_residues, with_kernels_compiled
 
 __all__ = [
     "MAX_N",
@@ -337,14 +337,15 @@ def lattice_direction_plan(N: int, memory_bytes: int | None = None, workers: int
     n, d = N - 1, N * (N - 1) // 2
     per_worker = level_points(d) // 2 * 2 * n * 8 + 160 * 2**20
     return _primes_plan(what, N, _edge_seconds(N), per_worker, workers, executor, _store(checkpoint, "lattice", N),
-                        memory_bytes, entries=n)
+                        memory_bytes, entries=n, lattice=True)
 
 
 def _primes_plan(what: str, N: int, per_prime: float, per_worker: int, workers, executor, store, memory_bytes,
-                 entries: int) -> Plan:
+                 entries: int, lattice: bool) -> Plan:
     """The plan of a run over the route's primes: ``per_prime`` CPU seconds each, spread over the workers (those of
     ``executor``, else local processes), the primes recorded in ``store`` not counted; then the client's Chinese
-    remaindering of ``entries`` integers (quadratic in the number of primes)."""
+    remaindering of ``entries`` integers (quadratic in the number of primes); compiling the kernels first when this
+    machine's cache lacks them (a local run)."""
     n, d = N - 1, N * (N - 1) // 2
     nprimes = ceil(((d + 1) * _count_bound(N)).bit_length() / log2(prime_limit(max(n, 1)) * 0.999))
     reused = 0
@@ -361,7 +362,10 @@ def _primes_plan(what: str, N: int, per_prime: float, per_worker: int, workers, 
     if store is not None:
         what += f"; checkpoints in {store.path}: {reused} of {nprimes} primes recorded"
     local = 1 if executor is not None else nworkers  # a cluster's workers hold their share on their own machines
-    return Plan(what, seconds, local * per_worker, nprimes, "prime").within_memory(memory_bytes)
+    plan = Plan(what, seconds, local * per_worker, nprimes, "prime")
+    if executor is None:  # the workers compile (or load) the kernels on their own machines
+        plan = with_kernels_compiled(plan, lattice)
+    return plan.within_memory(memory_bytes)
 
 
 def _seconds(N: int) -> float:
@@ -398,7 +402,7 @@ def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None, worker
     n, d = N - 1, N * (N - 1) // 2
     per_worker = level_points(d) // 2 * (n + 2) * n * 8 + 160 * 2**20
     return _primes_plan(what, N, _seconds(N), per_worker, workers, executor, _store(checkpoint, "table", N),
-                        memory_bytes, entries=n * n)
+                        memory_bytes, entries=n * n, lattice=False)
 
 
 def _count_bound(N: int) -> int:

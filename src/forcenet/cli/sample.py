@@ -86,11 +86,11 @@ def _plan(args, scene, burn):
     elif scene is None:
         from forcenet.numeric.triangle.metropolis import metropolis_plan
 
-        plan = metropolis_plan(args.N, args.samples, burn * K, memory, ph=args.ph is not None)
+        plan = metropolis_plan(args.N, args.samples, burn * K, memory, ph=args.ph is not None, move=args.move)
     else:
         from forcenet.numeric.packing.metropolis import packing_plan
 
-        plan = packing_plan(scene, args.samples, burn * K, 2 if args.response else 1, memory)
+        plan = packing_plan(scene, args.samples, burn * K, 2 if args.response else 1, memory, move=args.move)
     if K == 1 or not plan.runnable:
         return plan
     # K processes on the machine's cores; each holds its own share (and its own copy of the code)

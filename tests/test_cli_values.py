@@ -92,6 +92,15 @@ def test_6_the_triangle_scales_with_any_finite_F(capsys):
         assert data["effective_samples"] == one["effective_samples"]
 
 
+def test_6_the_text_summary_stays_readable_at_any_F(capsys):
+    """At F = 1e300 the bottom row is printed in significant digits, not as 300-digit fixed-point numbers."""
+    base = ["sample", "--N", "5", "--sampler", "metropolis", "--samples", "1500", "--seed", "3", "--quiet"]
+    for F, marker in (("1e300", "e+"), ("1e-300", "e-"), ("1", ".")):
+        code, out, _ = run(base + ["--F", F], capsys)
+        row = out.splitlines()[-1].split(":", 1)[1].split()
+        assert code == 0 and len(row) == 5 and all(marker in cell and len(cell) < 25 for cell in row), row
+
+
 @pytest.mark.parametrize("argv, needle", [
     (["--P", "3", "--mg", "1e300"], "mg=1e+300 is out of range: with --P the loads"),
     (["--P", "3", "--mg", "1", "--F", "1e-300"], "F=1e-300 is out of range"),

@@ -271,11 +271,20 @@ def cmd_sample(args):
         return 0
     where = "triangle" if scene is None else f"{scene.name} packing, P = {scene.P}"
     lines = [f"{args.sampler} sampler, N = {N} ({where}), {K} samples, {ess:.0f} effective",
-             "  bottom row <W_N,j>: " + " ".join(f"{m:.4f}±{e:.4f}" for m, e in zip(mean[-1], stderr[-1]))]
+             "  bottom row <W_N,j>: " + " ".join(_plus_minus(m, e) for m, e in zip(mean[-1], stderr[-1]))]
     if args.response:
-        lines.append("  bottom row G(N,j): " + " ".join(f"{m:.4f}±{e:.4f}" for m, e in zip(extra["G"][-1], extra["stderr_G"][-1])))
+        lines.append("  bottom row G(N,j): " + " ".join(_plus_minus(m, e) for m, e in zip(extra["G"][-1], extra["stderr_G"][-1])))
     emit("\n".join(lines), args.out)
     return 0
+
+
+
+def _plus_minus(mean: float, stderr: float) -> str:
+    """``mean±stderr``: four decimals at ordinary scales, significant digits at extreme loads (``--F 1e300``)."""
+    scale = max(abs(mean), abs(stderr))
+    if scale == 0 or 1e-3 <= scale < 1e6:
+        return f"{mean:.4f}±{stderr:.4f}"
+    return f"{mean:.5g}±{stderr:.2g}"
 
 
 def register(sub):

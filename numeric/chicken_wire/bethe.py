@@ -33,6 +33,7 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from forcenet.exact.validation import check_int
+from forcenet.exact.errors import ArgumentError
 
 __all__ = [
     "BetheSolution",
@@ -192,7 +193,7 @@ def solve_ground_state(L: int, n: int, m: int, guess=None, tries: int = 3000, se
     """
     L, n, m = check_int(L, "L", 3), check_int(n, "n", 2), check_int(m, "m", 1)
     if not (1 <= m < n < L):
-        raise ValueError(f"(L, n, m) = ({L}, {n}, {m}) is out of range: need 1 <= m < n < L")
+        raise ArgumentError(f"(L, n, m) = ({L}, {n}, {m}) is out of range: need 1 <= m < n < L")
     rng = np.random.default_rng(seed)
     best = None
     starts = [np.asarray(guess, dtype=complex)] if guess is not None else []
@@ -443,7 +444,7 @@ def isotropic_state(L: int, n: int, m: int, w, u, mu: float = 0.0, tol: float = 
     Eq. 7.1).  Raises ``RuntimeError`` if the iteration fails.
     """
     if n != 2 * m:
-        raise ValueError(f"(n, m) = ({n}, {m}): the isotropic line needs n = 2m")
+        raise ArgumentError(f"(n, m) = ({n}, {m}): the isotropic line needs n = 2m")
     target = m / L
     w = np.asarray(w, dtype=complex)
     u = np.asarray(u, dtype=complex)
@@ -486,7 +487,7 @@ def isotropic_sequence(k_values, ratio=(6, 2, 1), progress=None) -> list:
     """
     a, b, c = ratio
     if b != 2 * c:
-        raise ValueError(f"ratio={ratio!r}: the isotropic line needs n = 2m")
+        raise ArgumentError(f"ratio={ratio!r}: the isotropic line needs n = 2m")
     out = []
     k_values = list(k_values)
     bases = []  # fugacity-1 ground states, continued in k as in ground_state_sequence

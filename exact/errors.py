@@ -11,7 +11,9 @@ bug: exit code 1, ``forcenet: internal error``, the traceback under
 * :class:`ArgumentError` -- a value out of range or otherwise not allowed;
   also a ``ValueError``, so ``except ValueError`` keeps working;
 * :class:`ArgumentTypeError` -- an argument of the wrong type; also a
-  ``TypeError``.
+  ``TypeError``;
+* :class:`ConvergenceError` -- an iterative method did not converge for the
+  arguments given (choose others); also a ``RuntimeError``.
 
 The family is exported from the top of the package (``forcenet.ForcenetError``,
 ...).  This module imports nothing.
@@ -28,7 +30,7 @@ ArgumentError True N=1 is out of range: N must be an integer >= 2
 
 from __future__ import annotations
 
-__all__ = ["ForcenetError", "ArgumentError", "ArgumentTypeError"]
+__all__ = ["ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError"]
 
 
 class ForcenetError(Exception):
@@ -41,3 +43,7 @@ class ArgumentError(ForcenetError, ValueError):
 
 class ArgumentTypeError(ForcenetError, TypeError):
     """An argument has the wrong type; the message names the argument and the type expected."""
+
+
+class ConvergenceError(ForcenetError, RuntimeError):
+    """An iterative method (Newton, a continuation) did not converge for these arguments; the message says where."""

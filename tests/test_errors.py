@@ -16,7 +16,7 @@ import pytest
 import forcenet
 from forcenet.cli import main
 from forcenet.cli import table as table_cli
-from forcenet.exact.errors import ArgumentError, ArgumentTypeError, ForcenetError
+from forcenet.exact.errors import ArgumentError, ArgumentTypeError, ConvergenceError, ForcenetError
 from forcenet.exact.validation import check_int, check_real
 
 
@@ -26,6 +26,8 @@ def test_the_family_is_exported_and_keeps_the_builtin_bases():
     assert issubclass(ArgumentError, ForcenetError) and issubclass(ArgumentError, ValueError)
     assert issubclass(ArgumentTypeError, ForcenetError) and issubclass(ArgumentTypeError, TypeError)
     assert not issubclass(ArgumentError, TypeError) and not issubclass(ArgumentTypeError, ValueError)
+    assert forcenet.ConvergenceError is ConvergenceError and issubclass(ConvergenceError, RuntimeError)
+    assert issubclass(ConvergenceError, ForcenetError)
     with pytest.raises(AttributeError):
         forcenet.NoSuchError  # noqa: B018 -- the module's __getattr__ still refuses unknown names
 

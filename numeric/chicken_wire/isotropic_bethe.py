@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
-from forcenet.exact.errors import ArgumentError
+from forcenet.exact.errors import ArgumentError, ConvergenceError
 
 __all__ = [
     "extrapolate",
@@ -70,7 +70,7 @@ def isotropic_limit(Q, L_max: int = 240, L_min: int = 60, progress=None) -> Isot
 
     Sectors ``(L, n, m) = k (a, 2c, c)`` for ``L_min <= L <= L_max`` at the
     isotropic fugacity (:func:`forcenet.numeric.chicken_wire.bethe.isotropic_sequence`), then
-    :func:`extrapolate`.  Raises ``RuntimeError`` where the continuation
+    :func:`extrapolate`.  Raises :class:`~forcenet.exact.errors.ConvergenceError` where the continuation
     loses the ground state (reported, never silent).
 
     """
@@ -170,7 +170,7 @@ def bethe_entropy_maximum(densities=(Fraction(1, 7), Fraction(1, 6), Fraction(2,
     lin = np.polyfit(qs[-2:], mus[-2:], 1)
     roots = [r.real for r in np.roots(quad) if abs(r.imag) < 1e-12 and 0 < r.real < 1 / 3]
     if not roots:
-        raise RuntimeError(f"mu(Q) has no zero near the densities {densities}")
+        raise ConvergenceError(f"mu(Q) has no zero near the densities {densities}")
     q_star = min(roots, key=lambda r: abs(r - qs[-1]))
     q_lin = -lin[1] / lin[0]
     last = pts[-1]

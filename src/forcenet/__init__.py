@@ -7,7 +7,8 @@
 The exception family (:mod:`forcenet.exact.errors`) is exported here:
 :class:`ForcenetError`, the base of every expected failure, and the argument
 errors :class:`ArgumentError` (also a ``ValueError``) and
-:class:`ArgumentTypeError` (also a ``TypeError``).  They are loaded on first
+:class:`ArgumentTypeError` (also a ``TypeError``), and :class:`ConvergenceError`
+(also a ``RuntimeError``).  They are loaded on first
 use, so ``import forcenet`` stays cheap.
 
 The map of the package is ``notes/architecture.md``.
@@ -28,11 +29,11 @@ from importlib.metadata import PackageNotFoundError, version
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ loads them on first use
-    from forcenet.exact.errors import ArgumentError, ArgumentTypeError, ForcenetError
+    from forcenet.exact.errors import ArgumentError, ArgumentTypeError, ConvergenceError, ForcenetError
 
-__all__ = ["ForcenetError", "ArgumentError", "ArgumentTypeError", "__version__"]
+__all__ = ["ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError", "__version__"]
 
-_ERRORS = frozenset({"ForcenetError", "ArgumentError", "ArgumentTypeError"})
+_ERRORS = frozenset({"ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError"})
 
 try:
     __version__: str = version("forcenet")  # one source: pyproject.toml, through the installed metadata

@@ -34,6 +34,7 @@ from concurrent.futures import Executor, as_completed
 from math import ceil
 
 from .validation import check_int, is_integer
+from .errors import ArgumentError, ArgumentTypeError
 
 __all__ = ["available_cores", "as_executor", "executor_workers", "executor_label", "wall_seconds", "run_tasks"]
 
@@ -64,7 +65,7 @@ def as_executor(executor):
 
     Raises
     ------
-    TypeError
+    ArgumentTypeError
         If ``executor`` is neither.
 
     Examples
@@ -74,13 +75,13 @@ def as_executor(executor):
     >>> as_executor(3)
     Traceback (most recent call last):
     ...
-    TypeError: executor=3 is not a concurrent.futures.Executor (nor a Dask Client)
+    forcenet.exact.errors.ArgumentTypeError: executor=3 is not a concurrent.futures.Executor (nor a Dask Client)
     """
     if executor is None or isinstance(executor, Executor):
         return executor
     if callable(getattr(executor, "get_executor", None)):
         return executor.get_executor()
-    raise TypeError(f"executor={executor!r} is not a concurrent.futures.Executor (nor a Dask Client)")
+    raise ArgumentTypeError(f"executor={executor!r} is not a concurrent.futures.Executor (nor a Dask Client)")
 
 
 def executor_workers(executor) -> int | None:
@@ -196,7 +197,7 @@ def run_tasks(function, tasks, *, executor=None, workers: int = 1, progress=None
     tasks = list(tasks)
     workers = check_int(workers, "workers", 1)
     if store is not None and (keys is None or len(keys) != len(tasks)):
-        raise ValueError("keys must give one store key per task when a store is given")
+        raise ArgumentError("keys must give one store key per task when a store is given")
     weights = [1] * len(tasks) if weights is None else list(weights)
     results: list = [None] * len(tasks)
     pending = []

@@ -18,6 +18,7 @@ Examples
 from __future__ import annotations
 
 from functools import lru_cache
+from .errors import ArgumentError
 
 __all__ = ["is_prime", "primes_below", "primes_for_bound", "crt", "crt_many"]
 
@@ -68,7 +69,7 @@ def primes_below(limit: int, count: int) -> tuple[int, ...]:
     candidate = limit - 1
     while len(out) < count:
         if candidate < 2:
-            raise ValueError(f"count={count}: fewer primes than that below limit={limit}")
+            raise ArgumentError(f"count={count}: fewer primes than that below limit={limit}")
         if is_prime(candidate):
             out.append(candidate)
         candidate -= 1
@@ -86,7 +87,7 @@ def primes_for_bound(bound: int, limit: int = 2**31) -> tuple[int, ...]:
     3
     """
     if bound < 0:
-        raise ValueError(f"bound={bound}: must be >= 0")
+        raise ArgumentError(f"bound={bound}: must be >= 0")
     count, product = 0, 1
     while product <= 2 * bound:
         count += 1

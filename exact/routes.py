@@ -27,6 +27,7 @@ from __future__ import annotations
 
 from .plan import Plan, combine
 from .validation import check_int, check_layers
+from .errors import ArgumentError
 
 __all__ = ["METHODS", "table_plan", "table_run"]
 
@@ -44,7 +45,7 @@ def _engine(method: str):
     elif method == "pfaffian":
         from .triangle.pfaffian import route as engine
     else:
-        raise ValueError(f"method={method!r} is out of range: method must be one of {', '.join(METHODS)}")
+        raise ArgumentError(f"method={method!r} is out of range: method must be one of {', '.join(METHODS)}")
     return engine
 
 
@@ -87,7 +88,7 @@ def _check_options(method: str, options: dict) -> dict:
     """The given (not None) engine options; refused for a route that has no independent tasks."""
     given = {k: v for k, v in options.items() if v is not None}
     if given and method != "pfaffian":
-        raise ValueError(f"{', '.join(f'{k}=' for k in given)} applies to method='pfaffian' only "
+        raise ArgumentError(f"{', '.join(f'{k}=' for k in given)} applies to method='pfaffian' only "
                          "(the route over independent primes)")
     return given
 

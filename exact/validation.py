@@ -2,14 +2,16 @@
 
 One policy, one place:
 
-* ``TypeError`` when the argument has the wrong type: an integer argument
-  accepts every type with ``__index__`` (``int``, ``numpy.int64``, ...) but
-  not ``bool`` and not floats, even integral ones;
-* ``ValueError`` when the value lies outside the allowed range;
+* :class:`~forcenet.exact.errors.ArgumentTypeError` (a ``TypeError``) when
+  the argument has the wrong type: an integer argument accepts every type
+  with ``__index__`` (``int``, ``numpy.int64``, ...) but not ``bool`` and not
+  floats, even integral ones;
+* :class:`~forcenet.exact.errors.ArgumentError` (a ``ValueError``) when the
+  value lies outside the allowed range;
 * the message names the argument, its value and the allowed range, e.g.
   ``N=1 is out of range: N must be an integer >= 2``.
 
-This module imports nothing from the package; every other module validates
+This module imports nothing from the package but :mod:`.errors`; every other module validates
 through it (``tests/test_architecture.py`` fails on a module that writes its
 own integer check).
 
@@ -20,7 +22,7 @@ Examples
 >>> check_int(True, "N", minimum=2)
 Traceback (most recent call last):
 ...
-TypeError: N=True is not an integer: N must be an integer >= 2
+forcenet.exact.errors.ArgumentTypeError: N=True is not an integer: N must be an integer >= 2
 >>> check_real("0.5", "z", low=0, high=1, low_open=True)
 0.5
 """
@@ -30,6 +32,7 @@ from __future__ import annotations
 import math
 import numbers
 from fractions import Fraction
+from .errors import ArgumentError, ArgumentTypeError
 
 __all__ = [
     "is_integer",
@@ -85,18 +88,18 @@ def check_int(value, name: str, minimum: int | None = None, maximum: int | None 
     >>> check_int(20, "L", 2, 13)
     Traceback (most recent call last):
     ...
-    ValueError: L=20 is out of range: L must be an integer in 2..13
+    forcenet.exact.errors.ArgumentError: L=20 is out of range: L must be an integer in 2..13
     >>> check_int(2.0, "s", 1)
     Traceback (most recent call last):
     ...
-    TypeError: s=2.0 is not an integer: s must be an integer >= 1
+    forcenet.exact.errors.ArgumentTypeError: s=2.0 is not an integer: s must be an integer >= 1
     """
     allowed = int_range_text(minimum, maximum)
     if not is_integer(value):
-        raise TypeError(f"{name}={value!r} is not an integer: {name} must be an integer {allowed}")
+        raise ArgumentTypeError(f"{name}={value!r} is not an integer: {name} must be an integer {allowed}")
     value = int(value.__index__())
     if (minimum is not None and value < minimum) or (maximum is not None and value > maximum):
-        raise ValueError(f"{name}={value} is out of range: {name} must be an integer {allowed}")
+        raise ArgumentError(f"{name}={value} is out of range: {name} must be an integer {allowed}")
     return value
 
 
@@ -110,7 +113,7 @@ def check_layers(N, *, name: str = "N", minimum: int = 2, maximum: int | None = 
     >>> check_layers(1)
     Traceback (most recent call last):
     ...
-    ValueError: N=1 is out of range: N must be an integer >= 2
+    forcenet.exact.errors.ArgumentError: N=1 is out of range: N must be an integer >= 2
     """
     return check_int(N, name, minimum, maximum)
 
@@ -125,17 +128,17 @@ def check_grain(N: int, grain, name: str = "grain") -> tuple[int, int]:
     >>> check_grain(4, (3, 4))
     Traceback (most recent call last):
     ...
-    ValueError: grain=(3, 4) is out of range: need 1 <= i <= N=4 and 1 <= j <= i
+    forcenet.exact.errors.ArgumentError: grain=(3, 4) is out of range: need 1 <= i <= N=4 and 1 <= j <= i
     """
     try:
         i, j = grain
     except (TypeError, ValueError):
-        raise TypeError(f"{name}={grain!r} is not a grain: {name} must be a pair of integers (i, j)") from None
+        raise ArgumentTypeError(f"{name}={grain!r} is not a grain: {name} must be a pair of integers (i, j)") from None
     if not (is_integer(i) and is_integer(j)):
-        raise TypeError(f"{name}={grain!r} is not a grain: {name} must be a pair of integers (i, j)")
+        raise ArgumentTypeError(f"{name}={grain!r} is not a grain: {name} must be a pair of integers (i, j)")
     i, j = int(i.__index__()), int(j.__index__())
     if not (1 <= i <= N and 1 <= j <= i):
-        raise ValueError(f"{name}={grain!r} is out of range: need 1 <= i <= N={N} and 1 <= j <= i")
+        raise ArgumentError(f"{name}={grain!r} is out of range: need 1 <= i <= N={N} and 1 <= j <= i")
     return i, j
 
 
@@ -163,37 +166,37 @@ def check_real(value, name: str, low=None, high=None, *, low_open: bool = False,
     >>> check_real(float("nan"), "F", 0, low_open=True)
     Traceback (most recent call last):
     ...
-    ValueError: F=nan is out of range: F must be a finite number > 0
+    forcenet.exact.errors.ArgumentError: F=nan is out of range: F must be a finite number > 0
     >>> check_real("abc", "phi")
     Traceback (most recent call last):
     ...
-    TypeError: phi='abc' is not a number: phi must be a finite number
+    forcenet.exact.errors.ArgumentTypeError: phi='abc' is not a number: phi must be a finite number
     """
     allowed = _interval_text(low, high, low_open, high_open)
     allowed = "a finite number" + ("" if allowed == "finite" else f" {allowed}")
     if isinstance(value, bool):
-        raise TypeError(f"{name}={value!r} is not a number: {name} must be {allowed}")
+        raise ArgumentTypeError(f"{name}={value!r} is not a number: {name} must be {allowed}")
     try:
         if isinstance(value, (str, numbers.Real)) or hasattr(type(value), "__float__"):
             x = float(Fraction(value)) if isinstance(value, Fraction) else float(value)
         else:
-            raise TypeError
+            raise ArgumentTypeError
     except (TypeError, ValueError, OverflowError):
-        raise TypeError(f"{name}={value!r} is not a number: {name} must be {allowed}") from None
+        raise ArgumentTypeError(f"{name}={value!r} is not a number: {name} must be {allowed}") from None
     if isinstance(value, complex):
-        raise TypeError(f"{name}={value!r} is not a number: {name} must be {allowed}")
+        raise ArgumentTypeError(f"{name}={value!r} is not a number: {name} must be {allowed}")
     bad = not math.isfinite(x)
     if not bad and low is not None:
         bad = x <= low if low_open else x < low
     if not bad and high is not None:
         bad = x >= high if high_open else x > high
     if bad:
-        raise ValueError(f"{name}={value} is out of range: {name} must be {allowed}")
+        raise ArgumentError(f"{name}={value} is out of range: {name} must be {allowed}")
     return x
 
 
 def check_not_bool(value, name: str):
-    """``TypeError`` for ``True``/``False`` where a number is due (they would pass as 1 and 0).
+    """:class:`ArgumentTypeError` for ``True``/``False`` where a number is due (they would pass as 1 and 0).
 
     Examples
     --------
@@ -201,7 +204,7 @@ def check_not_bool(value, name: str):
     0.5
     """
     if isinstance(value, bool):
-        raise TypeError(f"{name}={value!r} is not a number")
+        raise ArgumentTypeError(f"{name}={value!r} is not a number")
     return value
 
 

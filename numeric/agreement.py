@@ -73,6 +73,7 @@ from functools import lru_cache
 import numpy as np
 
 from .autocorr import batch_means
+from forcenet.exact.errors import ArgumentError
 
 __all__ = ["TableAgreement", "batch_means", "compare_samples", "compare_chain", "compare_means", "varying_columns"]
 
@@ -319,7 +320,7 @@ def _rows_test(rows, mu, keys, alpha, hotelling, fixed, reason=None, **extra) ->
     G = mean.size
     hot = _hotelling(rows, dev) if (hotelling is None or hotelling) and G >= 2 else None
     if hotelling and hot is None and G >= 2:
-        raise ValueError(f"hotelling=True needs more rows: {K} rows for {G} values")
+        raise ArgumentError(f"hotelling=True needs more rows: {K} rows for {G} values")
     level_max, level_chi2 = (alpha / 2, alpha / 2) if hot is not None else (alpha, 0.0)
     max_z = float(np.abs(z).max()) if G else 0.0
     return _report(keys, mean, mu, stderr, z, df=K - 1, alpha=alpha, p_max=_bonferroni(max_z, G, K - 1),
@@ -332,12 +333,12 @@ def _bounds(bounds, G: int):
     try:
         lo, hi = bounds
     except (TypeError, ValueError):
-        raise ValueError(f"bounds={bounds!r}: give (lo, hi), two numbers or two arrays of one entry per value") from None
+        raise ArgumentError(f"bounds={bounds!r}: give (lo, hi), two numbers or two arrays of one entry per value") from None
     out = []
     for name, end in (("lo", lo), ("hi", hi)):
         arr = np.asarray(end, dtype=float).ravel()
         if arr.size not in (1, G):
-            raise ValueError(f"bounds: {name} has {arr.size} entries for {G} values")
+            raise ArgumentError(f"bounds: {name} has {arr.size} entries for {G} values")
         out.append(np.broadcast_to(arr, (G,)))
     return out
 
@@ -350,16 +351,16 @@ def _inside(rows, mu, keys, bounds):
     bad = ~(np.isfinite(lo) & np.isfinite(hi) & (lo < hi))
     if bad.any():
         n = int(np.argmax(bad))
-        raise ValueError(f"bounds of {_fmt_key(keys[n])}: [{lo[n]:g}, {hi[n]:g}] must be finite with lo < hi")
+        raise ArgumentError(f"bounds of {_fmt_key(keys[n])}: [{lo[n]:g}, {hi[n]:g}] must be finite with lo < hi")
     bad = (mu < lo - tol) | (mu > hi + tol)
     if bad.any():
         n = int(np.argmax(bad))
-        raise ValueError(f"exact value of {_fmt_key(keys[n])} = {mu[n]:.6g} lies outside its bounds "
+        raise ArgumentError(f"exact value of {_fmt_key(keys[n])} = {mu[n]:.6g} lies outside its bounds "
                          f"[{lo[n]:g}, {hi[n]:g}]")
     out = (rows < lo - tol) | (rows > hi + tol)
     if out.any():
         r, n = (int(v) for v in np.argwhere(out)[0])
-        raise ValueError(f"samples of {_fmt_key(keys[n])}: row {r} = {rows[r, n]:.6g} lies outside the bounds "
+        raise ArgumentError(f"samples of {_fmt_key(keys[n])}: row {r} = {rows[r, n]:.6g} lies outside the bounds "
                          f"[{lo[n]:g}, {hi[n]:g}] (wrong bounds, or a sampler outside the model)")
     return lo, hi, tol
 
@@ -418,16 +419,16 @@ def _prepare(samples, exact, keys, name="samples"):
     if x.ndim == 1:
         x = x[:, None]
     if x.ndim != 2:
-        raise ValueError(f"{name} has shape {x.shape}: expected (rows, values)")
+        raise ArgumentError(f"{name} has shape {x.shape}: expected (rows, values)")
     if not np.isfinite(x).all():
         bad = np.argwhere(~np.isfinite(x))[0]
-        raise ValueError(f"{name} contains a non-finite number (row {bad[0]}, column {bad[1]})")
+        raise ArgumentError(f"{name} contains a non-finite number (row {bad[0]}, column {bad[1]})")
     mu = np.asarray([float(v) for v in np.ravel(np.asarray(exact, dtype=object))])
     if mu.size != x.shape[1]:
-        raise ValueError(f"exact has {mu.size} values, {name} has {x.shape[1]} columns")
+        raise ArgumentError(f"exact has {mu.size} values, {name} has {x.shape[1]} columns")
     keys = list(keys) if keys is not None else list(range(x.shape[1]))
     if len(keys) != x.shape[1]:
-        raise ValueError(f"keys has {len(keys)} names for {x.shape[1]} values")
+        raise ArgumentError(f"keys has {len(keys)} names for {x.shape[1]} values")
     return x, mu, keys
 
 
@@ -477,10 +478,10 @@ def compare_samples(samples, exact, keys=None, alpha: float = 1e-3, hotelling: b
     alpha = _check_alpha(alpha)
     x, mu, keys = _prepare(samples, exact, keys)
     if x.shape[0] < 2:
-        raise ValueError(f"samples: {x.shape[0]} row; an error bar needs at least 2")
+        raise ArgumentError(f"samples: {x.shape[0]} row; an error bar needs at least 2")
     if bounds is not None:
         if hotelling:
-            raise ValueError("hotelling=True: Hotelling's test belongs to the t route (no bounds)")
+            raise ArgumentError("hotelling=True: Hotelling's test belongs to the t route (no bounds)")
         return _bounded_test(x, mu, keys, alpha, bounds, samples=x.shape[0])
     vary, fixed = _split(x, mu, keys)
     return _rows_test(x[:, vary], mu[vary], [k for k, v in zip(keys, vary) if v], alpha, hotelling, fixed,
@@ -560,7 +561,7 @@ def compare_means(mean, stderr, exact, keys=None, alpha: float = 1e-3, df: int |
     stderr = np.asarray(stderr, dtype=float).ravel()
     mu = np.asarray([float(v) for v in np.ravel(np.asarray(exact, dtype=object))])
     if not (mean.size == stderr.size == mu.size):
-        raise ValueError(f"mean, stderr and exact have {mean.size}, {stderr.size} and {mu.size} values")
+        raise ArgumentError(f"mean, stderr and exact have {mean.size}, {stderr.size} and {mu.size} values")
     keys = list(keys) if keys is not None else list(range(mean.size))
     dev = mean - mu
     with np.errstate(divide="ignore", invalid="ignore"):

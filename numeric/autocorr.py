@@ -24,10 +24,12 @@ import math
 
 import numpy as np
 
+from forcenet.exact.errors import ForcenetError
+
 __all__ = ["AutocorrError", "autocorr_function", "batch_means", "integrated_time", "mean_and_stderr"]
 
 
-class AutocorrError(Exception):
+class AutocorrError(ForcenetError):
     """The chain is too short to estimate its autocorrelation time reliably."""
 
     def __init__(self, message, tau):

@@ -33,6 +33,7 @@ True
 from __future__ import annotations
 
 from forcenet.exact.plan import CHUNK_SECONDS, chunks, first_chunk
+from forcenet.exact.errors import ArgumentError
 
 __all__ = ["HAVE_NUMBA", "njit", "kernel_choice", "chunks", "first_chunk", "CHUNK_SECONDS"]
 
@@ -60,8 +61,8 @@ def kernel_choice(kernel) -> str:
     if kernel is None:
         return "compiled" if HAVE_NUMBA else "python"
     if kernel not in ("compiled", "python"):
-        raise ValueError(f"kernel={kernel!r}: expected 'compiled', 'python' or None")
+        raise ArgumentError(f"kernel={kernel!r}: expected 'compiled', 'python' or None")
     if kernel == "compiled" and not HAVE_NUMBA:
-        raise ValueError("kernel='compiled' needs numba (pip install numba); use kernel='python'")
+        raise ArgumentError("kernel='compiled' needs numba (pip install numba); use kernel='python'")
     return kernel
 

@@ -27,6 +27,7 @@ from fractions import Fraction
 import mpmath
 
 from forcenet.exact.validation import check_dps, check_not_bool
+from forcenet.exact.errors import ArgumentError, ArgumentTypeError
 
 __all__ = ["GUARD", "to_mpf", "guarded", "converged"]
 
@@ -47,9 +48,9 @@ def to_mpf(value, name: str):
     try:
         x = mpmath.mpf(value.numerator) / value.denominator if isinstance(value, Fraction) else mpmath.mpf(value)
     except (TypeError, ValueError):
-        raise TypeError(f"{name}={value!r} is not a real number") from None
+        raise ArgumentTypeError(f"{name}={value!r} is not a real number") from None
     if not mpmath.isfinite(x):
-        raise ValueError(f"{name}={value!r} is out of range: {name} must be a finite real number")
+        raise ArgumentError(f"{name}={value!r} is out of range: {name} must be a finite real number")
     return x
 
 

@@ -55,7 +55,7 @@ def test_no_generic_top_level_imports(name, path):
 
 @pytest.mark.parametrize("name, path", [m for m in MODULES if m[0].startswith("forcenet.exact.reference")], ids=lambda x: str(x))
 def test_reference_routes_share_no_code_with_what_they_check(name, path):
-    allowed = ("forcenet.exact.validation", "forcenet.exact.reference")
+    allowed = ("forcenet.exact.validation", "forcenet.exact.errors", "forcenet.exact.reference")
     ours = [m for m in _imports(path, name) if m.startswith("forcenet") and not m.startswith(allowed)]
     assert not ours, f"{name} imports {ours}"
 
@@ -95,3 +95,60 @@ def test_no_module_sets_a_global_precision():
 def test_files_stay_readable():
     too_long = [(name, n) for name, path in MODULES if (n := len(path.read_text().splitlines())) > 600]
     assert not too_long, f"modules over 600 lines (split by job): {too_long}"
+
+
+# ---------------------------------------------------------------- errors (notes/architecture.md, "Errors")
+
+_BUILTIN_BASES = {"Exception", "ValueError", "TypeError"}  # only exact/errors.py derives from these directly
+_ERRORS_MODULE = "forcenet.exact.errors"
+
+
+def _raised_name(node: ast.Raise) -> str | None:
+    exc = node.exc.func if isinstance(node.exc, ast.Call) else node.exc
+    return exc.id if isinstance(exc, ast.Name) else None
+
+
+@pytest.mark.parametrize("name, path", MODULES, ids=lambda x: str(x))
+def test_library_raises_the_family_not_bare_builtins_and_has_no_assert(name, path):
+    """Argument errors are ArgumentError/ArgumentTypeError (still ValueError/TypeError); no assert (python -O)."""
+    tree = ast.parse(path.read_text())
+    raises = [(n.lineno, _raised_name(n)) for n in ast.walk(tree)
+              if isinstance(n, ast.Raise) and n.exc is not None and _raised_name(n) in ("ValueError", "TypeError")]
+    asserts = [n.lineno for n in ast.walk(tree) if isinstance(n, ast.Assert)]
+    assert not raises, f"{name} raises builtins at {raises}: raise forcenet.exact.errors.ArgumentError / ArgumentTypeError"
+    assert not asserts, f"{name} has bare assert at lines {asserts}: raise an error instead (python -O strips asserts)"
+
+
+@pytest.mark.parametrize("name, path", MODULES, ids=lambda x: str(x))
+def test_exception_classes_end_in_error_and_join_the_family_at_its_base(name, path):
+    for node in ast.walk(ast.parse(path.read_text())):
+        if not isinstance(node, ast.ClassDef):
+            continue
+        bases = {ast.unparse(b) for b in node.bases}
+        if not any(b.endswith(("Error", "Exception")) for b in bases):
+            continue  # not an exception class
+        assert node.name.endswith("Error"), f"{name}.{node.name}: an exception class name ends in Error"
+        if name != _ERRORS_MODULE:
+            assert not bases & _BUILTIN_BASES, (
+                f"{name}.{node.name} derives from {sorted(bases & _BUILTIN_BASES)}: derive from the family "
+                "(forcenet.exact.errors) if it is an expected failure")
+
+
+def _handlers(function: ast.FunctionDef) -> list[str]:
+    names = []
+    for node in ast.walk(function):
+        if isinstance(node, ast.ExceptHandler) and node.type is not None:
+            kinds = node.type.elts if isinstance(node.type, ast.Tuple) else [node.type]
+            names += [ast.unparse(k) for k in kinds]
+    return names
+
+
+def test_the_command_line_boundary_catches_only_the_family():
+    """main(): the family, the file system, memory, interruption; any other exception is the bug handler's."""
+    path = dict(MODULES)["forcenet.cli"]
+    main = next(n for n in ast.parse(path.read_text()).body if isinstance(n, ast.FunctionDef) and n.name == "main")
+    caught = _handlers(main)
+    assert "ForcenetError" in caught
+    assert caught[-1] == "Exception", "the last handler of main() is the bug handler (exit 1, internal error)"
+    allowed = {"SystemExit", "ForcenetError", "MemoryError", "KeyboardInterrupt", "BrokenPipeError", "OSError", "Exception"}
+    assert set(caught) <= allowed, f"main() catches {sorted(set(caught) - allowed)}: a bug would pass as a usage error"

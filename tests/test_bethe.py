@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from scipy.sparse.linalg import eigs
 
+from forcenet.exact.errors import ArgumentError, ConvergenceError
 from forcenet.numeric.chicken_wire.bethe import bethe_residuals, ground_state_sequence, newton_polish, solve_ground_state
 from forcenet.numeric.chicken_wire.transfer import largest_eigenvalue, sector_matrix
 
@@ -51,12 +52,12 @@ def test_continuation_follows_the_ground_state():
 
 def test_newton_reports_failure():
     w = np.exp(1j * np.linspace(-1, 1, 4))
-    with pytest.raises(RuntimeError, match="did not converge"):
+    with pytest.raises(ConvergenceError, match="did not converge"):  # a RuntimeError and a forcenet error
         newton_polish(12, w, np.array([5.0 + 5j, 5.0 - 5j]), iterations=1)
 
 
 def test_bad_sector():
-    with pytest.raises(ValueError, match="out of range"):
+    with pytest.raises(ArgumentError, match="out of range"):
         solve_ground_state(6, 2, 2)
 
 

@@ -11,7 +11,7 @@ from forcenet.exact.chicken_wire.tiler import enumerate_tilings, scan_lifts, sur
 from forcenet.exact.chicken_wire.tiling import (
     F, F_IMAGE, KERNEL, NAME_OF, STEP, UNIT, Lattice2in2, Lattice2in4, MapError, canonical_form, check_cells,
     check_tiling, chicken_wire_configs, config_canonical, config_to_tiling, config_vertex_counts,
-    predicted_failures, tiling_tiles, tiling_to_config, zmul,
+    TilingError, predicted_failures, tiling_tiles, tiling_to_config, zmul,
 )
 
 SMALL_TORI = [(2, 2), (2, 3), (3, 2), (3, 3), (3, 4), (4, 3), (4, 4), (2, 6), (5, 5)]
@@ -124,20 +124,20 @@ def test_rotating_by_30_degrees_changes_the_chicken_wire_torus():
 
 
 def test_checks_have_teeth():
-    """A corrupted image (a face dropped, or a square's corner moved) is rejected."""
+    """A corrupted image (a face dropped, or a square's corner moved) is rejected by a family error."""
     torus = Lattice2in2.rect(5, 5)
     foam = next(c for c in chicken_wire_configs(5, 5) if config_vertex_counts(c)["Y"] and config_vertex_counts(c)["H"])
     t = config_to_tiling(foam, torus)
     check_tiling(t)
     bad = copy.deepcopy(t)
     bad["faces"].pop()
-    with pytest.raises(AssertionError):
+    with pytest.raises(TilingError):
         check_tiling(bad)
     bad = copy.deepcopy(t)
     k = next(i for i, f in enumerate(bad["faces"]) if f[0] == "S")
     kind, d, corners = bad["faces"][k]
     bad["faces"][k] = (kind, (d + 2) % 12, corners)  # wrong orientation of one square
-    with pytest.raises(AssertionError):
+    with pytest.raises(TilingError):
         check_tiling(bad)
 
 

@@ -44,6 +44,7 @@ from __future__ import annotations
 from functools import lru_cache
 
 import sympy
+from ..errors import ArgumentError
 
 __all__ = [
     "PHI",
@@ -235,7 +236,7 @@ def entropy_series_Q(order: int = 6, q=Q):
     -9*Q**3/2 - 3*Q**2*log(Q) + Q**2*(-9/2 + 3*log(2))
     """
     if order < 2:
-        raise ValueError(f"order={order} is out of range: order must be an integer >= 2")
+        raise ArgumentError(f"order={order} is out of range: order must be an integer >= 2")
     coeffs = _series_coefficients(order)
     return -3 * q**2 * sympy.log(q) + sum(coeffs[k] * q**k for k in range(2, order + 1))
 
@@ -253,7 +254,7 @@ def entropy_series_eps(order: int = 4, eps=EPS):
     0
     """
     if order < 2:
-        raise ValueError(f"order={order} is out of range: order must be an integer >= 2")
+        raise ArgumentError(f"order={order} is out of range: order must be an integer >= 2")
     q_eps = sympy.series(density_Q(_pi / 2 - EPS), EPS, 0, order + 1).removeO()
     series = sympy.expand(sympy.series(entropy_series_Q(order, q_eps), EPS, 0, order + 1).removeO())
     series = sympy.expand(sympy.expand_log(series, force=True))

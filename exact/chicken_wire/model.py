@@ -47,6 +47,7 @@ from functools import lru_cache
 from itertools import product
 
 from ..validation import check_int
+from ..errors import ArgumentError
 
 __all__ = [
     "VERTICES",
@@ -148,7 +149,7 @@ def transfer_matrix(L: int, weights=None):
     if weights is not None:
         unknown = set(weights) - set(VERTICES)
         if unknown:
-            raise ValueError(f"weights: unknown vertex names {sorted(unknown)}; allowed {list(VERTICES)}")
+            raise ArgumentError(f"weights: unknown vertex names {sorted(unknown)}; allowed {list(VERTICES)}")
         w.update(weights)
     names = list(VERTICES)
     states = list(product((_E, _R, _L), repeat=L))
@@ -222,7 +223,7 @@ def count_torus_by_enumeration(L: int, M: int) -> int:
     L = check_int(L, "L", 2)
     M = check_int(M, "M", 1)
     if L * M > 20:
-        raise ValueError(f"L*M={L * M} is out of range: enumeration is for at most 20 sites")
+        raise ArgumentError(f"L*M={L * M} is out of range: enumeration is for at most 20 sites")
     return sum(1 for _ in torus_configurations(L, M))
 
 

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from collections import Counter
 from fractions import Fraction
+from ..errors import ArgumentError, ForcenetError
 
 # ----------------------------------------------------------------------------------------------
 # Z[zeta_12] arithmetic
@@ -41,8 +42,13 @@ def _units():
     return tuple(out)
 
 
+class TilingError(ForcenetError):
+    """A check of the chicken-wire <-> square-triangle correspondence failed (the object is not what it claims)."""
+
+
 UNIT = _units()  # UNIT[k] = z^k
-assert UNIT[6] == (-1, 0, 0, 0) and zmul(UNIT[11]) == UNIT[0]
+if UNIT[6] != (-1, 0, 0, 0) or zmul(UNIT[11]) != UNIT[0]:  # a self-check of the constant, at import
+    raise ArithmeticError("UNIT is not the twelfth roots of unity")
 
 _F_BASIS = ((1, 0), (1, 1), (0, 1), (-1, 2))  # F(1), F(z), F(z^2), F(z^3)
 
@@ -111,14 +117,14 @@ def _hnf2(r1, r2):
     n = len(r1)
     c1 = next((c for c in range(n) if r1[c] or r2[c]), None)
     if c1 is None:
-        raise ValueError("rank 0")
+        raise ArgumentError("rank 0")
     g, x, y = _xgcd(r1[c1], r2[c1])
     a, b = r1[c1] // g, r2[c1] // g
     n1 = [x * u + y * v for u, v in zip(r1, r2)]
     n2 = [-b * u + a * v for u, v in zip(r1, r2)]  # determinant x a + y b = 1
     c2 = next((c for c in range(c1 + 1, n) if n2[c]), None)
     if c2 is None:
-        raise ValueError(f"rank < 2: {r1}, {r2}")
+        raise ArgumentError(f"rank < 2: {r1}, {r2}")
     if n2[c2] < 0:
         n2 = [-u for u in n2]
     q = n1[c2] // n2[c2]
@@ -254,7 +260,8 @@ def check_tiling(t):
     reverse ``(u + k, k + 6)`` occurs too (each edge in exactly two faces); Euler characteristic
     ``V - E + F = 0``; the tile area ``N_s + N_t sqrt3/4`` equals the area of the period lattice
     (so the developing map is a degree-one covering: a genuine edge-to-edge tiling); ``F`` of the
-    periods generates ``Gamma``.  Returns a summary dict; raises ``AssertionError`` on failure.
+    periods generates ``Gamma``.  Returns a summary dict; raises :class:`TilingError` (a
+    :class:`forcenet.ForcenetError`) naming the first check that fails, also under ``python -O``.
     """
     torus = t["torus"]
     masks = {v: 0 for v in t["vertices"]}
@@ -263,28 +270,37 @@ def check_tiling(t):
         edges = tile_edges(kind, d)
         secs = corner_sectors(kind, d)
         for c, e, m in zip(corners, edges, secs):
-            assert masks[c] & m == 0, f"overlapping corners at {c}"
+            if masks[c] & m:
+                raise TilingError(f"overlapping corners at {c}")
             masks[c] |= m
             directed[(c, e)] += 1
         # closure in Z[zeta]
-        assert tile_corners(kind, d, (0, 0, 0, 0))[-1] == vsub((0, 0, 0, 0), UNIT[edges[-1]])
-    assert all(m == 4095 for m in masks.values()), "angle sum != 360 somewhere"
-    assert max(directed.values()) == 1, "a directed edge used twice"
+        if tile_corners(kind, d, (0, 0, 0, 0))[-1] != vsub((0, 0, 0, 0), UNIT[edges[-1]]):
+            raise TilingError(f"the corners of face ({kind}, {d}) do not close up")
+    if any(m != 4095 for m in masks.values()):
+        raise TilingError("angle sum != 360 somewhere")
+    if max(directed.values()) != 1:
+        raise TilingError("a directed edge used twice")
     for (u, e) in directed:
         v = torus.reduce((u[0] + F_IMAGE[e][0], u[1] + F_IMAGE[e][1]))
-        assert (v, (e + 6) % 12) in directed, "an edge with a single face"
+        if (v, (e + 6) % 12) not in directed:
+            raise TilingError("an edge with a single face")
     V, E, Fn = len(t["vertices"]), len(directed) // 2, len(t["faces"])
-    assert V - E + Fn == 0, "Euler characteristic != 0"
+    if V - E + Fn != 0:
+        raise TilingError("Euler characteristic != 0")
     lam = t["lattice"]
     ns = sum(1 for f in t["faces"] if f[0] == "S")
     nt = Fn - ns
-    assert lam.tile_numbers() == (ns, nt), f"area mismatch: {lam.area()} vs Ns={ns}, Nt={nt}"
-    assert lam.image() == Lattice2in2(*torus.gens), "F(Lambda) != Gamma"
+    if lam.tile_numbers() != (ns, nt):
+        raise TilingError(f"area mismatch: {lam.area()} vs Ns={ns}, Nt={nt}")
+    if lam.image() != Lattice2in2(*torus.gens):
+        raise TilingError("F(Lambda) != Gamma")
     # positions are consistent with the face edges modulo Lambda
     for kind, d, corners in t["faces"]:
         for c, e in zip(corners, tile_edges(kind, d)):
             nxt = torus.reduce((c[0] + F_IMAGE[e][0], c[1] + F_IMAGE[e][1]))
-            assert lam.contains(vsub(vadd(t["pos"][c], UNIT[e]), t["pos"][nxt]))
+            if not lam.contains(vsub(vadd(t["pos"][c], UNIT[e]), t["pos"][nxt])):
+                raise TilingError(f"the positions of {c} and {nxt} differ by more than edge {e} modulo Lambda")
     nA = sum(1 for f in t["faces"] if f[0] == "T" and f[1] % 2 == 0)
     return {"V": V, "E": E, "F": Fn, "N_s": ns, "N_tA": nA, "N_tB": nt - nA}
 
@@ -331,4 +347,5 @@ def _f_preimage(g):
 
 
 KERNEL = ((-1, 1, -1, 0), (1, 0, -2, 1))  # a basis of ker F
-assert all(F(k) == (0, 0) for k in KERNEL)
+if any(F(k) != (0, 0) for k in KERNEL):  # a self-check of the constant, at import
+    raise ArithmeticError("KERNEL is not in the kernel of F")

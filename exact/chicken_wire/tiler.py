@@ -170,7 +170,7 @@ def survey(L, M, enumerate_limit_vertices=18, max_seconds=None):
     from collections import Counter
     from fractions import Fraction
 
-    from .square_triangle import Lattice2in2, check_tiling, tiling_from_canonical, tiling_tiles
+    from .square_triangle import Lattice2in2, TilingError, check_tiling, tiling_from_canonical, tiling_tiles
     from .tiling import MapError, _failure_kind, check_cells, chicken_wire_configs, config_canonical, config_to_tiling, tiling_to_config
 
     gamma = Lattice2in2.rect(L, M)
@@ -190,7 +190,8 @@ def survey(L, M, enumerate_limit_vertices=18, max_seconds=None):
         lam = t["lattice"]
         form, _ = canonical_form(tiling_tiles(t), lam)
         cfg_back, _ = tiling_to_config(tiling_from_canonical(form), lam)  # inverse o forward = id
-        assert config_canonical(cfg_back, gamma) == config_canonical(config, gamma)
+        if config_canonical(cfg_back, gamma) != config_canonical(config, gamma):
+            raise TilingError("a configuration's tiling does not map back to it")
         d = by_lattice.setdefault(lam, {})
         d[form] = d.get(form, 0) + 1
         conf_classes.setdefault(lam, set()).add(config_canonical(config, gamma))
@@ -212,19 +213,24 @@ def survey(L, M, enumerate_limit_vertices=18, max_seconds=None):
             row["matched"] = len(set(classes) & set(forms))
             # each class is found V/|stab| times with a vertex at 0, and stands for N/|stab| labelled
             # configurations of the N-site torus (|stab| = translation group of the tiling mod Lambda)
-            assert raw == sum(Fraction(V, s) for s in classes.values())
+            if raw != sum(Fraction(V, s) for s in classes.values()):
+                raise TilingError(f"{raw} raw tilings of {lam.key()} are not V/|stab| per class")
             row["configs_predicted"] = sum(Fraction(gamma.det(), s) for s in classes.values())
             # constructive check: every enumerated tiling maps back to a configuration of the
             # L x M torus whose image is the same tiling, and that configuration was enumerated
             back = 0
             for form in classes:
                 cfg, g = tiling_to_config(tiling_from_canonical(form), lam)
-                assert g == gamma
+                if g != gamma:
+                    raise TilingError(f"a tiling of {lam.key()} lives on another torus than {L} x {M}")
                 t = config_to_tiling(cfg, gamma)
                 check_tiling(t)
-                assert t["lattice"] == lam
-                assert canonical_form(tiling_tiles(t), lam)[0] == form
-                assert config_canonical(cfg, gamma) in conf_classes[lam]
+                if t["lattice"] != lam:
+                    raise TilingError(f"a tiling of {lam.key()} maps back to the period lattice {t['lattice'].key()}")
+                if canonical_form(tiling_tiles(t), lam)[0] != form:
+                    raise TilingError(f"a tiling of {lam.key()} does not map back to itself")
+                if config_canonical(cfg, gamma) not in conf_classes[lam]:
+                    raise TilingError(f"a tiling of {lam.key()} maps back to a configuration that was not enumerated")
                 back += 1
             row["round_trip"] = back
         rows.append(row)

@@ -55,9 +55,10 @@ from collections import Counter, deque
 from fractions import Fraction
 from math import gcd
 
+from ..errors import ArgumentError
 from .model import BOND_STEPS, VERTICES, torus_configurations
 from .square_triangle import (
-    F, F_IMAGE, KERNEL, UNIT, Lattice2in2, Lattice2in4, canonical_form, check_tiling, tile_corners, tile_edges,
+    F, F_IMAGE, KERNEL, UNIT, Lattice2in2, Lattice2in4, TilingError, canonical_form, check_tiling, tile_corners, tile_edges,
     tiling_from_canonical, tiling_tiles, vadd, vsub, zmul,
 )
 
@@ -65,7 +66,7 @@ __all__ = [
     "chicken_wire_configs", "config_vertex_counts", "config_canonical", "MapError", "config_to_tiling",
     "tiling_to_config", "check_cells", "predicted_failures", "lucas",
     # re-exported from .square_triangle for convenience
-    "UNIT", "F", "F_IMAGE", "KERNEL", "Lattice2in2", "Lattice2in4", "check_tiling", "canonical_form",
+    "UNIT", "F", "F_IMAGE", "KERNEL", "Lattice2in2", "Lattice2in4", "TilingError", "check_tiling", "canonical_form",
     "tiling_from_canonical", "tiling_tiles", "zmul",
 ]
 
@@ -103,7 +104,7 @@ def config_canonical(config, torus):
     return best
 
 
-class MapError(ValueError):
+class MapError(ArgumentError):
     """The configuration has no image tiling (with the reason)."""
 
 
@@ -188,7 +189,7 @@ def config_to_tiling(config, torus):
                 w1 = Fraction(dl[0] * g2[1] - dl[1] * g2[0], det)
                 w2 = Fraction(g1[0] * dl[1] - g1[1] * dl[0], det)
                 if w1.denominator != 1 or w2.denominator != 1:
-                    raise AssertionError("lattice displacement of a cycle is not a period")
+                    raise TilingError("lattice displacement of a cycle is not a period")
                 records.append((int(w1), int(w2), vsub(pv, pos[v])))
     if set(pos) != set(vertices):
         raise MapError(f"the face graph is not connected / misses vertices: {sorted(set(vertices) - set(pos))[:4]}")
@@ -221,11 +222,11 @@ def _solve_periods(records):
     P1 = tuple(Fraction(s[1] * a - r[1] * b, dt) for a, b in zip(r[2], s[2]))
     P2 = tuple(Fraction(r[0] * b - s[0] * a, dt) for a, b in zip(r[2], s[2]))
     if any(c.denominator != 1 for c in P1 + P2):
-        raise AssertionError("non-integral period")
+        raise TilingError("non-integral period")
     P1, P2 = tuple(int(c) for c in P1), tuple(int(c) for c in P2)
     for w1, w2, D in records:
         if tuple(w1 * a + w2 * b for a, b in zip(P1, P2)) != D:
-            raise AssertionError("periods are not a homomorphism")
+            raise TilingError("periods are not a homomorphism")
     return P1, P2
 
 
@@ -234,14 +235,15 @@ def tiling_to_config(tiles, lam):
 
     Vertex ``p`` -> empty site ``F(p)``; square -> pass-through site ``F(centre)`` with bonds along its
     A edges; B triangle -> ``F(centre)``, a Y (edges 7, 11, 3) or inverted Y (5, 9, 1).
-    Raises ``AssertionError`` if a site is hit twice or missed, or bonds do not match.
+    Raises :class:`~forcenet.exact.chicken_wire.square_triangle.TilingError` if a site is hit twice or missed, or bonds do not match.
     """
     gamma = lam.image()
     config = {}
 
     def put(s, v):
         s = gamma.reduce(s)
-        assert s not in config, f"site {s} hit twice"
+        if s in config:
+            raise TilingError(f"site {s} hit twice")
         config[s] = v
 
     seen_vertices = set()
@@ -257,21 +259,25 @@ def tiling_to_config(tiles, lam):
             a = next(e for e in edges if e % 2 == 0)  # an A edge direction
             twice = vadd(vadd(corners[0], corners[0]), vadd(UNIT[edges[0]], UNIT[edges[1]]))
             fx, fy = F(twice)
-            assert fx % 2 == 0 and fy % 2 == 0
+            if fx % 2 or fy % 2:
+                raise TilingError(f"the centre of square ({kind}, {d}) at {p} is not a site")
             put((fx // 2, fy // 2), frozenset({(a * 30) % 180, (a * 30) % 180 + 180}))
         elif d % 2 == 1:  # B triangle
             edges = tile_edges(kind, d)
             thrice = vadd(vadd(corners[0], corners[0]), vadd(corners[0], vadd(vadd(UNIT[edges[0]], UNIT[edges[0]]), UNIT[edges[1]])))
             fx, fy = F(thrice)
-            assert fx % 3 == 0 and fy % 3 == 0
+            if fx % 3 or fy % 3:
+                raise TilingError(f"the centre of B triangle ({kind}, {d}) at {p} is not a site")
             y_kind = VERTEX_SETS["Y"] if d in (3, 7, 11) else VERTEX_SETS["inverted Y"]
             put((fx // 3, fy // 3), y_kind)
     sites = gamma.sites()
-    assert set(config) == set(sites), f"{len(sites) - len(config)} sites not covered"
+    if set(config) != set(sites):
+        raise TilingError(f"{len(sites) - len(config)} sites not covered")
     for s, v in config.items():  # bond consistency
         for dd in STEP:
             o = gamma.reduce((s[0] + STEP[dd][0], s[1] + STEP[dd][1]))
-            assert (dd in v) == ((dd + 180) % 360 in config[o]), f"bond mismatch at {s}"
+            if (dd in v) != ((dd + 180) % 360 in config[o]):
+                raise TilingError(f"bond mismatch at {s}")
     return config, gamma
 
 
@@ -340,23 +346,29 @@ def check_cells(config, torus):
                         seen.add(r)
                         queue.append(r)
                     else:
-                        assert comp[r] == w, "a cell wraps around the torus"
+                        if comp[r] != w:
+                            raise TilingError("a cell wraps around the torus")
         b = _bounds(unwrapped)
-        assert unwrapped == _hexagon_points(b), "domain is not a full lattice hexagon"
+        if unwrapped != _hexagon_points(b):
+            raise TilingError("domain is not a full lattice hexagon")
         inner = _hexagon_sides(b)
         B = (b[0] - 1, b[1] + 1, b[2] - 1, b[3] + 1, b[4] - 1, b[5] + 1)
         outer = _hexagon_sides(B)
-        assert all(k >= 0 for k in inner) and all(a == k + 1 for a, k in zip(outer, inner)), (inner, outer)
+        if any(k < 0 for k in inner) or any(a != k + 1 for a, k in zip(outer, inner)):
+            raise TilingError(f"cell sides {outer} are not the domain sides {inner} plus one")
         ring = _hexagon_points(B) - unwrapped
         for p in ring:
             v = config[torus.reduce(p)]
             on = [B[0] == p[0], B[1] == p[0], B[2] == p[1], B[3] == p[1], B[4] == p[0] + p[1], B[5] == p[0] + p[1]]
             if sum(on) == 2:
-                assert NAME_OF[v] in ("Y", "inverted Y"), "a cell corner is not a Y"
+                if NAME_OF[v] not in ("Y", "inverted Y"):
+                    raise TilingError("a cell corner is not a Y")
             else:
-                assert sum(on) == 1
+                if sum(on) != 1:
+                    raise TilingError(f"ring point {p} is on {sum(on)} sides of the cell")
                 k = on.index(True)
-                assert v == VERTEX_SETS[("R", "R", "H", "H", "L", "L")[k]], "a cell side is not a straight wall"
+                if v != VERTEX_SETS[("R", "R", "H", "H", "L", "L")[k]]:
+                    raise TilingError("a cell side is not a straight wall")
         out.append((inner, outer))
     return out
 

@@ -20,6 +20,7 @@ from functools import reduce
 import sympy
 
 from ..validation import check_int
+from ..errors import ArgumentError, ArgumentTypeError
 
 __all__ = ["mean_W_mobilized"]
 
@@ -28,9 +29,9 @@ def _rational(name, value):
     try:
         r = Fraction(value)
     except (TypeError, ValueError):
-        raise TypeError(f"{name}={value!r}: expected an int, Fraction or decimal string") from None
+        raise ArgumentTypeError(f"{name}={value!r}: expected an int, Fraction or decimal string") from None
     if r < 0:
-        raise ValueError(f"{name}={value} is out of range: {name} must be >= 0")
+        raise ArgumentError(f"{name}={value} is out of range: {name} must be >= 0")
     return r
 
 
@@ -65,7 +66,7 @@ def mean_W_mobilized(N: int, P: int, F=1, j0: int | None = None, pv=0, mg=0):
     """
     N, P = check_int(N, "N", 2), check_int(P, "P", 2)
     if (N - 1) * (P - 1) > 9:
-        raise ValueError(f"(N-1)(P-1)={(N - 1) * (P - 1)} is out of range: at most 9 free q's for exact integration")
+        raise ArgumentError(f"(N-1)(P-1)={(N - 1) * (P - 1)} is out of range: at most 9 free q's for exact integration")
     j0 = (P + 1) // 2 if j0 is None else check_int(j0, "j0", 1, P)
     F, pv, mg = _rational("F", F), _rational("pv", pv), _rational("mg", mg)
     qs = [[sympy.Symbol(f"q_{i}_{j}") for j in range(1, P)] for i in range(1, N)]
@@ -95,5 +96,5 @@ def mean_W_mobilized(N: int, P: int, F=1, j0: int | None = None, pv=0, mg=0):
 
     Z = integrate(weight)
     if Z == 0:
-        raise ValueError("the total load is zero: nothing to average")
+        raise ArgumentError("the total load is zero: nothing to average")
     return [[integrate(W[i][j] * weight) / Z for j in range(P)] for i in range(N)]

@@ -18,6 +18,7 @@ from fractions import Fraction
 from math import factorial
 
 import numpy as np
+from ..errors import ArgumentError
 
 __all__ = ["gamma", "gamma_coefficient", "gamma_residues", "upper_bound", "defect_line"]
 
@@ -47,7 +48,7 @@ def gamma_coefficient(m: int, n: int, k: int) -> Fraction:
     Fraction(1, 6)
     """
     if not 0 <= k <= m:
-        raise ValueError(f"k={k} is out of range: k must be an integer in 0..m={m}")
+        raise ArgumentError(f"k={k} is out of range: k must be an integer in 0..m={m}")
     return gamma(m - k, m, n)
 
 

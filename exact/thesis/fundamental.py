@@ -17,6 +17,7 @@ from fractions import Fraction
 
 from ..validation import check_layers
 from .coefficients import gamma, gamma_coefficient, upper_bound
+from ..errors import ArgumentError
 
 __all__ = ["integral_I", "index_tuples", "psi_fundamental", "right_vector", "normalization_fundamental"]
 
@@ -79,7 +80,7 @@ def psi_fundamental(i: tuple, j: tuple) -> Fraction:
     (Fraction(1, 2), Fraction(1, 60))
     """
     if len(i) != len(j) or not i:
-        raise ValueError(f"i={i!r}, j={j!r}: need two index tuples of the same length >= 1")
+        raise ArgumentError(f"i={i!r}, j={j!r}: need two index tuples of the same length >= 1")
     value = gamma(2 - i[0], 1, 2 - j[0])
     for l in range(2, len(i) + 1):
         il, jl, ip, jp = i[l - 1], j[l - 1], i[l - 2], j[l - 2]

@@ -29,6 +29,7 @@ from ..triangle.staircase import dimension
 from ..validation import check_grain, check_int, check_layers
 from .coefficients import defect_line, upper_bound
 from .recursions import count_lambda, table_from_bulk
+from ..errors import ArgumentError
 
 __all__ = [
     "is_map",
@@ -171,7 +172,7 @@ def moment_thesis_maps(N: int, grain, s: int) -> Fraction:
     N = check_layers(N, minimum=3)
     i, j = check_grain(N, grain)
     if i == N:
-        raise ValueError(f"grain={grain!r} is out of range: the map formulas need 1 <= i <= N-1={N - 1} "
+        raise ArgumentError(f"grain={grain!r} is out of range: the map formulas need 1 <= i <= N-1={N - 1} "
                          "(the bottom layer needs two-grain moments: use forcenet.exact.moment)")
     s = check_int(s, "s", 1)
     d, p, q, r = dimension(N), N - 2, N - i, j
@@ -257,7 +258,7 @@ def tableau_from_map(N: int, h: dict[int, tuple[int, ...]]) -> dict[tuple[int, i
     """
     N = check_layers(N, minimum=3)
     if not is_map(h, N - 2):
-        raise ValueError(f"h={h!r} is not a map of Sec. 4.6 for N={N} (Eqs. 4.86-4.89)")
+        raise ArgumentError(f"h={h!r} is not a map of Sec. 4.6 for N={N} (Eqs. 4.86-4.89)")
     n = N - 1
     order = [(n, n)]
     for r in range(n - 1, 0, -1):
@@ -276,7 +277,7 @@ def tableau_from_map(N: int, h: dict[int, tuple[int, ...]]) -> dict[tuple[int, i
                     behind -= 1
                 pos += 1
             if behind != later or any(r2 > r and c2 >= c for (r2, c2) in merged[start:pos]):
-                raise ValueError(f"h is not a map: row {l} entry {c - r - 1} cannot be placed")
+                raise ArgumentError(f"h is not a map: row {l} entry {c - r - 1} cannot be placed")
             merged.insert(pos, (r, c))
         order = merged
     return {cell: k + 1 for k, cell in enumerate(order)}

@@ -56,6 +56,7 @@ from ..modular import crt, primes_for_bound
 from ..triangle.staircase import dimension
 from ..validation import check_grain, check_int, check_layers
 from .coefficients import gamma, gamma_residues
+from ..errors import ArgumentError, ArgumentTypeError
 
 __all__ = ["integrate_layers", "normalization_nested", "moment_nested", "moment_table_nested", "mean_W_nested"]
 
@@ -118,7 +119,7 @@ def _check_powers(N: int, powers) -> dict:
     if powers is None:
         return {}
     if not isinstance(powers, dict):
-        raise TypeError(f"powers={powers!r}: need a dict {{(i, j): power}}")
+        raise ArgumentTypeError(f"powers={powers!r}: need a dict {{(i, j): power}}")
     out = {}
     for g, e in powers.items():
         i, j = check_grain(N, g, "powers key")
@@ -162,7 +163,7 @@ def integrate_layers(N: int, powers: dict | None = None, arithmetic: str = "modu
     if arithmetic == "modular":
         return _integrate_modular(N, powers)
     if arithmetic != "fraction":
-        raise ValueError(f"arithmetic={arithmetic!r}: must be 'modular' or 'fraction'")
+        raise ArgumentError(f"arithmetic={arithmetic!r}: must be 'modular' or 'fraction'")
     one = {0: Fraction(1)}
     left, right = {(): Fraction(1)}, {(): Fraction(1)}
     sites = [{((), ()): dict(one)} for _ in range(N)]  # the bottom layer's integrand is 1

@@ -47,6 +47,7 @@ import sympy
 
 from ..validation import check_layers
 from .nested import _check_powers, _integrate_layer, _multiply_site, _prune
+from ..errors import ArgumentError
 
 __all__ = ["w_symbol", "NestedLayer", "nested_layers", "integrate_layer_step", "moment_symbolic"]
 
@@ -137,7 +138,7 @@ def integrate_layer_step(layer: NestedLayer, powers: dict | None = None) -> Nest
     W_2_1*W_2_2
     """
     if layer.m < 2:
-        raise ValueError(f"layer m={layer.m}: the top layer W_11 = 1 is not integrated; use normalization()")
+        raise ArgumentError(f"layer m={layer.m}: the top layer W_11 = 1 is not integrated; use normalization()")
     powers = powers or {}
     left, sites, right = layer.state
     sites = [_multiply_site(site, powers.get((layer.m, k), 0)) for k, site in enumerate(sites, start=1)]

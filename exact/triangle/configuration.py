@@ -39,6 +39,7 @@ from fractions import Fraction
 import sympy
 
 from ..validation import check_layers
+from ..errors import ArgumentError
 
 __all__ = [
     "W_from_q",
@@ -55,7 +56,7 @@ def _rows(W):
     rows = [[Fraction(x) for x in row] for row in W]
     for i, row in enumerate(rows, start=1):
         if len(row) != i:
-            raise ValueError(f"W: row {i} has {len(row)} entries, expected {i}")
+            raise ArgumentError(f"W: row {i} has {len(row)} entries, expected {i}")
     return rows
 
 
@@ -67,7 +68,7 @@ def W_from_q(q: dict, N: int) -> list[list[Fraction]]:
     N = check_layers(N)
     for (i, j), value in q.items():
         if not (0 <= Fraction(value) <= 1):
-            raise ValueError(f"q[{i}, {j}]={value}: q must lie in [0, 1]")
+            raise ArgumentError(f"q[{i}, {j}]={value}: q must lie in [0, 1]")
     W = [[Fraction(1)]]
     for i in range(1, N):
         prev = W[-1]
@@ -128,7 +129,7 @@ def bounds(W, i: int, j: int) -> tuple[Fraction, Fraction]:
     """
     rows = _rows(W)
     if not (2 <= i <= len(rows) and 1 <= j <= i - 1):
-        raise ValueError(f"(i, j)=({i}, {j}): need 2 <= i <= N={len(rows)} and 1 <= j <= i - 1")
+        raise ArgumentError(f"(i, j)=({i}, {j}): need 2 <= i <= N={len(rows)} and 1 <= j <= i - 1")
     a = sum((rows[i - 2][k - 1] - rows[i - 1][k - 1] for k in range(1, j)), Fraction(0))
     return a, rows[i - 2][j - 1] + a
 

@@ -54,6 +54,7 @@ from .gaps import GapCounts, contact_gap_counts, contact_gap_law, gap_laws_plan,
 from .joint_gaps import q_gap_counts
 from .moments import mean_W_grain
 from .spacings import rising
+from ..errors import ArgumentError, ArgumentTypeError
 
 __all__ = [
     "W_SYMBOL",
@@ -94,7 +95,7 @@ def _poly(coeffs, var) -> sympy.Poly:
 
 def _check_density_gaps(gaps: GapCounts) -> None:
     if gaps.counts[0] or gaps.counts[gaps.d + 1]:
-        raise ValueError("the gap law has mass at g = 0 or g = d + 1 (a force identically 0 or 1, "
+        raise ArgumentError("the gap law has mass at g = 0 or g = d + 1 (a force identically 0 or 1, "
                          "e.g. W_{1,1} = 1): it has no density")
 
 
@@ -162,7 +163,7 @@ def _load_gaps(N: int, grain, progress=None) -> GapCounts:
     N = check_layers(N)
     i, j = check_grain(N, grain)
     if i == 1:
-        raise ValueError(f"grain={grain!r}: W_{{1,1}} = 1 is the overload, it has no density; "
+        raise ArgumentError(f"grain={grain!r}: W_{{1,1}} = 1 is the overload, it has no density; "
                          f"i must be an integer in 2..{N}")
     return grain_gap_counts(N, (i, j), progress)
 
@@ -228,10 +229,10 @@ def pool_gaps(laws) -> GapCounts:
     """
     laws = list(laws)
     if not laws:
-        raise ValueError("pool_gaps: need at least one gap law")
+        raise ArgumentError("pool_gaps: need at least one gap law")
     d, total = laws[0].d, laws[0].total
     if any(g.d != d or g.total != total for g in laws):
-        raise ValueError("pool_gaps: all laws must have the same d and total")
+        raise ArgumentError("pool_gaps: all laws must have the same d and total")
     counts = tuple(sum(col) for col in zip(*(g.counts for g in laws)))
     return GapCounts(counts, total * len(laws), d)
 
@@ -301,7 +302,7 @@ def triangle_force_density(N: int, var=F_SYMBOL, layers=None, progress=None) -> 
     N = check_layers(N)
     layers = list(range(2, N + 1)) if layers is None else sorted({check_int(i, "layer", 2, N) for i in layers})
     if not layers:
-        raise ValueError("layers: need at least one layer in 2..N")
+        raise ArgumentError("layers: need at least one layer in 2..N")
     grains = sum(layers)
     terms = [(sympy.Integer(i), layer_force_density(N, i, var, progress) * sympy.Rational(i, grains)) for i in layers]
     return _pieces(terms, var)
@@ -321,15 +322,15 @@ def as_pieces(density, support=None) -> list[Piece]:
     """
     if isinstance(density, sympy.Poly):
         if support is None:
-            raise ValueError("support: a single polynomial density needs its interval (lo, hi), "
+            raise ArgumentError("support: a single polynomial density needs its interval (lo, hi), "
                              "e.g. (0, 1) for a grain, (0, i) for layer i, (0, 2i) for the contacts below layer i")
         lo, hi = (sympy.Rational(str(Fraction(x))) for x in support)
         if not lo < hi:
-            raise ValueError(f"support={support!r}: need lo < hi")
+            raise ArgumentError(f"support={support!r}: need lo < hi")
         return [Piece(lo, hi, density)]
     pieces = list(density)
     if not pieces or not all(isinstance(p, Piece) for p in pieces):
-        raise TypeError("density: need a sympy Poly (with support) or a list of Piece")
+        raise ArgumentTypeError("density: need a sympy Poly (with support) or a list of Piece")
     return pieces
 
 
@@ -367,7 +368,7 @@ def bin_probabilities(pieces, edges, support=None) -> list[Fraction]:
     pieces = as_pieces(pieces, support)
     edges = [Fraction(e) for e in edges]
     if any(b <= a for a, b in zip(edges, edges[1:])):
-        raise ValueError("edges must increase strictly")
+        raise ArgumentError("edges must increase strictly")
     prims = [(Fraction(int(p.lo.p), int(p.lo.q)), Fraction(int(p.hi.p), int(p.hi.q)), p.poly.integrate()) for p in pieces]
 
     def mass(a, b):
@@ -416,7 +417,7 @@ def grain_scaled_pool_density(N: int, grains, var=F_SYMBOL) -> list[Piece]:
     N = check_layers(N)
     grains = [check_grain(N, g) for g in grains]
     if not grains:
-        raise ValueError("grains: need at least one grain")
+        raise ArgumentError("grains: need at least one grain")
     terms = []
     for i, j in grains:
         mu = mean_W_grain(N, i, j)
@@ -443,7 +444,7 @@ def beta_mixture_density(counts, total: int, var=sympy.Symbol("q")) -> sympy.Pol
             if not c:
                 continue
             if a < 1 or b < 1:
-                raise ValueError("beta_mixture_density: both gaps must be >= 1")
+                raise ArgumentError("beta_mixture_density: both gaps must be >= 1")
             norm = Fraction(c * rising(1, a + b - 1), total * rising(1, a - 1) * rising(1, b - 1))  # 1/B(a, b)
             for t in range(b):  # q^(a-1) (1-q)^(b-1)
                 coeffs[a - 1 + t] += norm * comb(b - 1, t) * (-1) ** t
@@ -493,7 +494,7 @@ def distribution_plan(N: int, kind: str = "grain", memory_bytes: int | None = No
     N = check_layers(N)
     passes = {"grain": 1, "contact": 1, "layer": 1, "ensemble": N - 1, "all": N - 1, "contacts": N - 1}
     if kind not in passes:
-        raise ValueError(f"kind={kind!r}: must be one of {', '.join(passes)}")
+        raise ArgumentError(f"kind={kind!r}: must be one of {', '.join(passes)}")
     what = {"grain": f"exact density N={N}", "contact": f"exact contact density N={N}",
             "layer": f"exact layer P(f) N={N}", "ensemble": f"exact ensemble P(f) N={N}",
             "all": f"exact densities of every grain N={N}", "contacts": f"exact contact densities N={N}"}[kind]

@@ -52,6 +52,7 @@ from ..plan import Plan
 from ..validation import check_grain, check_int, check_layers
 from .ideal_dp import _predecessor_moves, forward_counts_mod, ideal_levels
 from .staircase import count, dimension
+from ..errors import ArgumentError, ArgumentTypeError
 
 __all__ = [
     "GapCounts",
@@ -164,13 +165,13 @@ def _check_chain(N: int, chain) -> tuple[tuple[int, int], ...]:
     except (TypeError, ValueError) as exc:
         if isinstance(exc, ValueError) and "out of range" in str(exc):
             raise
-        raise TypeError(f"chain={chain!r}: need a sequence of cells (r, c) with integer r, c") from None
+        raise ArgumentTypeError(f"chain={chain!r}: need a sequence of cells (r, c) with integer r, c") from None
     for r, c in cells:
         if not 1 <= r <= c <= n:
-            raise ValueError(f"cell {(r, c)} is not in the staircase of N={N}: need 1 <= r <= c <= {n}")
+            raise ArgumentError(f"cell {(r, c)} is not in the staircase of N={N}: need 1 <= r <= c <= {n}")
     for (r1, c1), (r2, c2) in zip(cells, cells[1:]):
         if not (r1 <= r2 and c1 <= c2 and (r1, c1) != (r2, c2)):
-            raise ValueError(f"chain={list(cells)}: cells must increase strictly in the poset (r and c non-decreasing)")
+            raise ArgumentError(f"chain={list(cells)}: cells must increase strictly in the poset (r and c non-decreasing)")
     return cells
 
 
@@ -459,16 +460,16 @@ def contact_spacing(N: int, grain, kind: str) -> tuple[str, int, int]:
     N = check_layers(N)
     i, j = check_grain(N, grain)
     if kind not in CONTACT_KINDS:
-        raise ValueError(f"kind={kind!r} is not a contact force that is a spacing: kind must be one of {', '.join(CONTACT_KINDS)} "
+        raise ArgumentError(f"kind={kind!r} is not a contact force that is a spacing: kind must be one of {', '.join(CONTACT_KINDS)} "
                          "(F3, F4 are lateral forces, p_h plus signed sums of spacings)")
     if kind in ("F1", "F2"):
         if i == 1:
-            raise ValueError(f"grain={grain!r}: F1 = F2 = 1/sqrt3 on the top grain is the overload, not random")
+            raise ArgumentError(f"grain={grain!r}: F1 = F2 = 1/sqrt3 on the top grain is the overload, not random")
         if (kind == "F1" and j == 1) or (kind == "F2" and j == i):
-            raise ValueError(f"grain={grain!r}: {kind} is identically 0 there (no grain above on that side)")
+            raise ArgumentError(f"grain={grain!r}: {kind} is identically 0 there (no grain above on that side)")
         i, j, kind = (i - 1, j - 1, "F6") if kind == "F1" else (i - 1, j, "F5")
     elif i == N:
-        raise ValueError(f"grain={grain!r}: the bottom layer's {kind} presses on the floor, outside the network; "
+        raise ArgumentError(f"grain={grain!r}: the bottom layer's {kind} presses on the floor, outside the network; "
                          f"i must be an integer in 1..{N - 1} for {kind}")
     if kind == "F6":
         return "row", j, N - i

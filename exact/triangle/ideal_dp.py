@@ -32,6 +32,7 @@ import numpy as np
 
 from ..modular import crt, primes_for_bound
 from .staircase import count, dimension
+from ..errors import ArgumentError
 
 __all__ = [
     "ideal_levels",
@@ -238,7 +239,7 @@ def survival_counts(N: int, progress=None, memory_bytes: int = 12 * 2**30):
     d = dimension(n + 1)
     one_prime = (1 << n) * (_BYTES_PER_RESIDUE + _BYTES_PER_MASK)
     if one_prime > max(memory_bytes, 2**32):
-        raise ValueError(
+        raise ArgumentError(
             f"N={N} is out of range for the exact table: one prime's residues over the 2^{n} ideals "
             f"need {one_prime / 2**30:.0f} GiB, more than memory_bytes={memory_bytes}; N must be at most about 30"
         )

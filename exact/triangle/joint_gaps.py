@@ -30,6 +30,7 @@ from ..validation import check_grain, check_int, check_layers
 from .gaps import _check_chain, _down_size, _level_layout, _mulmod_sum
 from .ideal_dp import _predecessor_moves, forward_counts_mod
 from .staircase import count, dimension
+from ..errors import ArgumentError
 
 __all__ = ["joint_gap_counts", "q_gap_counts"]
 
@@ -166,7 +167,7 @@ def q_gap_counts(N: int, grain) -> tuple[list[list[int]], int]:
     N = check_layers(N)
     i, j = check_grain(N, grain)
     if i == N:
-        raise ValueError(f"grain={grain!r}: the bottom layer has no q (no grains below); i must be an integer in 1..{N - 1}")
+        raise ArgumentError(f"grain={grain!r}: the bottom layer has no q (no grains below); i must be an integer in 1..{N - 1}")
     c = N - i + j
     chain, k = [], 0
     if j >= 2:

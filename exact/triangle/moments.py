@@ -32,6 +32,7 @@ from ..validation import check_grain, check_int, check_layers
 from .ideal_dp import estimate_survival_cost, marked_chain_sums, parts_table, survival_counts
 from .spacings import rising
 from .staircase import count, dimension
+from ..errors import ArgumentError
 
 __all__ = [
     "mean_W",
@@ -187,7 +188,7 @@ def moment_table_plan(N: int, s: int, memory_bytes: int | None = None) -> Plan:
 def _check_state_memory(N: int, n_states: int, n_primes: int) -> None:
     nbytes = (1 << (N - 1)) * n_states * n_primes * 8 * 2
     if nbytes > _STATE_BUDGET:
-        raise ValueError(
+        raise ArgumentError(
             f"N={N} is out of range for this moment: its path-sum table needs ~{nbytes / 2**30:.0f} GiB "
             f"(budget {_STATE_BUDGET / 2**30:.0f} GiB); use a smaller N (about N <= 20 for s = 2)"
         )

@@ -26,6 +26,7 @@ from functools import lru_cache
 from math import factorial, prod
 
 from ..validation import check_layers
+from ..errors import ArgumentError
 
 __all__ = [
     "dimension",
@@ -63,7 +64,7 @@ def grain_to_cell(N: int, i: int, j: int) -> tuple[int, int]:
     ((1, 1), (4, 4), (1, 4))
     """
     if not (2 <= i <= N and 1 <= j <= i - 1):
-        raise ValueError(f"(i, j)=({i}, {j}): need 2 <= i <= N={N} and 1 <= j <= i - 1")
+        raise ArgumentError(f"(i, j)=({i}, {j}): need 2 <= i <= N={N} and 1 <= j <= i - 1")
     return j, N - i + j
 
 
@@ -77,7 +78,7 @@ def cell_to_grain(N: int, r: int, c: int) -> tuple[int, int]:
     """
     n = N - 1
     if not (1 <= r <= c <= n):
-        raise ValueError(f"(r, c)=({r}, {c}): need 1 <= r <= c <= N - 1 = {n}")
+        raise ArgumentError(f"(r, c)=({r}, {c}): need 1 <= r <= c <= N - 1 = {n}")
     return N - c + r, r
 
 
@@ -106,7 +107,7 @@ def shifted_hook_lengths(parts) -> dict[tuple[int, int], int]:
     """
     parts = tuple(parts)
     if any(a <= b for a, b in zip(parts, parts[1:])) or (parts and parts[-1] <= 0):
-        raise ValueError(f"parts={parts}: must be strictly decreasing positive integers")
+        raise ArgumentError(f"parts={parts}: must be strictly decreasing positive integers")
     rows = len(parts)
     last_col = {r + 1: r + parts[r] for r in range(rows)}  # row r spans columns r..last_col[r]
     hooks = {}

@@ -33,6 +33,7 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from forcenet.exact.validation import check_int
+from forcenet.exact.errors import ArgumentError, ConvergenceError
 
 __all__ = [
     "BetheSolution",
@@ -187,12 +188,12 @@ def solve_ground_state(L: int, n: int, m: int, guess=None, tries: int = 3000, se
 
     Raises
     ------
-    RuntimeError
+    ConvergenceError
         If no ground-state-like solution converged (never silent).
     """
     L, n, m = check_int(L, "L", 3), check_int(n, "n", 2), check_int(m, "m", 1)
     if not (1 <= m < n < L):
-        raise ValueError(f"(L, n, m) = ({L}, {n}, {m}) is out of range: need 1 <= m < n < L")
+        raise ArgumentError(f"(L, n, m) = ({L}, {n}, {m}) is out of range: need 1 <= m < n < L")
     rng = np.random.default_rng(seed)
     best = None
     starts = [np.asarray(guess, dtype=complex)] if guess is not None else []
@@ -211,7 +212,7 @@ def solve_ground_state(L: int, n: int, m: int, guess=None, tries: int = 3000, se
             if guess is not None or found >= 20:
                 break
     if best is None:
-        raise RuntimeError(f"no ground-state solution of the Bethe equations converged for (L, n, m) = ({L}, {n}, {m})")
+        raise ConvergenceError(f"no ground-state solution of the Bethe equations converged for (L, n, m) = ({L}, {n}, {m})")
     w, u, res = best
     return BetheSolution(L, n, m, w[np.argsort(np.angle(w))], u[np.argsort(np.angle(u))], res)
 
@@ -244,7 +245,7 @@ def newton_polish(L: int, w0, u0, iterations: int = 50, tol: float = 1e-14, log_
 
     The branches (multiples of ``2 pi i``) are fixed at the starting point,
     so the solution keeps the starting point's quantum numbers.  Returns
-    ``(w, u, residual, iterations used)``; raises ``RuntimeError`` if the
+    ``(w, u, residual, iterations used)``; raises :class:`~forcenet.exact.errors.ConvergenceError` if the
     iteration does not converge (never silent).
 
     ``log_fugacity = mu`` weighs every horizontal bond (photon) by
@@ -281,7 +282,7 @@ def newton_polish(L: int, w0, u0, iterations: int = 50, tol: float = 1e-14, log_
         w, u = w + step[:n], u + step[n:]
     r = float(np.abs(F(w, u) - branch).max())
     if r > 1e-10:
-        raise RuntimeError(f"Newton did not converge for L={L}, n={n}, m={m}: residual {r:.3g} after {iterations} steps")
+        raise ConvergenceError(f"Newton did not converge for L={L}, n={n}, m={m}: residual {r:.3g} after {iterations} steps")
     return w, u, r, iterations
 
 
@@ -318,7 +319,7 @@ def ground_state_sequence(k_max: int, ratio=(6, 2, 1), start: int = 2, progress=
                 try:
                     w, u, res, _ = newton_polish(L, w0, u0)
                     ok = _is_ground_state(w, u)
-                except (RuntimeError, np.linalg.LinAlgError):
+                except (ConvergenceError, np.linalg.LinAlgError):
                     ok = False
             if ok:
                 prev = BetheSolution(L, n, m, w[np.argsort(np.angle(w))], u[np.argsort(np.angle(u))], res)
@@ -385,7 +386,7 @@ def follow_fugacity(L: int, w, u, mu_from: float, mu_to: float, max_twist_step: 
 
     Euler predictor along ``dx/dmu`` and Newton corrector, with steps of at
     most ``max_twist_step`` in ``L mu``; a failed step is halved (up to 12
-    times) and then reported as ``RuntimeError``.
+    times) and then reported as :class:`~forcenet.exact.errors.ConvergenceError`.
     """
     w = np.asarray(w, dtype=complex).copy()
     u = np.asarray(u, dtype=complex).copy()
@@ -399,7 +400,7 @@ def follow_fugacity(L: int, w, u, mu_from: float, mu_to: float, max_twist_step: 
                 dx = _tangent(L, w, u)
                 w1, u1, _, _ = newton_polish(L, w + h * dx[:n], u + h * dx[n:], log_fugacity=mu + h)
                 ok = np.all(np.isfinite(w1)) and np.all(np.isfinite(u1))
-            except (RuntimeError, np.linalg.LinAlgError):
+            except (ConvergenceError, np.linalg.LinAlgError):
                 ok = False
         if ok:
             w, u, mu = w1, u1, mu + h
@@ -408,7 +409,7 @@ def follow_fugacity(L: int, w, u, mu_from: float, mu_to: float, max_twist_step: 
             halvings += 1
             step /= 2
             if halvings > 12:
-                raise RuntimeError(f"lost the Bethe solution at L={L} between mu={mu:.6g} and {mu + h:.6g}")
+                raise ConvergenceError(f"lost the Bethe solution at L={L} between mu={mu:.6g} and {mu + h:.6g}")
     return w, u
 
 
@@ -440,10 +441,10 @@ def isotropic_state(L: int, n: int, m: int, w, u, mu: float = 0.0, tol: float = 
     ``n = 2m`` the first two agree; a secant iteration on ``mu`` makes the
     third agree.  The entropy per site is the Legendre transform
     ``v = log(Lambda)/L - mu rho_H`` (Sec. 7.4.1, the isotropic case of
-    Eq. 7.1).  Raises ``RuntimeError`` if the iteration fails.
+    Eq. 7.1).  Raises :class:`~forcenet.exact.errors.ConvergenceError` if the iteration fails.
     """
     if n != 2 * m:
-        raise ValueError(f"(n, m) = ({n}, {m}): the isotropic line needs n = 2m")
+        raise ArgumentError(f"(n, m) = ({n}, {m}): the isotropic line needs n = 2m")
     target = m / L
     w = np.asarray(w, dtype=complex)
     u = np.asarray(u, dtype=complex)
@@ -461,7 +462,7 @@ def isotropic_state(L: int, n: int, m: int, w, u, mu: float = 0.0, tol: float = 
         mu_prev, g_prev, mu = mu, g, new
         g = photon_density(L, w, u) - target
     else:
-        raise RuntimeError(f"isotropy not reached at (L, n, m) = ({L}, {n}, {m}): |rho_H - Q| = {abs(g):.3g}")
+        raise ConvergenceError(f"isotropy not reached at (L, n, m) = ({L}, {n}, {m}): |rho_H - Q| = {abs(g):.3g}")
     log_lambda = float(np.sum(np.log(u)).real)
     rho_h = g + target
     return IsotropicPoint(L, n, m, mu, rho_h, log_lambda / L - mu * rho_h, w, u)
@@ -476,7 +477,7 @@ def isotropic_sequence(k_values, ratio=(6, 2, 1), progress=None) -> list:
     asked for is larger), and is carried to the isotropic fugacity by
     :func:`follow_fugacity`, starting at the previous width's fugacity.
     Returns a list of :class:`IsotropicPoint`; a lost ground state raises
-    ``RuntimeError``.
+    :class:`~forcenet.exact.errors.ConvergenceError`.
 
     Examples
     --------
@@ -486,7 +487,7 @@ def isotropic_sequence(k_values, ratio=(6, 2, 1), progress=None) -> list:
     """
     a, b, c = ratio
     if b != 2 * c:
-        raise ValueError(f"ratio={ratio!r}: the isotropic line needs n = 2m")
+        raise ArgumentError(f"ratio={ratio!r}: the isotropic line needs n = 2m")
     out = []
     k_values = list(k_values)
     bases = []  # fugacity-1 ground states, continued in k as in ground_state_sequence

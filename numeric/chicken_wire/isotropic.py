@@ -12,7 +12,7 @@ plus guard digits, and again with more, until two evaluations agree to
 ``Q -> 0``, ``Q -> 1/3`` or in ``mu`` near the maximum cost precision, never
 digits); the result is returned rounded to ``dps`` digits.  No global
 precision is set; points outside ``0 <= Q <= 1/3`` (``|phi| <= pi/2``) raise
-``ValueError``.  For tiny ``Q`` the exact series of ``v(Q)`` takes over
+``ArgumentError``.  For tiny ``Q`` the exact series of ``v(Q)`` takes over
 from the closed form where it is cheaper (both agree on their overlap; tests).
 
 The Bethe-ansatz route, which knows nothing of these formulas, is
@@ -42,6 +42,7 @@ import mpmath
 from forcenet.exact.validation import check_dps, check_int
 
 from ..precision import GUARD, converged, to_mpf
+from forcenet.exact.errors import ArgumentError, ArgumentTypeError
 
 __all__ = [
     "density_Q",
@@ -67,15 +68,15 @@ __all__ = [
 def _point(phi, Q):
     """``(Q, phi)`` at the current precision from exactly one of them (in range)."""
     if (phi is None) == (Q is None):
-        raise TypeError("give exactly one of phi= and Q=")
+        raise ArgumentTypeError("give exactly one of phi= and Q=")
     if Q is not None:
         q = to_mpf(Q, "Q")
         if not 0 <= q <= mpmath.mpf(1) / 3:
-            raise ValueError(f"Q={Q} is out of range: the density per direction Q must lie in [0, 1/3]")
+            raise ArgumentError(f"Q={Q} is out of range: the density per direction Q must lie in [0, 1/3]")
         return q, None
     x = to_mpf(phi, "phi")
     if not abs(x) <= mpmath.pi / 2:
-        raise ValueError(f"phi={phi} is out of range: phi must lie in [-pi/2, pi/2] (Q from 1/3 to 0)")
+        raise ArgumentError(f"phi={phi} is out of range: phi must lie in [-pi/2, pi/2] (Q from 1/3 to 0)")
     return _Q_of_phi(x), x
 
 
@@ -276,7 +277,7 @@ def chemical_potential(*, phi=None, Q=None, dps: int = 50):
     def compute():
         q, _ = _point(phi, Q)
         if not 0 < q < mpmath.mpf(1) / 3:
-            raise ValueError(f"Q={mpmath.nstr(q, 15)} is out of range: mu needs 0 < Q < 1/3 (it diverges at the ends)")
+            raise ArgumentError(f"Q={mpmath.nstr(q, 15)} is out of range: mu needs 0 < Q < 1/3 (it diverges at the ends)")
         return _mu(q)
 
     return converged(compute, dps)
@@ -341,7 +342,7 @@ def entropy_series_7_3(eps, order: int = 2, dps: int = 50):
     def compute():
         e = to_mpf(eps, "eps")
         if not 0 < e <= mpmath.pi:
-            raise ValueError(f"eps={eps} is out of range: eps = pi/2 - phi must lie in (0, pi]")
+            raise ArgumentError(f"eps={eps} is out of range: eps = pi/2 - phi must lie in (0, pi]")
         return f(e)
 
     return converged(compute, dps)
@@ -373,7 +374,7 @@ def entropy_per_grain(l, dps: int = 50):
     def compute():
         x = to_mpf(l, "l")
         if not x > 0:
-            raise ValueError(f"l={l} is out of range: the hexagon side (force scale) must be a finite number > 0")
+            raise ArgumentError(f"l={l} is out of range: the hexagon side (force scale) must be a finite number > 0")
         return mpmath.log(6 * x) - mpmath.mpf(3) / 2
 
     return converged(compute, dps)

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
+from forcenet.exact.errors import ArgumentError, ConvergenceError
 
 __all__ = [
     "extrapolate",
@@ -44,7 +45,7 @@ def extrapolate(Ls, values, points: int = 8):
     Ls = np.asarray(Ls[-points:], dtype=float)
     values = np.asarray(values[-points:], dtype=float)
     if len(Ls) < 4:
-        raise ValueError(f"need at least 4 system sizes to extrapolate, got {len(Ls)}")
+        raise ArgumentError(f"need at least 4 system sizes to extrapolate, got {len(Ls)}")
     A2 = np.vstack([np.ones_like(Ls), Ls**-2.0]).T
     A4 = np.vstack([np.ones_like(Ls), Ls**-2.0, Ls**-4.0]).T
     c2 = np.linalg.lstsq(A2, values, rcond=None)[0][0]
@@ -69,7 +70,7 @@ def isotropic_limit(Q, L_max: int = 240, L_min: int = 60, progress=None) -> Isot
 
     Sectors ``(L, n, m) = k (a, 2c, c)`` for ``L_min <= L <= L_max`` at the
     isotropic fugacity (:func:`forcenet.numeric.chicken_wire.bethe.isotropic_sequence`), then
-    :func:`extrapolate`.  Raises ``RuntimeError`` where the continuation
+    :func:`extrapolate`.  Raises :class:`~forcenet.exact.errors.ConvergenceError` where the continuation
     loses the ground state (reported, never silent).
 
     """
@@ -77,11 +78,11 @@ def isotropic_limit(Q, L_max: int = 240, L_min: int = 60, progress=None) -> Isot
 
     Q = Fraction(Q)
     if not (0 < Q < Fraction(1, 3)):
-        raise ValueError(f"Q={Q}: the Bethe route needs 0 < Q < 1/3")
+        raise ArgumentError(f"Q={Q}: the Bethe route needs 0 < Q < 1/3")
     a, c = Q.denominator, Q.numerator
     ks = range(max(2, -(-L_min // a)), L_max // a + 1)
     if len(ks) < 4:
-        raise ValueError(f"L_max={L_max}: need at least 4 widths that are multiples of {a} in [{L_min}, {L_max}]")
+        raise ArgumentError(f"L_max={L_max}: need at least 4 widths that are multiples of {a} in [{L_min}, {L_max}]")
     pts = isotropic_sequence(ks, ratio=(a, 2 * c, c), progress=progress)
     Ls = [p.L for p in pts]
     v, v_err = extrapolate(Ls, [p.entropy_per_site for p in pts])
@@ -103,7 +104,7 @@ def bracketing_fractions(Q: float, max_denominator: int = 16):
     lo = max((f for f in cands if f <= Q), default=None)
     hi = min((f for f in cands if f >= Q), default=None)
     if lo is None or hi is None:
-        raise ValueError(f"Q={Q}: outside the fractions c/a <= 16 available to the Bethe route")
+        raise ArgumentError(f"Q={Q}: outside the fractions c/a <= 16 available to the Bethe route")
     return lo, hi
 
 
@@ -155,7 +156,7 @@ def bethe_entropy_maximum(densities=(Fraction(1, 7), Fraction(1, 6), Fraction(2,
     """
     densities = sorted(Fraction(d) for d in densities)
     if len(densities) < 3:
-        raise ValueError(f"densities={densities}: need at least three")
+        raise ArgumentError(f"densities={densities}: need at least three")
     limits = dict(limits or {})
     for f in densities:
         if f not in limits:
@@ -169,7 +170,7 @@ def bethe_entropy_maximum(densities=(Fraction(1, 7), Fraction(1, 6), Fraction(2,
     lin = np.polyfit(qs[-2:], mus[-2:], 1)
     roots = [r.real for r in np.roots(quad) if abs(r.imag) < 1e-12 and 0 < r.real < 1 / 3]
     if not roots:
-        raise RuntimeError(f"mu(Q) has no zero near the densities {densities}")
+        raise ConvergenceError(f"mu(Q) has no zero near the densities {densities}")
     q_star = min(roots, key=lambda r: abs(r - qs[-1]))
     q_lin = -lin[1] / lin[0]
     last = pts[-1]

@@ -24,6 +24,7 @@ Examples
 from __future__ import annotations
 
 import numpy as np
+from forcenet.exact.errors import ArgumentError
 
 __all__ = ["ChickenWire", "HexagonMonteCarlo", "component"]
 
@@ -49,7 +50,7 @@ class ChickenWire:
         self.occ = {(x, y): frozenset(occ.get((x, y), ())) for x in range(L) for y in range(M)}
         bad = self.invalid_sites()
         if bad:
-            raise ValueError(f"not a chicken-wire configuration: sites {sorted(bad)[:4]} have forbidden vertices")
+            raise ArgumentError(f"not a chicken-wire configuration: sites {sorted(bad)[:4]} have forbidden vertices")
 
     def shift(self, s, d, k=1):
         dx, dy = STEP[d]
@@ -70,7 +71,7 @@ class ChickenWire:
         """The regular foam of hexagons of the given side (needs ``3 side | L, M``)."""
         period = 3 * side
         if L % period or M % period:
-            raise ValueError(f"L={L}, M={M}: a honeycomb of side {side} needs L and M divisible by {period}")
+            raise ArgumentError(f"L={L}, M={M}: a honeycomb of side {side} needs L and M divisible by {period}")
         occ = {}
 
         def add(s, d):
@@ -210,7 +211,7 @@ class HexagonMonteCarlo:
     def step(self):
         hexes = self.state.hexagons()
         if not hexes:
-            raise ValueError("the configuration has no hexagonal cell to move")
+            raise ArgumentError("the configuration has no hexagonal cell to move")
         h = hexes[self.rng.integers(len(hexes))]
         new = self.state.moved(h, grow=bool(self.rng.integers(2)))
         self.attempted += 1
@@ -245,6 +246,6 @@ def component(config: ChickenWire, limit: int = 200_000):
                         seen[new.key()] = new
                         nxt.append(new)
                         if len(seen) > limit:
-                            raise ValueError(f"component larger than limit={limit}")
+                            raise ArgumentError(f"component larger than limit={limit}")
         frontier = nxt
     return list(seen.values())

@@ -36,6 +36,7 @@ from forcenet.exact.chicken_wire.model import LEFT as _L
 from forcenet.exact.chicken_wire.model import RIGHT as _R
 from forcenet.exact.chicken_wire.model import SITE_CHOICES, VERTICES
 from forcenet.exact.validation import check_dps, check_int, check_real
+from forcenet.exact.errors import ArgumentError
 
 __all__ = [
     "largest_eigenvalue",
@@ -56,11 +57,11 @@ def _local_tensor(weights) -> np.ndarray:
     if weights is not None:
         unknown = set(weights) - set(VERTICES)
         if unknown:
-            raise ValueError(f"weights: unknown vertex names {sorted(unknown)}; allowed {list(VERTICES)}")
+            raise ArgumentError(f"weights: unknown vertex names {sorted(unknown)}; allowed {list(VERTICES)}")
         for name, value in weights.items():
             value = float(value)
             if not (math.isfinite(value) and value >= 0):
-                raise ValueError(f"weights[{name!r}]={value}: weights must be finite and >= 0")
+                raise ArgumentError(f"weights[{name!r}]={value}: weights must be finite and >= 0")
             w[name] = value
     a = np.zeros((3, 3, 2, 2))
     for incoming, choices in SITE_CHOICES.items():
@@ -287,7 +288,7 @@ def sector_matrix(L: int, n: int, m: int, photon_fugacity: float = 1.0, hop_fuga
                 kinds[j] = _L
             states.append((pos, tuple(kinds)))
     if len(states) > 5_000_000:
-        raise ValueError(f"sector of {len(states)} states is too large (limit 5,000,000)")
+        raise ArgumentError(f"sector of {len(states)} states is too large (limit 5,000,000)")
     index = {s: i for i, s in enumerate(states)}
     photon_fugacity = check_real(photon_fugacity, "photon_fugacity", 0, low_open=True)
     hop_fugacity = check_real(hop_fugacity, "hop_fugacity", 0, low_open=True)

@@ -27,7 +27,7 @@ Precision is a parameter: every function converts its inputs inside
 ``mpmath.workdps(dps + 10)`` (strings keep all their digits; :mod:`forcenet.numeric.precision`), computes with
 those guard digits and returns an mpf rounded to ``dps`` digits; no global
 precision is set, and points outside a function's domain raise
-``ValueError`` (never a complex number).
+``ArgumentError`` (never a complex number).
 
 Examples
 --------
@@ -45,6 +45,7 @@ import mpmath
 from forcenet.exact.validation import check_dps
 
 from ..precision import GUARD, guarded, to_mpf
+from forcenet.exact.errors import ArgumentError
 
 __all__ = ["level_curve", "level_curve_slope", "limit_surface", "bulk_response", "lattice_response"]
 
@@ -54,7 +55,7 @@ def _in_interval(x, name: str, low, high, low_open: bool = False, high_open: boo
     bad = (x <= low if low_open else x < low) or (x >= high if high_open else x > high)
     if bad:
         lb, hb = "(" if low_open else "[", ")" if high_open else "]"
-        raise ValueError(f"{name}={mpmath.nstr(x, 15)} is out of range: {name} must lie in {lb}{low}, {high}{hb}")
+        raise ArgumentError(f"{name}={mpmath.nstr(x, 15)} is out of range: {name} must lie in {lb}{low}, {high}{hb}")
     return x
 
 
@@ -79,7 +80,7 @@ def _checked_level_point(a, u):
     a = _in_interval(to_mpf(a, "a"), "a", 0, 1, True, True)
     u = to_mpf(u, "u")
     if 4 * a * (1 - a) - u * u < 0:
-        raise ValueError(f"u={mpmath.nstr(u, 15)} is out of range: outside the level curve of a={mpmath.nstr(a, 15)} "
+        raise ArgumentError(f"u={mpmath.nstr(u, 15)} is out of range: outside the level curve of a={mpmath.nstr(a, 15)} "
                          "(need u^2 <= 4a(1-a))")
     return a, u
 
@@ -87,7 +88,7 @@ def _checked_level_point(a, u):
 def level_curve(a, u, dps: int = 30):
     """``h_a(u)``: the ``v = x + y`` of the level curve ``L = a`` at ``u = x - y``.
 
-    Defined for ``0 < a < 1`` and ``u^2 <= 4a(1-a)``; raises ``ValueError`` outside.
+    Defined for ``0 < a < 1`` and ``u^2 <= 4a(1-a)``; raises ``ArgumentError`` outside.
 
     Examples
     --------
@@ -102,7 +103,7 @@ def level_curve(a, u, dps: int = 30):
 def level_curve_slope(a, u, dps: int = 30):
     """``dh_a(u)/da = k / (pi a (1 - a))``, ``k = sqrt(4a(1-a) - u^2)`` (derived in the notes).
 
-    Defined where :func:`level_curve` is; raises ``ValueError`` outside (never a complex number).
+    Defined where :func:`level_curve` is; raises ``ArgumentError`` outside (never a complex number).
 
     Examples
     --------
@@ -111,7 +112,7 @@ def level_curve_slope(a, u, dps: int = 30):
     >>> level_curve_slope(0.1, 0.9)
     Traceback (most recent call last):
     ...
-    ValueError: u=0.9 is out of range: outside the level curve of a=0.1 (need u^2 <= 4a(1-a))
+    forcenet.exact.errors.ArgumentError: u=0.9 is out of range: outside the level curve of a=0.1 (need u^2 <= 4a(1-a))
     """
     return guarded(lambda: _slope(*_checked_level_point(a, u)), dps)
 
@@ -147,7 +148,7 @@ def limit_surface(u, v, dps: int = 30):
     def compute():
         x, y = to_mpf(u, "u"), to_mpf(v, "v")
         if abs(x) + abs(y - 1) > 1:
-            raise ValueError(f"(u, v)=({mpmath.nstr(x, 15)}, {mpmath.nstr(y, 15)}) is out of range: "
+            raise ArgumentError(f"(u, v)=({mpmath.nstr(x, 15)}, {mpmath.nstr(y, 15)}) is out of range: "
                              "outside the square |u| + |v - 1| <= 1")
         return _limit_surface(x, y, dps)
 
@@ -186,7 +187,7 @@ def bulk_response(x, z, dps: int = 30):
     Computed as ``2 / (dh_a/da) = 2 pi a (1 - a) / sqrt(4a(1-a) - u^2)`` at
     ``a = L(u, v)`` (the level curves are graphs over ``u``).  On the lattice
     directions ``|x| = z < 1`` the bulk density diverges (``<W>`` itself tends
-    to :func:`lattice_response` there): ``ValueError``.  At the bottom corners
+    to :func:`lattice_response` there): ``ArgumentError``.  At the bottom corners
     ``|x| = z = 1`` it vanishes.
 
     Examples
@@ -201,7 +202,7 @@ def bulk_response(x, z, dps: int = 30):
     def compute():
         depth, h = _in_interval(to_mpf(z, "z"), "z", 0, 1, low_open=True), to_mpf(x, "x")
         if abs(h) > depth or (abs(h) == depth and depth < 1):  # at the bottom corners (|x| = z = 1) it vanishes
-            raise ValueError(f"x={mpmath.nstr(h, 15)} is out of range: the bulk response needs |x| < z = "
+            raise ArgumentError(f"x={mpmath.nstr(h, 15)} is out of range: the bulk response needs |x| < z = "
                              f"{mpmath.nstr(depth, 15)} (on the lattice directions |x| = z < 1 it diverges; use lattice_response)")
         with mpmath.workdps(mpmath.mp.dps + _depth_digits(depth)):
             u, v = to_mpf(z, "z") - 1, 1 + to_mpf(x, "x")

@@ -25,6 +25,7 @@ from forcenet.exact.validation import check_int
 
 from .networks import maximin_network
 from .scene import Scene, forces_from_lateral, forces_from_q, lateral_forces
+from forcenet.exact.errors import ArgumentError, ArgumentTypeError
 
 __all__ = ["PackingMetropolis", "response", "packing_plan"]
 
@@ -82,15 +83,15 @@ class PackingMetropolis:
 
         self.kernel = kernel_choice(kernel)
         if move not in ("metropolis", "slice"):
-            raise ValueError(f"move={move!r}: expected 'metropolis' or 'slice'")
+            raise ArgumentError(f"move={move!r}: expected 'metropolis' or 'slice'")
         if move == "slice" and (self.kernel != "compiled" or step is not None):
-            raise ValueError("move='slice' needs the compiled kernel (numba) and no step")
+            raise ArgumentError("move='slice' needs the compiled kernel (numba) and no step")
         self.move = move
         self.evaluations = 0
         if not isinstance(scene, Scene):
-            raise TypeError(f"scene={scene!r}: expected a forcenet.numeric.packing.Scene")
+            raise ArgumentTypeError(f"scene={scene!r}: expected a forcenet.numeric.packing.Scene")
         if step is not None and not (0 < step <= 1):
-            raise ValueError(f"step={step} is out of range: the proposal width must be in (0, 1] (or None)")
+            raise ArgumentError(f"step={step} is out of range: the proposal width must be in (0, 1] (or None)")
         self.step = step
         self.scene = scene
         self.rng = np.random.default_rng(seed)
@@ -100,13 +101,13 @@ class PackingMetropolis:
         else:
             self.q = np.array(q0, dtype=float)
             if self.q.shape != (N - 1, P):
-                raise ValueError(f"q0 has shape {self.q.shape}, expected {(N - 1, P)}")
+                raise ArgumentError(f"q0 has shape {self.q.shape}, expected {(N - 1, P)}")
             if ((self.q < 0) | (self.q > 1)).any():
-                raise ValueError("q0: every q must lie in [0, 1]")
+                raise ArgumentError("q0: every q must lie in [0, 1]")
             self.q[:, -1] = 1.0
         self.W = forces_from_q(self.q, scene)
         if not self._feasible(self.q, self.W):
-            raise ValueError("q0: the initial state has a negative force or a zero weight; pass a feasible q0")
+            raise ArgumentError("q0: the initial state has a negative force or a zero weight; pass a feasible q0")
         self.grains = [(i, j) for i in range(N - 1) for j in range(P - 1)]
         self.accepted = 0
         self.attempted = 0
@@ -127,7 +128,7 @@ class PackingMetropolis:
             return q
         x, slack = maximin_network(self.scene)
         if slack <= 0:
-            raise ValueError(
+            raise ArgumentError(
                 f"no force network with all forces > 0 exists for {self.scene}: "
                 f"the largest smallest force is {slack:.3g}; raise ph or lower F"
             )
@@ -273,7 +274,7 @@ def response(scene: Scene, sweeps: int, burn_in: int, seed=0, progress=None, mov
     from ..autocorr import mean_and_stderr
 
     if scene.F <= 0:
-        raise ValueError(f"F={scene.F}: the response needs an overload F > 0")
+        raise ArgumentError(f"F={scene.F}: the response needs an overload F > 0")
     seeds = (seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)).spawn(2)
     loaded = PackingMetropolis(scene, seed=np.random.default_rng(seeds[0]), move=move)
     base = PackingMetropolis(replace(scene, F=0.0), seed=np.random.default_rng(seeds[1]), move=move)
@@ -329,7 +330,7 @@ def packing_plan(scene: Scene, sweeps: int, burn_in: int = 0, chains: int = 1, m
 
     sweeps, burn_in = check_int(sweeps, "sweeps", 1), check_int(burn_in, "burn_in", 0)
     if move not in COMPILE_SECONDS:
-        raise ValueError(f"move={move!r}: expected 'metropolis' or 'slice'")
+        raise ArgumentError(f"move={move!r}: expected 'metropolis' or 'slice'")
     moves = (scene.N - 1) * (scene.P - 1) * (sweeps + burn_in) * chains
     compiled = kernel_choice(kernel) == "compiled"
     if compiled:

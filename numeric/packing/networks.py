@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from .scene import _S3, Scene, forces_from_lateral
+from forcenet.exact.errors import ArgumentError
 
 __all__ = ["uniform_networks", "maximin_network"]
 
@@ -51,7 +52,7 @@ def uniform_networks(scene: Scene, size: int, rng, batch: int = 200_000):
     N, P = scene.N, scene.P
     n = (N - 1) * (P - 1)
     if n > 12:
-        raise ValueError(f"(N-1)(P-1)={n}: rejection sampling is for at most 12 free lateral forces")
+        raise ArgumentError(f"(N-1)(P-1)={n}: rejection sampling is for at most 12 free lateral forces")
     A, b = _affine_constraints(scene)
     lo, hi = np.empty(n), np.empty(n)
     for k in range(n):
@@ -60,7 +61,7 @@ def uniform_networks(scene: Scene, size: int, rng, batch: int = 200_000):
             c[k] = sign
             res = linprog(c, A_ub=-A.T, b_ub=b, bounds=[(None, None)] * n, method="highs")
             if res.status != 0:
-                raise ValueError(f"no repulsive force network exists for {scene} ({res.message})")
+                raise ArgumentError(f"no repulsive force network exists for {scene} ({res.message})")
             out[k] = res.x[k]
     kept, tried = [], 0
     while sum(len(k) for k in kept) < size:
@@ -69,7 +70,7 @@ def uniform_networks(scene: Scene, size: int, rng, batch: int = 200_000):
         kept.append(x[((x @ A + b) >= 0).all(axis=1)])
         accepted = sum(len(k) for k in kept)
         if accepted < 1e-4 * tried:
-            raise ValueError(
+            raise ArgumentError(
                 f"acceptance {accepted / tried:.1e} after {tried} draws: the polytope fills too little "
                 "of its bounding box for rejection sampling; use PackingMetropolis"
             )
@@ -92,7 +93,7 @@ def maximin_network(scene: Scene):
     from scipy.optimize import linprog
 
     if scene.ph is None:
-        raise ValueError("scene.ph is None: every q is allowed, no linear program is needed")
+        raise ArgumentError("scene.ph is None: every q is allowed, no linear program is needed")
     N, P = scene.N, scene.P
     n = (N - 1) * (P - 1)
     A, b = _affine_constraints(scene)

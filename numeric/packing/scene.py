@@ -50,6 +50,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from forcenet.exact.validation import check_int, check_real
+from forcenet.exact.errors import ArgumentError
 
 __all__ = ["Scene", "forces_from_q", "forces_from_lateral", "lateral_forces", "contact_forces"]
 
@@ -82,7 +83,7 @@ class Scene:
     >>> Scene(N=20, P=41, j0=50)
     Traceback (most recent call last):
     ...
-    ValueError: j0=50 is out of range: j0 must be an integer in 1..41
+    forcenet.exact.errors.ArgumentError: j0=50 is out of range: j0 must be an integer in 1..41
     """
 
     N: int
@@ -103,7 +104,7 @@ class Scene:
         if self.ph is not None:
             object.__setattr__(self, "ph", check_real(self.ph, "ph", 0, low_open=True))
         if self.pv == 0 and self.mg == 0:
-            raise ValueError(
+            raise ArgumentError(
                 "pv=0 and mg=0: only the triangle under the overload carries load; "
                 "use forcenet.numeric.triangle.TriangleMetropolis or forcenet.numeric.triangle.ExactSampler (CLI: omit --P)"
             )
@@ -176,7 +177,7 @@ def lateral_forces(q: np.ndarray, W: np.ndarray, scene: Scene) -> np.ndarray:
     [[2.154701, 2.732051], [-0.154701, -0.732051]]
     """
     if scene.ph is None:
-        raise ValueError("scene.ph is None: lateral forces need a finite side pressure ph")
+        raise ArgumentError("scene.ph is None: lateral forces need a finite side pressure ph")
     return scene.ph + np.cumsum(_lateral_increments(q, W, scene), axis=1)
 
 
@@ -201,7 +202,7 @@ def forces_from_lateral(x: np.ndarray, scene: Scene) -> dict:
     N, P, mg = scene.N, scene.P, scene.mg
     x = np.asarray(x, dtype=float)
     if x.shape[-2:] != (N - 1, P - 1):
-        raise ValueError(f"x has shape {x.shape}, expected (..., {N - 1}, {P - 1})")
+        raise ArgumentError(f"x has shape {x.shape}, expected (..., {N - 1}, {P - 1})")
     shape = x.shape[:-2] + (N, P)
     F = {k: np.zeros(shape) for k in ("F1", "F2", "F3", "F4", "F5", "F6")}
     g = mg / _S3

@@ -31,6 +31,7 @@ from typing import NamedTuple
 import numpy as np
 
 from forcenet.exact.validation import check_int, check_layers
+from forcenet.exact.errors import ArgumentError
 
 __all__ = [
     "density_values",
@@ -198,7 +199,7 @@ def _per_configuration(W, pool, edges) -> np.ndarray:
 def _check_edges(edges) -> np.ndarray:
     edges = np.asarray(edges, dtype=np.float64)
     if edges.ndim != 1 or edges.size < 2 or not np.all(np.diff(edges) > 0) or not np.all(np.isfinite(edges)):
-        raise ValueError("edges: need at least two finite, strictly increasing bin edges")
+        raise ArgumentError("edges: need at least two finite, strictly increasing bin edges")
     return edges
 
 

@@ -33,6 +33,7 @@ import math
 import numpy as np
 
 from forcenet.exact.validation import check_int, check_layers
+from forcenet.exact.errors import ArgumentError
 
 __all__ = ["TriangleMetropolis", "forces_from_q", "lateral_forces", "q_model_samples"]
 
@@ -115,15 +116,15 @@ class TriangleMetropolis:
 
         self.kernel = kernel_choice(kernel)
         if move not in ("metropolis", "slice"):
-            raise ValueError(f"move={move!r}: expected 'metropolis' or 'slice'")
+            raise ArgumentError(f"move={move!r}: expected 'metropolis' or 'slice'")
         if move == "slice" and self.kernel != "compiled":
-            raise ValueError("move='slice' needs the compiled kernel (numba)")
+            raise ArgumentError("move='slice' needs the compiled kernel (numba)")
         self.move = move
         self.evaluations = 0
         self.N = check_layers(N)
         self.rng = np.random.default_rng(seed)
         if ph is not None and not (ph > 0 and math.isfinite(ph)):
-            raise ValueError(f"ph={ph}: the side pressure must be a positive finite number (or None)")
+            raise ArgumentError(f"ph={ph}: the side pressure must be a positive finite number (or None)")
         self.ph = ph
         n = self.N - 1
         if q0 is None:
@@ -134,10 +135,10 @@ class TriangleMetropolis:
         else:
             self.q = np.array(q0, dtype=float)
         if self.q.shape != (n, n):
-            raise ValueError(f"q0 has shape {self.q.shape}, expected {(n, n)}")
+            raise ArgumentError(f"q0 has shape {self.q.shape}, expected {(n, n)}")
         self.W = forces_from_q(self.q)
         if ph is not None and (lateral_forces(self.q, self.W, ph) < 0).any():
-            raise ValueError(f"ph={ph}: the initial state has a negative lateral force; pass a feasible q0")
+            raise ArgumentError(f"ph={ph}: the initial state has a negative lateral force; pass a feasible q0")
         self.grains = [(i, j) for i in range(n) for j in range(i + 1)]
         self._lower = np.tril(np.ones((self.N, self.N), dtype=bool))
         self.accepted = 0
@@ -305,7 +306,7 @@ def metropolis_plan(N: int, sweeps: int, burn_in: int = 0, memory_bytes: int | N
     N = check_layers(N)
     sweeps, burn_in = check_int(sweeps, "sweeps", 1), check_int(burn_in, "burn_in", 0)
     if move not in COMPILE_SECONDS:
-        raise ValueError(f"move={move!r}: expected 'metropolis' or 'slice'")
+        raise ArgumentError(f"move={move!r}: expected 'metropolis' or 'slice'")
     moves = N * (N - 1) // 2 * (sweeps + burn_in)
     compiled = kernel_choice(kernel) == "compiled"
     if compiled:

@@ -44,16 +44,17 @@ from ...modular import is_prime
 from ...plan import Plan, with_compilation
 from ...validation import check_int, check_layers
 from .schur import labels
+from ...errors import ArgumentError
 
 __all__ = ["prime_limit", "dense_prime_limit", "level_points", "setup_matrices", "prime_residues", "edge_residues", "count_residue",
-           "PointFailure", "with_kernels_compiled"]
+           "PointFailureError", "with_kernels_compiled"]
 
 MAX_POINT_FAILURES = 64
 # compiling the kernels on a first run (empty numba cache), CPU seconds: benchmarks/compile_times.py
 COMPILE_SECONDS = {"table": 19.4, "lattice": 18.8}
 
 
-class PointFailure(ArithmeticError):
+class PointFailureError(ArithmeticError):
     """Too many evaluation points failed modulo one prime (never seen; a structural zero would show here)."""
 
 
@@ -128,7 +129,7 @@ def _kernels(backend: str):
     elif backend == "dense":  # the dense elimination of every (q, y): the benchmarks' baseline (p < dense_prime_limit)
         from . import dense as kernels
     else:
-        raise ValueError(f"backend={backend!r} is out of range: backend must be 'numba', 'python' or 'dense'")
+        raise ArgumentError(f"backend={backend!r} is out of range: backend must be 'numba', 'python' or 'dense'")
     return kernels
 
 
@@ -170,7 +171,7 @@ def _pair_points(p: int, taken: set):
     c = 2
     while True:
         if c >= p - 1:
-            raise PointFailure(f"ran out of evaluation points modulo {p}")
+            raise PointFailureError(f"ran out of evaluation points modulo {p}")
         ci = pow(c, p - 2, p)
         if ci != c and c not in taken and ci not in taken:
             taken.update((c, ci))
@@ -184,7 +185,7 @@ def _check_prime(N: int, p: int) -> int:
     low = max(2 * N + 3, d + 2)  # p > d: d! and count are units mod p (count divides d!), B is invertible
     p = check_int(p, "p", low, limit - 1)
     if not is_prime(p):
-        raise ValueError(f"p={p} is out of range: p must be a prime in {low}..{limit - 1}")
+        raise ArgumentError(f"p={p} is out of range: p must be a prime in {low}..{limit - 1}")
     return p
 
 
@@ -229,7 +230,7 @@ def _level_sums(N: int, p: int, K, values, shape):
         if not values(float(c), slot):
             failures += 1
             if failures > MAX_POINT_FAILURES:
-                raise PointFailure(f"{failures} evaluation points failed modulo {p}")
+                raise PointFailureError(f"{failures} evaluation points failed modulo {p}")
             slot[...] = 1.0
             continue
         reps.append(c)

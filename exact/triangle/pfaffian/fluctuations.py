@@ -51,10 +51,11 @@ import numpy as np
 from ...plan import Plan
 from ...validation import check_grain, check_int, check_layers
 from ..gaps import GapCounts
-from .engine import (MAX_POINT_FAILURES, PointFailure, _check_prime, _kernels, _pair_points, level_points,
+from .engine import (MAX_POINT_FAILURES, PointFailureError, _check_prime, _kernels, _pair_points, level_points,
                      prime_limit, setup_matrices)
 from .route import (_CRT, _STARTUP_SECONDS, _count_bound, _edge_seconds, _primes_above, _run_primes,
                     _workers, count)
+from ...errors import ArgumentError
 
 __all__ = ["edge_level_residues", "lattice_level_sums", "lattice_gap_laws", "lattice_mean_W2", "grain_gap_law",
            "lattice_gap_laws_plan"]
@@ -75,7 +76,7 @@ def _matmul_mod(A: np.ndarray, B: np.ndarray, p: int) -> np.ndarray:
     ``2^51``, so the BLAS products are exact integers.
     """
     if A.shape[1] >= 1 << 13:
-        raise ValueError(f"inner size {A.shape[1]} is out of range: it must be below 8192 (N <= 128)")
+        raise ArgumentError(f"inner size {A.shape[1]} is out of range: it must be below 8192 (N <= 128)")
     A = A.astype(np.int64)
     A1, A0 = (A >> 13).astype(np.float64), (A & 8191).astype(np.float64)
     B = np.asarray(B, dtype=np.float64)
@@ -139,7 +140,7 @@ def edge_level_residues(N: int, p: int, backend: str = "numba", windows=None) ->
         if not K.edge_values(B, X1, expo, float(c), n, float(p), R):
             failures += 1
             if failures > MAX_POINT_FAILURES:
-                raise PointFailure(f"{failures} evaluation points failed modulo {p}")
+                raise PointFailureError(f"{failures} evaluation points failed modulo {p}")
             continue
         reps.append(c)
         partners.append(ci)
@@ -331,7 +332,7 @@ def grain_gap_law(N: int, grain, **kwargs) -> GapCounts:
 
     Raises
     ------
-    ValueError
+    ArgumentError
         If the grain is not on a lattice direction, or ``i = 1`` (``W_{1,1} = 1``).
 
     Examples
@@ -342,7 +343,7 @@ def grain_gap_law(N: int, grain, **kwargs) -> GapCounts:
     N = check_layers(N, maximum=MAX_LAW_N)
     i, j = check_grain(N, grain)
     if i == 1 or j not in (1, i):
-        raise ValueError(f"grain={tuple(grain)!r} is out of range for the Pfaffian gap law: it must be (i, 1) or "
+        raise ArgumentError(f"grain={tuple(grain)!r} is out of range for the Pfaffian gap law: it must be (i, 1) or "
                          f"(i, i) with 2 <= i <= {N} (interior gaps are two-time quantities, notes/fluctuations.md)")
     return lattice_gap_laws(N, layers=[i], **kwargs)[i]
 

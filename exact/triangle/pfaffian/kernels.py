@@ -43,6 +43,7 @@ import numpy as np
 from numba import int64, njit, uint64
 
 from ...plan import chunks, first_chunk
+from ...errors import ArgumentError
 
 __all__ = ["pfaffian_mod", "point_values", "edge_values", "dual_weights", "lagrange_matrix", "weighted_sum", "LANES"]
 
@@ -163,7 +164,7 @@ _USTRIDE = uint64(_STRIDE)
 def _check_width(n):
     """Refuse ``n`` parts that do not fit the lanes' rows (``n + 8 <= _STRIDE``: N <= 209, beyond the route's 200)."""
     if n + 8 > _STRIDE:
-        raise ValueError("n is out of range: the kernels need n + 8 <= _STRIDE (216)")
+        raise ArgumentError("n is out of range: the kernels need n + 8 <= _STRIDE (216)")
 
 
 @njit(inline="always", fastmath={"contract"}, **_JIT)

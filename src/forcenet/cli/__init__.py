@@ -3,9 +3,13 @@
 A small parser; one module per command family (:mod:`.table`, :mod:`.sample`,
 :mod:`.limit`, :mod:`.chicken_wire`), the shared arguments and the policy in
 :mod:`.common`.  :func:`main` is the one error boundary: every expected
-failure (bad argument, refused plan, file system, interruption) ends in one
-line on stderr naming the argument or path, exit code 2 (130 on Ctrl-C), and
-no file written or directory created.  Anything else is a bug.
+failure -- the exception family :class:`forcenet.ForcenetError` (bad argument,
+refused plan), the file system, memory, interruption -- ends in one line on
+stderr naming the argument or path, exit code 2 (130 on Ctrl-C), and no file
+written or directory created.  Anything else is a bug, a plain ``ValueError``
+or ``TypeError`` included: exit code 1, ``forcenet: internal error: <type>:
+<message>``, and the traceback on stderr under ``--debug``, else in a file
+whose path is printed.
 
 Examples (shell)::
 
@@ -22,8 +26,11 @@ import argparse
 import gc
 import os
 import sys
+import tempfile
+import traceback
 from importlib.metadata import version
 
+from forcenet.exact.errors import ForcenetError
 from forcenet.exact.validation import is_integer
 
 from . import chicken_wire, dist, limit, sample, table
@@ -62,6 +69,8 @@ def build_parser() -> Parser:
     parser = Parser(prog="forcenet", description=_DESCRIPTION, epilog=_EXAMPLES,
                     formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--version", action="version", version=f"%(prog)s {version('forcenet')}")
+    parser.add_argument("--debug", action="store_true",
+                        help="on an internal error (a bug), print the traceback on stderr instead of to a file")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
     for family in (table, limit, sample, chicken_wire, dist):
         family.register(sub)
@@ -91,6 +100,24 @@ def _error(message: str) -> int:
     return 2
 
 
+def _internal_error(exc: BaseException, debug: bool) -> int:
+    """A bug: one line naming the exception, the traceback on stderr (``--debug``) or in a file named there."""
+    print(f"forcenet: internal error: {type(exc).__name__}: {exc}", file=sys.stderr)
+    text = "".join(traceback.format_exception(exc))
+    if debug:
+        print(text, end="", file=sys.stderr)
+        return 1
+    try:
+        fd, path = tempfile.mkstemp(prefix="forcenet-traceback-", suffix=".txt")
+        with os.fdopen(fd, "w", encoding="utf-8") as handle:
+            handle.write(text)
+    except OSError:  # no writable temporary directory: the traceback goes to stderr after all
+        print(text, end="", file=sys.stderr)
+        return 1
+    print(f"forcenet: the traceback is in {path}; please report it (forcenet --debug ... prints it)", file=sys.stderr)
+    return 1
+
+
 def main(argv=None) -> int:
     """Run the command line; returns the exit code."""
     sys.set_int_max_str_digits(0)  # huge exact integers are printed whole (count --N 84 has 4300+ digits)
@@ -102,9 +129,7 @@ def main(argv=None) -> int:
     try:
         _check_destinations(args)
         return args.func(args)
-    except UsageError as exc:
-        return _error(str(exc))
-    except (ValueError, TypeError) as exc:  # the library's argument checks: they name the argument and range
+    except ForcenetError as exc:  # expected failures (UsageError, the library's argument checks): they name the argument
         return _error(str(exc))
     except MemoryError:
         return _error("out of memory: choose a smaller size (the cost announcement is an estimate)")
@@ -118,6 +143,8 @@ def main(argv=None) -> int:
     except OSError as exc:  # the file system (the writers name the argument; this is the last resort)
         where = f" ({exc.filename})" if exc.filename else ""
         return _error(f"{exc.strerror or exc}{where}")
+    except Exception as exc:  # anything else is a bug, a plain ValueError or TypeError included
+        return _internal_error(exc, getattr(args, "debug", False))
 
 
 if __name__ == "__main__":  # pragma: no cover

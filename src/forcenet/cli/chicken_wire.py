@@ -17,6 +17,7 @@ from .common import (
     run_planned,
 )
 from .output import emit
+from forcenet.exact.errors import ArgumentError
 
 __all__ = ["register"]
 
@@ -119,7 +120,7 @@ def _density(text):
 
     try:
         if not text.isascii():
-            raise ValueError(text)
+            raise ArgumentError(text)
         q = Fraction(text.strip())
     except (ValueError, ZeroDivisionError):
         raise argparse.ArgumentTypeError(f"Q={text!r} is not a number: Q must be a number or fraction in [0, 1/3]") from None

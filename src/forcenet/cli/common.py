@@ -23,6 +23,7 @@ import time
 
 from forcenet.exact.plan import Plan
 from forcenet.exact.validation import check_int, check_real
+from forcenet.exact.errors import ArgumentError, ForcenetError
 
 __all__ = [
     "UsageError",
@@ -45,7 +46,7 @@ FORCE_SECONDS = 60  # a run announced at over a minute needs --force
 ANNOUNCE_SECONDS = 2  # shorter runs are not announced
 
 
-class UsageError(Exception):
+class UsageError(ForcenetError):
     """Bad input or a refused run, detected after parsing; one line on stderr, exit code 2."""
 
 
@@ -107,11 +108,11 @@ def integer(name: str, minimum: int | None = None, maximum: int | None = None):
 
     def parse(text):
         if not text.isascii():
-            raise ValueError(f"{name}={text!r} is not an integer: use the ASCII digits 0-9")
+            raise ArgumentError(f"{name}={text!r} is not an integer: use the ASCII digits 0-9")
         try:
             value = int(text)
         except ValueError:
-            return check_int(text, name, minimum, maximum)  # raises the uniform TypeError message
+            return check_int(text, name, minimum, maximum)  # raises the uniform ArgumentTypeError message
         return check_int(value, name, minimum, maximum)
 
     return _argparse_type(parse)
@@ -128,7 +129,7 @@ def real(name: str, low=None, high=None, *, low_open: bool = False, high_open: b
 
     def parse(text):
         if not text.isascii():
-            raise ValueError(f"{name}={text!r} is not a number: use the ASCII digits 0-9")
+            raise ArgumentError(f"{name}={text!r} is not a number: use the ASCII digits 0-9")
         return check_real(text, name, low, high, low_open=low_open, high_open=high_open)
 
     return _argparse_type(parse)
@@ -138,7 +139,7 @@ def _argparse_type(parse):
     def wrapped(text):
         try:
             return parse(text)
-        except (TypeError, ValueError) as exc:
+        except ForcenetError as exc:  # the checks' one-line message; anything else is a bug and propagates
             raise argparse.ArgumentTypeError(str(exc)) from None
 
     wrapped.__name__ = "value"

@@ -50,11 +50,12 @@ from numbers import Number
 import numpy as np
 
 from forcenet.numeric.agreement import TableAgreement, compare_chain, compare_means, compare_samples, varying_columns
+from forcenet.exact.errors import ArgumentError, ArgumentTypeError, ForcenetError
 
 __all__ = ["CannotJudgeError", "DisagreementError", "TableAgreement", "assert_agrees", "assert_means_agree", "compare", "exact_array"]
 
 
-class DisagreementError(AssertionError):
+class DisagreementError(ForcenetError, AssertionError):
     """Sampled values disagree with their exact counterparts; ``report`` holds the details."""
 
     def __init__(self, report: TableAgreement):
@@ -62,7 +63,7 @@ class DisagreementError(AssertionError):
         self.report = report
 
 
-class CannotJudgeError(AssertionError):
+class CannotJudgeError(ForcenetError, AssertionError):
     """The samples cannot support a verdict (too few rows, a constant value); ``report.reason`` says why."""
 
     def __init__(self, report: TableAgreement):
@@ -77,7 +78,7 @@ def _bounds_array(bounds, shape, tested):
     except TypeError:
         ends = []
     if len(ends) != 2:
-        raise ValueError(f"bounds={bounds!r}: give (lo, hi), numbers or tables shaped like exact")
+        raise ArgumentError(f"bounds={bounds!r}: give (lo, hi), numbers or tables shaped like exact")
     out = []
     for end in ends:
         if not isinstance(end, (list, tuple, np.ndarray)):
@@ -85,7 +86,7 @@ def _bounds_array(bounds, shape, tested):
         else:
             table = exact_array(end, shape)
             if np.isnan(table[tested]).any():
-                raise ValueError("bounds: a tested value has no bound (None or missing)")
+                raise ArgumentError("bounds: a tested value has no bound (None or missing)")
             out.append(table[tested])
     return tuple(out)
 
@@ -96,7 +97,7 @@ def _to_float(value, where) -> float:
     try:
         return float(value)
     except (TypeError, ValueError):
-        raise TypeError(f"exact{where}={value!r} is not a number (Fraction, sympy, float or None)") from None
+        raise ArgumentTypeError(f"exact{where}={value!r} is not a number (Fraction, sympy, float or None)") from None
 
 
 def exact_array(exact, shape) -> np.ndarray:
@@ -113,7 +114,7 @@ def exact_array(exact, shape) -> np.ndarray:
     >>> exact_array([[1, 2, 3]], (1, 2))
     Traceback (most recent call last):
     ...
-    ValueError: exact[0] has 3 entries, more than the samples' axis of length 2
+    forcenet.exact.errors.ArgumentError: exact[0] has 3 entries, more than the samples' axis of length 2
     """
     shape = tuple(shape)
     out = np.full(shape, np.nan)
@@ -126,17 +127,17 @@ def exact_array(exact, shape) -> np.ndarray:
         if value is None:
             return
         if isinstance(value, (str, bytes, Number)) or not hasattr(value, "__len__"):
-            raise ValueError(f"exact{where} is a single number where the samples have an axis of length "
+            raise ArgumentError(f"exact{where} is a single number where the samples have an axis of length "
                              f"{shape[len(index)]}")
         if len(value) > shape[len(index)]:
-            raise ValueError(f"exact{where} has {len(value)} entries, more than the samples' axis of length "
+            raise ArgumentError(f"exact{where} has {len(value)} entries, more than the samples' axis of length "
                              f"{shape[len(index)]}")
         for k, item in enumerate(value):
             fill(item, index + (k,))
 
     if isinstance(exact, np.ndarray) and exact.dtype != object:
         if exact.shape != shape:
-            raise ValueError(f"exact has shape {exact.shape}, the samples' values have shape {shape}")
+            raise ArgumentError(f"exact has shape {exact.shape}, the samples' values have shape {shape}")
         return exact.astype(float)
     fill(exact, ())
     return out
@@ -200,7 +201,7 @@ def compare(samples, exact, *, chain: bool = False, alpha: float = 1e-3, keys=No
         Every sample of a value lies in ``[lo, hi]``; each a number or a table
         shaped like ``exact``. Independent samples then get the bounded test,
         valid at every number of samples; samples or exact values outside are
-        refused (``ValueError``).
+        refused (``ArgumentError``).
     hotelling : bool, optional
         ``None``: run Hotelling's test when the rows suffice (see
         :mod:`forcenet.numeric.agreement`); ``False``: only the maximum. The
@@ -217,7 +218,7 @@ def compare(samples, exact, *, chain: bool = False, alpha: float = 1e-3, keys=No
     ------
     forcenet.numeric.autocorr.AutocorrError
         If a chain is too short to trust.
-    ValueError
+    ArgumentError
         On shapes that do not match, non-finite samples, or independent rows that look like a chain.
 
     Examples
@@ -232,32 +233,32 @@ def compare(samples, exact, *, chain: bool = False, alpha: float = 1e-3, keys=No
     >>> compare(np.cumsum(rng.normal(size=4000)), 0.0)
     Traceback (most recent call last):
     ...
-    ValueError: samples look autocorrelated (integrated time ...): pass chain=True
+    forcenet.exact.errors.ArgumentError: samples look autocorrelated (integrated time ...): pass chain=True
     """
     x = np.asarray(samples, dtype=float)
     if x.ndim == 0:
-        raise ValueError("samples is a single number: give one row per sample")
+        raise ArgumentError("samples is a single number: give one row per sample")
     shape = x.shape[1:]
     mu = exact_array(exact, shape)
     tested = ~np.isnan(mu)
     if not tested.any():
-        raise ValueError("exact has no value to test")
+        raise ArgumentError("exact has no value to test")
     positions = np.argwhere(tested) if shape else np.zeros((1, 0), dtype=int)
     flat = x.reshape(x.shape[0], -1)[:, tested.ravel()]
     names = _default_keys(shape, positions) if keys is None else list(keys)
     if len(names) != flat.shape[1]:
-        raise ValueError(f"keys has {len(names)} names for {flat.shape[1]} tested values")
+        raise ArgumentError(f"keys has {len(names)} names for {flat.shape[1]} tested values")
     if bounds is not None:
         bounds = _bounds_array(bounds, shape, tested)
     if chain:
         return compare_chain(flat, mu[tested], keys=names, alpha=alpha, hotelling=hotelling, bounds=bounds, **batching)
     if batching:
-        raise TypeError(f"{sorted(batching)}: batch options apply to chains (chain=True)")
+        raise ArgumentTypeError(f"{sorted(batching)}: batch options apply to chains (chain=True)")
     if not np.isfinite(flat).all():
-        raise ValueError("samples contain a non-finite number")
+        raise ArgumentError("samples contain a non-finite number")
     tau = _autocorrelated(flat)
     if tau is not None:
-        raise ValueError(f"samples look autocorrelated (integrated time {tau:.2g}): pass chain=True")
+        raise ArgumentError(f"samples look autocorrelated (integrated time {tau:.2g}): pass chain=True")
     return compare_samples(flat, mu[tested], keys=names, alpha=alpha, hotelling=hotelling, bounds=bounds)
 
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from fractions import Fraction
 from functools import lru_cache
+from forcenet.exact.errors import ArgumentError
 
 __all__ = ["exact_mean_W"]
 
@@ -47,13 +48,13 @@ def exact_mean_W(target):
     >>> exact_mean_W(Scene(N=2, P=2, F=1.0, mg=1.0, ph=2.0))
     Traceback (most recent call last):
     ...
-    ValueError: scene.ph=2.0: exact means are known when every q is allowed (ph=None)
+    forcenet.exact.errors.ArgumentError: scene.ph=2.0: exact means are known when every q is allowed (ph=None)
     """
     from forcenet.numeric.packing import Scene
 
     if isinstance(target, Scene):
         if target.ph is not None:
-            raise ValueError(f"scene.ph={target.ph}: exact means are known when every q is allowed (ph=None)")
+            raise ArgumentError(f"scene.ph={target.ph}: exact means are known when every q is allowed (ph=None)")
         return _packing(target.N, target.P, Fraction(target.F), target.j0, Fraction(target.pv), Fraction(target.mg))
     from forcenet.exact import mean_W
 

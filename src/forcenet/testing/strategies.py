@@ -29,6 +29,7 @@ Examples
 from __future__ import annotations
 
 from functools import lru_cache
+from forcenet.exact.errors import ArgumentError
 
 try:
     from hypothesis import assume
@@ -67,7 +68,7 @@ def layers(min_value: int = 2, max_value: int = 10):
     >>> layers(1)
     Traceback (most recent call last):
     ...
-    ValueError: min_value=1 is out of range: min_value must be an integer >= 2
+    forcenet.exact.errors.ArgumentError: min_value=1 is out of range: min_value must be an integer >= 2
     """
     lo = check_int(min_value, "min_value", 2)
     return st.integers(lo, check_int(max_value, "max_value", lo))
@@ -178,11 +179,11 @@ def packing_scenes(*, min_layers: int = 2, max_layers: int = 5, min_width: int =
     min_slack = check_real(min_slack, "min_slack", 0)
     if exact_means:
         if side_pressure:
-            raise ValueError("exact_means=True needs the fully mobilized scenes: side_pressure must be False or None")
+            raise ArgumentError("exact_means=True needs the fully mobilized scenes: side_pressure must be False or None")
         side_pressure = False
         hi_n = min(hi_n, 3, 1 + 8 // (lo_p - 1))  # every N left has a P >= min_width with (N-1)(P-1) <= 8
         if lo_n > hi_n:
-            raise ValueError(f"exact_means=True: no scene with N in {lo_n}..{max_layers}, P >= {lo_p} has "
+            raise ArgumentError(f"exact_means=True: no scene with N in {lo_n}..{max_layers}, P >= {lo_p} has "
                              "N <= 3 and (N-1)(P-1) <= 8")
     quarter = st.integers(1, 20).map(lambda k: k / 4)
 
@@ -257,10 +258,10 @@ def chicken_wire_configurations(L=None, M=None, *, max_sites: int = 12, max_L: i
         sizes = torus_sizes(max_sites, max_L=max_L)
     else:
         if L is None or M is None:
-            raise ValueError("give both L and M, or neither")
+            raise ArgumentError("give both L and M, or neither")
         sizes = st.just((check_int(L, "L", 2), check_int(M, "M", 1)))
         if L * M > 20:
-            raise ValueError(f"L*M={L * M} is out of range: enumeration is for at most 20 sites")
+            raise ArgumentError(f"L*M={L * M} is out of range: enumeration is for at most 20 sites")
 
     def pick(size):
         configs = _configurations(*size)

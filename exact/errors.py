@@ -1,0 +1,49 @@
+"""The exception family of forcenet: one base, argument errors that are also ``ValueError``/``TypeError``.
+
+The rule (notes/architecture.md, "Errors"): the library raises only this family
+for an expected failure (a bad argument, a refused plan, a sampler that cannot
+judge its own error bar); the command line catches only this family and turns
+it into one line on stderr and exit code 2.  Anything else that escapes is a
+bug: exit code 1, ``forcenet: internal error``, the traceback under
+``--debug`` or in a file named on stderr.
+
+* :class:`ForcenetError` -- the base of every expected failure;
+* :class:`ArgumentError` -- a value out of range or otherwise not allowed;
+  also a ``ValueError``, so ``except ValueError`` keeps working;
+* :class:`ArgumentTypeError` -- an argument of the wrong type; also a
+  ``TypeError``;
+* :class:`ConvergenceError` -- an iterative method did not converge for the
+  arguments given (choose others); also a ``RuntimeError``.
+
+The family is exported from the top of the package (``forcenet.ForcenetError``,
+...).  This module imports nothing.
+
+Examples
+--------
+>>> from forcenet.exact.validation import check_int
+>>> try:
+...     check_int(1, "N", minimum=2)
+... except ForcenetError as exc:
+...     print(type(exc).__name__, isinstance(exc, ValueError), exc)
+ArgumentError True N=1 is out of range: N must be an integer >= 2
+"""
+
+from __future__ import annotations
+
+__all__ = ["ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError"]
+
+
+class ForcenetError(Exception):
+    """The base of every expected failure raised by forcenet (the command line: one line, exit code 2)."""
+
+
+class ArgumentError(ForcenetError, ValueError):
+    """An argument's value is out of range or not allowed; the message names the argument and the range."""
+
+
+class ArgumentTypeError(ForcenetError, TypeError):
+    """An argument has the wrong type; the message names the argument and the type expected."""
+
+
+class ConvergenceError(ForcenetError, RuntimeError):
+    """An iterative method (Newton, a continuation) did not converge for these arguments; the message says where."""

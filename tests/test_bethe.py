@@ -42,6 +42,7 @@ def test_two_particles_closed_form():
         assert solve_ground_state(L, 2, 1).eigenvalue == pytest.approx(2 * math.cos(math.pi / L), abs=1e-13)
 
 
+@pytest.mark.slow  # ~25 s
 def test_continuation_follows_the_ground_state():
     """Continuation to L = 18 and 24 agrees with the sector transfer matrix at L = 18."""
     seq = ground_state_sequence(4)

@@ -102,6 +102,7 @@ def test_sector_entropies_are_entropies():
     assert max(s[n] for n in range(1, 9)) == pytest.approx(math.log(2 * math.cos(math.pi / 8)) / 8)
 
 
+@pytest.mark.slow  # ~20 s
 def test_hexagon_monte_carlo_against_its_component():
     """Shrink/expand moves sample the component uniformly: the chain's means agree with the exact ones."""
     from fractions import Fraction

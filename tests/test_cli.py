@@ -235,6 +235,7 @@ def test_entropy_command_closed_forms(capsys):
     assert "v_bethe" not in data
 
 
+@pytest.mark.slow  # two Bethe-ansatz runs, ~30 s; the errors are also drawn by tests/test_cli_contract.py
 def test_entropy_command_bethe_and_errors(capsys):
     from forcenet.numeric.chicken_wire.bethe import isotropic_sequence
 

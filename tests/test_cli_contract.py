@@ -316,7 +316,7 @@ def test_10_one_force_policy(capsys):
     ["sample", "--N", "6", "--samples", "300", "--seed", "4", "--format", "json"],
     ["sample", "--N", "5", "--sampler", "metropolis", "--samples", "400", "--seed", "4", "--format", "json"],
     ["transfer", "--L", "7", "--format", "json"],
-    ["bethe", "--L", "9", "--n", "4", "--m", "2", "--format", "json"],
+    ["bethe", "--L", "6", "--n", "2", "--m", "1", "--format", "json"],
     ["entropy", "--phi", "0.3", "--format", "json"],
 ])
 def test_11_identical_runs_give_identical_bytes(argv):

@@ -13,6 +13,8 @@ def _modules():
 
 
 MODULES = _modules()
+# the Bethe-ansatz modules' examples solve the equations at several sizes (~40 s and ~20 s): under -m slow
+SLOW_DOCTESTS = {"forcenet.numeric.chicken_wire.bethe", "forcenet.numeric.chicken_wire.isotropic_bethe"}
 
 
 def test_every_subpackage_is_walked():
@@ -20,7 +22,7 @@ def test_every_subpackage_is_walked():
         assert name in MODULES
 
 
-@pytest.mark.parametrize("name", MODULES)
+@pytest.mark.parametrize("name", [pytest.param(m, marks=pytest.mark.slow) if m in SLOW_DOCTESTS else m for m in MODULES])
 def test_doctests(name):
     module = importlib.import_module(name)
     finder = doctest.DocTestFinder(exclude_empty=True)

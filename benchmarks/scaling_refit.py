@@ -61,7 +61,7 @@ def load_column(N: int, directory: str):
         return [float(Fraction(x)) for x in json.load(handle)["W_i1"]]
 
 
-def write_lattice(N: int, directory: str):
+def write_lattice(N: int, directory: str, checkpoint: str | None = None):
     """Exact ``<W_{i,1}>`` by :func:`forcenet.exact.triangle.pfaffian.route.lattice_direction` into ``lattice_N{N}.json``."""
     import time
 
@@ -76,7 +76,7 @@ def write_lattice(N: int, directory: str):
 
     plan = lattice_direction_plan(N)
     t0, c0, k0 = time.perf_counter(), time.process_time(), children()
-    column = lattice_direction(N)
+    column = lattice_direction(N, checkpoint=checkpoint)  # finished primes survive a kill: rerun to resume
     wall = time.perf_counter() - t0
     cpu = time.process_time() - c0 + children() - k0
     write_atomic(os.path.join(directory, f"lattice_N{N}.json"),
@@ -137,10 +137,11 @@ def main(argv=None):
     parser.add_argument("--figures", default="notes/figures")
     parser.add_argument("--edge-N", type=int, nargs="*", default=[], help="further N with the lattice direction only")
     parser.add_argument("--lattice", type=int, nargs="*", default=[], help="compute lattice_N{N}.json for these N and stop")
+    parser.add_argument("--checkpoint", default=None, help="record --lattice's finished primes in this directory (resumable)")
     args = parser.parse_args(argv)
     if args.lattice:
         for N in args.lattice:
-            write_lattice(N, args.dir)
+            write_lattice(N, args.dir, args.checkpoint)
         return
     Ns = sorted(N for N in args.N if N % 4 == 0)
     tables = {N: load_table(N, args.dir) for N in Ns}

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from forcenet.numeric.chicken_wire.bethe import ground_state_sequence  # noqa: E402
+from forcenet.numeric.chicken_wire.bethe import ground_state_sequence
 
 for a in (5, 6, 7, 8, 10, 4):
     t0 = time.perf_counter()

@@ -13,10 +13,10 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
-from forcenet.numeric.chicken_wire import isotropic as iso  # noqa: E402
-from forcenet.numeric.chicken_wire.isotropic_bethe import isotropic_limit  # noqa: E402
+from forcenet.numeric.chicken_wire import isotropic as iso
+from forcenet.numeric.chicken_wire.isotropic_bethe import isotropic_limit
 
 densities = [Fraction(1, 10), Fraction(1, 9), Fraction(1, 8), Fraction(1, 7), Fraction(1, 6), Fraction(2, 11), Fraction(1, 5)]
 bethe = []

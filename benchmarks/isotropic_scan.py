@@ -17,11 +17,10 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from forcenet.numeric.chicken_wire.bethe import isotropic_sequence  # noqa: E402
-from forcenet.numeric.chicken_wire.isotropic import extrapolate  # noqa: E402
+from forcenet.numeric.chicken_wire.bethe import isotropic_sequence
+from forcenet.numeric.chicken_wire.isotropic import extrapolate
 
 
 def main(argv):

@@ -20,8 +20,8 @@ import multiprocessing
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from forcenet.exact import mean_W, normalization  # noqa: E402
-from forcenet.exact.thesis.nested import integrate_layers  # noqa: E402
+from forcenet.exact import mean_W, normalization
+from forcenet.exact.thesis.nested import integrate_layers
 
 
 def _peak_gb():

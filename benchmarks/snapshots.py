@@ -41,7 +41,7 @@ CASES = [
     "entropy --phi 0.3",
     "entropy --phi 0.3 --format json --dps 40",
     "entropy --Q 1/3",
-    "entropy --Q 0.2 --bethe --format json",
+    "entropy --Q 0.2 --format json",
     "dist --N 8 --grain 8,4",
     "dist --N 8 --grain 8,4 --format json",
     "dist --N 7 --layer 7 --format csv",

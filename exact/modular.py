@@ -17,7 +17,7 @@ Examples
 
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import cache
 from .errors import ArgumentError
 
 __all__ = ["is_prime", "primes_below", "primes_for_bound", "crt", "crt_many"]
@@ -56,7 +56,7 @@ def is_prime(n: int) -> bool:
     return True
 
 
-@lru_cache(maxsize=None)
+@cache
 def primes_below(limit: int, count: int) -> tuple[int, ...]:
     """The ``count`` largest primes strictly below ``limit``.
 

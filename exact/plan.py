@@ -103,11 +103,11 @@ class Plan:
             text += f" (compiling the kernels, once: ~{duration_text(self.compile_seconds)})"
         return text
 
-    def refuse(self, reason: str) -> "Plan":
+    def refuse(self, reason: str) -> Plan:
         """The same plan, refused (the first reason wins)."""
         return self if self.refusal else replace(self, refusal=reason)
 
-    def within_memory(self, memory_bytes: int | None) -> "Plan":
+    def within_memory(self, memory_bytes: int | None) -> Plan:
         """Refused if the peak memory exceeds ``memory_bytes`` (None: no check)."""
         if memory_bytes is None or self.nbytes <= memory_bytes:
             return self

@@ -11,7 +11,7 @@
 
 from collections import Counter
 from fractions import Fraction
-from functools import lru_cache
+from functools import cache
 
 import networkx as nx
 import numpy as np
@@ -127,7 +127,7 @@ def test_cdf_of_N3_by_integrating_the_indicator():
 # ---------------------------------------------------------------- route (c): linear extensions
 
 
-@lru_cache(maxsize=None)
+@cache
 def extension_laws(N):
     """Gap laws of W, F5, F6 and the joint (g5, g6) of q from every linear extension."""
     d = N * (N - 1) // 2

@@ -179,7 +179,7 @@ def _window_brute(n, q, y):
     for mask in range(1 << n):
         A = [a for a in range(1, n + 1) if mask >> (a - 1) & 1]
         B = [a for a in range(1, n + 1) if not mask >> (a - 1) & 1]
-        l = sum(A)  # noqa: E741
+        l = sum(A)
         terms.append((B, Fraction(f(A) * f(B), factorial(l) * factorial(d - l)) * Fraction(q) ** l))
     Z = sum(w for _, w in terms)
     return [sum(w * Fraction(y) ** sum(b >= m for b in B) for B, w in terms) / Z for m in range(n, 0, -1)]

@@ -43,7 +43,7 @@ True
 
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import cache
 from itertools import product
 
 from ..validation import check_int
@@ -97,7 +97,7 @@ def _next_row(out: tuple) -> tuple | None:
     return tuple(nxt)
 
 
-@lru_cache(maxsize=None)
+@cache
 def row_transitions(L: int) -> dict:
     """All transitions of one row: ``{D: [(D_next, vertex counts), ...]}``.
 

@@ -15,7 +15,7 @@ May import: :mod:`.square_triangle` (the enumerator); :mod:`.tiling` (the survey
 
 from __future__ import annotations
 
-from itertools import product  # noqa: I001
+from itertools import product
 
 from .square_triangle import KERNEL, Lattice2in4, _f_preimage, canonical_form, corner_sectors, tile_corners, vadd
 

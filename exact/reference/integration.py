@@ -13,7 +13,7 @@ standard library.
 from __future__ import annotations
 
 from fractions import Fraction
-from functools import lru_cache
+from functools import cache
 
 import sympy
 
@@ -58,7 +58,7 @@ def polytope_bounds(N: int, W=None) -> dict[tuple[int, int], tuple[sympy.Expr, s
     return out
 
 
-@lru_cache(maxsize=None)
+@cache
 def _integrate(N: int, exponents: tuple) -> sympy.Rational:
     W = w_symbols(N)
     bounds = polytope_bounds(N, W)

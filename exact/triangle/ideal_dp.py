@@ -25,7 +25,7 @@ integers.
 
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import lru_cache, cache
 from typing import NamedTuple
 
 import numpy as np
@@ -160,7 +160,7 @@ def estimate_survival_cost(N: int, memory_bytes: int = 12 * 2**30) -> MemoryEsti
 _BLOCK_BITS = 18
 
 
-@lru_cache(maxsize=None)
+@cache
 def _popcount_groups(bits: int):
     """Integers ``0..2**bits-1`` sorted by popcount, and the group starts."""
     pc = np.bitwise_count(np.arange(1 << bits, dtype=np.uint64)).astype(np.int64)

@@ -67,7 +67,7 @@ class Parser(argparse.ArgumentParser):
         return action
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _once(cls):
     """The action class ``cls`` refusing a second occurrence of its option ("--N given twice")."""
 

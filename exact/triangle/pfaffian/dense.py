@@ -21,7 +21,7 @@ its pivot is taken.
 It also carries the whole kernel interface of :mod:`.kernels` with
 ``point_values`` = :func:`point_values_dense` (the engine's ``backend="dense"``).
 
-May import: :mod:`.kernels`.
+May import: :mod:`.kernels`, :mod:`.residues`.
 """
 
 from __future__ import annotations
@@ -29,59 +29,14 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, uint64
 
-from .kernels import _JIT, _axpy, _inv, _node, _red, dual_weights, edge_values, lagrange_matrix, pfaffian_mod, weighted_sum
+from .kernels import dual_weights, edge_values, lagrange_matrix, node_value, pfaffian_mod, weighted_sum
+from .residues import JIT, inv_mod, red, solve
 
 __all__ = ["point_values_dense", "displacement_generators", "pfaffian_mod", "point_values", "edge_values", "dual_weights",
            "lagrange_matrix", "weighted_sum"]
 
 
-@njit(**_JIT)
-def _inverse(K, out, p, pinv):
-    """``out = K^{-1}`` modulo ``p`` by Gauss-Jordan with row pivoting; False if ``K`` is singular mod p.
-
-    Rows other than the pivot row are reduced lazily: each round adds less
-    than ``p^2``, and everything is reduced after ``lazy`` rounds.
-    """
-    s = K.shape[0]
-    M = np.zeros((s, 2 * s))
-    for i in range(s):
-        for j in range(s):
-            M[i, j] = K[i, j]
-        M[i, s + i] = 1.0
-    lazy = max(1, int((2.0**53 - 2.0**24) / (p * p)) - 1)
-    rounds = 0
-    for c in range(s):
-        r = -1
-        for i in range(c, s):
-            M[i, c] = _red(M[i, c], p, pinv)
-            if r < 0 and M[i, c] != 0.0:
-                r = i
-        if r < 0:
-            return False
-        if r != c:
-            for j in range(2 * s):
-                M[c, j], M[r, j] = M[r, j], M[c, j]
-        f = _inv(M[c, c], p, pinv)
-        for j in range(c, 2 * s):
-            M[c, j] = _red(_red(M[c, j], p, pinv) * f, p, pinv)
-        for i in range(s):
-            if i != c:
-                g = _red(M[i, c], p, pinv)
-                if g != 0.0:
-                    _axpy(M, i, c, p - g, uint64(c), uint64(2 * s))
-        rounds += 1
-        if rounds >= lazy:
-            for i in range(s):
-                for j in range(c, 2 * s):
-                    M[i, j] = _red(M[i, j], p, pinv)
-            rounds = 0
-    for i in range(s):
-        for j in range(s):
-            out[i, j] = _red(M[i, s + j], p, pinv)
-    return True
-
-
-@njit(fastmath={"contract"}, **_JIT)
+@njit(fastmath={"contract"}, **JIT)
 def _matmul(A, B, rows, cols, p, pinv):
     """``(A @ B)[:rows, :cols]`` modulo ``p``, reducing after every ``chunk`` inner terms (``p + chunk p^2 < 2^53``)."""
     inner = uint64(A.shape[1])
@@ -96,11 +51,11 @@ def _matmul(A, B, rows, cols, p, pinv):
                     out[i, j] += a * B[k, j]
         for i in range(rows):
             for j in range(cols):
-                out[i, j] = _red(out[i, j], p, pinv)
+                out[i, j] = red(out[i, j], p, pinv)
     return out
 
 
-@njit(inline="always", **_JIT)
+@njit(inline="always", **JIT)
 def _pivot(A, i0, i1, width, p, pinv, c1, c2, size):
     """Reduce the pivot rows ``i0, i1`` (from the first block any row below reads) and fill the multipliers.
 
@@ -108,18 +63,18 @@ def _pivot(A, i0, i1, width, p, pinv, c1, c2, size):
     block ``[[0, a], [-a, 0]]`` is ``A_ij + c1[i] A[i0, j] + c2[i] A[i1, j]``.  Returns the pivot ``a``.
     """
     for j in range(i0 & ~uint64(7), width):
-        A[i0, j] = _red(A[i0, j], p, pinv)
-        A[i1, j] = _red(A[i1, j], p, pinv)
+        A[i0, j] = red(A[i0, j], p, pinv)
+        A[i1, j] = red(A[i1, j], p, pinv)
     a = A[i0, i1]
     if a != 0.0:
-        ainv = _inv(a, p, pinv)
+        ainv = inv_mod(a, p, pinv)
         for i in range(i1 + uint64(1), size):
-            c1[i] = _red(A[i1, i] * ainv, p, pinv)
-            c2[i] = _red((p - A[i0, i]) * ainv, p, pinv)
+            c1[i] = red(A[i1, i] * ainv, p, pinv)
+            c2[i] = red((p - A[i0, i]) * ainv, p, pinv)
     return a
 
 
-@njit(fastmath={"contract"}, **_JIT)
+@njit(fastmath={"contract"}, **JIT)
 def _eliminate(A, n, p, pinv, c1, c2, d1, d2, out):
     """Leading pair-Pfaffians of the skew matrix ``A`` (upper triangle, ``2n``-square), lazily reduced.
 
@@ -148,7 +103,7 @@ def _eliminate(A, n, p, pinv, c1, c2, d1, d2, out):
         a = _pivot(A, i0, i1, width, p, pinv, c1, c2, size)
         if a == 0.0:
             return False
-        pf = _red(pf * a, p, pinv)
+        pf = red(pf * a, p, pinv)
         out[k] = pf
         if k == n - 1:
             break
@@ -163,7 +118,7 @@ def _eliminate(A, n, p, pinv, c1, c2, d1, d2, out):
         b = _pivot(A, j0, j1, width, p, pinv, d1, d2, size)
         if b == 0.0:
             return False
-        pf = _red(pf * b, p, pinv)
+        pf = red(pf * b, p, pinv)
         out[k + 1] = pf
         if k + 1 == n - 1:
             break
@@ -187,7 +142,7 @@ def _eliminate(A, n, p, pinv, c1, c2, d1, d2, out):
     return True
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _scaled_rows(A, Wt, scale):
     """Upper triangle of ``D_u W D_u`` into ``A`` (row ``i`` scaled by ``scale[i % 2]``), zeros below it in the first block."""
     size = uint64(Wt.shape[0])
@@ -199,7 +154,7 @@ def _scaled_rows(A, Wt, scale):
             A[i, j] = Wt[i, j] * scale[r, j]
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _kernel_matrix(B, X1, expo, c, n, p, Wt):
     """The kernel ``W`` at ``q = c`` (upper triangle, copies interleaved) into ``Wt``; False if ``K(c)`` is singular.
 
@@ -213,34 +168,34 @@ def _kernel_matrix(B, X1, expo, c, n, p, Wt):
     for i in range(s):
         x = 1.0
         for _ in range(expo[i]):
-            x = _red(x * c, p, pinv)
+            x = red(x * c, p, pinv)
         qp[i] = x
     K = np.empty((s, s))
     for i in range(s):
         for j in range(s):
-            K[i, j] = _red(B[i, j] + _red(qp[i] * X1[i, j], p, pinv) * qp[j], p, pinv)
-    Ki = np.empty((s, s))
-    if not _inverse(K, Ki, p, pinv):
+            K[i, j] = red(B[i, j] + red(qp[i] * X1[i, j], p, pinv) * qp[j], p, pinv)
+    Ki = solve(K, np.eye(s), p, pinv)  # the inverse: Gauss-Jordan on the identity
+    if Ki is None:
         return False
     BKi = _matmul(B, Ki, n, s, p, pinv)
     BKiB = _matmul(BKi, B, n, n, p, pinv)
     for a in range(n):
         for b in range(a, n):
             if b > a:
-                Wt[2 * a, 2 * b] = _red(BKiB[a, b] - B[a, b], p, pinv)
+                Wt[2 * a, 2 * b] = red(BKiB[a, b] - B[a, b], p, pinv)
                 Wt[2 * a + 1, 2 * b] = p - BKi[b, a]
                 Wt[2 * a + 1, 2 * b + 1] = p - Ki[a, b]
             Wt[2 * a, 2 * b + 1] = BKi[a, b]
     return True
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _window_pfaffians(A, Wt, u, with_j, n, p, bufs, out):
     """Leading pair-Pfaffians of ``D_u W D_u`` (``+ J`` if ``with_j``), ``D_u = diag(u, 1, u, 1, ...)``."""
     pinv = 1.0 / p
     size = 2 * n
     scale = np.empty((2, size))
-    uu = _red(u * u, p, pinv)
+    uu = red(u * u, p, pinv)
     for j in range(0, size, 2):
         scale[0, j], scale[0, j + 1] = uu, u  # row of copy 0
         scale[1, j], scale[1, j + 1] = u, 1.0  # row of copy 1
@@ -251,7 +206,7 @@ def _window_pfaffians(A, Wt, u, with_j, n, p, bufs, out):
     return _eliminate(A, n, p, pinv, bufs[0], bufs[1], bufs[2], bufs[3], out)
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def point_values_dense(B, X1, expo, c, us, n, p, R):
     """:func:`point_values` by the dense pair elimination (the baseline; needs ``p + 2 (n-1) p^2 < 2^53``).
 
@@ -276,12 +231,12 @@ def point_values_dense(B, X1, expo, c, us, n, p, R):
     return True
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def displacement_generators(Wt, n, p, F):
     """Two generators of the kernel ``W``: ``(x_i + x_j) W_ij = F_i0 F_j1 - F_i1 F_j0`` for all ``i < j``.
 
     ``Wt`` is the upper triangle of ``W`` (:func:`_kernel_matrix`), ``x`` the
-    node values (:func:`_node`).  The left side is the displacement
+    node values (:func:`node_value`).  The left side is the displacement
     ``D W + W D`` (``D = diag(x)``); it is found to have rank two (the rank-2
     term is read off its first nonzero entry and the whole matrix is then
     checked, so nothing rests on the rank being two).  Returns False if the
@@ -293,9 +248,9 @@ def displacement_generators(Wt, n, p, F):
     g = 0.0
     for i in range(size):
         for j in range(i + 1, size):
-            s = _node(i, n) + _node(j, n)
+            s = node_value(i, n) + node_value(j, n)
             if s != 0:
-                g = _red((s + p if s < 0 else s) * Wt[i, j], p, pinv)
+                g = red((s + p if s < 0 else s) * Wt[i, j], p, pinv)
                 if g != 0.0:
                     bi, bj = i, j
                     break
@@ -306,28 +261,26 @@ def displacement_generators(Wt, n, p, F):
             F[i, 0] = 0.0
             F[i, 1] = 0.0
         return True
-    ginv = _inv(g, p, pinv)
+    ginv = inv_mod(g, p, pinv)
     for i in range(size):  # F_0 = column bi / g, F_1 = column bj (of the skew displacement)
         for col in range(2):
             j = bi if col == 0 else bj
-            s = _node(i, n) + _node(j, n)
+            s = node_value(i, n) + node_value(j, n)
             if i == j or s == 0:
                 v = 0.0
             elif i < j:
-                v = _red((s + p if s < 0 else s) * Wt[i, j], p, pinv)
+                v = red((s + p if s < 0 else s) * Wt[i, j], p, pinv)
             else:
-                v = _red(p - _red((s + p if s < 0 else s) * Wt[j, i], p, pinv), p, pinv)
-            F[i, col] = _red(v * ginv, p, pinv) if col == 0 else v
+                v = red(p - red((s + p if s < 0 else s) * Wt[j, i], p, pinv), p, pinv)
+            F[i, col] = red(v * ginv, p, pinv) if col == 0 else v
     for i in range(size):  # the check: the displacement minus the rank-2 term is zero
         for j in range(i + 1, size):
-            s = _node(i, n) + _node(j, n)
-            lhs = 0.0 if s == 0 else _red((s + p if s < 0 else s) * Wt[i, j], p, pinv)
-            rhs = _red(F[i, 0] * F[j, 1] + (p - F[i, 1]) * F[j, 0], p, pinv)
+            s = node_value(i, n) + node_value(j, n)
+            lhs = 0.0 if s == 0 else red((s + p if s < 0 else s) * Wt[i, j], p, pinv)
+            rhs = red(F[i, 0] * F[j, 1] + (p - F[i, 1]) * F[j, 0], p, pinv)
             if lhs != rhs:
                 return False
     return True
-
-
 
 
 # The kernel interface of :mod:`.kernels` with the dense elimination in place of the displacement one

@@ -36,7 +36,9 @@ May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
 from __future__ import annotations
 
 import threading
+from collections.abc import Iterator
 from math import isqrt
+from types import ModuleType
 
 import numpy as np
 
@@ -44,10 +46,11 @@ from ...modular import is_prime
 from ...plan import Plan, with_compilation
 from ...validation import check_int, check_layers
 from .schur import labels
+from ..staircase import dimension
 from ...errors import ArgumentError
 
 __all__ = ["prime_limit", "dense_prime_limit", "level_points", "setup_matrices", "prime_residues", "edge_residues", "count_residue",
-           "PointFailureError", "with_kernels_compiled"]
+           "PointFailureError", "with_kernels_compiled", "kernel_module", "pair_points", "check_prime"]
 
 MAX_POINT_FAILURES = 64
 # compiling the kernels on a first run (empty numba cache), CPU seconds: benchmarks/compile_times.py
@@ -91,7 +94,7 @@ def level_points(d: int) -> int:
     return d + 1 if (d + 1) % 2 == 0 else d + 2
 
 
-def setup_matrices(n: int, p: int):
+def setup_matrices(n: int, p: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``B`` (``q = 0``), ``X1`` and the exponents with ``K(q) = B + Q X1 Q``, ``Q = diag(q^expo)``, mod ``p``.
 
     ``B_ij = beta_i beta_j M_ij``, ``X1_ij = -(-1)^(i+j) alpha_i alpha_j M_ij`` with
@@ -110,36 +113,47 @@ def setup_matrices(n: int, p: int):
     alpha = beta.copy()
     if n % 2 == 0:
         alpha[n + 1] = 0  # the second zero 0'
-    a = np.array(values, dtype=np.int64)
-    M = (a[:, None] - a[None, :]) % p * np.array(inv, dtype=np.int64)[a[:, None] + a[None, :]] % p
+    parts = np.array(values, dtype=np.int64)
+    M = (parts[:, None] - parts[None, :]) % p * np.array(inv, dtype=np.int64)[parts[:, None] + parts[None, :]] % p
     if n % 2 == 0:
         M[n, n + 1], M[n + 1, n] = 1, p - 1  # Schur's entry between the two zeros
     B = beta[:, None] * beta[None, :] % p * M % p
     idx = np.arange(s)
     sign = np.where((idx[:, None] + idx[None, :]) % 2 == 0, p - 1, 1)  # -(-1)^(i+j)
     X1 = alpha[:, None] * alpha[None, :] % p * M % p * sign % p
-    return B.astype(np.float64), X1.astype(np.float64), a
+    return B.astype(np.float64), X1.astype(np.float64), parts
 
 
-def _kernels(backend: str):
+def kernel_module(backend: str) -> ModuleType:
+    """The kernel module of ``backend``: :mod:`.kernels` ("numba"), :mod:`.kernels_python` ("python") or :mod:`.dense` ("dense").
+
+    Examples
+    --------
+    >>> kernel_module("python").__name__
+    'forcenet.exact.triangle.pfaffian.kernels_python'
+    """
     if backend == "numba":
         from . import kernels
-    elif backend == "python":
-        from . import kernels_python as kernels
-    elif backend == "dense":  # the dense elimination of every (q, y): the benchmarks' baseline (p < dense_prime_limit)
-        from . import dense as kernels
-    else:
-        raise ArgumentError(f"backend={backend!r} is out of range: backend must be 'numba', 'python' or 'dense'")
-    return kernels
+
+        return kernels
+    if backend == "python":
+        from . import kernels_python
+
+        return kernels_python
+    if backend == "dense":  # the dense elimination of every (q, y): the benchmarks' baseline (p < dense_prime_limit)
+        from . import dense
+
+        return dense
+    raise ArgumentError(f"backend={backend!r} is out of range: backend must be 'numba', 'python' or 'dense'")
 
 
 def count_residue(N: int, p: int, backend: str = "numba") -> int:
     """``count(N) mod p = d! Pf(B) mod p`` (the normalization (4.1) at ``q = 0``)."""
-    n, d = N - 1, N * (N - 1) // 2
+    n, d = N - 1, dimension(N)
     if n == 0:
         return 1
     B, _, _ = setup_matrices(n, p)
-    pf = int(_kernels(backend).pfaffian_mod(B.copy(), float(p)))
+    pf = int(kernel_module(backend).pfaffian_mod(B.copy(), float(p)))
     fact = 1
     for k in range(2, d + 1):
         fact = fact * k % p
@@ -158,7 +172,7 @@ def with_kernels_compiled(plan: Plan, lattice: bool = False) -> Plan:
     """
     from . import kernels
 
-    entries = [kernels.pfaffian_mod, kernels._master_factors, kernels._dual_block, kernels._weighted_rows,
+    entries = [kernels.pfaffian_mod, kernels.master_factors, kernels.dual_block, kernels.weighted_rows,
                kernels.edge_values if lattice else kernels.point_values]
     if not lattice:
         entries.append(kernels.lagrange_matrix)
@@ -166,8 +180,15 @@ def with_kernels_compiled(plan: Plan, lattice: bool = False) -> Plan:
     return with_compilation(plan, f"Pfaffian {name}", COMPILE_SECONDS[name], entries)
 
 
-def _pair_points(p: int, taken: set):
-    """Pairs ``(c, 1/c)``, ``c = 2, 3, ...``, with ``c != 1/c`` and neither already taken (both are then taken)."""
+def pair_points(p: int, taken: set[int]) -> Iterator[tuple[int, int]]:
+    """Pairs ``(c, 1/c)`` modulo ``p``, ``c = 2, 3, ...``, with ``c != 1/c`` and neither already taken (both are then taken).
+
+    Examples
+    --------
+    >>> stream = pair_points(11, {1})
+    >>> next(stream), next(stream)
+    ((2, 6), (3, 4))
+    """
     c = 2
     while True:
         if c >= p - 1:
@@ -179,8 +200,20 @@ def _pair_points(p: int, taken: set):
         c += 1
 
 
-def _check_prime(N: int, p: int) -> int:
-    n, d = N - 1, N * (N - 1) // 2
+def check_prime(N: int, p: int) -> int:
+    """``p`` if it is a prime the route may use for ``N`` layers (above ``2 N + 2`` and ``d + 1``, below :func:`prime_limit`).
+
+    Raises
+    ------
+    ArgumentError
+        If ``p`` is not such a prime.
+
+    Examples
+    --------
+    >>> check_prime(4, 8388593)
+    8388593
+    """
+    n, d = N - 1, dimension(N)
     limit = prime_limit(max(n, 1))
     low = max(2 * N + 3, d + 2)  # p > d: d! and count are units mod p (count divides d!), B is invertible
     p = check_int(p, "p", low, limit - 1)
@@ -216,12 +249,13 @@ def _level_sums(N: int, p: int, K, values, shape):
     the ``M`` points ``c, 1/c`` (the caller turns ``R(c)`` into ``R(1/c)`` by the
     complement symmetry).
     """
-    d = N * (N - 1) // 2
+    d = dimension(N)
     M = level_points(d)
     taken: set = set()
-    reps, partners = [], []
+    reps: list[int] = []
+    partners: list[int] = []
     failures = 0
-    stream = _pair_points(p, taken)
+    stream = pair_points(p, taken)
     R = _work_array((M // 2,) + tuple(shape))  # filled in place, one slice per representative
     R[...] = 1.0
     while len(reps) < M // 2:
@@ -277,15 +311,15 @@ def prime_residues(N: int, p: int, backend: str = "numba", total_mod_p: int | No
     ([2, 5, 5, 2], [7, 7, 0, 0])
     """
     N = check_layers(N)
-    n, d = N - 1, N * (N - 1) // 2
-    p = _check_prime(N, p)
-    K = _kernels(backend)
+    n, d = N - 1, dimension(N)
+    p = check_prime(N, p)
+    K = kernel_module(backend)
     S = np.zeros((n + 1, n + 1), dtype=np.int64)
     if n == 0:
         return S
     B, X1, expo = setup_matrices(n, p)
     # y points: 1 and pairs (c, 1/c), at least n + 1 of them
-    y_stream = _pair_points(p, {1})
+    y_stream = pair_points(p, {1})
     ys = [1] + [v for _ in range((n + 1) // 2) for v in next(y_stream)]
     ny = len(ys)
     inv_index = [0] + [k + 1 + (1 if k % 2 == 0 else -1) for k in range(ny - 1)]
@@ -331,8 +365,8 @@ def edge_residues(N: int, p: int, backend: str = "numba") -> np.ndarray:
     """
     N = check_layers(N)
     n = N - 1
-    p = _check_prime(N, p)
-    K = _kernels(backend)
+    p = check_prime(N, p)
+    K = kernel_module(backend)
     out = np.zeros(n + 1, dtype=np.int64)
     if n == 0:
         return out

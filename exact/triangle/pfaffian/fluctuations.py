@@ -51,7 +51,7 @@ import numpy as np
 from ...plan import Plan
 from ...validation import check_grain, check_int, check_layers
 from ..gaps import GapCounts
-from .engine import (MAX_POINT_FAILURES, PointFailureError, _check_prime, _kernels, _pair_points, level_points,
+from .engine import (MAX_POINT_FAILURES, PointFailureError, check_prime, kernel_module, pair_points, level_points,
                      prime_limit, setup_matrices)
 from .route import (_CRT, _STARTUP_SECONDS, _count_bound, _edge_seconds, _primes_above, _run_primes,
                     _workers, count)
@@ -122,8 +122,8 @@ def edge_level_residues(N: int, p: int, backend: str = "numba", windows=None) ->
     """
     N = check_layers(N)
     n, d = N - 1, N * (N - 1) // 2
-    p = _check_prime(N, p)
-    K = _kernels(backend)
+    p = check_prime(N, p)
+    K = kernel_module(backend)
     out = np.zeros((n + 1, d + 1), dtype=np.int64)
     if n == 0:
         return out
@@ -133,7 +133,7 @@ def edge_level_residues(N: int, p: int, backend: str = "numba", windows=None) ->
     M = level_points(d)
     reps, partners, values = [], [], []
     failures = 0
-    stream = _pair_points(p, set())
+    stream = pair_points(p, set())
     R = np.empty((2, n))
     while len(reps) < M // 2:
         c, ci = next(stream)

@@ -1,12 +1,9 @@
 """Compiled kernels of the Pfaffian route: linear algebra modulo a prime ``p < 2^25`` (numba).
 
-Residues are held as ``float64`` integers.  A product of two residues is
-below ``2^50``, so it and short sums of such products are exact integers in
-double precision (below ``2^53``); :func:`_red` brings an exact integer back
-to ``[0, p)`` with one floating multiply, a floor and at most one correction
-(the quotient estimate is off by at most one), and :func:`_lred` does the same
-without the correction, to a value in ``(-p, 2p)``.  Nothing here rounds:
-every value is an exact integer, so the results are exact residues.
+Residues are ``float64`` integers, reduced by the arithmetic of :mod:`.residues`
+(:func:`~.residues.red`, :func:`~.residues.lred`, :func:`~.residues.inv_mod`; the
+Gauss-Jordan :func:`~.residues.solve`, shared with :mod:`.dense`).  Nothing here
+rounds: every value is an exact integer, so the results are exact residues.
 
 The hot loop is :func:`point_values`: for every ``y`` the leading
 pair-Pfaffians of ``J + D_u W D_u`` by a **displacement-structure (GKO-type)
@@ -34,54 +31,25 @@ the tests.  The ``O(M^2)`` weights of the level functional (:func:`dual_weights`
 :func:`weighted_sum`: seconds at N = 200) run as compiled calls of ~0.15 s
 from Python, so Ctrl-C is seen between them.
 
-May import: :mod:`forcenet.exact.plan`.
+May import: :mod:`forcenet.exact.plan`, :mod:`forcenet.exact.errors`, :mod:`.residues`.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from numba import int64, njit, uint64
+from numba import njit, uint64
 
 from ...plan import chunks, first_chunk
 from ...errors import ArgumentError
+from .residues import JIT, inv_mod, lred, red, solve
 
-__all__ = ["pfaffian_mod", "point_values", "edge_values", "dual_weights", "lagrange_matrix", "weighted_sum", "LANES"]
+__all__ = ["pfaffian_mod", "point_values", "edge_values", "dual_weights", "lagrange_matrix", "weighted_sum", "LANES",
+           "node_value", "master_factors", "dual_block", "weighted_rows"]
 
 LANES = 8  # values of y eliminated side by side
 
-_JIT = {"cache": True, "boundscheck": False, "nogil": True}
 
-
-@njit(inline="always", **_JIT)
-def _red(x, p, pinv):
-    """The residue of the exact integer ``x`` (``|x| < 2^53``) in ``[0, p)``."""
-    x = x - np.floor(x * pinv) * p
-    if x < 0.0:
-        x += p
-    if x >= p:
-        x -= p
-    return x
-
-
-@njit(inline="always", **_JIT)
-def _lred(x, p, pinv):
-    """A value in ``(-p, 2p)`` congruent to the exact integer ``x`` (``|x| < 2^53``): :func:`_red` without corrections."""
-    return x - np.floor(x * pinv) * p
-
-
-@njit(**_JIT)
-def _inv(a, p, pinv):
-    """``1/a`` modulo ``p`` by the extended Euclidean algorithm (``a`` a nonzero residue; ~60 ns)."""
-    t, new_t = int64(0), int64(1)
-    r, new_r = int64(p), int64(a)
-    while new_r != 0:
-        q = r // new_r
-        t, new_t = new_t, t - q * new_t
-        r, new_r = new_r, r - q * new_r
-    return float(t + int64(p) if t < 0 else t)
-
-
-@njit(**_JIT)
+@njit(**JIT)
 def pfaffian_mod(A, p):
     """Pfaffian of the skew matrix ``A`` (residues, float64) modulo ``p``; ``A`` is overwritten."""
     pinv = 1.0 / p
@@ -102,34 +70,26 @@ def pfaffian_mod(A, p):
                 A[k + 1, j], A[piv, j] = A[piv, j], A[k + 1, j]
             for i in range(size):
                 A[i, k + 1], A[i, piv] = A[i, piv], A[i, k + 1]
-            result = _red(-result, p, pinv)
+            result = red(-result, p, pinv)
         a = A[k, k + 1]
-        result = _red(result * a, p, pinv)
-        ainv = _inv(a, p, pinv)
+        result = red(result * a, p, pinv)
+        ainv = inv_mod(a, p, pinv)
         for i in range(k + 2, size):
-            f1 = _red(A[i, k + 1] * ainv, p, pinv)
-            f0 = _red(A[i, k] * ainv, p, pinv)
+            f1 = red(A[i, k + 1] * ainv, p, pinv)
+            f0 = red(A[i, k] * ainv, p, pinv)
             for j in range(k + 2, size):
-                A[i, j] = _red(A[i, j] + f0 * A[k + 1, j] - f1 * A[k, j], p, pinv)
+                A[i, j] = red(A[i, j] + f0 * A[k + 1, j] - f1 * A[k, j], p, pinv)
     return result
 
 
-@njit(fastmath={"contract"}, **_JIT)
-def _axpy(M, i, c, g, lo, hi):
-    """Row ``i`` of ``M`` plus ``g`` times row ``c``, columns ``lo..hi-1`` (unreduced; a vector loop)."""
-    i, c = uint64(i), uint64(c)
-    for j in range(lo, hi):
-        M[i, j] += g * M[c, j]
-
-
-@njit(inline="always", **_JIT)
-def _node(i, n):
+@njit(inline="always", **JIT)
+def node_value(i, n):
     """Node value of row ``i``: ``+a`` on copy 0 (even rows) and ``-a`` on copy 1 of the part ``a = n - i // 2``."""
     a = n - i // 2
     return a if i % 2 == 0 else -a
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _pivot_inverses(n, p):
     """``T[k, 2 pc + rc, b] = 1/(x_row + x_pivot)`` modulo ``p``: pivot copy ``pc`` of site ``k``, row copy ``rc`` of site ``b > k``.
 
@@ -141,7 +101,7 @@ def _pivot_inverses(n, p):
     size = 2 * n
     inv = np.zeros(2 * size + 1)  # 1/v for v = -2n..2n at index v + 2n
     for v in range(1, size + 1):
-        iv = _inv(float(v), p, pinv)
+        iv = inv_mod(float(v), p, pinv)
         inv[size + v] = iv
         inv[size - v] = 0.0 if iv == 0.0 else p - iv
     T = np.zeros((n, 4, n + 8))
@@ -149,7 +109,7 @@ def _pivot_inverses(n, p):
         for pc in range(2):
             for rc in range(2):
                 for b in range(k + 1, n):
-                    T[k, 2 * pc + rc, b] = inv[size + _node(2 * b + rc, n) + _node(2 * k + pc, n)]
+                    T[k, 2 * pc + rc, b] = inv[size + node_value(2 * b + rc, n) + node_value(2 * k + pc, n)]
     return T
 
 
@@ -160,22 +120,22 @@ _STRIDE = 216
 _USTRIDE = uint64(_STRIDE)
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _check_width(n):
     """Refuse ``n`` parts that do not fit the lanes' rows (``n + 8 <= _STRIDE``: N <= 209, beyond the route's 200)."""
     if n + 8 > _STRIDE:
         raise ArgumentError("n is out of range: the kernels need n + 8 <= _STRIDE (216)")
 
 
-@njit(inline="always", fastmath={"contract"}, **_JIT)
+@njit(inline="always", fastmath={"contract"}, **JIT)
 def _row_update(a0, a1, t0, t1, h00, h01, h10, h11, q00, q01, q10, q11, c, p, pinv):
     """One row with generators ``(a0, a1)``: ``E0, E1`` (its entries in the two pivot columns) and ``c F - E1 F_i0 + E0 F_i1``."""
-    e0 = _lred(_lred(a0 * h00 + a1 * h01, p, pinv) * t0, p, pinv)
-    e1 = _lred(_lred(a0 * h10 + a1 * h11, p, pinv) * t1, p, pinv)
-    return e0, e1, _lred(c * a0 - e1 * q00 + e0 * q10, p, pinv), _lred(c * a1 - e1 * q01 + e0 * q11, p, pinv)
+    e0 = lred(lred(a0 * h00 + a1 * h01, p, pinv) * t0, p, pinv)
+    e1 = lred(lred(a0 * h10 + a1 * h11, p, pinv) * t1, p, pinv)
+    return e0, e1, lred(c * a0 - e1 * q00 + e0 * q10, p, pinv), lred(c * a1 - e1 * q01 + e0 * q11, p, pinv)
 
 
-@njit(fastmath={"contract"}, **_JIT)
+@njit(fastmath={"contract"}, **JIT)
 def _gko_sites(Z, o, Tk, k, n, h00, h01, h10, h11, q00, q01, q10, q11, c, p, pinv):
     """One fraction-free pivot (site ``k``, pivot value ``c``) on the sites ``b > k`` of one lane: a vector loop over ``b``.
 
@@ -203,10 +163,10 @@ def _gko_sites(Z, o, Tk, k, n, h00, h01, h10, h11, q00, q01, q10, q11, c, p, pin
                                            p, pinv)  # the copy-0 row of site b
         y0, y1, Z[i2], Z[i3] = _row_update(Z[i2], Z[i3], Tk[1, b], Tk[3, b], h00, h01, h10, h11, q00, q01, q10, q11, c,
                                            p, pinv)  # the copy-1 row
-        Z[i4] = _lred(c * _lred(c * Z[i4] + _lred(x1 * y0 - x0 * y1, p, pinv), p, pinv), p, pinv)
+        Z[i4] = lred(c * lred(c * Z[i4] + lred(x1 * y0 - x0 * y1, p, pinv), p, pinv), p, pinv)
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _gko_windows(F, Wd, T, us, js, n, p, out, Z):
     """Leading pair-Pfaffians of ``js J + D_u W D_u`` for every lane ``l`` (``u = us[l]``), by displacement.
 
@@ -232,14 +192,14 @@ def _gko_windows(F, Wd, T, us, js, n, p, out, Z):
             for r in range(5):
                 Z[o + r * S + b] = 0.0
         for b in range(n):
-            Z[o + b] = _red(F[2 * b, 0] * u, p, pinv)  # D_u scales copy 0
-            Z[o + S + b] = _red(F[2 * b, 1] * u, p, pinv)
+            Z[o + b] = red(F[2 * b, 0] * u, p, pinv)  # D_u scales copy 0
+            Z[o + S + b] = red(F[2 * b, 1] * u, p, pinv)
             Z[o + 2 * S + b] = F[2 * b + 1, 0]
             Z[o + 3 * S + b] = F[2 * b + 1, 1]
-            Z[o + 4 * S + b] = _red(js[l] + u * Wd[b], p, pinv)
+            Z[o + 4 * S + b] = red(js[l] + u * Wd[b], p, pinv)
     for k in range(n):
         for l in range(L):
-            c = _red(Z[5 * S * l + 4 * S + k], p, pinv)  # the pivot, scaled by sigma_k^2
+            c = red(Z[5 * S * l + 4 * S + k], p, pinv)  # the pivot, scaled by sigma_k^2
             if c == 0.0:
                 return False
             out[l, k] = c
@@ -248,10 +208,10 @@ def _gko_windows(F, Wd, T, us, js, n, p, out, Z):
         Tk = T[k]
         for l in range(L):
             o = 5 * S * l
-            q0 = _red(Z[o + k], p, pinv)  # F_i0 = (q0, q1), F_i1 = (q2, q3)
-            q1 = _red(Z[o + S + k], p, pinv)
-            q2 = _red(Z[o + 2 * S + k], p, pinv)
-            q3 = _red(Z[o + 3 * S + k], p, pinv)
+            q0 = red(Z[o + k], p, pinv)  # F_i0 = (q0, q1), F_i1 = (q2, q3)
+            q1 = red(Z[o + S + k], p, pinv)
+            q2 = red(Z[o + 2 * S + k], p, pinv)
+            q3 = red(Z[o + 3 * S + k], p, pinv)
             # Omega F_i0 = (F_i0,1, -F_i0,0), the same for F_i1 (not divided by the pivot: fraction-free)
             _gko_sites(Z, o, Tk, k, n, q1, p - q0, q3, p - q2, q0, q1, q2, q3, out[l, k], p, pinv)
     # undo the scales: sigma_0 = 1, sigma_(k+1) = c'_k sigma_k, c_k = c'_k / sigma_k^2, Pf_k = prod_(j<=k) c_j
@@ -261,66 +221,21 @@ def _gko_windows(F, Wd, T, us, js, n, p, out, Z):
     sq = np.empty((L, n))
     for k in range(n):
         for l in range(L):
-            s2 = _red(sig[l] * sig[l], p, pinv)
+            s2 = red(sig[l] * sig[l], p, pinv)
             sq[l, k] = s2
-            den[l] = _red(den[l] * s2, p, pinv)
-            num[l] = _red(num[l] * out[l, k], p, pinv)
-            sig[l] = _red(sig[l] * out[l, k], p, pinv)
+            den[l] = red(den[l] * s2, p, pinv)
+            num[l] = red(num[l] * out[l, k], p, pinv)
+            sig[l] = red(sig[l] * out[l, k], p, pinv)
             out[l, k] = num[l]  # prod_(j<=k) c'_j; divided by prod_(j<=k) sigma_j^2 below
     for l in range(L):
-        dinv = _inv(den[l], p, pinv)
+        dinv = inv_mod(den[l], p, pinv)
         for k in range(n - 1, -1, -1):
-            out[l, k] = _red(out[l, k] * dinv, p, pinv)
-            dinv = _red(dinv * sq[l, k], p, pinv)
+            out[l, k] = red(out[l, k] * dinv, p, pinv)
+            dinv = red(dinv * sq[l, k], p, pinv)
     return True
 
 
-@njit(**_JIT)
-def _solve(K, Rhs, p, pinv):
-    """``K^{-1} Rhs`` modulo ``p`` by Gauss-Jordan with row pivoting (lazily reduced, as :func:`_inverse`); None if singular."""
-    s = K.shape[0]
-    m = Rhs.shape[1]
-    M = np.zeros((s, s + m))
-    for i in range(s):
-        for j in range(s):
-            M[i, j] = K[i, j]
-        for j in range(m):
-            M[i, s + j] = Rhs[i, j]
-    lazy = max(1, int((2.0**53 - 2.0**26) / (p * p)) - 1)
-    rounds = 0
-    for c in range(s):
-        r = -1
-        for i in range(c, s):
-            M[i, c] = _red(M[i, c], p, pinv)
-            if r < 0 and M[i, c] != 0.0:
-                r = i
-        if r < 0:
-            return None
-        if r != c:
-            for j in range(s + m):
-                M[c, j], M[r, j] = M[r, j], M[c, j]
-        f = _inv(M[c, c], p, pinv)
-        for j in range(c, s + m):
-            M[c, j] = _red(_red(M[c, j], p, pinv) * f, p, pinv)
-        for i in range(s):
-            if i != c:
-                g = _red(M[i, c], p, pinv)
-                if g != 0.0:
-                    _axpy(M, i, c, p - g, uint64(c), uint64(s + m))
-        rounds += 1
-        if rounds >= lazy:
-            for i in range(s):
-                for j in range(c, s + m):
-                    M[i, j] = _red(M[i, j], p, pinv)
-            rounds = 0
-    out = np.empty((s, m))
-    for i in range(s):
-        for j in range(m):
-            out[i, j] = _red(M[i, s + j], p, pinv)
-    return out
-
-
-@njit(**_JIT)
+@njit(**JIT)
 def _kernel_generators(B, X1, expo, c, n, p, F, Wd):
     """The kernel ``W`` at ``q = c`` as its two displacement generators ``F`` and pair entries ``Wd``, in ``O(n^3/2)``.
 
@@ -344,32 +259,32 @@ def _kernel_generators(B, X1, expo, c, n, p, F, Wd):
     for i in range(s):
         x = 1.0
         for _ in range(expo[i]):
-            x = _red(x * c, p, pinv)
+            x = red(x * c, p, pinv)
         qp[i] = x
     Rhs = np.zeros((s, 4))  # u, v, u', v'
     for i in range(s):
         a = float(expo[i])
         if i < n:
             v = B[i, z]  # beta_i beta_0 M_i0 = beta_i
-            sa = _red(X1[i, z] * (p - sign_z), p, pinv)  # (S alpha)_i = -(-1)^z X1[i, z]
+            sa = red(X1[i, z] * (p - sign_z), p, pinv)  # (S alpha)_i = -(-1)^z X1[i, z]
         else:
             v = 1.0
             sa = sign_z if i == z else 0.0  # alpha_0 = 1, alpha_0' = 0
-        Rhs[i, 0] = _red(v * a, p, pinv)
+        Rhs[i, 0] = red(v * a, p, pinv)
         Rhs[i, 1] = v
-        Rhs[i, 2] = _red(_red(sa * a, p, pinv) * qp[i], p, pinv)
-        Rhs[i, 3] = _red(sa * qp[i], p, pinv)
+        Rhs[i, 2] = red(red(sa * a, p, pinv) * qp[i], p, pinv)
+        Rhs[i, 3] = red(sa * qp[i], p, pinv)
     K = np.empty((s, s))
     for i in range(s):
         for j in range(s):
-            K[i, j] = _red(B[i, j] + _red(qp[i] * X1[i, j], p, pinv) * qp[j], p, pinv)
-    Y = _solve(K, Rhs, p, pinv)
+            K[i, j] = red(B[i, j] + red(qp[i] * X1[i, j], p, pinv) * qp[j], p, pinv)
+    Y = solve(K, Rhs, p, pinv)
     if Y is None:
         return False
     # f = u + u' side, g = v side; B times K^-1 (u + u') and K^-1 v
     yk = np.empty(s)
     for i in range(s):
-        yk[i] = _red(Y[i, 0] + Y[i, 2], p, pinv)
+        yk[i] = red(Y[i, 0] + Y[i, 2], p, pinv)
     chunk = max(1, min(64, int((2.0**53 - p) / (p * p))))  # p + chunk p^2 < 2^53
     yv = Y[:, 1].copy()
     for a in range(n):
@@ -379,18 +294,18 @@ def _kernel_generators(B, X1, expo, c, n, p, F, Wd):
             bk += B[a, j] * yk[j]
             bv += B[a, j] * yv[j]
             if j % chunk == chunk - 1:
-                bk = _red(bk, p, pinv)
-                bv = _red(bv, p, pinv)
-        bk = _red(bk, p, pinv)
-        bv = _red(bv, p, pinv)
-        F[2 * a, 0] = _red(Rhs[a, 1] + p - bv, p, pinv)
+                bk = red(bk, p, pinv)
+                bv = red(bv, p, pinv)
+        bk = red(bk, p, pinv)
+        bv = red(bv, p, pinv)
+        F[2 * a, 0] = red(Rhs[a, 1] + p - bv, p, pinv)
         F[2 * a + 1, 0] = Y[a, 1]
-        F[2 * a, 1] = _red(Rhs[a, 0] + p - bk, p, pinv)
+        F[2 * a, 1] = red(Rhs[a, 0] + p - bk, p, pinv)
         F[2 * a + 1, 1] = yk[a]
     # (K^-1)_jb = (-y_u y_v^T + y_v y_u^T + y_u' y_v'^T - y_v' y_u'^T)_jb / (a_j + a_b), b a part
     inv = np.zeros(2 * n + 1)
     for v in range(1, 2 * n + 1):
-        inv[v] = _inv(float(v), p, pinv)
+        inv[v] = inv_mod(float(v), p, pinv)
     y0 = Y[:, 0].copy()
     y2 = Y[:, 2].copy()
     y3 = Y[:, 3].copy()
@@ -399,17 +314,17 @@ def _kernel_generators(B, X1, expo, c, n, p, F, Wd):
         c0, c1, c2, c3 = Y[b, 0], Y[b, 1], Y[b, 2], Y[b, 3]
         for j in range(s):  # column b of K^-1 (its diagonal entry is zero)
             g = yv[j] * c0 + (p - y0[j]) * c1 + y2[j] * c3 + (p - y3[j]) * c2
-            kcol[j] = 0.0 if j == b else _red(_red(g, p, pinv) * inv[expo[j] + expo[b]], p, pinv)
+            kcol[j] = 0.0 if j == b else red(red(g, p, pinv) * inv[expo[j] + expo[b]], p, pinv)
         acc = 0.0
         for j in range(s):
             acc += B[b, j] * kcol[j]
             if j % chunk == chunk - 1:
-                acc = _red(acc, p, pinv)
-        Wd[b] = _red(acc, p, pinv)
+                acc = red(acc, p, pinv)
+        Wd[b] = red(acc, p, pinv)
     return True
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def point_values(B, X1, expo, c, us, n, p, R):
     """``R[j, k] = E_c[y_j^{N_m(B)}]`` at the level fugacity ``q = c``, modulo ``p``, every ``y_j = 1 + u_j``.
 
@@ -442,7 +357,7 @@ def point_values(B, X1, expo, c, us, n, p, R):
     return True
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def edge_values(B, X1, expo, c, n, p, R):
     """The two extreme coefficients in ``y`` of every window at ``q = c``, modulo ``p``.
 
@@ -471,36 +386,36 @@ def edge_values(B, X1, expo, c, n, p, R):
     return True
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _quotient_at(P, x, p, pinv, q):
     """Synthetic division of the monic ``P`` (coefficients low to high) by ``(X - x)`` into ``q``."""
     deg = P.shape[0] - 1
     q[deg - 1] = 1.0
     for k in range(deg - 1, 0, -1):
-        q[k - 1] = _red(P[k] + x * q[k], p, pinv)
+        q[k - 1] = red(P[k] + x * q[k], p, pinv)
 
 
-@njit(**_JIT)
-def _master_factors(P, points, lo, hi, p, pinv):
+@njit(**JIT)
+def master_factors(P, points, lo, hi, p, pinv):
     """Multiply ``P`` (the product over ``points[:lo]``, low to high, length ``M + 1``) by ``X - points_i``, ``lo <= i < hi``."""
     for i in range(lo, hi):
         x = p - points[i]
         for k in range(i + 1, 0, -1):
-            P[k] = _red(P[k - 1] + x * P[k], p, pinv)
-        P[0] = _red(x * P[0], p, pinv)
+            P[k] = red(P[k - 1] + x * P[k], p, pinv)
+        P[0] = red(x * P[0], p, pinv)
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _master(points, p, pinv):
     """Coefficients (low to high) of ``prod_i (X - points_i)`` modulo ``p``."""
     P = np.zeros(points.shape[0] + 1)
     P[0] = 1.0
-    _master_factors(P, points, 0, points.shape[0], p, pinv)
+    master_factors(P, points, 0, points.shape[0], p, pinv)
     return P
 
 
-@njit(fastmath={"contract"}, **_JIT)
-def _dual_block(points, g, P, p, lo, hi, lam):
+@njit(fastmath={"contract"}, **JIT)
+def dual_block(points, g, P, p, lo, hi, lam):
     """``lam[lo:hi]`` of :func:`dual_weights` (``lo`` a multiple of 8), given the master polynomial ``P``."""
     pinv = 1.0 / p
     M = points.shape[0]
@@ -520,11 +435,11 @@ def _dual_block(points, g, P, p, lo, hi, lam):
             Pk = P[k]
             for l in range(W):
                 qk = q[l]
-                num[l] = _lred(num[l] + gk * qk, p, pinv)
-                den[l] = _lred(den[l] * x[l] + qk, p, pinv)
-                q[l] = _lred(Pk + x[l] * qk, p, pinv)  # [X^(k-1)] Q_i
+                num[l] = lred(num[l] + gk * qk, p, pinv)
+                den[l] = lred(den[l] * x[l] + qk, p, pinv)
+                q[l] = lred(Pk + x[l] * qk, p, pinv)  # [X^(k-1)] Q_i
         for l in range(min(W, hi - i0)):
-            lam[i0 + l] = _red(_red(num[l], p, pinv) * _inv(_red(den[l], p, pinv), p, pinv), p, pinv)
+            lam[i0 + l] = red(red(num[l], p, pinv) * inv_mod(red(den[l], p, pinv), p, pinv), p, pinv)
 
 
 def dual_weights(points, g, p):
@@ -543,14 +458,14 @@ def dual_weights(points, g, p):
     P = np.zeros(M + 1)
     P[0] = 1.0
     for lo, hi in chunks(M, first_chunk(2e-9 * M / 2)):
-        _master_factors(P, points, lo, hi, p, 1.0 / p)
+        master_factors(P, points, lo, hi, p, 1.0 / p)
     lam = np.empty(M)
     for lo, hi in chunks((M + 7) // 8, first_chunk(2e-9 * 8 * M)):  # blocks of eight points
-        _dual_block(points, g, P, p, 8 * lo, min(M, 8 * hi), lam)
+        dual_block(points, g, P, p, 8 * lo, min(M, 8 * hi), lam)
     return lam
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def lagrange_matrix(points, p):
     """``L[k, j]``: coefficient of ``X^k`` in the Lagrange basis polynomial of ``points_j`` (the inverse Vandermonde)."""
     pinv = 1.0 / p
@@ -562,15 +477,15 @@ def lagrange_matrix(points, p):
         _quotient_at(P, points[j], p, pinv, q)
         den = 0.0
         for k in range(M - 1, -1, -1):
-            den = _red(den * points[j] + q[k], p, pinv)
-        f = _inv(den, p, pinv)
+            den = red(den * points[j] + q[k], p, pinv)
+        f = inv_mod(den, p, pinv)
         for k in range(M):
-            L[k, j] = _red(q[k] * f, p, pinv)
+            L[k, j] = red(q[k] * f, p, pinv)
     return L
 
 
-@njit(**_JIT)
-def _weighted_rows(w, R, p, lo, hi, out):
+@njit(**JIT)
+def weighted_rows(w, R, p, lo, hi, out):
     """``out += sum_(lo <= i < hi) w_i R[i]`` modulo ``p`` (``out`` reduced on entry and on return)."""
     pinv = 1.0 / p
     m, a, b = R.shape
@@ -583,10 +498,10 @@ def _weighted_rows(w, R, p, lo, hi, out):
         if (i - lo) % chunk == chunk - 1:
             for x in range(a):
                 for y in range(b):
-                    out[x, y] = _red(out[x, y], p, pinv)
+                    out[x, y] = red(out[x, y], p, pinv)
     for x in range(a):
         for y in range(b):
-            out[x, y] = _red(out[x, y], p, pinv)
+            out[x, y] = red(out[x, y], p, pinv)
 
 
 def weighted_sum(w, R, p):
@@ -594,5 +509,5 @@ def weighted_sum(w, R, p):
     m, a, b = R.shape
     out = np.zeros((a, b))
     for lo, hi in chunks(m, first_chunk(1e-9 * a * b)):
-        _weighted_rows(w, R, p, lo, hi, out)
+        weighted_rows(w, R, p, lo, hi, out)
     return out

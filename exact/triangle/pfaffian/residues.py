@@ -1,0 +1,142 @@
+"""Residue arithmetic modulo a prime ``p < 2^25`` in ``float64`` (numba): the one copy both kernel modules use.
+
+Residues are held as ``float64`` integers.  A product of two residues is
+below ``2^50``, so it and short sums of such products are exact integers in
+double precision (below ``2^53``); :func:`red` brings an exact integer back
+to ``[0, p)`` with one floating multiply, a floor and at most one correction
+(the quotient estimate is off by at most one), and :func:`lred` does the same
+without the correction, to a value in ``(-p, 2p)``.  Nothing here rounds:
+every value is an exact integer, so the results are exact residues.
+
+:func:`solve` is the modular Gauss-Jordan elimination of the Pfaffian route:
+the displacement kernels (:mod:`.kernels`, four right-hand sides) and the
+dense baseline (:mod:`.dense`, the identity: the inverse) both call it.
+
+May import: nothing of the package.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Final
+
+import numpy as np
+from numba import int64, njit, uint64
+
+__all__ = ["JIT", "SOLVE_SLACK", "red", "lred", "inv_mod", "axpy", "solve", "lazy_rounds"]
+
+JIT: Final[dict[str, Any]] = {"cache": True, "boundscheck": False, "nogil": True}
+"""The compile options of every kernel of the Pfaffian route (machine code cached on disk, no bounds checks)."""
+
+# The slack of the lazy Gauss-Jordan reduction (:func:`lazy_rounds`): 2^26 >= 2p for every prime of the
+# route (p < 2^25, engine.prime_limit). The proof is in lazy_rounds' docstring; the dense baseline's own
+# copy used 2^24, which proves the bound only for p <= 2^23 (its primes, engine.dense_prime_limit).
+SOLVE_SLACK: Final = 2.0**26
+
+
+@njit(inline="always", **JIT)
+def red(x, p, pinv):
+    """The residue of the exact integer ``x`` (``|x| + p <= 2^53``) in ``[0, p)``."""
+    x = x - np.floor(x * pinv) * p
+    if x < 0.0:
+        x += p
+    if x >= p:
+        x -= p
+    return x
+
+
+@njit(inline="always", **JIT)
+def lred(x, p, pinv):
+    """A value in ``(-p, 2p)`` congruent to the exact integer ``x`` (``|x| < 2^53``): :func:`red` without corrections."""
+    return x - np.floor(x * pinv) * p
+
+
+@njit(**JIT)
+def inv_mod(a, p, pinv):
+    """``1/a`` modulo ``p`` by the extended Euclidean algorithm (``a`` a nonzero residue; ~60 ns)."""
+    t, new_t = int64(0), int64(1)
+    r, new_r = int64(p), int64(a)
+    while new_r != 0:
+        q = r // new_r
+        t, new_t = new_t, t - q * new_t
+        r, new_r = new_r, r - q * new_r
+    return float(t + int64(p) if t < 0 else t)
+
+
+@njit(fastmath={"contract"}, **JIT)
+def axpy(M, i, c, g, lo, hi):
+    """Row ``i`` of ``M`` plus ``g`` times row ``c``, columns ``lo..hi-1`` (unreduced; a vector loop)."""
+    i, c = uint64(i), uint64(c)
+    for j in range(lo, hi):
+        M[i, j] += g * M[c, j]
+
+
+@njit(**JIT)
+def lazy_rounds(p):
+    """Elimination rounds :func:`solve` may run between two full reductions modulo ``p`` (``2 <= p < 2^25``).
+
+    ``L = max(1, int((2^53 - S) / p^2) - 1)`` with the slack ``S`` = :data:`SOLVE_SLACK` = ``2^26``.
+    The proof that every value :func:`solve` forms stays exact and reducible:
+
+    * an entry starts each stretch reduced, in ``[0, p)``; a round adds ``(p - g) M[c, j]`` with
+      ``p - g`` and ``M[c, j]`` in ``[0, p)``, so after ``L`` rounds the entry ``x`` is below
+      ``p + L p^2``;
+    * :func:`red` is exact for ``x`` when ``x + p <= 2^53``: its quotient estimate is off by at most
+      one, so the product ``q p`` it subtracts is at most ``x + p``, an exactly representable integer;
+    * the float quotient ``(2^53 - S) / p^2`` (above 8: ``p^2 < 2^50``) can round up to the next
+      integer, so ``int(...)`` is at most ``floor((2^53 - S) / p^2) + 1`` and ``L p^2 <= 2^53 - S``;
+      hence ``x + p < 2p + 2^53 - S <= 2^53`` exactly when ``S >= 2p``, which ``S = 2^26`` gives
+      for every ``p < 2^25`` (``2^24`` would prove it only for ``p <= 2^23``);
+    * when the maximum takes 1 (``p^2`` close to ``2^53``; not for ``p < 2^25``),
+      ``x + p <= p^2 + p < 2^53``.
+    """
+    return max(1, int((2.0**53 - SOLVE_SLACK) / (p * p)) - 1)
+
+
+@njit(**JIT)
+def solve(K, Rhs, p, pinv):
+    """``K^{-1} Rhs`` modulo ``p`` by Gauss-Jordan with row pivoting, lazily reduced; None if ``K`` is singular mod p.
+
+    Rows other than the pivot row are reduced every :func:`lazy_rounds` rounds
+    (each round adds less than ``p^2`` to an entry); the pivot row is reduced
+    when its pivot is taken.  ``Rhs`` the identity gives the inverse.
+    """
+    s = K.shape[0]
+    m = Rhs.shape[1]
+    M = np.zeros((s, s + m))
+    for i in range(s):
+        for j in range(s):
+            M[i, j] = K[i, j]
+        for j in range(m):
+            M[i, s + j] = Rhs[i, j]
+    lazy = lazy_rounds(p)
+    rounds = 0
+    for c in range(s):
+        r = -1
+        for i in range(c, s):
+            M[i, c] = red(M[i, c], p, pinv)
+            if r < 0 and M[i, c] != 0.0:
+                r = i
+        if r < 0:
+            return None
+        if r != c:
+            for j in range(s + m):
+                M[c, j], M[r, j] = M[r, j], M[c, j]
+        f = inv_mod(M[c, c], p, pinv)
+        for j in range(c, s + m):
+            M[c, j] = red(red(M[c, j], p, pinv) * f, p, pinv)
+        for i in range(s):
+            if i != c:
+                g = red(M[i, c], p, pinv)
+                if g != 0.0:
+                    axpy(M, i, c, p - g, uint64(c), uint64(s + m))
+        rounds += 1
+        if rounds >= lazy:
+            for i in range(s):
+                for j in range(c, s + m):
+                    M[i, j] = red(M[i, j], p, pinv)
+            rounds = 0
+    out = np.empty((s, m))
+    for i in range(s):
+        for j in range(m):
+            out[i, j] = red(M[i, s + j], p, pinv)
+    return out

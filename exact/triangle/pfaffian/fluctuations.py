@@ -43,14 +43,17 @@ Fraction(23, 198)
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable, Sequence
 from fractions import Fraction
 from math import ceil, log2
+from typing import Any
 
 import numpy as np
 
 from ...plan import Plan
 from ...validation import check_grain, check_int, check_layers
 from ..gaps import GapCounts
+from ..staircase import dimension
 from .engine import (MAX_POINT_FAILURES, PointFailureError, check_prime, kernel_module, pair_points, level_points,
                      prime_limit, setup_matrices)
 from .route import (_CRT, _STARTUP_SECONDS, _count_bound, _edge_seconds, _primes_above, _run_primes,
@@ -85,7 +88,7 @@ def _matmul_mod(A: np.ndarray, B: np.ndarray, p: int) -> np.ndarray:
     return (high * 8192 + low) % p
 
 
-def edge_level_residues(N: int, p: int, backend: str = "numba", windows=None) -> np.ndarray:
+def edge_level_residues(N: int, p: int, backend: str = "numba", windows: Sequence[int] | None = None) -> np.ndarray:
     """``E[m][l] = sum_{|A| = l} w(A) [N_m(A) = 0] mod p``, ``m = 1..n`` (row 0 unused), ``l = 0..d``.
 
     ``F_m(q) = Z(q) P_q(no part >= m) = sum_l q^l E[m][l] / (l! (d - l)!)`` is
@@ -121,17 +124,25 @@ def edge_level_residues(N: int, p: int, backend: str = "numba", windows=None) ->
     [2, 2, 2, 1, 0, 0, 0]
     """
     N = check_layers(N)
-    n, d = N - 1, N * (N - 1) // 2
     p = check_prime(N, p)
+    n = N - 1
+    windows = range(1, n + 1) if windows is None else [check_int(m, "m", 1, n) for m in windows]
+    return _edge_level_residues(N, p, backend, windows)
+
+
+def _edge_level_residues(N: int, p: int, backend: str, windows: Sequence[int]) -> np.ndarray:
+    """:func:`edge_level_residues` for arguments already checked (the workers of :func:`_level_sums`)."""
+    n, d = N - 1, dimension(N)
     K = kernel_module(backend)
     out = np.zeros((n + 1, d + 1), dtype=np.int64)
     if n == 0:
         return out
-    windows = range(1, n + 1) if windows is None else [check_int(m, "m", 1, n) for m in windows]
     columns = [n - m for m in windows]  # the window m is the column of the n - m + 1 largest parts
     B, X1, expo = setup_matrices(n, p)
     M = level_points(d)
-    reps, partners, values = [], [], []
+    reps: list[int] = []
+    partners: list[int] = []
+    values: list[np.ndarray] = []
     failures = 0
     stream = pair_points(p, set())
     R = np.empty((2, n))
@@ -165,13 +176,15 @@ def edge_level_residues(N: int, p: int, backend: str = "numba", windows=None) ->
     return out
 
 
-def _check_layer_list(N: int, layers) -> list[int]:
+def _check_layer_list(N: int, layers: Iterable[int] | None) -> list[int]:
     if layers is None:
         return list(range(2, N + 1))
     return sorted({check_int(i, "i", 2, N) for i in layers})
 
 
-def lattice_level_sums(N: int, *, layers=None, workers: int | None = None, progress=None, backend: str = "numba"):
+def lattice_level_sums(N: int, *, layers: Iterable[int] | None = None, workers: int | None = None,
+                       progress: Callable[[int], object] | None = None,
+                       backend: str = "numba") -> tuple[list[list[int] | None], int]:
     """Exact ``E[m][l] = sum_{|A| = l} w(A) [N_m(A) = 0]`` for every ``m`` and level ``l``, and ``count(N)``.
 
     ``E[m][l] / count = P(T(1, m) > l)``: the law of the tableau entry of the
@@ -213,15 +226,21 @@ def lattice_level_sums(N: int, *, layers=None, workers: int | None = None, progr
     (2, [2, 2, 2, 1, 0, 0, 0])
     """
     N = check_layers(N, maximum=MAX_LAW_N)
-    n, d = N - 1, N * (N - 1) // 2
-    windows = [N - i + 1 for i in _check_layer_list(N, layers)]
+    return _level_sums(N, _check_layer_list(N, layers), workers, progress, backend)
+
+
+def _level_sums(N: int, layers: list[int], workers: int | None, progress: Callable[[int], object] | None,
+                backend: str) -> tuple[list[list[int] | None], int]:
+    """:func:`lattice_level_sums` for ``N`` and ``layers`` already checked."""
+    n, d = N - 1, dimension(N)
+    windows = [N - i + 1 for i in layers]
     total = count(N, backend)
-    E = [None] * (n + 1)
+    E: list[list[int] | None] = [None] * (n + 1)
     if n == 0:
         return E, total
     primes = _primes_above(total, N)
     nworkers = _workers(workers, len(primes), _prime_seconds(N, len(windows)) * len(primes))
-    residues = _run_primes(edge_level_residues, [(N, p, backend, windows) for p in primes], None, nworkers,
+    residues = _run_primes(_edge_level_residues, [(N, p, backend, windows) for p in primes], None, nworkers,
                            progress, None)  # in the order of the primes
     crt = _CRT(primes)
     for m in windows:
@@ -232,7 +251,7 @@ def lattice_level_sums(N: int, *, layers=None, workers: int | None = None, progr
     return E, total
 
 
-def lattice_gap_laws(N: int, layers=None, **kwargs) -> dict[int, GapCounts]:
+def lattice_gap_laws(N: int, layers: Iterable[int] | None = None, **kwargs: Any) -> dict[int, GapCounts]:
     """Exact rank-gap laws of ``W_{i,1}`` (``= W_{i,i}`` in law, by the mirror symmetry), every layer ``i = 2..N``.
 
     ``W_{i,1} = S_{i,1}`` is a single tableau entry ``T(1, m)``,
@@ -259,17 +278,24 @@ def lattice_gap_laws(N: int, layers=None, **kwargs) -> dict[int, GapCounts]:
     (0, 0, 2, 0, 0, 0, 0, 0)
     """
     N = check_layers(N, maximum=MAX_LAW_N)
-    d = N * (N - 1) // 2
-    layers = _check_layer_list(N, layers)
-    E, total = lattice_level_sums(N, layers=layers, **kwargs)
+    return _gap_laws(N, _check_layer_list(N, layers), **kwargs)
+
+
+def _gap_laws(N: int, layers: list[int], workers: int | None = None, progress: Callable[[int], object] | None = None,
+              backend: str = "numba") -> dict[int, GapCounts]:
+    """:func:`lattice_gap_laws` for ``N`` and ``layers`` already checked."""
+    d = dimension(N)
+    E, total = _level_sums(N, layers, workers, progress, backend)
     laws = {}
     for i in layers:
         row = E[N - i + 1]
+        if row is None:
+            raise ArithmeticError(f"the level sums of layer {i} are missing")
         laws[i] = GapCounts(tuple([0] + [row[h - 1] - row[h] for h in range(1, d + 1)] + [0]), total, d)
     return laws
 
 
-def lattice_mean_W2(N: int, **kwargs) -> list[Fraction]:
+def lattice_mean_W2(N: int, **kwargs: Any) -> list[Fraction]:
     """Exact ``<W_{i,1}^2> = <W_{i,i}^2>`` for ``i = 1..N``: ``E[g (g + 1)] / ((d + 1)(d + 2))``.
 
     Parameters
@@ -290,9 +316,9 @@ def lattice_mean_W2(N: int, **kwargs) -> list[Fraction]:
     ['1', '2/7', '3/28', '1/28']
     """
     N = check_layers(N, maximum=MAX_LAW_N)
-    d = N * (N - 1) // 2
+    d = dimension(N)
     out = [Fraction(1)]
-    for i, law in sorted(lattice_gap_laws(N, **kwargs).items()):
+    for _layer, law in sorted(_gap_laws(N, _check_layer_list(N, kwargs.pop("layers", None)), **kwargs).items()):
         num = sum(g * (g + 1) * c for g, c in enumerate(law.counts))
         out.append(Fraction(num, law.total * (d + 1) * (d + 2)))
     return out
@@ -300,13 +326,13 @@ def lattice_mean_W2(N: int, **kwargs) -> list[Fraction]:
 
 def _prime_seconds(N: int, windows: int | None = None) -> float:
     """CPU seconds of one prime: the lattice directions' evaluations and the interpolation of ``windows`` windows."""
-    n, d = N - 1, N * (N - 1) // 2
+    n, d = N - 1, dimension(N)
     M = level_points(d)
     windows = n if windows is None else windows
     return _edge_seconds(N) + _SECONDS_PER_LAGRANGE * M**2 + _SECONDS_PER_INTERPOLATION * M**2 * (windows + 3)
 
 
-def grain_gap_law(N: int, grain, **kwargs) -> GapCounts:
+def grain_gap_law(N: int, grain: tuple[int, int], **kwargs: Any) -> GapCounts:
     """Exact rank-gap law of one lattice-direction grain ``(i, 1)`` or ``(i, i)``, ``2 <= i <= N``, by Pfaffians.
 
     The polynomial route of :func:`lattice_gap_laws` for one layer (the same
@@ -345,7 +371,7 @@ def grain_gap_law(N: int, grain, **kwargs) -> GapCounts:
     if i == 1 or j not in (1, i):
         raise ArgumentError(f"grain={tuple(grain)!r} is out of range for the Pfaffian gap law: it must be (i, 1) or "
                          f"(i, i) with 2 <= i <= {N} (interior gaps are two-time quantities, notes/fluctuations.md)")
-    return lattice_gap_laws(N, layers=[i], **kwargs)[i]
+    return _gap_laws(N, [i], **kwargs)[i]
 
 
 def lattice_gap_laws_plan(N: int, memory_bytes: int | None = None, workers: int | None = None,
@@ -380,7 +406,7 @@ def lattice_gap_laws_plan(N: int, memory_bytes: int | None = None, workers: int 
     what = f"gap laws of W_(i,1) N={N} (Pfaffians)"
     if N > MAX_LAW_N:
         return Plan(what, 0, refusal=f"N={N} is out of range for the lattice gap laws: N must be an integer in 2..{MAX_LAW_N}")
-    n, d = N - 1, N * (N - 1) // 2
+    n, d = N - 1, dimension(N)
     nprimes = ceil(_count_bound(N).bit_length() / log2(prime_limit(max(n, 1)) * 0.999))
     windows = n if layers is None else check_int(layers, "layers", 1, n)
     cpu = _prime_seconds(N, windows) * nprimes

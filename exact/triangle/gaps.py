@@ -42,6 +42,7 @@ May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable, Sequence
 from fractions import Fraction
 from typing import NamedTuple
 
@@ -50,7 +51,7 @@ import numpy as np
 from ..modular import crt, primes_for_bound
 from ..plan import Plan
 from ..validation import check_grain, check_int, check_layers
-from .ideal_dp import _predecessor_moves, forward_counts_mod, ideal_levels
+from .ideal_dp import forward_counts_mod, ideal_levels, predecessor_moves
 from .staircase import count, dimension
 from ..errors import ArgumentError, ArgumentTypeError
 
@@ -69,6 +70,12 @@ __all__ = [
     "contact_spacing",
     "contact_gap_law",
     "gap_laws_plan",
+    "check_chain",
+    "down_size",
+    "RunLayout",
+    "run_layout",
+    "transport",
+    "mulmod_sum",
 ]
 
 
@@ -120,7 +127,10 @@ def layer_chain(N: int, i: int) -> list[tuple[int, int]]:
     [(1, 3), (2, 4)]
     """
     N = check_layers(N)
-    i = check_int(i, "i", 1, N)
+    return _layer_cells(N, check_int(i, "i", 1, N))
+
+
+def _layer_cells(N: int, i: int) -> list[tuple[int, int]]:
     return [(r, r + N - i) for r in range(1, i)]
 
 
@@ -137,7 +147,10 @@ def row_chain(N: int, r: int) -> list[tuple[int, int]]:
     [(2, 2), (2, 3)]
     """
     N = check_layers(N)
-    r = check_int(r, "r", 1, N - 1)
+    return _row_cells(N, check_int(r, "r", 1, N - 1))
+
+
+def _row_cells(N: int, r: int) -> list[tuple[int, int]]:
     return [(r, c) for c in range(r, N)]
 
 
@@ -154,11 +167,30 @@ def column_chain(N: int, c: int) -> list[tuple[int, int]]:
     [(1, 2), (2, 2)]
     """
     N = check_layers(N)
-    c = check_int(c, "c", 1, N - 1)
+    return _column_cells(N, check_int(c, "c", 1, N - 1))
+
+
+def _column_cells(N: int, c: int) -> list[tuple[int, int]]:
     return [(r, c) for r in range(1, c + 1)]
 
 
-def _check_chain(N: int, chain) -> tuple[tuple[int, int], ...]:
+def check_chain(N: int, chain: Iterable[tuple[int, int]]) -> tuple[tuple[int, int], ...]:
+    """The cells of ``chain``, checked: cells of the staircase of ``N`` layers, strictly increasing in the poset.
+
+    ``N`` must be checked already (:func:`forcenet.exact.validation.check_layers`).
+
+    Raises
+    ------
+    ArgumentError
+        If a cell is outside the staircase or the cells do not increase.
+    ArgumentTypeError
+        If ``chain`` is not a sequence of integer pairs.
+
+    Examples
+    --------
+    >>> check_chain(4, [[1, 1], (2, 2)])
+    ((1, 1), (2, 2))
+    """
     n = N - 1
     try:
         cells = tuple((check_int(r, "chain row"), check_int(c, "chain column")) for r, c in chain)
@@ -175,15 +207,73 @@ def _check_chain(N: int, chain) -> tuple[tuple[int, int], ...]:
     return cells
 
 
-def _down_size(r: int, c: int) -> int:
-    """Number of cells ``<= (r, c)``: rows ``1..r``, columns ``r'..c``."""
+def down_size(r: int, c: int) -> int:
+    """Number of cells ``<= (r, c)``: rows ``1..r``, columns ``r'..c``.
+
+    Examples
+    --------
+    >>> down_size(2, 3)
+    5
+    """
     return sum(c - rr + 1 for rr in range(1, r + 1))
 
 
 # ---------------------------------------------------------------- the run-length DP
 
 
-def _level_layout(n: int, h: np.ndarray):
+class RunLayout(NamedTuple):
+    """The set-up of a forward pass over the order ideals that follows the runs of a chain of cells.
+
+    Shared by the gap laws (:func:`chain_gap_counts`) and the joint laws
+    (:func:`forcenet.exact.triangle.joint_gaps.joint_gap_counts`); built by :func:`run_layout`.
+    """
+
+    d: int  # the dimension N (N - 1) / 2
+    pvec: np.ndarray  # the primes, int64
+    h: np.ndarray  # h[mask]: how many chain cells the ideal mask contains
+    f: np.ndarray  # f[mask, p]: chains of ideals from the empty one to mask, mod each prime
+    full: int  # the mask of the full ideal
+    lo: list[int]  # lo[k]: the earliest level at which run k can be entered (lo[0] = 0)
+    levels: list[dict[int, np.ndarray]]  # levels[L][k]: the masks at level L containing k chain cells
+    pos: np.ndarray  # pos[mask]: index of mask inside its group of levels
+
+
+def run_layout(n: int, cells: Sequence[tuple[int, int]], primes: Sequence[int]) -> RunLayout:
+    """The :class:`RunLayout` of the chain ``cells`` over the ideals of the staircase with ``n = N - 1`` (trusted).
+
+    Examples
+    --------
+    >>> layout = run_layout(2, [(1, 1)], [101])
+    >>> layout.d, layout.lo, layout.h.tolist()
+    (3, [0, 1], [0, 1, 1, 1])
+    """
+    pvec = np.asarray(primes, dtype=np.int64)
+    masks_all = np.arange(1 << n, dtype=np.int64)
+    h = np.zeros(1 << n, dtype=np.int16)
+    for r, c in cells:  # (r, c) in the ideal <=> at least r parts >= c - r + 1
+        h += np.bitwise_count(masks_all >> (c - r)) >= r
+    del masks_all
+    f = forward_counts_mod(n, primes)
+    lo = [0] + [down_size(r, c) for r, c in cells]  # earliest level of entering run k
+    levels, pos = _level_layout(n, h)
+    return RunLayout(dimension(n + 1), pvec, h, f, (1 << n) - 1, lo, levels, pos)
+
+
+def transport(rows: np.ndarray, cols: np.ndarray, size: int, src: np.ndarray) -> np.ndarray:
+    """``out[rows[t]] += src[cols[t]]`` for every move ``t``, as one sparse product; ``out`` has ``size`` rows.
+
+    Examples
+    --------
+    >>> transport(np.array([0, 0, 1]), np.array([0, 1, 1]), 2, np.array([[1], [10]])).tolist()
+    [[11], [10]]
+    """
+    from scipy.sparse import csr_matrix
+
+    A = csr_matrix((np.ones(rows.size, dtype=np.int64), (rows, cols)), shape=(size, src.shape[0]))
+    return (A @ src.reshape(src.shape[0], -1)).reshape((size,) + src.shape[1:])
+
+
+def _level_layout(n: int, h: np.ndarray) -> tuple[list[dict[int, np.ndarray]], np.ndarray]:
     """Masks of each level grouped by ``h``; ``pos[mask]`` = index inside its group."""
     order, bounds = ideal_levels(n)
     d = dimension(n + 1)
@@ -196,7 +286,7 @@ def _level_layout(n: int, h: np.ndarray):
         masks, hm = masks[srt], hm[srt]
         ks, starts = np.unique(hm, return_index=True)
         ends = list(starts[1:]) + [masks.size]
-        groups = {}
+        groups: dict[int, np.ndarray] = {}
         for k, a, b in zip(ks.tolist(), starts.tolist(), ends):
             block = masks[a:b]
             pos[block] = np.arange(b - a)
@@ -205,11 +295,17 @@ def _level_layout(n: int, h: np.ndarray):
     return levels, pos
 
 
-def _mulmod_sum(X: np.ndarray, u: np.ndarray, pvec: np.ndarray) -> np.ndarray:
+def mulmod_sum(X: np.ndarray, u: np.ndarray, pvec: np.ndarray) -> np.ndarray:
     """``sum_b X[b, e, p] * u[b, p] mod p`` without overflow (``X, u < 2**31``).
 
     ``u`` is split into 16-bit limbs so that every partial sum stays below
     ``2**63`` (at most ``2**15`` rows per block).
+
+    Examples
+    --------
+    >>> X = np.array([[[3]], [[4]]]); u = np.array([[5], [6]])
+    >>> mulmod_sum(X, u, np.array([7])).tolist()  # (15 + 24) mod 7
+    [[4]]
     """
     out = np.zeros(X.shape[1:], dtype=np.int64)
     lo, hi = u & 0xFFFF, u >> 16
@@ -232,21 +328,9 @@ def _chain_residues(n: int, cells, primes, progress=None) -> np.ndarray:
     chains from the new ideal to the top, ``f(complement)`` (complement lemma),
     and starts run ``k + 1`` with ``e = L`` and weight ``f(M)``.
     """
-    from scipy.sparse import csr_matrix
-
-    d = dimension(n + 1)
+    d, pvec, h, f, full, lo, levels, pos = run_layout(n, cells, primes)
     K = len(cells)
     P = len(primes)
-    pvec = np.asarray(primes, dtype=np.int64)
-    masks_all = np.arange(1 << n, dtype=np.int64)
-    h = np.zeros(1 << n, dtype=np.int16)
-    for r, c in cells:  # (r, c) in the ideal <=> at least r parts >= c - r + 1
-        h += np.bitwise_count(masks_all >> (c - r)) >= r
-    del masks_all
-    f = forward_counts_mod(n, primes)
-    full = (1 << n) - 1
-    lo = [0] + [_down_size(r, c) for r, c in cells]  # earliest level of entering run k
-    levels, pos = _level_layout(n, h)
     out = np.zeros((K + 1, d + 2, P), dtype=np.int64)
     prev = {0: np.ones((1, 1, P), dtype=np.int64)}  # level 0: empty ideal, run 0 entered at 0
     for L in range(1, d + 1):
@@ -255,26 +339,20 @@ def _chain_residues(n: int, cells, primes, progress=None) -> np.ndarray:
             elo = 0 if k == 0 else lo[k]
             width = 1 if k == 0 else L - elo + 1
             acc = np.zeros((block.size, width, P), dtype=np.int64)
-            rows, cols, add_rows, add_pred = [], [], [], []
-            for sel, pred in _predecessor_moves(block, n):
-                add = h[pred] != k
-                rows.append(sel[~add])
-                cols.append(pos[pred[~add]])
-                add_rows.append(sel[add])
-                add_pred.append(pred[add])
-            rows, cols = np.concatenate(rows), np.concatenate(cols)
+            moves = list(predecessor_moves(block, n))
+            sel = np.concatenate([s for s, _ in moves])
+            pred = np.concatenate([p for _, p in moves])
+            add = h[pred] != k
+            rows, cols = sel[~add], pos[pred[~add]]
             if rows.size:
                 src = prev[k]
-                A = csr_matrix(
-                    (np.ones(rows.size, dtype=np.int64), (rows, cols)), shape=(block.size, src.shape[0])
-                )
-                acc[:, : src.shape[1]] = (A @ src.reshape(src.shape[0], -1)).reshape(block.size, -1, P)
-            add_rows, add_pred = np.concatenate(add_rows), np.concatenate(add_pred)
+                acc[:, : src.shape[1]] = transport(rows, cols, block.size, src)
+            add_rows, add_pred = sel[add], pred[add]
             if add_rows.size:  # the move adds x_k: run k-1 ends, run k starts at level L
                 acc[add_rows, L - elo] += f[add_pred]
                 X = prev[k - 1][pos[add_pred]]  # (a, width_{k-1}, P), e = elo_{k-1} + index
                 u = f[full ^ block[add_rows]].astype(np.int64)
-                Y = _mulmod_sum(X, u, pvec)
+                Y = mulmod_sum(X, u, pvec)
                 e = (0 if k == 1 else lo[k - 1]) + np.arange(Y.shape[0])
                 out[k - 1, L - e] += Y
             cur[k] = acc % pvec
@@ -298,7 +376,7 @@ def _level_sizes(n: int) -> list[int]:
     return sizes
 
 
-def estimate_chain_cost(N: int, chain, n_primes: int | None = None) -> int:
+def estimate_chain_cost(N: int, chain: Iterable[tuple[int, int]], n_primes: int | None = None) -> int:
     """Peak bytes of one pass of :func:`chain_gap_counts` (all primes at once), an upper bound.
 
     Measured: N = 20 about 0.25 GiB (estimate 0.32), N = 22 about 0.76 GiB
@@ -309,7 +387,11 @@ def estimate_chain_cost(N: int, chain, n_primes: int | None = None) -> int:
     >>> estimate_chain_cost(12, layer_chain(12, 12)) < 2**24
     True
     """
-    N = check_layers(N)
+    return _chain_cost(check_layers(N), n_primes)
+
+
+def _chain_cost(N: int, n_primes: int | None) -> int:
+    """:func:`estimate_chain_cost` for ``N`` already checked (the cost does not depend on the chain)."""
     n, d = N - 1, dimension(N)
     if n_primes is None:
         n_primes = len(primes_for_bound(count(N)))
@@ -317,7 +399,8 @@ def estimate_chain_cost(N: int, chain, n_primes: int | None = None) -> int:
     return width * (d + 1) * n_primes * _BYTES_PER_STATE + (1 << n) * (4 * n_primes + 16)
 
 
-def chain_gap_counts(N: int, chain, *, memory_bytes: int = 4 * 2**30, progress=None) -> list[GapCounts]:
+def chain_gap_counts(N: int, chain: Iterable[tuple[int, int]], *, memory_bytes: int = 4 * 2**30,
+                     progress: Callable[[int], object] | None = None) -> list[GapCounts]:
     """Exact law of every interval of a chain of cells in a uniform tableau.
 
     For a chain ``x_1 < ... < x_K`` of the staircase poset and the conventions
@@ -348,11 +431,12 @@ def chain_gap_counts(N: int, chain, *, memory_bytes: int = 4 * 2**30, progress=N
     [(0, 2, 0, 0, 0, 0, 0, 0), (0, 0, 1, 1, 0, 0, 0, 0), (0, 0, 0, 1, 1, 0, 0, 0)]
     """
     N = check_layers(N)
-    cells = _check_chain(N, chain)
+    cells = check_chain(N, chain)
     return _chain_gap_counts(N, cells, memory_bytes, progress)
 
 
-def _chain_gap_counts(N, cells, memory_bytes=4 * 2**30, progress=None):
+def _chain_gap_counts(N: int, cells: tuple[tuple[int, int], ...], memory_bytes: int = 4 * 2**30,
+                      progress: Callable[[int], object] | None = None) -> list[GapCounts]:
     n, d = N - 1, dimension(N)
     total = count(N)
     if n == 0 or not cells:
@@ -360,7 +444,7 @@ def _chain_gap_counts(N, cells, memory_bytes=4 * 2**30, progress=None):
         counts[d + 1] = total
         return [GapCounts(tuple(counts), total, d)]
     primes = primes_for_bound(total)
-    per_prime = estimate_chain_cost(N, cells, 1)
+    per_prime = _chain_cost(N, 1)
     size = max(1, int(memory_bytes // per_prime))
     chunks = [primes[k : k + size] for k in range(0, len(primes), size)]
     out = np.concatenate([_chain_residues(n, cells, chunk, progress) for chunk in chunks], axis=2)
@@ -382,15 +466,17 @@ def _chain_gap_counts(N, cells, memory_bytes=4 * 2**30, progress=None):
     return result
 
 
-_CACHE: dict = {}  # (kind, N, index) -> laws of one chain pass; the most recent 64 are kept
+_CACHE: dict[tuple[str, int, int], tuple[GapCounts, ...]] = {}  # (kind, N, index) -> laws of one chain pass; the most recent 64 are kept
 _CACHE_SIZE = 64
+_CHAIN_CELLS = {"layer": _layer_cells, "row": _row_cells, "column": _column_cells}
 
 
-def _chain_pass(kind: str, N: int, index: int, progress=None) -> tuple[GapCounts, ...]:
-    """The laws of one layer / row / column pass, cached (``progress`` ticks only when it runs)."""
+def _chain_pass(kind: str, N: int, index: int, progress: Callable[[int], object] | None = None
+                ) -> tuple[GapCounts, ...]:
+    """The laws of one layer / row / column pass (``N``, ``index`` checked), cached (``progress`` ticks only when it runs)."""
     key = (kind, N, index)
     if key not in _CACHE:
-        chain = {"layer": layer_chain, "row": row_chain, "column": column_chain}[kind](N, index)
+        chain = _CHAIN_CELLS[kind](N, index)
         laws = tuple(_chain_gap_counts(N, tuple(chain), progress=progress))
         if len(_CACHE) >= _CACHE_SIZE:
             _CACHE.pop(next(iter(_CACHE)))
@@ -398,7 +484,7 @@ def _chain_pass(kind: str, N: int, index: int, progress=None) -> tuple[GapCounts
     return _CACHE[key]
 
 
-def layer_gap_counts(N: int, i: int, progress=None) -> tuple[GapCounts, ...]:
+def layer_gap_counts(N: int, i: int, progress: Callable[[int], object] | None = None) -> tuple[GapCounts, ...]:
     """Exact gap laws of ``W_{i,1}, ..., W_{i,i}`` (one pass over the ideals, cached).
 
     ``progress`` is called once per level of the ideal lattice (``d`` times) if
@@ -414,7 +500,7 @@ def layer_gap_counts(N: int, i: int, progress=None) -> tuple[GapCounts, ...]:
     return _chain_pass("layer", N, i, progress)
 
 
-def grain_gap_counts(N: int, grain, progress=None) -> GapCounts:
+def grain_gap_counts(N: int, grain: tuple[int, int], progress: Callable[[int], object] | None = None) -> GapCounts:
     """Exact law of the rank gap of ``W_{i,j}``.
 
     Examples
@@ -424,10 +510,10 @@ def grain_gap_counts(N: int, grain, progress=None) -> GapCounts:
     """
     N = check_layers(N)
     i, j = check_grain(N, grain)
-    return layer_gap_counts(N, i, progress)[j - 1]
+    return _chain_pass("layer", N, i, progress)[j - 1]
 
 
-def gap_distribution(N: int, grain) -> list[Fraction]:
+def gap_distribution(N: int, grain: tuple[int, int]) -> list[Fraction]:
     """``[P(gap = g) for g in 0..d+1]`` of ``W_{i,j}``, exact.
 
     Examples
@@ -441,7 +527,7 @@ def gap_distribution(N: int, grain) -> list[Fraction]:
 CONTACT_KINDS = ("F1", "F2", "F5", "F6")
 
 
-def contact_spacing(N: int, grain, kind: str) -> tuple[str, int, int]:
+def contact_spacing(N: int, grain: tuple[int, int], kind: str) -> tuple[str, int, int]:
     """Where the contact ``kind`` of ``grain`` lives: ``("row" | "column", index, interval)``.
 
     ``(sqrt3/2) F6^{(i,j)} = S_{i,j} - S_{i+1,j}`` is interval ``N - i`` of row
@@ -459,6 +545,11 @@ def contact_spacing(N: int, grain, kind: str) -> tuple[str, int, int]:
     """
     N = check_layers(N)
     i, j = check_grain(N, grain)
+    return _contact_spacing(N, i, j, kind, grain)
+
+
+def _contact_spacing(N: int, i: int, j: int, kind: str, grain: object) -> tuple[str, int, int]:
+    """:func:`contact_spacing` for ``N`` and the grain ``(i, j)`` already checked (``grain`` as given, for the messages)."""
     if kind not in CONTACT_KINDS:
         raise ArgumentError(f"kind={kind!r} is not a contact force that is a spacing: kind must be one of {', '.join(CONTACT_KINDS)} "
                          "(F3, F4 are lateral forces, p_h plus signed sums of spacings)")
@@ -476,7 +567,8 @@ def contact_spacing(N: int, grain, kind: str) -> tuple[str, int, int]:
     return "column", N - i + j - 1, j - 1
 
 
-def contact_gap_law(N: int, grain, kind: str, progress=None) -> GapCounts:
+def contact_gap_law(N: int, grain: tuple[int, int], kind: str, progress: Callable[[int], object] | None = None
+                    ) -> GapCounts:
     """Exact law of the rank gap of the contact force ``kind`` of ``grain`` (one pass).
 
     The force is ``(2/sqrt3)`` times a spacing with this gap
@@ -487,12 +579,14 @@ def contact_gap_law(N: int, grain, kind: str, progress=None) -> GapCounts:
     >>> contact_gap_law(4, (3, 2), "F6").counts[:5]
     (0, 1, 1, 0, 0)
     """
-    where, index, interval = contact_spacing(N, grain, kind)
     N = check_layers(N)
+    i, j = check_grain(N, grain)
+    where, index, interval = _contact_spacing(N, i, j, kind, grain)
     return _chain_pass(where, N, index, progress)[interval]
 
 
-def contact_gap_counts(N: int, mirror: bool = True, progress=None) -> dict:
+def contact_gap_counts(N: int, mirror: bool = True, progress: Callable[[int], object] | None = None
+                       ) -> dict[tuple[int, int, str], GapCounts]:
     """Gap laws of the lower contact forces of every grain of layers ``1..N-1``.
 
     Keys ``(i, j, 'F5')`` and ``(i, j, 'F6')``; the contact force is
@@ -512,7 +606,7 @@ def contact_gap_counts(N: int, mirror: bool = True, progress=None) -> dict:
     ((0, 1, 0, 0, 0), (0, 1, 0, 0, 0))
     """
     N = check_layers(N)
-    out = {}
+    out: dict[tuple[int, int, str], GapCounts] = {}
     for r in range(1, N):
         laws = _chain_pass("row", N, r, progress)
         for k in range(1, len(laws)):
@@ -573,8 +667,8 @@ def gap_laws_plan(N: int, passes: int = 1, memory_bytes: int | None = None, what
     if N > _MAX_LAYERS:
         return Plan(what, 0, refusal=f"N={N} is out of range for exact gap laws: N must be an integer in 2..{_MAX_LAYERS}")
     primes = len(primes_for_bound(count(N)))
-    per_prime = estimate_chain_cost(N, (), 1)
+    per_prime = _chain_cost(N, 1)
     chunk = max(1, min(primes, (4 * 2**30) // per_prime))  # primes per chunk, as chain_gap_counts does
-    nbytes = estimate_chain_cost(N, (), chunk) + 100 * 2**20
+    nbytes = _chain_cost(N, chunk) + 100 * 2**20
     plan = Plan(what, passes * _pass_seconds(N, average=passes > 1), nbytes, passes * dimension(N), "level")
     return plan.within_memory(memory_bytes)

@@ -25,6 +25,7 @@ integers.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from functools import lru_cache, cache
 from typing import NamedTuple
 
@@ -43,6 +44,7 @@ __all__ = [
     "survival_primes",
     "parts_table",
     "marked_chain_sums",
+    "predecessor_moves",
 ]
 
 
@@ -79,8 +81,17 @@ def ideal_levels(n: int):
     return order, bounds
 
 
-def _predecessor_moves(masks: np.ndarray, n: int):
-    """Yield ``(positions, predecessor_masks)`` for each kind of removal."""
+def predecessor_moves(masks: np.ndarray, n: int) -> Iterator[tuple[np.ndarray, np.ndarray]]:
+    """Yield ``(positions, predecessor_masks)`` for each kind of removal of one cell from the ideals ``masks``.
+
+    An ideal is a set of distinct parts in ``1..n`` (bit ``a - 1`` of the mask);
+    removing a cell takes a part 1 away or lowers a part ``q + 1`` to ``q``.
+
+    Examples
+    --------
+    >>> [(s.tolist(), p.tolist()) for s, p in predecessor_moves(np.array([1, 2, 3]), 2)]
+    [([0, 2], [0, 2]), ([1], [1])]
+    """
     sel = np.flatnonzero(masks & 1)  # remove part 1
     if sel.size:
         yield sel, masks[sel] - 1
@@ -110,7 +121,7 @@ def forward_counts_mod(n: int, primes, progress=None) -> np.ndarray:
     for k in range(1, d + 1):
         masks = order[bounds[k] : bounds[k + 1]].astype(np.int64)
         acc = np.zeros((masks.size, P), dtype=np.int64)
-        for sel, pred in _predecessor_moves(masks, n):
+        for sel, pred in predecessor_moves(masks, n):
             acc[sel] += f[pred]
         f[masks] = acc % pvec
         if progress is not None:
@@ -306,7 +317,7 @@ def marked_chain_sums(n: int, primes, initial, update, progress=None) -> np.ndar
     for k in range(1, d + 1):
         masks = order[bounds[k] : bounds[k + 1]].astype(np.int64)
         acc = np.zeros((masks.size, n_states, P), dtype=np.int64)
-        for sel, pred in _predecessor_moves(masks, n):
+        for sel, pred in predecessor_moves(masks, n):
             acc[sel] += F[pred]
         acc %= pvec
         F[masks] = update(masks, acc) % pvec

@@ -23,47 +23,33 @@ May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 import numpy as np
 
 from ..modular import crt, primes_for_bound
 from ..validation import check_grain, check_int, check_layers
-from .gaps import _check_chain, _down_size, _level_layout, _mulmod_sum
-from .ideal_dp import _predecessor_moves, forward_counts_mod
+from .gaps import check_chain, mulmod_sum, run_layout, transport
+from .ideal_dp import predecessor_moves
 from .staircase import count, dimension
 from ..errors import ArgumentError
 
 __all__ = ["joint_gap_counts", "q_gap_counts"]
 
 
-def _joint_residues(n: int, cells, k: int, primes) -> np.ndarray:
+def _joint_residues(n: int, cells: tuple[tuple[int, int], ...], k: int, primes: list[int]) -> np.ndarray:
     """``out[g1, g2, p]``: tableaux with gaps ``(g1, g2)`` in intervals ``k``, ``k + 1``, mod ``p``.
 
-    Like :func:`_chain_residues`, but the state in run ``k + 1`` is the pair
+    Like :func:`forcenet.exact.triangle.gaps.chain_gap_counts`' pass (the same set-up,
+    :func:`~forcenet.exact.triangle.gaps.run_layout`), but the state in run ``k + 1`` is the pair
     (gap of run ``k``, level where run ``k + 1`` started).
     """
-    from scipy.sparse import csr_matrix
-
-    d = dimension(n + 1)
+    d, pvec, h, f, full, lo, levels, pos = run_layout(n, cells, primes)
     K = len(cells)
     P = len(primes)
-    pvec = np.asarray(primes, dtype=np.int64)
-    masks_all = np.arange(1 << n, dtype=np.int64)
-    h = np.zeros(1 << n, dtype=np.int16)
-    for r, c in cells:
-        h += np.bitwise_count(masks_all >> (c - r)) >= r
-    del masks_all
-    f = forward_counts_mod(n, primes)
-    full = (1 << n) - 1
-    lo = [0] + [_down_size(r, c) for r, c in cells]
-    levels, pos = _level_layout(n, h)
     out = np.zeros((d + 2, d + 2, P), dtype=np.int64)
     G = d + 2  # range of the first gap
-
-    def transport(block, src, rows, cols, shape):
-        A = csr_matrix((np.ones(rows.size, dtype=np.int64), (rows, cols)), shape=(block.size, src.shape[0]))
-        return (A @ src.reshape(src.shape[0], -1)).reshape(shape)
-
-    prev = {}
+    prev: dict[int, np.ndarray] = {}
     if k == 0:
         prev[0] = np.ones((1, 1, P), dtype=np.int64)  # run 0 entered at level 0
     for L in range(1, d + 1):
@@ -71,7 +57,7 @@ def _joint_residues(n: int, cells, k: int, primes) -> np.ndarray:
         for hk, block in levels[L].items():
             if hk not in (k, k + 1):
                 continue
-            moves = list(_predecessor_moves(block, n))
+            moves = list(predecessor_moves(block, n))
             sel = np.concatenate([s for s, _ in moves])
             pred = np.concatenate([p for _, p in moves])
             same = h[pred] == hk
@@ -80,9 +66,7 @@ def _joint_residues(n: int, cells, k: int, primes) -> np.ndarray:
                 acc = np.zeros((block.size, L - elo + 1, P), dtype=np.int64)
                 if same.any():
                     src = prev[k]
-                    acc[:, : src.shape[1]] = transport(
-                        block, src, sel[same], pos[pred[same]], (block.size, src.shape[1], P)
-                    )
+                    acc[:, : src.shape[1]] = transport(sel[same], pos[pred[same]], block.size, src)
                 if (~same).any():  # run k starts here: all chains to the predecessor
                     np.add.at(acc[:, L - elo], sel[~same], f[pred[~same]].astype(np.int64))
             else:
@@ -90,9 +74,7 @@ def _joint_residues(n: int, cells, k: int, primes) -> np.ndarray:
                 acc = np.zeros((block.size, G, L - elo + 1, P), dtype=np.int64)
                 if same.any():
                     src = prev[k + 1]
-                    acc[:, :, : src.shape[2]] = transport(
-                        block, src, sel[same], pos[pred[same]], (block.size, G, src.shape[2], P)
-                    )
+                    acc[:, :, : src.shape[2]] = transport(sel[same], pos[pred[same]], block.size, src)
                 if (~same).any():  # run k ends (gap L - e1), run k + 1 starts at L
                     s2, p2 = sel[~same], pred[~same]
                     X = prev[k][pos[p2]]  # (a, w1, P), e1 = lo[k] + index
@@ -103,7 +85,7 @@ def _joint_residues(n: int, cells, k: int, primes) -> np.ndarray:
             # run k + 1 ends when x_{k+2} is added: emit with the number of completions
         if k + 2 <= K and k + 2 in levels[L] and (k + 1) in prev:
             block = levels[L][k + 2]
-            moves = list(_predecessor_moves(block, n))
+            moves = list(predecessor_moves(block, n))
             sel = np.concatenate([s for s, _ in moves])
             pred = np.concatenate([p for _, p in moves])
             add = h[pred] == k + 1
@@ -111,7 +93,7 @@ def _joint_residues(n: int, cells, k: int, primes) -> np.ndarray:
                 s2, p2 = sel[add], pred[add]
                 X = prev[k + 1][pos[p2]]  # (a, G, w2, P)
                 u = f[full ^ block[s2]].astype(np.int64)
-                Y = _mulmod_sum(X.reshape(X.shape[0], -1, P), u, pvec).reshape(G, -1, P)
+                Y = mulmod_sum(X.reshape(X.shape[0], -1, P), u, pvec).reshape(G, -1, P)
                 e2 = lo[k + 1] + np.arange(Y.shape[1])
                 out[:, L - e2] += Y
         prev = cur
@@ -122,7 +104,7 @@ def _joint_residues(n: int, cells, k: int, primes) -> np.ndarray:
     return out % pvec
 
 
-def joint_gap_counts(N: int, chain, k: int) -> tuple[list[list[int]], int]:
+def joint_gap_counts(N: int, chain: Iterable[tuple[int, int]], k: int) -> tuple[list[list[int]], int]:
     """Exact joint law of the gaps of intervals ``k`` and ``k + 1`` of a chain.
 
     Returns ``(counts, total)`` with ``counts[g1][g2]`` the number of tableaux.
@@ -136,8 +118,12 @@ def joint_gap_counts(N: int, chain, k: int) -> tuple[list[list[int]], int]:
     (2, [(2, 3, 2)])
     """
     N = check_layers(N)
-    cells = _check_chain(N, chain)
-    k = check_int(k, "k", 0, len(cells) - 1)
+    cells = check_chain(N, chain)
+    return _joint_gap_counts(N, cells, check_int(k, "k", 0, len(cells) - 1))
+
+
+def _joint_gap_counts(N: int, cells: tuple[tuple[int, int], ...], k: int) -> tuple[list[list[int]], int]:
+    """:func:`joint_gap_counts` for arguments already checked."""
     total = count(N)
     primes = primes_for_bound(total)
     out = _joint_residues(N - 1, cells, k, primes)
@@ -151,7 +137,7 @@ def joint_gap_counts(N: int, chain, k: int) -> tuple[list[list[int]], int]:
     return counts, total
 
 
-def q_gap_counts(N: int, grain) -> tuple[list[list[int]], int]:
+def q_gap_counts(N: int, grain: tuple[int, int]) -> tuple[list[list[int]], int]:
     """Joint law of the gaps ``(g5, g6)`` of ``F5`` and ``F6`` of grain ``(i, j)``, ``i < N``.
 
     ``q_{i,j} = F5 / (F5 + F6)`` is, given the tableau, Beta(``g5``, ``g6``) and
@@ -169,13 +155,14 @@ def q_gap_counts(N: int, grain) -> tuple[list[list[int]], int]:
     if i == N:
         raise ArgumentError(f"grain={grain!r}: the bottom layer has no q (no grains below); i must be an integer in 1..{N - 1}")
     c = N - i + j
-    chain, k = [], 0
+    chain: list[tuple[int, int]] = []
+    k = 0
     if j >= 2:
         chain.append((j - 1, c - 1))  # S_{i,j-1}
         k = 1
     chain.append((j, c - 1))  # S_{i+1,j}
     if j <= i - 1:
         chain.append((j, c))  # S_{i,j}
-    return joint_gap_counts(N, chain, k)
+    return _joint_gap_counts(N, tuple(chain), k)
 
 

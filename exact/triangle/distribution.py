@@ -42,15 +42,16 @@ May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.plan`,
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable, Sequence
 from fractions import Fraction
 from math import comb
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import sympy
 
 from ..plan import Plan
 from ..validation import check_grain, check_int, check_layers
-from .gaps import GapCounts, contact_gap_counts, contact_gap_law, gap_laws_plan, grain_gap_counts, layer_gap_counts
+from .gaps import GapCounts, chain_pass, contact_gap_counts, contact_gap_law, gap_laws_plan
 from .joint_gaps import q_gap_counts
 from .moments import mean_W_grain
 from .spacings import rising
@@ -79,10 +80,12 @@ __all__ = [
     "q_density",
     "poly_strings",
     "distribution_plan",
+    "Q_SYMBOL",
 ]
 
 W_SYMBOL = sympy.Symbol("w")
 F_SYMBOL = sympy.Symbol("f")
+Q_SYMBOL = sympy.Symbol("q")
 
 
 def _poly(coeffs, var) -> sympy.Poly:
@@ -99,7 +102,7 @@ def _check_density_gaps(gaps: GapCounts) -> None:
                          "e.g. W_{1,1} = 1): it has no density")
 
 
-def density_from_gaps(gaps: GapCounts, var=W_SYMBOL) -> sympy.Poly:
+def density_from_gaps(gaps: GapCounts, var: sympy.Symbol = W_SYMBOL) -> sympy.Poly:
     """Exact density ``sum_g P(g) Beta(g, d+1-g)``, a polynomial of degree ``<= d - 1`` on ``[0, 1]``.
 
     The Bernstein coefficients are ``d P(gap = k + 1)``, ``k = 0..d-1``.
@@ -121,7 +124,7 @@ def density_from_gaps(gaps: GapCounts, var=W_SYMBOL) -> sympy.Poly:
     return _poly([Fraction(d * x, gaps.total) for x in coeffs], var)
 
 
-def cdf_from_gaps(gaps: GapCounts, var=W_SYMBOL) -> sympy.Poly:
+def cdf_from_gaps(gaps: GapCounts, var: sympy.Symbol = W_SYMBOL) -> sympy.Poly:
     """Exact ``P(X <= w)`` on ``[0, 1]``: the Bernstein coefficients are ``P(gap <= k)``.
 
     ``I_w(g, d+1-g) = P(Binomial(d, w) >= g)``; summing over ``g`` gives
@@ -151,6 +154,7 @@ def moment_from_gaps(gaps: GapCounts, s: int) -> Fraction:
 
     Examples
     --------
+    >>> from forcenet.exact.triangle.gaps import grain_gap_counts
     >>> moment_from_gaps(grain_gap_counts(5, (5, 1)), 2)
     Fraction(1, 66)
     """
@@ -159,16 +163,16 @@ def moment_from_gaps(gaps: GapCounts, s: int) -> Fraction:
     return Fraction(num, gaps.total * rising(gaps.d + 1, s))
 
 
-def _load_gaps(N: int, grain, progress=None) -> GapCounts:
+def _load_gaps(N: int, grain: tuple[int, int], progress: Callable[[int], object] | None = None) -> GapCounts:
     N = check_layers(N)
     i, j = check_grain(N, grain)
     if i == 1:
         raise ArgumentError(f"grain={grain!r}: W_{{1,1}} = 1 is the overload, it has no density; "
                          f"i must be an integer in 2..{N}")
-    return grain_gap_counts(N, (i, j), progress)
+    return chain_pass("layer", N, i, progress)[j - 1]
 
 
-def density(N: int, grain, var=W_SYMBOL, progress=None) -> sympy.Poly:
+def density(N: int, grain: tuple[int, int], var: sympy.Symbol = W_SYMBOL, progress: Callable[[int], object] | None = None) -> sympy.Poly:
     """Exact density of ``W_{i,j}`` on ``[0, 1]`` (layers ``i >= 2``), degree ``<= d - 1``.
 
     Examples
@@ -179,7 +183,7 @@ def density(N: int, grain, var=W_SYMBOL, progress=None) -> sympy.Poly:
     return density_from_gaps(_load_gaps(N, grain, progress), var)
 
 
-def cdf(N: int, grain, var=W_SYMBOL, progress=None) -> sympy.Poly:
+def cdf(N: int, grain: tuple[int, int], var: sympy.Symbol = W_SYMBOL, progress: Callable[[int], object] | None = None) -> sympy.Poly:
     """Exact ``P(W_{i,j} <= w)`` on ``[0, 1]`` (layers ``i >= 2``).
 
     Examples
@@ -190,7 +194,8 @@ def cdf(N: int, grain, var=W_SYMBOL, progress=None) -> sympy.Poly:
     return cdf_from_gaps(_load_gaps(N, grain, progress), var)
 
 
-def contact_density(N: int, grain, kind: str, var=W_SYMBOL, progress=None) -> sympy.Poly:
+def contact_density(N: int, grain: tuple[int, int], kind: str, var: sympy.Symbol = W_SYMBOL,
+                    progress: Callable[[int], object] | None = None) -> sympy.Poly:
     """Exact density of ``x = (sqrt3/2) F`` for the contact ``kind`` in F1, F2, F5, F6 of ``grain``.
 
     ``F5 = (2/sqrt3) q W``, ``F6 = (2/sqrt3)(1-q) W`` (3.8) are spacings of
@@ -205,7 +210,8 @@ def contact_density(N: int, grain, kind: str, var=W_SYMBOL, progress=None) -> sy
     return density_from_gaps(contact_gap_law(N, grain, kind, progress), var)
 
 
-def contact_cdf(N: int, grain, kind: str, var=W_SYMBOL, progress=None) -> sympy.Poly:
+def contact_cdf(N: int, grain: tuple[int, int], kind: str, var: sympy.Symbol = W_SYMBOL,
+                progress: Callable[[int], object] | None = None) -> sympy.Poly:
     """Exact ``P((sqrt3/2) F <= x)`` for the contact ``kind`` of ``grain``.
 
     Examples
@@ -219,11 +225,12 @@ def contact_cdf(N: int, grain, kind: str, var=W_SYMBOL, progress=None) -> sympy.
 # ------------------------------------------------------------------ pooled P(f)
 
 
-def pool_gaps(laws) -> GapCounts:
+def pool_gaps(laws: Iterable[GapCounts]) -> GapCounts:
     """Mixture of gap laws with equal weights (same ``d`` and ``total``).
 
     Examples
     --------
+    >>> from forcenet.exact.triangle.gaps import layer_gap_counts
     >>> pool_gaps(layer_gap_counts(3, 3)).counts
     (0, 2, 1, 0, 0)
     """
@@ -243,12 +250,7 @@ def _scaled(p: sympy.Poly, scale: Fraction, var) -> sympy.Poly:
     return _poly([c * scale ** (m + 1) for m, c in enumerate(coeffs)], var)
 
 
-def _check_layer(N: int, i, lowest: int, highest: int) -> tuple[int, int]:
-    N = check_layers(N)
-    return N, check_int(i, "i", lowest, highest(N) if callable(highest) else highest)
-
-
-def layer_force_density(N: int, i: int, var=F_SYMBOL, progress=None) -> sympy.Poly:
+def layer_force_density(N: int, i: int, var: sympy.Symbol = F_SYMBOL, progress: Callable[[int], object] | None = None) -> sympy.Poly:
     """Exact ``P_i(f)`` of ``f = i W_{i,j}`` pooled over the grains of layer ``i``.
 
     Every layer carries the unit overload, so the mean of its ``i`` loads is
@@ -262,8 +264,13 @@ def layer_force_density(N: int, i: int, var=F_SYMBOL, progress=None) -> sympy.Po
     Poly(-2/9*f + 2/3, f, domain='QQ')
     """
     N = check_layers(N)
-    i = check_int(i, "i", 2, N)
-    p = density_from_gaps(pool_gaps(layer_gap_counts(N, i, progress)), var)
+    return _layer_force_density(N, check_int(i, "i", 2, N), var, progress)
+
+
+def _layer_force_density(N: int, i: int, var: sympy.Symbol, progress: Callable[[int], object] | None
+                         ) -> sympy.Poly:
+    """:func:`layer_force_density` for ``N`` and ``i`` already checked."""
+    p = density_from_gaps(pool_gaps(chain_pass("layer", N, i, progress)), var)
     return _scaled(p, Fraction(1, i), var)
 
 
@@ -286,7 +293,8 @@ def _pieces(terms, var) -> list[Piece]:
     return pieces
 
 
-def triangle_force_density(N: int, var=F_SYMBOL, layers=None, progress=None) -> list[Piece]:
+def triangle_force_density(N: int, var: sympy.Symbol = F_SYMBOL, layers: Iterable[int] | None = None,
+                           progress: Callable[[int], object] | None = None) -> list[Piece]:
     """Exact ensemble ``P(f)`` pooled over every grain of layers ``2..N``, ``f = i W_{i,j}``.
 
     Each grain has weight ``1 / (number of grains)``; each load is divided by
@@ -304,11 +312,11 @@ def triangle_force_density(N: int, var=F_SYMBOL, layers=None, progress=None) -> 
     if not layers:
         raise ArgumentError("layers: need at least one layer in 2..N")
     grains = sum(layers)
-    terms = [(sympy.Integer(i), layer_force_density(N, i, var, progress) * sympy.Rational(i, grains)) for i in layers]
+    terms = [(sympy.Integer(i), _layer_force_density(N, i, var, progress) * sympy.Rational(i, grains)) for i in layers]
     return _pieces(terms, var)
 
 
-def as_pieces(density, support=None) -> list[Piece]:
+def as_pieces(density: sympy.Poly | Sequence[Piece], support: tuple[Any, Any] | None = None) -> list[Piece]:
     """A density as a list of :class:`Piece`: pieces pass through; one ``Poly`` needs its ``support`` ``(lo, hi)``.
 
     The single-polynomial densities live on different intervals (a grain's on
@@ -334,7 +342,7 @@ def as_pieces(density, support=None) -> list[Piece]:
     return pieces
 
 
-def piecewise_cdf(pieces) -> list[Piece]:
+def piecewise_cdf(pieces: Sequence[Piece]) -> list[Piece]:
     """The distribution function of a piecewise density, as pieces on the same intervals.
 
     Examples
@@ -351,7 +359,8 @@ def piecewise_cdf(pieces) -> list[Piece]:
     return out
 
 
-def bin_probabilities(pieces, edges, support=None) -> list[Fraction]:
+def bin_probabilities(pieces: sympy.Poly | Sequence[Piece], edges: Iterable[Any],
+                      support: tuple[Any, Any] | None = None) -> list[Fraction]:
     """Exact ``int_{e_k}^{e_{k+1}} P(f) df`` of a piecewise density for consecutive ``edges``.
 
     ``pieces`` is a list of :class:`Piece`, or one ``Poly`` with its
@@ -383,7 +392,8 @@ def bin_probabilities(pieces, edges, support=None) -> list[Fraction]:
     return [mass(a, b) for a, b in zip(edges, edges[1:])]
 
 
-def contact_layer_force_density(N: int, i: int, var=F_SYMBOL, progress=None) -> sympy.Poly:
+def contact_layer_force_density(N: int, i: int, var: sympy.Symbol = F_SYMBOL,
+                                progress: Callable[[int], object] | None = None) -> sympy.Poly:
     """Exact ``P(f)`` of the ``2i`` contacts between layers ``i`` and ``i + 1`` (F5, F6 of layer ``i``).
 
     They carry ``(2/sqrt3) sum_j W_{i,j} = 2/sqrt3`` in every configuration,
@@ -403,7 +413,7 @@ def contact_layer_force_density(N: int, i: int, var=F_SYMBOL, progress=None) -> 
     return _scaled(density_from_gaps(pool, var), Fraction(1, 2 * i), var)
 
 
-def grain_scaled_pool_density(N: int, grains, var=F_SYMBOL) -> list[Piece]:
+def grain_scaled_pool_density(N: int, grains: Iterable[tuple[int, int]], var: sympy.Symbol = F_SYMBOL) -> list[Piece]:
     """Exact density of ``f = W_{i,j} / <W_{i,j}>`` for a uniformly chosen grain of ``grains``.
 
     The alternative normalization: each grain by its own ensemble mean.
@@ -421,7 +431,7 @@ def grain_scaled_pool_density(N: int, grains, var=F_SYMBOL) -> list[Piece]:
     terms = []
     for i, j in grains:
         mu = mean_W_grain(N, i, j)
-        poly = _scaled(density(N, (i, j), var), mu, var) * sympy.Rational(1, len(grains))
+        poly = _scaled(density_from_gaps(_load_gaps(N, (i, j)), var), mu, var) * sympy.Rational(1, len(grains))
         terms.append((sympy.Rational(mu.denominator, mu.numerator), poly))
     return _pieces(terms, var)
 
@@ -429,7 +439,7 @@ def grain_scaled_pool_density(N: int, grains, var=F_SYMBOL) -> list[Piece]:
 # ------------------------------------------------------------------ q = F5 / (F5 + F6)
 
 
-def beta_mixture_density(counts, total: int, var=sympy.Symbol("q")) -> sympy.Poly:
+def beta_mixture_density(counts: Sequence[Sequence[int]], total: int, var: sympy.Symbol = Q_SYMBOL) -> sympy.Poly:
     """``sum_{a,b} counts[a][b] / total * Beta(a, b)`` as an exact polynomial.
 
     Examples
@@ -451,7 +461,7 @@ def beta_mixture_density(counts, total: int, var=sympy.Symbol("q")) -> sympy.Pol
     return _poly(coeffs, var)
 
 
-def q_density(N: int, grain, var=sympy.Symbol("q")) -> sympy.Poly:
+def q_density(N: int, grain: tuple[int, int], var: sympy.Symbol = Q_SYMBOL) -> sympy.Poly:
     """Exact density of ``q_{i,j}`` (3.8) on ``[0, 1]``: ``sum P(g5, g6) Beta(g5, g6)``.
 
     Examples

@@ -76,6 +76,7 @@ __all__ = [
     "run_layout",
     "transport",
     "mulmod_sum",
+    "chain_pass",
 ]
 
 
@@ -471,9 +472,19 @@ _CACHE_SIZE = 64
 _CHAIN_CELLS = {"layer": _layer_cells, "row": _row_cells, "column": _column_cells}
 
 
-def _chain_pass(kind: str, N: int, index: int, progress: Callable[[int], object] | None = None
+def chain_pass(kind: str, N: int, index: int, progress: Callable[[int], object] | None = None
                 ) -> tuple[GapCounts, ...]:
-    """The laws of one layer / row / column pass (``N``, ``index`` checked), cached (``progress`` ticks only when it runs)."""
+    """The laws of every interval of one layer / row / column chain, cached; ``N`` and ``index`` already checked.
+
+    The shared pass behind :func:`layer_gap_counts`, :func:`grain_gap_counts`,
+    :func:`contact_gap_law` and the densities of :mod:`.distribution`, which
+    check their arguments first.  ``progress`` ticks only when the pass runs.
+
+    Examples
+    --------
+    >>> [g.counts for g in chain_pass("row", 3, 1)]
+    [(0, 1, 0, 0, 0), (0, 1, 0, 0, 0), (0, 0, 1, 0, 0)]
+    """
     key = (kind, N, index)
     if key not in _CACHE:
         chain = _CHAIN_CELLS[kind](N, index)
@@ -497,7 +508,7 @@ def layer_gap_counts(N: int, i: int, progress: Callable[[int], object] | None = 
     """
     N = check_layers(N)
     i = check_int(i, "i", 1, N)
-    return _chain_pass("layer", N, i, progress)
+    return chain_pass("layer", N, i, progress)
 
 
 def grain_gap_counts(N: int, grain: tuple[int, int], progress: Callable[[int], object] | None = None) -> GapCounts:
@@ -510,7 +521,7 @@ def grain_gap_counts(N: int, grain: tuple[int, int], progress: Callable[[int], o
     """
     N = check_layers(N)
     i, j = check_grain(N, grain)
-    return _chain_pass("layer", N, i, progress)[j - 1]
+    return chain_pass("layer", N, i, progress)[j - 1]
 
 
 def gap_distribution(N: int, grain: tuple[int, int]) -> list[Fraction]:
@@ -582,7 +593,7 @@ def contact_gap_law(N: int, grain: tuple[int, int], kind: str, progress: Callabl
     N = check_layers(N)
     i, j = check_grain(N, grain)
     where, index, interval = _contact_spacing(N, i, j, kind, grain)
-    return _chain_pass(where, N, index, progress)[interval]
+    return chain_pass(where, N, index, progress)[interval]
 
 
 def contact_gap_counts(N: int, mirror: bool = True, progress: Callable[[int], object] | None = None
@@ -608,7 +619,7 @@ def contact_gap_counts(N: int, mirror: bool = True, progress: Callable[[int], ob
     N = check_layers(N)
     out: dict[tuple[int, int, str], GapCounts] = {}
     for r in range(1, N):
-        laws = _chain_pass("row", N, r, progress)
+        laws = chain_pass("row", N, r, progress)
         for k in range(1, len(laws)):
             out[(N - k, r, "F6")] = laws[k]
     if mirror:
@@ -617,7 +628,7 @@ def contact_gap_counts(N: int, mirror: bool = True, progress: Callable[[int], ob
                 out[(i, j, "F5")] = out[(i, i + 1 - j, "F6")]
         return out
     for c in range(1, N):
-        laws = _chain_pass("column", N, c, progress)
+        laws = chain_pass("column", N, c, progress)
         for k in range(c):
             out[(N - c + k, k + 1, "F5")] = laws[k]
     return out

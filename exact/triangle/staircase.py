@@ -20,13 +20,18 @@ May import: :mod:`forcenet.exact.validation`.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable
 from fractions import Fraction
 import math
+from typing import TYPE_CHECKING, Any
 from functools import lru_cache
 from math import factorial, prod
 
 from ..validation import check_layers
 from ..errors import ArgumentError
+
+if TYPE_CHECKING:
+    from ..plan import Plan
 
 __all__ = [
     "dimension",
@@ -51,7 +56,11 @@ def dimension(N: int) -> int:
     >>> dimension(5)
     10
     """
-    N = check_layers(N, minimum=1)
+    return _dimension(check_layers(N, minimum=1))
+
+
+def _dimension(N: int) -> int:
+    """:func:`dimension` for ``N`` already checked: the one place the formula is written."""
     return N * (N - 1) // 2
 
 
@@ -93,7 +102,7 @@ def staircase_cells(n: int) -> list[tuple[int, int]]:
     return [(r, c) for r in range(1, n + 1) for c in range(r, n + 1)]
 
 
-def shifted_hook_lengths(parts) -> dict[tuple[int, int], int]:
+def shifted_hook_lengths(parts: Iterable[int]) -> dict[tuple[int, int], int]:
     """Shifted hook lengths of a strict partition (Thrall; Sagan 1979).
 
     The hook of cell ``(r, c)`` is the cells to its right in row ``r``, below it
@@ -110,7 +119,7 @@ def shifted_hook_lengths(parts) -> dict[tuple[int, int], int]:
         raise ArgumentError(f"parts={parts}: must be strictly decreasing positive integers")
     rows = len(parts)
     last_col = {r + 1: r + parts[r] for r in range(rows)}  # row r spans columns r..last_col[r]
-    hooks = {}
+    hooks: dict[tuple[int, int], int] = {}
     for r in range(1, rows + 1):
         for c in range(r, last_col[r] + 1):
             arm = last_col[r] - c
@@ -120,7 +129,7 @@ def shifted_hook_lengths(parts) -> dict[tuple[int, int], int]:
     return hooks
 
 
-def shifted_tableaux_count(parts) -> int:
+def shifted_tableaux_count(parts: Iterable[int]) -> int:
     """Number of standard shifted Young tableaux of a strict partition.
 
     Uses the shifted hook length formula ``g = |lambda|! / prod(hooks)``.
@@ -180,7 +189,7 @@ def _prime_exponents_of_count(N: int) -> list[tuple[int, int]]:
     """Prime factorisation of ``count = d! / D`` (Legendre's formula)."""
     import numpy as np
 
-    n, d = N - 1, dimension(N)
+    n, d = N - 1, _dimension(N)
     primes = _primes_upto(max(d, 2 * n, 2))
     exps = np.zeros(primes.size, dtype=np.int64)
     power = primes.copy()
@@ -206,6 +215,7 @@ def _product_tree(factors):
 
 def _prime_power_product(factorisation) -> int:
     """``prod p**e`` by binary splitting of the exponents (python-flint if installed)."""
+    make: Callable[[int], Any]
     try:
         import flint
 
@@ -232,13 +242,16 @@ def count_digits(N: int) -> int:
     >>> count_digits(9), len(str(count(9)))
     (12, 12)
     """
-    N = check_layers(N)
-    n, d = N - 1, dimension(N)
+    return _count_digits(check_layers(N))
+
+
+def _count_digits(N: int) -> int:
+    n, d = N - 1, _dimension(N)
     log10 = (math.lgamma(d + 1) - sum(math.lgamma(2 * k + 2) - math.lgamma(k + 1) for k in range(n))) / math.log(10)
     return int(log10) + 1
 
 
-def count_plan(N: int, memory_bytes: int | None = None):
+def count_plan(N: int, memory_bytes: int | None = None) -> Plan:
     """The cost of computing :func:`count` and printing it in decimal.
 
     Measured on the 2-core machine: N = 4000 (2.3e7 digits) 8 s, N = 8000
@@ -258,8 +271,8 @@ def count_plan(N: int, memory_bytes: int | None = None):
     if N > _COUNT_MAX_N:
         return Plan(f"count N={N}", 0, refusal=f"N={N} is out of range for count: N must be an integer in 2..{_COUNT_MAX_N} "
                                                 "(beyond, the integer has more than 10^12 digits)")
-    d = dimension(N)
-    digits = count_digits(N)
+    d = _dimension(N)
+    digits = _count_digits(N)
     plan = Plan(f"count N={N} ({float(digits):.3g} digits)", 2.2e-7 * d**1.1, 24 * d + 4 * digits)
     return plan.within_memory(memory_bytes)
 

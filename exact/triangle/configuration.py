@@ -34,7 +34,9 @@ Fraction(1, 4)
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Mapping, Sequence
 from fractions import Fraction
+from typing import Any
 
 import sympy
 
@@ -49,10 +51,13 @@ __all__ = [
     "bounds",
     "in_ensemble",
     "contact_forces",
+    "P_H_SYMBOL",
 ]
 
+P_H_SYMBOL = sympy.Symbol("p_h", positive=True)  # the side pressure p_h, symbolic by default
 
-def _rows(W):
+
+def _rows(W: Iterable[Iterable[Any]]) -> list[list[Fraction]]:
     rows = [[Fraction(x) for x in row] for row in W]
     for i, row in enumerate(rows, start=1):
         if len(row) != i:
@@ -60,7 +65,7 @@ def _rows(W):
     return rows
 
 
-def W_from_q(q: dict, N: int) -> list[list[Fraction]]:
+def W_from_q(q: Mapping[tuple[int, int], Any], N: int) -> list[list[Fraction]]:
     """Forces ``W`` from the q-coordinates, Eq. (4.5), with ``W_{1,1} = 1``.
 
     ``q`` maps ``(i, j)``, ``1 <= i <= N-1``, ``1 <= j <= i``, to a value in [0, 1].
@@ -72,16 +77,16 @@ def W_from_q(q: dict, N: int) -> list[list[Fraction]]:
     W = [[Fraction(1)]]
     for i in range(1, N):
         prev = W[-1]
-        row = []
+        row: list[Fraction] = []
         for j in range(1, i + 2):
-            left = (1 - Fraction(q[(i, j - 1)])) * prev[j - 2] if j >= 2 else 0
-            right = Fraction(q[(i, j)]) * prev[j - 1] if j <= i else 0
+            left = (1 - Fraction(q[(i, j - 1)])) * prev[j - 2] if j >= 2 else Fraction(0)
+            right = Fraction(q[(i, j)]) * prev[j - 1] if j <= i else Fraction(0)
             row.append(left + right)
         W.append(row)
     return W
 
 
-def partial_sums(W) -> list[list[Fraction]]:
+def partial_sums(W: Iterable[Iterable[Any]]) -> list[list[Fraction]]:
     """``S[i-1][j] = W_{i,1} + ... + W_{i,j}`` for ``j = 0..i``.
 
     Examples
@@ -99,19 +104,19 @@ def partial_sums(W) -> list[list[Fraction]]:
     return out
 
 
-def W_from_partial_sums(S) -> list[list[Fraction]]:
+def W_from_partial_sums(S: Iterable[Sequence[Any]]) -> list[list[Fraction]]:
     """Inverse of :func:`partial_sums`."""
     return [[Fraction(b) - Fraction(a) for a, b in zip(row, row[1:])] for row in S]
 
 
-def q_from_W(W) -> dict:
+def q_from_W(W: Iterable[Iterable[Any]]) -> dict[tuple[int, int], Fraction | None]:
     """q-coordinates from forces, Eq. (4.6); ``None`` where ``W_{i,j} = 0``.
 
     ``q_{i,j} = (S_{i+1,j} - S_{i,j-1}) / W_{i,j}``.
     """
     rows = _rows(W)
     S = partial_sums(rows)
-    q = {}
+    q: dict[tuple[int, int], Fraction | None] = {}
     for i in range(1, len(rows)):
         for j in range(1, i + 1):
             w = rows[i - 1][j - 1]
@@ -119,7 +124,7 @@ def q_from_W(W) -> dict:
     return q
 
 
-def bounds(W, i: int, j: int) -> tuple[Fraction, Fraction]:
+def bounds(W: Iterable[Iterable[Any]], i: int, j: int) -> tuple[Fraction, Fraction]:
     """``(a_{i,j}, b_{i,j})`` of Eq. (4.9) for a free force ``W_{i,j}``, ``j < i``.
 
     Examples
@@ -134,7 +139,7 @@ def bounds(W, i: int, j: int) -> tuple[Fraction, Fraction]:
     return a, rows[i - 2][j - 1] + a
 
 
-def in_ensemble(W) -> bool:
+def in_ensemble(W: Iterable[Iterable[Any]]) -> bool:
     """True if ``W`` is a force network of the fully mobilized triangle.
 
     Rows sum to 1, ``W_{1,1} = 1``, and every free force obeys Eq. (4.8).
@@ -151,7 +156,7 @@ def in_ensemble(W) -> bool:
     )
 
 
-def contact_forces(W, p_h=sympy.Symbol("p_h", positive=True)) -> dict:
+def contact_forces(W: Iterable[Iterable[Any]], p_h: Any = P_H_SYMBOL) -> dict[tuple[int, int], tuple[Any, ...]]:
     """All six contact forces of every grain above the bottom layer, exact.
 
     Returns ``{(i, j): (F1, F2, F3, F4, F5, F6)}`` as sympy expressions for
@@ -166,7 +171,7 @@ def contact_forces(W, p_h=sympy.Symbol("p_h", positive=True)) -> dict:
     q = q_from_W(rows)
     c = 2 / sympy.sqrt(3)
     N = len(rows)
-    out = {}
+    out: dict[tuple[int, int], tuple[Any, ...]] = {}
     for i in range(1, N):
         F3 = sympy.sympify(p_h)
         for j in range(1, i + 1):

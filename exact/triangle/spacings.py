@@ -17,6 +17,7 @@ May import: :mod:`forcenet.exact.validation`, :mod:`.staircase`.
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Mapping
 from fractions import Fraction
 from math import perm, prod
 
@@ -38,7 +39,12 @@ def rising(x: int, s: int) -> int:
     return prod(range(x, x + s))
 
 
-def rank_gap_moments(N: int, rankings, s_max: int = 2, pairs=()):
+Grain = tuple[int, int]
+
+
+def rank_gap_moments(N: int, rankings: Iterable[Mapping[Grain, int]], s_max: int = 2,
+                     pairs: Iterable[tuple[Grain, Grain]] = ()
+                     ) -> tuple[int, dict[int, dict[Grain, Fraction]], dict[tuple[Grain, Grain], Fraction]]:
     """Moments of the W's averaged over linear extensions given by their ranks.
 
     ``rankings`` yields dicts ``(i, j) -> rank`` of the free partial sums
@@ -61,24 +67,23 @@ def rank_gap_moments(N: int, rankings, s_max: int = 2, pairs=()):
     d = dimension(N)
     grains = [(i, j) for i in range(1, N + 1) for j in range(1, i + 1)]
     acc = {s: {g: 0 for g in grains} for s in range(1, s_max + 1)}
-    pairs = list(dict.fromkeys(pairs))  # a repeated pair is counted once
-    acc_pairs = {p: 0 for p in pairs}
+    unique_pairs = list(dict.fromkeys(pairs))  # a repeated pair is counted once
+    acc_pairs = {p: 0 for p in unique_pairs}
     number = 0
+    def gap_interval(rank: Mapping[Grain, int], g: Grain) -> tuple[int, int]:
+        i, j = g
+        lo = 0 if j == 1 else rank[(i, j - 1)]
+        hi = d + 1 if j == i else rank[(i, j)]
+        return lo, hi
+
     for rank in rankings:
         number += 1
-
-        def gap_interval(g):
-            i, j = g
-            lo = 0 if j == 1 else rank[(i, j - 1)]
-            hi = d + 1 if j == i else rank[(i, j)]
-            return lo, hi
-
         for g in grains:
-            lo, hi = gap_interval(g)
+            lo, hi = gap_interval(rank, g)
             for s in acc:
                 acc[s][g] += rising(hi - lo, s)
-        for g1, g2 in pairs:
-            (a1, b1), (a2, b2) = gap_interval(g1), gap_interval(g2)
+        for g1, g2 in unique_pairs:
+            (a1, b1), (a2, b2) = gap_interval(rank, g1), gap_interval(rank, g2)
             overlap = max(0, min(b1, b2) - max(a1, a2))
             acc_pairs[(g1, g2)] += (b1 - a1) * (b2 - a2) + overlap
     moments = {s: {g: Fraction(v, number * rising(d + 1, s)) for g, v in acc[s].items()} for s in acc}

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from fractions import Fraction
 from functools import reduce
+from typing import Any
 
 import sympy
 
@@ -25,7 +26,7 @@ from ..errors import ArgumentError, ArgumentTypeError
 __all__ = ["mean_W_mobilized"]
 
 
-def _rational(name, value):
+def _rational(name: str, value: Any) -> Fraction:
     try:
         r = Fraction(value)
     except (TypeError, ValueError):
@@ -35,7 +36,8 @@ def _rational(name, value):
     return r
 
 
-def mean_W_mobilized(N: int, P: int, F=1, j0: int | None = None, pv=0, mg=0):
+def mean_W_mobilized(N: int, P: int, F: int | Fraction | str = 1, j0: int | None = None, pv: int | Fraction | str = 0,
+                     mg: int | Fraction | str = 0) -> list[list[Fraction]]:
     """Exact ``<W_{i,j}>`` on the N x P packing with every q in [0, 1] allowed.
 
     Parameters
@@ -72,7 +74,10 @@ def mean_W_mobilized(N: int, P: int, F=1, j0: int | None = None, pv=0, mg=0):
     qs = [[sympy.Symbol(f"q_{i}_{j}") for j in range(1, P)] for i in range(1, N)]
     gens = [s for row in qs for s in row]
     one = sympy.Poly(1, *gens, domain="QQ")
-    const = lambda r: one * sympy.Rational(r.numerator, r.denominator)
+
+    def const(r: Fraction) -> sympy.Poly:
+        return one * sympy.Rational(r.numerator, r.denominator)
+
     q = [[one * s for s in row] + [one] for row in qs]  # right column: q = 1
     W = [[const(pv + mg + (F if j == j0 - 1 else 0)) for j in range(P)]]
     for i in range(1, N):  # Eq. (3.9)

@@ -14,6 +14,7 @@ import only :mod:`forcenet.exact.validation` and the standard library.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from fractions import Fraction
 
 from ..validation import check_layers
@@ -21,7 +22,7 @@ from ..validation import check_layers
 __all__ = ["addable_cells", "chain_counts", "mean_W_dictionary"]
 
 
-def addable_cells(shape: tuple[int, ...], n: int):
+def addable_cells(shape: tuple[int, ...], n: int) -> Iterator[tuple[tuple[int, ...], tuple[int, int]]]:
     """Cells that can be added to a shifted shape inside the staircase.
 
     Yields ``(new_shape, (r, c))``.
@@ -39,7 +40,7 @@ def addable_cells(shape: tuple[int, ...], n: int):
         yield shape + (1,), (r, r)
 
 
-def chain_counts(n: int):
+def chain_counts(n: int) -> tuple[dict[tuple[int, ...], int], dict[tuple[int, ...], int]]:
     """Forward and backward chain counts of all shifted shapes in the staircase.
 
     Examples
@@ -48,11 +49,11 @@ def chain_counts(n: int):
     >>> f[(2, 1)], b[()]
     (1, 1)
     """
-    levels = [[()]]
-    forward = {(): 1}
-    d = n * (n + 1) // 2
+    levels: list[list[tuple[int, ...]]] = [[()]]
+    forward: dict[tuple[int, ...], int] = {(): 1}
+    d = n * (n + 1) // 2  # written out: this route uses nothing of the core
     for _ in range(d):
-        nxt = {}
+        nxt: dict[tuple[int, ...], int] = {}
         for shape in levels[-1]:
             for new, _cell in addable_cells(shape, n):
                 nxt[new] = nxt.get(new, 0) + forward[shape]
@@ -74,10 +75,10 @@ def mean_W_dictionary(N: int) -> list[list[Fraction]]:
     ['1/11', '1/4', '7/22', '1/4', '1/11']
     """
     N = check_layers(N)
-    n, d = N - 1, N * (N - 1) // 2
+    n, d = N - 1, N * (N - 1) // 2  # written out: this route uses nothing of the core
     forward, backward = chain_counts(n)
     total = forward[tuple(range(n, 0, -1))] if n else 1
-    rank_sum = {}
+    rank_sum: dict[tuple[int, int], int] = {}
     for shape, f in forward.items():
         size = sum(shape)
         for new, cell in addable_cells(shape, n):

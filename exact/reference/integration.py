@@ -39,7 +39,7 @@ def w_symbols(N: int) -> dict[tuple[int, int], sympy.Expr]:
     return W
 
 
-def polytope_bounds(N: int, W=None) -> dict[tuple[int, int], tuple[sympy.Expr, sympy.Expr]]:
+def polytope_bounds(N: int, W: dict[tuple[int, int], sympy.Expr] | None = None) -> dict[tuple[int, int], tuple[sympy.Expr, sympy.Expr]]:
     """Bounds ``(a_ij, b_ij)`` of Eq. (4.9) for each free ``W_ij``.
 
     ``a_ij = sum_{k<j} (W_{i-1,k} - W_{i,k})`` and ``b_ij = W_{i-1,j} + a_ij``.
@@ -50,7 +50,7 @@ def polytope_bounds(N: int, W=None) -> dict[tuple[int, int], tuple[sympy.Expr, s
     (W_2_1 - W_3_1, 1 - W_3_1)
     """
     W = W or w_symbols(N)
-    out = {}
+    out: dict[tuple[int, int], tuple[sympy.Expr, sympy.Expr]] = {}
     for i in range(2, N + 1):
         for j in range(1, i):
             a = sum((W[(i - 1, k)] - W[(i, k)] for k in range(1, j)), sympy.Integer(0))

@@ -14,7 +14,9 @@ exact core and the thesis's map route have their own spacing code in
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from fractions import Fraction
+from typing import Any
 
 import networkx as nx
 from sympy import rf
@@ -46,7 +48,8 @@ def partial_sum_poset(N: int) -> nx.DiGraph:
     return G
 
 
-def linear_extension_moments(N: int, s_max: int = 2, pairs=()):
+def linear_extension_moments(N: int, s_max: int = 2, pairs: Iterable[tuple[tuple[int, int], tuple[int, int]]] = ()
+                             ) -> tuple[int, dict[int, dict[tuple[int, int], Fraction]], dict[Any, Fraction]]:
     """Moments averaged over all linear extensions (networkx enumeration).
 
     Returns ``(count, moments, correlations)`` where ``moments[s][(i, j)]`` is
@@ -67,20 +70,20 @@ def linear_extension_moments(N: int, s_max: int = 2, pairs=()):
     sums = {(s, g): 0 for s in range(1, s_max + 1) for g in grains}
     pair_sums = {p: 0 for p in pairs}
     number = 0
+    def interval(rank: dict, g: tuple[int, int]) -> tuple[int, int]:
+        """Ranks of ``S_{i,j-1}`` and ``S_{i,j}``, with ``S_{i,0} = 0`` and ``S_{i,i} = 1``."""
+        i, j = g
+        return (0 if j == 1 else rank[(i, j - 1)]), (d + 1 if j == i else rank[(i, j)])
+
     for extension in nx.all_topological_sorts(partial_sum_poset(N)) if d else [[]]:
         number += 1
         rank = {v: k + 1 for k, v in enumerate(extension)}
-
-        def interval(g):  # ranks of S_{i,j-1} and S_{i,j}, with S_{i,0} = 0 and S_{i,i} = 1
-            i, j = g
-            return (0 if j == 1 else rank[(i, j - 1)]), (d + 1 if j == i else rank[(i, j)])
-
         for g in grains:
-            lo, hi = interval(g)
+            lo, hi = interval(rank, g)
             for s in range(1, s_max + 1):
                 sums[(s, g)] += int(rf(hi - lo, s))
         for g1, g2 in pairs:
-            (a1, b1), (a2, b2) = interval(g1), interval(g2)
+            (a1, b1), (a2, b2) = interval(rank, g1), interval(rank, g2)
             pair_sums[(g1, g2)] += (b1 - a1) * (b2 - a2) + max(0, min(b1, b2) - max(a1, a2))
     moments = {s: {g: Fraction(sums[(s, g)], number * int(rf(d + 1, s))) for g in grains} for s in range(1, s_max + 1)}
     correlations = {p: Fraction(v, number * (d + 1) * (d + 2)) for p, v in pair_sums.items()}

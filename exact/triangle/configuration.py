@@ -176,7 +176,8 @@ def contact_forces(W: Iterable[Iterable[Any]], p_h: Any = P_H_SYMBOL) -> dict[tu
         F3 = sympy.sympify(p_h)
         for j in range(1, i + 1):
             w = rows[i - 1][j - 1]
-            qq = q[(i, j)] if q[(i, j)] is not None else Fraction(0)
+            given = q[(i, j)]
+            qq = given if given is not None else Fraction(0)
             F5 = c * sympy.Rational(qq * w)
             F6 = c * sympy.Rational((1 - qq) * w)
             if i == 1:  # the vertical overload W_ext = 1, split evenly as in (3.1)

@@ -317,7 +317,8 @@ def mulmod_sum(X: np.ndarray, u: np.ndarray, pvec: np.ndarray) -> np.ndarray:
     return out % pvec
 
 
-def _chain_residues(n: int, cells, primes, progress=None) -> np.ndarray:
+def _chain_residues(n: int, cells: Sequence[tuple[int, int]], primes: Sequence[int],
+                    progress: Callable[[int], object] | None = None) -> np.ndarray:
     """``out[k, g, p]`` = (number of tableaux whose ``k``-th interval has gap ``g``) mod ``p``.
 
     Forward pass over the levels of the ideal lattice.  The state of an ideal
@@ -441,9 +442,9 @@ def _chain_gap_counts(N: int, cells: tuple[tuple[int, int], ...], memory_bytes: 
     n, d = N - 1, dimension(N)
     total = count(N)
     if n == 0 or not cells:
-        counts = [0] * (d + 2)
-        counts[d + 1] = total
-        return [GapCounts(tuple(counts), total, d)]
+        only = [0] * (d + 2)
+        only[d + 1] = total
+        return [GapCounts(tuple(only), total, d)]
     primes = primes_for_bound(total)
     per_prime = _chain_cost(N, 1)
     size = max(1, int(memory_bytes // per_prime))

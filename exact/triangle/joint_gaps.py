@@ -23,7 +23,7 @@ May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 
 import numpy as np
 
@@ -37,7 +37,7 @@ from ..errors import ArgumentError
 __all__ = ["joint_gap_counts", "q_gap_counts"]
 
 
-def _joint_residues(n: int, cells: tuple[tuple[int, int], ...], k: int, primes: list[int]) -> np.ndarray:
+def _joint_residues(n: int, cells: tuple[tuple[int, int], ...], k: int, primes: Sequence[int]) -> np.ndarray:
     """``out[g1, g2, p]``: tableaux with gaps ``(g1, g2)`` in intervals ``k``, ``k + 1``, mod ``p``.
 
     Like :func:`forcenet.exact.triangle.gaps.chain_gap_counts`' pass (the same set-up,

@@ -23,7 +23,8 @@ def _pair_pfaffians(A, p: int, pivoting: bool):
     """Leading pair-Pfaffians ``Pf(A[:2k, :2k])``, ``k = 1..size/2`` (None where a pivot vanishes)."""
     A = [row[:] for row in A]
     size = len(A)
-    out, result = [], 1
+    out: list[int] = []
+    result = 1
     for k in range(0, size, 2):
         if A[k][k + 1] % p == 0 and pivoting:
             piv = next((j for j in range(k + 2, size) if A[k][j] % p), None)

@@ -54,6 +54,13 @@ def mean_W_mobilized(N: int, P: int, F: int | Fraction | str = 1, j0: int | None
     list of lists of Fraction
         Row ``i-1`` holds ``<W_{i,1..P}>``.
 
+    Raises
+    ------
+    ArgumentError
+        If a size is out of range, a load is negative, or the total load is zero.
+    ArgumentTypeError
+        If a load is not an exact number.
+
     Examples
     --------
     Gravity, two layers of two grains, overload 1 on the left grain:

@@ -68,7 +68,27 @@ def _rows(W: Iterable[Iterable[Any]]) -> list[list[Fraction]]:
 def W_from_q(q: Mapping[tuple[int, int], Any], N: int) -> list[list[Fraction]]:
     """Forces ``W`` from the q-coordinates, Eq. (4.5), with ``W_{1,1} = 1``.
 
-    ``q`` maps ``(i, j)``, ``1 <= i <= N-1``, ``1 <= j <= i``, to a value in [0, 1].
+    Parameters
+    ----------
+    q : mapping
+        ``(i, j) -> q_{i,j}`` for ``1 <= i <= N-1``, ``1 <= j <= i``, values in ``[0, 1]``.
+    N : int
+        Number of layers.
+
+    Returns
+    -------
+    list of list of Fraction
+        Row ``i - 1`` holds ``W_{i,1}, ..., W_{i,i}``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is out of range or a ``q`` is outside ``[0, 1]``.
+
+    Examples
+    --------
+    >>> W_from_q({(1, 1): Fraction(1, 4)}, 2)
+    [[Fraction(1, 1)], [Fraction(1, 4), Fraction(3, 4)]]
     """
     N = check_layers(N)
     for (i, j), value in q.items():
@@ -88,6 +108,21 @@ def W_from_q(q: Mapping[tuple[int, int], Any], N: int) -> list[list[Fraction]]:
 
 def partial_sums(W: Iterable[Iterable[Any]]) -> list[list[Fraction]]:
     """``S[i-1][j] = W_{i,1} + ... + W_{i,j}`` for ``j = 0..i``.
+
+    Parameters
+    ----------
+    W : sequence of sequences
+        Row ``i`` holds ``W_{i,1}, ..., W_{i,i}`` (numbers :class:`fractions.Fraction` accepts).
+
+    Returns
+    -------
+    list of list of Fraction
+        Row ``i - 1`` holds ``S_{i,0} = 0, ..., S_{i,i}``.
+
+    Raises
+    ------
+    ArgumentError
+        If a row of ``W`` does not have ``i`` entries.
 
     Examples
     --------
@@ -113,6 +148,26 @@ def q_from_W(W: Iterable[Iterable[Any]]) -> dict[tuple[int, int], Fraction | Non
     """q-coordinates from forces, Eq. (4.6); ``None`` where ``W_{i,j} = 0``.
 
     ``q_{i,j} = (S_{i+1,j} - S_{i,j-1}) / W_{i,j}``.
+
+    Parameters
+    ----------
+    W : sequence of sequences
+        Row ``i`` holds ``W_{i,1}, ..., W_{i,i}`` (numbers :class:`fractions.Fraction` accepts).
+
+    Returns
+    -------
+    dict
+        ``(i, j) -> q_{i,j}`` (a Fraction, or None where ``W_{i,j} = 0``) for ``i = 1..N-1``.
+
+    Raises
+    ------
+    ArgumentError
+        If a row of ``W`` does not have ``i`` entries.
+
+    Examples
+    --------
+    >>> q_from_W([[1], [Fraction(1, 4), Fraction(3, 4)]])
+    {(1, 1): Fraction(1, 4)}
     """
     rows = _rows(W)
     S = partial_sums(rows)
@@ -143,6 +198,25 @@ def in_ensemble(W: Iterable[Iterable[Any]]) -> bool:
     """True if ``W`` is a force network of the fully mobilized triangle.
 
     Rows sum to 1, ``W_{1,1} = 1``, and every free force obeys Eq. (4.8).
+
+    Parameters
+    ----------
+    W : sequence of sequences
+        Row ``i`` holds ``W_{i,1}, ..., W_{i,i}`` (numbers :class:`fractions.Fraction` accepts).
+
+    Returns
+    -------
+    bool
+
+    Raises
+    ------
+    ArgumentError
+        If a row of ``W`` does not have ``i`` entries.
+
+    Examples
+    --------
+    >>> in_ensemble([[1], [Fraction(1, 4), Fraction(3, 4)]]), in_ensemble([[1], [Fraction(1, 2), Fraction(1, 4)]])
+    (True, False)
     """
     rows = _rows(W)
     if rows[0][0] != 1 or any(sum(row) != 1 for row in rows):
@@ -166,6 +240,29 @@ def contact_forces(W: Iterable[Iterable[Any]], p_h: Any = P_H_SYMBOL) -> dict[tu
     triangle on the left of each layer is ``p_h``; the one on the right closes
     the horizontal balance and is ``p_h`` plus a term bounded by the overload,
     which is why the thesis needs ``(2/sqrt 3) p_h > F`` (Sec. 4.1).
+
+    Parameters
+    ----------
+    W : sequence of sequences
+        Row ``i`` holds ``W_{i,1}, ..., W_{i,i}`` (numbers :class:`fractions.Fraction` accepts).
+    p_h : sympy expression or number, optional
+        The side force, :data:`P_H_SYMBOL` (symbolic) by default.
+
+    Returns
+    -------
+    dict
+        ``(i, j) -> (F1, F2, F3, F4, F5, F6)``, sympy expressions.
+
+    Raises
+    ------
+    ArgumentError
+        If a row of ``W`` does not have ``i`` entries.
+
+    Examples
+    --------
+    >>> forces = contact_forces([[1], [Fraction(1, 4), Fraction(3, 4)]])
+    >>> forces[(1, 1)]
+    (sqrt(3)/3, sqrt(3)/3, p_h, p_h - sqrt(3)/6, sqrt(3)/6, sqrt(3)/2)
     """
     rows = _rows(W)
     q = q_from_W(rows)

@@ -175,6 +175,27 @@ def _load_gaps(N: int, grain: tuple[int, int], progress: Callable[[int], object]
 def density(N: int, grain: tuple[int, int], var: sympy.Symbol = W_SYMBOL, progress: Callable[[int], object] | None = None) -> sympy.Poly:
     """Exact density of ``W_{i,j}`` on ``[0, 1]`` (layers ``i >= 2``), degree ``<= d - 1``.
 
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+    grain : (int, int)
+        ``(i, j)``, ``2 <= i <= N``, ``1 <= j <= i``.
+    var : sympy.Symbol, optional
+        The variable of the polynomial (``w``).
+    progress : callable, optional
+        Called once per level of the ideal lattice if the pass over the ideals runs.
+
+    Returns
+    -------
+    sympy.Poly
+        The density, exact rational coefficients.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` or the grain is out of range (``i = 1``: the overload has no density).
+
     Examples
     --------
     >>> density(3, (3, 2))
@@ -185,6 +206,27 @@ def density(N: int, grain: tuple[int, int], var: sympy.Symbol = W_SYMBOL, progre
 
 def cdf(N: int, grain: tuple[int, int], var: sympy.Symbol = W_SYMBOL, progress: Callable[[int], object] | None = None) -> sympy.Poly:
     """Exact ``P(W_{i,j} <= w)`` on ``[0, 1]`` (layers ``i >= 2``).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+    grain : (int, int)
+        ``(i, j)``, ``2 <= i <= N``, ``1 <= j <= i``.
+    var : sympy.Symbol, optional
+        The variable of the polynomial (``w``).
+    progress : callable, optional
+        Called once per level of the ideal lattice if the pass over the ideals runs.
+
+    Returns
+    -------
+    sympy.Poly
+        The distribution function on ``[0, 1]``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` or the grain is out of range (``i = 1``: the overload has no density).
 
     Examples
     --------
@@ -201,6 +243,30 @@ def contact_density(N: int, grain: tuple[int, int], kind: str, var: sympy.Symbol
     ``F5 = (2/sqrt3) q W``, ``F6 = (2/sqrt3)(1-q) W`` (3.8) are spacings of
     neighbouring cells (:func:`forcenet.exact.triangle.gaps.contact_spacing`);
     the density of ``F`` itself is ``(sqrt3/2) p(sqrt3 F / 2)``.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+    grain : (int, int)
+        ``(i, j)``, ``1 <= i <= N``, ``1 <= j <= i``.
+    kind : {"F1", "F2", "F5", "F6"}
+        The contact force.
+    var : sympy.Symbol, optional
+        The variable of the polynomial (``w``, standing for ``x``).
+    progress : callable, optional
+        Called once per level of the ideal lattice if the pass over the ideals runs.
+
+    Returns
+    -------
+    sympy.Poly
+        The density of ``x`` on ``[0, 1]``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` or the grain is out of range, or the contact is not random there
+        (:func:`forcenet.exact.triangle.gaps.contact_spacing`).
 
     Examples
     --------
@@ -258,6 +324,27 @@ def layer_force_density(N: int, i: int, var: sympy.Symbol = F_SYMBOL, progress: 
     of its layer, as in the thesis's ``P(f)``, ``f = F / <F>``.  Supported on
     ``[0, i]``, ``int P = int f P = 1``.
 
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+    i : int
+        The layer, ``2 <= i <= N``.
+    var : sympy.Symbol, optional
+        The variable of the polynomial (``f``).
+    progress : callable, optional
+        Called once per level of the ideal lattice if the pass over the ideals runs.
+
+    Returns
+    -------
+    sympy.Poly
+        The density of ``f`` on ``[0, i]``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` or ``i`` is out of range.
+
     Examples
     --------
     >>> layer_force_density(3, 3)
@@ -301,6 +388,27 @@ def triangle_force_density(N: int, var: sympy.Symbol = F_SYMBOL, layers: Iterabl
     its layer's mean ``1/i`` (layer 1 is the overload ``W = 1`` and is left
     out).  Piecewise polynomial with breaks at the integers (layer ``i`` lives
     on ``[0, i]``); ``layers`` restricts the pool.  ``N - 1`` passes over the ideals.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+    var : sympy.Symbol, optional
+        The variable of the polynomials (``f``).
+    layers : iterable of int, optional
+        The layers pooled, each in ``2..N`` (default all).
+    progress : callable, optional
+        Called once per level of the ideal lattice for every pass that runs.
+
+    Returns
+    -------
+    list of Piece
+        The density on ``[0, N]``, one polynomial between consecutive integers that are layer ends.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` or a layer is out of range, or ``layers`` is empty.
 
     Examples
     --------

@@ -51,6 +51,21 @@ __all__ = [
 def dimension(N: int) -> int:
     """Dimension ``d = N (N - 1) / 2`` of the force network ensemble (Eq. 4.3).
 
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 1``.
+
+    Returns
+    -------
+    int
+        The number of free forces.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is not an integer ``>= 1``.
+
     Examples
     --------
     >>> dimension(5)
@@ -67,6 +82,23 @@ def _dimension(N: int) -> int:
 def grain_to_cell(N: int, i: int, j: int) -> tuple[int, int]:
     """Tableau cell ``(r, c)`` of the partial sum ``S[i][j]``.
 
+    Parameters
+    ----------
+    N : int
+        Number of layers.
+    i, j : int
+        The partial sum ``S[i][j]``, ``2 <= i <= N``, ``1 <= j <= i - 1``.
+
+    Returns
+    -------
+    (int, int)
+        Row ``r = j`` and column ``c = N - i + j`` of the shifted staircase.
+
+    Raises
+    ------
+    ArgumentError
+        If ``(i, j)`` is not a free partial sum.
+
     Examples
     --------
     >>> grain_to_cell(5, 5, 1), grain_to_cell(5, 5, 4), grain_to_cell(5, 2, 1)
@@ -79,6 +111,23 @@ def grain_to_cell(N: int, i: int, j: int) -> tuple[int, int]:
 
 def cell_to_grain(N: int, r: int, c: int) -> tuple[int, int]:
     """Inverse of :func:`grain_to_cell`.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers.
+    r, c : int
+        A cell of the shifted staircase, ``1 <= r <= c <= N - 1``.
+
+    Returns
+    -------
+    (int, int)
+        The partial sum ``(i, j) = (N - c + r, r)``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``(r, c)`` is not a cell of the staircase.
 
     Examples
     --------
@@ -149,6 +198,21 @@ def shifted_tableaux_count(parts: Iterable[int]) -> int:
 
 def count_by_hooks(N: int) -> int:
     """``d! * normalization`` from the shifted hook length formula (a second route).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+
+    Returns
+    -------
+    int
+        The number of standard shifted tableaux of staircase shape ``(N-1, ..., 1)``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is not an integer ``>= 2``.
 
     Examples
     --------

@@ -22,7 +22,7 @@ is a :class:`fractions.Fraction`, so it is meant for small ``n``.  The
 multi-modular engine in :mod:`.engine` does the same arithmetic modulo
 word-size primes.
 
-May import: :mod:`forcenet.exact.validation`.
+May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.triangle.staircase` (``dimension``).
 
 Examples
 --------
@@ -40,6 +40,7 @@ from fractions import Fraction
 from math import factorial
 
 from ...validation import check_int, check_layers
+from ..staircase import dimension
 
 __all__ = [
     "labels",
@@ -164,7 +165,7 @@ def count_exact(N: int) -> int:
     [1, 1, 2, 12, 286, 33592]
     """
     N = check_layers(N)
-    n, d = N - 1, N * (N - 1) // 2
+    n, d = N - 1, dimension(N)
     beta = {a: Fraction(1, factorial(a)) for a in range(1, n + 1)}
     K = minor_summation_matrix(n, {a: 0 for a in beta}, beta)  # q = 0: X = 0
     value = pfaffian(K) * factorial(d)

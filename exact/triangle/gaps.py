@@ -256,8 +256,9 @@ def run_layout(n: int, cells: Sequence[tuple[int, int]], primes: Sequence[int]) 
     del masks_all
     f = forward_counts_mod(n, primes)
     lo = [0] + [down_size(r, c) for r, c in cells]  # earliest level of entering run k
-    levels, pos = _level_layout(n, h)
-    return RunLayout(dimension(n + 1), pvec, h, f, (1 << n) - 1, lo, levels, pos)
+    d = dimension(n + 1)
+    levels, pos = _level_layout(n, h, d)
+    return RunLayout(d, pvec, h, f, (1 << n) - 1, lo, levels, pos)
 
 
 def transport(rows: np.ndarray, cols: np.ndarray, size: int, src: np.ndarray) -> np.ndarray:
@@ -274,10 +275,9 @@ def transport(rows: np.ndarray, cols: np.ndarray, size: int, src: np.ndarray) ->
     return (A @ src.reshape(src.shape[0], -1)).reshape((size,) + src.shape[1:])
 
 
-def _level_layout(n: int, h: np.ndarray) -> tuple[list[dict[int, np.ndarray]], np.ndarray]:
-    """Masks of each level grouped by ``h``; ``pos[mask]`` = index inside its group."""
+def _level_layout(n: int, h: np.ndarray, d: int) -> tuple[list[dict[int, np.ndarray]], np.ndarray]:
+    """Masks of each level grouped by ``h``; ``pos[mask]`` = index inside its group (``d`` levels above the empty one)."""
     order, bounds = ideal_levels(n)
-    d = dimension(n + 1)
     pos = np.empty(1 << n, dtype=np.int64)
     levels = []
     for L in range(d + 1):

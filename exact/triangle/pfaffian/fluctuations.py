@@ -284,13 +284,13 @@ def lattice_gap_laws(N: int, layers: Iterable[int] | None = None, **kwargs: Any)
 def _gap_laws(N: int, layers: list[int], workers: int | None = None, progress: Callable[[int], object] | None = None,
               backend: str = "numba") -> dict[int, GapCounts]:
     """:func:`lattice_gap_laws` for ``N`` and ``layers`` already checked."""
-    d = dimension(N)
     E, total = _level_sums(N, layers, workers, progress, backend)
     laws = {}
     for i in layers:
         row = E[N - i + 1]
         if row is None:
             raise ArithmeticError(f"the level sums of layer {i} are missing")
+        d = len(row) - 1  # levels 0..d
         laws[i] = GapCounts(tuple([0] + [row[h - 1] - row[h] for h in range(1, d + 1)] + [0]), total, d)
     return laws
 
@@ -316,11 +316,10 @@ def lattice_mean_W2(N: int, **kwargs: Any) -> list[Fraction]:
     ['1', '2/7', '3/28', '1/28']
     """
     N = check_layers(N, maximum=MAX_LAW_N)
-    d = dimension(N)
     out = [Fraction(1)]
     for _layer, law in sorted(_gap_laws(N, _check_layer_list(N, kwargs.pop("layers", None)), **kwargs).items()):
         num = sum(g * (g + 1) * c for g, c in enumerate(law.counts))
-        out.append(Fraction(num, law.total * (d + 1) * (d + 2)))
+        out.append(Fraction(num, law.total * (law.d + 1) * (law.d + 2)))
     return out
 
 

@@ -37,7 +37,7 @@ S. Ostojic, PhD thesis (2006), Eqs. (3.2)-(3.4), (3.8), (4.5)-(4.9); the
 thesis's ``P(f)``: Figs. 2.4, 3.8, 7.3.
 
 May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.plan`,
-:mod:`.staircase`, :mod:`.spacings`, :mod:`.moments`, :mod:`.gaps`, :mod:`.joint_gaps`.
+:mod:`.staircase`, :mod:`.spacings`, :mod:`.moments`, :mod:`.gaps`, :mod:`.joint_gaps`, :mod:`.pieces`.
 """
 
 from __future__ import annotations
@@ -45,7 +45,6 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Sequence
 from fractions import Fraction
 from math import comb
-from typing import Any, NamedTuple
 
 import sympy
 
@@ -53,9 +52,10 @@ from ..plan import Plan
 from ..validation import check_grain, check_int, check_layers
 from .gaps import GapCounts, chain_pass, contact_gap_counts, contact_gap_law, gap_laws_plan
 from .joint_gaps import q_gap_counts
+from .pieces import Piece, as_pieces, bin_probabilities, piecewise_cdf, sum_pieces
 from .moments import mean_W_grain
 from .spacings import rising
-from ..errors import ArgumentError, ArgumentTypeError
+from ..errors import ArgumentError
 
 __all__ = [
     "W_SYMBOL",
@@ -361,25 +361,6 @@ def _layer_force_density(N: int, i: int, var: sympy.Symbol, progress: Callable[[
     return _scaled(p, Fraction(1, i), var)
 
 
-class Piece(NamedTuple):
-    """A polynomial ``poly`` of a piecewise density on ``[lo, hi]``."""
-
-    lo: sympy.Rational
-    hi: sympy.Rational
-    poly: sympy.Poly
-
-
-def _pieces(terms, var) -> list[Piece]:
-    """Sum of ``(support end, poly)`` terms (each supported on ``[0, end]``) as pieces."""
-    breaks = sorted({b for b, _ in terms})
-    pieces, lo = [], sympy.Integer(0)
-    for hi in breaks:
-        poly = sum((p for b, p in terms if b >= hi), sympy.Poly(0, var, domain="QQ"))
-        pieces.append(Piece(lo, hi, poly))
-        lo = hi
-    return pieces
-
-
 def triangle_force_density(N: int, var: sympy.Symbol = F_SYMBOL, layers: Iterable[int] | None = None,
                            progress: Callable[[int], object] | None = None) -> list[Piece]:
     """Exact ensemble ``P(f)`` pooled over every grain of layers ``2..N``, ``f = i W_{i,j}``.
@@ -421,83 +402,7 @@ def triangle_force_density(N: int, var: sympy.Symbol = F_SYMBOL, layers: Iterabl
         raise ArgumentError("layers: need at least one layer in 2..N")
     grains = sum(layers)
     terms = [(sympy.Integer(i), _layer_force_density(N, i, var, progress) * sympy.Rational(i, grains)) for i in layers]
-    return _pieces(terms, var)
-
-
-def as_pieces(density: sympy.Poly | Sequence[Piece], support: tuple[Any, Any] | None = None) -> list[Piece]:
-    """A density as a list of :class:`Piece`: pieces pass through; one ``Poly`` needs its ``support`` ``(lo, hi)``.
-
-    The single-polynomial densities live on different intervals (a grain's on
-    ``[0, 1]``, a layer's ``P_i(f)`` on ``[0, i]``, a contact pool's on
-    ``[0, 2i]``), so the interval is never guessed.
-
-    Examples
-    --------
-    >>> as_pieces(layer_force_density(3, 3), (0, 3))[0][:2]
-    (0, 3)
-    """
-    if isinstance(density, sympy.Poly):
-        if support is None:
-            raise ArgumentError("support: a single polynomial density needs its interval (lo, hi), "
-                             "e.g. (0, 1) for a grain, (0, i) for layer i, (0, 2i) for the contacts below layer i")
-        lo, hi = (sympy.Rational(str(Fraction(x))) for x in support)
-        if not lo < hi:
-            raise ArgumentError(f"support={support!r}: need lo < hi")
-        return [Piece(lo, hi, density)]
-    pieces = list(density)
-    if not pieces or not all(isinstance(p, Piece) for p in pieces):
-        raise ArgumentTypeError("density: need a sympy Poly (with support) or a list of Piece")
-    return pieces
-
-
-def piecewise_cdf(pieces: Sequence[Piece]) -> list[Piece]:
-    """The distribution function of a piecewise density, as pieces on the same intervals.
-
-    Examples
-    --------
-    >>> [(p.lo, p.hi, p.poly.as_expr()) for p in piecewise_cdf(triangle_force_density(3))]
-    [(0, 2, -f**3/10 + 7*f**2/30 + 2*f/5), (2, 3, -f**2/15 + 2*f/5 + 2/5)]
-    """
-    out, mass = [], sympy.Integer(0)
-    for piece in pieces:
-        F = piece.poly.integrate()
-        F = F - F.eval(piece.lo) + mass
-        out.append(Piece(piece.lo, piece.hi, F))
-        mass = F.eval(piece.hi)
-    return out
-
-
-def bin_probabilities(pieces: sympy.Poly | Sequence[Piece], edges: Iterable[Any],
-                      support: tuple[Any, Any] | None = None) -> list[Fraction]:
-    """Exact ``int_{e_k}^{e_{k+1}} P(f) df`` of a piecewise density for consecutive ``edges``.
-
-    ``pieces`` is a list of :class:`Piece`, or one ``Poly`` with its
-    ``support`` (:func:`as_pieces`); ``edges`` are numbers
-    :class:`fractions.Fraction` accepts (floats exactly).
-
-    Examples
-    --------
-    >>> [str(x) for x in bin_probabilities(triangle_force_density(3), [0, 1, 2, 3])]
-    ['8/15', '2/5', '1/15']
-    >>> [str(x) for x in bin_probabilities(contact_layer_force_density(3, 2), [0, 1, 4], support=(0, 4))]
-    ['37/64', '27/64']
-    """
-    pieces = as_pieces(pieces, support)
-    edges = [Fraction(e) for e in edges]
-    if any(b <= a for a, b in zip(edges, edges[1:])):
-        raise ArgumentError("edges must increase strictly")
-    prims = [(Fraction(int(p.lo.p), int(p.lo.q)), Fraction(int(p.hi.p), int(p.hi.q)), p.poly.integrate()) for p in pieces]
-
-    def mass(a, b):
-        total = Fraction(0)
-        for lo, hi, F in prims:
-            x, y = max(a, lo), min(b, hi)
-            if x < y:
-                v = F.eval(sympy.Rational(y.numerator, y.denominator)) - F.eval(sympy.Rational(x.numerator, x.denominator))
-                total += Fraction(int(v.p), int(v.q))
-        return total
-
-    return [mass(a, b) for a, b in zip(edges, edges[1:])]
+    return sum_pieces(terms, var)
 
 
 def contact_layer_force_density(N: int, i: int, var: sympy.Symbol = F_SYMBOL,
@@ -541,7 +446,7 @@ def grain_scaled_pool_density(N: int, grains: Iterable[tuple[int, int]], var: sy
         mu = mean_W_grain(N, i, j)
         poly = _scaled(density_from_gaps(_load_gaps(N, (i, j)), var), mu, var) * sympy.Rational(1, len(grains))
         terms.append((sympy.Rational(mu.denominator, mu.numerator), poly))
-    return _pieces(terms, var)
+    return sum_pieces(terms, var)
 
 
 # ------------------------------------------------------------------ q = F5 / (F5 + F6)

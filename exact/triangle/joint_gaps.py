@@ -18,7 +18,7 @@ Examples
 ([(1, 1, 1)], 1)
 
 May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
-:mod:`.staircase`, :mod:`.ideal_dp`, :mod:`.gaps`.
+:mod:`.staircase`, :mod:`.ideal_dp`, :mod:`.runs`.
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ import numpy as np
 
 from ..modular import crt, primes_for_bound
 from ..validation import check_grain, check_int, check_layers
-from .gaps import check_chain, mulmod_sum, run_layout, transport
+from .runs import check_chain, mulmod_sum, run_layout, transport
 from .ideal_dp import predecessor_moves
 from .staircase import count, dimension
 from ..errors import ArgumentError
@@ -41,7 +41,7 @@ def _joint_residues(n: int, cells: tuple[tuple[int, int], ...], k: int, primes: 
     """``out[g1, g2, p]``: tableaux with gaps ``(g1, g2)`` in intervals ``k``, ``k + 1``, mod ``p``.
 
     Like :func:`forcenet.exact.triangle.gaps.chain_gap_counts`' pass (the same set-up,
-    :func:`~forcenet.exact.triangle.gaps.run_layout`), but the state in run ``k + 1`` is the pair
+    :func:`~forcenet.exact.triangle.runs.run_layout`), but the state in run ``k + 1`` is the pair
     (gap of run ``k``, level where run ``k + 1`` started).
     """
     d, pvec, h, f, full, lo, levels, pos = run_layout(n, cells, primes)

@@ -159,7 +159,7 @@ def test_hook_walk_tableaux_are_uniform(N, per_tableau):
 
     from forcenet.exact.reference.linear_extensions import partial_sum_poset
     from forcenet.exact.triangle.staircase import grain_to_cell
-    from forcenet.numeric.triangle.kernels import hook_walk_tableaux
+    from forcenet.numeric.triangle.hook_walk import hook_walk_tableaux
 
     from test_sampler import chi_square_pvalue
 
@@ -177,7 +177,7 @@ def test_hook_walk_tableaux_are_uniform(N, per_tableau):
 
 
 def test_hook_walk_tableaux_are_standard():
-    from forcenet.numeric.triangle.kernels import hook_walk_tableaux
+    from forcenet.numeric.triangle.hook_walk import hook_walk_tableaux
 
     n = 30
     T = hook_walk_tableaux(np.random.default_rng(1), n, 3)

@@ -209,7 +209,7 @@ class ExactSampler:
         ``"python"``: the reference route, :func:`sample_tableaux` (Schur's
         removal weights, ``O(d n)`` per tableau, vectorized over a batch) and
         :func:`tableaux_to_W`; ``"compiled"``: Sagan's shifted hook walk
-        (:func:`forcenet.numeric.triangle.kernels.hook_walk_W`, numba,
+        (:func:`forcenet.numeric.triangle.hook_walk.hook_walk_W`, numba,
         ``O(d log n)`` per tableau, one sample at a time so the stream does not
         depend on batching); ``None`` (default): compiled when numba is
         available.  The two draw from the same distribution but consume the
@@ -241,7 +241,7 @@ class ExactSampler:
         seen; ``progress(k)`` after each call of ``k`` samples.
         """
         from ..jit import chunks, first_chunk
-        from .kernels import hook_walk_W
+        from .hook_walk import hook_walk_W
 
         N = self.N
         empty = np.zeros((0, N, N))
@@ -341,7 +341,7 @@ def sample_plan(N: int, samples: int, memory_bytes: int | None = None, kernel: s
         seconds = _SECONDS_PER_CUBE * N**3 * samples + 0.3
     plan = Plan(f"{samples} exact samples N={N}", seconds, nbytes, samples, "sample")
     if compiled:  # a first run (numba's cache lacks the hook walk) compiles it
-        from .kernels import hook_walk_W
+        from .hook_walk import hook_walk_W
 
         plan = with_compilation(plan, "exact sampler", COMPILE_SECONDS, [hook_walk_W])
     return plan.within_memory(memory_bytes)

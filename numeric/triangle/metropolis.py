@@ -97,7 +97,7 @@ class TriangleMetropolis:
         ``p_h > 0``).
     kernel : {None, "compiled", "python"}
         ``"python"``: the reference kernel below (numpy, whole rows per move);
-        ``"compiled"``: :func:`forcenet.numeric.triangle.kernels.triangle_sweeps`
+        ``"compiled"``: :func:`forcenet.numeric.triangle.metropolis_kernel.triangle_sweeps`
         (numba, the light cone only), which draws the same random numbers and
         gives the same chain for the same seed, 30-100 times faster; ``None``
         (default): compiled when numba is available.
@@ -192,7 +192,9 @@ class TriangleMetropolis:
         recorded ``k`` records.
         """
         from ..jit import chunks, first_chunk
-        from .kernels import triangle_slice_sweeps, triangle_state, triangle_sweeps
+        from .cone import triangle_state
+        from .metropolis_kernel import triangle_sweeps
+        from .slice_kernel import triangle_slice_sweeps
 
         flux, zeros = triangle_state(self.q, self.W)
         gi = np.array([g[0] for g in self.grains], dtype=np.int64)
@@ -316,8 +318,9 @@ def metropolis_plan(N: int, sweeps: int, burn_in: int = 0, memory_bytes: int | N
     plan = Plan(f"Metropolis N={N}, {sweeps} sweeps", per_move * moves + start,
                 sweeps * N * N * 8 + 100 * 2**20, sweeps, "sweep")
     if compiled:
-        from . import kernels
+        from .metropolis_kernel import triangle_sweeps
+        from .slice_kernel import triangle_slice_sweeps
 
-        entry = kernels.triangle_slice_sweeps if move == "slice" else kernels.triangle_sweeps
+        entry = triangle_slice_sweeps if move == "slice" else triangle_sweeps
         plan = with_compilation(plan, f"triangle {move}", COMPILE_SECONDS[move], [entry])
     return plan.within_memory(memory_bytes)

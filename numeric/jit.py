@@ -56,7 +56,7 @@ except ImportError:  # pragma: no cover - numba is a declared dependency
         return lambda f: f
 
 
-def kernel_choice(kernel) -> str:
+def kernel_choice(kernel: str | None) -> str:
     """``"compiled"`` or ``"python"``; ``None`` picks the compiled kernel when numba is available."""
     if kernel is None:
         return "compiled" if HAVE_NUMBA else "python"

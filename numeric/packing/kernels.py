@@ -26,18 +26,17 @@ import numpy as np
 
 from ..jit import njit
 from ..slice_sampling import log_push, slice_shrink
+from .scene import Scene, lateral_increments
 
-__all__ = ["packing_sweeps", "packing_state"]
+__all__ = ["packing_sweeps", "packing_slice_sweeps", "packing_state"]
 
 
-def packing_state(q: np.ndarray, W: np.ndarray, scene):
-    """The lateral increments ``dd`` (``F4 - F3``) and their running sums ``cs`` (``F4 = p_h + cs``),
-    exactly as :func:`forcenet.numeric.packing.scene.lateral_forces` computes them."""
-    from .scene import _lateral_increments
-
+def packing_state(q: np.ndarray, W: np.ndarray, scene: Scene) -> tuple[np.ndarray, np.ndarray]:
+    """``(cs, dd)``: the lateral increments ``dd`` (``F4 - F3``) and their running sums ``cs`` (``F4 = p_h + cs``),
+    exactly as :func:`forcenet.numeric.packing.scene.lateral_forces` computes them (zeros without a side pressure)."""
     if scene.ph is None:
         return np.zeros(W.shape), np.zeros(W.shape)
-    dd = np.ascontiguousarray(_lateral_increments(q, W, scene))
+    dd = np.ascontiguousarray(lateral_increments(q, W, scene))
     return np.ascontiguousarray(np.cumsum(dd, axis=1)), dd
 
 
@@ -164,7 +163,10 @@ def _packing_move(q, W, cs, dd, i, j, new, rng, ph, has_ph, tol, top_load, mg, c
 
 
 @njit
-def packing_sweeps(q, W, cs, dd, gi, gj, rng, sweeps, ph, has_ph, tol, step, top_load, mg, out, qs, counters, thin=1):
+def packing_sweeps(q: np.ndarray, W: np.ndarray, cs: np.ndarray, dd: np.ndarray, gi: np.ndarray, gj: np.ndarray,
+                   rng: np.random.Generator, sweeps: int, ph: float, has_ph: bool, tol: float, step: float,
+                   top_load: np.ndarray, mg: float, out: np.ndarray, qs: np.ndarray, counters: np.ndarray,
+                   thin: int = 1) -> None:
     """``sweeps`` sweeps of ``len(gi)`` moves; ``W`` (and ``q``) recorded after every ``thin``-th sweep if ``out``
     (``qs``) is non-empty.
 
@@ -218,7 +220,10 @@ def _packing_commit(q, W, cs, dd, i, j, new, top_load, mg, ph, tol, has_ph, S, C
 
 
 @njit
-def packing_slice_sweeps(q, W, cs, dd, gi, gj, rng, sweeps, ph, has_ph, tol, top_load, mg, out, qs, counters, thin=1):
+def packing_slice_sweeps(q: np.ndarray, W: np.ndarray, cs: np.ndarray, dd: np.ndarray, gi: np.ndarray,
+                         gj: np.ndarray, rng: np.random.Generator, sweeps: int, ph: float, has_ph: bool, tol: float,
+                         top_load: np.ndarray, mg: float, out: np.ndarray, qs: np.ndarray, counters: np.ndarray,
+                         thin: int = 1) -> None:
     """Like :func:`packing_sweeps` with the slice move: the new q of the grain is drawn from its exact
     conditional law restricted to the interval where every force stays non-negative (an interval: all
     forces are affine in one q), by slice sampling; no move is rejected.

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .scene import _S3, Scene, forces_from_lateral
+from .scene import SQRT3, Scene, forces_from_lateral
 from forcenet.exact.errors import ArgumentError
 
 __all__ = ["uniform_networks", "maximin_network"]
@@ -37,7 +37,7 @@ def _affine_constraints(scene: Scene):
     return M[1:] - M[0], M[0]
 
 
-def uniform_networks(scene: Scene, size: int, rng, batch: int = 200_000):
+def uniform_networks(scene: Scene, size: int, rng: np.random.Generator, batch: int = 200_000) -> tuple[np.ndarray, float]:
     """Independent uniform force networks by rejection in the lateral forces (Sec. 3.2.2).
 
     The route that checks the q-coordinates and the measure of Eq. (3.10):
@@ -63,7 +63,8 @@ def uniform_networks(scene: Scene, size: int, rng, batch: int = 200_000):
             if res.status != 0:
                 raise ArgumentError(f"no repulsive force network exists for {scene} ({res.message})")
             out[k] = res.x[k]
-    kept, tried = [], 0
+    kept: list[np.ndarray] = []
+    tried = 0
     while sum(len(k) for k in kept) < size:
         x = lo + (hi - lo) * rng.random((batch, n))
         tried += batch
@@ -78,12 +79,12 @@ def uniform_networks(scene: Scene, size: int, rng, batch: int = 200_000):
     x = np.concatenate(kept)[:size]
     f = forces_from_lateral(x.reshape(size, N - 1, P - 1), scene)
     W = np.empty((size, N, P))
-    W[:, :-1] = (_S3 / 2) * (f["F5"] + f["F6"])[:, :-1]
-    W[:, -1] = (_S3 / 2) * (f["F1"] + f["F2"])[:, -1] + scene.mg
+    W[:, :-1] = (SQRT3 / 2) * (f["F5"] + f["F6"])[:, :-1]
+    W[:, -1] = (SQRT3 / 2) * (f["F1"] + f["F2"])[:, -1] + scene.mg
     return W, accepted / tried
 
 
-def maximin_network(scene: Scene):
+def maximin_network(scene: Scene) -> tuple[np.ndarray, float]:
     """The free lateral forces maximizing the smallest contact force (a linear program).
 
     Returns ``(x, slack)``: ``x`` of shape ``(N-1, P-1)`` and the smallest

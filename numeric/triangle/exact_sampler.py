@@ -23,6 +23,8 @@ from __future__ import annotations
 
 import math
 
+from collections.abc import Callable, Sequence
+
 import numpy as np
 
 from forcenet.exact.triangle.staircase import dimension
@@ -78,7 +80,8 @@ def _full_phi(parts, logtab):
     return np.where(use, _pair_terms(a, b, logtab), 0.0).sum(axis=2)
 
 
-def sample_tableaux(N: int, size: int, rng: np.random.Generator, refresh: int | None = None, progress=None) -> np.ndarray:
+def sample_tableaux(N: int, size: int, rng: np.random.Generator, refresh: int | None = None,
+                    progress: Callable[[int], object] | None = None) -> np.ndarray:
     """Uniform random standard shifted staircase tableaux.
 
     Returns ``T`` of shape ``(size, n + 1, n + 1)`` (``n = N - 1``) with
@@ -180,7 +183,7 @@ def q_from_W(W: np.ndarray) -> np.ndarray:
     return np.where(np.tril(np.ones((N - 1, N - 1), dtype=bool)), q, np.nan)
 
 
-def mean_and_error(total: np.ndarray, squares: np.ndarray, samples: int):
+def mean_and_error(total: np.ndarray, squares: np.ndarray, samples: int) -> tuple[np.ndarray, np.ndarray]:
     """Mean and standard error of the mean from the sum and the sum of squares of ``samples`` independent draws.
 
     Examples
@@ -223,7 +226,7 @@ class ExactSampler:
     True
     """
 
-    def __init__(self, N: int, seed=None, batch: int = 4096, kernel: str | None = None):
+    def __init__(self, N: int, seed: int | np.random.Generator | None = None, batch: int = 4096, kernel: str | None = None) -> None:
         from ..jit import kernel_choice
 
         self.kernel = kernel_choice(kernel)
@@ -266,7 +269,8 @@ class ExactSampler:
         T = sample_tableaux(self.N, size, self.rng)
         return tableaux_to_W(T, self.rng)
 
-    def moment_sums(self, samples: int, orders=(1, 2), progress=None):
+    def moment_sums(self, samples: int, orders: Sequence[int] = (1, 2),
+                    progress: Callable[[int], object] | None = None) -> dict[int, tuple[np.ndarray, np.ndarray]]:
         """Raw sums over ``samples`` independent draws: ``{s: (sum W**s, sum W**(2s))}``, arrays ``(N, N)``.
 
         Sums from independent runs add (e.g. from several processes, ``forcenet sample --workers``).
@@ -275,11 +279,11 @@ class ExactSampler:
         orders = tuple(check_int(s, "orders", 1) for s in orders)
         if self.kernel == "compiled":
             N = self.N
-            sums = np.zeros((len(orders), N, N))
-            squares = np.zeros((len(orders), N, N))
-            self._compiled(samples, sums=sums, squares=squares, orders=np.array(orders, dtype=np.int64),
+            table = np.zeros((len(orders), N, N))
+            table2 = np.zeros((len(orders), N, N))
+            self._compiled(samples, sums=table, squares=table2, orders=np.array(orders, dtype=np.int64),
                            progress=progress)
-            return {s: (sums[o], squares[o]) for o, s in enumerate(orders)}
+            return {s: (table[o], table2[o]) for o, s in enumerate(orders)}
         sums = {s: np.zeros((self.N, self.N)) for s in orders}
         squares = {s: np.zeros((self.N, self.N)) for s in orders}
         done = 0
@@ -295,7 +299,8 @@ class ExactSampler:
                 progress(k)
         return {s: (sums[s], squares[s]) for s in orders}
 
-    def moments(self, samples: int, orders=(1, 2), progress=None):
+    def moments(self, samples: int, orders: Sequence[int] = (1, 2),
+                progress: Callable[[int], object] | None = None) -> dict[int, tuple[np.ndarray, np.ndarray]]:
         """Sample means of ``W**s`` and their standard errors (independent draws).
 
         Returns ``{s: (mean, stderr)}`` with arrays of shape ``(N, N)``.
@@ -304,7 +309,7 @@ class ExactSampler:
         return {s: mean_and_error(total, squares, samples)
                 for s, (total, squares) in self.moment_sums(samples, orders, progress).items()}
 
-    def mean_W(self, samples: int, progress=None):
+    def mean_W(self, samples: int, progress: Callable[[int], object] | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Sample mean of ``W`` and its standard error, arrays ``(N, N)``."""
         return self.moments(samples, (1,), progress)[1]
 

@@ -13,7 +13,7 @@ from Schur's formula in ``O(n)`` per removal; the walk needs no weights at
 all.  Checked in exact rational arithmetic for every strict partition of
 size <= 22 (``tests/test_kernels.py`` repeats it to size 14).
 
-May import: numpy, :mod:`forcenet.numeric.jit`.
+May import: numpy, :mod:`forcenet.numeric.jit`, :mod:`forcenet.exact.triangle.staircase`.
 
 Examples
 --------
@@ -25,6 +25,8 @@ Examples
 from __future__ import annotations
 
 import numpy as np
+
+from forcenet.exact.triangle.staircase import dimension
 
 from ..jit import njit
 
@@ -68,7 +70,7 @@ def _below(rng, m):
 @njit
 def _hook_walk_one(rng, n, lam, colh, tree, T, stats):
     """Fill ``T`` (shape ``(n+1, n+1)``) with a uniform shifted staircase tableau; ``stats[0] +=`` walk steps."""
-    d = n * (n + 1) // 2
+    d = n * (n + 1) // 2  # dimension(n + 1), Eq. 4.3 (compiled code cannot call it)
     for r in range(n):
         lam[r] = n - r
         colh[r] = r + 1
@@ -143,7 +145,7 @@ def hook_walk_tableaux(rng: np.random.Generator, n: int, size: int, stats: np.nd
     >>> hook_walk_tableaux(np.random.default_rng(0), 2, 2).shape
     (2, 3, 3)
     """
-    d = n * (n + 1) // 2
+    d = dimension(n + 1)
     T = np.zeros((size, n + 1, n + 1), np.int32 if d < 2**31 else np.int64)
     if n > 0:
         _hook_walk_fill(rng, n, T, np.zeros(1, np.int64) if stats is None else stats)
@@ -154,7 +156,7 @@ def hook_walk_tableaux(rng: np.random.Generator, n: int, size: int, stats: np.nd
 def _W_from_tableau(rng, T, N, spacing, W):
     """``W`` (``N x N``) from a tableau: sorted uniforms ``U_(k)`` (normalized exponential spacings) placed by rank."""
     n = N - 1
-    d = n * (n + 1) // 2
+    d = n * (n + 1) // 2  # dimension(n + 1), Eq. 4.3 (compiled code cannot call it)
     total = 0.0
     spacing[0] = 0.0
     for k in range(1, d + 2):
@@ -210,7 +212,7 @@ def hook_walk_W(rng: np.random.Generator, N: int, size: int, W_out: np.ndarray, 
     [[1.0, 1.0, 1.0], [1.0, 1.0, 1.0]]
     """
     n = N - 1
-    d = n * (n + 1) // 2
+    d = n * (n + 1) // 2  # dimension(n + 1), Eq. 4.3 (compiled code cannot call it)
     T = np.zeros((n + 1, n + 1), np.int64)
     lam = np.empty(max(n, 1), np.int64)
     colh = np.empty(max(n, 1), np.int64)

@@ -30,8 +30,12 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
+from collections.abc import Callable
 
+import numpy as np
+from numpy.typing import ArrayLike
+
+from forcenet.exact.triangle.staircase import dimension
 from forcenet.exact.validation import check_int, check_layers
 from forcenet.exact.errors import ArgumentError
 
@@ -110,8 +114,8 @@ class TriangleMetropolis:
         with shrinkage (Neal 2003); no move is rejected.
     """
 
-    def __init__(self, N: int, seed=None, ph: float | None = None, q0=None, kernel: str | None = None,
-                 move: str = "metropolis"):
+    def __init__(self, N: int, seed: int | np.random.Generator | None = None, ph: float | None = None, q0: ArrayLike | None = None,
+                 kernel: str | None = None, move: str = "metropolis") -> None:
         from ..jit import kernel_choice
 
         self.kernel = kernel_choice(kernel)
@@ -234,7 +238,7 @@ class TriangleMetropolis:
                 if self._propose(i, j, value):
                     self.accepted += 1
 
-    def run(self, sweeps: int, burn_in: int = 0, progress=None, thin: int = 1) -> np.ndarray:
+    def run(self, sweeps: int, burn_in: int = 0, progress: Callable[[int], object] | None = None, thin: int = 1) -> np.ndarray:
         """Burn in, then record ``W`` after every ``thin``-th of ``sweeps * thin`` sweeps.
 
         Returns an array of shape ``(sweeps, N, N)``; ``progress`` ticks once per record.
@@ -309,7 +313,7 @@ def metropolis_plan(N: int, sweeps: int, burn_in: int = 0, memory_bytes: int | N
     sweeps, burn_in = check_int(sweeps, "sweeps", 1), check_int(burn_in, "burn_in", 0)
     if move not in COMPILE_SECONDS:
         raise ArgumentError(f"move={move!r}: expected 'metropolis' or 'slice'")
-    moves = N * (N - 1) // 2 * (sweeps + burn_in)
+    moves = dimension(N) * (sweeps + burn_in)  # N(N-1)/2 grains per sweep
     compiled = kernel_choice(kernel) == "compiled"
     if compiled:
         per_move, start = _compiled_seconds_per_move(N, ph), 1.0  # + loading the cached kernel

@@ -9,7 +9,6 @@ short to trust is not returned.
 Examples
 --------
 >>> import numpy as np
-from numpy.typing import ArrayLike
 >>> rng = np.random.default_rng(0)
 >>> x = np.zeros(20000)
 >>> for t in range(1, x.size):  # AR(1) with tau = (1 + 0.9) / (1 - 0.9) = 19

@@ -45,7 +45,34 @@ def uniform_networks(scene: Scene, size: int, rng: np.random.Generator, batch: i
     linear programs) and kept when every force is repulsive.  Exponentially
     slow in ``(N-1)(P-1)``; for small packings only.
 
-    Returns ``W`` samples of shape ``(size, N, P)`` and the acceptance rate.
+    Parameters
+    ----------
+    scene : Scene
+        The packing, ``(N-1)(P-1) <= 12``.
+    size : int
+        Networks to draw.
+    rng : numpy.random.Generator
+        The stream.
+    batch : int
+        Candidates per round.
+
+    Returns
+    -------
+    W : numpy.ndarray
+        Shape ``(size, N, P)``.
+    acceptance : float
+        The fraction of candidates kept.
+
+    Raises
+    ------
+    forcenet.exact.errors.ArgumentError
+        If the packing is too large, no repulsive network exists, or the acceptance is below ``1e-4``.
+
+    Examples
+    --------
+    >>> W, rate = uniform_networks(Scene(N=2, P=2, F=1.0, pv=1.0, ph=1.0), 100, np.random.default_rng(0))
+    >>> W.shape, 0 < rate <= 1
+    ((100, 2, 2), True)
     """
     from scipy.optimize import linprog
 
@@ -89,7 +116,31 @@ def maximin_network(scene: Scene) -> tuple[np.ndarray, float]:
 
     Returns ``(x, slack)``: ``x`` of shape ``(N-1, P-1)`` and the smallest
     force of that network (``<= 0``: no strictly repulsive network exists).
-    Needs a finite ``scene.ph``.
+
+    Parameters
+    ----------
+    scene : Scene
+        The packing, with a finite ``ph``.
+
+    Returns
+    -------
+    x : numpy.ndarray
+        Shape ``(N-1, P-1)``.
+    slack : float
+        The smallest contact force of that network.
+
+    Raises
+    ------
+    forcenet.exact.errors.ArgumentError
+        If ``scene.ph`` is None.
+    RuntimeError
+        If the linear program fails.
+
+    Examples
+    --------
+    >>> x, slack = maximin_network(Scene(N=2, P=2, F=1.0, pv=1.0, ph=1.0))
+    >>> x.shape, bool(slack > 0)
+    ((1, 1), True)
     """
     from scipy.optimize import linprog
 

@@ -77,6 +77,12 @@ class Scene:
         Left-wall force per layer; ``None``: large enough for every q in
         [0, 1] to be allowed (the thesis's choice for gravity, Sec. 3.3.2).
 
+    Raises
+    ------
+    forcenet.exact.errors.ArgumentError
+        On ``N`` or ``P`` below 2, ``j0`` outside ``1..P``, a negative load, a ``ph`` that is not positive, or
+        ``pv = mg = 0`` (only the triangle under the overload: use the triangle's samplers).
+
     Examples
     --------
     >>> Scene(N=20, P=41, F=10.0, pv=1.0, ph=1.0).j0
@@ -131,6 +137,18 @@ def forces_from_q(q: np.ndarray, scene: Scene) -> np.ndarray:
     """``W_{i,j}`` (shape ``(N, P)``) from ``q`` (shape ``(N-1, P)``), Eq. (3.9).
 
     The last column of ``q`` is ignored (the right column has ``q = 1``).
+
+    Parameters
+    ----------
+    q : numpy.ndarray
+        Shape ``(..., N-1, P)``, entries in [0, 1].
+    scene : Scene
+        The boundary conditions.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``(..., N, P)``.
 
     Examples
     --------
@@ -191,7 +209,24 @@ def lateral_increments(q: np.ndarray, W: np.ndarray, scene: Scene) -> np.ndarray
 def lateral_forces(q: np.ndarray, W: np.ndarray, scene: Scene) -> np.ndarray:
     """``F4^{(i,j)}`` on every grain (shape ``(N, P)``); column ``P`` is the right wall.
 
-    Needs a finite ``scene.ph``.
+    Parameters
+    ----------
+    q : numpy.ndarray
+        The q-coordinates, shape ``(N-1, P)``.
+    W : numpy.ndarray
+        The loads from ``q`` (:func:`forces_from_q`), shape ``(N, P)``.
+    scene : Scene
+        The boundary conditions, with a finite ``ph``.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``(N, P)``.
+
+    Raises
+    ------
+    forcenet.exact.errors.ArgumentError
+        If ``scene.ph`` is None.
 
     Examples
     --------
@@ -215,6 +250,23 @@ def forces_from_lateral(x: np.ndarray, scene: Scene) -> dict:
     and the bottom layer have their ``F4`` fixed by balance.  ``scene.ph=None``
     is taken as ``ph = 0`` (only differences of lateral forces matter then).
     Every force is affine in ``x``.
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        The free lateral forces, shape ``(..., N-1, P-1)``.
+    scene : Scene
+        The boundary conditions.
+
+    Returns
+    -------
+    dict
+        ``"F1"`` .. ``"F6"``: arrays of shape ``(..., N, P)``.
+
+    Raises
+    ------
+    forcenet.exact.errors.ArgumentError
+        If ``x`` has the wrong shape.
 
     Examples
     --------
@@ -262,6 +314,30 @@ def contact_forces(q: np.ndarray, scene: Scene) -> dict:
     F5/F6); ``F3`` of the left column is ``p_h`` and ``F4`` of the right
     column is the right-wall force.  Used to check force balance grain by
     grain.
+
+    Parameters
+    ----------
+    q : numpy.ndarray
+        The q-coordinates, shape ``(N-1, P)``.
+    scene : Scene
+        The boundary conditions, with a finite ``ph``.
+
+    Returns
+    -------
+    dict
+        ``"F1"`` .. ``"F6"``, ``"floor"`` (the floor's forces, bottom layer) and ``"W"``: arrays ``(N, P)``.
+
+    Raises
+    ------
+    forcenet.exact.errors.ArgumentError
+        If ``scene.ph`` is None.
+
+    Examples
+    --------
+    >>> s = Scene(N=2, P=2, F=1.0, pv=1.0, ph=1.0, j0=1)
+    >>> f = contact_forces(np.array([[0.5, 1.0]]), s)
+    >>> bool(np.allclose(f["floor"][-1], f["W"][-1]))
+    True
     """
     N, P = scene.N, scene.P
     q = np.array(q, dtype=float)

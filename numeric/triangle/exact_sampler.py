@@ -84,13 +84,35 @@ def sample_tableaux(N: int, size: int, rng: np.random.Generator, refresh: int | 
                     progress: Callable[[int], object] | None = None) -> np.ndarray:
     """Uniform random standard shifted staircase tableaux.
 
-    Returns ``T`` of shape ``(size, n + 1, n + 1)`` (``n = N - 1``) with
-    ``T[:, r, c]`` the entry of cell ``(r, c)``, ``1 <= r <= c <= n``, zero
-    elsewhere.  The largest remaining entry goes to the end of row ``r`` with
+    The largest remaining entry goes to the end of row ``r`` with
     probability ``g(lambda - e_r) / g(lambda) = (lambda_r/|lambda|) exp(Phi_r)``;
     the log-weights ``Phi`` are updated in ``O(n)`` per removal (only the
     factors involving the shortened row change) and recomputed from scratch
-    every ``refresh`` steps (default ``10 n``) against rounding drift.
+    every ``refresh`` steps against rounding drift.
+
+    Parameters
+    ----------
+    N : int
+        Layers of the triangle, ``>= 2``: the staircase has rows ``n, ..., 1``, ``n = N - 1``.
+    size : int
+        Tableaux to draw.
+    rng : numpy.random.Generator
+        The stream.
+    refresh : int, optional
+        Removals between recomputations of the weights (default ``10 n``).
+    progress : callable, optional
+        Called with 1 after each removal (every entry of all ``size`` tableaux at once).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``T`` of shape ``(size, n + 1, n + 1)`` with ``T[:, r, c]`` the entry of
+        cell ``(r, c)``, ``1 <= r <= c <= n``, zero elsewhere.
+
+    Raises
+    ------
+    forcenet.exact.errors.ArgumentError
+        On ``N < 2``.
 
     Examples
     --------

@@ -25,10 +25,10 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Callable, Sequence
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any, NamedTuple
 
-from collections.abc import Callable, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 

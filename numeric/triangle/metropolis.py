@@ -112,6 +112,19 @@ class TriangleMetropolis:
         that q, so log-concave), restricted with a finite ``ph`` to the
         interval where every lateral force stays >= 0, by slice sampling
         with shrinkage (Neal 2003); no move is rejected.
+
+    Raises
+    ------
+    forcenet.exact.errors.ArgumentError
+        On ``N < 2``, a ``ph`` that is not a positive finite number, an unknown ``kernel`` or ``move``, the slice
+        move without the compiled kernel, a ``q0`` of the wrong shape or (finite ``ph``) with a negative lateral force.
+
+    Examples
+    --------
+    >>> sampler = TriangleMetropolis(4, seed=2, ph=0.5)
+    >>> chain = sampler.run(sweeps=100, burn_in=10)
+    >>> chain.shape, bool((lateral_forces(sampler.q, sampler.W, 0.5) >= -1e-12).all())
+    ((100, 4, 4), True)
     """
 
     def __init__(self, N: int, seed: int | np.random.Generator | None = None, ph: float | None = None, q0: ArrayLike | None = None,
@@ -263,7 +276,30 @@ class TriangleMetropolis:
 def q_model_samples(N: int, size: int, rng: np.random.Generator) -> np.ndarray:
     """The q-model contrast: independent uniform q on every grain, no weight.
 
-    Returns ``W`` samples, shape ``(size, N, N)``.
+    Parameters
+    ----------
+    N : int
+        Layers, ``>= 2``.
+    size : int
+        Samples.
+    rng : numpy.random.Generator
+        The stream.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``W`` samples (Eq. 4.5 from the uniform q), shape ``(size, N, N)``.
+
+    Raises
+    ------
+    forcenet.exact.errors.ArgumentError
+        On ``N < 2``.
+
+    Examples
+    --------
+    >>> W = q_model_samples(3, 2, np.random.default_rng(0))
+    >>> W.shape, W.sum(axis=2).round(12).tolist()
+    ((2, 3, 3), [[1.0, 1.0, 1.0], [1.0, 1.0, 1.0]])
     """
     N = check_layers(N)
     q = np.tril(rng.random((size, N - 1, N - 1)))

@@ -30,7 +30,7 @@ import numpy as np
 
 from ..jit import njit
 
-__all__ = ["triangle_state", "light_cone", "store_cone", "cone_running_sums"]
+__all__ = ["triangle_state", "light_cone", "store_cone", "cone_running_sums", "record_loads"]
 
 
 def triangle_state(q: np.ndarray, W: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -133,3 +133,12 @@ def cone_running_sums(q: np.ndarray, W: np.ndarray, S: np.ndarray, flux: np.ndar
             run = x if c == 0 else run + x
             Fn[L, c] = run
         Fn[L, L] = Fn[L, L - 1]
+
+
+@njit
+def record_loads(out: np.ndarray, t: int, W: np.ndarray) -> None:
+    """``out[t] = W`` on the lower triangle (the loads of the ``N`` layers), the chains' record of a state."""
+    N = W.shape[0]
+    for k in range(N):
+        for c in range(k + 1):
+            out[t, k, c] = W[k, c]

@@ -25,7 +25,7 @@ import numpy as np
 
 from ..jit import njit
 from ..slice_sampling import log_push
-from .cone import cone_running_sums, light_cone, store_cone
+from .cone import cone_running_sums, light_cone, record_loads, store_cone
 
 __all__ = ["triangle_sweeps"]
 
@@ -146,7 +146,4 @@ def triangle_sweeps(q: np.ndarray, W: np.ndarray, flux: np.ndarray, zeros: np.nd
             if _triangle_move(q, W, flux, zeros, gi[g], gj[g], values[m], rng, ph, has_ph, counters, S, Fn):
                 counters[1] += 1
         if record and (s + 1) % thin == 0:
-            t = (s + 1) // thin - 1
-            for k in range(N):
-                for c in range(k + 1):
-                    out[t, k, c] = W[k, c]
+            record_loads(out, (s + 1) // thin - 1, W)

@@ -21,7 +21,7 @@ import numpy as np
 
 from ..jit import njit
 from ..slice_sampling import slice_shrink
-from .cone import cone_running_sums, light_cone, store_cone
+from .cone import cone_running_sums, light_cone, record_loads, store_cone
 
 __all__ = ["triangle_slice_sweeps"]
 
@@ -65,16 +65,11 @@ def triangle_slice_sweeps(q: np.ndarray, W: np.ndarray, flux: np.ndarray, zeros:
 
     Examples
     --------
-    >>> import numpy as np
-    >>> from forcenet.numeric.triangle.cone import triangle_state
-    >>> from forcenet.numeric.triangle.metropolis import forces_from_q
-    >>> q = np.tril(np.full((3, 3), 0.5)); W = forces_from_q(q); flux, zeros = triangle_state(q, W)
-    >>> gi, gj = np.array([0, 1, 1, 2, 2, 2]), np.array([0, 0, 1, 0, 1, 2])
-    >>> counters = np.zeros(5, np.int64)
-    >>> triangle_slice_sweeps(q, W, flux, zeros, gi, gj, np.random.default_rng(0), 10, 0.0, False,
-    ...                       np.empty((0, 4, 4)), counters)
-    >>> int(counters[0]), int(counters[4]), bool(np.allclose(W.sum(axis=1), 1.0))
-    (60, 0, True)
+    >>> from forcenet.numeric.triangle.metropolis import TriangleMetropolis
+    >>> sampler = TriangleMetropolis(4, seed=0, move="slice")  # its sweeps run this kernel
+    >>> sampler.sweep(10)
+    >>> sampler.attempted, sampler.accepted  # 10 sweeps of 6 grains; every move changes q
+    (60, 60)
     """
     N = W.shape[0]
     G = gi.shape[0]
@@ -150,7 +145,4 @@ def triangle_slice_sweeps(q: np.ndarray, W: np.ndarray, flux: np.ndarray, zeros:
             if new != q_old:
                 counters[1] += 1
         if record and (s + 1) % thin == 0:
-            t_rec = (s + 1) // thin - 1
-            for k in range(N):
-                for c in range(k + 1):
-                    out[t_rec, k, c] = W[k, c]
+            record_loads(out, (s + 1) // thin - 1, W)

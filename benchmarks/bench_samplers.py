@@ -158,7 +158,7 @@ def bench_metropolis():
 
 def bench_exact(Ns=(50, 100, 200, 500, 1000, 2000), reference_max=1000):
     from forcenet.numeric.triangle.exact_sampler import ExactSampler
-    from forcenet.numeric.triangle.kernels import hook_walk_W
+    from forcenet.numeric.triangle.hook_walk import hook_walk_W
 
     ExactSampler(5, seed=0).sample_W(2)
     print("| N | d | compiled ms/sample (min) | walk steps/removal | ns per (removal + step) | "
@@ -201,7 +201,8 @@ import time, numpy as np
 from forcenet.numeric.triangle.metropolis import TriangleMetropolis
 from forcenet.numeric.packing import PackingMetropolis, Scene
 from forcenet.numeric.triangle.exact_sampler import ExactSampler
-import forcenet.numeric.triangle.kernels, forcenet.numeric.packing.kernels
+import forcenet.numeric.triangle.metropolis_kernel, forcenet.numeric.triangle.slice_kernel
+import forcenet.numeric.triangle.hook_walk, forcenet.numeric.packing.kernels
 t0 = time.perf_counter()
 TriangleMetropolis(4, seed=0, kernel="compiled").sweep(1)
 t1 = time.perf_counter()

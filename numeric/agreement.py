@@ -69,8 +69,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .autocorr import batch_means
 from forcenet.exact.errors import ArgumentError
@@ -131,7 +133,7 @@ class TableAgreement:
         return max((abs(z) for z in self.z), default=0.0)
 
     @property
-    def worst(self):
+    def worst(self) -> Any:
         return self.worst_values(1)[0][1] if self.keys else None
 
     @property
@@ -171,7 +173,7 @@ class TableAgreement:
         """The table agrees: no disagreement, and the statistics can judge it."""
         return self.verdict == "agrees"
 
-    def worst_values(self, k: int = 3):
+    def worst_values(self, k: int = 3) -> list[tuple[float, Any]]:
         """The ``k`` largest ``(|z|, key)``, largest first (``z`` signed)."""
         order = sorted(range(len(self.z)), key=lambda n: -abs(self.z[n]))[:k]
         return [(self.z[n], self.keys[n]) for n in order]
@@ -450,8 +452,8 @@ def _t_reason(K: int | None, fixed) -> str | None:
     return None
 
 
-def compare_samples(samples, exact, keys=None, alpha: float = 1e-3, hotelling: bool | None = None,
-                    bounds=None) -> TableAgreement:
+def compare_samples(samples: ArrayLike, exact: Any, keys: list[Any] | None = None, alpha: float = 1e-3,
+                    hotelling: bool | None = None, bounds: Any = None) -> TableAgreement:
     """Compare independent samples ``(K, G)`` of ``G`` quantities with their exact means ``(G,)``.
 
     Parameters
@@ -488,8 +490,8 @@ def compare_samples(samples, exact, keys=None, alpha: float = 1e-3, hotelling: b
                       reason=_t_reason(x.shape[0], fixed), samples=x.shape[0])
 
 
-def compare_chain(chain, exact, keys=None, alpha: float = 1e-3, hotelling: bool | None = None, bounds=None,
-                  **batching) -> TableAgreement:
+def compare_chain(chain: ArrayLike, exact: Any, keys: list[Any] | None = None, alpha: float = 1e-3,
+                  hotelling: bool | None = None, bounds: Any = None, **batching: Any) -> TableAgreement:
     """Compare a Markov chain ``(n, G)`` with exact means ``(G,)`` through batch means.
 
     Same parameters as :func:`compare_samples`; ``batching`` goes to
@@ -544,7 +546,8 @@ def compare_chain(chain, exact, keys=None, alpha: float = 1e-3, hotelling: bool 
                       pilot=layout["pilot"])
 
 
-def compare_means(mean, stderr, exact, keys=None, alpha: float = 1e-3, df: int | None = None) -> TableAgreement:
+def compare_means(mean: ArrayLike, stderr: ArrayLike, exact: ArrayLike, keys: list[Any] | None = None,
+                  alpha: float = 1e-3, df: int | None = None) -> TableAgreement:
     """Max-|z| test only, from means and standard errors (e.g. from autocorrelation times).
 
     ``df=None`` takes ``z`` as standard normal (the standard errors are

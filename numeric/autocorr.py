@@ -23,6 +23,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from forcenet.exact.errors import ForcenetError
 
@@ -32,7 +33,7 @@ __all__ = ["AutocorrError", "autocorr_function", "batch_means", "integrated_time
 class AutocorrError(ForcenetError):
     """The chain is too short to estimate its autocorrelation time reliably."""
 
-    def __init__(self, message, tau):
+    def __init__(self, message: str, tau: np.ndarray) -> None:
         super().__init__(message)
         self.tau = tau
 
@@ -95,7 +96,7 @@ def integrated_time(x: np.ndarray, c: float = 5.0, tol: float = 50.0, quiet: boo
     return tau
 
 
-def mean_and_stderr(samples: np.ndarray, c: float = 5.0, tol: float = 50.0):
+def mean_and_stderr(samples: np.ndarray, c: float = 5.0, tol: float = 50.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Mean and standard error of correlated samples (axis 0), via ``integrated_time``.
 
     ``stderr = sqrt(var * tau / n)``; columns that never vary get 0.  Extra axes
@@ -114,8 +115,9 @@ def mean_and_stderr(samples: np.ndarray, c: float = 5.0, tol: float = 50.0):
     return flat.mean(axis=0).reshape(shape), stderr.reshape(shape), tau.reshape(shape)
 
 
-def batch_means(chain, batch_factor: float = 10.0, gap_factor: float = 2.0, pilot: float = 0.25,
-                max_batches: int = 50, min_batches: int = 10, c: float = 5.0, tol: float = 50.0):
+def batch_means(chain: ArrayLike, batch_factor: float = 10.0, gap_factor: float = 2.0, pilot: float = 0.25,
+                max_batches: int = 50, min_batches: int = 10, c: float = 5.0,
+                tol: float = 50.0) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
     """Spaced batch means of a chain ``(n, G)`` (steps along axis 0), batch length from a pilot's ``tau``.
 
     The first ``pilot`` fraction of the chain measures the integrated times

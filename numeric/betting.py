@@ -40,6 +40,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 __all__ = ["betting_pvalues", "extreme_pvalues", "rows_needed"]
 
@@ -65,7 +66,7 @@ def _log_evidence(u: np.ndarray, m: np.ndarray, K: int, level: float) -> np.ndar
     return log_e.max(axis=0) if g else np.zeros(0)
 
 
-def betting_pvalues(x, mean, lo, hi, level: float) -> np.ndarray:
+def betting_pvalues(x: ArrayLike, mean: ArrayLike, lo: ArrayLike, hi: ArrayLike, level: float) -> np.ndarray:
     """Per column, the betting p-value of ``H0: E x = mean`` for independent rows in ``[lo, hi]``.
 
     Parameters
@@ -104,7 +105,7 @@ def betting_pvalues(x, mean, lo, hi, level: float) -> np.ndarray:
     return np.minimum(1.0, np.exp(-out))
 
 
-def extreme_pvalues(K: int, mean, lo, hi, level: float) -> np.ndarray:
+def extreme_pvalues(K: int, mean: ArrayLike, lo: ArrayLike, hi: ArrayLike, level: float) -> np.ndarray:
     """The smallest p-value ``K`` rows can give a column: every row at one end of its range.
 
     When it exceeds ``level`` no sample of ``K`` rows can reveal a wrong mean
@@ -121,7 +122,7 @@ def extreme_pvalues(K: int, mean, lo, hi, level: float) -> np.ndarray:
     return np.minimum(*[betting_pvalues(np.broadcast_to(end, (K, G)), m, lo, hi, level) for end in ends])
 
 
-def rows_needed(mean, lo, hi, level: float, limit: int = 1 << 20) -> int:
+def rows_needed(mean: ArrayLike, lo: ArrayLike, hi: ArrayLike, level: float, limit: int = 1 << 20) -> int:
     """The fewest rows ``K`` for which some sample could fail every column at ``level`` (``limit`` if none).
 
     Examples

@@ -1,6 +1,6 @@
 """Compiled inner loops: numba if it is installed, and a clear fallback if not.
 
-The samplers' compiled kernels (:mod:`forcenet.numeric.triangle.kernels`,
+The samplers' compiled kernels (:mod:`forcenet.numeric.triangle.metropolis_kernel`, ``.slice_kernel``, ``.hook_walk``,
 :mod:`forcenet.numeric.packing.kernels`) are written once as numba
 ``@njit(cache=True)`` functions.  numba is a declared dependency; without it
 (``HAVE_NUMBA`` false) every sampler falls back to its pure-Python reference
@@ -56,7 +56,7 @@ except ImportError:  # pragma: no cover - numba is a declared dependency
         return lambda f: f
 
 
-def kernel_choice(kernel) -> str:
+def kernel_choice(kernel: str | None) -> str:
     """``"compiled"`` or ``"python"``; ``None`` picks the compiled kernel when numba is available."""
     if kernel is None:
         return "compiled" if HAVE_NUMBA else "python"

@@ -15,7 +15,7 @@ changes.  These running sums are kept between moves and extended exactly as
 reference's; only the log-weight ratio is summed in a different order (over
 the cone instead of whole rows).
 
-May import: numpy, :mod:`forcenet.numeric.jit`.
+May import: numpy, :mod:`forcenet.numeric.jit`, :mod:`forcenet.numeric.slice_sampling`, :mod:`.scene`.
 """
 
 from __future__ import annotations
@@ -25,18 +25,18 @@ import math
 import numpy as np
 
 from ..jit import njit
+from ..slice_sampling import log_push, slice_shrink
+from .scene import Scene, lateral_increments
 
-__all__ = ["packing_sweeps", "packing_state"]
+__all__ = ["packing_sweeps", "packing_slice_sweeps", "packing_state"]
 
 
-def packing_state(q: np.ndarray, W: np.ndarray, scene):
-    """The lateral increments ``dd`` (``F4 - F3``) and their running sums ``cs`` (``F4 = p_h + cs``),
-    exactly as :func:`forcenet.numeric.packing.scene.lateral_forces` computes them."""
-    from .scene import _lateral_increments
-
+def packing_state(q: np.ndarray, W: np.ndarray, scene: Scene) -> tuple[np.ndarray, np.ndarray]:
+    """``(cs, dd)``: the lateral increments ``dd`` (``F4 - F3``) and their running sums ``cs`` (``F4 = p_h + cs``),
+    exactly as :func:`forcenet.numeric.packing.scene.lateral_forces` computes them (zeros without a side pressure)."""
     if scene.ph is None:
         return np.zeros(W.shape), np.zeros(W.shape)
-    dd = np.ascontiguousarray(_lateral_increments(q, W, scene))
+    dd = np.ascontiguousarray(lateral_increments(q, W, scene))
     return np.ascontiguousarray(np.cumsum(dd, axis=1)), dd
 
 
@@ -88,6 +88,28 @@ def _light_cone(q, W, S, i, j, mg):
 
 
 @njit
+def _lateral_sums(q, W, S, cs, dd, Cn, Dn, i, j, top_load, mg, ph, tol, check):
+    """The new increments ``Dn`` (on the cone) and running sums ``Cn`` (``F4 = p_h + Cn``) of layers ``i..N-1``,
+    columns ``j..P-1``, with the proposed cone ``S``; extended exactly as ``numpy.cumsum`` does.  With ``check``
+    returns False at the first force below ``tol`` (the move is rejected), else True."""
+    N, P = W.shape
+    for k in range(i, N):
+        changed = j + 1 if k == i else min(P, j + 1 + k - i)  # increments that change: columns j..changed-1
+        run = cs[k, j - 1] if j >= 1 else 0.0
+        for c in range(j, P):
+            if c < changed:
+                x = _increment(q, W, S, i, j, k, c, top_load, mg, N)
+                Dn[k, c] = x
+            else:
+                x = dd[k, c]
+            run = x if c == 0 else run + x
+            Cn[k, c] = run
+            if check and ph + run < tol:
+                return False
+    return True
+
+
+@njit
 def _store(W, S, cs, dd, Cn, Dn, i, j, has_ph):
     """Accept a new ``q[i, j]``: copy the light cone ``S`` into ``W`` and the new running sums."""
     N, P = W.shape
@@ -121,37 +143,18 @@ def _packing_move(q, W, cs, dd, i, j, new, rng, ph, has_ph, tol, top_load, mg, c
                 q[i, j] = old
                 return False
     # --- lateral forces: layers i..N-1, columns j..P-1
-    if has_ph:
-        for k in range(i, N):
-            changed = j + 1 if k == i else min(P, j + 1 + k - i)  # increments that change: columns j..changed-1
-            run = cs[k, j - 1] if j >= 1 else 0.0
-            for c in range(j, P):
-                if c < changed:
-                    x = _increment(q, W, S, i, j, k, c, top_load, mg, N)
-                    Dn[k, c] = x
-                else:
-                    x = dd[k, c]
-                run = x if c == 0 else run + x
-                Cn[k, c] = run
-                if ph + run < tol:
-                    q[i, j] = old
-                    counters[2] += 1
-                    return False
+    if has_ph and not _lateral_sums(q, W, S, cs, dd, Cn, Dn, i, j, top_load, mg, ph, tol, True):
+        q[i, j] = old
+        counters[2] += 1
+        return False
     # --- the weight prod W over the free grains (Eq. 3.10), on the cone
-    log_ratio = 0.0
-    ratio = 1.0
-    count = 0
+    total, ratio, count = 0.0, 1.0, 0
     hi = j + 1
     for k in range(i + 1, N - 1):
         hi = min(P, hi + 1)
         for c in range(j, min(hi, P - 1)):
-            ratio *= S[k, c] / W[k, c]
-            count += 1
-            if count == 8 or not (1e-150 < ratio < 1e150):
-                log_ratio += math.log(ratio)
-                ratio = 1.0
-                count = 0
-    log_ratio += math.log(ratio)
+            total, ratio, count = log_push(total, ratio, count, S[k, c] / W[k, c])
+    log_ratio = total + math.log(ratio)
     if not (log_ratio >= 0.0 or rng.random() < math.exp(log_ratio)):
         q[i, j] = old
         return False
@@ -160,7 +163,10 @@ def _packing_move(q, W, cs, dd, i, j, new, rng, ph, has_ph, tol, top_load, mg, c
 
 
 @njit
-def packing_sweeps(q, W, cs, dd, gi, gj, rng, sweeps, ph, has_ph, tol, step, top_load, mg, out, qs, counters, thin=1):
+def packing_sweeps(q: np.ndarray, W: np.ndarray, cs: np.ndarray, dd: np.ndarray, gi: np.ndarray, gj: np.ndarray,
+                   rng: np.random.Generator, sweeps: int, ph: float, has_ph: bool, tol: float, step: float,
+                   top_load: np.ndarray, mg: float, out: np.ndarray, qs: np.ndarray, counters: np.ndarray,
+                   thin: int = 1) -> None:
     """``sweeps`` sweeps of ``len(gi)`` moves; ``W`` (and ``q``) recorded after every ``thin``-th sweep if ``out``
     (``qs``) is non-empty.
 
@@ -204,66 +210,20 @@ def packing_sweeps(q, W, cs, dd, gi, gj, rng, sweeps, ph, has_ph, tol, step, top
 
 
 @njit
-def _packing_commit(q, W, cs, dd, i, j, new, top_load, mg, has_ph, S, Cn, Dn):
+def _packing_commit(q, W, cs, dd, i, j, new, top_load, mg, ph, tol, has_ph, S, Cn, Dn):
     """Set ``q[i, j] = new`` and bring ``W`` (the cone) and the running sums up to date, as the Metropolis kernel does."""
-    N, P = W.shape
     q[i, j] = new
     _light_cone(q, W, S, i, j, mg)
     if has_ph:
-        for k in range(i, N):
-            changed = j + 1 if k == i else min(P, j + 1 + k - i)
-            run = cs[k, j - 1] if j >= 1 else 0.0
-            for c in range(j, P):
-                if c < changed:
-                    x = _increment(q, W, S, i, j, k, c, top_load, mg, N)
-                    Dn[k, c] = x
-                else:
-                    x = dd[k, c]
-                run = x if c == 0 else run + x
-                Cn[k, c] = run
+        _lateral_sums(q, W, S, cs, dd, Cn, Dn, i, j, top_load, mg, ph, tol, False)
     _store(W, S, cs, dd, Cn, Dn, i, j, has_ph)
 
 
 @njit
-def _log_density(t, r, m):
-    """``sum_c log(1 + t r_c)`` over the first ``m`` cone cells: the log-weight at ``q_old + t`` relative to ``q_old``."""
-    total = 0.0
-    ratio = 1.0
-    count = 0
-    for c in range(m):
-        x = 1.0 + t * r[c]
-        if x <= 0.0:
-            return -np.inf
-        ratio *= x
-        count += 1
-        if count == 8 or not (1e-150 < ratio < 1e150):
-            total += math.log(ratio)
-            ratio = 1.0
-            count = 0
-    return total + math.log(ratio)
-
-
-@njit
-def _slice_q(rng, q_old, lo, hi, r, m, counters):
-    """Slice sampling (shrinkage, Neal 2003) of ``t`` in ``[lo, hi]`` (which contains 0) for the density
-    ``prod_c (1 + t r_c)``, log-concave in ``t``; returns the new ``q = q_old + t``."""
-    y = -rng.standard_exponential()  # log of a uniform height under the density at t = 0 (where it is 1)
-    left, right = lo, hi
-    for _ in range(200):
-        t = left + rng.random() * (right - left)
-        counters[3] += 1
-        if _log_density(t, r, m) > y:
-            return q_old + t
-        if t < 0.0:
-            left = t
-        else:
-            right = t
-    counters[4] += 1  # never seen: the interval shrank 200 times; stay
-    return q_old
-
-
-@njit
-def packing_slice_sweeps(q, W, cs, dd, gi, gj, rng, sweeps, ph, has_ph, tol, top_load, mg, out, qs, counters, thin=1):
+def packing_slice_sweeps(q: np.ndarray, W: np.ndarray, cs: np.ndarray, dd: np.ndarray, gi: np.ndarray,
+                         gj: np.ndarray, rng: np.random.Generator, sweeps: int, ph: float, has_ph: bool, tol: float,
+                         top_load: np.ndarray, mg: float, out: np.ndarray, qs: np.ndarray, counters: np.ndarray,
+                         thin: int = 1) -> None:
     """Like :func:`packing_sweeps` with the slice move: the new q of the grain is drawn from its exact
     conditional law restricted to the interval where every force stays non-negative (an interval: all
     forces are affine in one q), by slice sampling; no move is rejected.
@@ -359,9 +319,8 @@ def packing_slice_sweeps(q, W, cs, dd, gi, gj, rng, sweeps, ph, has_ph, tol, top
                             hi_t = min(hi_t, -slack / run)
             lo = min(lo, 0.0)
             hi_t = max(hi_t, 0.0)
-            new = _slice_q(rng, q_old, lo, hi_t, r, m_cells, counters)
-            new = min(1.0, max(0.0, new))
-            _packing_commit(q, W, cs, dd, i, j, new, top_load, mg, has_ph, S, Cn, Dn)
+            new = min(1.0, max(0.0, q_old + slice_shrink(rng, lo, hi_t, r, m_cells, counters)))
+            _packing_commit(q, W, cs, dd, i, j, new, top_load, mg, ph, tol, has_ph, S, Cn, Dn)
             counters[0] += 1
             counters[1] += 1
         if (s + 1) % thin == 0:

@@ -19,8 +19,13 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
+from collections.abc import Callable
+from typing import Literal, overload
 
+import numpy as np
+from numpy.typing import ArrayLike
+
+from forcenet.exact.plan import Plan
 from forcenet.exact.validation import check_int
 
 from .networks import maximin_network
@@ -75,10 +80,19 @@ class PackingMetropolis:
     >>> chain = m.run(sweeps=200, burn_in=50)
     >>> 0.05 < m.acceptance_rate < 1
     True
+
+    Raises
+    ------
+    forcenet.exact.errors.ArgumentError
+        On an unknown ``kernel`` or ``move``, the slice move without the compiled kernel or with a ``step``, a
+        ``step`` outside (0, 1], a ``q0`` of the wrong shape, outside [0, 1] or infeasible, or a scene with no
+        repulsive network.
+    forcenet.exact.errors.ArgumentTypeError
+        If ``scene`` is not a :class:`Scene`.
     """
 
-    def __init__(self, scene: Scene, seed=None, q0=None, step: float | None = None, kernel: str | None = None,
-                 move: str = "metropolis"):
+    def __init__(self, scene: Scene, seed: int | np.random.Generator | None = None, q0: ArrayLike | None = None, step: float | None = None,
+                 kernel: str | None = None, move: str = "metropolis") -> None:
         from ..jit import kernel_choice
 
         self.kernel = kernel_choice(kernel)
@@ -232,7 +246,16 @@ class PackingMetropolis:
                 if self._propose(i, j, value):
                     self.accepted += 1
 
-    def run(self, sweeps: int, burn_in: int = 0, progress=None, record_q: bool = False, thin: int = 1):
+    @overload
+    def run(self, sweeps: int, burn_in: int = 0, progress: Callable[[int], object] | None = None,
+            record_q: Literal[False] = False, thin: int = 1) -> np.ndarray: ...
+
+    @overload
+    def run(self, sweeps: int, burn_in: int = 0, progress: Callable[[int], object] | None = None, *,
+            record_q: Literal[True], thin: int = 1) -> tuple[np.ndarray, np.ndarray]: ...
+
+    def run(self, sweeps: int, burn_in: int = 0, progress: Callable[[int], object] | None = None,
+            record_q: bool = False, thin: int = 1) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
         """Burn in, then record ``W`` (and ``q`` if asked) after every ``thin``-th of ``sweeps * thin`` sweeps.
 
         Returns ``W`` of shape ``(sweeps, N, P)``, or ``(W, q)``; ``progress`` ticks once per record.
@@ -241,10 +264,9 @@ class PackingMetropolis:
         thin = check_int(thin, "thin", 1)
         self.sweep(burn_in)
         out = np.empty((sweeps, self.scene.N, self.scene.P))
-        qs = np.empty((sweeps,) + self.q.shape) if record_q else None
+        qs = np.empty(((sweeps if record_q else 0),) + self.q.shape)  # empty: q is not recorded
         if self.kernel == "compiled":
-            N, P = self.scene.N, self.scene.P
-            self._compiled(sweeps, out, qs if record_q else np.empty((0, N - 1, P)), thin, progress)
+            self._compiled(sweeps, out, qs, thin, progress)
             return (out, qs) if record_q else out
         for t in range(sweeps):
             self.sweep(thin)
@@ -256,18 +278,44 @@ class PackingMetropolis:
         return (out, qs) if record_q else out
 
 
-def response(scene: Scene, sweeps: int, burn_in: int, seed=0, progress=None, move: str = "metropolis"):
+def response(scene: Scene, sweeps: int, burn_in: int, seed: int | np.random.SeedSequence = 0, progress: Callable[[int], object] | None = None,
+             move: str = "metropolis") -> tuple[np.ndarray, np.ndarray, dict]:
     """Mean response ``G(i,j) = (<W>_{p+F} - <W>_p)/F`` with standard errors.
 
     Two independent chains, with and without the overload (Sec. 3.1); each
     error bar comes from the integrated autocorrelation time
     (:func:`forcenet.numeric.autocorr.mean_and_stderr`, which raises on a chain too
-    short to trust), and the two are added in quadrature.  ``move``: as in
-    :class:`PackingMetropolis`.
+    short to trust), and the two are added in quadrature.
+
+    Parameters
+    ----------
+    scene : Scene
+        The packing, with its overload ``F > 0``.
+    sweeps, burn_in : int
+        Recorded sweeps and burn-in sweeps of each chain.
+    seed : int or numpy.random.SeedSequence
+        Spawns the two chains' streams.
+    progress : callable, optional
+        Ticks once per record of either chain.
+    move : {"metropolis", "slice"}
+        As in :class:`PackingMetropolis`.
 
     Returns
     -------
     G, stderr_G, info : arrays of shape ``(N, P)`` and a dict (acceptance, tau).
+
+    Raises
+    ------
+    forcenet.exact.errors.ArgumentError
+        On ``F <= 0`` or a bad argument of the samplers.
+    forcenet.numeric.autocorr.AutocorrError
+        If a chain is too short to trust its error bars.
+
+    Examples
+    --------
+    >>> G, err, info = response(Scene(N=3, P=3, F=1.0, mg=1.0, j0=2), 2000, 100, seed=1)
+    >>> bool(abs(G[-1].sum() - 1) < 1e-9)  # the floor carries the whole overload
+    True
     """
     from dataclasses import replace
 
@@ -312,7 +360,7 @@ COMPILE_SECONDS = {"metropolis": 11.5, "slice": 15.7}
 
 
 def packing_plan(scene: Scene, sweeps: int, burn_in: int = 0, chains: int = 1, memory_bytes: int | None = None,
-                 kernel: str | None = None, move: str = "metropolis"):
+                 kernel: str | None = None, move: str = "metropolis") -> Plan:
     """The cost of ``chains`` runs of :meth:`PackingMetropolis.run` (the chains are stored).
 
     Examples
@@ -324,7 +372,7 @@ def packing_plan(scene: Scene, sweeps: int, burn_in: int = 0, chains: int = 1, m
     ...     compiled.seconds - compiled.compile_seconds - 1.5)
     True
     """
-    from forcenet.exact.plan import Plan, with_compilation
+    from forcenet.exact.plan import with_compilation
 
     from ..jit import kernel_choice
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .scene import _S3, Scene, forces_from_lateral
+from .scene import SQRT3, Scene, forces_from_lateral
 from forcenet.exact.errors import ArgumentError
 
 __all__ = ["uniform_networks", "maximin_network"]
@@ -37,7 +37,7 @@ def _affine_constraints(scene: Scene):
     return M[1:] - M[0], M[0]
 
 
-def uniform_networks(scene: Scene, size: int, rng, batch: int = 200_000):
+def uniform_networks(scene: Scene, size: int, rng: np.random.Generator, batch: int = 200_000) -> tuple[np.ndarray, float]:
     """Independent uniform force networks by rejection in the lateral forces (Sec. 3.2.2).
 
     The route that checks the q-coordinates and the measure of Eq. (3.10):
@@ -45,7 +45,34 @@ def uniform_networks(scene: Scene, size: int, rng, batch: int = 200_000):
     linear programs) and kept when every force is repulsive.  Exponentially
     slow in ``(N-1)(P-1)``; for small packings only.
 
-    Returns ``W`` samples of shape ``(size, N, P)`` and the acceptance rate.
+    Parameters
+    ----------
+    scene : Scene
+        The packing, ``(N-1)(P-1) <= 12``.
+    size : int
+        Networks to draw.
+    rng : numpy.random.Generator
+        The stream.
+    batch : int
+        Candidates per round.
+
+    Returns
+    -------
+    W : numpy.ndarray
+        Shape ``(size, N, P)``.
+    acceptance : float
+        The fraction of candidates kept.
+
+    Raises
+    ------
+    forcenet.exact.errors.ArgumentError
+        If the packing is too large, no repulsive network exists, or the acceptance is below ``1e-4``.
+
+    Examples
+    --------
+    >>> W, rate = uniform_networks(Scene(N=2, P=2, F=1.0, pv=1.0, ph=1.0), 100, np.random.default_rng(0))
+    >>> W.shape, 0 < rate <= 1
+    ((100, 2, 2), True)
     """
     from scipy.optimize import linprog
 
@@ -63,7 +90,8 @@ def uniform_networks(scene: Scene, size: int, rng, batch: int = 200_000):
             if res.status != 0:
                 raise ArgumentError(f"no repulsive force network exists for {scene} ({res.message})")
             out[k] = res.x[k]
-    kept, tried = [], 0
+    kept: list[np.ndarray] = []
+    tried = 0
     while sum(len(k) for k in kept) < size:
         x = lo + (hi - lo) * rng.random((batch, n))
         tried += batch
@@ -78,17 +106,41 @@ def uniform_networks(scene: Scene, size: int, rng, batch: int = 200_000):
     x = np.concatenate(kept)[:size]
     f = forces_from_lateral(x.reshape(size, N - 1, P - 1), scene)
     W = np.empty((size, N, P))
-    W[:, :-1] = (_S3 / 2) * (f["F5"] + f["F6"])[:, :-1]
-    W[:, -1] = (_S3 / 2) * (f["F1"] + f["F2"])[:, -1] + scene.mg
+    W[:, :-1] = (SQRT3 / 2) * (f["F5"] + f["F6"])[:, :-1]
+    W[:, -1] = (SQRT3 / 2) * (f["F1"] + f["F2"])[:, -1] + scene.mg
     return W, accepted / tried
 
 
-def maximin_network(scene: Scene):
+def maximin_network(scene: Scene) -> tuple[np.ndarray, float]:
     """The free lateral forces maximizing the smallest contact force (a linear program).
 
     Returns ``(x, slack)``: ``x`` of shape ``(N-1, P-1)`` and the smallest
     force of that network (``<= 0``: no strictly repulsive network exists).
-    Needs a finite ``scene.ph``.
+
+    Parameters
+    ----------
+    scene : Scene
+        The packing, with a finite ``ph``.
+
+    Returns
+    -------
+    x : numpy.ndarray
+        Shape ``(N-1, P-1)``.
+    slack : float
+        The smallest contact force of that network.
+
+    Raises
+    ------
+    forcenet.exact.errors.ArgumentError
+        If ``scene.ph`` is None.
+    RuntimeError
+        If the linear program fails.
+
+    Examples
+    --------
+    >>> x, slack = maximin_network(Scene(N=2, P=2, F=1.0, pv=1.0, ph=1.0))
+    >>> x.shape, bool(slack > 0)
+    ((1, 1), True)
     """
     from scipy.optimize import linprog
 

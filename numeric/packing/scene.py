@@ -52,10 +52,11 @@ import numpy as np
 from forcenet.exact.validation import check_int, check_real
 from forcenet.exact.errors import ArgumentError
 
-__all__ = ["Scene", "forces_from_q", "forces_from_lateral", "lateral_forces", "contact_forces"]
+__all__ = ["Scene", "forces_from_q", "forces_from_lateral", "lateral_forces", "lateral_increments", "contact_forces",
+           "SQRT3"]
 
 _C = 2 / math.sqrt(3)
-_S3 = math.sqrt(3)
+SQRT3 = math.sqrt(3)  # the contact geometry of the triangular lattice (Eqs. 3.1-3.3)
 
 
 @dataclass(frozen=True)
@@ -75,6 +76,12 @@ class Scene:
     ph : float or None
         Left-wall force per layer; ``None``: large enough for every q in
         [0, 1] to be allowed (the thesis's choice for gravity, Sec. 3.3.2).
+
+    Raises
+    ------
+    forcenet.exact.errors.ArgumentError
+        On ``N`` or ``P`` below 2, ``j0`` outside ``1..P``, a negative load, a ``ph`` that is not positive, or
+        ``pv = mg = 0`` (only the triangle under the overload: use the triangle's samplers).
 
     Examples
     --------
@@ -113,7 +120,8 @@ class Scene:
     def top_load(self) -> np.ndarray:
         """``W_ext,j = p_v + F delta_{j,j0}``."""
         w = np.full(self.P, self.pv)
-        w[self.j0 - 1] += self.F
+        j0 = self.j0 if self.j0 is not None else (self.P + 1) // 2  # set by __post_init__
+        w[j0 - 1] += self.F
         return w
 
     @property
@@ -129,6 +137,18 @@ def forces_from_q(q: np.ndarray, scene: Scene) -> np.ndarray:
     """``W_{i,j}`` (shape ``(N, P)``) from ``q`` (shape ``(N-1, P)``), Eq. (3.9).
 
     The last column of ``q`` is ignored (the right column has ``q = 1``).
+
+    Parameters
+    ----------
+    q : numpy.ndarray
+        Shape ``(..., N-1, P)``, entries in [0, 1].
+    scene : Scene
+        The boundary conditions.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``(..., N, P)``.
 
     Examples
     --------
@@ -148,16 +168,38 @@ def forces_from_q(q: np.ndarray, scene: Scene) -> np.ndarray:
     return W
 
 
-def _lateral_increments(q: np.ndarray, W: np.ndarray, scene: Scene) -> np.ndarray:
-    """``F4 - F3`` on every grain (shape ``(N, P)``)."""
+def lateral_increments(q: np.ndarray, W: np.ndarray, scene: Scene) -> np.ndarray:
+    """``F4 - F3`` on every grain (shape ``(N, P)``): the lateral forces are ``p_h`` plus their running sums.
+
+    Parameters
+    ----------
+    q : numpy.ndarray
+        The q-coordinates, shape ``(N-1, P)`` (the last column is taken as 1).
+    W : numpy.ndarray
+        The loads from ``q`` (:func:`forces_from_q`), shape ``(N, P)``.
+    scene : Scene
+        The boundary conditions.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``(N, P)``.
+
+    Examples
+    --------
+    >>> s = Scene(N=2, P=2, F=1.0, pv=1.0, ph=1.0, j0=1)
+    >>> q = np.array([[1.0, 1.0]])
+    >>> lateral_increments(q, forces_from_q(q, s), s).round(6).tolist()
+    [[1.154701, 0.57735], [-1.154701, -0.57735]]
+    """
     N, mg = scene.N, scene.mg
     q = np.array(q, dtype=float)
     q[:, -1] = 1.0
     F2 = np.empty_like(W)  # force from the upper-right neighbour
-    F2[0] = scene.top_load / _S3
+    F2[0] = scene.top_load / SQRT3
     F2[1:] = _C * q * W[:-1]
     d = np.empty_like(W)
-    d[: N - 1] = -F2[: N - 1] + (2 * q * W[: N - 1] - mg) / _S3  # Eq. (3.2) with (3.8)
+    d[: N - 1] = -F2[: N - 1] + (2 * q * W[: N - 1] - mg) / SQRT3  # Eq. (3.2) with (3.8)
     F1 = np.zeros(W.shape[1])  # bottom layer: force from the upper-left neighbour
     F1[1:] = _C * ((1 - q[-1]) * W[-2])[:-1]
     d[N - 1] = (F1 - F2[N - 1]) / 2
@@ -167,7 +209,24 @@ def _lateral_increments(q: np.ndarray, W: np.ndarray, scene: Scene) -> np.ndarra
 def lateral_forces(q: np.ndarray, W: np.ndarray, scene: Scene) -> np.ndarray:
     """``F4^{(i,j)}`` on every grain (shape ``(N, P)``); column ``P`` is the right wall.
 
-    Needs a finite ``scene.ph``.
+    Parameters
+    ----------
+    q : numpy.ndarray
+        The q-coordinates, shape ``(N-1, P)``.
+    W : numpy.ndarray
+        The loads from ``q`` (:func:`forces_from_q`), shape ``(N, P)``.
+    scene : Scene
+        The boundary conditions, with a finite ``ph``.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``(N, P)``.
+
+    Raises
+    ------
+    forcenet.exact.errors.ArgumentError
+        If ``scene.ph`` is None.
 
     Examples
     --------
@@ -178,7 +237,7 @@ def lateral_forces(q: np.ndarray, W: np.ndarray, scene: Scene) -> np.ndarray:
     """
     if scene.ph is None:
         raise ArgumentError("scene.ph is None: lateral forces need a finite side pressure ph")
-    return scene.ph + np.cumsum(_lateral_increments(q, W, scene), axis=1)
+    return scene.ph + np.cumsum(lateral_increments(q, W, scene), axis=1)
 
 
 def forces_from_lateral(x: np.ndarray, scene: Scene) -> dict:
@@ -191,6 +250,23 @@ def forces_from_lateral(x: np.ndarray, scene: Scene) -> dict:
     and the bottom layer have their ``F4`` fixed by balance.  ``scene.ph=None``
     is taken as ``ph = 0`` (only differences of lateral forces matter then).
     Every force is affine in ``x``.
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        The free lateral forces, shape ``(..., N-1, P-1)``.
+    scene : Scene
+        The boundary conditions.
+
+    Returns
+    -------
+    dict
+        ``"F1"`` .. ``"F6"``: arrays of shape ``(..., N, P)``.
+
+    Raises
+    ------
+    forcenet.exact.errors.ArgumentError
+        If ``x`` has the wrong shape.
 
     Examples
     --------
@@ -205,9 +281,10 @@ def forces_from_lateral(x: np.ndarray, scene: Scene) -> dict:
         raise ArgumentError(f"x has shape {x.shape}, expected (..., {N - 1}, {P - 1})")
     shape = x.shape[:-2] + (N, P)
     F = {k: np.zeros(shape) for k in ("F1", "F2", "F3", "F4", "F5", "F6")}
-    g = mg / _S3
+    g = mg / SQRT3
     ph = 0.0 if scene.ph is None else scene.ph
-    F["F1"][..., 0, :] = F["F2"][..., 0, :] = scene.top_load / _S3
+    F3: float | np.ndarray
+    F["F1"][..., 0, :] = F["F2"][..., 0, :] = scene.top_load / SQRT3
     for i in range(N):
         if i > 0:
             F["F2"][..., i, :] = F["F5"][..., i - 1, :]
@@ -237,6 +314,30 @@ def contact_forces(q: np.ndarray, scene: Scene) -> dict:
     F5/F6); ``F3`` of the left column is ``p_h`` and ``F4`` of the right
     column is the right-wall force.  Used to check force balance grain by
     grain.
+
+    Parameters
+    ----------
+    q : numpy.ndarray
+        The q-coordinates, shape ``(N-1, P)``.
+    scene : Scene
+        The boundary conditions, with a finite ``ph``.
+
+    Returns
+    -------
+    dict
+        ``"F1"`` .. ``"F6"``, ``"floor"`` (the floor's forces, bottom layer) and ``"W"``: arrays ``(N, P)``.
+
+    Raises
+    ------
+    forcenet.exact.errors.ArgumentError
+        If ``scene.ph`` is None.
+
+    Examples
+    --------
+    >>> s = Scene(N=2, P=2, F=1.0, pv=1.0, ph=1.0, j0=1)
+    >>> f = contact_forces(np.array([[0.5, 1.0]]), s)
+    >>> bool(np.allclose(f["floor"][-1], f["W"][-1]))
+    True
     """
     N, P = scene.N, scene.P
     q = np.array(q, dtype=float)
@@ -252,7 +353,7 @@ def contact_forces(q: np.ndarray, scene: Scene) -> dict:
     F6[:-1] = _C * (1 - q) * W[:-1]
     F1 = np.zeros((N, P))
     F2 = np.zeros((N, P))
-    F1[0] = F2[0] = scene.top_load / _S3
+    F1[0] = F2[0] = scene.top_load / SQRT3
     F2[1:] = F5[:-1]
     F1[1:, 1:] = F6[:-1, :-1]
     floor = np.zeros((N, P))

@@ -23,6 +23,8 @@ from __future__ import annotations
 
 import math
 
+from collections.abc import Callable, Sequence
+
 import numpy as np
 
 from forcenet.exact.triangle.staircase import dimension
@@ -78,16 +80,39 @@ def _full_phi(parts, logtab):
     return np.where(use, _pair_terms(a, b, logtab), 0.0).sum(axis=2)
 
 
-def sample_tableaux(N: int, size: int, rng: np.random.Generator, refresh: int | None = None, progress=None) -> np.ndarray:
+def sample_tableaux(N: int, size: int, rng: np.random.Generator, refresh: int | None = None,
+                    progress: Callable[[int], object] | None = None) -> np.ndarray:
     """Uniform random standard shifted staircase tableaux.
 
-    Returns ``T`` of shape ``(size, n + 1, n + 1)`` (``n = N - 1``) with
-    ``T[:, r, c]`` the entry of cell ``(r, c)``, ``1 <= r <= c <= n``, zero
-    elsewhere.  The largest remaining entry goes to the end of row ``r`` with
+    The largest remaining entry goes to the end of row ``r`` with
     probability ``g(lambda - e_r) / g(lambda) = (lambda_r/|lambda|) exp(Phi_r)``;
     the log-weights ``Phi`` are updated in ``O(n)`` per removal (only the
     factors involving the shortened row change) and recomputed from scratch
-    every ``refresh`` steps (default ``10 n``) against rounding drift.
+    every ``refresh`` steps against rounding drift.
+
+    Parameters
+    ----------
+    N : int
+        Layers of the triangle, ``>= 2``: the staircase has rows ``n, ..., 1``, ``n = N - 1``.
+    size : int
+        Tableaux to draw.
+    rng : numpy.random.Generator
+        The stream.
+    refresh : int, optional
+        Removals between recomputations of the weights (default ``10 n``).
+    progress : callable, optional
+        Called with 1 after each removal (every entry of all ``size`` tableaux at once).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``T`` of shape ``(size, n + 1, n + 1)`` with ``T[:, r, c]`` the entry of
+        cell ``(r, c)``, ``1 <= r <= c <= n``, zero elsewhere.
+
+    Raises
+    ------
+    forcenet.exact.errors.ArgumentError
+        On ``N < 2``.
 
     Examples
     --------
@@ -180,7 +205,7 @@ def q_from_W(W: np.ndarray) -> np.ndarray:
     return np.where(np.tril(np.ones((N - 1, N - 1), dtype=bool)), q, np.nan)
 
 
-def mean_and_error(total: np.ndarray, squares: np.ndarray, samples: int):
+def mean_and_error(total: np.ndarray, squares: np.ndarray, samples: int) -> tuple[np.ndarray, np.ndarray]:
     """Mean and standard error of the mean from the sum and the sum of squares of ``samples`` independent draws.
 
     Examples
@@ -209,7 +234,7 @@ class ExactSampler:
         ``"python"``: the reference route, :func:`sample_tableaux` (Schur's
         removal weights, ``O(d n)`` per tableau, vectorized over a batch) and
         :func:`tableaux_to_W`; ``"compiled"``: Sagan's shifted hook walk
-        (:func:`forcenet.numeric.triangle.kernels.hook_walk_W`, numba,
+        (:func:`forcenet.numeric.triangle.hook_walk.hook_walk_W`, numba,
         ``O(d log n)`` per tableau, one sample at a time so the stream does not
         depend on batching); ``None`` (default): compiled when numba is
         available.  The two draw from the same distribution but consume the
@@ -223,7 +248,7 @@ class ExactSampler:
     True
     """
 
-    def __init__(self, N: int, seed=None, batch: int = 4096, kernel: str | None = None):
+    def __init__(self, N: int, seed: int | np.random.Generator | None = None, batch: int = 4096, kernel: str | None = None) -> None:
         from ..jit import kernel_choice
 
         self.kernel = kernel_choice(kernel)
@@ -241,7 +266,7 @@ class ExactSampler:
         seen; ``progress(k)`` after each call of ``k`` samples.
         """
         from ..jit import chunks, first_chunk
-        from .kernels import hook_walk_W
+        from .hook_walk import hook_walk_W
 
         N = self.N
         empty = np.zeros((0, N, N))
@@ -266,7 +291,8 @@ class ExactSampler:
         T = sample_tableaux(self.N, size, self.rng)
         return tableaux_to_W(T, self.rng)
 
-    def moment_sums(self, samples: int, orders=(1, 2), progress=None):
+    def moment_sums(self, samples: int, orders: Sequence[int] = (1, 2),
+                    progress: Callable[[int], object] | None = None) -> dict[int, tuple[np.ndarray, np.ndarray]]:
         """Raw sums over ``samples`` independent draws: ``{s: (sum W**s, sum W**(2s))}``, arrays ``(N, N)``.
 
         Sums from independent runs add (e.g. from several processes, ``forcenet sample --workers``).
@@ -275,11 +301,11 @@ class ExactSampler:
         orders = tuple(check_int(s, "orders", 1) for s in orders)
         if self.kernel == "compiled":
             N = self.N
-            sums = np.zeros((len(orders), N, N))
-            squares = np.zeros((len(orders), N, N))
-            self._compiled(samples, sums=sums, squares=squares, orders=np.array(orders, dtype=np.int64),
+            table = np.zeros((len(orders), N, N))
+            table2 = np.zeros((len(orders), N, N))
+            self._compiled(samples, sums=table, squares=table2, orders=np.array(orders, dtype=np.int64),
                            progress=progress)
-            return {s: (sums[o], squares[o]) for o, s in enumerate(orders)}
+            return {s: (table[o], table2[o]) for o, s in enumerate(orders)}
         sums = {s: np.zeros((self.N, self.N)) for s in orders}
         squares = {s: np.zeros((self.N, self.N)) for s in orders}
         done = 0
@@ -295,7 +321,8 @@ class ExactSampler:
                 progress(k)
         return {s: (sums[s], squares[s]) for s in orders}
 
-    def moments(self, samples: int, orders=(1, 2), progress=None):
+    def moments(self, samples: int, orders: Sequence[int] = (1, 2),
+                progress: Callable[[int], object] | None = None) -> dict[int, tuple[np.ndarray, np.ndarray]]:
         """Sample means of ``W**s`` and their standard errors (independent draws).
 
         Returns ``{s: (mean, stderr)}`` with arrays of shape ``(N, N)``.
@@ -304,7 +331,7 @@ class ExactSampler:
         return {s: mean_and_error(total, squares, samples)
                 for s, (total, squares) in self.moment_sums(samples, orders, progress).items()}
 
-    def mean_W(self, samples: int, progress=None):
+    def mean_W(self, samples: int, progress: Callable[[int], object] | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Sample mean of ``W`` and its standard error, arrays ``(N, N)``."""
         return self.moments(samples, (1,), progress)[1]
 
@@ -341,7 +368,7 @@ def sample_plan(N: int, samples: int, memory_bytes: int | None = None, kernel: s
         seconds = _SECONDS_PER_CUBE * N**3 * samples + 0.3
     plan = Plan(f"{samples} exact samples N={N}", seconds, nbytes, samples, "sample")
     if compiled:  # a first run (numba's cache lacks the hook walk) compiles it
-        from .kernels import hook_walk_W
+        from .hook_walk import hook_walk_W
 
         plan = with_compilation(plan, "exact sampler", COMPILE_SECONDS, [hook_walk_W])
     return plan.within_memory(memory_bytes)

@@ -25,13 +25,18 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Callable, Sequence
 from fractions import Fraction
-from typing import NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from forcenet.exact.validation import check_int, check_layers
+from forcenet.exact.validation import check_int
 from forcenet.exact.errors import ArgumentError
+
+if TYPE_CHECKING:
+    from forcenet.exact.triangle.gaps import GapCounts
 
 __all__ = [
     "density_values",
@@ -54,7 +59,7 @@ def _gap_probabilities(gaps):
     return d, g[keep], prob[keep]
 
 
-def density_values(gaps, w) -> np.ndarray:
+def density_values(gaps: GapCounts, w: ArrayLike) -> np.ndarray:
     """Density of the spacing with gap law ``gaps`` at floats ``w`` (Bernstein form).
 
     Examples
@@ -71,7 +76,7 @@ def density_values(gaps, w) -> np.ndarray:
     return (d * prob @ vals).reshape(w.shape)
 
 
-def cdf_values(gaps, w) -> np.ndarray:
+def cdf_values(gaps: GapCounts, w: ArrayLike) -> np.ndarray:
     """Distribution function of the spacing with gap law ``gaps`` at floats ``w``.
 
     Examples
@@ -106,7 +111,7 @@ def _exact_eval(nums, den, x: float) -> float:
     return float(Fraction(acc, den * q**deg))
 
 
-def piecewise_values(pieces, f, support=None) -> np.ndarray:
+def piecewise_values(pieces: Any, f: ArrayLike, support: Any = None) -> np.ndarray:
     """A piecewise exact density at floats ``f``, 0 outside: a list of ``Piece``, or one ``Poly`` with its ``support``.
 
     Examples
@@ -134,7 +139,7 @@ def piecewise_values(pieces, f, support=None) -> np.ndarray:
 # ------------------------------------------------------------------ sampled histograms
 
 
-def pool_forces(W: np.ndarray, pool="ensemble") -> np.ndarray:
+def pool_forces(W: np.ndarray, pool: str | int = "ensemble") -> np.ndarray:
     """``f`` of every grain of the pool in each configuration: shape ``(K, grains)``.
 
     ``W`` has shape ``(K, N, N)`` (``W[:, i-1, j-1] = W_{i,j}``).
@@ -203,7 +208,8 @@ def _check_edges(edges) -> np.ndarray:
     return edges
 
 
-def exact_sampler_histogram(N: int, samples: int, edges, pool="ensemble", seed=0, progress=None) -> Histogram:
+def exact_sampler_histogram(N: int, samples: int, edges: ArrayLike, pool: str | int = "ensemble",
+                            seed: int | np.random.Generator | None = 0, progress: Callable[[int], object] | None = None) -> Histogram:
     """Histogram of the pooled ``f`` over ``samples`` independent exact samples.
 
     The error bar of a bin is the standard error of the per-configuration
@@ -218,9 +224,9 @@ def exact_sampler_histogram(N: int, samples: int, edges, pool="ensemble", seed=0
     """
     from .exact_sampler import ExactSampler
 
-    N, samples = check_layers(N), check_int(samples, "samples", 2)
+    samples = check_int(samples, "samples", 2)
     edges = _check_edges(edges)
-    sampler = ExactSampler(N, seed=seed)
+    sampler = ExactSampler(N, seed=seed)  # validates N
     s1 = np.zeros(len(edges) - 1)
     s2 = np.zeros(len(edges) - 1)
     done = 0
@@ -237,8 +243,9 @@ def exact_sampler_histogram(N: int, samples: int, edges, pool="ensemble", seed=0
     return Histogram(edges, mean, np.sqrt(var / samples), samples, 1.0, True)
 
 
-def metropolis_histogram(N: int, sweeps: int, edges, pool="ensemble", burn_in: int | None = None, seed=0,
-                         progress=None) -> Histogram:
+def metropolis_histogram(N: int, sweeps: int, edges: ArrayLike, pool: str | int = "ensemble",
+                         burn_in: int | None = None, seed: int | np.random.Generator | None = 0,
+                         progress: Callable[[int], object] | None = None) -> Histogram:
     """Histogram of the pooled ``f`` along a Metropolis chain in q (Sec. 3.2.4), one record per sweep.
 
     Error bars: ``sqrt(var tau / sweeps)`` per bin with ``tau`` its integrated
@@ -254,7 +261,7 @@ def metropolis_histogram(N: int, sweeps: int, edges, pool="ensemble", burn_in: i
     from ..autocorr import integrated_time
     from .metropolis import TriangleMetropolis
 
-    N, sweeps = check_layers(N), check_int(sweeps, "sweeps", 2)
+    sweeps = check_int(sweeps, "sweeps", 2)  # N: validated by TriangleMetropolis
     burn_in = max(100, sweeps // 10) if burn_in is None else check_int(burn_in, "burn_in", 0)
     edges = _check_edges(edges)
     chain = TriangleMetropolis(N, seed=seed).run(sweeps, burn_in=burn_in, progress=progress)
@@ -267,7 +274,7 @@ def metropolis_histogram(N: int, sweeps: int, edges, pool="ensemble", burn_in: i
     return Histogram(edges, h.mean(axis=0), np.sqrt(var * tau / sweeps), sweeps, float(tau.max()), reliable)
 
 
-def chi_square(hist: Histogram, exact_bins) -> tuple[float, int, float]:
+def chi_square(hist: Histogram, exact_bins: Sequence[Fraction | float]) -> tuple[float, int, float]:
     """``(chi2, bins, p)``: ``sum ((h - e) / stderr)^2`` over the bins with a nonzero error bar.
 
     ``exact_bins`` are the exact bin masses (e.g.
@@ -292,7 +299,7 @@ def chi_square(hist: Histogram, exact_bins) -> tuple[float, int, float]:
     return value, bins, float(chi2.sf(value, bins)) if bins else 1.0
 
 
-def comparison_png(pieces, exact_bins, histograms: dict, title: str, f_max: float | None = None) -> bytes:
+def comparison_png(pieces: Any, exact_bins: Sequence[Fraction | float], histograms: dict, title: str, f_max: float | None = None) -> bytes:
     """PNG bytes: the exact ``P(f)`` (curve and bin averages) against sampled histograms with error bars.
 
     ``histograms`` maps a label to a :class:`Histogram`; two panels, linear and

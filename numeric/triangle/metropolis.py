@@ -30,8 +30,12 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
+from collections.abc import Callable
 
+import numpy as np
+from numpy.typing import ArrayLike
+
+from forcenet.exact.triangle.staircase import dimension
 from forcenet.exact.validation import check_int, check_layers
 from forcenet.exact.errors import ArgumentError
 
@@ -97,7 +101,7 @@ class TriangleMetropolis:
         ``p_h > 0``).
     kernel : {None, "compiled", "python"}
         ``"python"``: the reference kernel below (numpy, whole rows per move);
-        ``"compiled"``: :func:`forcenet.numeric.triangle.kernels.triangle_sweeps`
+        ``"compiled"``: :func:`forcenet.numeric.triangle.metropolis_kernel.triangle_sweeps`
         (numba, the light cone only), which draws the same random numbers and
         gives the same chain for the same seed, 30-100 times faster; ``None``
         (default): compiled when numba is available.
@@ -108,10 +112,23 @@ class TriangleMetropolis:
         that q, so log-concave), restricted with a finite ``ph`` to the
         interval where every lateral force stays >= 0, by slice sampling
         with shrinkage (Neal 2003); no move is rejected.
+
+    Raises
+    ------
+    forcenet.exact.errors.ArgumentError
+        On ``N < 2``, a ``ph`` that is not a positive finite number, an unknown ``kernel`` or ``move``, the slice
+        move without the compiled kernel, a ``q0`` of the wrong shape or (finite ``ph``) with a negative lateral force.
+
+    Examples
+    --------
+    >>> sampler = TriangleMetropolis(4, seed=2, ph=0.5)
+    >>> chain = sampler.run(sweeps=100, burn_in=10)
+    >>> chain.shape, bool((lateral_forces(sampler.q, sampler.W, 0.5) >= -1e-12).all())
+    ((100, 4, 4), True)
     """
 
-    def __init__(self, N: int, seed=None, ph: float | None = None, q0=None, kernel: str | None = None,
-                 move: str = "metropolis"):
+    def __init__(self, N: int, seed: int | np.random.Generator | None = None, ph: float | None = None, q0: ArrayLike | None = None,
+                 kernel: str | None = None, move: str = "metropolis") -> None:
         from ..jit import kernel_choice
 
         self.kernel = kernel_choice(kernel)
@@ -192,7 +209,9 @@ class TriangleMetropolis:
         recorded ``k`` records.
         """
         from ..jit import chunks, first_chunk
-        from .kernels import triangle_slice_sweeps, triangle_state, triangle_sweeps
+        from .cone import triangle_state
+        from .metropolis_kernel import triangle_sweeps
+        from .slice_kernel import triangle_slice_sweeps
 
         flux, zeros = triangle_state(self.q, self.W)
         gi = np.array([g[0] for g in self.grains], dtype=np.int64)
@@ -232,7 +251,7 @@ class TriangleMetropolis:
                 if self._propose(i, j, value):
                     self.accepted += 1
 
-    def run(self, sweeps: int, burn_in: int = 0, progress=None, thin: int = 1) -> np.ndarray:
+    def run(self, sweeps: int, burn_in: int = 0, progress: Callable[[int], object] | None = None, thin: int = 1) -> np.ndarray:
         """Burn in, then record ``W`` after every ``thin``-th of ``sweeps * thin`` sweeps.
 
         Returns an array of shape ``(sweeps, N, N)``; ``progress`` ticks once per record.
@@ -257,7 +276,30 @@ class TriangleMetropolis:
 def q_model_samples(N: int, size: int, rng: np.random.Generator) -> np.ndarray:
     """The q-model contrast: independent uniform q on every grain, no weight.
 
-    Returns ``W`` samples, shape ``(size, N, N)``.
+    Parameters
+    ----------
+    N : int
+        Layers, ``>= 2``.
+    size : int
+        Samples.
+    rng : numpy.random.Generator
+        The stream.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``W`` samples (Eq. 4.5 from the uniform q), shape ``(size, N, N)``.
+
+    Raises
+    ------
+    forcenet.exact.errors.ArgumentError
+        On ``N < 2``.
+
+    Examples
+    --------
+    >>> W = q_model_samples(3, 2, np.random.default_rng(0))
+    >>> W.shape, W.sum(axis=2).round(12).tolist()
+    ((2, 3, 3), [[1.0, 1.0, 1.0], [1.0, 1.0, 1.0]])
     """
     N = check_layers(N)
     q = np.tril(rng.random((size, N - 1, N - 1)))
@@ -307,7 +349,7 @@ def metropolis_plan(N: int, sweeps: int, burn_in: int = 0, memory_bytes: int | N
     sweeps, burn_in = check_int(sweeps, "sweeps", 1), check_int(burn_in, "burn_in", 0)
     if move not in COMPILE_SECONDS:
         raise ArgumentError(f"move={move!r}: expected 'metropolis' or 'slice'")
-    moves = N * (N - 1) // 2 * (sweeps + burn_in)
+    moves = dimension(N) * (sweeps + burn_in)  # N(N-1)/2 grains per sweep
     compiled = kernel_choice(kernel) == "compiled"
     if compiled:
         per_move, start = _compiled_seconds_per_move(N, ph), 1.0  # + loading the cached kernel
@@ -316,8 +358,9 @@ def metropolis_plan(N: int, sweeps: int, burn_in: int = 0, memory_bytes: int | N
     plan = Plan(f"Metropolis N={N}, {sweeps} sweeps", per_move * moves + start,
                 sweeps * N * N * 8 + 100 * 2**20, sweeps, "sweep")
     if compiled:
-        from . import kernels
+        from .metropolis_kernel import triangle_sweeps
+        from .slice_kernel import triangle_slice_sweeps
 
-        entry = kernels.triangle_slice_sweeps if move == "slice" else kernels.triangle_sweeps
+        entry = triangle_slice_sweeps if move == "slice" else triangle_sweeps
         plan = with_compilation(plan, f"triangle {move}", COMPILE_SECONDS[move], [entry])
     return plan.within_memory(memory_bytes)

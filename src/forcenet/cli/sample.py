@@ -11,6 +11,7 @@ the JSON for those who want them there (and gives up identical bytes).
 
 from __future__ import annotations
 
+import argparse
 import os
 
 from forcenet.exact.validation import is_integer
@@ -257,10 +258,11 @@ def cmd_sample(args):
     if not args.quiet:
         print(f"forcenet: {ess:.0f} effective samples in {seconds:.1f} s: {ess / seconds:.4g} per second "
               f"({workers} worker{'s' if workers > 1 else ''}, {extra['kernel']} kernel)", file=sys.stderr)
-    if scene is None:
-        rows = lambda a: [[float(a[i, j]) for j in range(i + 1)] for i in range(N)]
-    else:
-        rows = lambda a: [[float(v) for v in row] for row in a]
+    def rows(a: np.ndarray) -> list[list[float]]:
+        if scene is None:  # the triangle: the rows of the lower triangle
+            return [[float(a[i, j]) for j in range(i + 1)] for i in range(N)]
+        return [[float(v) for v in row] for row in a]
+
     out = {"N": N, "sampler": args.sampler, "samples": K, "seed": args.seed, "workers": workers}
     out.update({k: (rows(v) if isinstance(v, np.ndarray) else v) for k, v in extra.items()})
     if args.timing:  # opt-in: wall-clock figures make the output differ from run to run
@@ -287,7 +289,7 @@ def _plus_minus(mean: float, stderr: float) -> str:
     return f"{mean:.5g}±{stderr:.2g}"
 
 
-def register(sub):
+def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("sample", help="Monte Carlo <W> with standard errors (exact sampler or Metropolis)")
     add_layers(p)
     p.add_argument("--sampler", choices=["exact", "metropolis"], default="exact",

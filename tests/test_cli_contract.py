@@ -64,7 +64,7 @@ def _grammar(tmp):
         _opt("--moments", st.one_of(st.sampled_from(["0", "1", "2", "51", "-1", "x"]))),
         _opt("--samples", st.sampled_from(["0", "1", "2", "-7", "50", "x"])), _opt("--seed", st.sampled_from(["-1", "0", "5", "x", "1e3"])),
         _opt("--out-dir", st.sampled_from([str(tmp / "tables"), str(tmp / "afile"), str(tmp / "afile" / "sub"), str(tmp / "missing" / "sub")])),
-        _opt("--method", st.sampled_from(["fast", "thesis", "lambda", "maps", "magic"])), st.just(["--quiet"]),
+        _opt("--method", st.sampled_from(["auto", "fast", "thesis", "lambda", "maps", "magic"])), st.just(["--quiet"]),
     )
     maps = st.tuples(st.just(["maps"]), _req("--N", st.one_of(SMALL, NUMBERS)), _opt("--format", st.sampled_from(["text", "json", "x"])), common_out)
     limit = st.tuples(st.just(["limit"]), _req("--x", st.one_of(NUMBERS, st.sampled_from(["0.2", "-0.5", "0.5"]))),
@@ -352,8 +352,8 @@ def test_14_the_cross_check_has_a_stated_false_alarm_rate(sandbox, capsys, monke
 
     real_run = routes.table_run
 
-    def biased(method, N, moments=1, progress=None, memory_bytes=None):
-        tables = real_run(method, N, moments, progress, memory_bytes)
+    def biased(method, N, moments=1, progress=None, memory_bytes=None, **options):
+        tables = real_run(method, N, moments, progress, memory_bytes, **options)
         tables[1][N - 1][0] += Fraction(1, 50)
         tables[1][N - 1][1] -= Fraction(1, 50)
         return tables

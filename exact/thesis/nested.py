@@ -46,6 +46,7 @@ Fraction(1, 11)
 from __future__ import annotations
 
 from collections import defaultdict
+from concurrent.futures import Executor
 from fractions import Fraction
 from functools import lru_cache
 from math import factorial
@@ -56,6 +57,8 @@ from ..modular import crt, primes_for_bound
 from ..triangle.staircase import dimension
 from ..validation import check_grain, check_int, check_layers
 from .coefficients import gamma, gamma_residues
+from ..plan import Plan, table_range
+from ..protocol import Progress, Table, run_independent
 from ..errors import ArgumentError, ArgumentTypeError
 
 __all__ = ["integrate_layers", "normalization_nested", "moment_nested", "moment_table_nested", "mean_W_nested"]
@@ -475,7 +478,7 @@ def _integrate_modular(N: int, powers: dict) -> Fraction:
 
     ``(d + s)! I`` is an integer between 0 and ``(d + s)!`` (``d = N(N-1)/2``,
     ``s`` the total power; notes/chapter4.md, "Integrality"), so its residues
-    modulo primes whose product exceeds ``2 (d + s)!`` determine it.
+    modulo primes whose product exceeds ``(d + s)!`` determine it (:func:`~forcenet.exact.modular.primes_for_bound`).
     """
     powers = {g: e for g, e in powers.items() if g != (1, 1)}  # W_{1,1} = 1
     d = dimension(N)
@@ -500,8 +503,32 @@ _TIME_FACTOR = {8: (1.0, 2.4, 4.8), 9: (1.0, 3.2, 8.0)}
 _MEMORY_FACTOR = (1.0, 2.6, 6.5)
 
 
-def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None):
-    """The cost of :func:`table_run`: ``<W^s>`` tables, ``s = 1..moments``, by nested integration.
+def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, executor: Executor | None = None) -> Plan:
+    """The cost of :func:`table_run` (``--method thesis``): ``<W^s>`` tables, ``s = 1..moments``, by nested integration.
+
+    The engine protocol (:mod:`forcenet.exact.protocol`); one independent
+    task per order ``s`` (on ``executor`` if given), the normalization
+    integrated once before them.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``>= 2`` (the route reaches ``N <= 9``).
+    moments : int
+        Highest moment, ``1..3``.
+    memory_bytes : int, optional
+        Memory available to the run (None: not checked).
+    executor : concurrent.futures.Executor, optional
+        Where the orders run (default: this process).
+
+    Returns
+    -------
+    Plan
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` or ``moments`` is not an integer ``>= 2`` or ``>= 1``.
 
     Examples
     --------
@@ -510,16 +537,13 @@ def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None):
     >>> table_plan(10).refusal
     'N=10 is out of range for --method thesis: N must be an integer in 2..9 (the nested bonds outgrow memory at N = 10)'
     """
-    from ..plan import Plan
-
     N, moments = check_layers(N), check_int(moments, "moments", 1)
     what = f"--method thesis N={N}, nested integrations"
-    if N not in _TABLE_COST:
-        return Plan(what, 0, refusal=f"N={N} is out of range for --method thesis: N must be an integer in 2..9 "
-                                     "(the nested bonds outgrow memory at N = 10)")
-    if moments > _MAX_ORDER:
-        return Plan(what, 0, refusal=f"moments={moments} is out of range for --method thesis: moments must be an integer "
-                                     f"in 1..{_MAX_ORDER} (the s-th order defects grow fast: N = 9, s = 3 needs 12 GB)")
+    refusal = table_range(what, "thesis", N, moments, max(_TABLE_COST), max_moments=_MAX_ORDER,
+                          why_N="the nested bonds outgrow memory at N = 10",
+                          why_moments="the s-th order defects grow fast: N = 9, s = 3 needs 12 GB")
+    if refusal is not None:
+        return refusal
     per_run, nbytes = _TABLE_COST[N]
     runs = N * (N + 1) // 2
     factor = _TIME_FACTOR.get(N, _TIME_FACTOR[8])
@@ -528,10 +552,21 @@ def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None):
     return plan.within_memory(memory_bytes)
 
 
-def table_run(N: int, moments: int = 1, progress=None) -> dict:
+def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, progress: Progress | None = None,
+              executor: Executor | None = None) -> dict[int, Table]:
     """``{s: <W^s> table}`` for ``s = 1..moments``; the normalization is integrated once.
 
-    ``progress`` is called once per grain and order.
+    The arguments are those of :func:`table_plan`; ``progress`` is called
+    once per grain and order.
+
+    Returns
+    -------
+    dict of int to list of lists of Fraction
+
+    Raises
+    ------
+    ArgumentError
+        If the plan is refused (out of range, or more memory than ``memory_bytes``).
 
     Examples
     --------
@@ -539,6 +574,8 @@ def table_run(N: int, moments: int = 1, progress=None) -> dict:
     >>> [str(x) for x in tables[2][-1]]
     ['1/28', '9/56', '9/56', '1/28']
     """
-    N, moments = check_layers(N), check_int(moments, "moments", 1)
+    plan = table_plan(N, moments, memory_bytes=memory_bytes).check()
     volume = integrate_layers(N)  # once for every s
-    return {s: moment_table_nested(N, s, progress=progress, volume=volume) for s in range(1, moments + 1)}
+    calls = [(moment_table_nested, (N, s), {"volume": volume}) for s in range(1, moments + 1)]
+    tables = run_independent(calls, executor=executor, progress=progress, weights=[plan.ticks / moments] * moments)
+    return dict(enumerate(tables, start=1))

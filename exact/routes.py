@@ -112,7 +112,7 @@ def choose(N: int, moments: int = 1, *, memory_bytes: int | None = None, executo
     -------
     Choice
         The method, its plan and the reason; when no candidate can run, the
-        first candidate's refused plan (the fast route's by default).
+        first candidate's plan refused with every candidate's reason.
 
     Raises
     ------
@@ -146,8 +146,9 @@ def choose(N: int, moments: int = 1, *, memory_bytes: int | None = None, executo
             continue
         plans[m] = ENGINES[m].table_plan(N, moments, memory_bytes=memory_bytes, executor=executor, **given)
     runnable = {m: p for m, p in plans.items() if p.runnable}
-    if not runnable:
-        return Choice(candidates[0], plans[candidates[0]], "")
+    if not runnable:  # every refusal, so the user sees each route's reach
+        reasons = "; ".join(dict.fromkeys(p.refusal for p in plans.values() if p.refusal))
+        return Choice(candidates[0], replace(plans[candidates[0]], refusal=f"no method can run it: {reasons}"), "")
     method = min(runnable, key=lambda m: (runnable[m].seconds, candidates.index(m)))
     costs = ", ".join([f"{m} ~{duration_text(p.seconds)}" for m, p in runnable.items()] + slower)
     refused = [m for m in plans if m not in runnable]

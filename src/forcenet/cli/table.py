@@ -138,6 +138,8 @@ def _resolve_method(args, memory):
         return args.method, ""
     pfaffian_only = args.scheduler is not None or args.checkpoint is not None
     choice = choose(args.N, args.moments, memory_bytes=memory, methods=("pfaffian",) if pfaffian_only else None)
+    if not choice.plan.runnable:
+        raise UsageError(choice.plan.refusal)
     return choice.method, choice.why
 
 

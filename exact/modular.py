@@ -65,7 +65,7 @@ def primes_below(limit: int, count: int) -> tuple[int, ...]:
     >>> primes_below(100, 3)
     (97, 89, 83)
     """
-    out = []
+    out: list[int] = []
     candidate = limit - 1
     while len(out) < count:
         if candidate < 2:

@@ -44,7 +44,7 @@ __all__ = [
     "mean_W_thesis_maps",
     "moment_thesis_maps",
     "moments_by_maps",
-    "mean_W_by_maps",
+    "mean_W_by_maps", "table_plan", "table_run"
 ]
 
 
@@ -103,14 +103,14 @@ def maps(N: int, relaxed: dict | None = None):
 @lru_cache(maxsize=256)
 def _map_rows(l: int, raise_by: tuple) -> list[tuple[int, ...]]:
     """Row ``l`` of a map: (4.86) with bounds raised by ``amount`` at each ``(k, amount)``, last entry 1."""
-    raise_by = dict(raise_by)
+    raised = dict(raise_by)
 
     def extend(prefix):
         k = len(prefix) + 1
         if k > l:
             yield prefix
             return
-        top = upper_bound(k, prefix[-1] if prefix else None, raise_by.get(k, 0))
+        top = upper_bound(k, prefix[-1] if prefix else None, raised.get(k, 0))
         for v in range(1, top + 1):
             yield from extend(prefix + (v,))
 

@@ -46,6 +46,7 @@ Fraction(1, 11)
 from __future__ import annotations
 
 from collections import defaultdict
+from typing import Any
 from concurrent.futures import Executor
 from fractions import Fraction
 from functools import lru_cache
@@ -61,7 +62,7 @@ from ..plan import Plan, table_range
 from ..protocol import Progress, Table, run_independent
 from ..errors import ArgumentError, ArgumentTypeError
 
-__all__ = ["integrate_layers", "normalization_nested", "moment_nested", "moment_table_nested", "mean_W_nested"]
+__all__ = ["integrate_layers", "normalization_nested", "moment_nested", "moment_table_nested", "mean_W_nested", "table_plan", "table_run"]
 
 
 def _multiply_site(site: dict, power: int) -> dict:
@@ -73,27 +74,25 @@ def _integrate_layer(left: dict, sites: list, right: dict):
     """Integrate one layer: ``(L, [T_1..T_m], R)`` -> ``(L', [T'_1..T'_{m-1}], R')``."""
     m = len(sites)
     # new right vector: X_m = u_{m-1}, so site m's powers become exponents of u
-    new_right = defaultdict(Fraction)
+    new_right: defaultdict[tuple, Fraction] = defaultdict(Fraction)
     for (row, col), poly in sites[m - 1].items():
         if col in right:
             for power, c in poly.items():
                 new_right[(row, power)] += c * right[col]
     # exponents e of u_k that reach site k from the right: the rows' powers of site k+1
-    reach = [None] * m
-    reach[m - 1] = defaultdict(set)
+    reach: list[defaultdict[Any, set]] = [defaultdict(set) for _ in range(m)]
     for (row, power) in new_right:
         reach[m - 1][row].add(power)
-    new_sites = [None] * (m - 1)
+    new_sites: list[dict] = [{} for _ in range(m - 1)]
     for k in range(m - 2, -1, -1):  # site k+1 (1-based) integrated; sweep right to left
         exps = reach[k + 1]
-        table = defaultdict(lambda: defaultdict(Fraction))
+        table: defaultdict[tuple, defaultdict[int, Fraction]] = defaultdict(lambda: defaultdict(Fraction))
         for (row, col), poly in sites[k].items():
             for e in exps.get(col, ()):
                 for s, c in poly.items():
                     for f in range(s + 1):  # a_k^f with a_k = u_{k-1}; Y_k^{e+1+s-f}
                         table[((row, f), (col, e))][e + 1 + s - f] += c * gamma(f, s, e)
         new_sites[k] = {key: dict(poly) for key, poly in table.items()}
-        reach[k] = defaultdict(set)
         for (row, f), _col in new_sites[k]:
             reach[k][row].add(f)
     new_left = {(row, 0): c for row, c in left.items()}  # a_1 = 0: only f = 0 survives
@@ -109,7 +108,7 @@ def _prune(left: dict, sites: list, right: dict):
         forward.append(alive)
         alive = {col for (row, col) in site if row in alive}
     alive = set(right)
-    kept = [None] * m
+    kept: list[dict] = [{} for _ in range(m)]
     for k in range(m - 1, -1, -1):  # keep entries on a path left -> right
         kept[k] = {key: poly for key, poly in sites[k].items() if key[0] in forward[k] and key[1] in alive}
         alive = {row for (row, col) in kept[k]}
@@ -123,7 +122,7 @@ def _check_powers(N: int, powers) -> dict:
         return {}
     if not isinstance(powers, dict):
         raise ArgumentTypeError(f"powers={powers!r}: need a dict {{(i, j): power}}")
-    out = {}
+    out: dict[tuple[int, int], int] = {}
     for g, e in powers.items():
         i, j = check_grain(N, g, "powers key")
         e = check_int(e, f"powers[{(i, j)}]", 0)

@@ -44,7 +44,7 @@ __all__ = [
     "gamma_sums",
     "gamma_bulk_integer",
     "mean_W_gamma",
-    "table_from_bulk",
+    "table_from_bulk", "table_plan", "table_run"
 ]
 
 
@@ -197,7 +197,7 @@ def table_from_bulk(N: int, bulk: Callable[[int, int], int]) -> list[list[Fracti
 
 def _row_maxima(l: int, relaxed: frozenset) -> tuple[int, ...]:
     """Largest values of ``h(l, 1..l-1)`` under (4.86) with bounds raised at ``relaxed``."""
-    out = []
+    out: list[int] = []
     for k in range(1, l):
         out.append(upper_bound(k, out[-1] if out else None, k in relaxed))
     return tuple(out)
@@ -374,12 +374,18 @@ def _last_row_chain(box: np.ndarray, p: int, relaxed: frozenset, reduce, weight_
     G = weigh(G, 1)
     return int(G.sum())  # at most three residues: the callers reduce
 
-def _mod_reducer(prime: int):
-    def reduce(a):
-        return a % prime
+class _ModReducer:
+    """``a % prime`` (numpy arrays or ints), with the prime at hand as ``modulus``."""
 
-    reduce.modulus = prime
-    return reduce
+    def __init__(self, prime: int):
+        self.modulus = prime
+
+    def __call__(self, a):
+        return a % self.modulus
+
+
+def _mod_reducer(prime: int) -> _ModReducer:
+    return _ModReducer(prime)
 
 def _gamma_combined_mod(N: int, q: int, r: int, prime: int) -> int:
     """``(q+1) Z'(q, r) + S1 - S0 mod prime`` of Eq. (4.77) in one pass, last row by the chain.
@@ -400,19 +406,20 @@ def _gamma_combined_mod(N: int, q: int, r: int, prime: int) -> int:
 
     plus_row, minus_row = N - r, N - r - 1
     B = np.ones((), dtype=np.int64)
+    carrying = True  # B is carried along until the + row
     X = np.full((), (q + 1) % prime, dtype=np.int64)
     if minus_row < 1:  # S0 = Z': h(0, k) = 1
         X = reduce(X - B)
     for l in range(1, p):
         if l > 1:
             X = _transfer(X, l - 1, relaxed.get(l, frozenset()), reduce)
-            if B is not None:
+            if carrying:
                 B = _transfer(B, l - 1, relaxed.get(l, frozenset()), reduce)
         if l == minus_row:
             X = reduce(X - weight(B, l))
         if l == plus_row:
             X = reduce(X + weight(B, l))
-            B = None
+            carrying = False
     last = relaxed.get(p, frozenset())
     total = _last_row_chain(X, p, last, reduce)
     if plus_row == p:  # r = 2: the + weight sits on the last row itself

@@ -26,7 +26,9 @@ from math import comb, factorial
 
 import numpy as np
 
+from collections.abc import Callable
 from concurrent.futures import Executor
+from typing import Any
 
 from ..modular import crt, primes_for_bound
 from ..plan import Plan, combine
@@ -240,7 +242,9 @@ def moment_table(N: int, s: int = 2, *, memory_bytes: int | None = None, progres
         chunk = grains[start : start + batch]
         elig = np.stack([_eligible(lam, N, i, j) for i, j in chunk], axis=1)  # (masks, B)
 
-        def update(masks, acc, elig=elig, B=len(chunk)):
+        size = len(chunk)
+
+        def update(masks, acc, elig=elig, B=size):
             acc = acc.reshape(acc.shape[0], B, s + 1, -1)
             cum = np.cumsum(acc, axis=2)
             out = np.where(elig[masks][:, :, None, None], cum, acc)
@@ -437,7 +441,7 @@ def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, prog
         plans = _pass_plans(N, moments, memory_bytes)
         combine(f"exact tables N={N}", plans).check()
         weights = [plan.ticks for plan in plans]
-    calls = [(mean_W, (N,), {"memory_bytes": _budget(memory_bytes, _RESIDUE_CAP)})]
+    calls: list[tuple[Callable[..., Any], tuple, dict]] = [(mean_W, (N,), {"memory_bytes": _budget(memory_bytes, _RESIDUE_CAP)})]
     calls += [(moment_table, (N, s), {"memory_bytes": memory_bytes}) for s in range(2, moments + 1)]
     tables = run_independent(calls, executor=executor, progress=progress, weights=weights)
     return dict(enumerate(tables, start=1))

@@ -36,7 +36,8 @@ __all__ = ["CROSS_CHECK_COPIES", "CROSS_CHECK_SECONDS_PER_VALUE", "cross_check_p
 # concatenation, and the centred and scaled copies of forcenet.testing.compare (5.5-5.7 measured at N = 40, 60, 100)
 CROSS_CHECK_COPIES = 6
 # seconds per stored value of the comparison (the autocorrelation guard, z-scores, the bounded betting test):
-# 0.6-0.75 us measured at 20000 rows of 780-4950 grains before the betting test
+# 0.6-0.75 us measured at 20000 rows of 780-4950 grains before the betting test; with it, 0.49-0.53 us of CPU at
+# 20000 rows of 190 and 780 grains (benchmarks/cross_check_cost.py, 2026-11-25, on the loaded 2-core machine)
 CROSS_CHECK_SECONDS_PER_VALUE = 7e-7
 
 

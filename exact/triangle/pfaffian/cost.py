@@ -49,12 +49,8 @@ def prime_seconds(N: int) -> float:
     >>> 0 < prime_seconds(20) < prime_seconds(40)
     True
     """
-    n, d = N - 1, dimension(N)
-    reps = level_points(d) // 2
-    ys = 2 * ((n + 1) // 2)
-    s = n + 1 + (n + 1) % 2
-    per_y = _SECONDS_PER_PIVOT * n + _SECONDS_PER_ROW * n**2
-    return reps * (ys * per_y + _SECONDS_PER_KERNEL * s**3) + _SECONDS_PER_WEIGHT * level_points(d) ** 2 + 1e-3
+    n = N - 1
+    return _per_point_seconds(N, 2 * ((n + 1) // 2))  # y = 0..n, paired
 
 
 def edge_seconds(N: int) -> float:
@@ -65,10 +61,16 @@ def edge_seconds(N: int) -> float:
     >>> 0 < edge_seconds(20) < prime_seconds(20)
     True
     """
+    return _per_point_seconds(N, 2)  # two eliminations per level point
+
+
+def _per_point_seconds(N: int, eliminations: int) -> float:
+    """``d/2`` level points, each ``eliminations`` displacement eliminations and one kernel set-up, then the weights."""
     n, d = N - 1, dimension(N)
     s = n + 1 + (n + 1) % 2
     per_y = _SECONDS_PER_PIVOT * n + _SECONDS_PER_ROW * n**2
-    return level_points(d) // 2 * (2 * per_y + _SECONDS_PER_KERNEL * s**3) + _SECONDS_PER_WEIGHT * level_points(d) ** 2 + 1e-3
+    M = level_points(d)
+    return M // 2 * (eliminations * per_y + _SECONDS_PER_KERNEL * s**3) + _SECONDS_PER_WEIGHT * M**2 + 1e-3
 
 
 def primes_plan(what: str, N: int, per_prime: float, per_worker: int, workers: int | None, executor: Executor | None,

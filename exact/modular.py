@@ -65,7 +65,7 @@ def primes_below(limit: int, count: int) -> tuple[int, ...]:
     >>> primes_below(100, 3)
     (97, 89, 83)
     """
-    out = []
+    out: list[int] = []
     candidate = limit - 1
     while len(out) < count:
         if candidate < 2:
@@ -76,25 +76,57 @@ def primes_below(limit: int, count: int) -> tuple[int, ...]:
     return tuple(out)
 
 
-def primes_for_bound(bound: int, limit: int = 2**31) -> tuple[int, ...]:
-    """Primes below ``limit`` whose product exceeds ``2 * bound``.
+def primes_for_bound(bound: int, limit: int = 2**31, smallest: int = 2) -> tuple[int, ...]:
+    """The largest primes below ``limit``, as few as make their product exceed ``bound``.
 
-    A non-negative integer ``x <= bound`` is then determined by its residues.
+    A non-negative integer ``x <= bound`` is then determined by its residues:
+    :func:`crt` returns the unique ``y`` in ``[0, P)`` with ``y = x (mod p)``
+    for every prime, ``P`` their product, and ``0 <= x <= bound < P`` puts
+    ``x`` itself in that range, so ``y = x``.  (A *signed* value with
+    ``|x| <= bound`` would need ``P > 2 bound``; every caller reconstructs a
+    count or a sum of counts, non-negative, so the product only has to exceed
+    ``bound``: one convention for the whole package.)
+
+    Parameters
+    ----------
+    bound : int
+        A proven upper bound on the non-negative integers to reconstruct.
+    limit : int
+        The primes lie below ``limit`` (default ``2**31``: a product of two
+        residues fits a signed 64-bit integer).
+    smallest : int
+        Refuse primes ``<= smallest`` (a route whose arithmetic needs the
+        prime to exceed a size).
+
+    Returns
+    -------
+    tuple of int
+        The primes, largest first.
+
+    Raises
+    ------
+    ArgumentError
+        If ``bound < 0``, or the primes in ``(smallest, limit)`` run out.
 
     Examples
     --------
     >>> len(primes_for_bound(10**20))
     3
+    >>> primes_for_bound(96, limit=100), primes_for_bound(97, limit=100)
+    ((97,), (97, 89))
     """
     if bound < 0:
-        raise ArgumentError(f"bound={bound}: must be >= 0")
-    count, product = 0, 1
-    while product <= 2 * bound:
-        count += 1
-        product = 1
-        for p in primes_below(limit, count):
-            product *= p
-    return primes_below(limit, count)
+        raise ArgumentError(f"bound={bound} is out of range: bound must be an integer >= 0")
+    out: list[int] = []
+    product, candidate = 1, limit - 1
+    while product <= bound:
+        if candidate <= smallest:
+            raise ArgumentError(f"bound={bound} is out of range: the primes in ({smallest}, {limit}) run out")
+        if is_prime(candidate):
+            out.append(candidate)
+            product *= candidate
+        candidate -= 1
+    return tuple(out)
 
 
 def crt(residues, primes) -> int:
@@ -116,11 +148,23 @@ def crt(residues, primes) -> int:
 
 
 def crt_many(residue_rows, primes) -> list[int]:
-    """:func:`crt` applied to each row of a 2-D array of residues.
+    """:func:`crt` applied to each row of a 2-D array of residues (row ``i``: one integer's residues).
+
+    The basis ``e_k = (P / p_k) ((P / p_k)^-1 mod p_k)`` is computed once,
+    so each row costs ``len(primes)`` products and one reduction modulo
+    ``P``: ``x = sum_k r_k e_k mod P``.
 
     Examples
     --------
     >>> crt_many([[2, 3, 2], [0, 0, 1]], [3, 5, 7])
     [23, 15]
     """
-    return [crt(row, primes) for row in residue_rows]
+    primes = [int(p) for p in primes]
+    modulus = 1
+    for p in primes:
+        modulus *= p
+    basis = []
+    for p in primes:
+        rest = modulus // p
+        basis.append(rest * pow(rest % p, -1, p))
+    return [sum(int(r) * e for r, e in zip(row, basis)) % modulus for row in residue_rows]

@@ -8,7 +8,7 @@ memory than the caller has).  The engines own their cost knowledge (measured
 constants live next to the code they describe); the command line only asks,
 announces, refuses or runs.
 
-May import: nothing of the package.
+May import: :mod:`forcenet.exact.errors` (nothing else of the package).
 
 Examples
 --------
@@ -24,7 +24,9 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, replace
 
-__all__ = ["Plan", "duration_text", "combine", "combine_by_time", "phase_progress", "first_moment_only", "chunks",
+from .errors import ArgumentError
+
+__all__ = ["Plan", "duration_text", "combine", "combine_by_time", "phase_progress", "first_moment_only", "table_range", "chunks",
            "first_chunk", "CHUNK_SECONDS", "kernels_cached", "with_compilation"]
 
 CHUNK_SECONDS = 0.15  # compiled work per call: Ctrl-C is seen within this, the calls' overhead stays far below 1 %
@@ -106,6 +108,23 @@ class Plan:
     def refuse(self, reason: str) -> Plan:
         """The same plan, refused (the first reason wins)."""
         return self if self.refusal else replace(self, refusal=reason)
+
+    def check(self) -> Plan:
+        """The plan itself if it is runnable; else :class:`~forcenet.exact.errors.ArgumentError` with its refusal.
+
+        Raises
+        ------
+        ArgumentError
+            If the plan is refused.
+
+        Examples
+        --------
+        >>> Plan("x", 1).check().what
+        'x'
+        """
+        if self.refusal is not None:
+            raise ArgumentError(self.refusal)
+        return self
 
     def within_memory(self, memory_bytes: int | None) -> Plan:
         """Refused if the peak memory exceeds ``memory_bytes`` (None: no check)."""
@@ -194,6 +213,36 @@ def first_moment_only(what: str, method: str, moments: int) -> Plan | None:
         return None
     return Plan(what, 0, refusal=f"moments={moments} is out of range for --method {method}: moments must be 1 "
                                  "(higher moments use --method fast, thesis or maps)")
+
+
+def table_range(what: str, method: str, N: int, moments: int, max_N: int, *, max_moments: int | None = 1,
+                why_N: str = "", why_moments: str = "") -> Plan | None:
+    """The prologue of every table route's plan: the refusal of a request out of the route's range, or None.
+
+    ``N`` and ``moments`` are validated integers (``N >= 2``, ``moments >=
+    1``); the route reaches ``N <= max_N`` and ``moments <= max_moments``
+    (1: the first moment only, :func:`first_moment_only`; None: every
+    moment).  The largest ``N`` is checked first; ``why_N`` and
+    ``why_moments`` say, in parentheses, what stops the route there.
+
+    Examples
+    --------
+    >>> table_range("x", "maps", 10, 1, 9, max_moments=None, why_N="too many maps").refusal
+    'N=10 is out of range for --method maps: N must be an integer in 2..9 (too many maps)'
+    >>> table_range("x", "thesis", 8, 4, 9, max_moments=3).refusal
+    'moments=4 is out of range for --method thesis: moments must be an integer in 1..3'
+    >>> table_range("x", "lambda", 8, 1, 12) is None
+    True
+    """
+    if N > max_N:
+        return Plan(what, 0, refusal=f"N={N} is out of range for --method {method}: N must be an integer in 2..{max_N}"
+                                     + (f" ({why_N})" if why_N else ""))
+    if max_moments == 1:
+        return first_moment_only(what, method, moments)
+    if max_moments is not None and moments > max_moments:
+        return Plan(what, 0, refusal=f"moments={moments} is out of range for --method {method}: moments must be an "
+                                     f"integer in 1..{max_moments}" + (f" ({why_moments})" if why_moments else ""))
+    return None
 
 
 # ------------------------------------------------- compiled work in bounded calls

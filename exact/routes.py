@@ -1,4 +1,4 @@
-"""The routes of ``forcenet table``: one plan and one run per method.
+"""The routes of ``forcenet table``: a plain table from method name to engine module, and ``auto``.
 
 =========  ==========================================================  ==========
 method     engine                                                      reach
@@ -7,12 +7,16 @@ fast       order-ideal path sums (:mod:`.triangle.moments`)            N ~ 28-30
 thesis     nested-matrix integration (:mod:`.thesis.nested`)           N <= 9
 lambda     Lambda/Gamma recursions (:mod:`.thesis.recursions`)         N <= 12
 maps       map counting of Sec. 4.6 (:mod:`.thesis.map_counting`)      N <= 9
-pfaffian   Schur Pfaffians, minor summation (:mod:`.triangle.pfaffian`)  N ~ 64-100
+pfaffian   Schur Pfaffians, minor summation (:mod:`.triangle.pfaffian.route`)  N ~ 64-100
+auto       the fastest runnable of the five, by their plans (the default)
 =========  ==========================================================  ==========
 
-Each engine owns its cost knowledge; :func:`table_plan` only asks it.
+Every engine module has the same ``table_plan``/``table_run`` pair
+(:class:`forcenet.exact.protocol.TableEngine`) and owns its cost knowledge;
+this module only looks the method up, and for ``auto`` compares the plans.
 
-May import: every subpackage of :mod:`forcenet.exact` (this is the exact facade of the CLI).
+May import: :mod:`forcenet.exact.plan`, :mod:`forcenet.exact.protocol`,
+:mod:`forcenet.exact.validation`, :mod:`forcenet.exact.errors` and the five engine modules.
 
 Examples
 --------
@@ -21,91 +25,214 @@ True
 >>> tables = table_run("lambda", 5)
 >>> [str(x) for x in tables[1][-1]]
 ['1/11', '1/4', '7/22', '1/4', '1/11']
+>>> choose(24).method, choose(12, moments=2).method
+('pfaffian', 'fast')
 """
 
 from __future__ import annotations
 
-from .plan import Plan, combine
-from .validation import check_int, check_layers
+from concurrent.futures import Executor
+from dataclasses import replace
+from collections.abc import Sequence
+from typing import Any, NamedTuple
+
 from .errors import ArgumentError
+from .plan import Plan, duration_text
+from .protocol import Progress, Table, TableEngine
+from .thesis import map_counting, nested, recursions
+from .triangle import moments as ideal_moments
+from .triangle.pfaffian import route as pfaffian_route
+from .validation import check_int, check_layers
 
-__all__ = ["METHODS", "table_plan", "table_run"]
+__all__ = ["ENGINES", "METHODS", "MAX_MOMENTS", "Choice", "choose", "table_plan", "table_run"]
 
-METHODS = ("fast", "thesis", "lambda", "maps", "pfaffian")
+ENGINES: dict[str, TableEngine] = {
+    "fast": ideal_moments,
+    "thesis": nested,
+    "lambda": recursions,
+    "maps": map_counting,
+    "pfaffian": pfaffian_route,
+}
+METHODS = (*ENGINES, "auto")
 MAX_MOMENTS = 50
+_ENGINE_OPTIONS = {"pfaffian": ("workers", "checkpoint")}  # keywords of one engine beyond the protocol's
 
 
-def _engine(method: str):
-    if method == "thesis":
-        from .thesis import nested as engine
-    elif method == "lambda":
-        from .thesis import recursions as engine
-    elif method == "maps":
-        from .thesis import map_counting as engine
-    elif method == "pfaffian":
-        from .triangle.pfaffian import route as engine
-    else:
+def _engine(method: str) -> TableEngine:
+    if method not in ENGINES:
         raise ArgumentError(f"method={method!r} is out of range: method must be one of {', '.join(METHODS)}")
-    return engine
+    return ENGINES[method]
 
 
-def _fast_plan(N: int, moments: int, memory_bytes: int | None) -> Plan:
-    from .triangle.moments import mean_W_plan, moment_table_plan
+def _options(method: str, options: dict[str, Any]) -> dict[str, Any]:
+    """The given (not None) engine options; refused for a method that does not take them."""
+    given = {k: v for k, v in options.items() if v is not None}
+    unknown = [k for k in given if k not in _ENGINE_OPTIONS.get(method, ())]
+    if unknown:
+        raise ArgumentError(f"{', '.join(f'{k}=' for k in unknown)} applies to method='pfaffian' only "
+                            "(the route over independent primes)")
+    return given
 
-    plans = [mean_W_plan(N, memory_bytes)] + [moment_table_plan(N, s, memory_bytes) for s in range(2, moments + 1)]
-    what = plans[0].what if moments == 1 else f"exact tables N={N}, <W^s> for s = 1..{moments} (order ideals)"
-    return combine(what, plans, "ideal")
+
+class Choice(NamedTuple):
+    """What ``method="auto"`` chose: the method, its plan, and why (one line for the announcement)."""
+
+    method: str
+    plan: Plan
+    why: str
 
 
-def table_plan(method: str, N: int, moments: int = 1, memory_bytes: int | None = None, **options) -> Plan:
+def choose(N: int, moments: int = 1, *, memory_bytes: int | None = None, executor: Executor | None = None,
+           methods: Sequence[str] | None = None, **options: Any) -> Choice:
+    """``method="auto"``: the fastest exact route for the request according to the plans.
+
+    Every candidate method's plan is asked; among the runnable ones (in
+    range, within ``memory_bytes``) the one of least estimated seconds wins
+    (ties: the order of :data:`ENGINES`).  A method whose module states a
+    ``MIN_PLAN_SECONDS`` (its start-up, e.g. loading compiled kernels) is
+    not planned when another plan already runs within that time.  Engine options (``workers=``,
+    ``checkpoint=``) restrict the candidates to the methods that take them.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``>= 2``.
+    moments : int
+        Highest moment ``s`` of ``W^s``, ``1..50``.
+    memory_bytes : int, optional
+        Memory available to the run (None: not checked).
+    executor : concurrent.futures.Executor, optional
+        Runs the chosen method's independent tasks (the plans count it).
+    methods : sequence of str, optional
+        The candidates (default: every method of :data:`ENGINES`).
+    **options
+        ``workers=``, ``checkpoint=`` of the Pfaffian route.
+
+    Returns
+    -------
+    Choice
+        The method, its plan and the reason; when no candidate can run, the
+        first candidate's plan refused with every candidate's reason.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N``, ``moments`` or a method is out of range.
+
+    Examples
+    --------
+    >>> choice = choose(24)
+    >>> choice.method, choice.plan.runnable
+    ('pfaffian', True)
+    >>> choice.why  # doctest: +ELLIPSIS
+    'auto chose pfaffian: the fastest by the plans (fast ~..., pfaffian ~...; thesis, lambda, maps out of range)'
+    >>> choose(8, moments=2).method
+    'fast'
+    """
+    N = check_layers(N)
+    moments = check_int(moments, "moments", 1, MAX_MOMENTS)
+    given = {k: v for k, v in options.items() if v is not None}
+    candidates = [m for m in (ENGINES if methods is None else methods)
+                  if all(k in _ENGINE_OPTIONS.get(_engine_name(m), ()) for k in given)]
+    if not candidates:
+        raise ArgumentError(f"{', '.join(f'{k}=' for k in given)} applies to method='pfaffian' only "
+                            "(the route over independent primes)")
+    plans: dict[str, Plan] = {}
+    slower: list[str] = []  # not planned: their start-up alone exceeds a runnable plan's whole time
+    for m in sorted(candidates, key=lambda m: getattr(ENGINES[m], "MIN_PLAN_SECONDS", 0.0)):
+        floor = getattr(ENGINES[m], "MIN_PLAN_SECONDS", 0.0)
+        if floor and any(p.runnable and p.seconds <= floor for p in plans.values()):
+            slower.append(f"{m} >= {duration_text(floor)}")
+            continue
+        plans[m] = ENGINES[m].table_plan(N, moments, memory_bytes=memory_bytes, executor=executor, **given)
+    runnable = {m: p for m, p in plans.items() if p.runnable}
+    if not runnable:  # every refusal, so the user sees each route's reach
+        reasons = "; ".join(dict.fromkeys(p.refusal for p in plans.values() if p.refusal))
+        return Choice(candidates[0], replace(plans[candidates[0]], refusal=f"no method can run it: {reasons}"), "")
+    method = min(runnable, key=lambda m: (runnable[m].seconds, candidates.index(m)))
+    costs = ", ".join([f"{m} ~{duration_text(p.seconds)}" for m, p in runnable.items()] + slower)
+    refused = [m for m in plans if m not in runnable]
+    out = f"; {', '.join(refused)} out of range" if refused else ""
+    return Choice(method, runnable[method], f"auto chose {method}: the fastest by the plans ({costs}{out})")
+
+
+def _engine_name(method: str) -> str:
+    _engine(method)  # refuses an unknown name
+    return method
+
+
+def table_plan(method: str, N: int, moments: int = 1, memory_bytes: int | None = None, *,
+               executor: Executor | None = None, **options: Any) -> Plan:
     """What ``forcenet table --method METHOD --N N --moments MOMENTS`` will cost.
 
     Parameters
     ----------
-    method : {"fast", "thesis", "lambda", "maps", "pfaffian"}
+    method : {"auto", "fast", "thesis", "lambda", "maps", "pfaffian"}
+        ``auto``: :func:`choose`.
     N : int
         Number of layers, ``>= 2``.
     moments : int
         Highest moment ``s`` of ``W^s``, ``1..50``.
     memory_bytes : int, optional
         Memory available to the run; a plan that needs more is refused.
+    executor : concurrent.futures.Executor, optional
+        Runs the method's independent tasks (default: the method's own,
+        :mod:`forcenet.exact.protocol`).
     **options
-        ``executor=``, ``checkpoint=`` of the multi-modular route (pfaffian).
+        ``workers=``, ``checkpoint=`` of the Pfaffian route.
 
     Returns
     -------
     :class:`~forcenet.exact.plan.Plan`
+
+    Raises
+    ------
+    ArgumentError
+        If ``method``, ``N`` or ``moments`` is out of range, or an option
+        does not apply to the method.
+
+    Examples
+    --------
+    >>> table_plan("lambda", 13).refusal
+    'N=13 is out of range for --method lambda: N must be an integer in 2..12 (the index boxes of (4.32) outgrow memory)'
     """
-    N = check_layers(N)
+    if method == "auto":
+        choice = choose(N, moments, memory_bytes=memory_bytes, executor=executor, **options)
+        return replace(choice.plan, what=f"{choice.plan.what}; {choice.why}") if choice.why else choice.plan
+    engine = _engine(method)
     moments = check_int(moments, "moments", 1, MAX_MOMENTS)
-    options = _check_options(method, options)
-    if method == "fast":
-        return _fast_plan(N, moments, memory_bytes)
-    return _engine(method).table_plan(N, moments, memory_bytes, **options)
+    return engine.table_plan(N, moments, memory_bytes=memory_bytes, executor=executor, **_options(method, options))
 
 
-def _check_options(method: str, options: dict) -> dict:
-    """The given (not None) engine options; refused for a route that has no independent tasks."""
-    given = {k: v for k, v in options.items() if v is not None}
-    if given and method != "pfaffian":
-        raise ArgumentError(f"{', '.join(f'{k}=' for k in given)} applies to method='pfaffian' only "
-                         "(the route over independent primes)")
-    return given
-
-
-def table_run(method: str, N: int, moments: int = 1, progress=None, memory_bytes: int | None = None, **options) -> dict:
+def table_run(method: str, N: int, moments: int = 1, progress: Progress | None = None,
+              memory_bytes: int | None = None, *, executor: Executor | None = None,
+              **options: Any) -> dict[int, Table]:
     """``{s: table of <W_{i,j}^s>}`` for ``s = 1..moments`` by the chosen route (exact Fractions).
 
-    ``progress(k=1)`` is called with the plan's ticks; ``options`` as in :func:`table_plan`.
-    """
-    N = check_layers(N)
-    moments = check_int(moments, "moments", 1, MAX_MOMENTS)
-    options = _check_options(method, options)
-    if method != "fast":
-        return _engine(method).table_run(N, moments, progress=progress, **options)
-    from .triangle.moments import _residue_budget, mean_W, moment_table
+    Parameters
+    ----------
+    method, N, moments, memory_bytes, executor, options
+        As in :func:`table_plan`.
+    progress : callable, optional
+        ``progress(k=1)`` with the plan's ticks.
 
-    tables = {1: mean_W(N, progress=progress, memory_bytes=_residue_budget(memory_bytes))}
-    for s in range(2, moments + 1):
-        tables[s] = moment_table(N, s, progress=progress)
-    return tables
+    Returns
+    -------
+    dict of int to list of lists of Fraction
+
+    Raises
+    ------
+    ArgumentError
+        As :func:`table_plan`, and if the plan is refused.
+
+    Examples
+    --------
+    >>> table_run("auto", 4, 2)[2][-1] == table_run("thesis", 4, 2)[2][-1]
+    True
+    """
+    if method == "auto":
+        method = choose(N, moments, memory_bytes=memory_bytes, executor=executor, **options).method
+    engine = _engine(method)
+    moments = check_int(moments, "moments", 1, MAX_MOMENTS)
+    return engine.table_run(N, moments, memory_bytes=memory_bytes, progress=progress, executor=executor,
+                            **_options(method, options))

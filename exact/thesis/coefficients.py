@@ -96,7 +96,7 @@ def defect_line(N: int, q: int, r: int, amount: int = 1) -> dict:
     >>> defect_line(6, 2, 3)
     {3: {2: 1}, 4: {3: 1}}
     """
-    line = {}
+    line: dict[int, dict[int, int]] = {}
     for t in range(r - 1):
         l, k = N - r + t, q + t
         if 1 <= l <= N - 2:

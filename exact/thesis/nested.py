@@ -46,6 +46,8 @@ Fraction(1, 11)
 from __future__ import annotations
 
 from collections import defaultdict
+from typing import Any
+from concurrent.futures import Executor
 from fractions import Fraction
 from functools import lru_cache
 from math import factorial
@@ -56,9 +58,11 @@ from ..modular import crt, primes_for_bound
 from ..triangle.staircase import dimension
 from ..validation import check_grain, check_int, check_layers
 from .coefficients import gamma, gamma_residues
+from ..plan import Plan, table_range
+from ..protocol import Progress, Table, run_independent
 from ..errors import ArgumentError, ArgumentTypeError
 
-__all__ = ["integrate_layers", "normalization_nested", "moment_nested", "moment_table_nested", "mean_W_nested"]
+__all__ = ["integrate_layers", "normalization_nested", "moment_nested", "moment_table_nested", "mean_W_nested", "table_plan", "table_run"]
 
 
 def _multiply_site(site: dict, power: int) -> dict:
@@ -70,27 +74,25 @@ def _integrate_layer(left: dict, sites: list, right: dict):
     """Integrate one layer: ``(L, [T_1..T_m], R)`` -> ``(L', [T'_1..T'_{m-1}], R')``."""
     m = len(sites)
     # new right vector: X_m = u_{m-1}, so site m's powers become exponents of u
-    new_right = defaultdict(Fraction)
+    new_right: defaultdict[tuple, Fraction] = defaultdict(Fraction)
     for (row, col), poly in sites[m - 1].items():
         if col in right:
             for power, c in poly.items():
                 new_right[(row, power)] += c * right[col]
     # exponents e of u_k that reach site k from the right: the rows' powers of site k+1
-    reach = [None] * m
-    reach[m - 1] = defaultdict(set)
+    reach: list[defaultdict[Any, set]] = [defaultdict(set) for _ in range(m)]
     for (row, power) in new_right:
         reach[m - 1][row].add(power)
-    new_sites = [None] * (m - 1)
+    new_sites: list[dict] = [{} for _ in range(m - 1)]
     for k in range(m - 2, -1, -1):  # site k+1 (1-based) integrated; sweep right to left
         exps = reach[k + 1]
-        table = defaultdict(lambda: defaultdict(Fraction))
+        table: defaultdict[tuple, defaultdict[int, Fraction]] = defaultdict(lambda: defaultdict(Fraction))
         for (row, col), poly in sites[k].items():
             for e in exps.get(col, ()):
                 for s, c in poly.items():
                     for f in range(s + 1):  # a_k^f with a_k = u_{k-1}; Y_k^{e+1+s-f}
                         table[((row, f), (col, e))][e + 1 + s - f] += c * gamma(f, s, e)
         new_sites[k] = {key: dict(poly) for key, poly in table.items()}
-        reach[k] = defaultdict(set)
         for (row, f), _col in new_sites[k]:
             reach[k][row].add(f)
     new_left = {(row, 0): c for row, c in left.items()}  # a_1 = 0: only f = 0 survives
@@ -106,7 +108,7 @@ def _prune(left: dict, sites: list, right: dict):
         forward.append(alive)
         alive = {col for (row, col) in site if row in alive}
     alive = set(right)
-    kept = [None] * m
+    kept: list[dict] = [{} for _ in range(m)]
     for k in range(m - 1, -1, -1):  # keep entries on a path left -> right
         kept[k] = {key: poly for key, poly in sites[k].items() if key[0] in forward[k] and key[1] in alive}
         alive = {row for (row, col) in kept[k]}
@@ -120,7 +122,7 @@ def _check_powers(N: int, powers) -> dict:
         return {}
     if not isinstance(powers, dict):
         raise ArgumentTypeError(f"powers={powers!r}: need a dict {{(i, j): power}}")
-    out = {}
+    out: dict[tuple[int, int], int] = {}
     for g, e in powers.items():
         i, j = check_grain(N, g, "powers key")
         e = check_int(e, f"powers[{(i, j)}]", 0)
@@ -475,7 +477,7 @@ def _integrate_modular(N: int, powers: dict) -> Fraction:
 
     ``(d + s)! I`` is an integer between 0 and ``(d + s)!`` (``d = N(N-1)/2``,
     ``s`` the total power; notes/chapter4.md, "Integrality"), so its residues
-    modulo primes whose product exceeds ``2 (d + s)!`` determine it.
+    modulo primes whose product exceeds ``(d + s)!`` determine it (:func:`~forcenet.exact.modular.primes_for_bound`).
     """
     powers = {g: e for g, e in powers.items() if g != (1, 1)}  # W_{1,1} = 1
     d = dimension(N)
@@ -500,8 +502,32 @@ _TIME_FACTOR = {8: (1.0, 2.4, 4.8), 9: (1.0, 3.2, 8.0)}
 _MEMORY_FACTOR = (1.0, 2.6, 6.5)
 
 
-def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None):
-    """The cost of :func:`table_run`: ``<W^s>`` tables, ``s = 1..moments``, by nested integration.
+def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, executor: Executor | None = None) -> Plan:
+    """The cost of :func:`table_run` (``--method thesis``): ``<W^s>`` tables, ``s = 1..moments``, by nested integration.
+
+    The engine protocol (:mod:`forcenet.exact.protocol`); one independent
+    task per order ``s`` (on ``executor`` if given), the normalization
+    integrated once before them.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``>= 2`` (the route reaches ``N <= 9``).
+    moments : int
+        Highest moment, ``1..3``.
+    memory_bytes : int, optional
+        Memory available to the run (None: not checked).
+    executor : concurrent.futures.Executor, optional
+        Where the orders run (default: this process).
+
+    Returns
+    -------
+    Plan
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` or ``moments`` is not an integer ``>= 2`` or ``>= 1``.
 
     Examples
     --------
@@ -510,16 +536,13 @@ def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None):
     >>> table_plan(10).refusal
     'N=10 is out of range for --method thesis: N must be an integer in 2..9 (the nested bonds outgrow memory at N = 10)'
     """
-    from ..plan import Plan
-
     N, moments = check_layers(N), check_int(moments, "moments", 1)
     what = f"--method thesis N={N}, nested integrations"
-    if N not in _TABLE_COST:
-        return Plan(what, 0, refusal=f"N={N} is out of range for --method thesis: N must be an integer in 2..9 "
-                                     "(the nested bonds outgrow memory at N = 10)")
-    if moments > _MAX_ORDER:
-        return Plan(what, 0, refusal=f"moments={moments} is out of range for --method thesis: moments must be an integer "
-                                     f"in 1..{_MAX_ORDER} (the s-th order defects grow fast: N = 9, s = 3 needs 12 GB)")
+    refusal = table_range(what, "thesis", N, moments, max(_TABLE_COST), max_moments=_MAX_ORDER,
+                          why_N="the nested bonds outgrow memory at N = 10",
+                          why_moments="the s-th order defects grow fast: N = 9, s = 3 needs 12 GB")
+    if refusal is not None:
+        return refusal
     per_run, nbytes = _TABLE_COST[N]
     runs = N * (N + 1) // 2
     factor = _TIME_FACTOR.get(N, _TIME_FACTOR[8])
@@ -528,10 +551,21 @@ def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None):
     return plan.within_memory(memory_bytes)
 
 
-def table_run(N: int, moments: int = 1, progress=None) -> dict:
+def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, progress: Progress | None = None,
+              executor: Executor | None = None) -> dict[int, Table]:
     """``{s: <W^s> table}`` for ``s = 1..moments``; the normalization is integrated once.
 
-    ``progress`` is called once per grain and order.
+    The arguments are those of :func:`table_plan`; ``progress`` is called
+    once per grain and order.
+
+    Returns
+    -------
+    dict of int to list of lists of Fraction
+
+    Raises
+    ------
+    ArgumentError
+        If the plan is refused (out of range, or more memory than ``memory_bytes``).
 
     Examples
     --------
@@ -539,6 +573,8 @@ def table_run(N: int, moments: int = 1, progress=None) -> dict:
     >>> [str(x) for x in tables[2][-1]]
     ['1/28', '9/56', '9/56', '1/28']
     """
-    N, moments = check_layers(N), check_int(moments, "moments", 1)
+    plan = table_plan(N, moments, memory_bytes=memory_bytes).check()
     volume = integrate_layers(N)  # once for every s
-    return {s: moment_table_nested(N, s, progress=progress, volume=volume) for s in range(1, moments + 1)}
+    calls = [(moment_table_nested, (N, s), {"volume": volume}) for s in range(1, moments + 1)]
+    tables = run_independent(calls, executor=executor, progress=progress, weights=[plan.ticks / moments] * moments)
+    return dict(enumerate(tables, start=1))

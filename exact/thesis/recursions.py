@@ -13,12 +13,15 @@ Multi-modular (int64 residues, CRT) beyond a few layers: N = 12 reaches.
 Derivations: ``notes/chapter4.md``.
 
 May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
-:mod:`forcenet.exact.triangle.staircase`, :mod:`.coefficients`, and (for the
-tiny tables N <= 3 only) :mod:`.map_counting`.
+:mod:`forcenet.exact.plan`, :mod:`forcenet.exact.protocol`,
+:mod:`forcenet.exact.triangle.staircase`, :mod:`.coefficients` (never
+:mod:`.map_counting`, which imports this module).
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from concurrent.futures import Executor
 from fractions import Fraction
 from functools import lru_cache
 from math import factorial
@@ -29,6 +32,8 @@ from ..modular import crt, primes_for_bound
 from ..triangle.staircase import count, dimension
 from ..validation import check_int, check_layers
 from .coefficients import defect_line, upper_bound
+from ..plan import Plan, table_range
+from ..protocol import Progress, Table, run_independent
 
 __all__ = [
     "lambda_table",
@@ -39,7 +44,7 @@ __all__ = [
     "gamma_sums",
     "gamma_bulk_integer",
     "mean_W_gamma",
-    "table_from_bulk",
+    "table_from_bulk", "table_plan", "table_run"
 ]
 
 
@@ -167,13 +172,17 @@ def boundary_mean_W(N: int, q: int) -> Fraction:
     j_sum = total if q == 1 else sums[q - 1]  # j_0 = 1
     return Fraction((q * (q + 1) // 2 + 2) * total - j_sum, (d + 1) * total)
 
-def table_from_bulk(N: int, bulk) -> list[list[Fraction]]:
+def table_from_bulk(N: int, bulk: Callable[[int, int], int]) -> list[list[Fraction]]:
     """Assemble a ``<W>`` table: (4.67) on the left boundary, ``bulk(q, r) / ((d+1) Z)``
-    for ``r >= 2`` (Eq. 4.91 or 4.77), the bottom layer from the layer above."""
-    if N <= 3:  # too few rows for the recursions: average over the (one or two) maps
-        from .map_counting import mean_W_by_maps
+    for ``r >= 2`` (Eq. 4.91 or 4.77), the bottom layer from the layer above.
 
-        return mean_W_by_maps(N)
+    Every ``N >= 2``: at ``N = 2`` only the apex and the bottom layer remain.
+
+    Examples
+    --------
+    >>> [str(x) for x in table_from_bulk(2, lambda q, r: 0)[-1]]
+    ['1/2', '1/2']
+    """
     d = dimension(N)
     Z = count_lambda(N)
     table = {(1, 1): Fraction(1)}
@@ -188,7 +197,7 @@ def table_from_bulk(N: int, bulk) -> list[list[Fraction]]:
 
 def _row_maxima(l: int, relaxed: frozenset) -> tuple[int, ...]:
     """Largest values of ``h(l, 1..l-1)`` under (4.86) with bounds raised at ``relaxed``."""
-    out = []
+    out: list[int] = []
     for k in range(1, l):
         out.append(upper_bound(k, out[-1] if out else None, k in relaxed))
     return tuple(out)
@@ -279,7 +288,11 @@ def mean_W_gamma(N: int, progress=None) -> list[list[Fraction]]:
     N = check_layers(N)
 
     def bulk(q, r):
-        value = gamma_bulk_integer(N, q, r)
+        if N >= 4:
+            value = gamma_bulk_integer(N, q, r)
+        else:  # N = 3, one bulk grain: the exact sums themselves (the chain needs a row below the grain's)
+            Z, S1, S0 = gamma_sums(N, q, r)
+            value = (q + 1) * Z + S1 - S0
         if progress is not None:
             progress()
         return value
@@ -361,12 +374,18 @@ def _last_row_chain(box: np.ndarray, p: int, relaxed: frozenset, reduce, weight_
     G = weigh(G, 1)
     return int(G.sum())  # at most three residues: the callers reduce
 
-def _mod_reducer(prime: int):
-    def reduce(a):
-        return a % prime
+class _ModReducer:
+    """``a % prime`` (numpy arrays or ints), with the prime at hand as ``modulus``."""
 
-    reduce.modulus = prime
-    return reduce
+    def __init__(self, prime: int):
+        self.modulus = prime
+
+    def __call__(self, a):
+        return a % self.modulus
+
+
+def _mod_reducer(prime: int) -> _ModReducer:
+    return _ModReducer(prime)
 
 def _gamma_combined_mod(N: int, q: int, r: int, prime: int) -> int:
     """``(q+1) Z'(q, r) + S1 - S0 mod prime`` of Eq. (4.77) in one pass, last row by the chain.
@@ -387,19 +406,20 @@ def _gamma_combined_mod(N: int, q: int, r: int, prime: int) -> int:
 
     plus_row, minus_row = N - r, N - r - 1
     B = np.ones((), dtype=np.int64)
+    carrying = True  # B is carried along until the + row
     X = np.full((), (q + 1) % prime, dtype=np.int64)
     if minus_row < 1:  # S0 = Z': h(0, k) = 1
         X = reduce(X - B)
     for l in range(1, p):
         if l > 1:
             X = _transfer(X, l - 1, relaxed.get(l, frozenset()), reduce)
-            if B is not None:
+            if carrying:
                 B = _transfer(B, l - 1, relaxed.get(l, frozenset()), reduce)
         if l == minus_row:
             X = reduce(X - weight(B, l))
         if l == plus_row:
             X = reduce(X + weight(B, l))
-            B = None
+            carrying = False
     last = relaxed.get(p, frozenset())
     total = _last_row_chain(X, p, last, reduce)
     if plus_row == p:  # r = 2: the + weight sits on the last row itself
@@ -436,8 +456,31 @@ _BOUNDARY_SECONDS = {11: 60.0, 12: 1083.0}
 _MAX_N = 12  # the index boxes of (4.32) outgrow memory beyond
 
 
-def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None):
-    """The cost of :func:`table_run`: the ``<W>`` table by the Lambda/Gamma recursions.
+def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, executor: Executor | None = None) -> Plan:
+    """The cost of :func:`table_run` (``--method lambda``): the ``<W>`` table by the Lambda/Gamma recursions.
+
+    The engine protocol (:mod:`forcenet.exact.protocol`); one task (the
+    table), on ``executor`` if given.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``>= 2`` (the route reaches ``N <= 12``).
+    moments : int
+        Highest moment, ``>= 1`` (the route computes ``<W>`` only: 1).
+    memory_bytes : int, optional
+        Memory available to the run (None: not checked).
+    executor : concurrent.futures.Executor, optional
+        Where the task runs (default: this process).
+
+    Returns
+    -------
+    Plan
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` or ``moments`` is not an integer ``>= 2`` or ``>= 1``.
 
     Examples
     --------
@@ -446,28 +489,37 @@ def table_plan(N: int, moments: int = 1, memory_bytes: int | None = None):
     >>> table_plan(9, moments=2).refusal
     'moments=2 is out of range for --method lambda: moments must be 1 (higher moments use --method fast, thesis or maps)'
     """
-    from ..plan import Plan, first_moment_only
-
     N, moments = check_layers(N), check_int(moments, "moments", 1)
     what = f"--method lambda N={N}, Gamma recursions"
-    if moments > 1:
-        return first_moment_only(what, "lambda", moments)
-    if N > _MAX_N:
-        return Plan(what, 0, refusal=f"N={N} is out of range for --method lambda: N must be an integer in 2..{_MAX_N} "
-                                     "(the index boxes of (4.32) outgrow memory)")
+    refusal = table_range(what, "lambda", N, moments, _MAX_N, why_N="the index boxes of (4.32) outgrow memory")
+    if refusal is not None:
+        return refusal
     per_grain, nbytes = _GRAIN_COST.get(N, (0.01, 0))
     grains = (N - 1) * (N - 2) // 2
     seconds = per_grain * grains + _BOUNDARY_SECONDS.get(N, 0.1)
     return Plan(what, seconds, int(nbytes), grains, "grain").within_memory(memory_bytes)
 
 
-def table_run(N: int, moments: int = 1, progress=None) -> dict:
+def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, progress: Progress | None = None,
+              executor: Executor | None = None) -> dict[int, Table]:
     """``{1: <W> table}`` from the Lambda (4.67) and Gamma (4.77) integers; ``progress`` per bulk grain.
+
+    The arguments are those of :func:`table_plan`.
+
+    Returns
+    -------
+    dict of int to list of lists of Fraction
+
+    Raises
+    ------
+    ArgumentError
+        If the plan is refused (out of range, or more memory than ``memory_bytes``).
 
     Examples
     --------
     >>> [str(x) for x in table_run(5)[1][-1]]
     ['1/11', '1/4', '7/22', '1/4', '1/11']
     """
-    check_int(moments, "moments", 1, 1)
-    return {1: mean_W_gamma(N, progress=progress)}
+    plan = table_plan(N, moments, memory_bytes=memory_bytes).check()
+    (table,) = run_independent([(mean_W_gamma, (N,), {})], executor=executor, progress=progress, weights=[plan.ticks])
+    return {1: table}

@@ -26,8 +26,13 @@ from math import comb, factorial
 
 import numpy as np
 
+from collections.abc import Callable
+from concurrent.futures import Executor
+from typing import Any
+
 from ..modular import crt, primes_for_bound
-from ..plan import Plan
+from ..plan import Plan, combine
+from ..protocol import Progress, Table, run_independent
 from ..validation import check_grain, check_int, check_layers
 from .ideal_dp import estimate_survival_cost, marked_chain_sums, parts_table, survival_counts
 from .spacings import rising
@@ -42,6 +47,10 @@ __all__ = [
     "correlation",
     "covariance",
     "variance_table",
+    "mean_W_plan",
+    "moment_table_plan",
+    "table_plan",
+    "table_run",
 ]
 
 
@@ -117,7 +126,8 @@ def _eligible(lam: np.ndarray, N: int, i: int, j: int) -> np.ndarray:
 
 _STATE_BUDGET = 8 * 2**30  # bytes of one marked-chain DP (states x primes x ideals)
 _MEAN_MAX_N = 40  # 2^39 ideals: beyond any machine, the estimate itself is skipped
-_MOMENT_BATCH_BYTES = 4 * 2**30  # moment_table's default memory_bytes
+_RESIDUE_CAP = 12 * 2**30  # mean_W's residue tables, at most
+_MOMENT_BATCH_BYTES = 4 * 2**30  # moment_table's batch of grains, at most
 _SECONDS_PER_STATE = 6.5e-8  # moment_table per ideal x grain x state x prime, measured N = 14..17 (2 cores)
 
 
@@ -125,7 +135,8 @@ def mean_W_plan(N: int, memory_bytes: int | None = None) -> Plan:
     """The cost of :func:`mean_W` for ``N`` layers: a :class:`~forcenet.exact.plan.Plan`.
 
     ``memory_bytes`` is the memory available to the run (None: not
-    checked); the residue tables are chunked to 3/4 of it, at most 12 GiB.
+    checked); the residue tables are chunked to 3/4 of it, at most 12 GiB
+    (None: 12 GiB).
 
     Examples
     --------
@@ -134,11 +145,14 @@ def mean_W_plan(N: int, memory_bytes: int | None = None) -> Plan:
     >>> mean_W_plan(41).refusal
     'N=41 is out of range for the exact table: N must be an integer in 2..40'
     """
-    N = check_layers(N)
+    return _mean_plan(check_layers(N), memory_bytes)
+
+
+def _mean_plan(N: int, memory_bytes: int | None) -> Plan:
     what = f"exact table N={N} (order ideals)"
     if N > _MEAN_MAX_N:
         return Plan(what, 0, refusal=f"N={N} is out of range for the exact table: N must be an integer in 2..{_MEAN_MAX_N}")
-    budget = _residue_budget(memory_bytes)
+    budget = _budget(memory_bytes, _RESIDUE_CAP)
     est = estimate_survival_cost(N, budget)
     plan = Plan(what, est.seconds, est.nbytes, est.ticks, "ideal")
     if est.nbytes > budget:
@@ -148,9 +162,9 @@ def mean_W_plan(N: int, memory_bytes: int | None = None) -> Plan:
     return plan
 
 
-def _residue_budget(memory_bytes: int | None) -> int:
-    """Residue-table budget of :func:`mean_W`: 3/4 of the available memory, at most 12 GiB."""
-    return 12 * 2**30 if memory_bytes is None else min(memory_bytes * 3 // 4, 12 * 2**30)
+def _budget(memory_bytes: int | None, cap: int) -> int:
+    """Bytes of the residue or state tables: 3/4 of the available memory, at most ``cap`` (None: ``cap``)."""
+    return cap if memory_bytes is None else min(memory_bytes * 3 // 4, cap)
 
 
 def moment_table_plan(N: int, s: int, memory_bytes: int | None = None) -> Plan:
@@ -165,7 +179,10 @@ def moment_table_plan(N: int, s: int, memory_bytes: int | None = None) -> Plan:
     >>> moment_table_plan(12, 2).seconds < 2
     True
     """
-    N, s = check_layers(N), check_int(s, "s", 1)
+    return _moment_plan(check_layers(N), check_int(s, "s", 1), memory_bytes)
+
+
+def _moment_plan(N: int, s: int, memory_bytes: int | None) -> Plan:
     n, d = N - 1, dimension(N)
     grains = N * (N + 1) // 2
     what = f"<W^{s}> table N={N}"
@@ -173,7 +190,7 @@ def moment_table_plan(N: int, s: int, memory_bytes: int | None = None) -> Plan:
         return Plan(what, 0, refusal=f"N={N} is out of range for --moments {s}: N must be an integer in 2..24")
     primes = len(primes_for_bound(count(N) * comb(d + s, s)))
     per_grain = (1 << n) * (s + 1) * primes * 8 * 3
-    batch = max(1, min(grains, _MOMENT_BATCH_BYTES // per_grain))
+    batch = max(1, min(grains, _budget(memory_bytes, _MOMENT_BATCH_BYTES) // per_grain))
     passes = -(-grains // batch)
     seconds = _SECONDS_PER_STATE * (1 << n) * grains * (s + 1) * primes + 0.5
     nbytes = int(0.55 * batch * per_grain) + 150 * 2**20
@@ -194,12 +211,14 @@ def _check_state_memory(N: int, n_states: int, n_primes: int) -> None:
         )
 
 
-def moment_table(N: int, s: int = 2, *, memory_bytes: int = 4 * 2**30, progress=None) -> list[list[Fraction]]:
+def moment_table(N: int, s: int = 2, *, memory_bytes: int | None = None, progress: Progress | None = None) -> Table:
     """Exact ``<W_{i,j}^s>`` for every grain.
 
     One forward pass over the ideal lattice per batch of grains; the state of a
     grain counts multisets of ``s`` ideals between its bounding partial sums,
-    so ``E[g^(s rising)] = s! * F[full][s] / count``.
+    so ``E[g^(s rising)] = s! * F[full][s] / count``.  The batches of grains
+    fill 3/4 of ``memory_bytes``, at most 4 GiB (None: 4 GiB), as
+    :func:`moment_table_plan` counts them.
 
     Examples
     --------
@@ -217,13 +236,15 @@ def moment_table(N: int, s: int = 2, *, memory_bytes: int = 4 * 2**30, progress=
     _check_state_memory(N, s + 1, len(primes))
     lam = parts_table(n)
     per_grain = (1 << n) * (s + 1) * len(primes) * 8 * 3  # state table and temporaries
-    batch = max(1, min(len(grains), memory_bytes // per_grain))
+    batch = max(1, min(len(grains), _budget(memory_bytes, _MOMENT_BATCH_BYTES) // per_grain))
     values = {}
     for start in range(0, len(grains), batch):
         chunk = grains[start : start + batch]
         elig = np.stack([_eligible(lam, N, i, j) for i, j in chunk], axis=1)  # (masks, B)
 
-        def update(masks, acc, elig=elig, B=len(chunk)):
+        size = len(chunk)
+
+        def update(masks, acc, elig=elig, B=size):
             acc = acc.reshape(acc.shape[0], B, s + 1, -1)
             cum = np.cumsum(acc, axis=2)
             out = np.where(elig[masks][:, :, None, None], cum, acc)
@@ -339,3 +360,88 @@ def variance_table(N: int) -> list[list[Fraction]]:
     means = mean_W(N)
     second = moment_table(N, 2)
     return [[m2 - m * m for m, m2 in zip(r1, r2)] for r1, r2 in zip(means, second)]
+
+
+# ------------------------------------------------------ the table route (--method fast): plan and run
+
+
+def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, executor: Executor | None = None) -> Plan:
+    """The cost of :func:`table_run` (``forcenet table --method fast``): the order-ideal DP.
+
+    The engine protocol (:mod:`forcenet.exact.protocol`): ``<W>`` by one pass
+    of survival counts, each ``<W^s>`` by its own passes (independent tasks
+    on ``executor``); refused beyond ``memory_bytes``.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``>= 2``.
+    moments : int
+        Highest moment ``s`` of ``W^s``, ``>= 1``.
+    memory_bytes : int, optional
+        Memory available to the run (None: not checked).
+    executor : concurrent.futures.Executor, optional
+        Where the independent passes run (default: this process).
+
+    Returns
+    -------
+    Plan
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` or ``moments`` is out of range.
+
+    Examples
+    --------
+    >>> table_plan(9).runnable, table_plan(9, 2).what
+    (True, 'exact tables N=9, <W^s> for s = 1..2 (order ideals)')
+    >>> table_plan(20, memory_bytes=2**20).runnable
+    False
+    """
+    N, moments = check_layers(N), check_int(moments, "moments", 1)
+    plans = _pass_plans(N, moments, memory_bytes)
+    what = plans[0].what if moments == 1 else f"exact tables N={N}, <W^s> for s = 1..{moments} (order ideals)"
+    return combine(what, plans, "ideal")
+
+
+def _pass_plans(N: int, moments: int, memory_bytes: int | None) -> list[Plan]:
+    """The plans of the run's independent passes: ``<W>``, then ``<W^s>`` for ``s = 2..moments``."""
+    return [_mean_plan(N, memory_bytes)] + [_moment_plan(N, s, memory_bytes) for s in range(2, moments + 1)]
+
+
+def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, progress: Progress | None = None,
+              executor: Executor | None = None) -> dict[int, Table]:
+    """``{s: <W^s> table}`` for ``s = 1..moments`` by the order-ideal DP (exact Fractions).
+
+    Parameters
+    ----------
+    N, moments, memory_bytes, executor
+        As in :func:`table_plan`.
+    progress : callable, optional
+        ``progress(k=1)`` with the plan's ticks (ideals).
+
+    Returns
+    -------
+    dict of int to list of lists of Fraction
+
+    Raises
+    ------
+    ArgumentError
+        If the arguments are out of range or the plan needs more than ``memory_bytes``.
+
+    Examples
+    --------
+    >>> [str(x) for x in table_run(5, 2)[2][-1]]
+    ['1/66', '65/792', '25/198', '65/792', '1/66']
+    """
+    N, moments = check_layers(N), check_int(moments, "moments", 1)
+    weights = None
+    if memory_bytes is not None or executor is not None:
+        plans = _pass_plans(N, moments, memory_bytes)
+        combine(f"exact tables N={N}", plans).check()
+        weights = [plan.ticks for plan in plans]
+    calls: list[tuple[Callable[..., Any], tuple, dict]] = [(mean_W, (N,), {"memory_bytes": _budget(memory_bytes, _RESIDUE_CAP)})]
+    calls += [(moment_table, (N, s), {"memory_bytes": memory_bytes}) for s in range(2, moments + 1)]
+    tables = run_independent(calls, executor=executor, progress=progress, weights=weights)
+    return dict(enumerate(tables, start=1))

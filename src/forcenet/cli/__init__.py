@@ -31,7 +31,6 @@ import traceback
 from importlib.metadata import version
 
 from forcenet.exact.errors import ForcenetError
-from forcenet.exact.validation import is_integer
 
 from . import chicken_wire, dist, limit, sample, table
 from .common import Parser, UsageError, given
@@ -125,7 +124,7 @@ def main(argv=None) -> int:
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # argparse: --help (0) or a one-line usage error (2)
-        return exc.code if is_integer(exc.code) else 2
+        return exc.code if isinstance(exc.code, int) else 2
     try:
         _check_destinations(args)
         return args.func(args)

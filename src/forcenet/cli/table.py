@@ -62,48 +62,6 @@ def _output_format(args):
     return _EXTENSIONS[ext]
 
 
-# peak bytes of the comparison per stored value (samples x free grains doubles): the matrix, its
-# concatenation, and the centred and scaled copies of forcenet.testing.compare (5.5-5.7 measured at N = 40, 60, 100)
-_CROSS_CHECK_COPIES = 6
-# seconds per stored value of the comparison (the autocorrelation guard, z-scores, Hotelling when it runs):
-# 0.6-0.75 us measured at 20000 rows of 780-4950 grains
-_CROSS_CHECK_SECONDS_PER_VALUE = 7e-7
-
-
-def _cross_check_plan(N: int, samples: int, memory):
-    """The cost of :func:`_cross_check`: drawing the samples, and the time and memory of comparing every free grain."""
-    from dataclasses import replace
-
-    from forcenet.numeric.triangle.exact_sampler import sample_plan
-
-    plan = sample_plan(N, samples)
-    grains = N * (N - 1) // 2
-    return replace(plan, seconds=plan.seconds + _CROSS_CHECK_SECONDS_PER_VALUE * samples * grains,
-                   nbytes=plan.nbytes + _CROSS_CHECK_COPIES * 8 * samples * grains).within_memory(memory)
-
-
-def _cross_check(N: int, means, samples: int, seed: int, progress):
-    """Exact-sampler samples of every free grain against the exact table (:func:`forcenet.testing.compare`)."""
-    import numpy as np
-
-    from forcenet.numeric.triangle.exact_sampler import ExactSampler
-    from forcenet.testing import compare
-
-    grains = [(i, j) for i in range(2, N + 1) for j in range(1, i)]  # W_{i,i} = 1 - the others
-    sampler = ExactSampler(N, seed=seed)
-    rows = []
-    done = 0
-    while done < samples:
-        k = min(sampler.batch, samples - done)
-        W = sampler.sample_W(k)
-        rows.append(np.stack([W[:, i - 1, j - 1] for i, j in grains], axis=1))
-        done += k
-        if progress is not None:
-            progress(k)
-    exact = [means[i - 1][j - 1] for i, j in grains]
-    return compare(np.concatenate(rows), exact, keys=grains, bounds=(0, 1))  # every W lies in [0, 1]: any K
-
-
 def _refuse_ignored(args):
     """What the main job alone uses, refused beside --format or --out (it would be ignored)."""
     single = next((name for name in ("format", "out") if given(args, name)), None)
@@ -171,6 +129,20 @@ def _engine_options(args, plan_seconds):
     return client, store
 
 
+def _resolve_method(args, memory):
+    """``--method auto``: the method the plans choose (among those taking --scheduler/--checkpoint when given), and
+    the one-line reason for the announcement; an explicit method as it is."""
+    from forcenet.exact.routes import choose
+
+    if args.method != "auto":
+        return args.method, ""
+    pfaffian_only = args.scheduler is not None or args.checkpoint is not None
+    choice = choose(args.N, args.moments, memory_bytes=memory, methods=("pfaffian",) if pfaffian_only else None)
+    if not choice.plan.runnable:
+        raise UsageError(choice.plan.refusal)
+    return choice.method, choice.why
+
+
 def cmd_table(args):
     from forcenet.exact.routes import table_plan
 
@@ -181,24 +153,31 @@ def cmd_table(args):
     if fmt is None:
         check_output_dir(args.out_dir, files=[f"mean_W_N{args.N}.{ext}" for ext in ("json", "csv", "tex")])
     memory = available_memory()
+    args.method, why = _resolve_method(args, memory)
     client, store = _engine_options(args, table_plan(args.method, args.N, args.moments, memory).seconds)
     try:
-        return _table(args, fmt, memory, client, store)
+        return _table(args, fmt, memory, client, store, why)
     finally:
         if client is not None:
             client.close()
 
 
-def _table(args, fmt, memory, client, store):
+def _table(args, fmt, memory, client, store, why=""):
+    from dataclasses import replace
+
     from forcenet.exact.plan import combine_by_time, phase_progress
     from forcenet.exact.routes import table_plan, table_run
+    from forcenet.exact.triangle.staircase import dimension
     from forcenet.exact.triangle.tables import exact_table, fraction_str, to_csv, to_json, to_latex
+    from forcenet.testing import cross_check, cross_check_plan
 
     options = {k: v for k, v in (("executor", client), ("checkpoint", store)) if v is not None}
     plans = [table_plan(args.method, args.N, args.moments, memory, **options)]
+    if why:
+        plans[0] = replace(plans[0], what=f"{plans[0].what}; {why}")
     cross = fmt is None and args.samples > 0
     if cross:
-        plans.append(_cross_check_plan(args.N, args.samples, memory))
+        plans.append(cross_check_plan(args.N, args.samples, memory))
     if len(plans) == 1:
         plan = plans[0]
     else:  # primes or ideals, then samples: one bar in estimated seconds
@@ -207,7 +186,7 @@ def _table(args, fmt, memory, client, store):
     def run(tick):
         phase = [tick] * len(plans) if len(plans) == 1 else [phase_progress(tick, p) for p in plans]
         tables = table_run(args.method, args.N, args.moments, progress=phase[0], memory_bytes=memory, **options)
-        check = _cross_check(args.N, tables[1], args.samples, args.seed, phase[-1]) if cross else None
+        check = cross_check(args.N, tables[1], args.samples, args.seed, phase[-1]) if cross else None
         return tables, check
 
     tables, check = run_planned(plan, run, force=args.force, quiet=args.quiet)
@@ -227,7 +206,7 @@ def _table(args, fmt, memory, client, store):
     files = {f"{stem}.{ext}": render[fmt_name](table) for ext, fmt_name in (("json", "json"), ("csv", "csv"), ("tex", "latex"))}
     bottom = table["mean_W"][-1]
     lines = [
-        f"Fully mobilized triangle, N = {N} layers, d = {N * (N - 1) // 2} free forces",
+        f"Fully mobilized triangle, N = {N} layers, d = {dimension(N)} free forces",
         f"  tableaux count (d! * normalization): {table['count']}",
         f"  normalization (Eq. 4.1):             {fraction_str(table['normalization'])}",
         "  <W_N,j> on the bottom row:",
@@ -305,12 +284,14 @@ def register(sub):
                    help="seed of the main job's cross-check samples, an integer >= 0 (default 2006); "
                         "the exact table does not depend on it")
     p.add_argument(
-        "--method", choices=list(METHODS), default="fast",
-        help="fast: order-ideal DP, a dynamic program over the 2^(N-1) order ideals (sets of grains closed "
-        "upwards), exact, up to N ~ 30 (default); thesis: the nested-matrix integration of Secs. 4.3-4.5; "
+        "--method", choices=list(METHODS), default="auto",
+        help="auto: the fastest exact route for the request by the routes' plans, announced with the reason (default); "
+        "fast: order-ideal DP, a dynamic program over the 2^(N-1) order ideals (sets of grains closed "
+        "upwards), exact, up to N ~ 30; thesis: the nested-matrix integration of Secs. 4.3-4.5; "
         "lambda: the integer recursions Lambda (4.50) and Gamma (4.73)-(4.77); "
         "maps: the map-counting formulas (4.67), (4.90)-(4.91) of Sec. 4.6; "
-        "pfaffian: Schur Pfaffians and minor summation, polynomial in N, for large N (notes/free_fermions.md)",
+        "pfaffian: Schur Pfaffians and minor summation, polynomial in N, for large N, <W> only "
+        "(notes/free_fermions.md)",
     )
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run --method pfaffian's per-prime tasks on a Dask cluster: the tcp://host:port of a running "

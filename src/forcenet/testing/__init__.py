@@ -11,7 +11,9 @@ Assertions (numpy and scipy only, :mod:`.assertions`):
   support a verdict raise :class:`CannotJudgeError` with the reason;
 * :func:`assert_means_agree` — means with trusted standard errors;
 * :func:`exact_mean_W` — exact tables of the triangle and of fully mobilized
-  packings, shaped as the samplers' output.
+  packings, shaped as the samplers' output;
+* :func:`cross_check` / :func:`cross_check_plan` — the Monte Carlo
+  cross-check of ``forcenet table``'s main job and its cost (:mod:`.cross_check`).
 
 Hypothesis strategies (:mod:`forcenet.testing.strategies`, needs
 ``pip install 'forcenet[testing]'``): triangle sizes and grains, exact
@@ -30,6 +32,7 @@ True
 
 from .assertions import CannotJudgeError, DisagreementError, TableAgreement, assert_agrees, assert_means_agree, compare, exact_array
 from .counterparts import exact_mean_W
+from .cross_check import cross_check, cross_check_plan
 
 __all__ = [
     "CannotJudgeError",
@@ -38,6 +41,8 @@ __all__ = [
     "assert_agrees",
     "assert_means_agree",
     "compare",
+    "cross_check",
+    "cross_check_plan",
     "exact_array",
     "exact_mean_W",
     "strategies",

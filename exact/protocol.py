@@ -1,0 +1,96 @@
+"""The engine protocol of ``forcenet table``: one ``table_plan``/``table_run`` pair per method.
+
+Every table method (fast, thesis, lambda, maps, pfaffian) is a module with
+the same two functions and the same arguments (:class:`TableEngine`):
+
+``table_plan(N, moments=1, *, memory_bytes=None, executor=None) -> Plan``
+    The cost of the run, or its refusal: out of the method's range
+    (:func:`forcenet.exact.plan.table_range`), or more memory than
+    ``memory_bytes`` (every method honours it; None: not checked).
+``table_run(N, moments=1, *, memory_bytes=None, progress=None, executor=None) -> {s: table}``
+    The exact ``<W^s>`` tables, ``s = 1..moments``, rows ``i = 1..N``,
+    ``j = 1..i`` (Fractions).  ``progress(k=1)`` is called with the plan's
+    ticks; a run whose plan ``memory_bytes`` refuses raises
+    :class:`~forcenet.exact.errors.ArgumentError` before it starts.
+
+``executor`` runs the method's independent tasks (:func:`run_independent`):
+any :class:`concurrent.futures.Executor` (a Dask client's
+``get_executor()`` plugs in), or None for the method's default: the local
+process pool where the run pays for it (the Pfaffian route's primes),
+else this process.  Results never depend on it.  A method may take more
+keywords of its own (the Pfaffian route: ``workers``, ``checkpoint``).
+
+May import: :mod:`forcenet.exact.plan`, :mod:`forcenet.exact.execution`.
+
+Examples
+--------
+>>> def twice(x, progress=None):
+...     return 2 * x
+>>> run_independent([(twice, (1,), {}), (twice, (3,), {})], executor=None, progress=None)
+[2, 6]
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from concurrent.futures import Executor
+from fractions import Fraction
+from typing import Any, Protocol
+
+from .execution import run_tasks
+from .plan import Plan
+
+__all__ = ["Progress", "Table", "TableEngine", "run_independent"]
+
+Progress = Callable[..., Any]  # progress(k=1): k more ticks of the plan done
+Table = list[list[Fraction]]  # rows i = 1..N, entries j = 1..i
+
+
+class TableEngine(Protocol):
+    """What every module of :data:`forcenet.exact.routes.ENGINES` provides (a module satisfies it)."""
+
+    def table_plan(self, N: int, moments: int = 1, *, memory_bytes: int | None = None,
+                   executor: Executor | None = None) -> Plan: ...
+
+    def table_run(self, N: int, moments: int = 1, *, memory_bytes: int | None = None, progress: Progress | None = None,
+                  executor: Executor | None = None) -> dict[int, Table]: ...
+
+
+def _call(function: Callable[..., Any], args: tuple, kwargs: dict) -> Any:
+    return function(*args, **kwargs)
+
+
+def run_independent(calls: Sequence[tuple[Callable[..., Any], tuple, dict]], *, executor: Executor | None,
+                    progress: Progress | None, weights: Sequence[float] | None = None) -> list:
+    """``[function(*args, **kwargs) for function, args, kwargs in calls]``: independent tasks of one run.
+
+    Parameters
+    ----------
+    calls : sequence of (callable, tuple, dict)
+        Module-level functions (they are pickled to an executor's workers)
+        with their arguments.
+    executor : concurrent.futures.Executor or None
+        Where the tasks run; None: in this process, one after the other.
+    progress : callable or None
+        In this process, passed on as ``progress=`` to each call (the
+        functions tick as they go); on an executor, called as
+        ``progress(weight)`` once per finished task.
+    weights : sequence of float, optional
+        The ticks of each task on an executor (default 1 each): the plan's
+        ticks of that task, so the bar ends where the plan said.
+
+    Returns
+    -------
+    list
+        The results, in the order of ``calls``.
+
+    Examples
+    --------
+    >>> from concurrent.futures import ThreadPoolExecutor
+    >>> with ThreadPoolExecutor(2) as pool:
+    ...     run_independent([(divmod, (7, 3), {}), (divmod, (9, 4), {})], executor=pool, progress=None)
+    [(2, 1), (2, 1)]
+    """
+    if executor is None:
+        return [function(*args, **kwargs, progress=progress) for function, args, kwargs in calls]
+    return run_tasks(_call, list(calls), executor=executor, progress=progress, weights=weights)

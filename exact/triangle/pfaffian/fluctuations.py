@@ -56,8 +56,11 @@ from ..gaps import GapCounts
 from ..staircase import dimension
 from .engine import (MAX_POINT_FAILURES, PointFailureError, check_prime, kernel_module, pair_points, level_points,
                      prime_limit, setup_matrices)
-from .route import (_CRT, _STARTUP_SECONDS, _count_bound, _edge_seconds, _primes_above, _run_primes,
-                    _workers, count)
+from ...modular import crt_many
+from ..staircase import count as product_count
+from .cost import STARTUP_SECONDS, edge_seconds
+from .route import count
+from .tasks import route_primes, run_primes, workers_for
 from ...errors import ArgumentError
 
 __all__ = ["edge_level_residues", "lattice_level_sums", "lattice_gap_laws", "lattice_mean_W2", "grain_gap_law",
@@ -65,7 +68,7 @@ __all__ = ["edge_level_residues", "lattice_level_sums", "lattice_gap_laws", "lat
 
 MAX_LAW_N = 128  # the interpolation's exact float64 products need M < 2^13
 # CPU seconds on the reference machine.  Measured on 2026-11-25 on the loaded 2-core machine at N = 40 and scaled by
-# the ratio (8x) of the lattice directions' measured time to their model (route._edge_seconds) in the same run.
+# the ratio (8x) of the lattice directions' measured time to their model (route.edge_seconds) in the same run.
 _SECONDS_PER_LAGRANGE = 1e-8  # per M^2: the Lagrange matrix
 _SECONDS_PER_INTERPOLATION = 5.4e-10  # per M^2 (n + 2): the two BLAS products and the assembly
 _SECONDS_PER_CRT = 3e-7  # per value and prime: the Chinese remainders, in the parent process
@@ -238,13 +241,12 @@ def _level_sums(N: int, layers: list[int], workers: int | None, progress: Callab
     E: list[list[int] | None] = [None] * (n + 1)
     if n == 0:
         return E, total
-    primes = _primes_above(total, N)
-    nworkers = _workers(workers, len(primes), _prime_seconds(N, len(windows)) * len(primes))
-    residues = _run_primes(_edge_level_residues, [(N, p, backend, windows) for p in primes], None, nworkers,
-                           progress, None)  # in the order of the primes
-    crt = _CRT(primes)
+    primes = route_primes(N, total)
+    nworkers = workers_for(workers, len(primes), _prime_seconds(N, len(windows)) * len(primes))
+    residues = run_primes(_edge_level_residues, [(N, p, backend, windows) for p in primes], None, nworkers,
+                          progress, None)  # in the order of the primes
     for m in windows:
-        row = [crt([r[m, l] for r in residues]) for l in range(d + 1)]
+        row = crt_many([[r[m, l] for r in residues] for l in range(d + 1)], primes)
         if row[0] != total or row[d] != 0 or any(a < b for a, b in zip(row, row[1:])):
             raise ArithmeticError(f"reconstructed level sums of m={m} break the exact checks")
         E[m] = row
@@ -328,7 +330,7 @@ def _prime_seconds(N: int, windows: int | None = None) -> float:
     n, d = N - 1, dimension(N)
     M = level_points(d)
     windows = n if windows is None else windows
-    return _edge_seconds(N) + _SECONDS_PER_LAGRANGE * M**2 + _SECONDS_PER_INTERPOLATION * M**2 * (windows + 3)
+    return edge_seconds(N) + _SECONDS_PER_LAGRANGE * M**2 + _SECONDS_PER_INTERPOLATION * M**2 * (windows + 3)
 
 
 def grain_gap_law(N: int, grain: tuple[int, int], **kwargs: Any) -> GapCounts:
@@ -406,12 +408,12 @@ def lattice_gap_laws_plan(N: int, memory_bytes: int | None = None, workers: int 
     if N > MAX_LAW_N:
         return Plan(what, 0, refusal=f"N={N} is out of range for the lattice gap laws: N must be an integer in 2..{MAX_LAW_N}")
     n, d = N - 1, dimension(N)
-    nprimes = ceil(_count_bound(N).bit_length() / log2(prime_limit(max(n, 1)) * 0.999))
+    nprimes = ceil(product_count(N).bit_length() / log2(prime_limit(max(n, 1)) * 0.999))
     windows = n if layers is None else check_int(layers, "layers", 1, n)
     cpu = _prime_seconds(N, windows) * nprimes
-    nworkers = _workers(workers, nprimes, cpu)
+    nworkers = workers_for(workers, nprimes, cpu)
     M = level_points(d)
     per_worker = 8 * (3 * M * M + 2 * M * n) + 160 * 2**20
     crt = _SECONDS_PER_CRT * windows * (d + 1) * nprimes
-    return Plan(what, _STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers + crt, nworkers * per_worker, nprimes,
+    return Plan(what, STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers + crt, nworkers * per_worker, nprimes,
                 "prime").within_memory(memory_bytes)

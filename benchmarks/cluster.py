@@ -73,22 +73,38 @@ def _warm():
     return count_residue(12, 33554393)
 
 
+def _cpu():
+    return time.process_time()
+
+
 def scaling(N: int):
-    """Wall time of the table at ``N`` on a local cluster of 1 and of 2 worker processes (kernels loaded first)."""
-    from distributed import Client, LocalCluster
+    """Wall time of the table at ``N`` on a local cluster of 1 and of 2 worker processes (kernels loaded first),
+    with what the load cannot blur: each worker's CPU seconds and the sum of its tasks' compute time (Dask's task
+    stream), whose largest share is the run's critical path."""
+    from distributed import Client, LocalCluster, get_task_stream
 
     from forcenet.exact.triangle.pfaffian import route
 
-    walls = {}
+    walls, paths, cpus = {}, {}, {}
     for workers in (1, 2):
         with LocalCluster(n_workers=workers, threads_per_worker=1, host="127.0.0.1", dashboard_address=None) as cluster, \
                 Client(cluster) as client:
             client.run(_warm)
+            before = client.run(_cpu)
             t0 = time.perf_counter()
-            route.mean_W(N, executor=client)
+            with get_task_stream(client) as stream:
+                route.mean_W(N, executor=client)
             walls[workers] = time.perf_counter() - t0
-            print(f"N={N} on {workers} worker process(es): {walls[workers]:.1f} s; load {_load()}", flush=True)
-    print(f"ratio 1 worker / 2 workers: {walls[1] / walls[2]:.2f}", flush=True)
+            cpu = {w: t - before[w] for w, t in client.run(_cpu).items()}
+            busy = dict.fromkeys(cpu, 0.0)
+            for task in stream.data:
+                busy[task["worker"]] += sum(s["stop"] - s["start"] for s in task["startstops"] if s["action"] == "compute")
+            paths[workers], cpus[workers] = max(busy.values()), max(cpu.values())
+            print(f"N={N} on {workers} worker process(es): {walls[workers]:.1f} s wall, {len(stream.data)} tasks; "
+                  f"per worker: compute {', '.join(f'{b:.1f}' for b in busy.values())} s, "
+                  f"CPU {', '.join(f'{c:.1f}' for c in cpu.values())} s; load {_load()}", flush=True)
+    print(f"ratio 1 worker / 2 workers: wall {walls[1] / walls[2]:.2f}, critical path (the busiest worker's compute) "
+          f"{paths[1] / paths[2]:.2f}, busiest worker's CPU {cpus[1] / cpus[2]:.2f}", flush=True)
 
 
 def crt(sizes):
@@ -115,7 +131,7 @@ def _cli(*args, **kwargs):
     import subprocess
 
     return subprocess.run([sys.executable, "-m", "forcenet", "table", "--method", "pfaffian", "--format", "json",
-                           "--force", *args], capture_output=True, text=True, **kwargs)
+                           "--force", *args], capture_output=True, text=True, **kwargs, check=False)
 
 
 def _records(directory: str, N: int) -> int:

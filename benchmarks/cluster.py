@@ -45,26 +45,36 @@ def model(sizes):
               f"load {_load()}", flush=True)
 
 
+def _cpu():
+    return time.process_time()
+
+
 def _echo(array):
     return array
 
 
 def overhead(tasks: int):
-    """Wall seconds per task of a loopback Dask cluster (2 workers) returning a 64 x 64 int64 residue table."""
+    """A loopback Dask cluster's cost per task (1, then 2 workers) returning a 64 x 64 int64 residue table: wall,
+    and the CPU it costs the client's process (client, scheduler and nannies of a LocalCluster) and the workers."""
     import numpy as np
     from distributed import Client, LocalCluster
 
     from forcenet.exact.execution import run_tasks
 
     payload = np.zeros((64, 64), dtype=np.int64)
-    with LocalCluster(n_workers=2, threads_per_worker=1, host="127.0.0.1", dashboard_address=None) as cluster, \
-            Client(cluster) as client:
-        run_tasks(_echo, [(payload,)] * 20, executor=client)
-        t0 = time.perf_counter()
-        run_tasks(_echo, [(payload + k,) for k in range(tasks)], executor=client)
-        wall = time.perf_counter() - t0
-    print(f"{tasks} tasks on 2 workers: {wall:.2f} s, {2 * wall / tasks * 1e3:.1f} ms per task per worker; "
-          f"load {_load()}", flush=True)
+    for workers in (1, 2):
+        with LocalCluster(n_workers=workers, threads_per_worker=1, host="127.0.0.1", dashboard_address=None) as cluster, \
+                Client(cluster) as client:
+            run_tasks(_echo, [(payload,)] * 20, executor=client)
+            before, c0 = client.run(_cpu), time.process_time()
+            t0 = time.perf_counter()
+            run_tasks(_echo, [(payload + k,) for k in range(tasks)], executor=client)
+            wall = time.perf_counter() - t0
+            client_cpu = time.process_time() - c0
+            worker_cpu = sum(t - before[w] for w, t in client.run(_cpu).items())
+        print(f"{tasks} tasks on {workers} worker(s): {wall:.2f} s wall, {wall / tasks * 1e3:.1f} ms per task; CPU per task: "
+              f"client process {client_cpu / tasks * 1e3:.1f} ms, workers {worker_cpu / tasks * 1e3:.1f} ms; "
+              f"load {_load()}", flush=True)
 
 
 def _warm():
@@ -73,22 +83,54 @@ def _warm():
     return count_residue(12, 33554393)
 
 
+def _prime_cpu(N: int, primes):
+    """CPU seconds per prime of ``prime_residues`` in this process (kernels loaded first)."""
+    from forcenet.exact.triangle.pfaffian.engine import prime_residues
+
+    _warm()
+    t0 = time.process_time()
+    for p in primes:
+        prime_residues(N, p)
+    return (time.process_time() - t0) / len(primes)
+
+
 def scaling(N: int):
-    """Wall time of the table at ``N`` on a local cluster of 1 and of 2 worker processes (kernels loaded first)."""
-    from distributed import Client, LocalCluster
+    """Wall time of the table at ``N`` on a local cluster of 1 and of 2 worker processes (kernels loaded first),
+    with what the load cannot blur: each worker's CPU seconds and the sum of its tasks' compute time (Dask's task
+    stream), whose largest share is the run's critical path."""
+    from distributed import Client, LocalCluster, get_task_stream
 
     from forcenet.exact.triangle.pfaffian import route
 
-    walls = {}
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    primes = list(islice(route.route_primes(N), 8))
+    with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn")) as pool:
+        local = pool.submit(_prime_cpu, N, primes).result()
+    print(f"N={N}: one local process, {local:.3f} CPU s per prime (8 primes); load {_load()}", flush=True)
+    walls, paths, cpus = {}, {}, {}
     for workers in (1, 2):
         with LocalCluster(n_workers=workers, threads_per_worker=1, host="127.0.0.1", dashboard_address=None) as cluster, \
                 Client(cluster) as client:
             client.run(_warm)
+            before = client.run(_cpu)
             t0 = time.perf_counter()
-            route.mean_W(N, executor=client)
+            with get_task_stream(client) as stream:
+                route.mean_W(N, executor=client)
             walls[workers] = time.perf_counter() - t0
-            print(f"N={N} on {workers} worker process(es): {walls[workers]:.1f} s; load {_load()}", flush=True)
-    print(f"ratio 1 worker / 2 workers: {walls[1] / walls[2]:.2f}", flush=True)
+            cpu = {w: t - before[w] for w, t in client.run(_cpu).items()}
+            busy = dict.fromkeys(cpu, 0.0)
+            for task in stream.data:
+                busy[task["worker"]] += sum(s["stop"] - s["start"] for s in task["startstops"] if s["action"] == "compute")
+            paths[workers], cpus[workers] = max(busy.values()), max(cpu.values())
+            cost = client.submit(_prime_cpu, N, primes, pure=False).result()
+            print(f"N={N} on {workers} worker process(es): {walls[workers]:.1f} s wall, {len(stream.data)} tasks "
+                  f"(then 8 primes in a worker: {cost:.3f} CPU s per prime); "
+                  f"per worker: compute {', '.join(f'{b:.1f}' for b in busy.values())} s, "
+                  f"CPU {', '.join(f'{c:.1f}' for c in cpu.values())} s; load {_load()}", flush=True)
+    print(f"ratio 1 worker / 2 workers: wall {walls[1] / walls[2]:.2f}, critical path (the busiest worker's compute) "
+          f"{paths[1] / paths[2]:.2f}, busiest worker's CPU {cpus[1] / cpus[2]:.2f}", flush=True)
 
 
 def crt(sizes):
@@ -115,7 +157,7 @@ def _cli(*args, **kwargs):
     import subprocess
 
     return subprocess.run([sys.executable, "-m", "forcenet", "table", "--method", "pfaffian", "--format", "json",
-                           "--force", *args], capture_output=True, text=True, **kwargs)
+                           "--force", *args], capture_output=True, text=True, **kwargs, check=False)
 
 
 def _records(directory: str, N: int) -> int:
@@ -199,23 +241,45 @@ def acceptance(port: int = 8799):
             proc.wait(10)
 
 
+# measured in this file's runs (notes/benchmarks.md, "A Dask task costs what a local one does"): a table prime's
+# CPU in a readied Dask worker over a local process's (0.99, interleaved, N = 64) times 1.05 for the worker's event
+# loop (its profiler and monitors, ~5 % of a core), the client process's CPU per task (scheduler, client, nannies of
+# a LocalCluster: serial) and a worker's own per task (result, bookkeeping), both from `overhead`
+_WORKER_RATIO = 0.99 * 1.05
+_SERIAL_PER_TASK = 0.0075
+_WORKER_PER_TASK = 0.0102
+
+
 def predict(sizes):
-    """The plan's wall time on 16 and 64 workers (the measured per-prime cost and per-task overhead)."""
+    """Wall time on 16 and 64 workers: count(N)'s primes, then the table's (or the lattice column's), each
+    ``ceil(P / K)`` rounds of (the idle model's per-prime seconds x the worker's measured ratio + the worker's
+    per-task cost), plus the scheduler's serial cost per task (no overlap assumed), plus the client's CRT."""
+    from math import factorial
+
     from forcenet.exact.execution import wall_seconds
     from forcenet.exact.triangle.pfaffian import route
+    from forcenet.exact.triangle.pfaffian.engine import count_residue
 
     for N in sizes:
         nprimes = route.table_plan(N).ticks
         edge = route.lattice_direction_plan(N).ticks
+        counts = route._primes_above(factorial(N * (N - 1) // 2), N)
+        count_residue(N, counts[0])
+        t0 = time.process_time()
+        for p in counts[1:6]:
+            count_residue(N, p)
+        per_count = (time.process_time() - t0) / 5
+        per_prime = route._seconds(N) * _WORKER_RATIO
+        per_edge = route._edge_seconds(N) * _WORKER_RATIO
+        crt = route._CRT_SECONDS * nprimes**2 * (N - 1) ** 2
         for K in (16, 64):
-            table = wall_seconds(route._seconds(N), nprimes, K, route._TASK_OVERHEAD_SECONDS)
-            column = wall_seconds(route._edge_seconds(N), edge, K, route._TASK_OVERHEAD_SECONDS)
-            crt = route._CRT_SECONDS * nprimes**2 * (N - 1) ** 2
-            print(f"N={N}: {nprimes} primes of {route._seconds(N):.1f} s; K={K}: table {table / 3600:.2f} h "
-                  f"+ CRT {crt / 3600:.2f} h (client), lattice column {column / 3600:.2f} h "
-                  f"({edge} primes of {route._edge_seconds(N):.1f} s); plan: table "
-                  f"{route.table_plan(N, workers=K).seconds / 3600:.2f} h, column "
-                  f"{route.lattice_direction_plan(N, workers=K).seconds / 3600:.2f} h", flush=True)
+            count = wall_seconds(per_count, len(counts), K, _WORKER_PER_TASK) + len(counts) * _SERIAL_PER_TASK
+            table = wall_seconds(per_prime, nprimes, K, _WORKER_PER_TASK) + nprimes * _SERIAL_PER_TASK
+            column = wall_seconds(per_edge, edge, K, _WORKER_PER_TASK) + edge * _SERIAL_PER_TASK
+            print(f"N={N}, K={K}: count {len(counts)} primes of {per_count * 1e3:.1f} ms: {count / 60:.1f} min; table "
+                  f"{nprimes} primes of {per_prime:.1f} s: {table / 3600:.2f} h + CRT {crt / 3600:.2f} h = "
+                  f"{(count + table + crt) / 3600:.2f} h; lattice column {edge} primes of {per_edge:.1f} s: "
+                  f"{(count + column) / 3600:.2f} h", flush=True)
 
 
 if __name__ == "__main__":

@@ -11,6 +11,14 @@ cluster.  No scheduler is written here; this module only
   the same bytes, for any number of workers and any completion order),
 * reports progress per finished task and records each result in the store
   (:mod:`forcenet.exact.checkpoints`) as it arrives,
+* runs every task through :func:`_worker_call`, which readies the process
+  it lands in once: glibc's allocator back to its steady state when the
+  environment fixed it (a Dask nanny starts its workers with
+  ``MALLOC_TRIM_THRESHOLD_=65536``, which also freezes the threshold above
+  which ``malloc`` maps fresh pages, so every kernel's work arrays of over
+  128 KiB were mapped, page-faulted and unmapped again: 35 000 page faults
+  and a sixth more CPU per prime at N = 64, ``notes/benchmarks.md``), and
+  the BLAS/OpenMP pools to one thread (a task is one core's work);
 * is interruptible: on ``KeyboardInterrupt`` (or a failed task) the pending
   futures are cancelled and the workers of a pool it started are terminated
   at once, so Ctrl-C ends the run within a second or two even while workers
@@ -29,6 +37,8 @@ Examples
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 import os
 from concurrent.futures import Executor, as_completed
 from math import ceil
@@ -37,6 +47,12 @@ from .validation import check_int, is_integer
 from .errors import ArgumentError, ArgumentTypeError
 
 __all__ = ["available_cores", "as_executor", "executor_workers", "executor_label", "wall_seconds", "run_tasks"]
+
+# glibc's mallopt parameters (<malloc.h>) and the ceiling of its own dynamic mmap threshold on 64-bit
+# (DEFAULT_MMAP_THRESHOLD_MAX = 32 MiB); the trim threshold is then twice it, as glibc sets it itself.
+_M_TRIM_THRESHOLD, _M_MMAP_THRESHOLD = -1, -3
+_MMAP_THRESHOLD = 32 * 2**20
+_READY: dict = {}
 
 
 def available_cores() -> int:
@@ -99,7 +115,7 @@ def executor_workers(executor) -> int | None:
     if client is not None and callable(getattr(client, "nthreads", None)):
         return max(1, sum(client.nthreads().values()))
     workers = getattr(executor, "_max_workers", None)
-    return workers if is_integer(workers) and workers > 0 else None
+    return int(workers) if workers is not None and is_integer(workers) and workers > 0 else None
 
 
 def executor_label(executor) -> str:
@@ -146,6 +162,61 @@ def _terminate(pool) -> None:
         if process.is_alive():  # pragma: no cover - a worker ignoring SIGTERM
             process.kill()
             process.join(1.0)
+
+
+def _steady_allocator() -> bool:
+    """Give glibc's ``malloc`` back the thresholds it reaches by itself, if the environment froze them.
+
+    Setting ``MALLOC_TRIM_THRESHOLD_`` (Dask's nanny does, to 64 KiB) turns
+    off glibc's dynamic mmap threshold: every block over 128 KiB is then
+    mapped on ``malloc`` and unmapped on ``free``, fresh zeroed pages each
+    time.  A user's own ``MALLOC_MMAP_THRESHOLD_`` is respected.
+    """
+    if "MALLOC_TRIM_THRESHOLD_" not in os.environ or "MALLOC_MMAP_THRESHOLD_" in os.environ:
+        return False
+    try:
+        mallopt = ctypes.CDLL(ctypes.util.find_library("c")).mallopt
+    except (OSError, AttributeError, TypeError):  # pragma: no cover - not glibc
+        return False
+    return bool(mallopt(_M_MMAP_THRESHOLD, _MMAP_THRESHOLD)) and bool(mallopt(_M_TRIM_THRESHOLD, 2 * _MMAP_THRESHOLD))
+
+
+def _ready_worker() -> dict:
+    """Ready this process for tasks: glibc's allocator thresholds (once), BLAS/OpenMP pools of one thread.
+
+    Called by :func:`_worker_call` before the first task a process runs (a
+    local pool's process or a Dask worker) and once after it (pinning the
+    pools of libraries the first task loaded).
+
+    Returns
+    -------
+    dict
+        ``{"allocator": bool, "threads": int, "pinned": int}``: whether the
+        allocator's thresholds were restored, the most threads any
+        BLAS/OpenMP pool of the process keeps, and how often the pools were
+        pinned.
+    """
+    from threadpoolctl import threadpool_info, threadpool_limits
+
+    if "allocator" not in _READY:
+        _READY["allocator"] = _steady_allocator()
+    threadpool_limits(1)
+    _READY["threads"] = max([pool["num_threads"] for pool in threadpool_info()] or [1])
+    _READY["pinned"] = _READY.get("pinned", 0) + 1
+    return dict(_READY)
+
+
+def _worker_call(client_pid: int, function, *args):
+    """``function(*args)``, in a process readied by :func:`_ready_worker` unless it is the client's own (an
+    executor of threads): the form every task is submitted in."""
+    if os.getpid() == client_pid:
+        return function(*args)
+    if _READY.get("pinned", 0) < 2:
+        _ready_worker()
+    result = function(*args)
+    if _READY["pinned"] < 2:
+        _ready_worker()
+    return result
 
 
 def run_tasks(function, tasks, *, executor=None, workers: int = 1, progress=None, weights=None,
@@ -227,7 +298,7 @@ def run_tasks(function, tasks, *, executor=None, workers: int = 1, progress=None
     futures = {}
     try:
         for i in pending:
-            futures[pool.submit(function, *tasks[i])] = i
+            futures[pool.submit(_worker_call, os.getpid(), function, *tasks[i])] = i
         for future in as_completed(futures):
             finish(futures[future], future.result())
     except BaseException:

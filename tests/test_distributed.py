@@ -47,7 +47,7 @@ def _local_json(N: int, capsys) -> str:
 
 def _cli(*args, **kwargs):
     return subprocess.run([sys.executable, "-m", "forcenet", "table", "--method", "pfaffian", "--format", "json",
-                           *args], capture_output=True, text=True, **kwargs)
+                           *args], capture_output=True, text=True, **kwargs, check=False)
 
 
 def test_cluster_gives_the_local_bytes_through_the_command_line(client, capsys, tmp_path):
@@ -91,11 +91,49 @@ def test_a_failing_task_fails_the_run_with_its_message(client):
         run_tasks(count_residue, [(12, 33554393, "no-such-backend")] * 2, executor=client.get_executor())
 
 
+def _worker_state(megabytes: int = 1, rounds: int = 20):
+    """The page faults of allocating, touching and freeing a ``megabytes`` array ``rounds`` times in this thread,
+    the most threads of any BLAS/OpenMP pool here, and the environment's malloc setting."""
+    import resource
+
+    import numpy as np
+    from threadpoolctl import threadpool_info
+
+    before = resource.getrusage(resource.RUSAGE_THREAD).ru_minflt
+    for _ in range(rounds):
+        np.ones(megabytes * 2**17).sum()  # a kernel's work array: over glibc's fixed 128 KiB mmap threshold
+    faults = resource.getrusage(resource.RUSAGE_THREAD).ru_minflt - before
+    threads = max([pool["num_threads"] for pool in threadpool_info()] or [1])
+    return faults, threads, os.environ.get("MALLOC_TRIM_THRESHOLD_")
+
+
+@pytest.mark.skipif(not hasattr(__import__("resource"), "RUSAGE_THREAD"), reason="per-thread page faults (Linux)")
+def test_a_worker_task_runs_as_in_a_local_process(client, monkeypatch):
+    # Dask's nanny starts workers with MALLOC_TRIM_THRESHOLD_, which froze glibc's mmap threshold: a work array of
+    # 1 MiB was mapped and page-faulted afresh by every call (256 faults each); run_tasks readies the worker first
+    pages = 2**20 // os.sysconf("SC_PAGE_SIZE")
+    for faults, threads, trim in run_tasks(_worker_state, [()] * 4, executor=client):
+        assert trim is not None  # the nanny's setting is there: the fix, not the environment, makes the difference
+        assert faults < 20 * pages / 4, faults
+        assert threads == 1
+    # the same in a bare process with the nanny's environment: the faults the fix removes
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    monkeypatch.setenv("MALLOC_TRIM_THRESHOLD_", "65536")
+    monkeypatch.delenv("MALLOC_MMAP_THRESHOLD_", raising=False)
+    with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn")) as pool:
+        bare = pool.submit(_worker_state).result()[0]
+        readied = run_tasks(_worker_state, [()] * 2, executor=pool)
+    assert bare >= 20 * pages * 3 / 4, bare
+    assert all(faults < 20 * pages / 4 for faults, _, _ in readied), readied
+
+
 def test_scheduler_without_the_extra_is_one_line():
     block = ("import sys; sys.modules['distributed'] = None; from forcenet.cli import main; "
              "sys.exit(main(['table', '--N', '20', '--method', 'pfaffian', '--format', 'json', "
              "'--scheduler', 'tcp://127.0.0.1:1']))")
-    result = subprocess.run([sys.executable, "-c", block], capture_output=True, text=True)
+    result = subprocess.run([sys.executable, "-c", block], capture_output=True, text=True, check=False)
     assert result.returncode == 2 and result.stdout == ""
     assert result.stderr.count("\n") == 1 and "pip install 'forcenet[distributed]'" in result.stderr
 

@@ -17,7 +17,14 @@ from __future__ import annotations
 import os
 import sys
 import time
-from itertools import islice
+
+
+def _primes(N: int) -> tuple[int, ...]:
+    """The Pfaffian table's primes for ``N`` (their product exceeds ``(d + 1) count``)."""
+    from forcenet.exact.triangle.pfaffian import tasks
+    from forcenet.exact.triangle.staircase import count, dimension
+
+    return tasks.route_primes(N, (dimension(N) + 1) * count(N))
 
 
 def _load() -> str:
@@ -25,12 +32,12 @@ def _load() -> str:
 
 
 def model(sizes):
-    """CPU seconds of one prime (process time, insensitive to other processes' load) against ``route._seconds``."""
-    from forcenet.exact.triangle.pfaffian import route
+    """CPU seconds of one prime (process time, insensitive to other processes' load) against ``cost.prime_seconds``."""
+    from forcenet.exact.triangle.pfaffian import cost
     from forcenet.exact.triangle.pfaffian.engine import edge_residues, prime_residues
 
     for N in sizes:
-        primes = list(islice(route.route_primes(N), 4))
+        primes = _primes(N)[:4]
         prime_residues(N, primes[0])  # kernels loaded
         t0 = time.process_time()
         for p in primes[1:]:
@@ -40,8 +47,8 @@ def model(sizes):
         for p in primes[1:]:
             edge_residues(N, p)
         edge = (time.process_time() - t0) / 3
-        print(f"N={N} table: {table:.4f} s/prime (model {route._seconds(N):.4f}, ratio {table / route._seconds(N):.2f}); "
-              f"lattice: {edge:.4f} s/prime (model {route._edge_seconds(N):.4f}, ratio {edge / route._edge_seconds(N):.2f}); "
+        print(f"N={N} table: {table:.4f} s/prime (model {cost.prime_seconds(N):.4f}, ratio {table / cost.prime_seconds(N):.2f}); "
+              f"lattice: {edge:.4f} s/prime (model {cost.edge_seconds(N):.4f}, ratio {edge / cost.edge_seconds(N):.2f}); "
               f"load {_load()}", flush=True)
 
 
@@ -100,12 +107,12 @@ def scaling(N: int):
     stream), whose largest share is the run's critical path."""
     from distributed import Client, LocalCluster, get_task_stream
 
-    from forcenet.exact.triangle.pfaffian import route
+    from forcenet.exact.triangle.pfaffian import cost, route
 
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
-    primes = list(islice(route.route_primes(N), 8))
+    primes = _primes(N)[:8]
     with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn")) as pool:
         local = pool.submit(_prime_cpu, N, primes).result()
     print(f"N={N}: one local process, {local:.3f} CPU s per prime (8 primes); load {_load()}", flush=True)
@@ -137,17 +144,15 @@ def crt(sizes):
     """Client seconds of the Chinese remaindering of the whole table (n^2 entries over all primes)."""
     import random
 
-    from forcenet.exact.triangle.pfaffian import route
+    from forcenet.exact.modular import crt_many
 
     for N in sizes:
         n = N - 1
-        primes = list(islice(route.route_primes(N), route.table_plan(N).ticks))
+        primes = _primes(N)
         rng = random.Random(N)
         rows = [[rng.randrange(p) for p in primes] for _ in range(50)]
         t0 = time.process_time()
-        solve = route._CRT(primes)
-        for residues in rows:
-            solve(residues)
+        crt_many(rows, primes)  # the route's Chinese remaindering (basis once, then each row)
         per_entry = (time.process_time() - t0) / 50
         print(f"N={N}: {len(primes)} primes, CRT {per_entry * 1e3:.2f} ms per entry, {n * n * per_entry:.1f} s "
               f"for the n^2 = {n * n} entries; load {_load()}", flush=True)
@@ -257,21 +262,21 @@ def predict(sizes):
     from math import factorial
 
     from forcenet.exact.execution import wall_seconds
-    from forcenet.exact.triangle.pfaffian import route
+    from forcenet.exact.triangle.pfaffian import cost, route, tasks
     from forcenet.exact.triangle.pfaffian.engine import count_residue
 
     for N in sizes:
         nprimes = route.table_plan(N).ticks
         edge = route.lattice_direction_plan(N).ticks
-        counts = route._primes_above(factorial(N * (N - 1) // 2), N)
+        counts = tasks.route_primes(N, factorial(N * (N - 1) // 2))
         count_residue(N, counts[0])
         t0 = time.process_time()
         for p in counts[1:6]:
             count_residue(N, p)
         per_count = (time.process_time() - t0) / 5
-        per_prime = route._seconds(N) * _WORKER_RATIO
-        per_edge = route._edge_seconds(N) * _WORKER_RATIO
-        crt = route._CRT_SECONDS * nprimes**2 * (N - 1) ** 2
+        per_prime = cost.prime_seconds(N) * _WORKER_RATIO
+        per_edge = cost.edge_seconds(N) * _WORKER_RATIO
+        crt = cost.CRT_SECONDS * nprimes**2 * (N - 1) ** 2
         for K in (16, 64):
             count = wall_seconds(per_count, len(counts), K, _WORKER_PER_TASK) + len(counts) * _SERIAL_PER_TASK
             table = wall_seconds(per_prime, nprimes, K, _WORKER_PER_TASK) + nprimes * _SERIAL_PER_TASK

@@ -53,17 +53,17 @@ SNIPPETS = {
                 "    import os; from forcenet.exact.triangle.tables import exact_table, to_json, write_atomic\n"
                 "    write_atomic(os.path.join({save!r}, 'mean_W_N{N}.json'), to_json(exact_table({N}, mean_table=t)) + '\\n')",
     "fast": "from forcenet.exact.triangle.moments import mean_W; t = mean_W({N}); extra = {{}}",
-    "prime": "from forcenet.exact.triangle.pfaffian import engine, route\n"
-             "p = next(route.route_primes({N})); engine.prime_residues(3, p) if {N} > 3 else None\n"
+    "prime": "from forcenet.exact.triangle.pfaffian import engine, route, tasks\n"
+             "p = tasks.route_primes({N}, 2)[0]; engine.prime_residues(3, p) if {N} > 3 else None\n"
              "c0 = time.process_time(); t0 = time.perf_counter(); engine.prime_residues({N}, p)\n"
              "extra = {{'prime_cpu': time.process_time() - c0, 'primes': route.table_plan({N}).ticks}}",
     # the baseline: the same prime's work by the dense elimination, at the largest prime its bound allows
-    "prime_dense": "import math\nfrom forcenet.exact.modular import is_prime\n"
+    "prime_dense": "import math\nfrom forcenet.exact.modular import is_prime\nfrom forcenet.exact.triangle.staircase import count\n"
                    "from forcenet.exact.triangle.pfaffian import engine, route\n"
                    "p = engine.dense_prime_limit({N} - 1) - 1\nwhile not is_prime(p): p -= 1\n"
                    "engine.prime_residues(3, p, backend='dense') if {N} > 3 else None\n"
                    "c0 = time.process_time(); engine.prime_residues({N}, p, backend='dense')\n"
-                   "bits = ({N} * ({N} - 1) // 2 + 1) * route._count_bound({N})\n"
+                   "bits = ({N} * ({N} - 1) // 2 + 1) * count({N})\n"
                    "extra = {{'prime_cpu': time.process_time() - c0, 'primes': math.ceil(bits.bit_length() / math.log2(p))}}",
     "compile": "from forcenet.exact.triangle.pfaffian import engine\nimport numba\nt1 = time.perf_counter()\n"
                "engine.prime_residues(3, 8388593); engine.count_residue(5, 8388593)\n"

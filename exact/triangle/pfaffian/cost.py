@@ -29,7 +29,7 @@ from ..staircase import count, dimension
 from .engine import level_points, prime_limit, with_kernels_compiled
 from .tasks import route_primes, workers_for
 
-__all__ = ["STARTUP_SECONDS", "TASK_OVERHEAD_SECONDS", "CRT_SECONDS", "prime_seconds", "edge_seconds", "primes_plan"]
+__all__ = ["STARTUP_SECONDS", "WORKER_TASK_SECONDS", "CLIENT_TASK_SECONDS", "CRT_SECONDS", "prime_seconds", "edge_seconds", "primes_plan"]
 
 # CPU seconds; notes/benchmarks.md
 _SECONDS_PER_ROW = 1.14e-9  # per n^2 and y: the displacement elimination (n pivots of O(n) rows), fitted on N = 20, 100
@@ -37,7 +37,9 @@ _SECONDS_PER_PIVOT = 3.1e-8  # per n and y: a pivot's set-up (reading the pivot,
 _SECONDS_PER_KERNEL = 3.3e-10  # per s^3 of the kernel set-up (four solves with K(q), s = n + 1 or n + 2)
 _SECONDS_PER_WEIGHT = 9e-9  # per M^2: the weights of the level functional, the sums over the points, the set-up
 STARTUP_SECONDS = 1.5  # numba import and loading the cached kernels (first compilation ever: ~10 s more)
-TASK_OVERHEAD_SECONDS = 0.025  # a Dask scheduler's cost per task and worker on loopback, result included (benchmarks)
+# a Dask cluster's cost per task on loopback (notes/benchmarks.md, `python benchmarks/cluster.py overhead 200`):
+WORKER_TASK_SECONDS = 0.0102  # on the worker, in parallel with the other workers
+CLIENT_TASK_SECONDS = 0.0075  # in the client, the scheduler and the nanny, one task after the other
 CRT_SECONDS = 2.3e-9  # per reconstructed entry and prime^2: the client's Chinese remaindering (benchmarks)
 
 
@@ -96,8 +98,11 @@ def primes_plan(what: str, N: int, per_prime: float, per_worker: int, workers: i
         nprimes, reused = len(primes), sum(store.holds(p) for p in primes)
     executor = as_executor(executor)
     nworkers = workers_for(workers, max(1, nprimes - reused), per_prime * (nprimes - reused), executor)
-    overhead = TASK_OVERHEAD_SECONDS if executor is not None else 0.0
-    seconds = (STARTUP_SECONDS * (1 + (nworkers > 1)) + wall_seconds(per_prime, nprimes - reused, nworkers, overhead)
+    overhead = WORKER_TASK_SECONDS if executor is not None else 0.0
+    work = wall_seconds(per_prime, nprimes - reused, nworkers, overhead)
+    if executor is not None:  # the scheduler's serial share bounds the run from below
+        work = max(work, CLIENT_TASK_SECONDS * (nprimes - reused))
+    seconds = (STARTUP_SECONDS * (1 + (nworkers > 1)) + work
                + CRT_SECONDS * entries * nprimes**2)
     if executor is not None:
         what += f" on {nworkers} worker{'s' if nworkers > 1 else ''} of {executor_label(executor)}"

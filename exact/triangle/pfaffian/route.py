@@ -70,12 +70,15 @@ MIN_PLAN_SECONDS = STARTUP_SECONDS  # every plan of the route pays the start-up 
 Checkpoint = str | PathLike | CheckpointStore | None
 
 
-def count(N: int, backend: str = "numba", *, executor: Executor | None = None, checkpoint: Checkpoint = None) -> int:
+def count(N: int, backend: str = "numba", *, checkpoint: Checkpoint = None) -> int:
     """The number of tableaux, ``count = d! Pf(B)`` (the normalization (4.1) times ``d!``), by this route.
 
     Multi-modular, with the proven bound ``count <= d!`` (linear extensions
-    of ``d`` elements).  ``executor`` and ``checkpoint`` as in
-    :func:`survival_table` (by default the primes run in this process).
+    of ``d`` elements).  ``checkpoint`` as in :func:`survival_table`.  The
+    primes always run in this process, even when the table's run on a
+    cluster: each costs ~2 ms at N = 64, less than a scheduler's cost per task
+    (770 of them took 13 s through Dask on loopback against 1.2 s here;
+    notes/benchmarks.md).
 
     Examples
     --------
@@ -84,7 +87,7 @@ def count(N: int, backend: str = "numba", *, executor: Executor | None = None, c
     """
     N = check_layers(N, maximum=MAX_N)
     primes = route_primes(N, factorial(dimension(N)))
-    residues = run_primes(count_residue, [(N, p, backend) for p in primes], executor, 1, None,
+    residues = run_primes(count_residue, [(N, p, backend) for p in primes], None, 1, None,
                           checkpoint_store(checkpoint, "count", N))
     return crt_many([residues], primes)[0]
 
@@ -147,7 +150,7 @@ def survival_table(N: int, *, workers: int | None = None, progress: Progress | N
 def _survival_table(N: int, workers: int | None, progress: Progress | None, backend: str, executor: Executor | None,
                     checkpoint: Checkpoint) -> tuple[list[list[int]], int]:
     n, d = N - 1, dimension(N)
-    total = count(N, backend, executor=executor, checkpoint=checkpoint)
+    total = count(N, backend, checkpoint=checkpoint)
     if n == 0:
         return [[0]], total
     primes = route_primes(N, (d + 1) * total)
@@ -226,7 +229,7 @@ def lattice_direction(N: int, *, workers: int | None = None, progress: Progress 
     N = check_layers(N, maximum=MAX_N)
     n, d = N - 1, dimension(N)
     executor = as_executor(executor)
-    total = count(N, backend, executor=executor, checkpoint=checkpoint)
+    total = count(N, backend, checkpoint=checkpoint)
     if n == 0:
         return [Fraction(1)]
     primes = route_primes(N, (d + 1) * total)

@@ -80,7 +80,7 @@ def test_bad_input_is_one_line_exit_2(argv, needle, tmp_path):
     proc = subprocess.run(
         [sys.executable, "-m", "forcenet", *argv, "--out", str(out_file)] if argv[0] == "table" else [sys.executable, "-m", "forcenet", *argv],
         capture_output=True,
-        text=True,
+        text=True, check=False,
     )
     assert proc.returncode == 2
     assert needle in proc.stderr

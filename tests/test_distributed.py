@@ -47,7 +47,7 @@ def _local_json(N: int, capsys) -> str:
 
 def _cli(*args, **kwargs):
     return subprocess.run([sys.executable, "-m", "forcenet", "table", "--method", "pfaffian", "--format", "json",
-                           *args], capture_output=True, text=True, **kwargs)
+                           *args], capture_output=True, text=True, check=False, **kwargs)
 
 
 def test_cluster_gives_the_local_bytes_through_the_command_line(client, capsys, tmp_path):
@@ -95,7 +95,7 @@ def test_scheduler_without_the_extra_is_one_line():
     block = ("import sys; sys.modules['distributed'] = None; from forcenet.cli import main; "
              "sys.exit(main(['table', '--N', '20', '--method', 'pfaffian', '--format', 'json', "
              "'--scheduler', 'tcp://127.0.0.1:1']))")
-    result = subprocess.run([sys.executable, "-c", block], capture_output=True, text=True)
+    result = subprocess.run([sys.executable, "-c", block], capture_output=True, text=True, check=False)
     assert result.returncode == 2 and result.stdout == ""
     assert result.stderr.count("\n") == 1 and "pip install 'forcenet[distributed]'" in result.stderr
 

@@ -136,7 +136,7 @@ def extension_laws(N):
         number += 1
         rank = {v: k + 1 for k, v in enumerate(ext)}
 
-        def S(i, j):  # rank of S_{i,j}, boundaries 0 and d + 1
+        def S(i, j, rank=rank):  # rank of S_{i,j}, boundaries 0 and d + 1
             return 0 if j == 0 else d + 1 if j == i else rank[(i, j)]
 
         for i in range(2, N + 1):

@@ -513,4 +513,4 @@ def test_strategies_are_reached_lazily():
 
     assert ft.strategies is fst
     with pytest.raises(AttributeError):
-        ft.nothing
+        _ = ft.nothing

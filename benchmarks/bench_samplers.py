@@ -24,6 +24,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from functools import partial
 
 import numpy as np
 
@@ -140,9 +141,9 @@ def bench_metropolis():
         ref.sweep(ref_sweeps // 5 + 1)  # leave the start, warm up
         fast.sweep(ref_sweeps // 5 + 1)
         G = len(ref.grains)
-        r_med, r_min = timed(lambda: ref.sweep(ref_sweeps), 3)
+        r_med, r_min = timed(partial(ref.sweep, ref_sweeps), 3)
         fast_sweeps = max(ref_sweeps, int(ref_sweeps * 1.0 / max(r_med, 1e-3) * 40))  # ~1 s of compiled work
-        c_med, c_min = timed(lambda: fast.sweep(fast_sweeps), 5)
+        c_med, c_min = timed(partial(fast.sweep, fast_sweeps), 5)
         r_ms, c_ms = 1e3 * r_med / ref_sweeps, 1e3 * c_med / fast_sweeps
         a, b = make("python"), make("compiled")
         same = np.array_equal(a.run(5, burn_in=2), b.run(5, burn_in=2)) and a.accepted == b.accepted
@@ -171,14 +172,14 @@ def bench_exact(Ns=(50, 100, 200, 500, 1000, 2000), reference_max=1000):
         rng = np.random.default_rng(N)
         empty = np.zeros((0, N, N))
         stats = np.zeros(1, np.int64)
-        med, mn = timed(lambda: hook_walk_W(rng, N, 1, empty, empty, empty, np.zeros(0, np.int64), stats), reps)
+        med, mn = timed(partial(hook_walk_W, rng, N, 1, empty, empty, empty, np.zeros(0, np.int64), stats), reps)
         steps = stats[0] / (reps * d)
         ref = "-"
         ratio = "-"
         if N <= reference_max:
             K = max(1, min(64, int(2e7 // N**3)))
             sampler = ExactSampler(N, seed=1, kernel="python", batch=K)
-            r_med, _ = timed(lambda: sampler.sample_W(K), 1 if N >= 500 else 3)
+            r_med, _ = timed(partial(sampler.sample_W, K), 1 if N >= 500 else 3)
             ref = f"{r_med / K:.3g}"
             ratio = f"{r_med / K / med:.0f}x"
         rows.append((N, med))

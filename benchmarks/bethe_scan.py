@@ -7,13 +7,10 @@ fixed density from a fit s(L) = s_oo + c/L^2 over the last points; prints a
 table (used in notes/chicken_wire.md) and the time per step.
 """
 
-import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from forcenet.numeric.chicken_wire.bethe import ground_state_sequence
 
 for a in (5, 6, 7, 8, 10, 4):

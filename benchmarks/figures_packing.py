@@ -24,11 +24,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
-from forcenet.numeric.autocorr import AutocorrError, integrated_time, mean_and_stderr  # noqa: E402
-from forcenet.numeric.packing import PackingMetropolis, Scene  # noqa: E402
+from forcenet.numeric.autocorr import AutocorrError, integrated_time, mean_and_stderr
+from forcenet.numeric.packing import PackingMetropolis, Scene
 
+ROOT = Path(__file__).resolve().parents[1]
 FIG = ROOT / "notes" / "figures"
 OUT = ROOT / "out"
 

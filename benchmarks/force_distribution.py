@@ -260,9 +260,12 @@ def main(argv=None):
         for k, v in r.items():
             print(f"  {k}: {v if not isinstance(v, float) else f'{v:.5g}'}")
     samples = sampled(args.samples)
+
+    def pm(v):
+        return f"{v[0]:.4f} +- {v[1]:.4f}"
+
     for N, s in samples.items():
         print(f"--- sampler N = {N} ({s['samples']} samples)")
-        pm = lambda v: f"{v[0]:.4f} +- {v[1]:.4f}"
         for name in ("floor", "mid"):
             print(f"  {name} ({s[f'grains_{name}']} central grains): Var(W/<W>) = {pm(s[f'var_f_{name}'])}, "
                   f"Var(g/<g>) = {pm(s[f'var_g_{name}'])}, Beta-noise share = {s[f'noise_share_{name}']:.4f}; "

@@ -16,16 +16,15 @@ import argparse
 import json
 import os
 import resource
-import sys
 import tempfile
 import time
 from multiprocessing import Pool
 from pathlib import Path
 
+from forcenet.exact import mean_W
+from forcenet.exact.thesis.recursions import gamma_bulk_integer, table_from_bulk
+
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
-from forcenet.exact import mean_W  # noqa: E402
-from forcenet.exact.thesis.recursions import gamma_bulk_integer, table_from_bulk  # noqa: E402
 
 
 def one_grain(args):

@@ -18,7 +18,6 @@ import time
 from pathlib import Path
 
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from forcenet.numeric.chicken_wire.bethe import isotropic_sequence
 from forcenet.numeric.chicken_wire.isotropic import extrapolate
 

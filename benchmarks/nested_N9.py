@@ -17,9 +17,7 @@ import resource
 import sys
 import time
 import multiprocessing
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from forcenet.exact import mean_W, normalization
 from forcenet.exact.thesis.nested import integrate_layers
 

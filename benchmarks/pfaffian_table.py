@@ -76,7 +76,7 @@ def measure(kind: str, N: int = 0, workers: int = 2, timeout: float = 3600, env=
     load = os.getloadavg()[0]
     try:
         proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=timeout,
-                              env={**os.environ, "OMP_NUM_THREADS": "1", **(env or {})})
+                              env={**os.environ, "OMP_NUM_THREADS": "1", **(env or {})}, check=False)
     except subprocess.TimeoutExpired:
         return None, f"> {timeout:.0f} s"
     if proc.returncode:

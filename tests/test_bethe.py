@@ -20,8 +20,9 @@ def _tm(L, n, m):
 
 @pytest.mark.parametrize(
     "L, n, m",
-    [(6, 2, 1), (7, 2, 1), (8, 3, 1), (8, 4, 2), (9, 4, 2), (9, 5, 2), (10, 4, 2), (10, 5, 2), (11, 6, 3), (12, 6, 3)],
-)
+    [(6, 2, 1), (7, 2, 1), (8, 3, 1), (8, 4, 2), (9, 4, 2), (9, 5, 2), (10, 4, 2), (10, 5, 2),
+     pytest.param(11, 6, 3, marks=pytest.mark.slow), pytest.param(12, 6, 3, marks=pytest.mark.slow)],
+)  # the two largest sectors under -m slow: the same equations at L <= 10 stay in the default suite
 def test_bethe_eigenvalue_equals_transfer_matrix(L, n, m):
     sol = solve_ground_state(L, n, m)
     assert abs(sol.eigenvalue - _tm(L, n, m)) < 1e-12
@@ -80,7 +81,10 @@ def test_photon_fugacity_sector_matrix_equals_operator_route():
         assert best == pytest.approx(largest_eigenvalue(L, weights, particles=n), abs=1e-11)
 
 
-@pytest.mark.parametrize("L, n, m, tau", [(9, 4, 2, 1.5), (10, 4, 2, 0.75), (11, 6, 3, 1.3), (12, 6, 3, 0.8), (10, 5, 2, 1.4)])
+@pytest.mark.parametrize("L, n, m, tau", [pytest.param(9, 4, 2, 1.5, marks=pytest.mark.slow), (10, 4, 2, 0.75),
+                                          pytest.param(11, 6, 3, 1.3, marks=pytest.mark.slow),
+                                          pytest.param(12, 6, 3, 0.8, marks=pytest.mark.slow), (10, 5, 2, 1.4)])
+# default: tau < 1 and tau > 1 at L = 10 (both twists); the other sizes under -m slow
 def test_twisted_bethe_equations_equal_transfer_matrix(L, n, m, tau):
     from forcenet.numeric.chicken_wire.bethe import follow_fugacity
 
@@ -90,7 +94,9 @@ def test_twisted_bethe_equations_equal_transfer_matrix(L, n, m, tau):
     assert abs(np.prod(w) - tau ** (m - n)) < 1e-10  # the translation-invariant state under the twist
 
 
-@pytest.mark.parametrize("L, n, m, tau", [(10, 4, 2, 1.0), (9, 4, 2, 0.8), (12, 4, 2, 1.2)])
+@pytest.mark.parametrize("L, n, m, tau", [(10, 4, 2, 1.0), pytest.param(9, 4, 2, 0.8, marks=pytest.mark.slow),
+                                          pytest.param(12, 4, 2, 1.2, marks=pytest.mark.slow)])
+# default: L = 10; the twisted fugacities are test_twisted_bethe_equations_equal_transfer_matrix's
 def test_photon_density_is_the_derivative_of_the_transfer_matrix(L, n, m, tau):
     from forcenet.numeric.chicken_wire.bethe import follow_fugacity, photon_density
 
@@ -101,6 +107,7 @@ def test_photon_density_is_the_derivative_of_the_transfer_matrix(L, n, m, tau):
     assert photon_density(L, w, u) == pytest.approx(fd, abs=1e-7)
 
 
+@pytest.mark.slow  # ~15 s; the isotropic state's entropy stays checked by tests/test_isotropic.py (Bethe vs closed form)
 def test_isotropic_point_equals_transfer_matrix_legendre_transform():
     from forcenet.numeric.chicken_wire.bethe import isotropic_state
 
@@ -144,7 +151,8 @@ def _top(M):
     return eigs(M, k=1, which="LR", return_eigenvectors=False).real.max()
 
 
-@pytest.mark.parametrize("L, n, m", [(9, 4, 2), (10, 5, 2), (11, 4, 2)])
+@pytest.mark.parametrize("L, n, m", [pytest.param(9, 4, 2, marks=pytest.mark.slow), (10, 5, 2),
+                                     pytest.param(11, 4, 2, marks=pytest.mark.slow)])  # default: L = 10
 def test_hop_twist_equals_the_hop_weighted_matrix(L, n, m):
     """A weight t per Y vertex: twists t^m (first set), t^n (second set); Lambda against the sector matrix."""
     sol = solve_ground_state(L, n, m)
@@ -173,6 +181,7 @@ def test_y_density_is_the_pair_sum_and_a_derivative():
     assert abs(y - (qr * ql + ql * qh + qh * qr)) < 1e-13
 
 
+@pytest.mark.slow  # ~10 s; 3Q^2 is the pair sum at equal densities: test_y_density_is_the_pair_sum_and_a_derivative
 def test_y_density_on_the_isotropic_line_is_3Q2():
     from forcenet.numeric.chicken_wire.bethe import isotropic_sequence, y_density
 

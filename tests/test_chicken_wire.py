@@ -140,7 +140,7 @@ def test_torus_identity_y_is_the_pair_sum(L, M):
     M m = n_L + n_Y, horizontal N_H = n_H + n_Y (each Y and inverted Y has one bond of each).
     So Y per site = Q_R Q_L + Q_L Q_H + Q_H Q_R exactly on every torus.
     """
-    for (empty, y, inv_y, h, r, l), _ in vertex_counts_torus(L, M).items():
+    for (_empty, y, inv_y, h, r, l), _ in vertex_counts_torus(L, M).items():
         assert y == inv_y
         right, left, horizontal = r + y, l + y, h + y
         assert right % M == 0 and left % M == 0

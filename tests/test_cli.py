@@ -213,6 +213,7 @@ def test_transfer_command(capsys):
     assert main(["transfer", "--L", "5", "--particles", "9"]) == 2
 
 
+@pytest.mark.slow  # ~12 s; the numbers are tests/test_bethe.py's, the command's run test_cli_contract's (L = 6)
 def test_bethe_command(capsys):
     code, out, _ = run(["bethe", "--L", "9", "--n", "4", "--m", "2", "--format", "json"], capsys)
     data = json.loads(out)

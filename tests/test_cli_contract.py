@@ -315,7 +315,7 @@ def test_10_one_force_policy(capsys):
 @pytest.mark.parametrize("argv", [
     ["sample", "--N", "6", "--samples", "300", "--seed", "4", "--format", "json"],
     ["sample", "--N", "5", "--sampler", "metropolis", "--samples", "400", "--seed", "4", "--format", "json"],
-    ["transfer", "--L", "7", "--format", "json"],
+    ["transfer", "--L", "6", "--format", "json"],
     ["bethe", "--L", "6", "--n", "2", "--m", "1", "--format", "json"],
     ["entropy", "--phi", "0.3", "--format", "json"],
 ])

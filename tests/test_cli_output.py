@@ -168,13 +168,13 @@ def test_5_8_9_real_closed_and_full_stdout(sandbox, files):
     env = dict(os.environ)  # the installed forcenet, as a user runs it
     cmd = [sys.executable, "-m", "forcenet", "table", "--N", "12", "--format", "json"]
     closed = subprocess.run(cmd, stderr=subprocess.PIPE, text=True, env=env, pass_fds=(), close_fds=True,
-                            preexec_fn=lambda: os.close(1))
+                            preexec_fn=lambda: os.close(1), check=False)
     assert closed.returncode == 2 and closed.stderr.startswith("forcenet: error: standard output is closed")
     assert len(closed.stderr.splitlines()) == 1
     full = make_device(sandbox / "full", 7)
     with open(full, "w") as stdout:
         proc = subprocess.run([sys.executable, "-m", "forcenet", "table", "--N", "6", "--samples", "40", "--quiet"],
-                              stdout=stdout, stderr=subprocess.PIPE, text=True, env=env)
+                              stdout=stdout, stderr=subprocess.PIPE, text=True, env=env, check=False)
     assert proc.returncode == 2 and proc.stderr == "forcenet: error: standard output: No space left on device\n"
     assert files(sandbox) == ["full"]  # no forcenet-tables/ left
 
@@ -185,7 +185,7 @@ def test_1_dev_stdout_is_written_in_place(sandbox, files):
     log.write_text("before\n")
     with open(log, "a") as stdout:
         proc = subprocess.run([sys.executable, "-m", "forcenet", "count", "--N", "9", "--out", "/dev/stdout"],
-                              stdout=stdout, stderr=subprocess.PIPE, text=True, env=env)
+                              stdout=stdout, stderr=subprocess.PIPE, text=True, env=env, check=False)
     assert proc.returncode == 0 and log.read_text() == f"before\n{count(9)}\n"  # appended, the file not replaced
     assert files(sandbox) == ["log.txt"]
 

@@ -54,7 +54,8 @@ def grain_of(draw, N_min=2, N_max=12):
 # ---------------------------------------------------------------- route (a): moment()
 
 
-@pytest.mark.parametrize("N", [2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12])
+@pytest.mark.parametrize("N", [2, 3, 4, 5, 6, 7, 8, 9, 10, pytest.param(11, marks=pytest.mark.slow),
+                               pytest.param(12, marks=pytest.mark.slow)])  # N <= 10 by default
 def test_density_moments_equal_the_moment_dp_for_every_grain(N):
     for grain in grains(N):
         p = D.density(N, grain)
@@ -100,7 +101,8 @@ def density_from_polytope(N, grain):
     return sympy.Poly(sum(a[k] * w**k for k in range(d)), w, domain="QQ"), d
 
 
-@pytest.mark.parametrize("N", [2, 3, 4])
+# N = 4 (~10 s) under -m slow: the integration route stays by default at N = 2, 3 and N = 5 (one grain)
+@pytest.mark.parametrize("N", [2, 3, pytest.param(4, marks=pytest.mark.slow)])
 def test_density_equals_sympy_integration_over_the_polytope(N):
     for grain in grains(N):
         expected, d = density_from_polytope(N, grain)
@@ -136,7 +138,7 @@ def extension_laws(N):
         number += 1
         rank = {v: k + 1 for k, v in enumerate(ext)}
 
-        def S(i, j):  # rank of S_{i,j}, boundaries 0 and d + 1
+        def S(i, j, rank=rank):  # rank of S_{i,j}, boundaries 0 and d + 1
             return 0 if j == 0 else d + 1 if j == i else rank[(i, j)]
 
         for i in range(2, N + 1):

@@ -249,7 +249,7 @@ def test_one_time_marginals_do_not_determine_the_second_moment():
 
     assert all(marginal(new, l) == marginal(uniform, l) for l in range(d + 1))
     for jj in range(1, i + 1):
-        assert mean(new, lambda c: _gap(c, N, i, jj)) == mean(uniform, lambda c: _gap(c, N, i, jj))
+        assert mean(new, lambda c, jj=jj: _gap(c, N, i, jj)) == mean(uniform, lambda c, jj=jj: _gap(c, N, i, jj))
     second = mean(uniform, lambda c: _gap(c, N, i, j) ** 2)
     law = layer_gap_counts(N, i)[j - 1]  # the enumeration is the DP's law
     assert second * law.total == sum(g * g * k for g, k in enumerate(law.counts))

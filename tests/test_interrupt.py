@@ -78,7 +78,10 @@ CASES = {
 }
 
 
-@pytest.mark.parametrize("case", [pytest.param(c, marks=SLOW) if c in ("exact sampler", "packing slice move") else c
+# default: a compiled chain (metropolis burn-in); the Pfaffian route's Ctrl-C by default through
+# tests/test_distributed.py's multi-worker run
+@pytest.mark.parametrize("case", [pytest.param(c, marks=SLOW) if c in ("exact sampler", "packing slice move",
+                                                                      "pfaffian, one process") else c
                                   for c in CASES])
 def test_ctrl_c_inside_a_compiled_kernel_exits_130_within_seconds(tmp_path, case):
     code, latency, err = _interrupt(CASES[case], tmp_path)

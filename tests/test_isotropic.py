@@ -212,7 +212,8 @@ def test_square_triangle_anchor_to_50_digits():
         assert abs(a - b) < mpmath.mpf(10) ** -28 and a < iso.tiling_entropy(phi=0, dps=30)
 
 
-@pytest.mark.parametrize("Q", [pytest.param(Fraction(1, 8), marks=pytest.mark.slow), Fraction(1, 7), Fraction(1, 6)])
+@pytest.mark.parametrize("Q", [pytest.param(Fraction(1, 8), marks=pytest.mark.slow), Fraction(1, 7),
+                               pytest.param(Fraction(1, 6), marks=pytest.mark.slow)])  # the route at Q = 1/7 by default
 def test_closed_form_equals_the_bethe_ansatz(Q):
     """v and mu = -(1/3) dv/dQ of (7.1) against the Bethe ansatz extrapolated from L <= 120 (independent route)."""
     lim = isotropic_bethe.isotropic_limit(Q, L_max=120, L_min=48)

@@ -109,11 +109,12 @@ def test_chunked_absorption_equals_one_chunk(N, chunk, data):
         nested._ABSORB_CHUNK = saved
 
 
-@pytest.mark.parametrize("N", [7, 8])
+@pytest.mark.parametrize("N", [7, pytest.param(8, marks=pytest.mark.slow)])  # N = 7 by default (and all routes at N = 7)
 def test_mean_table_modular_N7_N8(N):
     assert mean_W_nested(N) == mean_W(N)
 
 
+@pytest.mark.slow  # ~20 s; the nested route stays in the default suite at N = 7 (test_mean_table_modular_N7_N8)
 def test_N9_normalization_and_a_bulk_grain():
     """N = 9, beyond the literal version's memory: ~10 s and ~1.5 GB per integration."""
     N = 9

@@ -120,7 +120,7 @@ def test_only_forcenet_at_the_top_of_site_packages(tmp_path):
         "import importlib.util as u, json, forcenet.exact, forcenet.numeric, forcenet.cli;"
         "print(json.dumps([u.find_spec(n) is None for n in ('exact', 'numeric', 'cli', 'testing')]))"
     )
-    proc = subprocess.run([sys.executable, "-I", "-c", probe], cwd=tmp_path, capture_output=True, text=True)
+    proc = subprocess.run([sys.executable, "-I", "-c", probe], cwd=tmp_path, capture_output=True, text=True, check=False)
     assert proc.returncode == 0, proc.stderr
     assert json.loads(proc.stdout) == [True] * 4, "a generic top-level module is importable"
     for site in _site_dirs():
@@ -130,7 +130,7 @@ def test_only_forcenet_at_the_top_of_site_packages(tmp_path):
 def test_typed_and_versioned():
     assert (Path(forcenet.__file__).parent / "py.typed").is_file()
     assert forcenet.__version__ == metadata.version("forcenet") == _project()["version"]
-    proc = subprocess.run([sys.executable, "-m", "forcenet", "--version"], capture_output=True, text=True)
+    proc = subprocess.run([sys.executable, "-m", "forcenet", "--version"], capture_output=True, text=True, check=False)
     assert proc.returncode == 0 and proc.stdout == f"forcenet {forcenet.__version__}\n"
 
 
@@ -150,7 +150,7 @@ def test_metadata():
 def _build(kind: str, source: Path, out: Path) -> Path:
     """PEP 517 build with the installed setuptools (the test extra), in a subprocess."""
     code = f"import setuptools.build_meta as b; print(b.build_{kind}({str(out)!r}))"
-    proc = subprocess.run([sys.executable, "-c", code], cwd=source, capture_output=True, text=True)
+    proc = subprocess.run([sys.executable, "-c", code], cwd=source, capture_output=True, text=True, check=False)
     assert proc.returncode == 0, proc.stderr[-3000:]
     return out / proc.stdout.strip().splitlines()[-1]
 
@@ -214,7 +214,7 @@ def _mypy(view: Path) -> tuple[str, list[str]]:
     proc = subprocess.run(
         [sys.executable, "-m", "mypy", "-p", "forcenet", "--config-file", str(ROOT / "pyproject.toml"),
          "--follow-imports=skip", "--no-site-packages", "--cache-dir", str(view / ".mypy_cache")],
-        cwd=view, capture_output=True, text=True,
+        cwd=view, capture_output=True, text=True, check=False,
     )  # fmt: skip
     assert proc.returncode in (0, 1), proc.stderr
     unresolved = [

@@ -23,7 +23,10 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
+
 from forcenet.exact.errors import ArgumentError, ConvergenceError
+from forcenet.exact.plan import Plan
+from forcenet.exact.validation import check_int
 
 __all__ = [
     "extrapolate",
@@ -33,6 +36,9 @@ __all__ = [
     "bethe_entropy",
     "bethe_entropy_maximum",
     "bethe_plan",
+    "DIRECT_DENOMINATOR",
+    "isotropic_entropy_plan",
+    "isotropic_entropy",
 ]
 
 
@@ -186,15 +192,118 @@ def bethe_entropy_maximum(densities=(Fraction(1, 7), Fraction(1, 6), Fraction(2,
 
 # seconds of one isotropic sequence to L_max in a fresh process on the 2-core machine, single-threaded BLAS
 # (Q = 1/6: L <= 120 7.7 s, L <= 240 11 s, L <= 600 144 s; 2026-11-23)
-def bethe_plan(sequences: int, L_max: int):
+def bethe_plan(sequences: int, L_max: int) -> Plan:
     """The cost of ``sequences`` isotropic Bethe sequences up to width ``L_max``.
+
+    Parameters
+    ----------
+    sequences : int
+        Number of rational densities whose sequences are solved.
+    L_max : int
+        Largest width.
+
+    Returns
+    -------
+    Plan
+        One tick per sequence.
 
     Examples
     --------
     >>> bethe_plan(1, 240).seconds < 60
     True
     """
-    from forcenet.exact.plan import Plan
-
     seconds = sequences * (3.0 + 9.0 * (L_max / 240) ** 2.8)
     return Plan(f"{sequences} Bethe-ansatz sequence(s) to L = {L_max}", seconds, 200 * 2**20, sequences, "sequence")
+
+
+DIRECT_DENOMINATOR = 60  # a density c/a with a <= 60 is solved directly (widths L = k a, 4 of them within L_max >= 240)
+
+
+def _direct(Q: Fraction | float | None) -> bool:
+    """Whether :func:`isotropic_entropy` solves ``Q`` itself (one sequence) rather than interpolating (two)."""
+    return isinstance(Q, Fraction) and Q.denominator <= DIRECT_DENOMINATOR
+
+
+def _check_density(Q: Fraction | float) -> None:
+    if not 0 < Q < Fraction(1, 3):
+        raise ArgumentError(f"Q={float(Q):g} is out of range: the Bethe route needs 0 < Q < 1/3")
+
+
+def isotropic_entropy_plan(Q: Fraction | float | None, L_max: int) -> Plan:
+    """The cost of :func:`isotropic_entropy` at ``Q`` (None: a density known only as a number, from ``phi``).
+
+    Parameters
+    ----------
+    Q : Fraction, float or None
+        The density; a Fraction with denominator at most
+        :data:`DIRECT_DENOMINATOR` costs one sequence, anything else two.
+    L_max : int
+        Largest width, ``>= 60``.
+
+    Returns
+    -------
+    Plan
+        Refused (naming ``Q``) outside ``0 < Q < 1/3``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``L_max`` is out of range.
+
+    Examples
+    --------
+    >>> isotropic_entropy_plan(Fraction(1, 6), 240).ticks, isotropic_entropy_plan(0.2, 240).ticks
+    (1, 2)
+    >>> isotropic_entropy_plan(Fraction(1, 3), 240).refusal
+    'Q=0.333333 is out of range: the Bethe route needs 0 < Q < 1/3'
+    """
+    L_max = check_int(L_max, "L_max", 60)
+    plan = bethe_plan(1 if _direct(Q) else 2, L_max)
+    if Q is not None:
+        try:
+            _check_density(Q)
+        except ArgumentError as exc:
+            return plan.refuse(str(exc))
+    return plan
+
+
+def isotropic_entropy(Q: Fraction | float, L_max: int = 240) -> tuple[float, float, tuple[Fraction, ...]]:
+    """``v(Q)`` from the Bethe ansatz alone, with its error and the rational densities solved.
+
+    A Fraction with denominator at most :data:`DIRECT_DENOMINATOR` is solved
+    directly (:func:`isotropic_limit`), any other density interpolated
+    between two (:func:`bethe_entropy`); widths ``max(24, L_max / 4) <= L <= L_max``.
+
+    Parameters
+    ----------
+    Q : Fraction or float
+        The density, ``0 < Q < 1/3``.
+    L_max : int
+        Largest width, ``>= 60``.
+
+    Returns
+    -------
+    tuple
+        ``(v, error, densities)``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``Q`` or ``L_max`` is out of range.
+    ConvergenceError
+        Where a continuation loses the ground state.
+
+    Examples
+    --------
+    >>> v, err, densities = isotropic_entropy(Fraction(1, 6), L_max=120)
+    >>> round(v, 6), densities
+    (0.061616, (Fraction(1, 6),))
+    """
+    L_max = check_int(L_max, "L_max", 60)
+    _check_density(Q)
+    L_min = max(24, L_max // 4)
+    if _direct(Q):
+        lim = isotropic_limit(Q, L_max, L_min)
+        return lim.v, lim.v_err, (lim.Q,)
+    v, err, (a, b) = bethe_entropy(float(Q), L_max, L_min)
+    return v, err, (a.Q, b.Q)

@@ -35,10 +35,13 @@ from forcenet.exact.chicken_wire.model import EMPTY as _E
 from forcenet.exact.chicken_wire.model import LEFT as _L
 from forcenet.exact.chicken_wire.model import RIGHT as _R
 from forcenet.exact.chicken_wire.model import SITE_CHOICES, VERTICES
-from forcenet.exact.validation import check_dps, check_int, check_real
 from forcenet.exact.errors import ArgumentError
+from forcenet.exact.plan import Plan
+from forcenet.exact.validation import check_dps, check_int, check_real
 
 __all__ = [
+    "TRANSFER_SECONDS",
+    "transfer_plan",
     "largest_eigenvalue",
     "perron_root",
     "sector_entropies",
@@ -49,6 +52,54 @@ __all__ = [
     "isotropic_entropy",
     "tiling_entropy",
 ]
+
+
+# measured seconds of all sectors of the transfer matrix (2-core machine); memory ~ 40 * 3^L bytes per vector
+TRANSFER_SECONDS = {8: 0.3, 9: 2, 10: 15, 11: 70, 12: 150, 13: 900}
+
+
+def transfer_plan(L: int, particles: int | None = None) -> Plan:
+    """The cost of :func:`largest_eigenvalue` in one sector (``particles``) or in all ``L + 1`` of them.
+
+    Seconds from the measured all-sector times :data:`TRANSFER_SECONDS`
+    (shared evenly by the sectors); memory ``60 * 3^L`` bytes (the vectors of
+    the matrix-product operator); one tick per sector.
+
+    Parameters
+    ----------
+    L : int
+        Cylinder width, ``2 <= L <= 14``.
+    particles : int, optional
+        One sector only, ``0 <= particles <= L`` (default: all).
+
+    Returns
+    -------
+    Plan
+        Refused (naming ``particles``) if the sector does not exist.
+
+    Raises
+    ------
+    ArgumentError
+        If ``L`` is out of range.
+
+    Examples
+    --------
+    >>> transfer_plan(10).seconds, transfer_plan(10, particles=3).seconds
+    (15.0, 1.3636363636363635)
+    >>> transfer_plan(6, particles=7).refusal
+    'particles=7 is out of range: particles must be an integer in 0..L = 0..6'
+    """
+    L = check_int(L, "L", 2, 14)
+    if particles is not None:
+        particles = check_int(particles, "particles", 0)
+        if particles > L:
+            return Plan(f"transfer matrix L={L}", 0,
+                        refusal=f"particles={particles} is out of range: particles must be an integer in 0..L = 0..{L}")
+    sectors = 1 if particles is not None else L + 1
+    # beyond the table: the measured growth from L = 12 to 13 (sixfold per unit of width)
+    total = TRANSFER_SECONDS[13] * 6.0 ** (L - 13) if L > 13 else TRANSFER_SECONDS.get(L, 0.1)
+    seconds = total * sectors / (L + 1)
+    return Plan(f"transfer matrix L={L}, {sectors} sector(s) of up to 3^{L} states", seconds, 60 * 3**L, sectors, "sector")
 
 
 def _local_tensor(weights) -> np.ndarray:

@@ -23,6 +23,12 @@ from collections import Counter
 from fractions import Fraction
 from ..errors import ArgumentError, ForcenetError
 
+__all__ = [
+    "zmul", "TilingError", "UNIT", "F", "F_IMAGE", "vadd", "vsub", "phys", "area", "Lattice2in4", "Lattice2in2",
+    "TILE_STEPS", "tile_edges", "tile_corners", "corner_sectors", "family", "check_tiling", "canonical_form",
+    "tiling_tiles", "tiling_from_canonical", "f_preimage", "KERNEL",
+]
+
 # ----------------------------------------------------------------------------------------------
 # Z[zeta_12] arithmetic
 # ----------------------------------------------------------------------------------------------
@@ -340,8 +346,14 @@ def tiling_from_canonical(form):
     return [(k, e, p) for k, e, p in form]
 
 
-def _f_preimage(g):
-    """An element of ``Z[zeta]`` with ``F = g`` (A directions only)."""
+def f_preimage(g):
+    """An element of ``Z[zeta]`` with ``F = g`` (A directions only).
+
+    Examples
+    --------
+    >>> F(f_preimage((2, -3)))
+    (2, -3)
+    """
     x, y = g
     return (x, 0, y, 0)
 

@@ -64,7 +64,7 @@ from .square_triangle import (
 
 __all__ = [
     "chicken_wire_configs", "config_vertex_counts", "config_canonical", "MapError", "config_to_tiling",
-    "tiling_to_config", "check_cells", "predicted_failures", "lucas",
+    "tiling_to_config", "check_cells", "predicted_failures", "lucas", "failure_kind",
     # re-exported from .square_triangle for convenience
     "UNIT", "F", "F_IMAGE", "KERNEL", "Lattice2in2", "Lattice2in4", "TilingError", "check_tiling", "canonical_form",
     "tiling_from_canonical", "tiling_tiles", "zmul",
@@ -281,7 +281,8 @@ def tiling_to_config(tiles, lam):
     return config, gamma
 
 
-def _failure_kind(config):
+def failure_kind(config):
+    """Why a configuration has no tiling: ``"no empty site"``, ``"foam"`` (Y vertices) or ``"lines with spacing 1"``."""
     names = config_vertex_counts(config)
     if names["empty"] == 0:
         return "no empty site"

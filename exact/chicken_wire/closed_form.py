@@ -60,6 +60,7 @@ __all__ = [
     "tiling_entropy_phi",
     "tiling_entropy_maximum",
     "twelvefold_density",
+    "series_coefficients",
     "entropy_series_Q",
     "entropy_series_eps",
     "per_grain_limit",
@@ -190,7 +191,7 @@ def twelvefold_density():
 
 
 @lru_cache(maxsize=8)
-def _series_coefficients(order: int):
+def series_coefficients(order: int):
     """Exact Taylor coefficients ``a_2..a_order`` of ``v(Q) + 3 Q^2 log Q`` (an analytic function at 0).
 
     Every term of :func:`entropy_Q` but ``-3 Q^2 log Q`` is analytic at ``Q = 0``;
@@ -237,7 +238,7 @@ def entropy_series_Q(order: int = 6, q=Q):
     """
     if order < 2:
         raise ArgumentError(f"order={order} is out of range: order must be an integer >= 2")
-    coeffs = _series_coefficients(order)
+    coeffs = series_coefficients(order)
     return -3 * q**2 * sympy.log(q) + sum(coeffs[k] * q**k for k in range(2, order + 1))
 
 

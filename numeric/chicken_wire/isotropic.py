@@ -3,7 +3,9 @@
 The closed forms are the exact sympy expressions of
 :mod:`forcenet.exact.chicken_wire.closed_form` (reconstructed (7.1), (7.2),
 their elimination ``v(Q)``, the tiling normalization, the corrected series
-(7.3) and (7.4)), evaluated with mpmath.
+(7.3) and (7.4)), evaluated with mpmath: ``v(Q)``, ``mu`` and ``dmu/dQ`` are
+compiled from the sympy expressions once (``sympy.lambdify``), never typed
+again here.
 
 Precision is a parameter.  Inputs (numbers, strings, Fractions) are
 converted inside ``mpmath.workdps``; every quantity is computed at ``dps``
@@ -127,9 +129,9 @@ def _Q_of_phi(x):
 @lru_cache(maxsize=4)
 def _series_rationals(order: int):
     """``[a_3, ..., a_order]`` of :func:`forcenet.exact.chicken_wire.closed_form.entropy_series_Q` (rationals)."""
-    from forcenet.exact.chicken_wire.closed_form import _series_coefficients
+    from forcenet.exact.chicken_wire.closed_form import series_coefficients
 
-    coeffs = _series_coefficients(order)
+    coeffs = series_coefficients(order)
     return tuple(Fraction(int(c.p), int(c.q)) for c in coeffs[3:])
 
 
@@ -157,41 +159,44 @@ def _v_series(q, terms):
     return value
 
 
-def _xlog(x):
-    return x * x * mpmath.log(x) if x else mpmath.mpf(0)
+@lru_cache(maxsize=3)
+def _closed_form(derivative: int):
+    """``v``, ``mu = -(1/3) v'`` or ``dmu/dQ`` (``derivative`` 0, 1, 2) of the exact ``v(Q)`` as an mpmath function.
+
+    Derived from the sympy expression of :func:`forcenet.exact.chicken_wire.closed_form.entropy_Q`
+    (the elimination of (7.1)-(7.2)) and compiled by ``sympy.lambdify`` to
+    mpmath, once per process and each only when first asked for.  Every
+    constant (``log 4``, ``1/3``) is evaluated at the precision of the call, so
+    callers evaluate inside ``mpmath.workdps`` (:func:`converged`).  The
+    symbol carries no assumptions: sympy then builds and differentiates the
+    expression several times faster, and the expression is the same.
+    """
+    import sympy
+
+    from forcenet.exact.chicken_wire.closed_form import entropy_Q
+
+    q = sympy.Symbol("q")
+    expr = entropy_Q(q)
+    for k in range(derivative):
+        expr = sympy.diff(expr, q) / (-3 if k == 0 else 1)
+    return sympy.lambdify(q, expr, "mpmath")
 
 
 def _v(q):
-    """The closed form ``v(Q)`` at the working precision."""
+    """The closed form ``v(Q)`` at the working precision (0 at both ends, where ``x^2 log x -> 0``)."""
     if q == 0 or q == mpmath.mpf(1) / 3:
         return mpmath.mpf(0)
-    e = 1 - 3 * q + 3 * q * q
-    return (6 * e * mpmath.log(e) + 4 * e * mpmath.log(2) - 3 * _xlog(q) - 3 * _xlog(1 - q)
-            - 3 * _xlog(1 - 2 * q) - _xlog(1 - 3 * q) - _xlog(2 - 3 * q))
-
-
-def _dxlog(x, c):
-    """``d/dQ [x^2 log x]`` with ``x = a + c Q``: ``c (2 x log x + x)``."""
-    return c * (2 * x * mpmath.log(x) + x) if x else mpmath.mpf(0)
+    return _closed_form(0)(q)
 
 
 def _mu(q):
     """``mu = -(1/3) dv/dQ`` at the working precision (``0 < Q < 1/3``)."""
-    e, de = 1 - 3 * q + 3 * q * q, -3 + 6 * q
-    dv = (6 * de * (mpmath.log(e) + 1) + 4 * de * mpmath.log(2) - 3 * _dxlog(q, 1) - 3 * _dxlog(1 - q, -1)
-          - 3 * _dxlog(1 - 2 * q, -2) - _dxlog(1 - 3 * q, -3) - _dxlog(2 - 3 * q, -3))
-    return -dv / 3
+    return _closed_form(1)(q)
 
 
 def _dmu(q):
     """``d mu / dQ = -(1/3) v''(Q)`` (for Newton's method at the maximum)."""
-    def d2(x, c):  # d^2/dQ^2 [x^2 log x] = c^2 (2 log x + 3)
-        return c * c * (2 * mpmath.log(x) + 3)
-
-    e, de = 1 - 3 * q + 3 * q * q, -3 + 6 * q
-    d2v = (6 * (6 * (mpmath.log(e) + 1) + de * de / e) + 4 * 6 * mpmath.log(2) - 3 * d2(q, 1) - 3 * d2(1 - q, -1)
-           - 3 * d2(1 - 2 * q, -2) - d2(1 - 3 * q, -3) - d2(2 - 3 * q, -3))
-    return -d2v / 3
+    return _closed_form(2)(q)
 
 
 # ------------------------------------------------------------------ public functions

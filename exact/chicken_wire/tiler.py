@@ -16,12 +16,12 @@ from __future__ import annotations
 
 from itertools import product
 
-from .square_triangle import KERNEL, Lattice2in4, f_preimage, canonical_form, corner_sectors, tile_corners, vadd
+from .square_triangle import KERNEL, Lattice2in2, Lattice2in4, Tile, canonical_form, corner_sectors, f_preimage, tile_corners, vadd
 
 __all__ = ["enumerate_tilings", "lifts", "scan_lifts"]
 
 
-def enumerate_tilings(lam, limit=None):
+def enumerate_tilings(lam: Lattice2in4, limit: int | None = None) -> tuple[int, dict[tuple[Tile, ...], int]]:
     """All edge-to-edge square-triangle tilings of ``R^2 / Lambda`` with a vertex at 0.
 
     Backtracking on vertices of ``Z[zeta] / Lambda``: every vertex keeps a 12-bit mask of covered
@@ -42,7 +42,7 @@ def enumerate_tilings(lam, limit=None):
     NV = NT // 2 + NS
     if NT % 2 or NV == 0:
         return 0, {}
-    masks = {}
+    masks: dict[tuple[int, ...], int] = {}
     order = []  # vertices in creation order
     tiles = []
     counts = {"T": 0, "S": 0}
@@ -138,7 +138,7 @@ def enumerate_tilings(lam, limit=None):
     return result["raw"], classes
 
 
-def lifts(gamma, bound):
+def lifts(gamma: Lattice2in2, bound: int) -> set[Lattice2in4]:
     """Period lattices ``Lambda`` with ``F(Lambda) = Gamma``: ``P_i = A(g_i) + m . KERNEL``, ``|m_j| <= bound``."""
     g1, g2 = gamma.gens
     out = set()
@@ -152,14 +152,12 @@ def lifts(gamma, bound):
     return out
 
 
-def scan_lifts(L, M, bound, vmax):
+def scan_lifts(L: int, M: int, bound: int, vmax: int) -> tuple[dict[Lattice2in4, int], int]:
     """Run the tiler on every lift ``Lambda`` of the ``L x M`` torus from ``lifts(.., bound)`` with ``V <= vmax``.
 
     Returns ``{Lambda: number of tiling classes}`` for the lattices that carry at least one tiling,
     and the number of lattices tried.  Independent of the chicken-wire enumeration.
     """
-    from .square_triangle import Lattice2in2
-
     gamma = Lattice2in2.rect(L, M)
     found, tried = {}, 0
     for lam in lifts(gamma, bound):

@@ -35,6 +35,7 @@ Examples
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from fractions import Fraction
 from functools import lru_cache
@@ -44,7 +45,7 @@ import mpmath
 from forcenet.exact.plan import Plan
 from forcenet.exact.validation import check_dps, check_int
 
-from ..precision import GUARD, converged, to_mpf
+from ..precision import GUARD, RealLike, converged, to_mpf
 from forcenet.exact.errors import ArgumentError, ArgumentTypeError
 
 __all__ = [
@@ -202,7 +203,7 @@ def _dmu(q):
 # ------------------------------------------------------------------ public functions
 
 
-def density_Q(phi, dps: int = 50):
+def density_Q(phi: RealLike, dps: int = 50) -> mpmath.mpf:
     """Density of bonds per direction (of left-moving particles) per site, Eq. (7.2).
 
     ``Q = 1/2 - cos(phi/3) / (2 sqrt3 (1 - sin(phi/3)))``, evaluated in a
@@ -220,7 +221,7 @@ def density_Q(phi, dps: int = 50):
     return converged(lambda: _point(phi, None)[0], dps)
 
 
-def density_Q_naive(phi, dps: int = 50):
+def density_Q_naive(phi: RealLike, dps: int = 50) -> mpmath.mpf:
     """Eq. (7.2) as printed, ``1/2 - cos(phi/3)/(2 sqrt3 (1 - sin(phi/3)))``, for comparison.
 
     Evaluated at the working precision without guard digits, so that the
@@ -232,7 +233,7 @@ def density_Q_naive(phi, dps: int = 50):
         return mpmath.mpf(1) / 2 - mpmath.cos(x / 3) / (2 * mpmath.sqrt(3) * (1 - mpmath.sin(x / 3)))
 
 
-def phi_of_density(Q, dps: int = 50):
+def phi_of_density(Q: RealLike, dps: int = 50) -> mpmath.mpf:
     """Inverse of (7.2): ``phi = 6 atan(sqrt3 (1 - 2Q)) - 3 pi/2``, ``0 <= Q <= 1/3``.
 
     Examples
@@ -251,7 +252,7 @@ def phi_of_density(Q, dps: int = 50):
     return converged(compute, dps)
 
 
-def eps_of(*, phi=None, Q=None, dps: int = 50):
+def eps_of(*, phi: RealLike | None = None, Q: RealLike | None = None, dps: int = 50) -> mpmath.mpf:
     """``eps = pi/2 - phi``, the small parameter of (7.3), from ``phi`` or ``Q`` (relative digits kept).
 
     Examples
@@ -270,7 +271,7 @@ def eps_of(*, phi=None, Q=None, dps: int = 50):
     return converged(compute, dps)
 
 
-def entropy(*, phi=None, Q=None, dps: int = 50):
+def entropy(*, phi: RealLike | None = None, Q: RealLike | None = None, dps: int = 50) -> mpmath.mpf:
     """Entropy per chicken-wire site on the isotropic line, Eq. (7.1), at ``phi`` or at density ``Q``.
 
     Parameters
@@ -301,7 +302,7 @@ def entropy(*, phi=None, Q=None, dps: int = 50):
     return converged(compute, dps)
 
 
-def chemical_potential(*, phi=None, Q=None, dps: int = 50):
+def chemical_potential(*, phi: RealLike | None = None, Q: RealLike | None = None, dps: int = 50) -> mpmath.mpf:
     """``mu = -(1/3) dv/dQ``: the log-fugacity of each bond direction at density ``Q`` (``0 < Q < 1/3``).
 
     ``mu < 0`` below the maximum ``Q*``, ``mu > 0`` above; near ``Q*`` the
@@ -323,7 +324,7 @@ def chemical_potential(*, phi=None, Q=None, dps: int = 50):
     return converged(compute, dps)
 
 
-def empty_density(*, phi=None, Q=None, dps: int = 50):
+def empty_density(*, phi: RealLike | None = None, Q: RealLike | None = None, dps: int = 50) -> mpmath.mpf:
     """Empty sites per site, ``e = 1 - 3Q + 3Q^2 = 1/(2 (1 - sin(phi/3)))``: the tiling vertices per site.
 
     Examples
@@ -340,7 +341,7 @@ def empty_density(*, phi=None, Q=None, dps: int = 50):
     return converged(compute, dps)
 
 
-def tiling_entropy(*, phi=None, Q=None, dps: int = 50):
+def tiling_entropy(*, phi: RealLike | None = None, Q: RealLike | None = None, dps: int = 50) -> mpmath.mpf:
     """Entropy per vertex of the square-triangle tiling, ``s = v / e = 2 (1 - sin(phi/3)) v(phi)``.
 
     Its maximum, at the twelvefold point ``phi = 0``, is
@@ -362,7 +363,7 @@ def tiling_entropy(*, phi=None, Q=None, dps: int = 50):
     return converged(compute, dps)
 
 
-def entropy_series_7_3(eps, order: int = 2, dps: int = 50):
+def entropy_series_7_3(eps: RealLike, order: int = 2, dps: int = 50) -> mpmath.mpf:
     """Eq. (7.3), corrected, truncated at ``eps^order``: ``v ~ eps^2 (log(108/eps^2) - 3)/18 + ...``, ``phi = pi/2 - eps``.
 
     ``order = 2`` is the thesis's leading term (with the sign of ``3``
@@ -398,7 +399,7 @@ def _series_eps_function(order: int):
     return sympy.lambdify(EPS, entropy_series_eps(order), "mpmath")
 
 
-def entropy_per_grain(l, dps: int = 50):
+def entropy_per_grain(l: RealLike, dps: int = 50) -> mpmath.mpf:
     """Eq. (7.4), corrected: entropy per grain ``g = log(6 l) - 3/2`` for hexagons of side ``l`` (force scale).
 
     The limit of ``3 l^2 v`` at ``eps = sqrt3 / l -> 0`` (one degree of
@@ -430,17 +431,17 @@ class Maximum:
     """
 
     dps: int
-    Q_max: object
-    phi_max: object
-    v_max: object
-    s_max: object
-    Q0: object
-    v_at_Q0: object
-    empty_per_site: object  # tiling vertices per site at Q0 (1/2)
-    y_per_site: object  # Y vertices (one kind) per site at Q0, 3 Q0^2
-    squares_per_vertex: object
-    triangles_per_vertex: object
-    squares_per_triangle: object  # sqrt3/4
+    Q_max: mpmath.mpf
+    phi_max: mpmath.mpf
+    v_max: mpmath.mpf
+    s_max: mpmath.mpf
+    Q0: mpmath.mpf
+    v_at_Q0: mpmath.mpf
+    empty_per_site: mpmath.mpf  # tiling vertices per site at Q0 (1/2)
+    y_per_site: mpmath.mpf  # Y vertices (one kind) per site at Q0, 3 Q0^2
+    squares_per_vertex: mpmath.mpf
+    triangles_per_vertex: mpmath.mpf
+    squares_per_triangle: mpmath.mpf  # sqrt3/4
 
     def as_dict(self) -> dict:
         return {k: (mpmath.nstr(v, self.dps) if k != "dps" else v) for k, v in self.__dict__.items()}
@@ -479,7 +480,7 @@ def maximum(dps: int = 50) -> Maximum:
         triangles = 2 * (e0 - squares)  # V = N_t/2 + N_s per vertex angle sum
         return q0, e0, y0, squares / e0, triangles / e0, squares / triangles
 
-    parts = [converged(lambda k=k: composition()[k], dps) for k in range(6)]
+    parts = [converged(functools.partial(lambda k: composition()[k], k), dps) for k in range(6)]
     return Maximum(
         dps=dps, Q_max=Q_max, phi_max=phi_of_density(Q_str, dps), v_max=v_max,
         s_max=converged(lambda: mpmath.log(108) - 2 * mpmath.sqrt(3) * mpmath.log(2 + mpmath.sqrt(3)), dps),

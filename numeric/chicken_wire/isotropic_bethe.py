@@ -19,6 +19,7 @@ Examples
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -42,20 +43,20 @@ __all__ = [
 ]
 
 
-def extrapolate(Ls, values, points: int = 8):
+def extrapolate(Ls: Sequence[float], values: Sequence[float], points: int = 8) -> tuple[float, float]:
     """``(limit, error)`` of a finite-size sequence: fits ``c0 + c1/L^2 (+ c2/L^4)``.
 
     The limit is the three-term fit over the last ``points`` values; the
     error is its difference from the two-term fit.
     """
-    Ls = np.asarray(Ls[-points:], dtype=float)
-    values = np.asarray(values[-points:], dtype=float)
-    if len(Ls) < 4:
-        raise ArgumentError(f"need at least 4 system sizes to extrapolate, got {len(Ls)}")
-    A2 = np.vstack([np.ones_like(Ls), Ls**-2.0]).T
-    A4 = np.vstack([np.ones_like(Ls), Ls**-2.0, Ls**-4.0]).T
-    c2 = np.linalg.lstsq(A2, values, rcond=None)[0][0]
-    c4 = np.linalg.lstsq(A4, values, rcond=None)[0][0]
+    x = np.asarray(Ls[-points:], dtype=float)
+    y = np.asarray(values[-points:], dtype=float)
+    if len(x) < 4:
+        raise ArgumentError(f"need at least 4 system sizes to extrapolate, got {len(x)}")
+    A2 = np.vstack([np.ones_like(x), x**-2.0]).T
+    A4 = np.vstack([np.ones_like(x), x**-2.0, x**-4.0]).T
+    c2 = np.linalg.lstsq(A2, y, rcond=None)[0][0]
+    c4 = np.linalg.lstsq(A4, y, rcond=None)[0][0]
     return float(c4), float(abs(c4 - c2))
 
 
@@ -71,7 +72,7 @@ class IsotropicLimit:
     L: list
 
 
-def isotropic_limit(Q, L_max: int = 240, L_min: int = 60, progress=None) -> IsotropicLimit:
+def isotropic_limit(Q: Fraction | int | str | float, L_max: int = 240, L_min: int = 60, progress: Callable[[int], object] | None = None) -> IsotropicLimit:
     """Entropy per site at the rational density ``Q = c/a`` on the isotropic line, ``L -> oo``.
 
     Sectors ``(L, n, m) = k (a, 2c, c)`` for ``L_min <= L <= L_max`` at the
@@ -104,7 +105,7 @@ def _hermite(q0, q1, v0, v1, d0, d1, q):
     return h00 * v0 + h10 * h * d0 + h01 * v1 + h11 * h * d1
 
 
-def bracketing_fractions(Q: float, max_denominator: int = 16):
+def bracketing_fractions(Q: float, max_denominator: int = 16) -> tuple[Fraction, Fraction]:
     """The nearest fractions ``c/a <= Q <= c'/a'`` with ``a <= max_denominator``, inside ``(0, 1/3)``."""
     cands = sorted({Fraction(c, a) for a in range(3, max_denominator + 1) for c in range(1, a) if Fraction(c, a) < Fraction(1, 3)})
     lo = max((f for f in cands if f <= Q), default=None)
@@ -114,7 +115,8 @@ def bracketing_fractions(Q: float, max_denominator: int = 16):
     return lo, hi
 
 
-def bethe_entropy(Q, L_max: int = 240, L_min: int = 60, max_denominator: int = 16, limits=None):
+def bethe_entropy(Q: float, L_max: int = 240, L_min: int = 60, max_denominator: int = 16,
+                  limits: dict[Fraction, IsotropicLimit] | None = None) -> tuple[float, float, tuple[IsotropicLimit, IsotropicLimit]]:
     """``v(Q)`` at any density by Hermite interpolation between two rational densities.
 
     Uses ``v`` and its exact slope ``-3 mu`` at the bracketing fractions.
@@ -146,7 +148,9 @@ def _interpolate(a: IsotropicLimit, b: IsotropicLimit, Q: float):
     return v, err
 
 
-def bethe_entropy_maximum(densities=(Fraction(1, 7), Fraction(1, 6), Fraction(2, 11)), L_max: int = 240, L_min: int = 60, limits=None, progress=None):
+def bethe_entropy_maximum(densities: Iterable[Fraction] = (Fraction(1, 7), Fraction(1, 6), Fraction(2, 11)), L_max: int = 240,
+                          L_min: int = 60, limits: dict[Fraction, IsotropicLimit] | None = None,
+                          progress: Callable[[int], object] | None = None) -> tuple[float, float, float, dict[Fraction, IsotropicLimit]]:
     """Maximum of ``v(Q)`` on the isotropic line: where ``mu(Q) = 0`` (all fugacities 1).
 
     ``mu`` is known at the given rational densities (at least three); the

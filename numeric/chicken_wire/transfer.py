@@ -28,6 +28,7 @@ May import: :mod:`forcenet.exact` (vertex rules, exact sector polynomials).
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -38,6 +39,10 @@ from forcenet.exact.chicken_wire.model import SITE_CHOICES, VERTICES
 from forcenet.exact.errors import ArgumentError
 from forcenet.exact.plan import Plan
 from forcenet.exact.validation import check_dps, check_int, check_real
+
+if TYPE_CHECKING:
+    import mpmath
+    from scipy.sparse import csr_matrix
 
 __all__ = [
     "TRANSFER_SECONDS",
@@ -131,7 +136,7 @@ def _shift_index(L: int) -> np.ndarray:
         isL = digits[(x + 1) % L] == _L  # an L leaving x+1 enters x
         bad |= isR & isL
         nxt[x] = np.where(isR, _R, np.where(isL, _L, _E))
-    index = np.ravel_multi_index(tuple(nxt), (3,) * L)
+    index = np.asarray(np.ravel_multi_index(tuple(nxt), (3,) * L))
     index[bad] = -1
     return index
 
@@ -163,7 +168,7 @@ class _Operator:
         return w
 
 
-def largest_eigenvalue(L: int, weights=None, particles: int | None = None, tol: float = 1e-14) -> float:
+def largest_eigenvalue(L: int, weights: dict[str, float] | None = None, particles: int | None = None, tol: float = 1e-14) -> float:
     """Largest eigenvalue of the row-to-row transfer matrix on a cylinder of width ``L``.
 
     Parameters
@@ -206,7 +211,7 @@ def largest_eigenvalue(L: int, weights=None, particles: int | None = None, tol: 
     return float(vals.real.max())
 
 
-def perron_root(L: int, particles: int | None = None, dps: int = 50):
+def perron_root(L: int, particles: int | None = None, dps: int = 50) -> tuple[list[int], mpmath.mpf]:
     """Largest eigenvalue of the unweighted transfer matrix (a sector or all), to ``dps`` digits.
 
     The exact integer factors of the characteristic polynomial
@@ -238,14 +243,17 @@ def perron_root(L: int, particles: int | None = None, dps: int = 50):
     dps = check_dps(dps)
     factors = sector_polynomial_factors(L, particles)
     guard = dps + 10
-    best = None
+    best: tuple[list[int], mpmath.mpf] | None = None
     with flint.ctx.workdps(guard), mpmath.workdps(guard):
         for coeffs, _ in factors:
-            for root, _ in flint.fmpz_poly(coeffs).complex_roots():
+            roots: list[tuple[Any, int]] = flint.fmpz_poly(coeffs).complex_roots()  # type: ignore[assignment]  # flint's stub says one acb; it returns (root, multiplicity) pairs
+            for root, _ in roots:
                 if root.imag.contains(0):  # a real root, certified by ball arithmetic
                     value = mpmath.mpf(root.real.mid().str(guard, radius=False))
                     if best is None or value > best[1]:
                         best = (coeffs, value)
+    if best is None:  # every factor of degree >= 1 has a real Perron root: a bug if not
+        raise ArithmeticError(f"no real root among the sector polynomials of L={L}")
     with mpmath.workdps(dps):
         return best[0], +best[1]
 
@@ -272,12 +280,12 @@ def tiling_weights(sigma: float) -> dict:
     return {"empty": e, "H": e**2, "R": e**2, "L": e**2, "Y": e**3, "inverted Y": e**3}
 
 
-def free_energy(L: int, weights=None) -> float:
+def free_energy(L: int, weights: dict[str, float] | None = None) -> float:
     """``(1/L) log lambda_max``: free energy per site of the cylinder of width ``L``."""
     return math.log(largest_eigenvalue(L, weights)) / L
 
 
-def isotropic_entropy(L: int, t: float, h: float = 1e-4):
+def isotropic_entropy(L: int, t: float, h: float = 1e-4) -> tuple[float, float]:
     """Entropy per site and density ``Q`` of left-moving particles at bond fugacity ``t``.
 
     Legendre transform of ``f(mu) = free_energy(L, t = e^mu)``:
@@ -294,7 +302,7 @@ def isotropic_entropy(L: int, t: float, h: float = 1e-4):
     return f - mu * b, b / 3
 
 
-def tiling_entropy(L: int, bracket=(0.01, 1.0), xtol: float = 1e-13) -> float:
+def tiling_entropy(L: int, bracket: tuple[float, float] = (0.01, 1.0), xtol: float = 1e-13) -> float:
     """Entropy per tiling vertex on a cylinder of width ``L``: the root of ``f(sigma) = 0``.
 
     With weights :func:`tiling_weights`, ``log Z / area = max_v (s(v) - sigma v)``
@@ -307,7 +315,7 @@ def tiling_entropy(L: int, bracket=(0.01, 1.0), xtol: float = 1e-13) -> float:
     return brentq(lambda s: free_energy(L, tiling_weights(s)), *bracket, xtol=xtol)
 
 
-def sector_matrix(L: int, n: int, m: int, photon_fugacity: float = 1.0, hop_fugacity: float = 1.0):
+def sector_matrix(L: int, n: int, m: int, photon_fugacity: float = 1.0, hop_fugacity: float = 1.0) -> csr_matrix:
     """Sparse transfer matrix restricted to ``n`` particles of which ``m`` are left-moving.
 
     Built from the particle picture (Sec. 7.4.1): every R followed by an L
@@ -331,13 +339,13 @@ def sector_matrix(L: int, n: int, m: int, photon_fugacity: float = 1.0, hop_fuga
     L = check_int(L, "L", 2)
     n = check_int(n, "n", 0, L)
     m = check_int(m, "m", 0, n)
-    states = []
+    states: list[tuple[tuple[int, ...], tuple[int, ...]]] = []
     for pos in combinations(range(L), n):
         for lab in combinations(range(n), m):
-            kinds = [_R] * n
+            labels = [_R] * n
             for j in lab:
-                kinds[j] = _L
-            states.append((pos, tuple(kinds)))
+                labels[j] = _L
+            states.append((pos, tuple(labels)))
     if len(states) > 5_000_000:
         raise ArgumentError(f"sector of {len(states)} states is too large (limit 5,000,000)")
     index = {s: i for i, s in enumerate(states)}

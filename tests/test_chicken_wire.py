@@ -173,7 +173,7 @@ def test_transfer_plan_refusals_name_the_argument():
 
 
 def test_bethe_plan_scales_and_refuses():
-    from forcenet.numeric.chicken_wire.bethe import default_sector, ground_state_plan
+    from forcenet.numeric.chicken_wire.bethe_sector import default_sector, ground_state_plan
 
     assert default_sector(600) == (200, 100)
     small, large = ground_state_plan(120, 40, 20), ground_state_plan(1200, 400, 200)

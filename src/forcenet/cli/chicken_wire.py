@@ -63,7 +63,7 @@ def cmd_transfer(args):
 
 def cmd_bethe(args):
     from forcenet.exact.errors import ConvergenceError
-    from forcenet.numeric.chicken_wire.bethe import default_sector, ground_state, ground_state_plan
+    from forcenet.numeric.chicken_wire.bethe_sector import default_sector, ground_state, ground_state_plan
 
     L = args.L
     n, m = default_sector(L, args.n, args.m)

@@ -8,7 +8,7 @@ classes up to translation on both sides, matched.
 
 import sys
 
-from forcenet.exact.chicken_wire.tiler import survey
+from forcenet.exact.chicken_wire.survey import survey
 
 
 if __name__ == "__main__":

@@ -22,20 +22,24 @@ Examples
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from fractions import Fraction
+from typing import TypeAlias
 
 import mpmath
 
 from forcenet.exact.validation import check_dps, check_not_bool
 from forcenet.exact.errors import ArgumentError, ArgumentTypeError
 
-__all__ = ["GUARD", "to_mpf", "guarded", "converged"]
+__all__ = ["GUARD", "RealLike", "to_mpf", "guarded", "converged"]
+
+RealLike: TypeAlias = int | float | str | Fraction  # a real argument (or an mpmath.mpf): strings and Fractions keep every digit
 
 GUARD = 10  # guard digits
 MAX_EXTRA = 5000  # digits beyond dps before giving up on convergence
 
 
-def to_mpf(value, name: str):
+def to_mpf(value: RealLike, name: str) -> mpmath.mpf:
     """``value`` as an mpf at the current precision (call inside ``mpmath.workdps``).
 
     Examples
@@ -54,7 +58,7 @@ def to_mpf(value, name: str):
     return x
 
 
-def guarded(compute, dps: int):
+def guarded(compute: Callable[[], mpmath.mpf], dps: int) -> mpmath.mpf:
     """``compute()`` at ``dps + GUARD`` digits, returned rounded to ``dps`` digits."""
     dps = check_dps(dps)
     with mpmath.workdps(dps + GUARD):
@@ -63,7 +67,7 @@ def guarded(compute, dps: int):
         return +value
 
 
-def converged(compute, dps: int):
+def converged(compute: Callable[[], mpmath.mpf], dps: int) -> mpmath.mpf:
     """``compute()`` at increasing precision until two evaluations agree to ``dps + 3`` relative digits."""
     dps = check_dps(dps)
     prec = dps + GUARD

@@ -187,3 +187,37 @@ def test_y_density_on_the_isotropic_line_is_3Q2():
 
     for p in isotropic_sequence(range(8, 11), ratio=(6, 2, 1)):  # Q = 1/6, L = 48..60
         assert abs(y_density(p.L, p.w, p.u) - 3 * p.Q**2) < 1e-11
+
+
+# ------------------------------------------- above the maximum: continuation at the isotropic fugacity
+
+
+@pytest.mark.slow  # ~30 s of CPU (the fugacity-1 continuation from L = 10 twice)
+def test_isotropic_continuation_at_the_fugacity_equals_the_fugacity_one_route():
+    """Q = 1/5 (above the maximum, mu > 0): the widths after the first are continued at the isotropic fugacity;
+    the same point from the fugacity-1 ground state carried to that fugacity (the route used below the maximum)."""
+    from forcenet.numeric.chicken_wire.bethe import follow_fugacity, isotropic_sequence, isotropic_state
+
+    pts = isotropic_sequence([8, 9, 10], ratio=(5, 2, 1))
+    assert all(p.log_fugacity > 0 for p in pts)
+    last = pts[-1]
+    base = ground_state_sequence(10, ratio=(5, 2, 1))[-1]
+    w, u = follow_fugacity(50, base.w, base.u, 0.0, pts[-2].log_fugacity)
+    direct = isotropic_state(50, 20, 10, w, u, mu=pts[-2].log_fugacity)
+    assert direct.log_fugacity == pytest.approx(last.log_fugacity, abs=1e-11)
+    assert direct.entropy_per_site == pytest.approx(last.entropy_per_site, abs=1e-13)
+
+
+@pytest.mark.slow
+def test_isotropic_line_past_the_end_of_the_fugacity_one_continuation():
+    """Q = 1/5 beyond L = 125, where the fugacity-1 ground state ends in coinciding roots (it used to raise
+    ConvergenceError there): the extrapolated v and mu agree with the closed form within 5 error bars."""
+    from fractions import Fraction
+
+    from forcenet.numeric.chicken_wire import isotropic as iso
+    from forcenet.numeric.chicken_wire.isotropic_bethe import isotropic_limit
+
+    lim = isotropic_limit(Fraction(1, 5), L_max=160, L_min=100)
+    assert max(lim.L) > 125
+    assert abs(lim.v - float(iso.entropy(Q=Fraction(1, 5), dps=20))) < 5 * lim.v_err + 1e-12
+    assert abs(lim.mu - float(iso.chemical_potential(Q=Fraction(1, 5), dps=20))) < 5 * lim.mu_err + 1e-10

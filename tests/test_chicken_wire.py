@@ -146,3 +146,55 @@ def test_torus_identity_y_is_the_pair_sum(L, M):
         assert right % M == 0 and left % M == 0
         n, m = (right + left) // M, left // M
         assert L * y == n * horizontal + m * (n - m) * M
+
+
+# ------------------------------------------------------------- plans next to their engines
+
+
+def test_transfer_plan_scales_with_width_and_sectors():
+    from forcenet.numeric.chicken_wire.transfer import TRANSFER_SECONDS, transfer_plan
+
+    for L in range(8, 13):
+        assert transfer_plan(L + 1).seconds > transfer_plan(L).seconds  # measured growth, all sectors
+        assert transfer_plan(L, particles=1).seconds * (L + 1) == pytest.approx(TRANSFER_SECONDS[L])  # one sector of L + 1
+        assert transfer_plan(L).ticks == L + 1 and transfer_plan(L, particles=2).ticks == 1
+    assert transfer_plan(14).seconds > transfer_plan(13).seconds  # beyond the table: extrapolated, not the 0.1 s default
+    assert transfer_plan(10).nbytes == 3 * transfer_plan(9).nbytes  # 3^L states
+
+
+def test_transfer_plan_refusals_name_the_argument():
+    from forcenet.exact.errors import ArgumentError
+    from forcenet.numeric.chicken_wire.transfer import transfer_plan
+
+    assert transfer_plan(6, particles=7).refusal.startswith("particles=7 is out of range")
+    assert transfer_plan(6, particles=6).runnable
+    with pytest.raises(ArgumentError, match="^L=15 is out of range"):
+        transfer_plan(15)
+
+
+def test_bethe_plan_scales_and_refuses():
+    from forcenet.numeric.chicken_wire.bethe_sector import default_sector, ground_state_plan
+
+    assert default_sector(600) == (200, 100)
+    small, large = ground_state_plan(120, 40, 20), ground_state_plan(1200, 400, 200)
+    assert large.seconds - 3 == pytest.approx(1000 * (small.seconds - 3))  # continuation: k^3
+    assert large.ticks == 1200 // 6 - 1 and "continuation" in large.what
+    assert ground_state_plan(9, 4, 2).ticks == 0  # random starts, no continuation
+    for L, n, m in [(6, 2, 2), (6, 6, 1), (6, 3, 0)]:
+        assert ground_state_plan(L, n, m).refusal.startswith(f"(L, n, m) = ({L}, {n}, {m}) is out of range")
+
+
+def test_entropy_plans_scale_and_refuse():
+    from fractions import Fraction
+
+    from forcenet.numeric.chicken_wire.isotropic import closed_form_plan
+    from forcenet.numeric.chicken_wire.isotropic_bethe import isotropic_entropy_plan
+
+    assert closed_form_plan(2000).seconds > closed_form_plan(1000).seconds > closed_form_plan(50).seconds
+    assert closed_form_plan(1000, maximum=True).seconds > closed_form_plan(1000).seconds
+    assert isotropic_entropy_plan(Fraction(1, 6), 240).ticks == 1  # solved directly
+    assert isotropic_entropy_plan(Fraction(1, 61), 240).ticks == 2  # interpolated between two
+    assert isotropic_entropy_plan(None, 240).ticks == 2
+    assert isotropic_entropy_plan(Fraction(1, 6), 480).seconds > isotropic_entropy_plan(Fraction(1, 6), 240).seconds
+    for Q in (Fraction(0), Fraction(1, 3)):
+        assert isotropic_entropy_plan(Q, 240).refusal.startswith(f"Q={float(Q):g} is out of range")

@@ -316,3 +316,42 @@ def test_closed_form_rejects_bad_points():
         iso.chemical_potential(Q=0)
     with pytest.raises(TypeError, match="dps="):
         iso.entropy(Q="0.1", dps=2.5)
+
+
+# ------------------------------------------------- the numeric v(Q) is derived from the exact one
+
+
+densities = st.fractions(min_value=Fraction(1, 10**6), max_value=Fraction(1, 3) - Fraction(1, 10**6))
+
+
+@settings(max_examples=25, deadline=None)
+@given(densities, st.sampled_from([15, 40, 120]))
+def test_compiled_closed_forms_agree_with_sympy_evaluation(Q, dps):
+    """v and mu (lambdified from exact/chicken_wire/closed_form.py) equal sympy's own evaluation of the
+    same expressions at a rational point to every requested digit (sympy.N manages its precision itself)."""
+    from forcenet.exact.chicken_wire import closed_form as cf
+
+    q = sympy.Rational(Q.numerator, Q.denominator)
+    for value, expr in ((iso.entropy(Q=Q, dps=dps), cf.entropy_Q(q)),
+                        (iso.chemical_potential(Q=Q, dps=dps), cf.chemical_potential_Q(q))):
+        with mpmath.workdps(dps + 20):
+            exact = mpmath.mpf(str(sympy.N(expr, dps + 20)))
+            assert abs(value - exact) <= abs(exact) * mpmath.mpf(10) ** (1 - dps)
+
+
+def test_compiled_closed_forms_agree_with_the_phi_route():
+    """v(Q) compiled from the elimination equals (7.1) at phi(Q), evaluated by sympy (a different formula)."""
+    from forcenet.exact.chicken_wire import closed_form as cf
+
+    for Q in (Fraction(1, 7), Fraction(1, 5), Fraction(3, 10)):
+        q = sympy.Rational(Q.numerator, Q.denominator)
+        with mpmath.workdps(70):
+            by_phi = mpmath.mpf(str(sympy.N(cf.entropy_phi(cf.phi_of_Q(q)), 70)))
+            assert abs(iso.entropy(Q=Q, dps=50) - by_phi) <= by_phi * mpmath.mpf(10) ** -49
+
+
+def test_dmu_is_the_derivative_of_mu():
+    """The compiled d mu/dQ (Newton at the maximum) against a numerical derivative of the compiled mu."""
+    with mpmath.workdps(40):
+        for q in (mpmath.mpf("0.05"), mpmath.mpf("0.1845"), mpmath.mpf("0.3")):
+            assert abs(iso._dmu(q) - mpmath.diff(iso._mu, q)) < mpmath.mpf(10) ** -30

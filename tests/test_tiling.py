@@ -7,7 +7,9 @@ from collections import Counter
 
 import pytest
 
-from forcenet.exact.chicken_wire.tiler import enumerate_tilings, scan_lifts, survey
+from forcenet.exact.chicken_wire.survey import call_with_timeout, survey
+from forcenet.exact.chicken_wire.tiler import enumerate_tilings, scan_lifts
+from forcenet.exact.errors import ArgumentError
 from forcenet.exact.chicken_wire.tiling import (
     F, F_IMAGE, KERNEL, NAME_OF, STEP, UNIT, Lattice2in2, Lattice2in4, MapError, canonical_form, check_cells,
     check_tiling, chicken_wire_configs, config_canonical, config_to_tiling, config_vertex_counts,
@@ -148,3 +150,53 @@ def test_tiler_small_lattice_by_hand():
     raw, classes = enumerate_tilings(Lattice2in4((2, 0, 0, 0), (0, 0, 0, 2)))  # 2 x 2 square torus
     assert len(classes) == 1 and all(k == "S" for k, _, _ in next(iter(classes)))
     assert NAME_OF[frozenset()] == "empty"
+
+
+# ------------------------------------------------------------------ the survey's time limit
+
+
+def test_timeout_below_one_second_interrupts():
+    """A limit of a fraction of a second is honoured (signal.alarm would round 0.2 down to 'no alarm')."""
+    import time
+
+    t0 = time.perf_counter()
+    with pytest.raises(TimeoutError):
+        call_with_timeout(0.2, time.sleep, 5)
+    assert time.perf_counter() - t0 < 2
+
+
+def test_timeout_restores_the_previous_handler_and_returns_the_value():
+    import signal
+
+    before = signal.getsignal(signal.SIGALRM)
+    assert call_with_timeout(0.5, max, 3, 7) == 7
+    assert call_with_timeout(None, max, 3, 7) == 7
+    assert signal.getsignal(signal.SIGALRM) is before
+    assert signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
+
+
+@pytest.mark.parametrize("seconds", [0, -1, float("nan"), float("inf")])
+def test_timeout_out_of_range_is_refused_naming_the_argument(seconds):
+    with pytest.raises(ArgumentError, match="max_seconds="):
+        survey(2, 2, max_seconds=seconds)
+
+
+def test_survey_timeout_marks_the_row():
+    """A tiny limit abandons the tiler on a lattice (the row says so); without one the same row is matched."""
+    rows = survey(3, 3, enumerate_limit_vertices=30, max_seconds=1e-6)["rows"]
+    assert any(row.get("tiler") == "timeout" for row in rows)
+
+
+def test_tiler_imports_only_square_triangle():
+    """The enumerator is independent of the correspondence it checks (notes/architecture.md)."""
+    import ast
+    from pathlib import Path
+
+    import forcenet.exact.chicken_wire.tiler as tiler
+
+    tree = ast.parse(Path(tiler.__file__).read_text())
+    relative = {node.module for node in ast.walk(tree) if isinstance(node, ast.ImportFrom) and node.level}
+    absolute = {alias.name for node in ast.walk(tree) if isinstance(node, ast.Import) for alias in node.names}
+    absolute |= {node.module for node in ast.walk(tree) if isinstance(node, ast.ImportFrom) and not node.level}
+    assert relative == {"square_triangle"}
+    assert not any(name.startswith("forcenet") for name in absolute)

@@ -60,6 +60,7 @@ __all__ = [
     "tiling_entropy_phi",
     "tiling_entropy_maximum",
     "twelvefold_density",
+    "series_coefficients",
     "entropy_series_Q",
     "entropy_series_eps",
     "per_grain_limit",
@@ -68,10 +69,11 @@ __all__ = [
 PHI = sympy.Symbol("phi", real=True)
 Q = sympy.Symbol("Q", positive=True)
 EPS = sympy.Symbol("epsilon", positive=True)
+L_SIDE = sympy.Symbol("l", positive=True)  # the hexagon side of (7.4)
 _pi, _sqrt3 = sympy.pi, sympy.sqrt(3)
 
 
-def density_Q(phi=PHI):
+def density_Q(phi: sympy.Expr = PHI) -> sympy.Expr:
     """Eq. (7.2): ``Q = 1/2 - tan(pi/4 + phi/6) / (2 sqrt3)`` (the printed ``cos/(1 - sin)`` form, simplified).
 
     Examples
@@ -82,7 +84,7 @@ def density_Q(phi=PHI):
     return sympy.Rational(1, 2) - sympy.tan(_pi / 4 + phi / 6) / (2 * _sqrt3)
 
 
-def phi_of_Q(q=Q):
+def phi_of_Q(q: sympy.Expr = Q) -> sympy.Expr:
     """The inverse of (7.2): ``phi = 6 atan(sqrt3 (1 - 2Q)) - 3 pi / 2``.
 
     Examples
@@ -93,7 +95,7 @@ def phi_of_Q(q=Q):
     return 6 * sympy.atan(_sqrt3 * (1 - 2 * q)) - 3 * _pi / 2
 
 
-def entropy_phi(phi=PHI):
+def entropy_phi(phi: sympy.Expr = PHI) -> sympy.Expr:
     """Eq. (7.1): the entropy per site ``v(phi)`` as reconstructed (module docstring).
 
     Examples
@@ -110,7 +112,7 @@ def _xlog(x):
     return x**2 * sympy.log(x)
 
 
-def entropy_Q(q=Q):
+def entropy_Q(q: sympy.Expr = Q) -> sympy.Expr:
     """The entropy per site as an algebraic-logarithmic function of the density ``Q`` (``0 < Q < 1/3``).
 
     Examples
@@ -123,7 +125,7 @@ def entropy_Q(q=Q):
             - 3 * _xlog(1 - 2 * q) - _xlog(1 - 3 * q) - _xlog(2 - 3 * q))
 
 
-def chemical_potential_Q(q=Q):
+def chemical_potential_Q(q: sympy.Expr = Q) -> sympy.Expr:
     """``mu = -(1/3) dv/dQ``: the log-fugacity of each of the three bond directions at density ``Q``.
 
     Examples
@@ -134,7 +136,7 @@ def chemical_potential_Q(q=Q):
     return sympy.expand(-sympy.diff(entropy_Q(Q), Q) / 3).subs(Q, q)
 
 
-def empty_density_Q(q=Q):
+def empty_density_Q(q: sympy.Expr = Q) -> sympy.Expr:
     """``e = 1 - 3Q + 3Q^2``: empty sites per site (= tiling vertices per site, Sec. 8 of the notes).
 
     Examples
@@ -145,7 +147,7 @@ def empty_density_Q(q=Q):
     return 1 - 3 * q + 3 * q**2
 
 
-def empty_density_phi(phi=PHI):
+def empty_density_phi(phi: sympy.Expr = PHI) -> sympy.Expr:
     """``e(phi) = 1 / (2 (1 - sin(phi/3)))``, equal to ``empty_density_Q(density_Q(phi))``.
 
     Examples
@@ -156,7 +158,7 @@ def empty_density_phi(phi=PHI):
     return 1 / (2 * (1 - sympy.sin(phi / 3)))
 
 
-def tiling_entropy_phi(phi=PHI):
+def tiling_entropy_phi(phi: sympy.Expr = PHI) -> sympy.Expr:
     """``s(phi) = v / e = 2 (1 - sin(phi/3)) v(phi)``: the entropy per tiling vertex (even in ``phi``).
 
     Examples
@@ -167,7 +169,7 @@ def tiling_entropy_phi(phi=PHI):
     return 2 * (1 - sympy.sin(phi / 3)) * entropy_phi(phi)
 
 
-def tiling_entropy_maximum():
+def tiling_entropy_maximum() -> sympy.Expr:
     """``log 108 - 2 sqrt3 log(2 + sqrt3)``: the maximal entropy per vertex of the square-triangle tiling.
 
     Examples
@@ -178,7 +180,7 @@ def tiling_entropy_maximum():
     return sympy.log(108) - 2 * _sqrt3 * sympy.log(2 + _sqrt3)
 
 
-def twelvefold_density():
+def twelvefold_density() -> sympy.Expr:
     """``Q0 = Q(phi = 0) = (3 - sqrt3)/6``: the density of the twelvefold point.
 
     Examples
@@ -190,7 +192,7 @@ def twelvefold_density():
 
 
 @lru_cache(maxsize=8)
-def _series_coefficients(order: int):
+def series_coefficients(order: int) -> tuple[sympy.Expr, ...]:
     """Exact Taylor coefficients ``a_2..a_order`` of ``v(Q) + 3 Q^2 log Q`` (an analytic function at 0).
 
     Every term of :func:`entropy_Q` but ``-3 Q^2 log Q`` is analytic at ``Q = 0``;
@@ -225,7 +227,7 @@ def _series_coefficients(order: int):
     return tuple(coeffs)
 
 
-def entropy_series_Q(order: int = 6, q=Q):
+def entropy_series_Q(order: int = 6, q: sympy.Expr = Q) -> sympy.Expr:
     """``v(Q) = -3 Q^2 log Q + sum_{k=2}^{order} a_k Q^k + O(Q^{order+1})``, exact coefficients.
 
     The series converges for ``|Q| < 1/3`` (the singularity of ``log(1 - 3Q)``).
@@ -237,11 +239,11 @@ def entropy_series_Q(order: int = 6, q=Q):
     """
     if order < 2:
         raise ArgumentError(f"order={order} is out of range: order must be an integer >= 2")
-    coeffs = _series_coefficients(order)
+    coeffs = series_coefficients(order)
     return -3 * q**2 * sympy.log(q) + sum(coeffs[k] * q**k for k in range(2, order + 1))
 
 
-def entropy_series_eps(order: int = 4, eps=EPS):
+def entropy_series_eps(order: int = 4, eps: sympy.Expr = EPS) -> sympy.Expr:
     """Eq. (7.3) corrected and extended: ``v`` at ``phi = pi/2 - eps`` to ``O(eps^(order+1) log eps)``.
 
     ``v = eps^2 (log(108/eps^2) - 3)/18 + sqrt3 eps^3 (2 log eps - log 108 + 3)/54 + ...``;
@@ -261,7 +263,7 @@ def entropy_series_eps(order: int = 4, eps=EPS):
     return sympy.collect(series, [EPS**k for k in range(order, 1, -1)]).subs(EPS, eps)
 
 
-def per_grain_limit(l=sympy.Symbol("l", positive=True)):
+def per_grain_limit(l: sympy.Expr = L_SIDE) -> sympy.Expr:
     """Eq. (7.4) corrected: the entropy per grain ``g = 3 l^2 v -> log(6 l) - 3/2`` (hexagon side ``l``).
 
     Examples

@@ -43,11 +43,16 @@ True
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from functools import cache
+from typing import TYPE_CHECKING
 from itertools import product
 
 from ..validation import check_int
 from ..errors import ArgumentError
+
+if TYPE_CHECKING:
+    import sympy
 
 __all__ = [
     "VERTICES",
@@ -129,7 +134,7 @@ def row_transitions(L: int) -> dict:
     return table
 
 
-def transfer_matrix(L: int, weights=None):
+def transfer_matrix(L: int, weights: dict[str, object] | None = None) -> sympy.Matrix:
     """The row-to-row transfer matrix as a sympy Matrix (exact; states in ``product`` order).
 
     ``weights`` maps vertex names to sympy/int weights (default 1 each);
@@ -145,7 +150,7 @@ def transfer_matrix(L: int, weights=None):
     """
     import sympy
 
-    w = {name: 1 for name in VERTICES}
+    w: dict[str, object] = {name: 1 for name in VERTICES}
     if weights is not None:
         unknown = set(weights) - set(VERTICES)
         if unknown:
@@ -193,11 +198,11 @@ def vertex_counts_torus(L: int, M: int) -> dict:
     L = check_int(L, "L", 2)
     M = check_int(M, "M", 1)
     moves = row_transitions(L)
-    total = {}
+    total: dict[tuple[int, ...], int] = {}
     for start in moves:
-        layer = {(start, (0,) * 6): 1}
+        layer: dict[tuple[object, tuple[int, ...]], int] = {(start, (0,) * 6): 1}
         for _ in range(M):
-            new = {}
+            new: dict[tuple[object, tuple[int, ...]], int] = {}
             for (D, acc), c in layer.items():
                 for nxt, counts in moves[D]:
                     key = (nxt, tuple(a + b for a, b in zip(acc, counts)))
@@ -230,7 +235,7 @@ def count_torus_by_enumeration(L: int, M: int) -> int:
 BOND_STEPS = {0: (1, 0), 60: (0, 1), 120: (-1, 1), 180: (-1, 0), 240: (0, -1), 300: (1, -1)}
 
 
-def torus_configurations(L: int, M: int):
+def torus_configurations(L: int, M: int) -> Iterator[dict[tuple[int, int], frozenset[int]]]:
     """Every configuration of the ``L x M`` torus as ``{(x, y): frozenset of bond directions}``.
 
     Backtracking over the six vertices per site with bond consistency (a bond
@@ -246,7 +251,7 @@ def torus_configurations(L: int, M: int):
     M = check_int(M, "M", 1)
     sites = [(x, y) for y in range(M) for x in range(L)]
     vertices = list(VERTICES.values())
-    assign = {}
+    assign: dict[tuple[int, int], frozenset[int]] = {}
 
     def consistent(site):
         x, y = site

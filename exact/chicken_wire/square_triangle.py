@@ -21,14 +21,26 @@ from __future__ import annotations
 
 from collections import Counter
 from fractions import Fraction
+from typing import Any
 from ..errors import ArgumentError, ForcenetError
+
+__all__ = [
+    "zmul", "TilingError", "UNIT", "F", "F_IMAGE", "vadd", "vsub", "phys", "area", "Lattice2in4", "Lattice2in2",
+    "TILE_STEPS", "tile_edges", "tile_corners", "corner_sectors", "family", "check_tiling", "canonical_form",
+    "tiling_tiles", "tiling_from_canonical", "f_preimage", "KERNEL", "Vec4", "Vec2", "Vec", "Tile",
+]
+
+Vec4 = tuple[int, ...]  # four integers: an element of Z[zeta_12] in the basis 1, z, z^2, z^3
+Vec2 = tuple[int, ...]  # two integers: a vector of the chicken-wire lattice
+Vec = tuple[int, ...]
+Tile = tuple[str, int, tuple[int, ...]]  # (kind, direction of the first edge, first corner)
 
 # ----------------------------------------------------------------------------------------------
 # Z[zeta_12] arithmetic
 # ----------------------------------------------------------------------------------------------
 
 
-def zmul(p):
+def zmul(p: Vec4) -> Vec4:
     """Multiply ``p`` (coordinates in ``1, z, z^2, z^3``) by ``z`` (rotation by 30 degrees)."""
     a0, a1, a2, a3 = p
     return (-a3, a0, a1 + a3, a2)
@@ -53,7 +65,7 @@ if UNIT[6] != (-1, 0, 0, 0) or zmul(UNIT[11]) != UNIT[0]:  # a self-check of the
 _F_BASIS = ((1, 0), (1, 1), (0, 1), (-1, 2))  # F(1), F(z), F(z^2), F(z^3)
 
 
-def F(p):
+def F(p: Vec4) -> Vec2:
     """The projection ``Z[zeta] -> Z^2`` (lattice coordinates): B directions stretched by ``sqrt 3``."""
     return (sum(c * b[0] for c, b in zip(p, _F_BASIS)), sum(c * b[1] for c, b in zip(p, _F_BASIS)))
 
@@ -61,15 +73,15 @@ def F(p):
 F_IMAGE = tuple(F(u) for u in UNIT)  # lattice displacement of a tile edge of direction k
 
 
-def vadd(p, q):
+def vadd(p: Vec, q: Vec) -> Vec:
     return tuple(a + b for a, b in zip(p, q))
 
 
-def vsub(p, q):
+def vsub(p: Vec, q: Vec) -> Vec:
     return tuple(a - b for a, b in zip(p, q))
 
 
-def phys(p):
+def phys(p: Vec4) -> tuple[tuple[Fraction, Fraction], tuple[Fraction, Fraction]]:
     """Physical coordinates of ``p`` as ``((x_rat, x_sqrt3), (y_rat, y_sqrt3))``: ``x = x_rat + x_sqrt3 sqrt 3``."""
     a0, a1, a2, a3 = (Fraction(c) for c in p)
     # z = (sqrt3/2, 1/2), z^2 = (1/2, sqrt3/2), z^3 = (0, 1)
@@ -80,7 +92,7 @@ def _qmul(u, v):
     return (u[0] * v[0] + 3 * u[1] * v[1], u[0] * v[1] + u[1] * v[0])
 
 
-def area(p, q):
+def area(p: Vec4, q: Vec4) -> tuple[Fraction, Fraction]:
     """Signed physical area ``p x q`` as ``(r, s)`` meaning ``r + s sqrt 3`` (exact)."""
     (px, py), (qx, qy) = phys(p), phys(q)
     a, b = _qmul(px, qy), _qmul(py, qx)
@@ -204,12 +216,12 @@ class Lattice2in2(_Lattice):
 TILE_STEPS = {"T": (0, 4, 8), "S": (0, 3, 6, 9)}
 
 
-def tile_edges(kind, d):
+def tile_edges(kind: str, d: int) -> tuple[int, ...]:
     """Edge directions of a tile, counterclockwise, starting with ``d``."""
     return tuple((d + s) % 12 for s in TILE_STEPS[kind])
 
 
-def tile_corners(kind, d, p):
+def tile_corners(kind: str, d: int, p: Vec4) -> list[Vec4]:
     """Corners (unreduced positions in ``Z[zeta]``) of the tile, the first at ``p``."""
     out = [tuple(p)]
     for e in tile_edges(kind, d)[:-1]:
@@ -217,7 +229,7 @@ def tile_corners(kind, d, p):
     return out
 
 
-def corner_sectors(kind, d):
+def corner_sectors(kind: str, d: int) -> list[int]:
     """For each corner, the bitmask of the 30-degree sectors it covers."""
     edges = tile_edges(kind, d)
     out = []
@@ -239,7 +251,7 @@ def _canonical_start(kind, d):
     return i
 
 
-def family(kind, d):
+def family(kind: str, d: int) -> str:
     """``"A"`` / ``"B"`` for triangles (parity of the edge directions), ``"S"`` for squares."""
     if kind == "S":
         return "S"
@@ -252,7 +264,7 @@ def family(kind, d):
 
 
 
-def check_tiling(t):
+def check_tiling(t: dict[str, Any]) -> dict[str, int]:
     """Check that a combinatorial tiling (as returned by ``config_to_tiling``) is a tiling of the torus.
 
     Verified: every face's corners close up; at every vertex the face corners cover the twelve
@@ -265,7 +277,7 @@ def check_tiling(t):
     """
     torus = t["torus"]
     masks = {v: 0 for v in t["vertices"]}
-    directed = Counter()
+    directed: Counter[tuple[tuple[int, ...], int]] = Counter()
     for kind, d, corners in t["faces"]:
         edges = tile_edges(kind, d)
         secs = corner_sectors(kind, d)
@@ -305,7 +317,7 @@ def check_tiling(t):
     return {"V": V, "E": E, "F": Fn, "N_s": ns, "N_tA": nA, "N_tB": nt - nA}
 
 
-def canonical_form(tiles, lam):
+def canonical_form(tiles: list[Tile], lam: Lattice2in4) -> tuple[Any, int]:
     """Canonical form of a tiling of ``R^2 / Lambda`` up to translation.
 
     ``tiles``: iterable of ``(kind, d, position of the corner where edge d starts)``.
@@ -314,7 +326,8 @@ def canonical_form(tiles, lam):
     translations taking a vertex to 0.  Returns ``(form, number of vertices achieving it)``
     (the latter is the order of the tiling's translation group modulo ``Lambda``).
     """
-    norm, verts = [], set()
+    norm: list[Tile] = []
+    verts: set[tuple[int, ...]] = set()
     for kind, d, p in tiles:
         corners = tile_corners(kind, d, p)
         i = _canonical_start(kind, d)
@@ -330,18 +343,24 @@ def canonical_form(tiles, lam):
     return best, mult
 
 
-def tiling_tiles(t):
+def tiling_tiles(t: dict[str, Any]) -> list[Tile]:
     """The tiles of a mapped tiling as ``(kind, d, lifted position of the first corner)``."""
     return [(kind, d, t["pos"][corners[0]]) for kind, d, corners in t["faces"]]
 
 
-def tiling_from_canonical(form):
+def tiling_from_canonical(form: tuple[Tile, ...]) -> list[Tile]:
     """Tiles from a canonical form."""
     return [(k, e, p) for k, e, p in form]
 
 
-def _f_preimage(g):
-    """An element of ``Z[zeta]`` with ``F = g`` (A directions only)."""
+def f_preimage(g: Vec2) -> Vec4:
+    """An element of ``Z[zeta]`` with ``F = g`` (A directions only).
+
+    Examples
+    --------
+    >>> F(f_preimage((2, -3)))
+    (2, -3)
+    """
     x, y = g
     return (x, 0, y, 0)
 

@@ -52,23 +52,28 @@ it fills angular gaps at vertices of ``Z[zeta] / Lambda``.
 from __future__ import annotations
 
 from collections import Counter, deque
+from collections.abc import Iterator
 from fractions import Fraction
 from math import gcd
+from typing import Any
 
 from ..errors import ArgumentError
 from .model import BOND_STEPS, VERTICES, torus_configurations
 from .square_triangle import (
-    F, F_IMAGE, KERNEL, UNIT, Lattice2in2, Lattice2in4, TilingError, canonical_form, check_tiling, tile_corners, tile_edges,
+    F, F_IMAGE, KERNEL, UNIT, Lattice2in2, Lattice2in4, Tile, TilingError, canonical_form, check_tiling, tile_corners, tile_edges,
     tiling_from_canonical, tiling_tiles, vadd, vsub, zmul,
 )
 
 __all__ = [
     "chicken_wire_configs", "config_vertex_counts", "config_canonical", "MapError", "config_to_tiling",
-    "tiling_to_config", "check_cells", "predicted_failures", "lucas",
+    "tiling_to_config", "check_cells", "predicted_failures", "lucas", "failure_kind",
     # re-exported from .square_triangle for convenience
     "UNIT", "F", "F_IMAGE", "KERNEL", "Lattice2in2", "Lattice2in4", "TilingError", "check_tiling", "canonical_form",
     "tiling_from_canonical", "tiling_tiles", "zmul",
 ]
+
+Site = tuple[int, int]
+Config = dict[Site, frozenset[int]]  # site -> occupied bond directions
 
 STEP = BOND_STEPS
 VERTEX_SETS = VERTICES
@@ -83,17 +88,17 @@ _SQUARE = {
 _BTRI = {"Y": ((0, 1), 7), "inverted Y": ((1, 0), 5)}
 
 
-def chicken_wire_configs(L, M):
+def chicken_wire_configs(L: int, M: int) -> Iterator[Config]:
     """Every configuration of the ``L x M`` torus (:func:`.model.torus_configurations`)."""
     return torus_configurations(L, M)
 
 
-def config_vertex_counts(config):
+def config_vertex_counts(config: Config) -> Counter[str]:
     """``Counter`` of vertex names."""
     return Counter(NAME_OF[v] for v in config.values())
 
 
-def config_canonical(config, torus):
+def config_canonical(config: Config, torus: Lattice2in2) -> tuple[Any, ...] | None:
     """Canonical form of a configuration up to translations of the torus (min over shifts)."""
     items = [(s, tuple(sorted(v))) for s, v in config.items() if v]
     best = None
@@ -143,7 +148,7 @@ def _site_faces(torus, config):
     return faces
 
 
-def config_to_tiling(config, torus):
+def config_to_tiling(config: Config, torus: Lattice2in2) -> dict[str, Any]:
     """Image of a configuration on ``Z^2 / Gamma``: a combinatorial tiling with lifted positions.
 
     Returns a dict with
@@ -160,7 +165,7 @@ def config_to_tiling(config, torus):
         raise MapError("no empty site: the image has no vertex")
     raw = _site_faces(torus, config)
     faces = []
-    out_edges = {}  # site -> list of (direction, target site)
+    out_edges: dict[Site, list[tuple[int, Site]]] = {}  # site -> list of (direction, target site)
     for kind, d, s0 in raw:
         corners, s = [], s0
         for e in tile_edges(kind, d):
@@ -172,7 +177,8 @@ def config_to_tiling(config, torus):
     g1, g2 = torus.gens
     det = g1[0] * g2[1] - g1[1] * g2[0]
     base = vertices[0]
-    pos, lat = {base: (0, 0, 0, 0)}, {base: base}
+    pos: dict[Site, tuple[int, ...]] = {base: (0, 0, 0, 0)}
+    lat = {base: base}
     records = []
     queue = deque([base])
     while queue:
@@ -230,7 +236,7 @@ def _solve_periods(records):
     return P1, P2
 
 
-def tiling_to_config(tiles, lam):
+def tiling_to_config(tiles: list[Tile], lam: Lattice2in4) -> tuple[Config, Lattice2in2]:
     """The chicken-wire configuration of a tiling of ``R^2 / Lambda`` on the torus ``Z^2 / F(Lambda)``.
 
     Vertex ``p`` -> empty site ``F(p)``; square -> pass-through site ``F(centre)`` with bonds along its
@@ -281,7 +287,8 @@ def tiling_to_config(tiles, lam):
     return config, gamma
 
 
-def _failure_kind(config):
+def failure_kind(config: Config) -> str:
+    """Why a configuration has no tiling: ``"no empty site"``, ``"foam"`` (Y vertices) or ``"lines with spacing 1"``."""
     names = config_vertex_counts(config)
     if names["empty"] == 0:
         return "no empty site"
@@ -315,7 +322,7 @@ def _hexagon_sides(b):
     )
 
 
-def check_cells(config, torus):
+def check_cells(config: Config, torus: Lattice2in2) -> list[tuple[Any, Any]]:
     """Check the cell <-> domain statement for a configuration (foam, lines, or empty).
 
     For a foam: every connected set of empty sites (unwrapped) is exactly the set of lattice points of
@@ -373,7 +380,7 @@ def check_cells(config, torus):
     return out
 
 
-def lucas(k):
+def lucas(k: int) -> int:
     """Lucas numbers ``L(1) = 1, L(2) = 3``: nonempty-or-empty independent sets of a k-cycle."""
     a, b = 2, 1  # L(0), L(1)
     for _ in range(k - 1):
@@ -381,7 +388,7 @@ def lucas(k):
     return b if k >= 1 else a
 
 
-def predicted_failures(L, M):
+def predicted_failures(L: int, M: int) -> int:
     """Number of configurations of the ``L x M`` torus outside the map: parallel lines, two of them adjacent.
 
     Per direction there are ``k`` parallel closed lines (``k = M, L, gcd(L, M)`` for directions

@@ -29,7 +29,7 @@ __all__ = [
 ]
 
 
-def level_curve_expr(a, u):
+def level_curve_expr(a: sympy.Expr, u: sympy.Expr) -> sympy.Expr:
     """``h_a(u)`` for ``a < 1/2`` (Pittel-Romik surface in rotated coordinates).
 
     ``a > 1/2`` follows from the symmetry ``h_{1-a}(u) = 2 - h_a(u)``.
@@ -44,7 +44,7 @@ def level_curve_expr(a, u):
     return 2 * u / sympy.pi * sympy.atan((1 - 2 * a) * u / k) + 2 / sympy.pi * sympy.atan(k / (1 - 2 * a))
 
 
-def diagonal_limit(t):
+def diagonal_limit(t: sympy.Expr) -> sympy.Expr:
     """``L(t, t) = sin^2(pi t / 2)``: the limit surface on the diagonal.
 
     Examples
@@ -55,7 +55,7 @@ def diagonal_limit(t):
     return sympy.sin(sympy.pi * t / 2) ** 2
 
 
-def edge_profile(y):
+def edge_profile(y: sympy.Expr) -> sympy.Expr:
     """``L(0, y) = (1 - sqrt(1 - y^2)) / 2``: the limit surface on the edge of the square.
 
     On the edge the level curve of ``a`` ends (``k = 0`` in ``h_a``), at
@@ -69,7 +69,7 @@ def edge_profile(y):
     return (1 - sympy.sqrt(1 - y**2)) / 2
 
 
-def lattice_direction_limit(z):
+def lattice_direction_limit(z: sympy.Expr) -> sympy.Expr:
     """Limit of ``<W_{i,1}> = <W_{i,i}>`` at depth ``z``: ``L(0, 1 - z)``.
 
     Examples
@@ -80,7 +80,7 @@ def lattice_direction_limit(z):
     return sympy.Rational(1, 2) - sympy.sqrt(z * (2 - z)) / 2
 
 
-def bottom_row_limit(x):
+def bottom_row_limit(x: sympy.Expr) -> sympy.Expr:
     """Limit of ``N <W_{N,j}>``: ``(pi/2) cos(pi x / 2)``, from the diagonal.
 
     Examples

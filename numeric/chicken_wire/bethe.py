@@ -25,6 +25,7 @@ Examples
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 import functools
@@ -32,10 +33,13 @@ import functools
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from forcenet.exact.validation import check_int
 from forcenet.exact.errors import ArgumentError, ConvergenceError
+from forcenet.exact.validation import check_int
+
+Progress = Callable[..., object] | None  # called with one tick (or a count of them)
 
 __all__ = [
+    "Progress",
     "BetheSolution",
     "bethe_residuals",
     "first_level_roots",
@@ -107,7 +111,7 @@ def bethe_residuals(w: np.ndarray, u: np.ndarray, L: int) -> np.ndarray:
     return np.concatenate([np.expm1(lhs1 - rhs1), np.expm1(lhs2 - rhs2)])
 
 
-def first_level_roots(u: np.ndarray, L: int, n: int, w0=None, iterations: int = 200, log_fugacity: float = 0.0) -> np.ndarray:
+def first_level_roots(u: np.ndarray, L: int, n: int, w0: np.ndarray | None = None, iterations: int = 200, log_fugacity: float = 0.0) -> np.ndarray:
     """The ``n`` ground-state roots ``w`` of the first set of equations for given ``u`` (with ``W = 1``).
 
     Log form: ``w_k = exp(i pi (2k - n - 1)/D) (prod_l (u_l - w_k))^(1/D)``,
@@ -154,12 +158,16 @@ def _solve_u(L, n, m, u0, tol):
     return w, u, float(np.abs(bethe_residuals(w, u, L)).max())
 
 
+def _distinct(roots: np.ndarray) -> bool:
+    """No two roots coincide (coinciding roots solve the equations but give no Bethe vector)."""
+    return len(roots) < 2 or bool(np.min(np.abs(roots[:, None] - roots[None, :]) + np.eye(len(roots))) >= 1e-6)
+
+
 def _is_ground_state(w, u, tol=1e-8) -> bool:
     if abs(np.prod(w) - 1) > tol:
         return False
-    for roots in (u, w):  # coinciding roots solve the equations but give no Bethe vector
-        if len(roots) > 1 and np.min(np.abs(roots[:, None] - roots[None, :]) + np.eye(len(roots))) < 1e-6:
-            return False
+    if not (_distinct(u) and _distinct(w)):
+        return False
     return abs(np.prod(u).imag) < 1e-8 * max(1.0, abs(np.prod(u)))
 
 
@@ -171,7 +179,8 @@ def _random_u(m, rng):
 
 
 @_one_blas_thread
-def solve_ground_state(L: int, n: int, m: int, guess=None, tries: int = 3000, seed: int = 0, tol: float = 1e-14):
+def solve_ground_state(L: int, n: int, m: int, guess: np.ndarray | None = None, tries: int = 3000, seed: int = 0,
+                       tol: float = 1e-14) -> BetheSolution:
     """The translation-invariant solution with the largest eigenvalue found.
 
     Only the ``m`` rapidities ``u`` are unknowns; the ``w`` follow from
@@ -240,7 +249,8 @@ def _jacobian(L: int, w: np.ndarray, u: np.ndarray) -> np.ndarray:
 
 
 @_one_blas_thread
-def newton_polish(L: int, w0, u0, iterations: int = 50, tol: float = 1e-14, log_fugacity: float = 0.0, log_hop: float = 0.0):
+def newton_polish(L: int, w0: np.ndarray, u0: np.ndarray, iterations: int = 50, tol: float = 1e-14, log_fugacity: float = 0.0,
+                  log_hop: float = 0.0) -> tuple[np.ndarray, np.ndarray, float, int]:
     """Complex Newton on the log form of both sets of equations, analytic Jacobian.
 
     The branches (multiples of ``2 pi i``) are fixed at the starting point,
@@ -287,7 +297,8 @@ def newton_polish(L: int, w0, u0, iterations: int = 50, tol: float = 1e-14, log_
 
 
 @_one_blas_thread
-def ground_state_sequence(k_max: int, ratio=(6, 2, 1), start: int = 2, progress=None, seeds=None):
+def ground_state_sequence(k_max: int, ratio: tuple[int, int, int] = (6, 2, 1), start: int = 2, progress: Progress = None,
+                          seeds: list[BetheSolution] | None = None) -> list[BetheSolution]:
     """Ground states along ``(L, n, m) = k * ratio`` for ``k = start..k_max`` by continuation.
 
     The first one comes from :func:`solve_ground_state`; each next one from
@@ -334,7 +345,7 @@ def ground_state_sequence(k_max: int, ratio=(6, 2, 1), start: int = 2, progress=
 # ------------------------------------------------ the isotropic line (photon fugacity)
 
 
-def photon_density(L: int, w, u) -> float:
+def photon_density(L: int, w: np.ndarray, u: np.ndarray) -> float:
     """Horizontal bonds per site, ``(1/L) d log(Lambda) / d mu``, of a solution at fugacity ``e^mu``.
 
     Implicit differentiation of the twisted equations: every equation's
@@ -359,7 +370,7 @@ def _tangent(L: int, w: np.ndarray, u: np.ndarray, hop: bool = False) -> np.ndar
     return np.linalg.solve(_jacobian(L, w, u), rhs)
 
 
-def y_density(L: int, w, u) -> float:
+def y_density(L: int, w: np.ndarray, u: np.ndarray) -> float:
     """Y vertices (one kind) per site, ``y = (1/L) d log Lambda / d log t`` at a solution.
 
     Implicit differentiation of the hop twists (:func:`newton_polish`).  It
@@ -381,7 +392,8 @@ def y_density(L: int, w, u) -> float:
 
 
 @_one_blas_thread
-def follow_fugacity(L: int, w, u, mu_from: float, mu_to: float, max_twist_step: float = 0.5):
+def follow_fugacity(L: int, w: np.ndarray, u: np.ndarray, mu_from: float, mu_to: float,
+                    max_twist_step: float = 0.5) -> tuple[np.ndarray, np.ndarray]:
     """Carry a solution from photon fugacity ``e^mu_from`` to ``e^mu_to``.
 
     Euler predictor along ``dx/dmu`` and Newton corrector, with steps of at
@@ -399,7 +411,7 @@ def follow_fugacity(L: int, w, u, mu_from: float, mu_to: float, max_twist_step: 
             try:
                 dx = _tangent(L, w, u)
                 w1, u1, _, _ = newton_polish(L, w + h * dx[:n], u + h * dx[n:], log_fugacity=mu + h)
-                ok = np.all(np.isfinite(w1)) and np.all(np.isfinite(u1))
+                ok = bool(np.all(np.isfinite(w1)) and np.all(np.isfinite(u1)))
             except (ConvergenceError, np.linalg.LinAlgError):
                 ok = False
         if ok:
@@ -433,7 +445,7 @@ class IsotropicPoint:
 
 
 @_one_blas_thread
-def isotropic_state(L: int, n: int, m: int, w, u, mu: float = 0.0, tol: float = 1e-12, iterations: int = 40) -> IsotropicPoint:
+def isotropic_state(L: int, n: int, m: int, w: np.ndarray, u: np.ndarray, mu: float = 0.0, tol: float = 1e-12, iterations: int = 40) -> IsotropicPoint:
     """Solve for the fugacity at which the photon density equals ``m/L`` (isotropy).
 
     Densities per site: right movers ``(n-m)/L``, left movers ``m/L`` and
@@ -450,7 +462,8 @@ def isotropic_state(L: int, n: int, m: int, w, u, mu: float = 0.0, tol: float = 
     u = np.asarray(u, dtype=complex)
     w, u, _, _ = newton_polish(L, w, u, log_fugacity=mu)
     g = photon_density(L, w, u) - target
-    mu_prev, g_prev = None, None
+    mu_prev: float | None = None
+    g_prev = 0.0
     for _ in range(iterations):
         if abs(g) < tol:
             break
@@ -469,13 +482,18 @@ def isotropic_state(L: int, n: int, m: int, w, u, mu: float = 0.0, tol: float = 
 
 
 @_one_blas_thread
-def isotropic_sequence(k_values, ratio=(6, 2, 1), progress=None) -> list:
+def isotropic_sequence(k_values: Iterable[int], ratio: tuple[int, int, int] = (6, 2, 1),
+                       progress: Progress = None) -> list[IsotropicPoint]:
     """Isotropic points along ``(L, n, m) = k * ratio`` (``n = 2m``), by continuation in ``k``.
 
     At each width the fugacity-1 ground state comes from the continuation of
     :func:`ground_state_sequence` (from ``k = 2``, also when the first ``k``
     asked for is larger), and is carried to the isotropic fugacity by
     :func:`follow_fugacity`, starting at the previous width's fugacity.
+    Above the maximum (the previous width's ``mu > 0``) the isotropic points
+    are continued in ``k`` themselves, at that fugacity: there the fugacity-1
+    ground state ends in coinciding roots (``Q = 1/5`` at ``L = 125``) while
+    the isotropic state goes on (``tests/test_bethe.py``).
     Returns a list of :class:`IsotropicPoint`; a lost ground state raises
     :class:`~forcenet.exact.errors.ConvergenceError`.
 
@@ -488,21 +506,48 @@ def isotropic_sequence(k_values, ratio=(6, 2, 1), progress=None) -> list:
     a, b, c = ratio
     if b != 2 * c:
         raise ArgumentError(f"ratio={ratio!r}: the isotropic line needs n = 2m")
-    out = []
+    out: list[IsotropicPoint] = []
     k_values = list(k_values)
-    bases = []  # fugacity-1 ground states, continued in k as in ground_state_sequence
+    bases: list[BetheSolution] = []  # fugacity-1 ground states, continued in k as in ground_state_sequence
     for k in k_values:
         L, n, m = a * k, b * k, c * k
-        # the fugacity-1 ground state by the continuation of ground_state_sequence, then the fugacity
-        if not bases:
-            # the fugacity-1 state by continuation from k = 2 (random starts fail at large L)
-            bases += ground_state_sequence(k, ratio, start=2) if k > 2 else [solve_ground_state(L, n, m)]
-        else:
-            bases += ground_state_sequence(k, ratio, start=k, seeds=bases)
-        sol = bases[-1]
         mu0 = out[-1].log_fugacity if out else 0.0
-        w, u = follow_fugacity(L, sol.w, sol.u, 0.0, mu0) if mu0 else (sol.w, sol.u)
+        if mu0 > 0:
+            # above the maximum the fugacity-1 ground state ends in coinciding roots (Q = 1/5 at L = 125,
+            # notes/chicken_wire.md) while the isotropic state goes on: continue the isotropic points themselves
+            w, u = _continue_at_fugacity(out, L, n, m, mu0)
+        else:
+            # the fugacity-1 ground state by the continuation of ground_state_sequence, then the fugacity
+            if not bases:
+                # the fugacity-1 state by continuation from k = 2 (random starts fail at large L)
+                bases += ground_state_sequence(k, ratio, start=2) if k > 2 else [solve_ground_state(L, n, m)]
+            else:
+                bases += ground_state_sequence(k, ratio, start=k, seeds=bases)
+            sol = bases[-1]
+            w, u = follow_fugacity(L, sol.w, sol.u, 0.0, mu0) if mu0 else (sol.w, sol.u)
         out.append(isotropic_state(L, n, m, w, u, mu=mu0))
         if progress is not None:
             progress(1)
     return out
+
+
+def _continue_at_fugacity(points: list[IsotropicPoint], L: int, n: int, m: int, mu: float) -> tuple[np.ndarray, np.ndarray]:
+    """The roots of ``(L, n, m)`` at the fugacity ``e^mu`` of the last isotropic point, continued from it.
+
+    As in :func:`ground_state_sequence`, but at ``mu`` (``W = tau^(m-n)``): the
+    ``u`` of the last point with ``m`` of the same parity, resampled, the ``w``
+    from :func:`first_level_roots` at ``mu``, then :func:`newton_polish`.
+    Raises :class:`~forcenet.exact.errors.ConvergenceError` if the roots
+    coincide or the eigenvalue is not real.
+    """
+    seed = next((p for p in reversed(points) if (p.m - m) % 2 == 0), points[-1])
+    u0 = _resample(seed.u, m)
+    with np.errstate(all="ignore"):
+        w0 = first_level_roots(u0, L, n, log_fugacity=mu)
+        try:
+            w, u, _, _ = newton_polish(L, w0, u0, log_fugacity=mu)
+        except np.linalg.LinAlgError:
+            raise ConvergenceError(f"lost the isotropic state at (L, n, m) = ({L}, {n}, {m})") from None
+    if not (_distinct(w) and _distinct(u) and abs(np.prod(u).imag) < 1e-8 * max(1.0, abs(np.prod(u)))):
+        raise ConvergenceError(f"lost the isotropic state at (L, n, m) = ({L}, {n}, {m}): coinciding roots")
+    return w, u

@@ -19,11 +19,15 @@ Examples
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
+
 from forcenet.exact.errors import ArgumentError, ConvergenceError
+from forcenet.exact.plan import Plan
+from forcenet.exact.validation import check_int
 
 __all__ = [
     "extrapolate",
@@ -33,23 +37,26 @@ __all__ = [
     "bethe_entropy",
     "bethe_entropy_maximum",
     "bethe_plan",
+    "DIRECT_DENOMINATOR",
+    "isotropic_entropy_plan",
+    "isotropic_entropy",
 ]
 
 
-def extrapolate(Ls, values, points: int = 8):
+def extrapolate(Ls: Sequence[float], values: Sequence[float], points: int = 8) -> tuple[float, float]:
     """``(limit, error)`` of a finite-size sequence: fits ``c0 + c1/L^2 (+ c2/L^4)``.
 
     The limit is the three-term fit over the last ``points`` values; the
     error is its difference from the two-term fit.
     """
-    Ls = np.asarray(Ls[-points:], dtype=float)
-    values = np.asarray(values[-points:], dtype=float)
-    if len(Ls) < 4:
-        raise ArgumentError(f"need at least 4 system sizes to extrapolate, got {len(Ls)}")
-    A2 = np.vstack([np.ones_like(Ls), Ls**-2.0]).T
-    A4 = np.vstack([np.ones_like(Ls), Ls**-2.0, Ls**-4.0]).T
-    c2 = np.linalg.lstsq(A2, values, rcond=None)[0][0]
-    c4 = np.linalg.lstsq(A4, values, rcond=None)[0][0]
+    x = np.asarray(Ls[-points:], dtype=float)
+    y = np.asarray(values[-points:], dtype=float)
+    if len(x) < 4:
+        raise ArgumentError(f"need at least 4 system sizes to extrapolate, got {len(x)}")
+    A2 = np.vstack([np.ones_like(x), x**-2.0]).T
+    A4 = np.vstack([np.ones_like(x), x**-2.0, x**-4.0]).T
+    c2 = np.linalg.lstsq(A2, y, rcond=None)[0][0]
+    c4 = np.linalg.lstsq(A4, y, rcond=None)[0][0]
     return float(c4), float(abs(c4 - c2))
 
 
@@ -65,7 +72,7 @@ class IsotropicLimit:
     L: list
 
 
-def isotropic_limit(Q, L_max: int = 240, L_min: int = 60, progress=None) -> IsotropicLimit:
+def isotropic_limit(Q: Fraction | int | str | float, L_max: int = 240, L_min: int = 60, progress: Callable[[int], object] | None = None) -> IsotropicLimit:
     """Entropy per site at the rational density ``Q = c/a`` on the isotropic line, ``L -> oo``.
 
     Sectors ``(L, n, m) = k (a, 2c, c)`` for ``L_min <= L <= L_max`` at the
@@ -98,7 +105,7 @@ def _hermite(q0, q1, v0, v1, d0, d1, q):
     return h00 * v0 + h10 * h * d0 + h01 * v1 + h11 * h * d1
 
 
-def bracketing_fractions(Q: float, max_denominator: int = 16):
+def bracketing_fractions(Q: float, max_denominator: int = 16) -> tuple[Fraction, Fraction]:
     """The nearest fractions ``c/a <= Q <= c'/a'`` with ``a <= max_denominator``, inside ``(0, 1/3)``."""
     cands = sorted({Fraction(c, a) for a in range(3, max_denominator + 1) for c in range(1, a) if Fraction(c, a) < Fraction(1, 3)})
     lo = max((f for f in cands if f <= Q), default=None)
@@ -108,7 +115,8 @@ def bracketing_fractions(Q: float, max_denominator: int = 16):
     return lo, hi
 
 
-def bethe_entropy(Q, L_max: int = 240, L_min: int = 60, max_denominator: int = 16, limits=None):
+def bethe_entropy(Q: float, L_max: int = 240, L_min: int = 60, max_denominator: int = 16,
+                  limits: dict[Fraction, IsotropicLimit] | None = None) -> tuple[float, float, tuple[IsotropicLimit, IsotropicLimit]]:
     """``v(Q)`` at any density by Hermite interpolation between two rational densities.
 
     Uses ``v`` and its exact slope ``-3 mu`` at the bracketing fractions.
@@ -140,7 +148,9 @@ def _interpolate(a: IsotropicLimit, b: IsotropicLimit, Q: float):
     return v, err
 
 
-def bethe_entropy_maximum(densities=(Fraction(1, 7), Fraction(1, 6), Fraction(2, 11)), L_max: int = 240, L_min: int = 60, limits=None, progress=None):
+def bethe_entropy_maximum(densities: Iterable[Fraction] = (Fraction(1, 7), Fraction(1, 6), Fraction(2, 11)), L_max: int = 240,
+                          L_min: int = 60, limits: dict[Fraction, IsotropicLimit] | None = None,
+                          progress: Callable[[int], object] | None = None) -> tuple[float, float, float, dict[Fraction, IsotropicLimit]]:
     """Maximum of ``v(Q)`` on the isotropic line: where ``mu(Q) = 0`` (all fugacities 1).
 
     ``mu`` is known at the given rational densities (at least three); the
@@ -186,15 +196,118 @@ def bethe_entropy_maximum(densities=(Fraction(1, 7), Fraction(1, 6), Fraction(2,
 
 # seconds of one isotropic sequence to L_max in a fresh process on the 2-core machine, single-threaded BLAS
 # (Q = 1/6: L <= 120 7.7 s, L <= 240 11 s, L <= 600 144 s; 2026-11-23)
-def bethe_plan(sequences: int, L_max: int):
+def bethe_plan(sequences: int, L_max: int) -> Plan:
     """The cost of ``sequences`` isotropic Bethe sequences up to width ``L_max``.
+
+    Parameters
+    ----------
+    sequences : int
+        Number of rational densities whose sequences are solved.
+    L_max : int
+        Largest width.
+
+    Returns
+    -------
+    Plan
+        One tick per sequence.
 
     Examples
     --------
     >>> bethe_plan(1, 240).seconds < 60
     True
     """
-    from forcenet.exact.plan import Plan
-
     seconds = sequences * (3.0 + 9.0 * (L_max / 240) ** 2.8)
     return Plan(f"{sequences} Bethe-ansatz sequence(s) to L = {L_max}", seconds, 200 * 2**20, sequences, "sequence")
+
+
+DIRECT_DENOMINATOR = 60  # a density c/a with a <= 60 is solved directly (widths L = k a, 4 of them within L_max >= 240)
+
+
+def _direct(Q: Fraction | float | None) -> bool:
+    """Whether :func:`isotropic_entropy` solves ``Q`` itself (one sequence) rather than interpolating (two)."""
+    return isinstance(Q, Fraction) and Q.denominator <= DIRECT_DENOMINATOR
+
+
+def _check_density(Q: Fraction | float) -> None:
+    if not 0 < Q < Fraction(1, 3):
+        raise ArgumentError(f"Q={float(Q):g} is out of range: the Bethe route needs 0 < Q < 1/3")
+
+
+def isotropic_entropy_plan(Q: Fraction | float | None, L_max: int) -> Plan:
+    """The cost of :func:`isotropic_entropy` at ``Q`` (None: a density known only as a number, from ``phi``).
+
+    Parameters
+    ----------
+    Q : Fraction, float or None
+        The density; a Fraction with denominator at most
+        :data:`DIRECT_DENOMINATOR` costs one sequence, anything else two.
+    L_max : int
+        Largest width, ``>= 60``.
+
+    Returns
+    -------
+    Plan
+        Refused (naming ``Q``) outside ``0 < Q < 1/3``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``L_max`` is out of range.
+
+    Examples
+    --------
+    >>> isotropic_entropy_plan(Fraction(1, 6), 240).ticks, isotropic_entropy_plan(0.2, 240).ticks
+    (1, 2)
+    >>> isotropic_entropy_plan(Fraction(1, 3), 240).refusal
+    'Q=0.333333 is out of range: the Bethe route needs 0 < Q < 1/3'
+    """
+    L_max = check_int(L_max, "L_max", 60)
+    plan = bethe_plan(1 if _direct(Q) else 2, L_max)
+    if Q is not None:
+        try:
+            _check_density(Q)
+        except ArgumentError as exc:
+            return plan.refuse(str(exc))
+    return plan
+
+
+def isotropic_entropy(Q: Fraction | float, L_max: int = 240) -> tuple[float, float, tuple[Fraction, ...]]:
+    """``v(Q)`` from the Bethe ansatz alone, with its error and the rational densities solved.
+
+    A Fraction with denominator at most :data:`DIRECT_DENOMINATOR` is solved
+    directly (:func:`isotropic_limit`), any other density interpolated
+    between two (:func:`bethe_entropy`); widths ``max(24, L_max / 4) <= L <= L_max``.
+
+    Parameters
+    ----------
+    Q : Fraction or float
+        The density, ``0 < Q < 1/3``.
+    L_max : int
+        Largest width, ``>= 60``.
+
+    Returns
+    -------
+    tuple
+        ``(v, error, densities)``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``Q`` or ``L_max`` is out of range.
+    ConvergenceError
+        Where a continuation loses the ground state.
+
+    Examples
+    --------
+    >>> v, err, densities = isotropic_entropy(Fraction(1, 6), L_max=120)
+    >>> round(v, 6), densities
+    (0.061616, (Fraction(1, 6),))
+    """
+    L_max = check_int(L_max, "L_max", 60)
+    _check_density(Q)
+    L_min = max(24, L_max // 4)
+    if _direct(Q):
+        lim = isotropic_limit(Q, L_max, L_min)
+        return lim.v, lim.v_err, (lim.Q,)
+    v, err, (a, b) = bethe_entropy(float(Q), L_max, L_min)
+    return v, err, (a.Q, b.Q)

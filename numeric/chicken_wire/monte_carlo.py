@@ -72,7 +72,7 @@ class ChickenWire:
         period = 3 * side
         if L % period or M % period:
             raise ArgumentError(f"L={L}, M={M}: a honeycomb of side {side} needs L and M divisible by {period}")
-        occ = {}
+        occ: dict[tuple[int, int], set[int]] = {}
 
         def add(s, d):
             occ.setdefault(s, set()).add(d)
@@ -173,7 +173,7 @@ class ChickenWire:
                 inward = (o + 180) % 360
                 toggle(c, inward, True)
                 new_corners.append(self.shift(c, inward))
-        for k, (c, d) in enumerate(hexagon):  # the new sides
+        for k, (_, d) in enumerate(hexagon):  # the new sides
             s, target, steps = new_corners[k], new_corners[(k + 1) % 6], 0
             while s != target:
                 toggle(s, d, True)
@@ -184,7 +184,7 @@ class ChickenWire:
             if steps == 0:
                 return None
         frozen = {s: frozenset(v) for s, v in occ.items()}
-        for s, v in frozen.items():
+        for v in frozen.values():
             if v not in ALLOWED:
                 return None
         new = ChickenWire.__new__(ChickenWire)
@@ -232,7 +232,7 @@ class HexagonMonteCarlo:
         return out
 
 
-def component(config: ChickenWire, limit: int = 200_000):
+def component(config: ChickenWire, limit: int = 200_000) -> list[ChickenWire]:
     """All configurations reachable by shrink/expand moves (breadth-first), as a list."""
     seen = {config.key(): config}
     frontier = [config]

@@ -28,6 +28,7 @@ May import: :mod:`forcenet.exact` (vertex rules, exact sector polynomials).
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -35,10 +36,17 @@ from forcenet.exact.chicken_wire.model import EMPTY as _E
 from forcenet.exact.chicken_wire.model import LEFT as _L
 from forcenet.exact.chicken_wire.model import RIGHT as _R
 from forcenet.exact.chicken_wire.model import SITE_CHOICES, VERTICES
-from forcenet.exact.validation import check_dps, check_int, check_real
 from forcenet.exact.errors import ArgumentError
+from forcenet.exact.plan import Plan
+from forcenet.exact.validation import check_dps, check_int, check_real
+
+if TYPE_CHECKING:
+    import mpmath
+    from scipy.sparse import csr_matrix
 
 __all__ = [
+    "TRANSFER_SECONDS",
+    "transfer_plan",
     "largest_eigenvalue",
     "perron_root",
     "sector_entropies",
@@ -49,6 +57,54 @@ __all__ = [
     "isotropic_entropy",
     "tiling_entropy",
 ]
+
+
+# measured seconds of all sectors of the transfer matrix (2-core machine); memory ~ 40 * 3^L bytes per vector
+TRANSFER_SECONDS = {8: 0.3, 9: 2, 10: 15, 11: 70, 12: 150, 13: 900}
+
+
+def transfer_plan(L: int, particles: int | None = None) -> Plan:
+    """The cost of :func:`largest_eigenvalue` in one sector (``particles``) or in all ``L + 1`` of them.
+
+    Seconds from the measured all-sector times :data:`TRANSFER_SECONDS`
+    (shared evenly by the sectors); memory ``60 * 3^L`` bytes (the vectors of
+    the matrix-product operator); one tick per sector.
+
+    Parameters
+    ----------
+    L : int
+        Cylinder width, ``2 <= L <= 14``.
+    particles : int, optional
+        One sector only, ``0 <= particles <= L`` (default: all).
+
+    Returns
+    -------
+    Plan
+        Refused (naming ``particles``) if the sector does not exist.
+
+    Raises
+    ------
+    ArgumentError
+        If ``L`` is out of range.
+
+    Examples
+    --------
+    >>> transfer_plan(10).seconds, transfer_plan(10, particles=3).seconds
+    (15.0, 1.3636363636363635)
+    >>> transfer_plan(6, particles=7).refusal
+    'particles=7 is out of range: particles must be an integer in 0..L = 0..6'
+    """
+    L = check_int(L, "L", 2, 14)
+    if particles is not None:
+        particles = check_int(particles, "particles", 0)
+        if particles > L:
+            return Plan(f"transfer matrix L={L}", 0,
+                        refusal=f"particles={particles} is out of range: particles must be an integer in 0..L = 0..{L}")
+    sectors = 1 if particles is not None else L + 1
+    # beyond the table: the measured growth from L = 12 to 13 (sixfold per unit of width)
+    total = TRANSFER_SECONDS[13] * 6.0 ** (L - 13) if L > 13 else TRANSFER_SECONDS.get(L, 0.1)
+    seconds = total * sectors / (L + 1)
+    return Plan(f"transfer matrix L={L}, {sectors} sector(s) of up to 3^{L} states", seconds, 60 * 3**L, sectors, "sector")
 
 
 def _local_tensor(weights) -> np.ndarray:
@@ -80,7 +136,7 @@ def _shift_index(L: int) -> np.ndarray:
         isL = digits[(x + 1) % L] == _L  # an L leaving x+1 enters x
         bad |= isR & isL
         nxt[x] = np.where(isR, _R, np.where(isL, _L, _E))
-    index = np.ravel_multi_index(tuple(nxt), (3,) * L)
+    index = np.asarray(np.ravel_multi_index(tuple(nxt), (3,) * L))
     index[bad] = -1
     return index
 
@@ -112,7 +168,7 @@ class _Operator:
         return w
 
 
-def largest_eigenvalue(L: int, weights=None, particles: int | None = None, tol: float = 1e-14) -> float:
+def largest_eigenvalue(L: int, weights: dict[str, float] | None = None, particles: int | None = None, tol: float = 1e-14) -> float:
     """Largest eigenvalue of the row-to-row transfer matrix on a cylinder of width ``L``.
 
     Parameters
@@ -155,7 +211,7 @@ def largest_eigenvalue(L: int, weights=None, particles: int | None = None, tol: 
     return float(vals.real.max())
 
 
-def perron_root(L: int, particles: int | None = None, dps: int = 50):
+def perron_root(L: int, particles: int | None = None, dps: int = 50) -> tuple[list[int], mpmath.mpf]:
     """Largest eigenvalue of the unweighted transfer matrix (a sector or all), to ``dps`` digits.
 
     The exact integer factors of the characteristic polynomial
@@ -187,14 +243,17 @@ def perron_root(L: int, particles: int | None = None, dps: int = 50):
     dps = check_dps(dps)
     factors = sector_polynomial_factors(L, particles)
     guard = dps + 10
-    best = None
+    best: tuple[list[int], mpmath.mpf] | None = None
     with flint.ctx.workdps(guard), mpmath.workdps(guard):
         for coeffs, _ in factors:
-            for root, _ in flint.fmpz_poly(coeffs).complex_roots():
+            roots: list[tuple[Any, int]] = flint.fmpz_poly(coeffs).complex_roots()  # type: ignore[assignment]  # flint's stub says one acb; it returns (root, multiplicity) pairs
+            for root, _ in roots:
                 if root.imag.contains(0):  # a real root, certified by ball arithmetic
                     value = mpmath.mpf(root.real.mid().str(guard, radius=False))
                     if best is None or value > best[1]:
                         best = (coeffs, value)
+    if best is None:  # every factor of degree >= 1 has a real Perron root: a bug if not
+        raise ArithmeticError(f"no real root among the sector polynomials of L={L}")
     with mpmath.workdps(dps):
         return best[0], +best[1]
 
@@ -221,12 +280,12 @@ def tiling_weights(sigma: float) -> dict:
     return {"empty": e, "H": e**2, "R": e**2, "L": e**2, "Y": e**3, "inverted Y": e**3}
 
 
-def free_energy(L: int, weights=None) -> float:
+def free_energy(L: int, weights: dict[str, float] | None = None) -> float:
     """``(1/L) log lambda_max``: free energy per site of the cylinder of width ``L``."""
     return math.log(largest_eigenvalue(L, weights)) / L
 
 
-def isotropic_entropy(L: int, t: float, h: float = 1e-4):
+def isotropic_entropy(L: int, t: float, h: float = 1e-4) -> tuple[float, float]:
     """Entropy per site and density ``Q`` of left-moving particles at bond fugacity ``t``.
 
     Legendre transform of ``f(mu) = free_energy(L, t = e^mu)``:
@@ -243,7 +302,7 @@ def isotropic_entropy(L: int, t: float, h: float = 1e-4):
     return f - mu * b, b / 3
 
 
-def tiling_entropy(L: int, bracket=(0.01, 1.0), xtol: float = 1e-13) -> float:
+def tiling_entropy(L: int, bracket: tuple[float, float] = (0.01, 1.0), xtol: float = 1e-13) -> float:
     """Entropy per tiling vertex on a cylinder of width ``L``: the root of ``f(sigma) = 0``.
 
     With weights :func:`tiling_weights`, ``log Z / area = max_v (s(v) - sigma v)``
@@ -256,7 +315,7 @@ def tiling_entropy(L: int, bracket=(0.01, 1.0), xtol: float = 1e-13) -> float:
     return brentq(lambda s: free_energy(L, tiling_weights(s)), *bracket, xtol=xtol)
 
 
-def sector_matrix(L: int, n: int, m: int, photon_fugacity: float = 1.0, hop_fugacity: float = 1.0):
+def sector_matrix(L: int, n: int, m: int, photon_fugacity: float = 1.0, hop_fugacity: float = 1.0) -> csr_matrix:
     """Sparse transfer matrix restricted to ``n`` particles of which ``m`` are left-moving.
 
     Built from the particle picture (Sec. 7.4.1): every R followed by an L
@@ -280,13 +339,13 @@ def sector_matrix(L: int, n: int, m: int, photon_fugacity: float = 1.0, hop_fuga
     L = check_int(L, "L", 2)
     n = check_int(n, "n", 0, L)
     m = check_int(m, "m", 0, n)
-    states = []
+    states: list[tuple[tuple[int, ...], tuple[int, ...]]] = []
     for pos in combinations(range(L), n):
         for lab in combinations(range(n), m):
-            kinds = [_R] * n
+            labels = [_R] * n
             for j in lab:
-                kinds[j] = _L
-            states.append((pos, tuple(kinds)))
+                labels[j] = _L
+            states.append((pos, tuple(labels)))
     if len(states) > 5_000_000:
         raise ArgumentError(f"sector of {len(states)} states is too large (limit 5,000,000)")
     index = {s: i for i, s in enumerate(states)}

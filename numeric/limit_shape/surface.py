@@ -44,7 +44,7 @@ import mpmath
 
 from forcenet.exact.validation import check_dps
 
-from ..precision import GUARD, guarded, to_mpf
+from ..precision import GUARD, RealLike, guarded, to_mpf
 from forcenet.exact.errors import ArgumentError
 
 __all__ = ["level_curve", "level_curve_slope", "limit_surface", "bulk_response", "lattice_response"]
@@ -85,7 +85,7 @@ def _checked_level_point(a, u):
     return a, u
 
 
-def level_curve(a, u, dps: int = 30):
+def level_curve(a: RealLike, u: RealLike, dps: int = 30) -> mpmath.mpf:
     """``h_a(u)``: the ``v = x + y`` of the level curve ``L = a`` at ``u = x - y``.
 
     Defined for ``0 < a < 1`` and ``u^2 <= 4a(1-a)``; raises ``ArgumentError`` outside.
@@ -100,7 +100,7 @@ def level_curve(a, u, dps: int = 30):
     return guarded(lambda: _level_curve(*_checked_level_point(a, u)), dps)
 
 
-def level_curve_slope(a, u, dps: int = 30):
+def level_curve_slope(a: RealLike, u: RealLike, dps: int = 30) -> mpmath.mpf:
     """``dh_a(u)/da = k / (pi a (1 - a))``, ``k = sqrt(4a(1-a) - u^2)`` (derived in the notes).
 
     Defined where :func:`level_curve` is; raises ``ArgumentError`` outside (never a complex number).
@@ -126,14 +126,16 @@ def _limit_surface(u, v, dps):
     if v >= 2 - abs(u):
         return hi
     eps = (hi - lo) * mpmath.mpf(10) ** (-(dps + GUARD // 2))  # relative to the bracket (narrow at small depth)
-    f = lambda a: _level_curve(a, u) - v  # increasing in a
+    def f(a):  # increasing in a
+        return _level_curve(a, u) - v
+
     a = mpmath.findroot(f, (lo + eps, hi - eps), solver="anderson", tol=eps)
     for _ in range(4):  # Newton polish with dh/da = k / (pi a (1 - a))
         a -= f(a) / _slope(a, u)
     return a
 
 
-def limit_surface(u, v, dps: int = 30):
+def limit_surface(u: RealLike, v: RealLike, dps: int = 30) -> mpmath.mpf:
     """``L`` at rotated coordinates ``(u, v)``, ``|u| + |v - 1| <= 1``, by root finding.
 
     Examples
@@ -160,7 +162,7 @@ def _depth_digits(depth) -> int:
     return max(0, -int(mpmath.floor(mpmath.log10(depth))))
 
 
-def lattice_response(z, dps: int = 30):
+def lattice_response(z: RealLike, dps: int = 30) -> mpmath.mpf:
     """Limit of ``<W_{i,1}> = <W_{i,i}>`` at depth ``z = i/N``, ``0 <= z <= 1`` (independent of N).
 
     Examples
@@ -181,7 +183,7 @@ def lattice_response(z, dps: int = 30):
     return guarded(compute, dps)
 
 
-def bulk_response(x, z, dps: int = 30):
+def bulk_response(x: RealLike, z: RealLike, dps: int = 30) -> mpmath.mpf:
     """Limit of ``N <W>`` at ``(x, z)``, ``|x| < z <= 1``: ``2 dL/dv``.
 
     Computed as ``2 / (dh_a/da) = 2 pi a (1 - a) / sqrt(4a(1-a) - u^2)`` at

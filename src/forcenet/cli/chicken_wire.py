@@ -27,20 +27,13 @@ def _r(x: float) -> float:
     (BLAS kernels may change the last bits from run to run)."""
     return round(float(x), 12) + 0.0  # + 0.0: no negative zero
 
-# measured seconds of all sectors of the transfer matrix (2-core machine); memory ~ 40 * 3^L bytes per vector
-_TRANSFER_SECONDS = {8: 0.3, 9: 2, 10: 15, 11: 70, 12: 150, 13: 900}
-
 
 def cmd_transfer(args):
-    from forcenet.exact.plan import Plan
-    from forcenet.numeric.chicken_wire.transfer import largest_eigenvalue
+    from forcenet.numeric.chicken_wire.transfer import largest_eigenvalue, transfer_plan
 
     L = args.L
-    if args.particles is not None and args.particles > L:
-        raise UsageError(f"particles={args.particles} is out of range: particles must be an integer in 0..L = 0..{L}")
+    plan = transfer_plan(L, args.particles)
     sectors = [args.particles] if args.particles is not None else list(range(L + 1))
-    seconds = _TRANSFER_SECONDS.get(L, 0.1) * len(sectors) / (L + 1)
-    plan = Plan(f"transfer matrix L={L}, {len(sectors)} sector(s) of up to 3^{L} states", seconds, 60 * 3**L, len(sectors), "sector")
 
     def run(tick):
         rows = []
@@ -68,31 +61,18 @@ def cmd_transfer(args):
     return 0
 
 
-def _bethe_seconds(L: int) -> float:
-    """Continuation k (6, 2, 1) to L = 6k: measured 16 s at L = 600 with single-threaded BLAS (2-core machine)."""
-    k = max(1, L // 6)
-    return 3.0 + 1.3e-5 * k**3
-
-
 def cmd_bethe(args):
-    from forcenet.exact.plan import Plan
-    from forcenet.numeric.chicken_wire.bethe import ground_state_sequence, solve_ground_state
+    from forcenet.exact.errors import ConvergenceError
+    from forcenet.numeric.chicken_wire.bethe_sector import default_sector, ground_state, ground_state_plan
 
     L = args.L
-    n = args.n if args.n is not None else 2 * max(1, round(L / 6))
-    m = args.m if args.m is not None else n // 2
-    if not (1 <= m < n < L):
-        raise UsageError(f"(L, n, m) = ({L}, {n}, {m}) is out of range: need 1 <= m < n < L")
-    continuation = L > 24 and L % 6 == 0 and n == L // 3 and m == n // 2
-    plan = Plan(f"Bethe ansatz L={L}, n={n}, m={m}" + (" (continuation from L = 12)" if continuation else ""),
-                _bethe_seconds(L) if continuation else 2.0 + 1e-5 * L**3, 100 * 2**20, L // 6 - 1 if continuation else 0, "width")
+    n, m = default_sector(L, args.n, args.m)
+    plan = ground_state_plan(L, n, m)
 
     def run(tick):
         try:
-            if continuation:
-                return ground_state_sequence(L // 6, progress=tick)[-1]
-            return solve_ground_state(L, n, m)
-        except RuntimeError as exc:
+            return ground_state(L, n, m, progress=tick)
+        except ConvergenceError as exc:
             raise UsageError(str(exc)) from None
 
     sol = run_planned(plan, run, force=args.force, quiet=args.quiet)
@@ -231,7 +211,8 @@ def _maximum_rows(dps):
 def cmd_entropy(args):
     import mpmath
 
-    from forcenet.exact.plan import Plan, combine
+    from forcenet.exact.plan import combine
+    from forcenet.numeric.chicken_wire.isotropic import closed_form_plan
 
     dps = args.dps
     if args.max and args.bethe:
@@ -239,14 +220,12 @@ def cmd_entropy(args):
     refuse_together(args, "max", "F", "the maxima do not depend on the hexagon side l of Eq. (7.4)")
     if given(args, "L_max") and not args.bethe:
         raise UsageError("--L-max sets the widths of --bethe: add --bethe or drop --L-max")
-    # measured: one evaluation 0.02 s at 1000 digits, 1.1 s at 9000; the maximum 2.8 s at 1000, 15 s at 3000
-    seconds = 0.1 + 3.0 * (dps / 1000) ** 1.5 if args.max else 0.05 + 8 * 0.02 * (dps / 1000) ** 1.8
-    closed = Plan(f"closed forms (7.1)-(7.4) to {dps} digits", seconds, 50 * 2**20)
+    closed = closed_form_plan(dps, maximum=args.max)
     plans = [closed]
     if args.bethe:
-        from forcenet.numeric.chicken_wire.isotropic_bethe import bethe_plan
+        from forcenet.numeric.chicken_wire.isotropic_bethe import isotropic_entropy_plan
 
-        plans.append(bethe_plan(1 if args.Q is not None else 2, args.L_max))
+        plans.append(isotropic_entropy_plan(args.Q, args.L_max))
     plan = combine(plans[-1].what if args.bethe else closed.what, plans, plans[-1].unit)
 
     def run(tick):
@@ -276,21 +255,15 @@ def cmd_entropy(args):
 
 def _bethe(args, rows):
     """The independent Bethe-ansatz value of v at the point (float, with its error)."""
-    from forcenet.numeric.chicken_wire import isotropic_bethe as route
+    from forcenet.exact.errors import ConvergenceError
+    from forcenet.numeric.chicken_wire.isotropic_bethe import isotropic_entropy
 
-    values = dict((key, value) for key, _, value in rows)
-    Q = float(values["Q"])
-    if not 0 < Q < 1 / 3:
-        raise UsageError(f"--bethe needs 0 < Q < 1/3 (got Q = {Q:g})")
-    L_min = max(24, args.L_max // 4)
+    Q = args.Q if args.Q is not None else float(dict((key, value) for key, _, value in rows)["Q"])
     try:
-        if args.Q is not None and args.Q.denominator <= 60 and args.Q.numerator * 3 < args.Q.denominator:
-            lim = route.isotropic_limit(args.Q, args.L_max, L_min)
-            return {"v_bethe": lim.v, "v_bethe_error": lim.v_err, "bethe_densities": [str(args.Q)]}
-        v, err, (a, b) = route.bethe_entropy(Q, args.L_max, L_min)
-        return {"v_bethe": v, "v_bethe_error": err, "bethe_densities": [str(a.Q), str(b.Q)]}
-    except RuntimeError as exc:
+        v, err, densities = isotropic_entropy(Q, args.L_max)
+    except ConvergenceError as exc:
         raise UsageError(f"Bethe ansatz: {exc}") from None
+    return {"v_bethe": v, "v_bethe_error": err, "bethe_densities": [str(f) for f in densities]}
 
 
 def register(sub):

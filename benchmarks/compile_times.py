@@ -1,7 +1,7 @@
 """First-call cost of each kernel group: compiling (empty numba cache) against loading (cached), in fresh processes.
 
 Issue 24 item 12: the plans add the compile time of the kernels a run will
-use when numba's cache does not hold them (``forcenet.exact.plan.with_compilation``).
+use when numba's cache does not hold them (``forcenet.core.plan.with_compilation``).
 Every figure is the CPU time (what an idle machine takes; the reference
 machine is shared) of the group's first call in a fresh process, with
 ``NUMBA_CACHE_DIR`` a new empty directory (compiling) and then the same

@@ -24,7 +24,7 @@ cluster.  No scheduler is written here; this module only
   at once, so Ctrl-C ends the run within a second or two even while workers
   sit inside compiled kernels; the exception is then re-raised.
 
-May import: :mod:`forcenet.exact.validation`.
+May import: :mod:`forcenet.core.validation`.
 
 Examples
 --------
@@ -43,8 +43,8 @@ import os
 from concurrent.futures import Executor, as_completed
 from math import ceil
 
-from .validation import check_int, is_integer
-from .errors import ArgumentError, ArgumentTypeError
+from forcenet.core.validation import check_int, is_integer
+from forcenet.core.errors import ArgumentError, ArgumentTypeError
 
 __all__ = ["available_cores", "as_executor", "executor_workers", "executor_label", "wall_seconds", "run_tasks"]
 
@@ -91,7 +91,7 @@ def as_executor(executor):
     >>> as_executor(3)
     Traceback (most recent call last):
     ...
-    forcenet.exact.errors.ArgumentTypeError: executor=3 is not a concurrent.futures.Executor (nor a Dask Client)
+    forcenet.core.errors.ArgumentTypeError: executor=3 is not a concurrent.futures.Executor (nor a Dask Client)
     """
     if executor is None or isinstance(executor, Executor):
         return executor

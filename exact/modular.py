@@ -18,7 +18,7 @@ Examples
 from __future__ import annotations
 
 from functools import cache
-from .errors import ArgumentError
+from forcenet.core.errors import ArgumentError
 
 __all__ = ["is_prime", "primes_below", "primes_for_bound", "crt", "crt_many"]
 

@@ -5,13 +5,13 @@ the same two functions and the same arguments (:class:`TableEngine`):
 
 ``table_plan(N, moments=1, *, memory_bytes=None, executor=None) -> Plan``
     The cost of the run, or its refusal: out of the method's range
-    (:func:`forcenet.exact.plan.table_range`), or more memory than
+    (:func:`forcenet.core.plan.table_range`), or more memory than
     ``memory_bytes`` (every method honours it; None: not checked).
 ``table_run(N, moments=1, *, memory_bytes=None, progress=None, executor=None) -> {s: table}``
     The exact ``<W^s>`` tables, ``s = 1..moments``, rows ``i = 1..N``,
     ``j = 1..i`` (Fractions).  ``progress(k=1)`` is called with the plan's
     ticks; a run whose plan ``memory_bytes`` refuses raises
-    :class:`~forcenet.exact.errors.ArgumentError` before it starts.
+    :class:`~forcenet.core.errors.ArgumentError` before it starts.
 
 ``executor`` runs the method's independent tasks (:func:`run_independent`):
 any :class:`concurrent.futures.Executor` (a Dask client's
@@ -20,7 +20,7 @@ process pool where the run pays for it (the Pfaffian route's primes),
 else this process.  Results never depend on it.  A method may take more
 keywords of its own (the Pfaffian route: ``workers``, ``checkpoint``).
 
-May import: :mod:`forcenet.exact.plan`, :mod:`forcenet.exact.execution`.
+May import: :mod:`forcenet.core.plan`, :mod:`forcenet.exact.execution`.
 
 Examples
 --------
@@ -38,7 +38,7 @@ from fractions import Fraction
 from typing import Any, Protocol
 
 from .execution import run_tasks
-from .plan import Plan
+from forcenet.core.plan import Plan
 
 __all__ = ["Progress", "Table", "TableEngine", "run_independent"]
 

@@ -15,8 +15,8 @@ Every engine module has the same ``table_plan``/``table_run`` pair
 (:class:`forcenet.exact.protocol.TableEngine`) and owns its cost knowledge;
 this module only looks the method up, and for ``auto`` compares the plans.
 
-May import: :mod:`forcenet.exact.plan`, :mod:`forcenet.exact.protocol`,
-:mod:`forcenet.exact.validation`, :mod:`forcenet.exact.errors` and the five engine modules.
+May import: :mod:`forcenet.core.plan`, :mod:`forcenet.exact.protocol`,
+:mod:`forcenet.core.validation`, :mod:`forcenet.core.errors` and the five engine modules.
 
 Examples
 --------
@@ -36,13 +36,13 @@ from dataclasses import replace
 from collections.abc import Sequence
 from typing import Any, NamedTuple
 
-from .errors import ArgumentError
-from .plan import Plan, duration_text
+from forcenet.core.errors import ArgumentError
+from forcenet.core.plan import Plan, duration_text
 from .protocol import Progress, Table, TableEngine
 from .thesis import map_counting, nested, recursions
 from .triangle import moments as ideal_moments
 from .triangle.pfaffian import route as pfaffian_route
-from .validation import check_int, check_layers
+from forcenet.core.validation import check_int, check_layers
 
 __all__ = ["ENGINES", "METHODS", "MAX_MOMENTS", "Choice", "choose", "table_plan", "table_run"]
 
@@ -183,7 +183,7 @@ def table_plan(method: str, N: int, moments: int = 1, memory_bytes: int | None =
 
     Returns
     -------
-    :class:`~forcenet.exact.plan.Plan`
+    :class:`~forcenet.core.plan.Plan`
 
     Raises
     ------

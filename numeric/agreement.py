@@ -75,7 +75,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .autocorr import batch_means
-from forcenet.exact.errors import ArgumentError
+from forcenet.core.errors import ArgumentError
 
 __all__ = ["TableAgreement", "batch_means", "compare_samples", "compare_chain", "compare_means", "varying_columns"]
 
@@ -435,7 +435,7 @@ def _prepare(samples, exact, keys, name="samples"):
 
 
 def _check_alpha(alpha) -> float:
-    from forcenet.exact.validation import check_real
+    from forcenet.core.validation import check_real
 
     return check_real(alpha, "alpha", 0, 1, low_open=True, high_open=True)
 

@@ -25,7 +25,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 
-from forcenet.exact.errors import ForcenetError
+from forcenet.core.errors import ForcenetError
 
 __all__ = ["AutocorrError", "autocorr_function", "batch_means", "integrated_time", "mean_and_stderr"]
 
@@ -153,7 +153,7 @@ def batch_means(chain: ArrayLike, batch_factor: float = 10.0, gap_factor: float 
     >>> means.shape, layout
     ((50, 2), {'pilot': 500, 'length': 27, 'gap': 3})
     """
-    from forcenet.exact.validation import check_int, check_real
+    from forcenet.core.validation import check_int, check_real
 
     batch_factor = check_real(batch_factor, "batch_factor", 0, low_open=True)
     gap_factor = check_real(gap_factor, "gap_factor", 0)

@@ -15,12 +15,12 @@ processes load it in well under a second.
 A compiled call does not return to Python until it is done, and Python acts
 on Ctrl-C (``KeyboardInterrupt``) only between bytecodes, so long compiled
 work is cut into calls of about ``CHUNK_SECONDS`` each (:func:`chunks`, from
-:mod:`forcenet.exact.plan`, which the exact kernels use too):
+:mod:`forcenet.core.plan`, which the exact kernels use too):
 the interrupt is then seen within a fraction of a second, and the state
 between two calls is the state the one long call would have passed through
 (the chains go on bit for bit).
 
-May import: :mod:`forcenet.exact.plan`.
+May import: :mod:`forcenet.core.plan`.
 
 Examples
 --------
@@ -32,8 +32,8 @@ True
 
 from __future__ import annotations
 
-from forcenet.exact.plan import CHUNK_SECONDS, chunks, first_chunk
-from forcenet.exact.errors import ArgumentError
+from forcenet.core.plan import CHUNK_SECONDS, chunks, first_chunk
+from forcenet.core.errors import ArgumentError
 
 __all__ = ["HAVE_NUMBA", "njit", "kernel_choice", "chunks", "first_chunk", "CHUNK_SECONDS"]
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.sparse.linalg import eigs
 
-from forcenet.exact.errors import ArgumentError, ConvergenceError
+from forcenet.core.errors import ArgumentError, ConvergenceError
 from forcenet.numeric.chicken_wire.bethe import bethe_residuals, ground_state_sequence, newton_polish, solve_ground_state
 from forcenet.numeric.chicken_wire.transfer import largest_eigenvalue, sector_matrix
 

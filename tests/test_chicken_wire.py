@@ -163,7 +163,7 @@ def test_transfer_plan_scales_with_width_and_sectors():
 
 
 def test_transfer_plan_refusals_name_the_argument():
-    from forcenet.exact.errors import ArgumentError
+    from forcenet.core.errors import ArgumentError
     from forcenet.numeric.chicken_wire.transfer import transfer_plan
 
     assert transfer_plan(6, particles=7).refusal.startswith("particles=7 is out of range")

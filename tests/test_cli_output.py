@@ -233,7 +233,7 @@ def test_10_agreeing_arguments_still_run(sandbox, cli):
 
 def _planned(seconds, ticks, capsys, monkeypatch, tty):
     from forcenet.cli.common import run_planned
-    from forcenet.exact.plan import Plan
+    from forcenet.core.plan import Plan
 
     monkeypatch.setattr(sys.stderr, "isatty", lambda: tty, raising=False)
 

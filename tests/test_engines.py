@@ -16,7 +16,7 @@ import pytest
 from hypothesis import given, strategies as st
 
 from forcenet.exact import routes
-from forcenet.exact.errors import ArgumentError
+from forcenet.core.errors import ArgumentError
 from forcenet.exact.modular import crt, crt_many, primes_for_bound
 from forcenet.exact.triangle.moments import mean_W
 

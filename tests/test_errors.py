@@ -1,4 +1,4 @@
-"""The exception family (forcenet.exact.errors): the library raises it, the command line catches only it.
+"""The exception family (forcenet.core.errors): the library raises it, the command line catches only it.
 
 notes/architecture.md, "Errors".  A bug shows as a bug: exit code 1, ``internal error``, the traceback
 under ``--debug`` or in a file named on stderr.
@@ -16,8 +16,8 @@ import pytest
 import forcenet
 from forcenet.cli import main
 from forcenet.cli import table as table_cli
-from forcenet.exact.errors import ArgumentError, ArgumentTypeError, ConvergenceError, ForcenetError
-from forcenet.exact.validation import check_int, check_real
+from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceError, ForcenetError
+from forcenet.core.validation import check_int, check_real
 
 
 def test_the_family_is_exported_and_keeps_the_builtin_bases():

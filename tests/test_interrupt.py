@@ -21,8 +21,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from forcenet.exact import plan as plan_module
-from forcenet.exact.plan import Plan, chunks, combine, kernels_cached, with_compilation
+from forcenet.core import plan as plan_module
+from forcenet.core.plan import Plan, chunks, combine, kernels_cached, with_compilation
 
 # exit after SIGINT: a call of ~0.15 s, then the interpreter's exit (~1-2 s on the loaded 2-core machine)
 LATENCY = 8.0

@@ -9,7 +9,7 @@ import pytest
 
 from forcenet.exact.chicken_wire.survey import call_with_timeout, survey
 from forcenet.exact.chicken_wire.tiler import enumerate_tilings, scan_lifts
-from forcenet.exact.errors import ArgumentError
+from forcenet.core.errors import ArgumentError
 from forcenet.exact.chicken_wire.tiling import (
     F, F_IMAGE, KERNEL, NAME_OF, STEP, UNIT, Lattice2in2, Lattice2in4, MapError, canonical_form, check_cells,
     check_tiling, chicken_wire_configs, config_canonical, config_to_tiling, config_vertex_counts,

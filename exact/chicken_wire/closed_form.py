@@ -44,7 +44,7 @@ from __future__ import annotations
 from functools import lru_cache
 
 import sympy
-from ..errors import ArgumentError
+from forcenet.core.errors import ArgumentError
 
 __all__ = [
     "PHI",

@@ -48,8 +48,8 @@ from functools import cache
 from typing import TYPE_CHECKING
 from itertools import product
 
-from ..validation import check_int
-from ..errors import ArgumentError
+from forcenet.core.validation import check_int
+from forcenet.core.errors import ArgumentError
 
 if TYPE_CHECKING:
     import sympy

@@ -8,7 +8,7 @@ it is isolated from these factors by
 :func:`forcenet.numeric.chicken_wire.transfer.perron_root` (``exact`` returns
 no floats).
 
-May import: :mod:`forcenet.exact.validation`, :mod:`.model`.
+May import: :mod:`forcenet.core.validation`, :mod:`.model`.
 
 Examples
 --------
@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from itertools import product
 
-from ..validation import check_int
+from forcenet.core.validation import check_int
 from .model import EMPTY, LEFT, RIGHT, row_transitions
 
 __all__ = ["sector_polynomial_factors"]

@@ -22,7 +22,7 @@ from __future__ import annotations
 from collections import Counter
 from fractions import Fraction
 from typing import Any
-from ..errors import ArgumentError, ForcenetError
+from forcenet.core.errors import ArgumentError, ForcenetError
 
 __all__ = [
     "zmul", "TilingError", "UNIT", "F", "F_IMAGE", "vadd", "vsub", "phys", "area", "Lattice2in4", "Lattice2in2",

@@ -18,8 +18,8 @@ from collections.abc import Callable
 from fractions import Fraction
 from typing import TypeVar
 
-from ..errors import ArgumentError
-from ..validation import check_int, check_real
+from forcenet.core.errors import ArgumentError
+from forcenet.core.validation import check_int, check_real
 from .square_triangle import Lattice2in2, Lattice2in4, TilingError, canonical_form, check_tiling, tiling_from_canonical, tiling_tiles
 from .tiler import enumerate_tilings
 from .tiling import MapError, check_cells, chicken_wire_configs, config_canonical, config_to_tiling, failure_kind, tiling_to_config

@@ -57,7 +57,7 @@ from fractions import Fraction
 from math import gcd
 from typing import Any
 
-from ..errors import ArgumentError
+from forcenet.core.errors import ArgumentError
 from .model import BOND_STEPS, VERTICES, torus_configurations
 from .square_triangle import (
     F, F_IMAGE, KERNEL, UNIT, Lattice2in2, Lattice2in4, Tile, TilingError, canonical_form, check_tiling, tile_corners, tile_edges,

@@ -20,8 +20,8 @@ from typing import Any
 
 import sympy
 
-from ..validation import check_int
-from ..errors import ArgumentError, ArgumentTypeError
+from forcenet.core.validation import check_int
+from forcenet.core.errors import ArgumentError, ArgumentTypeError
 
 __all__ = ["mean_W_mobilized"]
 

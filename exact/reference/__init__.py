@@ -5,5 +5,5 @@ with the routes they check (the exact core, the thesis's routes).
 * :mod:`.linear_extensions`: averages over linear extensions (networkx);
 * :mod:`.dictionary_dp`: the plain dictionary dynamic program (also the benchmark baseline).
 
-May import: :mod:`forcenet.exact.validation` only (``tests/test_architecture.py``).
+May import: :mod:`forcenet.core.validation` only (``tests/test_architecture.py``).
 """

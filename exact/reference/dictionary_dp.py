@@ -9,7 +9,7 @@ It uses neither the complement symmetry nor modular arithmetic of
 :mod:`forcenet.exact.triangle.ideal_dp`.
 
 Independence: this module shares no code with the routes it checks.  It may
-import only :mod:`forcenet.exact.validation` and the standard library.
+import only :mod:`forcenet.core.validation` and the standard library.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from fractions import Fraction
 
-from ..validation import check_layers
+from forcenet.core.validation import check_layers
 
 __all__ = ["addable_cells", "chain_counts", "mean_W_dictionary"]
 

@@ -6,7 +6,7 @@ as in Sec. 4.3, and divides by the volume (4.1).  It implements the
 definition directly, for small N (N <= 5).
 
 Independence: this module shares no code with the routes it checks.  It may
-import only :mod:`forcenet.exact.validation` (argument checks), sympy and the
+import only :mod:`forcenet.core.validation` (argument checks), sympy and the
 standard library.
 """
 
@@ -17,7 +17,7 @@ from functools import cache
 
 import sympy
 
-from ..validation import check_layers
+from forcenet.core.validation import check_layers
 
 __all__ = ["w_symbols", "polytope_bounds", "integrate_moment"]
 

@@ -9,7 +9,7 @@ the ranks, ``<W^s>`` is the rising factorial of the rank gap over
 Independence: this module shares no code with the routes it checks (the
 exact core and the thesis's map route have their own spacing code in
 :mod:`forcenet.exact.triangle.spacings`).  It may import only
-:mod:`forcenet.exact.validation`, networkx, sympy and the standard library.
+:mod:`forcenet.core.validation`, networkx, sympy and the standard library.
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ from typing import Any
 import networkx as nx
 from sympy import rf
 
-from ..validation import check_int, check_layers
+from forcenet.core.validation import check_int, check_layers
 
 __all__ = ["partial_sum_poset", "linear_extension_moments"]
 

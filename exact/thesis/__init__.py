@@ -7,7 +7,7 @@
 * :mod:`.nested`: the layer-by-layer nested-matrix integration (4.14)-(4.46);
 * :mod:`.symbolic`: the same layers as sympy matrices, step by step, for small N (``notes/symbolic_session.md``).
 
-May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
+May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.modular`,
 :mod:`forcenet.exact.triangle` (staircase, spacings).
 """
 

@@ -9,7 +9,7 @@
 * :func:`defect_line`: the line of raised bounds of the modified maps
   (4.73)/(4.90).
 
-May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`.
+May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.modular`.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from fractions import Fraction
 from math import factorial
 
 import numpy as np
-from ..errors import ArgumentError
+from forcenet.core.errors import ArgumentError
 
 __all__ = ["gamma", "gamma_coefficient", "gamma_residues", "upper_bound", "defect_line"]
 

@@ -8,16 +8,16 @@
 The literal route, for small N (N = 7 in seconds); the layer-by-layer
 engine is :mod:`.nested`.  Derivations: ``notes/chapter4.md``.
 
-May import: :mod:`forcenet.exact.validation`, :mod:`.coefficients`.
+May import: :mod:`forcenet.core.validation`, :mod:`.coefficients`.
 """
 
 from __future__ import annotations
 
 from fractions import Fraction
 
-from ..validation import check_layers
+from forcenet.core.validation import check_layers
 from .coefficients import gamma, gamma_coefficient, upper_bound
-from ..errors import ArgumentError
+from forcenet.core.errors import ArgumentError
 
 __all__ = ["integral_I", "index_tuples", "psi_fundamental", "right_vector", "normalization_fundamental"]
 

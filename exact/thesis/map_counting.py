@@ -12,7 +12,7 @@
 
 Enumerates maps one by one: ``Z_{N-2}`` of them (N = 8: 2.3e7).
 
-May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.plan`, :mod:`forcenet.exact.protocol`,
+May import: :mod:`forcenet.core.validation`, :mod:`forcenet.core.plan`, :mod:`forcenet.exact.protocol`,
 :mod:`forcenet.exact.triangle.staircase`, :mod:`forcenet.exact.triangle.spacings`,
 :mod:`.coefficients`, :mod:`.recursions`.
 """
@@ -27,12 +27,12 @@ from functools import lru_cache
 
 from ..triangle.spacings import rank_gap_moments, rising
 from ..triangle.staircase import count, dimension
-from ..validation import check_grain, check_int, check_layers
+from forcenet.core.validation import check_grain, check_int, check_layers
 from .coefficients import defect_line, upper_bound
 from .recursions import count_lambda, table_from_bulk
-from ..plan import Plan, combine, table_range
+from forcenet.core.plan import Plan, combine, table_range
 from ..protocol import Progress, Table, run_independent
-from ..errors import ArgumentError
+from forcenet.core.errors import ArgumentError
 
 __all__ = [
     "is_map",

@@ -56,11 +56,11 @@ import numpy as np
 
 from ..modular import crt, primes_for_bound
 from ..triangle.staircase import dimension
-from ..validation import check_grain, check_int, check_layers
+from forcenet.core.validation import check_grain, check_int, check_layers
 from .coefficients import gamma, gamma_residues
-from ..plan import Plan, table_range
+from forcenet.core.plan import Plan, table_range
 from ..protocol import Progress, Table, run_independent
-from ..errors import ArgumentError, ArgumentTypeError
+from forcenet.core.errors import ArgumentError, ArgumentTypeError
 
 __all__ = ["integrate_layers", "normalization_nested", "moment_nested", "moment_table_nested", "mean_W_nested", "table_plan", "table_run"]
 

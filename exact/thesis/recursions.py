@@ -12,8 +12,8 @@ row of a map (Sec. 4.6): the nested sum of (4.50) is a dominance prefix sum
 Multi-modular (int64 residues, CRT) beyond a few layers: N = 12 reaches.
 Derivations: ``notes/chapter4.md``.
 
-May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
-:mod:`forcenet.exact.plan`, :mod:`forcenet.exact.protocol`,
+May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.modular`,
+:mod:`forcenet.core.plan`, :mod:`forcenet.exact.protocol`,
 :mod:`forcenet.exact.triangle.staircase`, :mod:`.coefficients` (never
 :mod:`.map_counting`, which imports this module).
 """
@@ -30,9 +30,9 @@ import numpy as np
 
 from ..modular import crt, primes_for_bound
 from ..triangle.staircase import count, dimension
-from ..validation import check_int, check_layers
+from forcenet.core.validation import check_int, check_layers
 from .coefficients import defect_line, upper_bound
-from ..plan import Plan, table_range
+from forcenet.core.plan import Plan, table_range
 from ..protocol import Progress, Table, run_independent
 
 __all__ = [

@@ -35,7 +35,7 @@ W_2_1*W_2_2
 >>> layers[2].normalization()
 1/6
 
-May import: :mod:`forcenet.exact.validation`, :mod:`.nested`.
+May import: :mod:`forcenet.core.validation`, :mod:`.nested`.
 """
 
 from __future__ import annotations
@@ -45,9 +45,9 @@ from typing import NamedTuple
 
 import sympy
 
-from ..validation import check_layers
+from forcenet.core.validation import check_layers
 from .nested import _check_powers, _integrate_layer, _multiply_site, _prune
-from ..errors import ArgumentError
+from forcenet.core.errors import ArgumentError
 
 __all__ = ["w_symbol", "NestedLayer", "nested_layers", "integrate_layer_step", "moment_symbolic"]
 

@@ -9,7 +9,7 @@
 * :mod:`.distribution`: exact densities, CDFs and pooled P(f) (sympy polynomials);
 * :mod:`.tables`: JSON / CSV / LaTeX tables, atomic writes.
 
-May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`, :mod:`forcenet.exact.plan`.
+May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.modular`, :mod:`forcenet.core.plan`.
 """
 
 from .configuration import W_from_q, contact_forces, in_ensemble, partial_sums, q_from_W

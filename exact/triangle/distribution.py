@@ -36,7 +36,7 @@ References
 S. Ostojic, PhD thesis (2006), Eqs. (3.2)-(3.4), (3.8), (4.5)-(4.9); the
 thesis's ``P(f)``: Figs. 2.4, 3.8, 7.3.
 
-May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.plan`,
+May import: :mod:`forcenet.core.validation`, :mod:`forcenet.core.plan`,
 :mod:`.staircase`, :mod:`.spacings`, :mod:`.moments`, :mod:`.gaps`, :mod:`.joint_gaps`, :mod:`.pieces`.
 """
 
@@ -48,14 +48,14 @@ from math import comb
 
 import sympy
 
-from ..plan import Plan
-from ..validation import check_grain, check_int, check_layers
+from forcenet.core.plan import Plan
+from forcenet.core.validation import check_grain, check_int, check_layers
 from .gaps import GapCounts, chain_pass, contact_gap_counts, contact_gap_law, gap_laws_plan
 from .joint_gaps import q_gap_counts
 from .pieces import Piece, as_pieces, bin_probabilities, piecewise_cdf, sum_pieces
 from .moments import mean_W_grain
 from .spacings import rising
-from ..errors import ArgumentError
+from forcenet.core.errors import ArgumentError
 
 __all__ = [
     "W_SYMBOL",

@@ -36,8 +36,8 @@ References
 ----------
 S. Ostojic, PhD thesis (2006), Eqs. (3.2)-(3.4), (3.8), (4.5)-(4.9).
 
-May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
-:mod:`forcenet.exact.plan`, :mod:`.staircase`, :mod:`.ideal_dp`, :mod:`.runs`.
+May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.modular`,
+:mod:`forcenet.core.plan`, :mod:`.staircase`, :mod:`.ideal_dp`, :mod:`.runs`.
 """
 
 from __future__ import annotations
@@ -49,12 +49,12 @@ from typing import NamedTuple
 import numpy as np
 
 from ..modular import crt, primes_for_bound
-from ..plan import Plan
-from ..validation import check_grain, check_int, check_layers
+from forcenet.core.plan import Plan
+from forcenet.core.validation import check_grain, check_int, check_layers
 from .ideal_dp import predecessor_moves
 from .runs import check_chain, mulmod_sum, run_layout, transport
 from .staircase import count, dimension
-from ..errors import ArgumentError
+from forcenet.core.errors import ArgumentError
 
 __all__ = [
     "GapCounts",

@@ -33,7 +33,7 @@ import numpy as np
 
 from ..modular import crt, primes_for_bound
 from .staircase import count, dimension
-from ..errors import ArgumentError
+from forcenet.core.errors import ArgumentError
 
 __all__ = [
     "ideal_levels",

@@ -17,7 +17,7 @@ Examples
 >>> [(a, b, c) for a, row in enumerate(counts) for b, c in enumerate(row) if c], total
 ([(1, 1, 1)], 1)
 
-May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
+May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.modular`,
 :mod:`.staircase`, :mod:`.ideal_dp`, :mod:`.runs`.
 """
 
@@ -28,11 +28,11 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 
 from ..modular import crt, primes_for_bound
-from ..validation import check_grain, check_int, check_layers
+from forcenet.core.validation import check_grain, check_int, check_layers
 from .runs import check_chain, mulmod_sum, run_layout, transport
 from .ideal_dp import predecessor_moves
 from .staircase import count, dimension
-from ..errors import ArgumentError
+from forcenet.core.errors import ArgumentError
 
 __all__ = ["joint_gap_counts", "q_gap_counts"]
 

@@ -31,13 +31,13 @@ from concurrent.futures import Executor
 from typing import Any
 
 from ..modular import crt, primes_for_bound
-from ..plan import Plan, combine
+from forcenet.core.plan import Plan, combine
 from ..protocol import Progress, Table, run_independent
-from ..validation import check_grain, check_int, check_layers
+from forcenet.core.validation import check_grain, check_int, check_layers
 from .ideal_dp import estimate_survival_cost, marked_chain_sums, parts_table, survival_counts
 from .spacings import rising
 from .staircase import count, dimension
-from ..errors import ArgumentError
+from forcenet.core.errors import ArgumentError
 
 __all__ = [
     "mean_W",
@@ -132,7 +132,7 @@ _SECONDS_PER_STATE = 6.5e-8  # moment_table per ideal x grain x state x prime, m
 
 
 def mean_W_plan(N: int, memory_bytes: int | None = None) -> Plan:
-    """The cost of :func:`mean_W` for ``N`` layers: a :class:`~forcenet.exact.plan.Plan`.
+    """The cost of :func:`mean_W` for ``N`` layers: a :class:`~forcenet.core.plan.Plan`.
 
     ``memory_bytes`` is the memory available to the run (None: not
     checked); the residue tables are chunked to 3/4 of it, at most 12 GiB

@@ -5,7 +5,7 @@ ensemble ``P(f)``, a contact pool) are polynomials on intervals; here they are
 held as :class:`Piece` lists, summed, integrated and binned with exact
 rationals (``notes/force_distribution.md``).
 
-May import: :mod:`forcenet.exact.errors`.
+May import: :mod:`forcenet.core.errors`.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from typing import Any, NamedTuple
 
 import sympy
 
-from ..errors import ArgumentError, ArgumentTypeError
+from forcenet.core.errors import ArgumentError, ArgumentTypeError
 
 __all__ = ["Piece", "sum_pieces", "as_pieces", "piecewise_cdf", "bin_probabilities"]
 

@@ -9,7 +9,7 @@ the number of chain cells they contain (:func:`run_layout`), the carrying of
 states along the moves (:func:`transport`) and the overflow-free modular
 products (:func:`mulmod_sum`).  Arithmetic modulo word-size primes (numpy).
 
-May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.errors`, :mod:`.staircase`, :mod:`.ideal_dp`.
+May import: :mod:`forcenet.core.validation`, :mod:`forcenet.core.errors`, :mod:`.staircase`, :mod:`.ideal_dp`.
 """
 
 from __future__ import annotations
@@ -19,10 +19,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..validation import check_int
+from forcenet.core.validation import check_int
 from .ideal_dp import forward_counts_mod, ideal_levels
 from .staircase import dimension
-from ..errors import ArgumentError, ArgumentTypeError
+from forcenet.core.errors import ArgumentError, ArgumentTypeError
 
 __all__ = ["check_chain", "down_size", "RunLayout", "run_layout", "transport", "mulmod_sum"]
 
@@ -30,7 +30,7 @@ __all__ = ["check_chain", "down_size", "RunLayout", "run_layout", "transport", "
 def check_chain(N: int, chain: Iterable[tuple[int, int]]) -> tuple[tuple[int, int], ...]:
     """The cells of ``chain``, checked: cells of the staircase of ``N`` layers, strictly increasing in the poset.
 
-    ``N`` must be checked already (:func:`forcenet.exact.validation.check_layers`).
+    ``N`` must be checked already (:func:`forcenet.core.validation.check_layers`).
 
     Raises
     ------

@@ -15,7 +15,7 @@ References
 .. [2] OEIS A003121: number of standard shifted Young tableaux of staircase
    shape, 1, 1, 1, 2, 12, 286, 33592, 23178480, ...
 
-May import: :mod:`forcenet.exact.validation`.
+May import: :mod:`forcenet.core.validation`.
 """
 
 from __future__ import annotations
@@ -27,11 +27,11 @@ from typing import TYPE_CHECKING, Any
 from functools import lru_cache
 from math import factorial, prod
 
-from ..validation import check_layers
-from ..errors import ArgumentError
+from forcenet.core.validation import check_layers
+from forcenet.core.errors import ArgumentError
 
 if TYPE_CHECKING:
-    from ..plan import Plan
+    from forcenet.core.plan import Plan
 
 __all__ = [
     "dimension",
@@ -329,7 +329,7 @@ def count_plan(N: int, memory_bytes: int | None = None) -> Plan:
     >>> count_plan(10**6, memory_bytes=24 * 2**30).runnable  # 2.7e12 digits
     False
     """
-    from ..plan import Plan
+    from forcenet.core.plan import Plan
 
     N = check_layers(N)
     if N > _COUNT_MAX_N:

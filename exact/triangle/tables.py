@@ -15,7 +15,7 @@ import tempfile
 from fractions import Fraction
 
 from .moments import mean_W, moment_table
-from ..validation import check_int, check_layers
+from forcenet.core.validation import check_int, check_layers
 from .staircase import count, normalization
 
 __all__ = ["exact_table", "to_json", "to_csv", "to_latex", "write_atomic", "fraction_str"]

@@ -33,8 +33,8 @@ import functools
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from forcenet.exact.errors import ArgumentError, ConvergenceError
-from forcenet.exact.validation import check_int
+from forcenet.core.errors import ArgumentError, ConvergenceError
+from forcenet.core.validation import check_int
 
 Progress = Callable[..., object] | None  # called with one tick (or a count of them)
 
@@ -255,7 +255,7 @@ def newton_polish(L: int, w0: np.ndarray, u0: np.ndarray, iterations: int = 50, 
 
     The branches (multiples of ``2 pi i``) are fixed at the starting point,
     so the solution keeps the starting point's quantum numbers.  Returns
-    ``(w, u, residual, iterations used)``; raises :class:`~forcenet.exact.errors.ConvergenceError` if the
+    ``(w, u, residual, iterations used)``; raises :class:`~forcenet.core.errors.ConvergenceError` if the
     iteration does not converge (never silent).
 
     ``log_fugacity = mu`` weighs every horizontal bond (photon) by
@@ -398,7 +398,7 @@ def follow_fugacity(L: int, w: np.ndarray, u: np.ndarray, mu_from: float, mu_to:
 
     Euler predictor along ``dx/dmu`` and Newton corrector, with steps of at
     most ``max_twist_step`` in ``L mu``; a failed step is halved (up to 12
-    times) and then reported as :class:`~forcenet.exact.errors.ConvergenceError`.
+    times) and then reported as :class:`~forcenet.core.errors.ConvergenceError`.
     """
     w = np.asarray(w, dtype=complex).copy()
     u = np.asarray(u, dtype=complex).copy()
@@ -453,7 +453,7 @@ def isotropic_state(L: int, n: int, m: int, w: np.ndarray, u: np.ndarray, mu: fl
     ``n = 2m`` the first two agree; a secant iteration on ``mu`` makes the
     third agree.  The entropy per site is the Legendre transform
     ``v = log(Lambda)/L - mu rho_H`` (Sec. 7.4.1, the isotropic case of
-    Eq. 7.1).  Raises :class:`~forcenet.exact.errors.ConvergenceError` if the iteration fails.
+    Eq. 7.1).  Raises :class:`~forcenet.core.errors.ConvergenceError` if the iteration fails.
     """
     if n != 2 * m:
         raise ArgumentError(f"(n, m) = ({n}, {m}): the isotropic line needs n = 2m")
@@ -495,7 +495,7 @@ def isotropic_sequence(k_values: Iterable[int], ratio: tuple[int, int, int] = (6
     ground state ends in coinciding roots (``Q = 1/5`` at ``L = 125``) while
     the isotropic state goes on (``tests/test_bethe.py``).
     Returns a list of :class:`IsotropicPoint`; a lost ground state raises
-    :class:`~forcenet.exact.errors.ConvergenceError`.
+    :class:`~forcenet.core.errors.ConvergenceError`.
 
     Examples
     --------
@@ -537,7 +537,7 @@ def _continue_at_fugacity(points: list[IsotropicPoint], L: int, n: int, m: int, 
     As in :func:`ground_state_sequence`, but at ``mu`` (``W = tau^(m-n)``): the
     ``u`` of the last point with ``m`` of the same parity, resampled, the ``w``
     from :func:`first_level_roots` at ``mu``, then :func:`newton_polish`.
-    Raises :class:`~forcenet.exact.errors.ConvergenceError` if the roots
+    Raises :class:`~forcenet.core.errors.ConvergenceError` if the roots
     coincide or the eigenvalue is not real.
     """
     seed = next((p for p in reversed(points) if (p.m - m) % 2 == 0), points[-1])

@@ -10,8 +10,8 @@ May import: :mod:`forcenet.exact` (plan, validation, errors), :mod:`.bethe`.
 
 from __future__ import annotations
 
-from forcenet.exact.plan import Plan
-from forcenet.exact.validation import check_int
+from forcenet.core.plan import Plan
+from forcenet.core.validation import check_int
 
 from .bethe import BetheSolution, Progress, ground_state_sequence, solve_ground_state
 

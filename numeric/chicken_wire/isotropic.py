@@ -20,7 +20,7 @@ from the closed form where it is cheaper (both agree on their overlap; tests).
 The Bethe-ansatz route, which knows nothing of these formulas, is
 :mod:`.isotropic_bethe`.
 
-May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.chicken_wire.closed_form`.
+May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.chicken_wire.closed_form`.
 
 Examples
 --------
@@ -42,11 +42,11 @@ from functools import lru_cache
 
 import mpmath
 
-from forcenet.exact.plan import Plan
-from forcenet.exact.validation import check_dps, check_int
+from forcenet.core.plan import Plan
+from forcenet.core.validation import check_dps, check_int
 
-from ..precision import GUARD, RealLike, converged, to_mpf
-from forcenet.exact.errors import ArgumentError, ArgumentTypeError
+from forcenet.core.precision import GUARD, RealLike, converged, to_mpf
+from forcenet.core.errors import ArgumentError, ArgumentTypeError
 
 __all__ = [
     "density_Q",

@@ -8,7 +8,7 @@ the entropy per site ``v`` and the log-fugacity ``mu`` are extrapolated to
 with its exact slope ``dv/dQ = -3 mu`` (Legendre).  This route knows nothing
 of the closed form (7.1) (:mod:`.isotropic`), which the tests check against it.
 
-May import: :mod:`forcenet.exact.validation`, :mod:`.bethe`.
+May import: :mod:`forcenet.core.validation`, :mod:`.bethe`.
 
 Examples
 --------
@@ -25,9 +25,9 @@ from fractions import Fraction
 
 import numpy as np
 
-from forcenet.exact.errors import ArgumentError, ConvergenceError
-from forcenet.exact.plan import Plan
-from forcenet.exact.validation import check_int
+from forcenet.core.errors import ArgumentError, ConvergenceError
+from forcenet.core.plan import Plan
+from forcenet.core.validation import check_int
 
 __all__ = [
     "extrapolate",
@@ -77,7 +77,7 @@ def isotropic_limit(Q: Fraction | int | str | float, L_max: int = 240, L_min: in
 
     Sectors ``(L, n, m) = k (a, 2c, c)`` for ``L_min <= L <= L_max`` at the
     isotropic fugacity (:func:`forcenet.numeric.chicken_wire.bethe.isotropic_sequence`), then
-    :func:`extrapolate`.  Raises :class:`~forcenet.exact.errors.ConvergenceError` where the continuation
+    :func:`extrapolate`.  Raises :class:`~forcenet.core.errors.ConvergenceError` where the continuation
     loses the ground state (reported, never silent).
 
     """

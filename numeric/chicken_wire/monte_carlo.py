@@ -24,7 +24,7 @@ Examples
 from __future__ import annotations
 
 import numpy as np
-from forcenet.exact.errors import ArgumentError
+from forcenet.core.errors import ArgumentError
 
 __all__ = ["ChickenWire", "HexagonMonteCarlo", "component"]
 

@@ -24,7 +24,7 @@ diagonal neighbours ``a = (j, N-i+j)``, ``b = (j-1, N-i+j-1)``
 
 Derivation and checks against exact tables: ``notes/scaling_limit.md``.
 Precision is a parameter: every function converts its inputs inside
-``mpmath.workdps(dps + 10)`` (strings keep all their digits; :mod:`forcenet.numeric.precision`), computes with
+``mpmath.workdps(dps + 10)`` (strings keep all their digits; :mod:`forcenet.core.precision`), computes with
 those guard digits and returns an mpf rounded to ``dps`` digits; no global
 precision is set, and points outside a function's domain raise
 ``ArgumentError`` (never a complex number).
@@ -42,10 +42,10 @@ from __future__ import annotations
 
 import mpmath
 
-from forcenet.exact.validation import check_dps
+from forcenet.core.validation import check_dps
 
-from ..precision import GUARD, RealLike, guarded, to_mpf
-from forcenet.exact.errors import ArgumentError
+from forcenet.core.precision import GUARD, RealLike, guarded, to_mpf
+from forcenet.core.errors import ArgumentError
 
 __all__ = ["level_curve", "level_curve_slope", "limit_surface", "bulk_response", "lattice_response"]
 
@@ -112,7 +112,7 @@ def level_curve_slope(a: RealLike, u: RealLike, dps: int = 30) -> mpmath.mpf:
     >>> level_curve_slope(0.1, 0.9)
     Traceback (most recent call last):
     ...
-    forcenet.exact.errors.ArgumentError: u=0.9 is out of range: outside the level curve of a=0.1 (need u^2 <= 4a(1-a))
+    forcenet.core.errors.ArgumentError: u=0.9 is out of range: outside the level curve of a=0.1 (need u^2 <= 4a(1-a))
     """
     return guarded(lambda: _slope(*_checked_level_point(a, u)), dps)
 

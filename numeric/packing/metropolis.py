@@ -1,6 +1,6 @@
 """The Metropolis sampler of Sec. 3.2.4 on the N x P packing, and the response G(i, j) (Sec. 3.3).
 
-May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.numeric.autocorr`,
+May import: :mod:`forcenet.core.validation`, :mod:`forcenet.numeric.autocorr`,
 :mod:`.scene`, :mod:`.networks`.
 
 Examples
@@ -25,12 +25,12 @@ from typing import Literal, overload
 import numpy as np
 from numpy.typing import ArrayLike
 
-from forcenet.exact.plan import Plan
-from forcenet.exact.validation import check_int
+from forcenet.core.plan import Plan
+from forcenet.core.validation import check_int
 
 from .networks import maximin_network
 from .scene import Scene, forces_from_lateral, forces_from_q, lateral_forces
-from forcenet.exact.errors import ArgumentError, ArgumentTypeError
+from forcenet.core.errors import ArgumentError, ArgumentTypeError
 
 __all__ = ["PackingMetropolis", "response", "packing_plan"]
 
@@ -83,11 +83,11 @@ class PackingMetropolis:
 
     Raises
     ------
-    forcenet.exact.errors.ArgumentError
+    forcenet.core.errors.ArgumentError
         On an unknown ``kernel`` or ``move``, the slice move without the compiled kernel or with a ``step``, a
         ``step`` outside (0, 1], a ``q0`` of the wrong shape, outside [0, 1] or infeasible, or a scene with no
         repulsive network.
-    forcenet.exact.errors.ArgumentTypeError
+    forcenet.core.errors.ArgumentTypeError
         If ``scene`` is not a :class:`Scene`.
     """
 
@@ -306,7 +306,7 @@ def response(scene: Scene, sweeps: int, burn_in: int, seed: int | np.random.Seed
 
     Raises
     ------
-    forcenet.exact.errors.ArgumentError
+    forcenet.core.errors.ArgumentError
         On ``F <= 0`` or a bad argument of the samplers.
     forcenet.numeric.autocorr.AutocorrError
         If a chain is too short to trust its error bars.
@@ -372,7 +372,7 @@ def packing_plan(scene: Scene, sweeps: int, burn_in: int = 0, chains: int = 1, m
     ...     compiled.seconds - compiled.compile_seconds - 1.5)
     True
     """
-    from forcenet.exact.plan import with_compilation
+    from forcenet.core.plan import with_compilation
 
     from ..jit import kernel_choice
 

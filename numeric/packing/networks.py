@@ -6,7 +6,7 @@ that check the q-coordinates and the measure (3.10) of the Metropolis
 sampler.  :func:`maximin_network` is the linear program that maximizes the
 smallest contact force (a feasible start, or a proof that none exists).
 
-May import: :mod:`forcenet.exact.validation`, :mod:`.scene`.
+May import: :mod:`forcenet.core.validation`, :mod:`.scene`.
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from .scene import SQRT3, Scene, forces_from_lateral
-from forcenet.exact.errors import ArgumentError
+from forcenet.core.errors import ArgumentError
 
 __all__ = ["uniform_networks", "maximin_network"]
 
@@ -65,7 +65,7 @@ def uniform_networks(scene: Scene, size: int, rng: np.random.Generator, batch: i
 
     Raises
     ------
-    forcenet.exact.errors.ArgumentError
+    forcenet.core.errors.ArgumentError
         If the packing is too large, no repulsive network exists, or the acceptance is below ``1e-4``.
 
     Examples
@@ -131,7 +131,7 @@ def maximin_network(scene: Scene) -> tuple[np.ndarray, float]:
 
     Raises
     ------
-    forcenet.exact.errors.ArgumentError
+    forcenet.core.errors.ArgumentError
         If ``scene.ph`` is None.
     RuntimeError
         If the linear program fails.

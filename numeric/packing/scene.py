@@ -32,7 +32,7 @@ isotropic ``ph = pv = p, mg = 0``.  The fully mobilized scene without gravity
 The sampler is :mod:`.metropolis`, the independent rejection route and the
 maximin network :mod:`.networks`.
 
-May import: :mod:`forcenet.exact.validation`.
+May import: :mod:`forcenet.core.validation`.
 
 Examples
 --------
@@ -49,8 +49,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from forcenet.exact.validation import check_int, check_real
-from forcenet.exact.errors import ArgumentError
+from forcenet.core.validation import check_int, check_real
+from forcenet.core.errors import ArgumentError
 
 __all__ = ["Scene", "forces_from_q", "forces_from_lateral", "lateral_forces", "lateral_increments", "contact_forces",
            "SQRT3"]
@@ -79,7 +79,7 @@ class Scene:
 
     Raises
     ------
-    forcenet.exact.errors.ArgumentError
+    forcenet.core.errors.ArgumentError
         On ``N`` or ``P`` below 2, ``j0`` outside ``1..P``, a negative load, a ``ph`` that is not positive, or
         ``pv = mg = 0`` (only the triangle under the overload: use the triangle's samplers).
 
@@ -90,7 +90,7 @@ class Scene:
     >>> Scene(N=20, P=41, j0=50)
     Traceback (most recent call last):
     ...
-    forcenet.exact.errors.ArgumentError: j0=50 is out of range: j0 must be an integer in 1..41
+    forcenet.core.errors.ArgumentError: j0=50 is out of range: j0 must be an integer in 1..41
     """
 
     N: int
@@ -225,7 +225,7 @@ def lateral_forces(q: np.ndarray, W: np.ndarray, scene: Scene) -> np.ndarray:
 
     Raises
     ------
-    forcenet.exact.errors.ArgumentError
+    forcenet.core.errors.ArgumentError
         If ``scene.ph`` is None.
 
     Examples
@@ -265,7 +265,7 @@ def forces_from_lateral(x: np.ndarray, scene: Scene) -> dict:
 
     Raises
     ------
-    forcenet.exact.errors.ArgumentError
+    forcenet.core.errors.ArgumentError
         If ``x`` has the wrong shape.
 
     Examples
@@ -329,7 +329,7 @@ def contact_forces(q: np.ndarray, scene: Scene) -> dict:
 
     Raises
     ------
-    forcenet.exact.errors.ArgumentError
+    forcenet.core.errors.ArgumentError
         If ``scene.ph`` is None.
 
     Examples

@@ -28,7 +28,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from forcenet.exact.triangle.staircase import dimension
-from forcenet.exact.validation import check_int, check_layers
+from forcenet.core.validation import check_int, check_layers
 
 __all__ = ["ExactSampler", "mean_and_error", "q_from_W", "removal_probabilities", "sample_tableaux", "tableaux_to_W"]
 
@@ -111,7 +111,7 @@ def sample_tableaux(N: int, size: int, rng: np.random.Generator, refresh: int | 
 
     Raises
     ------
-    forcenet.exact.errors.ArgumentError
+    forcenet.core.errors.ArgumentError
         On ``N < 2``.
 
     Examples
@@ -353,7 +353,7 @@ def sample_plan(N: int, samples: int, memory_bytes: int | None = None, kernel: s
     >>> sample_plan(100000, 2, memory_bytes=24 * 2**30).runnable
     False
     """
-    from forcenet.exact.plan import Plan, with_compilation
+    from forcenet.core.plan import Plan, with_compilation
 
     from ..jit import kernel_choice
 

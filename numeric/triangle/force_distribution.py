@@ -32,8 +32,8 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from forcenet.exact.validation import check_int
-from forcenet.exact.errors import ArgumentError
+from forcenet.core.validation import check_int
+from forcenet.core.errors import ArgumentError
 
 if TYPE_CHECKING:
     from forcenet.exact.triangle.gaps import GapCounts

@@ -36,8 +36,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from forcenet.exact.triangle.staircase import dimension
-from forcenet.exact.validation import check_int, check_layers
-from forcenet.exact.errors import ArgumentError
+from forcenet.core.validation import check_int, check_layers
+from forcenet.core.errors import ArgumentError
 
 __all__ = ["TriangleMetropolis", "forces_from_q", "lateral_forces", "q_model_samples"]
 
@@ -115,7 +115,7 @@ class TriangleMetropolis:
 
     Raises
     ------
-    forcenet.exact.errors.ArgumentError
+    forcenet.core.errors.ArgumentError
         On ``N < 2``, a ``ph`` that is not a positive finite number, an unknown ``kernel`` or ``move``, the slice
         move without the compiled kernel, a ``q0`` of the wrong shape or (finite ``ph``) with a negative lateral force.
 
@@ -292,7 +292,7 @@ def q_model_samples(N: int, size: int, rng: np.random.Generator) -> np.ndarray:
 
     Raises
     ------
-    forcenet.exact.errors.ArgumentError
+    forcenet.core.errors.ArgumentError
         On ``N < 2``.
 
     Examples
@@ -341,7 +341,7 @@ def metropolis_plan(N: int, sweeps: int, burn_in: int = 0, memory_bytes: int | N
     >>> plan.seconds - plan.compile_seconds < 5
     True
     """
-    from forcenet.exact.plan import Plan, with_compilation
+    from forcenet.core.plan import Plan, with_compilation
 
     from ..jit import kernel_choice
 

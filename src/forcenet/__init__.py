@@ -4,7 +4,7 @@
 * :mod:`forcenet.numeric` — samplers, floating point and arbitrary precision;
 * :mod:`forcenet.cli` — the command line ``forcenet``.
 
-The exception family (:mod:`forcenet.exact.errors`) is exported here:
+The exception family (:mod:`forcenet.core.errors`) is exported here:
 :class:`ForcenetError`, the base of every expected failure, and the argument
 errors :class:`ArgumentError` (also a ``ValueError``) and
 :class:`ArgumentTypeError` (also a ``TypeError``), and :class:`ConvergenceError`
@@ -29,7 +29,7 @@ from importlib.metadata import PackageNotFoundError, version
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ loads them on first use
-    from forcenet.exact.errors import ArgumentError, ArgumentTypeError, ConvergenceError, ForcenetError
+    from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceError, ForcenetError
 
 __all__ = ["ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError", "__version__"]
 
@@ -44,7 +44,7 @@ except PackageNotFoundError:  # imported from a tree that was never installed (n
 def __getattr__(name: str) -> type[Exception]:
     """The exception family, imported on first use (``forcenet.exact`` costs about a second to import)."""
     if name in _ERRORS:
-        from forcenet.exact import errors
+        from forcenet.core import errors
 
         return getattr(errors, name)
     raise AttributeError(f"module 'forcenet' has no attribute {name!r}")

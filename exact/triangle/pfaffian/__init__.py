@@ -14,8 +14,8 @@ The route behind ``forcenet table --method pfaffian`` (derivation and proofs in
   ``<W>`` table (4.63)-(4.77), the lattice directions alone
   (``lattice_direction``, two eliminations per level point instead of ``n + 1``), the count (4.1), the plans.
 
-May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
-:mod:`forcenet.exact.plan`, :mod:`forcenet.exact.triangle.staircase`.
+May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.modular`,
+:mod:`forcenet.core.plan`, :mod:`forcenet.exact.triangle.staircase`.
 
 Examples
 --------

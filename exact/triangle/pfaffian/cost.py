@@ -7,7 +7,7 @@ displacement elimination each), the lattice directions two eliminations per
 level point; the client's Chinese remaindering is quadratic in the number of
 primes.
 
-May import: :mod:`forcenet.exact.plan`, :mod:`forcenet.exact.execution`,
+May import: :mod:`forcenet.core.plan`, :mod:`forcenet.exact.execution`,
 :mod:`forcenet.exact.checkpoints`, :mod:`forcenet.exact.triangle.staircase`,
 :mod:`.engine`, :mod:`.tasks`.
 
@@ -24,7 +24,7 @@ from math import ceil, log2
 
 from ...checkpoints import CheckpointStore
 from ...execution import as_executor, executor_label, wall_seconds
-from ...plan import Plan
+from forcenet.core.plan import Plan
 from ..staircase import count, dimension
 from .engine import level_points, prime_limit, with_kernels_compiled
 from .tasks import route_primes, workers_for

@@ -29,8 +29,8 @@ Residues travel to the kernels as ``float64`` arrays of exact integers in
 ``[0, p)`` (their representation, :mod:`.kernels`; nothing is rounded) and
 come back as ``int64``.
 
-May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
-:mod:`forcenet.exact.plan` and its own package.
+May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.modular`,
+:mod:`forcenet.core.plan` and its own package.
 """
 
 from __future__ import annotations
@@ -43,11 +43,11 @@ from types import ModuleType
 import numpy as np
 
 from ...modular import is_prime
-from ...plan import Plan, with_compilation
-from ...validation import check_int, check_layers
+from forcenet.core.plan import Plan, with_compilation
+from forcenet.core.validation import check_int, check_layers
 from .schur import labels
 from ..staircase import dimension
-from ...errors import ArgumentError
+from forcenet.core.errors import ArgumentError
 
 __all__ = ["prime_limit", "dense_prime_limit", "level_points", "setup_matrices", "prime_residues", "edge_residues", "count_residue",
            "PointFailureError", "with_kernels_compiled", "kernel_module", "pair_points", "check_prime"]

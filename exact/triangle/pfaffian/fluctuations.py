@@ -28,7 +28,7 @@ interpolation, ``O(M^2 n)`` per prime with ``M ~ d``: ``O(n^5)``; primes
 ``~ log2(count) / 25``.  Memory ``O(M^2)`` (the Lagrange matrix: 0.2 GB at
 N = 100).
 
-May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.plan`,
+May import: :mod:`forcenet.core.validation`, :mod:`forcenet.core.plan`,
 :mod:`forcenet.exact.triangle.gaps` (``GapCounts``) and its own package.
 
 Examples
@@ -50,8 +50,8 @@ from typing import Any
 
 import numpy as np
 
-from ...plan import Plan
-from ...validation import check_grain, check_int, check_layers
+from forcenet.core.plan import Plan
+from forcenet.core.validation import check_grain, check_int, check_layers
 from ..gaps import GapCounts
 from ..staircase import dimension
 from .engine import (MAX_POINT_FAILURES, PointFailureError, check_prime, kernel_module, pair_points, level_points,
@@ -61,7 +61,7 @@ from ..staircase import count as product_count
 from .cost import STARTUP_SECONDS, edge_seconds
 from .route import count
 from .tasks import route_primes, run_primes, workers_for
-from ...errors import ArgumentError
+from forcenet.core.errors import ArgumentError
 
 __all__ = ["edge_level_residues", "lattice_level_sums", "lattice_gap_laws", "lattice_mean_W2", "grain_gap_law",
            "lattice_gap_laws_plan"]

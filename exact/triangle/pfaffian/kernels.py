@@ -31,7 +31,7 @@ the tests.  The ``O(M^2)`` weights of the level functional (:func:`dual_weights`
 :func:`weighted_sum`: seconds at N = 200) run as compiled calls of ~0.15 s
 from Python, so Ctrl-C is seen between them.
 
-May import: :mod:`forcenet.exact.plan`, :mod:`forcenet.exact.errors`, :mod:`.residues`.
+May import: :mod:`forcenet.core.plan`, :mod:`forcenet.core.errors`, :mod:`.residues`.
 """
 
 from __future__ import annotations
@@ -39,8 +39,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, uint64
 
-from ...plan import chunks, first_chunk
-from ...errors import ArgumentError
+from forcenet.core.plan import chunks, first_chunk
+from forcenet.core.errors import ArgumentError
 from .residues import JIT, inv_mod, lred, red, solve
 
 __all__ = ["pfaffian_mod", "point_values", "edge_values", "dual_weights", "lagrange_matrix", "weighted_sum", "LANES",
@@ -451,7 +451,7 @@ def dual_weights(points, g, p):
     division, the dot product and the Horner value run in one sweep over
     ``k``, eight points side by side (independent recurrences, loose residues).
     The master polynomial and the weights are computed in compiled calls of
-    ~0.15 s (:func:`forcenet.exact.plan.chunks`: Ctrl-C is seen between them;
+    ~0.15 s (:func:`forcenet.core.plan.chunks`: Ctrl-C is seen between them;
     exact residues, so the cuts change nothing).
     """
     M = points.shape[0]

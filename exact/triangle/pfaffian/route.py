@@ -21,8 +21,8 @@ order-ideal DP (``2^(N-1)`` ideals) near ``N = 20`` (``notes/benchmarks.md``).
 
 The cost model is :mod:`.cost`.
 
-May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
-:mod:`forcenet.exact.plan`, :mod:`forcenet.exact.execution`,
+May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.modular`,
+:mod:`forcenet.core.plan`, :mod:`forcenet.exact.execution`,
 :mod:`forcenet.exact.checkpoints`, :mod:`forcenet.exact.triangle.staircase` and its own package.
 
 Examples
@@ -43,9 +43,9 @@ from os import PathLike
 from ...checkpoints import CheckpointStore
 from ...execution import as_executor
 from ...modular import crt_many
-from ...plan import Plan, table_range
+from forcenet.core.plan import Plan, table_range
 from ...protocol import Progress, Table
-from ...validation import check_int, check_layers
+from forcenet.core.validation import check_int, check_layers
 from ..staircase import dimension
 from .cost import STARTUP_SECONDS, edge_seconds, prime_seconds, primes_plan
 from .engine import count_residue, edge_residues, level_points, prime_residues

@@ -22,7 +22,7 @@ is a :class:`fractions.Fraction`, so it is meant for small ``n``.  The
 multi-modular engine in :mod:`.engine` does the same arithmetic modulo
 word-size primes.
 
-May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.triangle.staircase` (``dimension``).
+May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.triangle.staircase` (``dimension``).
 
 Examples
 --------
@@ -39,7 +39,7 @@ from __future__ import annotations
 from fractions import Fraction
 from math import factorial
 
-from ...validation import check_int, check_layers
+from forcenet.core.validation import check_int, check_layers
 from ..staircase import dimension
 
 __all__ = [

@@ -8,7 +8,7 @@ executor by :func:`forcenet.exact.execution.run_tasks`: any
 :class:`concurrent.futures.Executor`, else a local process pool when the run
 pays for starting it (:data:`PARALLEL_MIN_SECONDS`), else this process.
 
-May import: :mod:`forcenet.exact.validation`, :mod:`forcenet.exact.modular`,
+May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.modular`,
 :mod:`forcenet.exact.execution`, :mod:`forcenet.exact.checkpoints`, :mod:`.engine`.
 
 Examples
@@ -27,7 +27,7 @@ from typing import Any
 from ...checkpoints import CheckpointStore
 from ...execution import as_executor, available_cores, executor_workers, run_tasks
 from ...modular import primes_for_bound
-from ...validation import check_int
+from forcenet.core.validation import check_int
 from ..staircase import dimension
 from .engine import prime_limit
 

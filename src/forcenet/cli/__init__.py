@@ -30,7 +30,7 @@ import tempfile
 import traceback
 from importlib.metadata import version
 
-from forcenet.exact.errors import ForcenetError
+from forcenet.core.errors import ForcenetError
 
 from . import chicken_wire, dist, limit, sample, table
 from .common import Parser, UsageError, given

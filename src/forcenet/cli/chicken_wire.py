@@ -17,7 +17,7 @@ from .common import (
     run_planned,
 )
 from .output import emit
-from forcenet.exact.errors import ArgumentError
+from forcenet.core.errors import ArgumentError
 
 __all__ = ["register"]
 
@@ -62,7 +62,7 @@ def cmd_transfer(args):
 
 
 def cmd_bethe(args):
-    from forcenet.exact.errors import ConvergenceError
+    from forcenet.core.errors import ConvergenceError
     from forcenet.numeric.chicken_wire.bethe_sector import default_sector, ground_state, ground_state_plan
 
     L = args.L
@@ -211,7 +211,7 @@ def _maximum_rows(dps):
 def cmd_entropy(args):
     import mpmath
 
-    from forcenet.exact.plan import combine
+    from forcenet.core.plan import combine
     from forcenet.numeric.chicken_wire.isotropic import closed_form_plan
 
     dps = args.dps
@@ -255,7 +255,7 @@ def cmd_entropy(args):
 
 def _bethe(args, rows):
     """The independent Bethe-ansatz value of v at the point (float, with its error)."""
-    from forcenet.exact.errors import ConvergenceError
+    from forcenet.core.errors import ConvergenceError
     from forcenet.numeric.chicken_wire.isotropic_bethe import isotropic_entropy
 
     Q = args.Q if args.Q is not None else float(dict((key, value) for key, _, value in rows)["Q"])

@@ -4,7 +4,7 @@ The policy, in one place:
 
 * bad input is a one-line error naming the argument and the allowed range,
   exit code 2, and no file or directory is created;
-* a run whose plan (:class:`forcenet.exact.plan.Plan`) is refused never
+* a run whose plan (:class:`forcenet.core.plan.Plan`) is refused never
   starts; a run announced at over a minute needs ``--force``; every run
   announced at over two seconds prints its estimate and a progress bar on
   stderr (``--quiet``: neither);
@@ -21,9 +21,9 @@ import math
 import sys
 import time
 
-from forcenet.exact.plan import Plan
-from forcenet.exact.validation import check_int, check_real
-from forcenet.exact.errors import ArgumentError, ForcenetError
+from forcenet.core.plan import Plan
+from forcenet.core.validation import check_int, check_real
+from forcenet.core.errors import ArgumentError, ForcenetError
 
 __all__ = [
     "UsageError",
@@ -215,7 +215,7 @@ def _progress_bar(total: int, desc: str, unit: str, seconds: float = 0.0):
         return _PlainProgress(total, desc, unit) if seconds > PLAIN_PROGRESS_SECONDS else None
     from tqdm import tqdm
 
-    # a bar counted in estimated seconds (phases of different units, exact.plan.combine_by_time) moves by fractions
+    # a bar counted in estimated seconds (phases of different units, core.plan.combine_by_time) moves by fractions
     fmt = "{l_bar}{bar}| {n:.0f}/{total_fmt} estimated s [{elapsed}<{remaining}]" if unit == "s" else None
     return tqdm(total=total, desc=desc, unit=unit, unit_scale=total >= 10_000, file=sys.stderr, leave=False,
                 bar_format=fmt)

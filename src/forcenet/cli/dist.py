@@ -43,7 +43,7 @@ def _grain(text):
 
 def _what(args):
     """What to compute: ("grain", (i, j), kind) / ("layer", i) / ("ensemble",), validated against N."""
-    from forcenet.exact.validation import check_grain, check_int
+    from forcenet.core.validation import check_grain, check_int
 
     N = args.N
     if args.grain is not None:
@@ -159,7 +159,7 @@ def _text(args, title, var, pieces, cdf_pieces, extra, grid):
 
 
 def _plot_plan(args):
-    from forcenet.exact.plan import combine
+    from forcenet.core.plan import combine
     from forcenet.numeric.triangle.exact_sampler import sample_plan
     from forcenet.numeric.triangle.metropolis import metropolis_plan
 

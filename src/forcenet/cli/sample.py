@@ -14,7 +14,7 @@ from __future__ import annotations
 import argparse
 import os
 
-from forcenet.exact.validation import is_integer
+from forcenet.core.validation import is_integer
 
 from .common import (
     UsageError,

@@ -165,7 +165,7 @@ def cmd_table(args):
 def _table(args, fmt, memory, client, store, why=""):
     from dataclasses import replace
 
-    from forcenet.exact.plan import combine_by_time, phase_progress
+    from forcenet.core.plan import combine_by_time, phase_progress
     from forcenet.exact.routes import table_plan, table_run
     from forcenet.exact.triangle.staircase import dimension
     from forcenet.exact.triangle.tables import exact_table, fraction_str, to_csv, to_json, to_latex

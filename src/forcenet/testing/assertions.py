@@ -50,7 +50,7 @@ from numbers import Number
 import numpy as np
 
 from forcenet.numeric.agreement import TableAgreement, compare_chain, compare_means, compare_samples, varying_columns
-from forcenet.exact.errors import ArgumentError, ArgumentTypeError, ForcenetError
+from forcenet.core.errors import ArgumentError, ArgumentTypeError, ForcenetError
 
 __all__ = ["CannotJudgeError", "DisagreementError", "TableAgreement", "assert_agrees", "assert_means_agree", "compare", "exact_array"]
 
@@ -114,7 +114,7 @@ def exact_array(exact, shape) -> np.ndarray:
     >>> exact_array([[1, 2, 3]], (1, 2))
     Traceback (most recent call last):
     ...
-    forcenet.exact.errors.ArgumentError: exact[0] has 3 entries, more than the samples' axis of length 2
+    forcenet.core.errors.ArgumentError: exact[0] has 3 entries, more than the samples' axis of length 2
     """
     shape = tuple(shape)
     out = np.full(shape, np.nan)
@@ -233,7 +233,7 @@ def compare(samples, exact, *, chain: bool = False, alpha: float = 1e-3, keys=No
     >>> compare(np.cumsum(rng.normal(size=4000)), 0.0)
     Traceback (most recent call last):
     ...
-    forcenet.exact.errors.ArgumentError: samples look autocorrelated (integrated time ...): pass chain=True
+    forcenet.core.errors.ArgumentError: samples look autocorrelated (integrated time ...): pass chain=True
     """
     x = np.asarray(samples, dtype=float)
     if x.ndim == 0:

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from fractions import Fraction
 from functools import lru_cache
-from forcenet.exact.errors import ArgumentError
+from forcenet.core.errors import ArgumentError
 
 __all__ = ["exact_mean_W"]
 
@@ -48,7 +48,7 @@ def exact_mean_W(target):
     >>> exact_mean_W(Scene(N=2, P=2, F=1.0, mg=1.0, ph=2.0))
     Traceback (most recent call last):
     ...
-    forcenet.exact.errors.ArgumentError: scene.ph=2.0: exact means are known when every q is allowed (ph=None)
+    forcenet.core.errors.ArgumentError: scene.ph=2.0: exact means are known when every q is allowed (ph=None)
     """
     from forcenet.numeric.packing import Scene
 

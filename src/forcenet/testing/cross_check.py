@@ -25,7 +25,7 @@ from dataclasses import replace
 from fractions import Fraction
 from typing import Any
 
-from forcenet.exact.plan import Plan
+from forcenet.core.plan import Plan
 from forcenet.exact.triangle.staircase import dimension
 
 from .assertions import TableAgreement, compare

@@ -29,7 +29,7 @@ Examples
 from __future__ import annotations
 
 from functools import lru_cache
-from forcenet.exact.errors import ArgumentError
+from forcenet.core.errors import ArgumentError
 
 try:
     from hypothesis import assume
@@ -37,7 +37,7 @@ try:
 except ImportError as exc:  # pragma: no cover - hypothesis is in the testing extra
     raise ImportError("forcenet.testing.strategies needs hypothesis: pip install 'forcenet[testing]'") from exc
 
-from forcenet.exact.validation import check_int, check_real
+from forcenet.core.validation import check_int, check_real
 
 __all__ = [
     "layers",
@@ -68,7 +68,7 @@ def layers(min_value: int = 2, max_value: int = 10):
     >>> layers(1)
     Traceback (most recent call last):
     ...
-    forcenet.exact.errors.ArgumentError: min_value=1 is out of range: min_value must be an integer >= 2
+    forcenet.core.errors.ArgumentError: min_value=1 is out of range: min_value must be an integer >= 2
     """
     lo = check_int(min_value, "min_value", 2)
     return st.integers(lo, check_int(max_value, "max_value", lo))

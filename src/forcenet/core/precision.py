@@ -10,7 +10,7 @@
   cancellations depend on the point (so they cost precision, never digits);
 * no global precision is ever set.
 
-May import: :mod:`forcenet.exact.validation`, mpmath.
+May import: :mod:`forcenet.core.validation`, mpmath.
 
 Examples
 --------
@@ -28,8 +28,8 @@ from typing import TypeAlias
 
 import mpmath
 
-from forcenet.exact.validation import check_dps, check_not_bool
-from forcenet.exact.errors import ArgumentError, ArgumentTypeError
+from forcenet.core.validation import check_dps, check_not_bool
+from forcenet.core.errors import ArgumentError, ArgumentTypeError
 
 __all__ = ["GUARD", "RealLike", "to_mpf", "guarded", "converged"]
 

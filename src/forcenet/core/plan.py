@@ -8,7 +8,7 @@ memory than the caller has).  The engines own their cost knowledge (measured
 constants live next to the code they describe); the command line only asks,
 announces, refuses or runs.
 
-May import: :mod:`forcenet.exact.errors` (nothing else of the package).
+May import: :mod:`forcenet.core.errors` (nothing else of the package).
 
 Examples
 --------
@@ -110,7 +110,7 @@ class Plan:
         return self if self.refusal else replace(self, refusal=reason)
 
     def check(self) -> Plan:
-        """The plan itself if it is runnable; else :class:`~forcenet.exact.errors.ArgumentError` with its refusal.
+        """The plan itself if it is runnable; else :class:`~forcenet.core.errors.ArgumentError` with its refusal.
 
         Raises
         ------

@@ -20,7 +20,7 @@ The family is exported from the top of the package (``forcenet.ForcenetError``,
 
 Examples
 --------
->>> from forcenet.exact.validation import check_int
+>>> from forcenet.core.validation import check_int
 >>> try:
 ...     check_int(1, "N", minimum=2)
 ... except ForcenetError as exc:

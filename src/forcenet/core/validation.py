@@ -2,11 +2,11 @@
 
 One policy, one place:
 
-* :class:`~forcenet.exact.errors.ArgumentTypeError` (a ``TypeError``) when
+* :class:`~forcenet.core.errors.ArgumentTypeError` (a ``TypeError``) when
   the argument has the wrong type: an integer argument accepts every type
   with ``__index__`` (``int``, ``numpy.int64``, ...) but not ``bool`` and not
   floats, even integral ones;
-* :class:`~forcenet.exact.errors.ArgumentError` (a ``ValueError``) when the
+* :class:`~forcenet.core.errors.ArgumentError` (a ``ValueError``) when the
   value lies outside the allowed range;
 * the message names the argument, its value and the allowed range, e.g.
   ``N=1 is out of range: N must be an integer >= 2``.
@@ -22,7 +22,7 @@ Examples
 >>> check_int(True, "N", minimum=2)
 Traceback (most recent call last):
 ...
-forcenet.exact.errors.ArgumentTypeError: N=True is not an integer: N must be an integer >= 2
+forcenet.core.errors.ArgumentTypeError: N=True is not an integer: N must be an integer >= 2
 >>> check_real("0.5", "z", low=0, high=1, low_open=True)
 0.5
 """
@@ -88,11 +88,11 @@ def check_int(value, name: str, minimum: int | None = None, maximum: int | None 
     >>> check_int(20, "L", 2, 13)
     Traceback (most recent call last):
     ...
-    forcenet.exact.errors.ArgumentError: L=20 is out of range: L must be an integer in 2..13
+    forcenet.core.errors.ArgumentError: L=20 is out of range: L must be an integer in 2..13
     >>> check_int(2.0, "s", 1)
     Traceback (most recent call last):
     ...
-    forcenet.exact.errors.ArgumentTypeError: s=2.0 is not an integer: s must be an integer >= 1
+    forcenet.core.errors.ArgumentTypeError: s=2.0 is not an integer: s must be an integer >= 1
     """
     allowed = int_range_text(minimum, maximum)
     if not is_integer(value):
@@ -113,7 +113,7 @@ def check_layers(N, *, name: str = "N", minimum: int = 2, maximum: int | None = 
     >>> check_layers(1)
     Traceback (most recent call last):
     ...
-    forcenet.exact.errors.ArgumentError: N=1 is out of range: N must be an integer >= 2
+    forcenet.core.errors.ArgumentError: N=1 is out of range: N must be an integer >= 2
     """
     return check_int(N, name, minimum, maximum)
 
@@ -128,7 +128,7 @@ def check_grain(N: int, grain, name: str = "grain") -> tuple[int, int]:
     >>> check_grain(4, (3, 4))
     Traceback (most recent call last):
     ...
-    forcenet.exact.errors.ArgumentError: grain=(3, 4) is out of range: need 1 <= i <= N=4 and 1 <= j <= i
+    forcenet.core.errors.ArgumentError: grain=(3, 4) is out of range: need 1 <= i <= N=4 and 1 <= j <= i
     """
     try:
         i, j = grain
@@ -166,11 +166,11 @@ def check_real(value, name: str, low=None, high=None, *, low_open: bool = False,
     >>> check_real(float("nan"), "F", 0, low_open=True)
     Traceback (most recent call last):
     ...
-    forcenet.exact.errors.ArgumentError: F=nan is out of range: F must be a finite number > 0
+    forcenet.core.errors.ArgumentError: F=nan is out of range: F must be a finite number > 0
     >>> check_real("abc", "phi")
     Traceback (most recent call last):
     ...
-    forcenet.exact.errors.ArgumentTypeError: phi='abc' is not a number: phi must be a finite number
+    forcenet.core.errors.ArgumentTypeError: phi='abc' is not a number: phi must be a finite number
     """
     allowed = _interval_text(low, high, low_open, high_open)
     allowed = "a finite number" + ("" if allowed == "finite" else f" {allowed}")

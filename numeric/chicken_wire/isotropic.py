@@ -49,6 +49,8 @@ from forcenet.core.precision import GUARD, RealLike, converged, to_mpf
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 
 __all__ = [
+    "phi_within_range",
+    "leading_series_at",
     "density_Q",
     "density_Q_naive",
     "phi_of_density",
@@ -250,6 +252,38 @@ def phi_of_density(Q: RealLike, dps: int = 50) -> mpmath.mpf:
         return 6 * (mpmath.atan(mpmath.sqrt(3) * (1 - 2 * q)) - mpmath.pi / 4)
 
     return converged(compute, dps)
+
+
+def phi_within_range(text: str, strict: bool = False) -> bool:
+    """Whether the decimal ``text`` satisfies ``|phi| <= pi/2`` (``< pi/2`` if ``strict``), decided exactly.
+
+    The comparison runs with more digits than ``text`` has, so a value that
+    rounds to pi/2 is not taken for it.
+
+    Examples
+    --------
+    >>> phi_within_range("1.5707963267948966"), phi_within_range("1.5707963267948967")
+    (True, False)
+    """
+    with mpmath.workdps(len(text) + 20):
+        x, limit = abs(mpmath.mpf(text)), mpmath.pi / 2
+        return bool(x < limit if strict else x <= limit)
+
+
+def leading_series_at(eps: mpmath.mpf, dps: int, Q: RealLike | None = None) -> mpmath.mpf:
+    """The corrected leading term of (7.3), ``eps^2 (log(108/eps^2) - 3)/18``, at ``eps``.
+
+    At the density ``Q = 1/3`` exactly, ``eps = pi`` is taken exactly (a
+    rounded ``eps`` may exceed pi in its last digit).
+
+    Examples
+    --------
+    >>> mpmath.nstr(leading_series_at(mpmath.mpf("0.1"), 15), 10)
+    '0.00349294523'
+    """
+    from fractions import Fraction
+
+    return entropy_series_7_3(mpmath.pi if Q is not None and Q == Fraction(1, 3) else eps, 2, dps)
 
 
 def eps_of(*, phi: RealLike | None = None, Q: RealLike | None = None, dps: int = 50) -> mpmath.mpf:

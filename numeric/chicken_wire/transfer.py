@@ -48,6 +48,7 @@ __all__ = [
     "TRANSFER_SECONDS",
     "transfer_plan",
     "largest_eigenvalue",
+    "sector_entropy",
     "perron_root",
     "sector_entropies",
     "sector_matrix",
@@ -209,6 +210,19 @@ def largest_eigenvalue(L: int, weights: dict[str, float] | None = None, particle
     A = LinearOperator((m, m), matvec=matvec, dtype=float)
     vals = eigs(A, k=1, which="LR", v0=np.ones(m), tol=tol, return_eigenvectors=False)
     return float(vals.real.max())
+
+
+def sector_entropy(L: int, particles: int | None = None) -> tuple[float, float]:
+    """The largest eigenvalue of a sector and its entropy per site, ``log(lambda) / L``.
+
+    Examples
+    --------
+    >>> lam, s = sector_entropy(6, particles=2)
+    >>> round(lam, 6), round(s, 6)
+    (1.732051, 0.091551)
+    """
+    lam = largest_eigenvalue(L, particles=particles)
+    return lam, math.log(lam) / L
 
 
 def perron_root(L: int, particles: int | None = None, dps: int = 50) -> tuple[list[int], mpmath.mpf]:

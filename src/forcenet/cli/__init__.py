@@ -124,7 +124,7 @@ def main(argv=None) -> int:
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # argparse: --help (0) or a one-line usage error (2)
-        return exc.code if isinstance(exc.code, int) else 2
+        return 0 if exc.code in (0, None) else 2
     try:
         _check_destinations(args)
         return args.func(args)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 
 from .common import (
     UsageError,
@@ -29,7 +28,7 @@ def _r(x: float) -> float:
 
 
 def cmd_transfer(args):
-    from forcenet.numeric.chicken_wire.transfer import largest_eigenvalue, transfer_plan
+    from forcenet.numeric.chicken_wire.transfer import sector_entropy, transfer_plan
 
     L = args.L
     plan = transfer_plan(L, args.particles)
@@ -38,8 +37,8 @@ def cmd_transfer(args):
     def run(tick):
         rows = []
         for n in sectors:
-            lam = largest_eigenvalue(L, particles=n)
-            rows.append({"particles": n, "lambda": _r(lam), "entropy_per_site": _r(math.log(lam) / L)})
+            lam, per_site = sector_entropy(L, particles=n)
+            rows.append({"particles": n, "lambda": _r(lam), "entropy_per_site": _r(per_site)})
             if tick:
                 tick()
         return rows
@@ -113,26 +112,25 @@ def _phi(text):
     """--phi: a finite number in [-pi/2, pi/2] (compared with pi/2 at the digits given), kept as the string given."""
     import argparse
 
-    import mpmath
+    from forcenet.numeric.chicken_wire import isotropic as iso
 
     real("phi")(text)  # a finite ASCII number
     text = text.strip()
-    with mpmath.workdps(len(text) + 20):  # more digits than given: the comparison is exact
-        if abs(mpmath.mpf(text)) > mpmath.pi / 2:
-            raise argparse.ArgumentTypeError(f"phi={text} is out of range: phi must lie in [-pi/2, pi/2] "
-                                             "= [-1.5707963267948966192..., 1.5707963267948966192...]")
+    if not iso.phi_within_range(text):
+        raise argparse.ArgumentTypeError(f"phi={text} is out of range: phi must lie in [-pi/2, pi/2] "
+                                         "= [-1.5707963267948966192..., 1.5707963267948966192...]")
     return text
 
 
 def _inside(args) -> bool:
     """Whether the point is strictly inside ``0 < Q < 1/3`` (``|phi| < pi/2``), decided exactly."""
-    import mpmath
     from fractions import Fraction
+
+    from forcenet.numeric.chicken_wire import isotropic as iso
 
     if args.Q is not None:
         return 0 < args.Q < Fraction(1, 3)
-    with mpmath.workdps(len(args.phi) + 20):
-        return abs(mpmath.mpf(args.phi)) < mpmath.pi / 2
+    return iso.phi_within_range(args.phi, strict=True)
 
 
 def _closed_form_rows(args, dps):
@@ -174,14 +172,11 @@ _SERIES_TOLERANCE = 0.01
 
 def _series_row(args, eps, v, dps):
     """The leading term of (7.3) at ``eps``, described with its deviation from ``v`` where it is no approximation."""
-    from fractions import Fraction
-
     import mpmath
 
     from forcenet.numeric.chicken_wire import isotropic as iso
 
-    # Q = 1/3 is eps = pi exactly (the rounded eps may exceed pi in its last digit)
-    series = iso.entropy_series_7_3(mpmath.pi if args.Q == Fraction(1, 3) else eps, 2, dps)
+    series = iso.leading_series_at(eps, dps, args.Q)
     what = "approximation of v by the leading term of Eq. (7.3), corrected: eps^2 (log(108/eps^2) - 3)/18"
     if not abs(series - v) <= _SERIES_TOLERANCE * v:
         what += (f"; NOT VALID here: eps = {mpmath.nstr(eps, 3)} is not small, it differs from v by "

@@ -97,6 +97,7 @@ def level_curve(a: RealLike, u: RealLike, dps: int = 30) -> mpmath.mpf:
     >>> mpmath.nstr(level_curve("0.2", "0.1", dps=30), 30)
     '0.592728925371743062936460766685'
     """
+    dps = check_dps(dps)
     return guarded(lambda: _level_curve(*_checked_level_point(a, u)), dps)
 
 
@@ -114,6 +115,7 @@ def level_curve_slope(a: RealLike, u: RealLike, dps: int = 30) -> mpmath.mpf:
     ...
     forcenet.core.errors.ArgumentError: u=0.9 is out of range: outside the level curve of a=0.1 (need u^2 <= 4a(1-a))
     """
+    dps = check_dps(dps)
     return guarded(lambda: _slope(*_checked_level_point(a, u)), dps)
 
 

@@ -28,7 +28,7 @@ from typing import TypeAlias
 
 import mpmath
 
-from forcenet.core.validation import check_dps, check_not_bool
+from forcenet.core.validation import check_not_bool
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 
 __all__ = ["GUARD", "RealLike", "to_mpf", "guarded", "converged"]
@@ -59,8 +59,11 @@ def to_mpf(value: RealLike, name: str) -> mpmath.mpf:
 
 
 def guarded(compute: Callable[[], mpmath.mpf], dps: int) -> mpmath.mpf:
-    """``compute()`` at ``dps + GUARD`` digits, returned rounded to ``dps`` digits."""
-    dps = check_dps(dps)
+    """``compute()`` at ``dps + GUARD`` digits, returned rounded to ``dps`` digits.
+
+    ``dps`` is trusted: the public function that calls this has checked it
+    (:func:`~forcenet.core.validation.check_dps`, once per call).
+    """
     with mpmath.workdps(dps + GUARD):
         value = compute()
     with mpmath.workdps(dps):
@@ -68,8 +71,10 @@ def guarded(compute: Callable[[], mpmath.mpf], dps: int) -> mpmath.mpf:
 
 
 def converged(compute: Callable[[], mpmath.mpf], dps: int) -> mpmath.mpf:
-    """``compute()`` at increasing precision until two evaluations agree to ``dps + 3`` relative digits."""
-    dps = check_dps(dps)
+    """``compute()`` at increasing precision until two evaluations agree to ``dps + 3`` relative digits.
+
+    ``dps`` is trusted, as in :func:`guarded`.
+    """
     prec = dps + GUARD
     with mpmath.workdps(prec):
         previous = compute()

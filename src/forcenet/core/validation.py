@@ -94,6 +94,8 @@ def check_int(value, name: str, minimum: int | None = None, maximum: int | None 
     ...
     forcenet.core.errors.ArgumentTypeError: s=2.0 is not an integer: s must be an integer >= 1
     """
+    if type(value) is int and (minimum is None or value >= minimum) and (maximum is None or value <= maximum):
+        return value  # the common case, decided without building the message
     allowed = int_range_text(minimum, maximum)
     if not is_integer(value):
         raise ArgumentTypeError(f"{name}={value!r} is not an integer: {name} must be an integer {allowed}")
@@ -115,6 +117,8 @@ def check_layers(N, *, name: str = "N", minimum: int = 2, maximum: int | None = 
     ...
     forcenet.core.errors.ArgumentError: N=1 is out of range: N must be an integer >= 2
     """
+    if type(N) is int and N >= minimum and (maximum is None or N <= maximum):
+        return N  # an int in range: one check, no nested call
     return check_int(N, name, minimum, maximum)
 
 
@@ -216,4 +220,6 @@ def check_dps(dps, name: str = "dps", minimum: int = 5, maximum: int = 10000) ->
     >>> check_dps(50)
     50
     """
+    if type(dps) is int and minimum <= dps <= maximum:
+        return dps  # an int in range: one check, no nested call
     return check_int(dps, name, minimum, maximum)

@@ -149,7 +149,7 @@ def right_vector(p: int) -> dict[tuple[int, ...], Fraction]:
     >>> right_vector(2)
     {(1, 1): Fraction(1, 2), (2, 1): Fraction(1, 6)}
     """
-    R = {(1,): Fraction(1)}
+    R: dict[tuple[int, ...], Fraction] = {(1,): Fraction(1)}
     for q in range(2, p + 1):
         new = {}
         for i in index_tuples(q):

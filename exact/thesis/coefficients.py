@@ -42,6 +42,22 @@ def gamma(f: int, s: int, e: int) -> Fraction:
 def gamma_coefficient(m: int, n: int, k: int) -> Fraction:
     """``gamma^{m-k}_{m,n} = m! n! / ((n + k + 1)! (m - k)!)``, Eq. (4.15) as printed.
 
+    Parameters
+    ----------
+    m, n : int
+        The powers of ``x`` and ``b - x`` in the integral (4.14), ``>= 0``.
+    k : int
+        The term of the sum (4.14), ``0 <= k <= m``.
+
+    Returns
+    -------
+    Fraction
+
+    Raises
+    ------
+    ArgumentError
+        If ``k`` is not in ``0..m``.
+
     Examples
     --------
     >>> gamma_coefficient(1, 1, 1)

@@ -13,7 +13,9 @@ May import: :mod:`forcenet.core.validation`, :mod:`.coefficients`.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from fractions import Fraction
+from typing import Any
 
 from forcenet.core.validation import check_layers
 from .coefficients import gamma, gamma_coefficient, upper_bound
@@ -22,11 +24,23 @@ from forcenet.core.errors import ArgumentError
 __all__ = ["integral_I", "index_tuples", "psi_fundamental", "right_vector", "normalization_fundamental"]
 
 
-def integral_I(m: int, n: int, a, b):
+def integral_I(m: int, n: int, a: Any, b: Any) -> Any:
     """``I_mn(a, b) = int_a^b x^m (b - x)^n dx``, evaluated by Eq. (4.14).
 
     ``I_mn(a, b) = sum_{k=0}^{m} gamma^{m-k}_{m,n} (b - a)^{n+1+k} a^{m-k}``.
     ``a`` and ``b`` may be numbers or sympy expressions.
+
+    Parameters
+    ----------
+    m, n : int
+        The powers of ``x`` and ``b - x``, ``>= 0``.
+    a, b : int, Fraction or sympy expression
+        The limits of the integral.
+
+    Returns
+    -------
+    Fraction or sympy expression
+        Of the type that ``a`` and ``b`` combine to.
 
     Examples
     --------
@@ -40,8 +54,18 @@ def integral_I(m: int, n: int, a, b):
         total += gamma_coefficient(m, n, k) * (b - a) ** (n + 1 + k) * a ** (m - k)
     return total
 
-def index_tuples(p: int):
+def index_tuples(p: int) -> Iterator[tuple[int, ...]]:
     """All tuples ``(j_1, ..., j_p)`` in the range (4.32).
+
+    Parameters
+    ----------
+    p : int
+        Length of the tuples, ``>= 0``.
+
+    Returns
+    -------
+    iterator of tuple of int
+        In lexicographic order.
 
     Examples
     --------
@@ -74,6 +98,20 @@ def psi_fundamental(i: tuple, j: tuple) -> Fraction:
     printed relations give the normalization (4.46) and
     ``R = Lambda / prod factorials`` (4.49) exactly (tests, N <= 7).
 
+    Parameters
+    ----------
+    i, j : tuple of int
+        The index tuples ``(i_1, ..., i_p)`` and ``(j_1, ..., j_p)``.
+
+    Returns
+    -------
+    Fraction
+
+    Raises
+    ------
+    ArgumentError
+        If ``i`` and ``j`` differ in length or are empty.
+
     Examples
     --------
     >>> psi_fundamental((2,), (2,)), psi_fundamental((2, 3), (1, 1))
@@ -89,19 +127,29 @@ def psi_fundamental(i: tuple, j: tuple) -> Fraction:
         value *= gamma(l + ip - il, l + ip - jp, l + jp - jl)
     return value
 
-def right_vector(p: int) -> dict:
+def right_vector(p: int) -> dict[tuple[int, ...], Fraction]:
     """``R^{(p)}`` of (4.31): ``R^{(1)} = delta(i1, 1)``,
     ``R^{(p)}_i = delta(i_p, 1) sum_j psi_{i1 j1, ..., i(p-1) j(p-1)} R^{(p-1)}_j``.
 
     Nonzero entries only; exact Fractions.  (4.49): ``R^{(p)}_j =
     Lambda^{(p)}_j / prod_{l=2}^{p} (l + j(l-1) - j_l)!``.
 
+    Parameters
+    ----------
+    p : int
+        Level of the vector, ``>= 1``.
+
+    Returns
+    -------
+    dict of tuple of int to Fraction
+        The nonzero entries ``R^{(p)}_i``.
+
     Examples
     --------
     >>> right_vector(2)
     {(1, 1): Fraction(1, 2), (2, 1): Fraction(1, 6)}
     """
-    R = {(1,): Fraction(1)}
+    R: dict[tuple[int, ...], Fraction] = {(1,): Fraction(1)}
     for q in range(2, p + 1):
         new = {}
         for i in index_tuples(q):
@@ -120,6 +168,21 @@ def normalization_fundamental(N: int) -> Fraction:
     ``t`` is (4.28) with ``W = 1`` and ``R`` is :func:`right_vector`.  The
     literal route: a sum over the index tuples (4.32) with ``psi`` products,
     so meant for small N (N = 7 in a few seconds).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 3``.
+
+    Returns
+    -------
+    Fraction
+        Equal to :func:`forcenet.exact.normalization`.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is not an integer ``>= 3``.
 
     Examples
     --------

@@ -20,6 +20,7 @@ May import: :mod:`forcenet.core.validation`, :mod:`forcenet.core.plan`, :mod:`fo
 from __future__ import annotations
 
 from collections import Counter
+from collections.abc import Iterable, Iterator
 from concurrent.futures import Executor
 from decimal import Decimal
 from fractions import Fraction
@@ -53,6 +54,22 @@ def is_map(h: dict[int, tuple[int, ...]], p: int) -> bool:
 
     Conditions: ``h(1,1) = 1``; ``1 <= h(l,1) <= 2``; ``1 <= h(l,k) <= k + h(l,k-1)``
     (4.86); ``h(l,l) = 1`` (the ``delta`` of (4.87)); ``h(l-1,k) <= h(l,k+1)`` (4.89).
+
+    Parameters
+    ----------
+    h : dict of int to tuple of int
+        The candidate map, row ``l`` -> ``(h(l,1), ..., h(l,l))``.
+    p : int
+        Number of rows, ``p = N - 2``.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> is_map({1: (1,), 2: (2, 1)}, 2), is_map({1: (1,), 2: (3, 1)}, 2)
+    (True, False)
     """
     for l in range(1, p + 1):
         row = h.get(l)
@@ -66,12 +83,30 @@ def is_map(h: dict[int, tuple[int, ...]], p: int) -> bool:
             return False
     return True
 
-def maps(N: int, relaxed: dict | None = None):
+def maps(N: int, relaxed: dict | None = None) -> Iterator[dict[int, tuple[int, ...]]]:
     """Generate all maps ``h`` for ``p = N - 2`` (rows ``l = 1..p``).
 
     ``relaxed`` maps a row ``l`` to a set of positions ``k`` whose upper bound
     in (4.86) is raised by one (the modified maps ``h(q, r)`` of Eq. (4.90)),
     or to a dict ``{k: amount}`` (s-th order defects, Eqs. (4.80)-(4.85)).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 3``.
+    relaxed : dict, optional
+        Row ``l`` -> set of positions, or ``{position: amount}``, whose
+        bounds (4.86) are raised.
+
+    Returns
+    -------
+    iterator of dict of int to tuple of int
+        Each map as row ``l`` -> ``(h(l,1), ..., h(l,l))``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is not an integer ``>= 3``.
 
     Examples
     --------
@@ -120,7 +155,7 @@ def _entry(h, l: int, k: int) -> int:
     """``h(l, k)`` with the conventions ``h(l, 0) = h(0, k) = 1`` of (4.67) and (4.91)."""
     return 1 if (l == 0 or k == 0) else h[l][k - 1]
 
-def mean_W_thesis_maps(N: int, progress=None) -> list[list[Fraction]]:
+def mean_W_thesis_maps(N: int, progress: Progress | None = None) -> list[list[Fraction]]:
     """``<W>`` table from the thesis's map formulas, Eqs. (4.67) and (4.90)-(4.91).
 
     * ``r = 1`` (left boundary): Eq. (4.67) with the Lambda integers;
@@ -136,6 +171,23 @@ def mean_W_thesis_maps(N: int, progress=None) -> list[list[Fraction]]:
     Enumerates maps, so meant for ``N <= 8`` (N = 8: 23,178,480 maps and more
     modified ones per grain, 34 min for the table; N = 9 would visit 1.1e11
     maps per grain).  ``progress`` is called once per bulk grain.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+    progress : callable, optional
+        Called with no argument after each bulk grain.
+
+    Returns
+    -------
+    list of lists of Fraction
+        ``table[i-1][j-1] = <W_{i,j}>``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is not an integer ``>= 2``.
 
     Examples
     --------
@@ -153,7 +205,7 @@ def mean_W_thesis_maps(N: int, progress=None) -> list[list[Fraction]]:
 
     return table_from_bulk(N, bulk)
 
-def moment_thesis_maps(N: int, grain, s: int) -> Fraction:
+def moment_thesis_maps(N: int, grain: tuple[int, int], s: int) -> Fraction:
     """``<W_{i,j}^s>`` from map counting with s-th order defects, ``i <= N - 1``.
 
     Reconstructed (4.80)-(4.85) in map form: with ``q = N - i``, ``r = j >= 2``,
@@ -166,6 +218,25 @@ def moment_thesis_maps(N: int, grain, s: int) -> Fraction:
     ``T = q(q+1)/2 + 2 - h(N-2, q-1)`` of (4.67) gives
     ``<W^s> = E[T (T+1) ... (T+s-1)] / ((d+1) ... (d+s))``.  The bottom layer
     needs two-grain moments and is not covered (use :func:`exact.moment`).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 3``.
+    grain : tuple of int
+        ``(i, j)`` with ``1 <= j <= i <= N - 1``.
+    s : int
+        Order of the moment, ``s >= 1``.
+
+    Returns
+    -------
+    Fraction
+
+    Raises
+    ------
+    ArgumentError
+        If ``N``, ``grain`` or ``s`` is out of range (the bottom layer ``i = N``
+        included).
 
     Examples
     --------
@@ -195,7 +266,17 @@ def moment_thesis_maps(N: int, grain, s: int) -> Fraction:
     return Fraction(total, Z * rising(d + 1, s))
 
 def count_maps(N: int) -> int:
-    """``Z_{N-2}``: the number of maps (Sec. 4.6), by enumeration.
+    """``Z_{N-2}``: the number of maps (Sec. 4.6, Eqs. 4.86-4.89), by enumeration.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 3``.
+
+    Returns
+    -------
+    int
+        Equal to :func:`forcenet.exact.count`.
 
     Examples
     --------
@@ -206,6 +287,21 @@ def count_maps(N: int) -> int:
 
 def maps_by_bottom_row(N: int) -> Counter:
     """Number of maps for each value of the last row ``h(N-2, .)`` (= ``Lambda^(N-2)``, Eq. 4.88).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 3``.
+
+    Returns
+    -------
+    collections.Counter
+        Last row (a tuple) -> number of maps.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is not an integer ``>= 3``.
 
     Examples
     --------
@@ -223,6 +319,23 @@ def map_from_tableau(N: int, T: dict[tuple[int, int], int]) -> dict[int, tuple[i
     ``h(l, k) = 1 + #{cells (r', c') : r' >= r, c' < c, T(r', c') > T(r, c)}``
     with ``c = r + 1 + k``, and ``h(l, l) = 1``.  On the first tableau row this
     is Eq. (4.67)'s ``T(1, q+1) = q(q+1)/2 + 2 - h(N-2, q-1)``.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 3``.
+    T : dict of (int, int) to int
+        The tableau, cell ``(r, c)`` -> entry.
+
+    Returns
+    -------
+    dict of int to tuple of int
+        The map, row ``l`` -> ``(h(l,1), ..., h(l,l))``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is not an integer ``>= 3``.
 
     Examples
     --------
@@ -246,13 +359,30 @@ def map_from_tableau(N: int, T: dict[tuple[int, int], int]) -> dict[int, tuple[i
     return h
 
 def tableau_from_map(N: int, h: dict[int, tuple[int, ...]]) -> dict[tuple[int, int], int]:
-    """Inverse of :func:`map_from_tableau`: the tableau of a map.
+    """Inverse of :func:`map_from_tableau`: the tableau of a map of Eqs. (4.86)-(4.89).
 
     Builds the order of the cells row by row from the bottom of the
     staircase: ``(r, r)`` and ``(r, r+1)`` precede every cell below them;
     ``(r, c)``, ``c >= r + 2``, precedes every cell of the rows below in
     columns ``>= c`` and exactly ``h(l, k) - 1`` of those in columns ``< c``
     (``l = N - 1 - r``, ``k = c - r - 1``).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 3``.
+    h : dict of int to tuple of int
+        The map, row ``l`` -> ``(h(l,1), ..., h(l,l))``.
+
+    Returns
+    -------
+    dict of (int, int) to int
+        The tableau, cell ``(r, c)`` -> entry ``1..d``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is not an integer ``>= 3`` or ``h`` is not a map.
 
     Examples
     --------
@@ -297,7 +427,9 @@ def _map_rankings(N: int):
         T = tableau_from_map(N, h)
         yield {(N - c + r, r): t for (r, c), t in T.items()}
 
-def moments_by_maps(N: int, s_max: int = 1, pairs=()):
+def moments_by_maps(
+    N: int, s_max: int = 1, pairs: Iterable[tuple[tuple[int, int], tuple[int, int]]] = ()
+) -> tuple[int, dict[int, dict[tuple[int, int], Fraction]], dict[tuple[tuple[int, int], tuple[int, int]], Fraction]]:
     """Moments and two-point functions of the W's by counting maps (Sec. 4.6).
 
     Every map ``h`` of (4.86)-(4.89) is turned into its staircase tableau
@@ -325,6 +457,11 @@ def moments_by_maps(N: int, s_max: int = 1, pairs=()):
         ``count = Z_{N-2}``, ``moments[s][(i, j)] = <W_{i,j}^s>``,
         ``correlations[(g, g')] = <W_g W_g'>``, all exact Fractions.
 
+    Raises
+    ------
+    ArgumentError
+        If ``N``, ``s_max`` or a grain of ``pairs`` is out of range.
+
     Examples
     --------
     >>> Z, mom, cor = moments_by_maps(4, s_max=2, pairs=[((4, 1), (4, 4))])
@@ -342,6 +479,16 @@ def mean_W_by_maps(N: int) -> list[list[Fraction]]:
     Each map is turned into its tableau (:func:`tableau_from_map`) and the
     grain's gap of ranks averaged: ``<W_ij> = E[T(j, N-i+j) - T(j-1, N-i+j-1)] / (d+1)``.
     Enumerates ``Z_{N-2}`` maps, so meant for ``N <= 7``.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+
+    Returns
+    -------
+    list of lists of Fraction
+        ``table[i-1][j-1] = <W_{i,j}>``.
 
     Examples
     --------

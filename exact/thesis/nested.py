@@ -153,6 +153,12 @@ def integrate_layers(N: int, powers: dict | None = None, arithmetic: str = "modu
         The integral (4.1) with the given powers; ``powers=None`` gives the
         normalization (4.46).
 
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is not an integer ``>= 2``, a key of ``powers`` is not a grain,
+        a power is negative, or ``arithmetic`` is neither value.
+
     Examples
     --------
     >>> integrate_layers(3)
@@ -183,6 +189,18 @@ def integrate_layers(N: int, powers: dict | None = None, arithmetic: str = "modu
 def normalization_nested(N: int, arithmetic: str = "modular") -> Fraction:
     """The normalization (4.46)/(4.51) by nested-matrix integration.
 
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+    arithmetic : {"modular", "fraction"}
+        See :func:`integrate_layers`.
+
+    Returns
+    -------
+    Fraction
+        Equal to :func:`forcenet.exact.normalization`.
+
     Examples
     --------
     >>> normalization_nested(5)
@@ -197,6 +215,19 @@ def moment_nested(N: int, powers: dict, arithmetic: str = "modular") -> Fraction
     A single grain with power ``s`` is ``<W^s>`` with the s-th order defects
     (4.80)-(4.85); two grains give a correlation (Sec. 4.5.2).
 
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+    powers : dict
+        ``{(i, j): e}``: the power of each grain's force.
+    arithmetic : {"modular", "fraction"}
+        See :func:`integrate_layers`.
+
+    Returns
+    -------
+    Fraction
+
     Examples
     --------
     >>> moment_nested(4, {(4, 2): 2})
@@ -207,7 +238,9 @@ def moment_nested(N: int, powers: dict, arithmetic: str = "modular") -> Fraction
     return integrate_layers(N, powers, arithmetic) / integrate_layers(N, arithmetic=arithmetic)
 
 
-def moment_table_nested(N: int, s: int = 1, arithmetic: str = "modular", progress=None, volume=None) -> list:
+def moment_table_nested(
+    N: int, s: int = 1, arithmetic: str = "modular", progress: Progress | None = None, volume: Fraction | None = None
+) -> list[list[Fraction]]:
     """The whole table ``<W_{i,j}^s>`` by nested-matrix integration (4.63), (4.80)-(4.85).
 
     One integration for the normalization and one per grain, with ``x^s``
@@ -234,6 +267,11 @@ def moment_table_nested(N: int, s: int = 1, arithmetic: str = "modular", progres
     list of lists of Fraction
         Row ``i - 1`` holds ``<W_{i,1}^s>, ..., <W_{i,i}^s>``.
 
+    Raises
+    ------
+    ArgumentError
+        If ``N`` or ``s`` is out of range, or ``arithmetic`` is neither value.
+
     Examples
     --------
     >>> [str(x) for x in moment_table_nested(4, 2)[-1]]
@@ -254,11 +292,25 @@ def moment_table_nested(N: int, s: int = 1, arithmetic: str = "modular", progres
     return table
 
 
-def mean_W_nested(N: int, arithmetic: str = "modular", progress=None) -> list:
+def mean_W_nested(N: int, arithmetic: str = "modular", progress: Progress | None = None) -> list[list[Fraction]]:
     """The whole table ``<W_{i,j}>`` (4.63)-(4.77) by nested-matrix integration.
 
     :func:`moment_table_nested` with ``s = 1``: N = 8 takes ~5 s and N = 9
     ~12 min (46 integrations, under 2 GB each).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+    arithmetic : {"modular", "fraction"}
+        See :func:`integrate_layers`.
+    progress : callable, optional
+        Called with no argument after each grain.
+
+    Returns
+    -------
+    list of lists of Fraction
+        ``table[i-1][j-1] = <W_{i,j}>``.
 
     Examples
     --------

@@ -23,6 +23,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from concurrent.futures import Executor
 from fractions import Fraction
+from typing import Any
 from functools import lru_cache
 from math import factorial
 
@@ -69,6 +70,21 @@ def lambda_table(p: int) -> dict[tuple[int, ...], int]:
     the nested sum over ``k`` is evaluated as a dominance prefix sum
     (:func:`_lambda_boxes`), with Python integers (object arrays).  Meant for
     ``p <= 8``; :func:`count_lambda` uses modular arithmetic beyond.
+
+    Parameters
+    ----------
+    p : int
+        Level of the recursion, ``p >= 1`` (``p = N - 2``).
+
+    Returns
+    -------
+    dict of tuple of int to int
+        ``(j_1, ..., j_p)`` -> ``Lambda^(p)_{j_1..j_p}``, nonzero entries only.
+
+    Raises
+    ------
+    ArgumentError
+        If ``p`` is not an integer ``>= 1``.
 
     Examples
     --------
@@ -125,6 +141,21 @@ def count_lambda(N: int) -> int:
 
     Computed by the chain of :func:`_lambda_sum_mod` (N = 12 in about 3 min).
 
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+
+    Returns
+    -------
+    int
+        Equal to :func:`forcenet.exact.count`.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is not an integer ``>= 2``.
+
     Examples
     --------
     >>> [count_lambda(N) for N in range(3, 8)]
@@ -140,6 +171,21 @@ def count_lambda(N: int) -> int:
 def normalization_lambda(N: int) -> Fraction:
     """Eq. (4.51): ``normalization = sum Lambda^(N-2) / (N(N-1)/2)!``.
 
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+
+    Returns
+    -------
+    Fraction
+        Equal to :func:`forcenet.exact.normalization`.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is not an integer ``>= 2``.
+
     Examples
     --------
     >>> normalization_lambda(5)
@@ -154,6 +200,22 @@ def boundary_mean_W(N: int, q: int) -> Fraction:
     ``<W_{N-q,1}> = sum_j (q(q+1)/2 + 2 - j_{q-1}) Lambda^(N-2)_j / ((d+1) sum_j Lambda^(N-2)_j)``
     for ``1 <= q <= N-2`` with ``j_0 = 1``; ``<W_{N,1}> = <W_{N-1,1}> / 2``;
     ``W_{1,1} = 1``.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+    q : int
+        Layers above the bottom, ``0 <= q <= N - 1`` (the grain is ``(N - q, 1)``).
+
+    Returns
+    -------
+    Fraction
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` or ``q`` is out of range.
 
     Examples
     --------
@@ -246,13 +308,44 @@ def _reduce_inplace(a: np.ndarray, reduce) -> np.ndarray:
         return a
     return reduce(a)
 
-def gamma_sums(N: int, q: int, r: int, dtype=object, reduce=lambda a: a):
+def gamma_sums(
+    N: int, q: int, r: int, dtype: Any = object, reduce: Callable[[np.ndarray], np.ndarray] = lambda a: a
+) -> tuple[Any, Any, Any]:
     """Integer sums over the modified maps ``h(q, r)`` of Eq. (4.90), via row recursions.
 
     Returns ``(Z', S1, S0)``: the number of modified maps and the sums of
     ``h(N-r, q-1)`` and ``h(N-r-1, q-1)`` over them.  The recursion over rows is
     the Lambda recursion (4.50) with the bounds raised by one on the line of
     (4.73)/(4.75) -- the thesis's Gamma integers are its intermediate tables.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 3``.
+    q, r : int
+        The grain ``(N - q, r)``, ``1 <= q <= N - 2``, ``2 <= r <= N - q``.
+    dtype : numpy dtype
+        Of the tables: ``object`` (default) for exact Python integers, or
+        ``np.int64`` with a modular ``reduce``.
+    reduce : callable
+        Applied to every table after each step (default: none; a reduction
+        modulo a prime for the multi-modular route).
+
+    Returns
+    -------
+    tuple
+        ``(Z', S1, S0)``, Python integers for ``dtype=object``, residues
+        otherwise.
+
+    Examples
+    --------
+    >>> from fractions import Fraction
+    >>> from forcenet.exact import count, mean_W
+    >>> Z, S1, S0 = gamma_sums(7, 2, 3)
+    >>> Z, S1, S0
+    (61024, 92120, 90952)
+    >>> Fraction(3 * Z + S1 - S0, 22 * count(7)) == mean_W(7)[4][2]  # Eq. (4.77), d + 1 = 22
+    True
     """
     p = N - 2
     relaxed = {l: frozenset(ks) for l, ks in defect_line(N, q, r).items()}
@@ -271,7 +364,7 @@ def gamma_sums(N: int, q: int, r: int, dtype=object, reduce=lambda a: a):
     S0 = weighted(N - r - 1) if (N - r - 1 >= 1 and q - 1 >= 1 and q - 1 < N - r - 1) else Z
     return Z, S1, S0
 
-def mean_W_gamma(N: int, progress=None) -> list[list[Fraction]]:
+def mean_W_gamma(N: int, progress: Progress | None = None) -> list[list[Fraction]]:
     """``<W>`` table from the integer recursions: Lambda for ``r = 1`` (4.67), Gamma in the bulk (4.77).
 
     ``(d+1) Z <W_{N-q,r}> = (q + 1) Z' + S1 - S0`` (:func:`gamma_bulk_integer`,
@@ -279,6 +372,23 @@ def mean_W_gamma(N: int, progress=None) -> list[list[Fraction]]:
     bottom layer from the layer above (see :func:`mean_W_thesis_maps`).
     Reaches N = 12: about 3 min and 6-20 GB per grain there, 55 grains.
     ``progress`` is called once per bulk grain.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+    progress : callable, optional
+        Called with no argument after each bulk grain.
+
+    Returns
+    -------
+    list of lists of Fraction
+        ``table[i-1][j-1] = <W_{i,j}>``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is not an integer ``>= 2``.
 
     Examples
     --------
@@ -315,7 +425,22 @@ def _lambda_sum_mod(N: int, prime: int, weight_index: int | None = None) -> int:
     return _last_row_chain(box, p, frozenset(), reduce, weight_index) % prime
 
 def count_lambda_chain(N: int) -> int:
-    """``sum_j Lambda^(N-2)_j`` by :func:`_lambda_sum_mod` and CRT (reaches N = 12).
+    """``sum_j Lambda^(N-2)_j`` of Eq. (4.51) by :func:`_lambda_sum_mod` and CRT (reaches N = 12).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 5``.
+
+    Returns
+    -------
+    int
+        Equal to :func:`forcenet.exact.count`.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is not an integer ``>= 5``.
 
     Examples
     --------
@@ -431,6 +556,22 @@ def gamma_bulk_integer(N: int, q: int, r: int) -> int:
 
     Multi-modular version of :func:`gamma_sums` that never builds the last
     row of the recursion (:func:`_last_row_chain`); reaches N = 12.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 4``.
+    q, r : int
+        The grain ``(N - q, r)``, ``1 <= q <= N - 2``, ``2 <= r <= N - q``.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    ArgumentError
+        If ``N``, ``q`` or ``r`` is out of range.
 
     Examples
     --------

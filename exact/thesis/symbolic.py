@@ -131,6 +131,23 @@ def integrate_layer_step(layer: NestedLayer, powers: dict | None = None) -> Nest
     ``powers`` (``{(m, k): s}``) multiplies ``t(W_{m,k})`` by ``W_{m,k}^s``
     first (a defect, (4.57)-(4.61)).
 
+    Parameters
+    ----------
+    layer : NestedLayer
+        The integrand ``J_m`` of layer ``m >= 2``.
+    powers : dict, optional
+        ``{(m, k): s}``: the power of each force of this layer.
+
+    Returns
+    -------
+    NestedLayer
+        ``J_{m-1}``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``layer`` is the top layer ``m = 1``.
+
     Examples
     --------
     >>> bottom = nested_layers(3)[0]
@@ -152,6 +169,24 @@ def nested_layers(N: int, powers: dict | None = None) -> list[NestedLayer]:
     ``W_{1,1} = 1`` is the normalization (4.46), or the unnormalized moment
     when ``powers`` (``{(i, j): s}``) inserts forces.
 
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``2 <= N <= 6``.
+    powers : dict, optional
+        ``{(i, j): s}``: the power of each grain's force.
+
+    Returns
+    -------
+    list of NestedLayer
+        ``N`` layers, ``J_N`` first.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is out of range, a key of ``powers`` is not a grain or a
+        power is negative.
+
     Examples
     --------
     >>> [layer.bond_dimensions() for layer in nested_layers(4)]
@@ -169,8 +204,26 @@ def nested_layers(N: int, powers: dict | None = None) -> list[NestedLayer]:
     return layers
 
 
-def moment_symbolic(N: int, grain, s: int = 1) -> sympy.Rational:
-    """``<W_{i,j}^s>`` = (J_1 with the defect) / (J_1 without), both at ``W_{1,1} = 1``.
+def moment_symbolic(N: int, grain: tuple[int, int], s: int = 1) -> sympy.Rational:
+    """``<W_{i,j}^s>`` = (J_1 with the defect) / (J_1 without), both at ``W_{1,1} = 1``, Eqs. (4.57)-(4.61).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``2 <= N <= 6``.
+    grain : tuple of int
+        ``(i, j)`` with ``1 <= j <= i <= N``.
+    s : int
+        The power, ``s >= 0``.
+
+    Returns
+    -------
+    sympy.Rational
+
+    Raises
+    ------
+    ArgumentError
+        If ``N``, ``grain`` or ``s`` is out of range.
 
     Examples
     --------

@@ -67,7 +67,7 @@ def _mean_numerator(N: int, i: int, j: int, C) -> int:
     return upper - lower
 
 
-def mean_W(N: int, progress=None, memory_bytes: int | None = None) -> list[list[Fraction]]:
+def mean_W(N: int, progress: Progress | None = None, memory_bytes: int | None = None) -> list[list[Fraction]]:
     """Exact table of ``<W_{i,j}>``, rows ``i = 1..N``, ``j = 1..i``.
 
     Parameters
@@ -83,6 +83,12 @@ def mean_W(N: int, progress=None, memory_bytes: int | None = None) -> list[list[
     Returns
     -------
     list of lists of Fraction
+        ``table[i-1][j-1] = <W_{i,j}>``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is not an integer ``>= 2`` or ``memory_bytes`` cannot hold one prime's tables.
 
     Examples
     --------
@@ -104,7 +110,23 @@ def mean_W(N: int, progress=None, memory_bytes: int | None = None) -> list[list[
 
 
 def mean_W_grain(N: int, i: int, j: int) -> Fraction:
-    """Exact ``<W_{i,j}>`` of one grain.
+    """Exact ``<W_{i,j}>`` of one grain, Eqs. (4.63)-(4.77).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+    i, j : int
+        The grain, row ``i`` and position ``j``, ``1 <= j <= i <= N``.
+
+    Returns
+    -------
+    Fraction
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is not an integer ``>= 2`` or the grain is not ``1 <= j <= i <= N``.
 
     Examples
     --------
@@ -218,7 +240,30 @@ def moment_table(N: int, s: int = 2, *, memory_bytes: int | None = None, progres
     grain counts multisets of ``s`` ideals between its bounding partial sums,
     so ``E[g^(s rising)] = s! * F[full][s] / count``.  The batches of grains
     fill 3/4 of ``memory_bytes``, at most 4 GiB (None: 4 GiB), as
-    :func:`moment_table_plan` counts them.
+    :func:`moment_table_plan` counts them.  Eq. (4.3) with the Beta moments of
+    the order statistics.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+    s : int
+        Order of the moment, ``s >= 1``.
+    memory_bytes : int, optional
+        Memory for the batches of grains (None: 4 GiB).
+    progress : callable, optional
+        Progress callback, one tick per ideal-lattice layer.
+
+    Returns
+    -------
+    list of lists of Fraction
+        ``table[i-1][j-1] = <W_{i,j}^s>``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` or ``s`` is out of range, or one grain's path-sum table
+        exceeds the memory budget.
 
     Examples
     --------
@@ -259,8 +304,27 @@ def moment_table(N: int, s: int = 2, *, memory_bytes: int | None = None, progres
     return [[values[(i, j)] for j in range(1, i + 1)] for i in range(1, N + 1)]
 
 
-def moment(N: int, grain, s: int) -> Fraction:
-    """Exact ``<W_{i,j}^s>`` for one grain and any order ``s >= 1``.
+def moment(N: int, grain: tuple[int, int], s: int) -> Fraction:
+    """Exact ``<W_{i,j}^s>`` for one grain and any order ``s >= 1``, Eq. (4.3).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+    grain : tuple of int
+        ``(i, j)`` with ``1 <= j <= i <= N``.
+    s : int
+        Order of the moment, ``s >= 1``.
+
+    Returns
+    -------
+    Fraction
+
+    Raises
+    ------
+    ArgumentError
+        If ``N``, ``grain`` or ``s`` is out of range, or the path-sum table
+        exceeds its memory budget.
 
     Examples
     --------
@@ -293,8 +357,25 @@ def _single_moment(N: int, i: int, j: int, s: int) -> Fraction:
     return Fraction(factorial(s) * crt(final[s], primes), total * rising(d + 1, s))
 
 
-def correlation(N: int, grain1, grain2) -> Fraction:
-    """Exact two-point function ``<W_{i,j} W_{k,l}>``.
+def correlation(N: int, grain1: tuple[int, int], grain2: tuple[int, int]) -> Fraction:
+    """Exact two-point function ``<W_{i,j} W_{k,l}>``, Sec. 4.5.2.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+    grain1, grain2 : tuple of int
+        The grains ``(i, j)`` and ``(k, l)``, each inside the triangle.
+
+    Returns
+    -------
+    Fraction
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` or a grain is out of range, or the path-sum table exceeds
+        its memory budget.
 
     Examples
     --------
@@ -335,8 +416,24 @@ def _correlation(N: int, g1, g2) -> Fraction:
     return Fraction(crt(final[3], primes), total * (d + 1) * (d + 2))
 
 
-def covariance(N: int, grain1, grain2) -> Fraction:
-    """``<W W'> - <W><W'>``, exact.
+def covariance(N: int, grain1: tuple[int, int], grain2: tuple[int, int]) -> Fraction:
+    """``<W W'> - <W><W'>``, exact (Sec. 4.5.2).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+    grain1, grain2 : tuple of int
+        The grains ``(i, j)`` and ``(k, l)``, each inside the triangle.
+
+    Returns
+    -------
+    Fraction
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` or a grain is out of range.
 
     Examples
     --------
@@ -350,7 +447,17 @@ def covariance(N: int, grain1, grain2) -> Fraction:
 
 
 def variance_table(N: int) -> list[list[Fraction]]:
-    """Exact ``Var W_{i,j}`` for every grain.
+    """Exact ``Var W_{i,j} = <W^2> - <W>^2`` for every grain, Eq. (4.3).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+
+    Returns
+    -------
+    list of lists of Fraction
+        ``table[i-1][j-1] = Var W_{i,j}``.
 
     Examples
     --------

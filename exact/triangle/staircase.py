@@ -363,6 +363,11 @@ def count(N: int) -> int:
     -------
     int
 
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is not an integer ``>= 2``.
+
     Examples
     --------
     >>> [count(N) for N in range(2, 9)]
@@ -385,6 +390,21 @@ def normalization(N: int) -> Fraction:
     Eq. (4.1)/(4.51): ``normalization = count(N) / d!``, which equals
     ``prod_{k=0}^{N-2} k! / (2k + 1)! = 1 / D`` with the integer
     ``D = prod_k (k+1)(k+2)...(2k+1)``.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``N >= 2``.
+
+    Returns
+    -------
+    Fraction
+        ``1 / D``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is not an integer ``>= 2``.
 
     Examples
     --------

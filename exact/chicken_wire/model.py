@@ -104,10 +104,28 @@ def _next_row(out: tuple) -> tuple | None:
 
 @cache
 def row_transitions(L: int) -> dict:
-    """All transitions of one row: ``{D: [(D_next, vertex counts), ...]}``.
+    """All transitions of one chicken-wire row (Sec. 7.4.1): ``{D: [(D_next, vertex counts), ...]}``.
 
     ``vertex counts`` is a tuple of the numbers of
     ``(empty, Y, inverted Y, H, R, L)`` vertices in the row.
+
+    Parameters
+    ----------
+    L : int
+        Row width (periodic), ``>= 2``.
+
+    Returns
+    -------
+    dict of tuple to list of (tuple, tuple)
+        For every incoming row state ``D`` (a tuple of ``EMPTY``, ``RIGHT``,
+        ``LEFT`` per site), the allowed ``(D_next, vertex counts)`` pairs.
+
+    Raises
+    ------
+    ArgumentError
+        If ``L < 2``.
+    ArgumentTypeError
+        If ``L`` is not an integer.
 
     Examples
     --------
@@ -135,11 +153,30 @@ def row_transitions(L: int) -> dict:
 
 
 def transfer_matrix(L: int, weights: dict[str, object] | None = None) -> sympy.Matrix:
-    """The row-to-row transfer matrix as a sympy Matrix (exact; states in ``product`` order).
+    """The chicken-wire row-to-row transfer matrix (Sec. 7.4.1), exact sympy; states in ``product`` order.
 
     ``weights`` maps vertex names to sympy/int weights (default 1 each);
     entry ``[D_next, D]`` is the sum over the row's configurations of the
     product of their vertex weights.
+
+    Parameters
+    ----------
+    L : int
+        Row width (periodic), ``>= 2``.
+    weights : dict of str to number or sympy expression, optional
+        Weight per vertex name of :data:`VERTICES`; missing names weigh 1.
+
+    Returns
+    -------
+    sympy.Matrix
+        The ``3^L x 3^L`` matrix, entry ``[D_next, D]``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``weights`` names an unknown vertex, or ``L < 2``.
+    ArgumentTypeError
+        If ``L`` is not an integer.
 
     Examples
     --------
@@ -170,9 +207,28 @@ def transfer_matrix(L: int, weights: dict[str, object] | None = None) -> sympy.M
 
 
 def count_torus(L: int, M: int) -> int:
-    """Number of chicken-wire configurations on the ``L x M`` torus (transfer matrix, exact).
+    """Number of chicken-wire configurations (Sec. 7.4.1, Fig. 7.8) on the ``L x M`` torus (transfer matrix, exact).
 
     ``Tr T^M`` with integer arithmetic on the sparse transitions.
+
+    Parameters
+    ----------
+    L : int
+        Width of the torus, ``>= 2``.
+    M : int
+        Height of the torus (rows), ``>= 1``.
+
+    Returns
+    -------
+    int
+        ``Tr T^M``, a Python int.
+
+    Raises
+    ------
+    ArgumentError
+        If ``L < 2`` or ``M < 1``.
+    ArgumentTypeError
+        If ``L`` or ``M`` is not an integer.
 
     Examples
     --------
@@ -185,10 +241,29 @@ def count_torus(L: int, M: int) -> int:
 
 
 def vertex_counts_torus(L: int, M: int) -> dict:
-    """Number of configurations on the ``L x M`` torus by vertex content.
+    """Number of chicken-wire configurations on the ``L x M`` torus by vertex content (the six vertices of Fig. 7.7).
 
     Returns ``{(n_empty, n_Y, n_invY, n_H, n_R, n_L): count}``; the transfer
     matrix route with polynomial bookkeeping.
+
+    Parameters
+    ----------
+    L : int
+        Width of the torus, ``>= 2``.
+    M : int
+        Height of the torus (rows), ``>= 1``.
+
+    Returns
+    -------
+    dict of tuple to int
+        ``{(n_empty, n_Y, n_invY, n_H, n_R, n_L): count}``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``L < 2`` or ``M < 1``.
+    ArgumentTypeError
+        If ``L`` or ``M`` is not an integer.
 
     Examples
     --------
@@ -215,10 +290,29 @@ def vertex_counts_torus(L: int, M: int) -> dict:
 
 
 def count_torus_by_enumeration(L: int, M: int) -> int:
-    """The same count by backtracking over vertex assignments (independent of the transfer matrix).
+    """The chicken-wire count (Sec. 7.4.1) by backtracking over vertex assignments (independent of the transfer matrix).
 
     Each site gets one of the six vertices; a bond is occupied for both of
     its ends or for neither.  Exponential; for ``L * M <= 20``.
+
+    Parameters
+    ----------
+    L : int
+        Width of the torus, ``>= 2``.
+    M : int
+        Height of the torus (rows), ``>= 1``.
+
+    Returns
+    -------
+    int
+        The number of configurations, equal to :func:`count_torus`.
+
+    Raises
+    ------
+    ArgumentError
+        If ``L < 2`` or ``M < 1``, or ``L * M > 20``.
+    ArgumentTypeError
+        If ``L`` or ``M`` is not an integer.
 
     Examples
     --------

@@ -29,7 +29,7 @@ MAX_WIDTH = 6  # the dense integer matrix has 3^L rows
 
 
 def sector_polynomial_factors(L: int, particles: int | None = None) -> list[tuple[list[int], int]]:
-    """Irreducible integer factors of the sector's characteristic polynomial.
+    """Irreducible integer factors of a sector's characteristic polynomial (transfer matrix, Sec. 7.4.1).
 
     Parameters
     ----------
@@ -43,6 +43,13 @@ def sector_polynomial_factors(L: int, particles: int | None = None) -> list[tupl
     list of (coefficients, multiplicity)
         Coefficients constant term first, Python ints; sorted by degree, then
         coefficients.
+
+    Raises
+    ------
+    ArgumentError
+        If ``L`` is outside ``2..6`` or ``particles`` outside ``0..L``.
+    ArgumentTypeError
+        If ``L`` or ``particles`` is not an integer.
 
     Examples
     --------

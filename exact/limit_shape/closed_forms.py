@@ -30,9 +30,21 @@ __all__ = [
 
 
 def level_curve_expr(a: sympy.Expr, u: sympy.Expr) -> sympy.Expr:
-    """``h_a(u)`` for ``a < 1/2`` (Pittel-Romik surface in rotated coordinates).
+    """``h_a(u)`` for ``a < 1/2`` (Pittel-Romik surface, rotated coordinates): the limit Sec. 4.8 leaves open.
 
     ``a > 1/2`` follows from the symmetry ``h_{1-a}(u) = 2 - h_a(u)``.
+
+    Parameters
+    ----------
+    a : sympy.Expr
+        Level of the surface, ``0 < a < 1/2`` (a number or a symbol).
+    u : sympy.Expr
+        Rotated coordinate ``u = x_T - y_T``, ``u^2 <= 4 a (1 - a)``.
+
+    Returns
+    -------
+    sympy.Expr
+        ``v = x_T + y_T`` on the level curve ``L = a``.
 
     Examples
     --------
@@ -45,7 +57,16 @@ def level_curve_expr(a: sympy.Expr, u: sympy.Expr) -> sympy.Expr:
 
 
 def diagonal_limit(t: sympy.Expr) -> sympy.Expr:
-    """``L(t, t) = sin^2(pi t / 2)``: the limit surface on the diagonal.
+    """``L(t, t) = sin^2(pi t / 2)``: the limit surface on the diagonal (the scaling limit of Sec. 4.8).
+
+    Parameters
+    ----------
+    t : sympy.Expr
+        Position on the diagonal, ``0 <= t <= 1`` (a number or a symbol).
+
+    Returns
+    -------
+    sympy.Expr
 
     Examples
     --------
@@ -61,6 +82,15 @@ def edge_profile(y: sympy.Expr) -> sympy.Expr:
     On the edge the level curve of ``a`` ends (``k = 0`` in ``h_a``), at
     ``y^2 = 4 a (1 - a)``.
 
+    Parameters
+    ----------
+    y : sympy.Expr
+        Position along the edge, ``0 <= y <= 1`` (a number or a symbol).
+
+    Returns
+    -------
+    sympy.Expr
+
     Examples
     --------
     >>> edge_profile(sympy.Integer(1))
@@ -70,7 +100,16 @@ def edge_profile(y: sympy.Expr) -> sympy.Expr:
 
 
 def lattice_direction_limit(z: sympy.Expr) -> sympy.Expr:
-    """Limit of ``<W_{i,1}> = <W_{i,i}>`` at depth ``z``: ``L(0, 1 - z)``.
+    """Limit of ``<W_{i,1}> = <W_{i,i}>`` at depth ``z``: ``L(0, 1 - z)`` (N-independent, Sec. 4.8, Fig. 3.5).
+
+    Parameters
+    ----------
+    z : sympy.Expr
+        Depth ``z = i/N``, ``0 <= z <= 1`` (a number or a symbol).
+
+    Returns
+    -------
+    sympy.Expr
 
     Examples
     --------
@@ -81,7 +120,16 @@ def lattice_direction_limit(z: sympy.Expr) -> sympy.Expr:
 
 
 def bottom_row_limit(x: sympy.Expr) -> sympy.Expr:
-    """Limit of ``N <W_{N,j}>``: ``(pi/2) cos(pi x / 2)``, from the diagonal.
+    """Limit of ``N <W_{N,j}>``: ``(pi/2) cos(pi x / 2)``, from the diagonal (the 1/N bulk of Sec. 4.8, Fig. 3.5).
+
+    Parameters
+    ----------
+    x : sympy.Expr
+        Horizontal position ``x = (2j - N - 1)/N``, ``|x| <= 1`` (a number or a symbol).
+
+    Returns
+    -------
+    sympy.Expr
 
     Examples
     --------

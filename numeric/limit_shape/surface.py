@@ -86,9 +86,27 @@ def _checked_level_point(a, u):
 
 
 def level_curve(a: RealLike, u: RealLike, dps: int = 30) -> mpmath.mpf:
-    """``h_a(u)``: the ``v = x + y`` of the level curve ``L = a`` at ``u = x - y``.
+    """``h_a(u)``: the ``v = x + y`` of the level curve ``L = a`` at ``u = x - y`` (scaling limit, Sec. 4.8).
 
     Defined for ``0 < a < 1`` and ``u^2 <= 4a(1-a)``; raises ``ArgumentError`` outside.
+
+    Parameters
+    ----------
+    a : int, float, str, Fraction or mpmath.mpf
+        The level, ``0 < a < 1``.
+    u : int, float, str, Fraction or mpmath.mpf
+        Rotated coordinate, ``u^2 <= 4a(1-a)``.
+    dps : int
+        Decimal digits of the result, ``5..10000``; the work runs with guard digits.
+
+    Returns
+    -------
+    mpmath.mpf
+
+    Raises
+    ------
+    ArgumentError
+        If ``a`` or ``u`` is out of range, or ``dps`` outside ``5..10000``.
 
     Examples
     --------
@@ -105,6 +123,24 @@ def level_curve_slope(a: RealLike, u: RealLike, dps: int = 30) -> mpmath.mpf:
     """``dh_a(u)/da = k / (pi a (1 - a))``, ``k = sqrt(4a(1-a) - u^2)`` (derived in the notes).
 
     Defined where :func:`level_curve` is; raises ``ArgumentError`` outside (never a complex number).
+
+    Parameters
+    ----------
+    a : int, float, str, Fraction or mpmath.mpf
+        The level, ``0 < a < 1``.
+    u : int, float, str, Fraction or mpmath.mpf
+        Rotated coordinate, ``u^2 <= 4a(1-a)``.
+    dps : int
+        Decimal digits of the result, ``5..10000``; the work runs with guard digits.
+
+    Returns
+    -------
+    mpmath.mpf
+
+    Raises
+    ------
+    ArgumentError
+        If ``a`` or ``u`` is out of range, or ``dps`` outside ``5..10000``.
 
     Examples
     --------
@@ -138,7 +174,26 @@ def _limit_surface(u, v, dps):
 
 
 def limit_surface(u: RealLike, v: RealLike, dps: int = 30) -> mpmath.mpf:
-    """``L`` at rotated coordinates ``(u, v)``, ``|u| + |v - 1| <= 1``, by root finding.
+    """The limit surface ``L`` (Sec. 4.8) at rotated coordinates ``(u, v)``, ``|u| + |v - 1| <= 1``, by root finding.
+
+    Parameters
+    ----------
+    u : int, float, str, Fraction or mpmath.mpf
+        Rotated coordinate ``u = z - 1``.
+    v : int, float, str, Fraction or mpmath.mpf
+        Rotated coordinate ``v = 1 + x``.
+    dps : int
+        Decimal digits of the result, ``5..10000``; the work runs with guard digits.
+
+    Returns
+    -------
+    mpmath.mpf
+        The level ``a`` whose curve passes through ``(u, v)``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``(u, v)`` is outside the square, or ``dps`` outside ``5..10000``.
 
     Examples
     --------
@@ -165,7 +220,23 @@ def _depth_digits(depth) -> int:
 
 
 def lattice_response(z: RealLike, dps: int = 30) -> mpmath.mpf:
-    """Limit of ``<W_{i,1}> = <W_{i,i}>`` at depth ``z = i/N``, ``0 <= z <= 1`` (independent of N).
+    """Limit of ``<W_{i,1}> = <W_{i,i}>`` at depth ``z = i/N``, ``0 <= z <= 1`` (N-independent; Sec. 4.8).
+
+    Parameters
+    ----------
+    z : int, float, str, Fraction or mpmath.mpf
+        Depth ``z = i/N``, ``0 <= z <= 1``.
+    dps : int
+        Decimal digits of the result, ``5..10000``; the work runs with guard digits.
+
+    Returns
+    -------
+    mpmath.mpf
+
+    Raises
+    ------
+    ArgumentError
+        If ``z`` is outside ``[0, 1]``, or ``dps`` outside ``5..10000``.
 
     Examples
     --------
@@ -186,13 +257,32 @@ def lattice_response(z: RealLike, dps: int = 30) -> mpmath.mpf:
 
 
 def bulk_response(x: RealLike, z: RealLike, dps: int = 30) -> mpmath.mpf:
-    """Limit of ``N <W>`` at ``(x, z)``, ``|x| < z <= 1``: ``2 dL/dv``.
+    """Limit of ``N <W>`` at ``(x, z)``, ``|x| < z <= 1``: ``2 dL/dv`` (the 1/N bulk of Sec. 4.8, Fig. 3.5).
 
     Computed as ``2 / (dh_a/da) = 2 pi a (1 - a) / sqrt(4a(1-a) - u^2)`` at
     ``a = L(u, v)`` (the level curves are graphs over ``u``).  On the lattice
     directions ``|x| = z < 1`` the bulk density diverges (``<W>`` itself tends
     to :func:`lattice_response` there): ``ArgumentError``.  At the bottom corners
     ``|x| = z = 1`` it vanishes.
+
+    Parameters
+    ----------
+    x : int, float, str, Fraction or mpmath.mpf
+        Horizontal position ``x = (2j - i - 1)/N``, ``|x| < z`` (or ``|x| = z = 1``).
+    z : int, float, str, Fraction or mpmath.mpf
+        Depth ``z = i/N``, ``0 < z <= 1``.
+    dps : int
+        Decimal digits of the result, ``5..10000``; the work runs with guard digits.
+
+    Returns
+    -------
+    mpmath.mpf
+
+    Raises
+    ------
+    ArgumentError
+        If ``(x, z)`` is outside the triangle or on a lattice direction ``|x| = z < 1``,
+        or ``dps`` outside ``5..10000``.
 
     Examples
     --------

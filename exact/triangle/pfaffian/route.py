@@ -38,6 +38,7 @@ from __future__ import annotations
 from concurrent.futures import Executor
 from fractions import Fraction
 from math import factorial
+from typing import Any
 from os import PathLike
 
 from ...checkpoints import CheckpointStore
@@ -80,6 +81,27 @@ def count(N: int, backend: str = "numba", *, checkpoint: Checkpoint = None) -> i
     (770 of them took 13 s through Dask on loopback against 1.2 s here;
     notes/benchmarks.md).
 
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``2..200``.
+    backend : {"numba", "python"}
+        Compiled kernels or their pure-Python twins (results do not depend on it).
+    checkpoint : str, os.PathLike or CheckpointStore, optional
+        Directory of the checkpoint records (as in :func:`survival_table`).
+
+    Returns
+    -------
+    int
+        ``d! Pf(B)``, ``d = N(N-1)/2``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is outside ``2..200``.
+    ArgumentTypeError
+        If ``N`` is not an integer.
+
     Examples
     --------
     >>> [count(N) for N in range(2, 8)]
@@ -94,6 +116,25 @@ def count(N: int, backend: str = "numba", *, checkpoint: Checkpoint = None) -> i
 
 def normalization(N: int, backend: str = "numba") -> Fraction:
     """The normalization (4.1), the volume of the triangle's force space: ``count / d! = Pf(B)``.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``2..200``.
+    backend : {"numba", "python"}
+        Compiled kernels or their pure-Python twins (results do not depend on it).
+
+    Returns
+    -------
+    Fraction
+        The volume of the force space, Eq. (4.1).
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is outside ``2..200``.
+    ArgumentTypeError
+        If ``N`` is not an integer.
 
     Examples
     --------
@@ -137,6 +178,15 @@ def survival_table(N: int, *, workers: int | None = None, progress: Progress | N
     (S, total) : (list of lists of int, int)
         ``S[m][k]`` for ``m = 1..n`` (row 0 unused), ``k = 0..n``; ``total = count(N)``.
 
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is outside ``2..200``.
+    ArgumentTypeError
+        If ``N`` is not an integer.
+    ArithmeticError
+        If the reconstructed rows do not sum to ``(d + 1) count`` (a bug, never expected).
+
     Examples
     --------
     >>> S, total = survival_table(4)
@@ -164,7 +214,7 @@ def _survival_table(N: int, workers: int | None, progress: Progress | None, back
     return out, total
 
 
-def mean_W(N: int, **kwargs) -> Table:
+def mean_W(N: int, **kwargs: Any) -> Table:
     """Exact ``<W_{i,j}>`` table, rows ``i = 1..N``, ``j = 1..i``, by Pfaffians (Eqs. (4.63)-(4.77)).
 
     ``<W_ij> (d + 1) count = S[m][j - 1]`` with ``m = N - i + 1``: the grain's
@@ -172,6 +222,26 @@ def mean_W(N: int, **kwargs) -> Table:
     (``notes/free_fermions.md`` Sec. 0).  Same layout as
     :func:`forcenet.exact.triangle.moments.mean_W`; keyword arguments go to
     :func:`survival_table`.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``2..200``.
+    **kwargs
+        ``workers``, ``progress``, ``backend``, ``executor``, ``checkpoint`` of
+        :func:`survival_table` (results do not depend on them).
+
+    Returns
+    -------
+    list of lists of Fraction
+        Row ``i`` holds ``<W_{i,j}>`` for ``j = 1..i``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is outside ``2..200``.
+    ArgumentTypeError
+        If ``N`` is not an integer.
 
     Examples
     --------
@@ -193,11 +263,31 @@ def _table_from_survival(N: int, S: list[list[int]], total: int) -> Table:
     return table
 
 
-def expected_entries(N: int, **kwargs) -> dict[tuple[int, int], Fraction]:
-    """``E[T(r, c)]`` of a uniform random standard tableau of the shifted staircase, every cell (exact).
+def expected_entries(N: int, **kwargs: Any) -> dict[tuple[int, int], Fraction]:
+    """``E[T(r, c)]`` of a uniform standard tableau of the shifted staircase (Sec. 4.6), every cell (exact).
 
     ``T(x) = #{k : x not in I_k}`` along the chain, so
     ``E[T(r, c)] count = sum_{k < r} S[c - r + 1][k]``.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``2..200``.
+    **kwargs
+        ``workers``, ``progress``, ``backend``, ``executor``, ``checkpoint`` of
+        :func:`survival_table` (results do not depend on them).
+
+    Returns
+    -------
+    dict of (int, int) to Fraction
+        ``E[T(r, c)]`` for ``1 <= r <= c <= N - 1``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is outside ``2..200``.
+    ArgumentTypeError
+        If ``N`` is not an integer.
 
     Examples
     --------
@@ -213,13 +303,42 @@ def expected_entries(N: int, **kwargs) -> dict[tuple[int, int], Fraction]:
 
 def lattice_direction(N: int, *, workers: int | None = None, progress: Progress | None = None, backend: str = "numba",
                       executor: Executor | None = None, checkpoint: Checkpoint = None) -> list[Fraction]:
-    """Exact ``<W_{i,1}> = <W_{i,i}>`` for ``i = 1..N``: the response on the two lattice directions.
+    """Exact ``<W_{i,1}> = <W_{i,i}>``, ``i = 1..N``: the lattice directions (Eqs. (4.63)-(4.77), Fig. 3.5).
 
     Only the first column ``S[m][0]`` of the survival table, from two
     eliminations per level point instead of ``n + 1`` (:func:`~.engine.edge_residues`);
     the kernel set-up, the same for both, is then most of the work: about 4
     times cheaper than :func:`mean_W` at N = 100 (``notes/benchmarks.md``).  ``<W_{i,1}> (d + 1) count = S[N - i + 1][0]``.
     The keyword arguments are those of :func:`survival_table`.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``2..200``.
+    workers : int, optional
+        Worker processes, as in :func:`survival_table`.
+    progress : callable, optional
+        Called as ``progress(1)`` after each prime.
+    backend : {"numba", "python"}
+        Compiled kernels or their pure-Python twins (results do not depend on it).
+    executor : concurrent.futures.Executor or dask.distributed.Client, optional
+        Runs the per-prime tasks, as in :func:`survival_table`.
+    checkpoint : str, os.PathLike or CheckpointStore, optional
+        Directory of the checkpoint records (as in :func:`survival_table`).
+
+    Returns
+    -------
+    list of Fraction
+        ``<W_{i,1}>`` for ``i = 1..N`` (the apex first, 1).
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is outside ``2..200``.
+    ArgumentTypeError
+        If ``N`` is not an integer.
+    ArithmeticError
+        If a reconstructed sum is out of its proven range (a bug, never expected).
 
     Examples
     --------
@@ -250,6 +369,31 @@ def lattice_direction_plan(N: int, memory_bytes: int | None = None, workers: int
     With ``executor`` the plan counts its workers (and the scheduler's cost
     per task); with ``checkpoint`` it counts only the primes not yet recorded
     and says so.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``>= 2`` (the route reaches ``N <= 200``; above, the plan is refused).
+    memory_bytes : int, optional
+        Memory available to the run (None: not checked).
+    workers : int, optional
+        Local worker processes (default: the cores when the run pays for them).
+    executor : concurrent.futures.Executor or Dask Client, optional
+        Runs the per-prime tasks; the plan counts its workers.
+    checkpoint : str, os.PathLike or CheckpointStore, optional
+        The plan counts only the primes not yet recorded there.
+
+    Returns
+    -------
+    Plan
+        Its ``refusal`` says why when the request is out of reach.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N < 2``.
+    ArgumentTypeError
+        If ``N`` is not an integer.
 
     Examples
     --------
@@ -325,6 +469,23 @@ def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, prog
     The arguments are those of :func:`table_plan`; a request the plan refuses
     (out of range, or more memory than ``memory_bytes``) raises before any
     prime starts.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``2..200``.
+    moments : int
+        Highest moment; only 1 is computed by this route.
+    memory_bytes : int, optional
+        Memory available to the run (None: not checked).
+    progress : callable, optional
+        Called as ``progress(1)`` after each prime.
+    executor : concurrent.futures.Executor or Dask Client, optional
+        Runs the per-prime tasks (default: a local process pool when it pays).
+    workers : int, optional
+        Local worker processes (default: the cores when the run pays for them).
+    checkpoint : str, os.PathLike or CheckpointStore, optional
+        Finished primes are recorded there and not recomputed.
 
     Returns
     -------

@@ -45,9 +45,12 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Sequence
 from numbers import Number
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from forcenet.numeric.agreement import TableAgreement, compare_chain, compare_means, compare_samples, varying_columns
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ForcenetError
@@ -100,11 +103,31 @@ def _to_float(value, where) -> float:
         raise ArgumentTypeError(f"exact{where}={value!r} is not a number (Fraction, sympy, float or None)") from None
 
 
-def exact_array(exact, shape) -> np.ndarray:
+def exact_array(exact: Any, shape: Sequence[int]) -> np.ndarray:
     """The exact table as floats of the given shape; ``NaN`` where nothing is to be tested.
 
     Ragged rows are padded (``mean_W(N)`` row ``i`` has ``i`` entries),
     ``None`` entries are not tested.
+
+    Parameters
+    ----------
+    exact : scalar, array or nested (ragged) sequence
+        The exact values (``Fraction``, sympy numbers, floats or ``None``).
+    shape : sequence of int
+        The shape of one sample.
+
+    Returns
+    -------
+    numpy.ndarray
+        Floats of shape ``shape``, ``NaN`` where nothing is to be tested.
+
+    Raises
+    ------
+    ArgumentError
+        If ``exact`` has more entries than the samples' axis, a number where the
+        samples have an axis, or (an array) another shape.
+    ArgumentTypeError
+        If an entry is not a number.
 
     Examples
     --------
@@ -176,8 +199,9 @@ def _autocorrelated(flat: np.ndarray):
     return tau if tau > max(3.5, 1.0 + 80.0 / math.sqrt(n)) else None
 
 
-def compare(samples, exact, *, chain: bool = False, alpha: float = 1e-3, keys=None, bounds=None,
-            hotelling: bool | None = None, **batching) -> TableAgreement:
+def compare(samples: ArrayLike, exact: Any, *, chain: bool = False, alpha: float = 1e-3,
+            keys: Sequence[Any] | None = None, bounds: Sequence[Any] | None = None,
+            hotelling: bool | None = None, **batching: Any) -> TableAgreement:
     """The whole-table comparison of ``samples`` with ``exact`` (see the module docstring).
 
     Parameters
@@ -262,13 +286,37 @@ def compare(samples, exact, *, chain: bool = False, alpha: float = 1e-3, keys=No
     return compare_samples(flat, mu[tested], keys=names, alpha=alpha, hotelling=hotelling, bounds=bounds)
 
 
-def assert_agrees(samples, exact, **options) -> TableAgreement:
+def assert_agrees(samples: ArrayLike, exact: Any, **options: Any) -> TableAgreement:
     """:func:`compare`, raising :class:`DisagreementError` (an ``AssertionError``) when the table disagrees.
 
     The message names the worst values, their z-scores and (for a chain)
     their integrated times. Raises :class:`CannotJudgeError` (an
     ``AssertionError`` too) when the samples cannot support a verdict.
     Returns the report when the table agrees.
+
+    Parameters
+    ----------
+    samples : array_like, shape (K, ...)
+        Independent samples, or the steps of a Markov chain (``chain=True``).
+    exact : scalar, array or nested (ragged) sequence
+        The exact means, shaped like one sample; ``None``/missing: not tested.
+    **options
+        ``chain``, ``alpha``, ``keys``, ``bounds``, ``hotelling`` and the batch
+        options of :func:`compare`.
+
+    Returns
+    -------
+    TableAgreement
+        The report, when the table agrees.
+
+    Raises
+    ------
+    DisagreementError
+        If the table disagrees at level ``alpha`` (an ``AssertionError``).
+    CannotJudgeError
+        If the samples cannot support a verdict (an ``AssertionError``).
+    ArgumentError
+        On the bad input :func:`compare` refuses.
 
     Examples
     --------
@@ -289,13 +337,41 @@ def assert_agrees(samples, exact, **options) -> TableAgreement:
     return report
 
 
-def assert_means_agree(mean, stderr, exact, *, alpha: float = 1e-3, keys=None, df: int | None = None) -> TableAgreement:
+def assert_means_agree(mean: ArrayLike, stderr: ArrayLike, exact: Any, *, alpha: float = 1e-3,
+                       keys: Sequence[Any] | None = None, df: int | None = None) -> TableAgreement:
     """Means with standard errors you trust (e.g. ``mean_and_stderr``) against exact values.
 
     Only the Bonferroni maximum (no covariance); ``df=None`` takes the
     z-scores as standard normal. Prefer :func:`assert_agrees` on the
     samples themselves: the Student t of its batch means accounts for the
     uncertainty of the standard errors, this one does not.
+
+    Parameters
+    ----------
+    mean : array_like
+        The estimated means.
+    stderr : array_like
+        Their standard errors (broadcast to ``mean``'s shape).
+    exact : scalar, array or nested (ragged) sequence
+        The exact means, shaped like ``mean``; ``None``/missing: not tested.
+    alpha : float
+        The test's level.
+    keys : sequence, optional
+        One name per tested value (default: 1-based indices).
+    df : int, optional
+        Degrees of freedom of a Student t for the z-scores (``None``: normal).
+
+    Returns
+    -------
+    TableAgreement
+        The report, when the means agree.
+
+    Raises
+    ------
+    DisagreementError
+        If the means disagree at level ``alpha`` (an ``AssertionError``).
+    ArgumentError
+        If ``exact`` does not fit ``mean``'s shape.
 
     Examples
     --------

@@ -12,7 +12,12 @@ from __future__ import annotations
 
 from fractions import Fraction
 from functools import lru_cache
+from typing import TYPE_CHECKING
+
 from forcenet.core.errors import ArgumentError
+
+if TYPE_CHECKING:
+    from forcenet.numeric.packing import Scene
 
 __all__ = ["exact_mean_W"]
 
@@ -24,8 +29,8 @@ def _packing(N, P, F, j0, pv, mg):
     return mean_W_mobilized(N, P, F=F, j0=j0, pv=pv, mg=mg)
 
 
-def exact_mean_W(target):
-    """Exact ``<W_{i,j}>``: of the ``N``-layer triangle (an int) or of a fully mobilized packing scene.
+def exact_mean_W(target: int | Scene) -> list[list[Fraction]]:
+    """Exact ``<W_{i,j}>`` of the ``N``-layer triangle (Eqs. (4.63)-(4.77)) or of a fully mobilized packing scene.
 
     Parameters
     ----------
@@ -39,6 +44,11 @@ def exact_mean_W(target):
     Returns
     -------
     list of lists of Fraction
+
+    Raises
+    ------
+    ArgumentError
+        If the scene has ``ph`` set, or ``N`` (or the scene's size) is out of the exact routes' range.
 
     Examples
     --------

@@ -127,7 +127,7 @@ class PooledChains(NamedTuple):
     effective_samples: np.ndarray
 
 
-def pool_means(lengths: Sequence[int], means: Sequence[ArrayLike], stderrs: Sequence[ArrayLike]
+def pool_means(lengths: Sequence[int], means: Sequence[np.ndarray | float], stderrs: Sequence[np.ndarray | float]
                ) -> tuple[np.ndarray, np.ndarray]:
     """The mean of independent chains of lengths ``n_k`` and its standard error.
 
@@ -171,8 +171,8 @@ def _lengths(lengths: Sequence[int], *per_chain: Sequence[object]) -> np.ndarray
     return np.array(lengths, dtype=float)
 
 
-def pool_chains(lengths: Sequence[int], means: Sequence[ArrayLike], stderrs: Sequence[ArrayLike],
-                stds: Sequence[ArrayLike], taus: Sequence[ArrayLike]) -> PooledChains:
+def pool_chains(lengths: Sequence[int], means: Sequence[np.ndarray | float], stderrs: Sequence[np.ndarray | float],
+                stds: Sequence[np.ndarray | float], taus: Sequence[np.ndarray | float]) -> PooledChains:
     """Mean, standard error, spread and effective sample size of independent chains pooled.
 
     The mean and its error are :func:`pool_means`; the spread is the sample

@@ -27,7 +27,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from forcenet.exact.errors import ForcenetError
+from forcenet.exact.errors import ArgumentError, ForcenetError
 
 __all__ = ["AutocorrError", "autocorr_function", "batch_means", "integrated_time", "mean_and_stderr",
            "PooledChains", "pool_means", "pool_chains", "all_finite"]
@@ -148,7 +148,7 @@ def pool_means(lengths: Sequence[int], means: Sequence[np.ndarray | float], stde
 
     Raises
     ------
-    ValueError
+    ArgumentError
         If there is no chain or the sequences differ in length.
 
     Examples
@@ -166,7 +166,7 @@ def pool_means(lengths: Sequence[int], means: Sequence[np.ndarray | float], stde
 
 def _lengths(lengths: Sequence[int], *per_chain: Sequence[object]) -> np.ndarray:
     if not len(lengths) or any(len(x) != len(lengths) for x in per_chain):
-        raise ValueError(f"need one length and one statistic of each kind per chain, at least one chain "
+        raise ArgumentError(f"need one length and one statistic of each kind per chain, at least one chain "
                          f"(got {len(lengths)} lengths and {[len(x) for x in per_chain]} statistics)")
     return np.array(lengths, dtype=float)
 
@@ -195,7 +195,7 @@ def pool_chains(lengths: Sequence[int], means: Sequence[np.ndarray | float], std
 
     Raises
     ------
-    ValueError
+    ArgumentError
         If there is no chain or the sequences differ in length.
 
     Examples
@@ -218,6 +218,21 @@ def pool_chains(lengths: Sequence[int], means: Sequence[np.ndarray | float], std
 
 def all_finite(values: Iterable[ArrayLike]) -> bool:
     """Whether every entry of every value is finite (no nan, no infinity).
+
+    Parameters
+    ----------
+    values : iterable of arrays or numbers
+        The results to check (of any shapes).
+
+    Returns
+    -------
+    bool
+        ``True`` when no entry is a nan or an infinity (also for no values).
+
+    Raises
+    ------
+    TypeError
+        If a value is not numeric (``numpy.isfinite`` refuses it).
 
     Examples
     --------

@@ -12,6 +12,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from forcenet.exact.errors import ArgumentError
 from forcenet.numeric.autocorr import all_finite, pool_chains, pool_means
 
 values = st.floats(-1e3, 1e3, allow_nan=False)
@@ -51,7 +52,7 @@ def test_one_chain_is_its_own_pool():
 
 @pytest.mark.parametrize("n, means", [([], []), ([3, 4], [1.0])])
 def test_pool_means_refuses_mismatched_or_no_chains(n, means):
-    with pytest.raises(ValueError, match="per chain"):
+    with pytest.raises(ArgumentError, match="per chain"):
         pool_means(n, means, means)
 
 

@@ -21,13 +21,16 @@ True
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Sequence
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from forcenet.core.errors import ForcenetError
+from forcenet.core.errors import ArgumentError, ForcenetError
 
-__all__ = ["AutocorrError", "autocorr_function", "batch_means", "integrated_time", "mean_and_stderr"]
+__all__ = ["AutocorrError", "autocorr_function", "batch_means", "integrated_time", "mean_and_stderr",
+           "PooledChains", "pool_means", "pool_chains", "all_finite"]
 
 
 class AutocorrError(ForcenetError):
@@ -113,6 +116,130 @@ def mean_and_stderr(samples: np.ndarray, c: float = 5.0, tol: float = 50.0) -> t
     var = flat.var(axis=0, ddof=1)
     stderr = np.sqrt(var * tau / flat.shape[0])
     return flat.mean(axis=0).reshape(shape), stderr.reshape(shape), tau.reshape(shape)
+
+
+class PooledChains(NamedTuple):
+    """Statistics of independent chains pooled (:func:`pool_chains`), per component."""
+
+    mean: np.ndarray
+    stderr: np.ndarray
+    std: np.ndarray
+    effective_samples: np.ndarray
+
+
+def pool_means(lengths: Sequence[int], means: Sequence[np.ndarray | float], stderrs: Sequence[np.ndarray | float]
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """The mean of independent chains of lengths ``n_k`` and its standard error.
+
+    ``mean = sum_k n_k m_k / n`` and ``stderr = sqrt(sum_k (n_k s_k)^2) / n``
+    with ``n = sum_k n_k``: the chains are independent, so their errors add in
+    quadrature with the weights of their means.
+
+    Parameters
+    ----------
+    lengths : sequence of int
+        The chains' lengths ``n_k`` (at least one chain).
+    means, stderrs : sequence of arrays
+        Each chain's mean and standard error (:func:`mean_and_stderr`), all of one shape.
+
+    Returns
+    -------
+    mean, stderr : numpy.ndarray
+
+    Raises
+    ------
+    ArgumentError
+        If there is no chain or the sequences differ in length.
+
+    Examples
+    --------
+    >>> m, e = pool_means([1, 3], [np.array([0.0]), np.array([4.0])], [np.array([4.0]), np.array([0.0])])
+    >>> m.tolist(), e.tolist()
+    ([3.0], [1.0])
+    """
+    n = _lengths(lengths, means, stderrs)
+    total = n.sum()
+    mean = sum(w * m for w, m in zip(n, means)) / total
+    stderr = np.sqrt(sum((w * e) ** 2 for w, e in zip(n, stderrs))) / total
+    return np.asarray(mean), np.asarray(stderr)
+
+
+def _lengths(lengths: Sequence[int], *per_chain: Sequence[object]) -> np.ndarray:
+    if not len(lengths) or any(len(x) != len(lengths) for x in per_chain):
+        raise ArgumentError(f"need one length and one statistic of each kind per chain, at least one chain "
+                         f"(got {len(lengths)} lengths and {[len(x) for x in per_chain]} statistics)")
+    return np.array(lengths, dtype=float)
+
+
+def pool_chains(lengths: Sequence[int], means: Sequence[np.ndarray | float], stderrs: Sequence[np.ndarray | float],
+                stds: Sequence[np.ndarray | float], taus: Sequence[np.ndarray | float]) -> PooledChains:
+    """Mean, standard error, spread and effective sample size of independent chains pooled.
+
+    The mean and its error are :func:`pool_means`; the spread is the sample
+    standard deviation of all ``n = sum_k n_k`` values about the common mean,
+    ``sqrt(sum_k [(n_k - 1) s_k^2 + n_k (m_k - m)^2] / (n - 1))`` (one chain:
+    its own); the effective sample size is ``sum_k n_k / tau_k``.
+
+    Parameters
+    ----------
+    lengths : sequence of int
+        The chains' lengths ``n_k``.
+    means, stderrs, stds, taus : sequence of arrays
+        Each chain's mean, standard error, standard deviation (``ddof=1``) and
+        integrated autocorrelation time, all of one shape.
+
+    Returns
+    -------
+    PooledChains
+        ``mean``, ``stderr``, ``std`` and ``effective_samples``, per component.
+
+    Raises
+    ------
+    ArgumentError
+        If there is no chain or the sequences differ in length.
+
+    Examples
+    --------
+    >>> a, b = np.array([1.0, 2.0, 3.0]), np.array([5.0, 6.0, 7.0])
+    >>> pooled = pool_chains([3, 3], [a.mean(), b.mean()], [0.5, 0.5], [a.std(ddof=1), b.std(ddof=1)], [1.0, 2.0])
+    >>> float(pooled.mean), float(pooled.std) == float(np.concatenate([a, b]).std(ddof=1)), float(pooled.effective_samples)
+    (4.0, True, 4.5)
+    """
+    n = _lengths(lengths, means, stderrs, stds, taus)
+    mean, stderr = pool_means(lengths, means, stderrs)
+    if len(n) == 1:
+        std = np.asarray(stds[0])
+    else:
+        ss = sum((w - 1) * s ** 2 + w * (m - mean) ** 2 for w, m, s in zip(n, means, stds))
+        std = np.sqrt(ss / (n.sum() - 1))
+    ess = sum(w / t for w, t in zip(n, taus))
+    return PooledChains(mean, stderr, std, np.asarray(ess))
+
+
+def all_finite(values: Iterable[ArrayLike]) -> bool:
+    """Whether every entry of every value is finite (no nan, no infinity).
+
+    Parameters
+    ----------
+    values : iterable of arrays or numbers
+        The results to check (of any shapes).
+
+    Returns
+    -------
+    bool
+        ``True`` when no entry is a nan or an infinity (also for no values).
+
+    Raises
+    ------
+    TypeError
+        If a value is not numeric (``numpy.isfinite`` refuses it).
+
+    Examples
+    --------
+    >>> all_finite([1.0, np.array([2.0, 3.0])]), all_finite([np.array([1.0, np.inf])])
+    (True, False)
+    """
+    return all(bool(np.all(np.isfinite(v))) for v in values)
 
 
 def batch_means(chain: ArrayLike, batch_factor: float = 10.0, gap_factor: float = 2.0, pilot: float = 0.25,

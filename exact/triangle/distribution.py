@@ -68,6 +68,8 @@ __all__ = [
     "contact_density",
     "contact_cdf",
     "pool_gaps",
+    "grain_pieces",
+    "layer_pieces",
     "Piece",
     "layer_force_density",
     "triangle_force_density",
@@ -486,6 +488,69 @@ def q_density(N: int, grain: tuple[int, int], var: sympy.Symbol = Q_SYMBOL) -> s
     """
     counts, total = q_gap_counts(N, grain)
     return beta_mixture_density(counts, total, var)
+
+
+def grain_pieces(gaps: GapCounts, var: sympy.Symbol = W_SYMBOL) -> tuple[list[Piece], list[Piece]]:
+    """The density and the CDF of a gap law (a grain's ``W_ij`` or a contact's spacing) as pieces on ``[0, 1]``.
+
+    Parameters
+    ----------
+    gaps : GapCounts
+        The gap law (:func:`forcenet.exact.triangle.gaps.grain_gap_counts`, ``contact_gap_law``).
+    var : sympy.Symbol, optional
+        The variable of the polynomials (``w``).
+
+    Returns
+    -------
+    density, cdf : list of Piece
+        One piece each, on ``[0, 1]`` (:func:`density_from_gaps`, :func:`cdf_from_gaps`).
+
+    Raises
+    ------
+    ArgumentError
+        If the law has no density (an atom at a gap).
+
+    Examples
+    --------
+    >>> from forcenet.exact.triangle.gaps import grain_gap_counts
+    >>> p, F = grain_pieces(grain_gap_counts(3, (3, 2)))
+    >>> p[0].lo, p[0].hi, p[0].poly.as_expr(), F[0].poly.as_expr()
+    (0, 1, -6*w**2 + 6*w, -2*w**3 + 3*w**2)
+    """
+    return as_pieces(density_from_gaps(gaps, var), (0, 1)), as_pieces(cdf_from_gaps(gaps, var), (0, 1))
+
+
+def layer_pieces(N: int, i: int, var: sympy.Symbol = F_SYMBOL,
+                 progress: Callable[[int], object] | None = None) -> tuple[list[Piece], list[Piece]]:
+    """The density and the CDF of layer ``i``'s ``P_i(f)`` (:func:`layer_force_density`) as pieces on ``[0, i]``.
+
+    Parameters
+    ----------
+    N, i : int
+        Number of layers ``N >= 2`` and the layer, ``2 <= i <= N``.
+    var : sympy.Symbol, optional
+        The variable of the polynomials (``f``).
+    progress : callable, optional
+        Called once per level of the ideal lattice if the pass over the ideals runs.
+
+    Returns
+    -------
+    density, cdf : list of Piece
+        One piece each, on ``[0, i]``; the CDF is :func:`piecewise_cdf` of the density.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` or ``i`` is out of range.
+
+    Examples
+    --------
+    >>> p, F = layer_pieces(3, 3)
+    >>> p[0].hi, F[0].poly.as_expr()
+    (3, -f**2/9 + 2*f/3)
+    """
+    pieces = as_pieces(layer_force_density(N, i, var, progress), (0, i))
+    return pieces, piecewise_cdf(pieces)
 
 
 # ------------------------------------------------------------------ output and cost

@@ -42,6 +42,8 @@ __all__ = [
     "density_values",
     "cdf_values",
     "piecewise_values",
+    "density_grid",
+    "histogram_edges",
     "pool_forces",
     "Histogram",
     "exact_sampler_histogram",
@@ -134,6 +136,73 @@ def piecewise_values(pieces: Any, f: ArrayLike, support: Any = None) -> np.ndarr
             if lo <= x < hi or (last and x == hi):
                 out[t] = _exact_eval(nums, den, float(x))
     return out.reshape(f.shape)
+
+
+def density_grid(pieces: Any, cdf_pieces: Any, K: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A piecewise density and its CDF at ``K + 1`` equally spaced points ``x_k = top * k / K`` of ``[0, top]``.
+
+    ``top`` is the end of the last piece (as a float); the values are exact
+    rationals rounded once (:func:`piecewise_values`).
+
+    Parameters
+    ----------
+    pieces, cdf_pieces : list of Piece
+        The density and its distribution function on the same intervals.
+    K : int
+        Number of intervals of the grid, ``K >= 1``.
+
+    Returns
+    -------
+    x, density, cdf : numpy.ndarray
+        The points and the two functions at them, each of length ``K + 1``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``K`` is not an integer ``>= 1``.
+
+    Examples
+    --------
+    >>> from forcenet.exact.triangle.distribution import layer_pieces
+    >>> x, p, F = density_grid(*layer_pieces(3, 3), 3)
+    >>> x.tolist(), F.tolist()
+    ([0.0, 1.0, 2.0, 3.0], [0.0, 0.5555555555555556, 0.8888888888888888, 1.0])
+    """
+    K = check_int(K, "K", 1)
+    top = float(pieces[-1].hi)
+    x = np.array([top * k / K for k in range(K + 1)])
+    return x, piecewise_values(pieces, x), piecewise_values(cdf_pieces, x)
+
+
+def histogram_edges(f_max: float, bins: int) -> np.ndarray:
+    """The ``bins + 1`` edges of ``bins`` equal bins of ``[0, f_max]``.
+
+    Parameters
+    ----------
+    f_max : float
+        The end of the range, finite and ``> 0``.
+    bins : int
+        Number of bins, ``>= 1``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``numpy.linspace(0, f_max, bins + 1)``: the first edge 0, the last ``f_max``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``f_max`` is not a finite number ``> 0`` or ``bins`` not an integer ``>= 1``.
+
+    Examples
+    --------
+    >>> histogram_edges(2.0, 4).tolist()
+    [0.0, 0.5, 1.0, 1.5, 2.0]
+    """
+    bins = check_int(bins, "bins", 1)
+    if not (isinstance(f_max, (int, float)) and math.isfinite(f_max) and f_max > 0):
+        raise ArgumentError(f"f_max={f_max!r}: need a finite number > 0")
+    return np.linspace(0.0, f_max, bins + 1)
 
 
 # ------------------------------------------------------------------ sampled histograms

@@ -64,37 +64,21 @@ def _what(args):
 
 def _compute(args, what, tick=None):
     """Exact objects: (title, variable, pieces of the density, pieces of the CDF, extra fields)."""
-    import sympy
-
     from forcenet.exact.triangle import distribution as D
     from forcenet.exact.triangle.gaps import contact_gap_law, grain_gap_counts
 
     N = args.N
-    one = sympy.Integer(1)
     if what[0] == "grain":
         (i, j), kind = what[1], what[2]
         gaps = grain_gap_counts(N, (i, j), tick) if kind is None else contact_gap_law(N, (i, j), kind, tick)
-        p, F = D.density_from_gaps(gaps), D.cdf_from_gaps(gaps)
         name = f"W_{{{i},{j}}}" if kind is None else f"(sqrt3/2) {kind}^{{({i},{j})}}"
         extra = {"mean": D.moment_from_gaps(gaps, 1), "second_moment": D.moment_from_gaps(gaps, 2)}
-        return name, "w", [D.Piece(sympy.Integer(0), one, p)], [D.Piece(sympy.Integer(0), one, F)], extra
+        return (name, "w", *D.grain_pieces(gaps), extra)
     if what[0] == "layer":
         i = what[1]
-        p = D.layer_force_density(N, i, progress=tick)
-        pieces = [D.Piece(sympy.Integer(0), sympy.Integer(i), p)]
-        return f"P(f), f = {i} W_{{{i},j}} (layer {i})", "f", pieces, D.piecewise_cdf(pieces), {}
+        return (f"P(f), f = {i} W_{{{i},j}} (layer {i})", "f", *D.layer_pieces(N, i, progress=tick), {})
     pieces = D.triangle_force_density(N, progress=tick)
     return "P(f), f = i W_{i,j} over layers 2..N (ensemble)", "f", pieces, D.piecewise_cdf(pieces), {}
-
-
-def _grid(pieces, cdf_pieces, K: int):
-    from forcenet.numeric.triangle.force_distribution import piecewise_values
-
-    import numpy as np
-
-    top = float(pieces[-1].hi)
-    x = np.array([top * k / K for k in range(K + 1)])
-    return x, piecewise_values(pieces, x), piecewise_values(cdf_pieces, x)
 
 
 def _json(args, title, var, pieces, cdf_pieces, extra, grid):
@@ -197,8 +181,10 @@ def cmd_dist(args):
         plan = plans[0]
 
     def run(tick):
+        from forcenet.numeric.triangle.force_distribution import density_grid
+
         title, var, pieces, cdf_pieces, extra = _compute(args, what, tick)
-        grid = _grid(pieces, cdf_pieces, args.grid) if args.grid is not None else None
+        grid = density_grid(pieces, cdf_pieces, args.grid) if args.grid is not None else None
         png = _figure(args, what, pieces, tick) if args.plot is not None else None
         return title, var, pieces, cdf_pieces, extra, grid, png
 
@@ -223,18 +209,17 @@ def _figure(args, what, pieces, tick):
     """The sampled histograms and the figure (PNG bytes); a summary line per sampler on stderr."""
     import sys
 
-    import numpy as np
-
     from forcenet.exact.triangle.distribution import bin_probabilities
     from forcenet.numeric.triangle.force_distribution import (
         chi_square,
         comparison_png,
         exact_sampler_histogram,
+        histogram_edges,
         metropolis_histogram,
     )
 
     pool = "ensemble" if what[0] == "ensemble" else what[1]
-    edges = np.linspace(0.0, args.f_max, args.bins + 1)
+    edges = histogram_edges(args.f_max, args.bins)
     exact_bins = bin_probabilities(pieces, edges)
     hists = {f"exact sampler, {args.samples} samples": exact_sampler_histogram(args.N, args.samples, edges, pool, args.seed, tick),
              f"Metropolis, {args.sweeps} sweeps": metropolis_histogram(args.N, args.sweeps, edges, pool, seed=args.seed,

@@ -67,10 +67,10 @@ def _check_loads(args):
 
 def _finite(mean, stderr, extra):
     """Never a nan or an infinity as a result: refuse it (an overflow of the model's numbers)."""
-    import numpy as np
+    from forcenet.numeric.autocorr import all_finite
 
     values = [mean, stderr, extra["effective_samples"]] + [extra[k] for k in ("G", "stderr_G") if k in extra]
-    if not all(np.all(np.isfinite(v)) for v in values):
+    if not all_finite(values):
         raise UsageError("the run produced non-finite values (the loads overflow the floating-point range); "
                          f"give loads in [{_LOAD_RANGE[0]:g}, {_LOAD_RANGE[1]:g}]")
 
@@ -153,36 +153,26 @@ def _metropolis_task(N, F, ph, scene, sweeps, burn, seed, response, move="metrop
                                                               move=move)
     except AutocorrError as exc:
         return {"error": str(exc)}
-    flat_tau = np.asarray(tau, dtype=float)
-    out.update({"n": sweeps, "mean": mean, "stderr": stderr, "tau": flat_tau, "std": chain.std(axis=0, ddof=1),
+    out.update({"n": sweeps, "mean": mean, "stderr": stderr, "tau": tau, "std": chain.std(axis=0, ddof=1),
                 "accepted": sampler.accepted, "attempted": sampler.attempted, "kernel": sampler.kernel})
     return out
 
 
 def _combine_chains(parts):
-    """Means, error bars, spread and effective sample size of independent chains of lengths ``n_k``."""
-    import numpy as np
+    """Means, error bars, spread and effective sample size of independent chains (:func:`pool_chains`)."""
+    from forcenet.numeric.autocorr import pool_chains, pool_means
 
-    n = np.array([p["n"] for p in parts], dtype=float)
-    total = n.sum()
-    mean = sum(w * p["mean"] for w, p in zip(n, parts)) / total
-    stderr = np.sqrt(sum((w * p["stderr"]) ** 2 for w, p in zip(n, parts))) / total
-    if len(parts) == 1:
-        std = parts[0]["std"]
-    else:  # pooled spread about the common mean
-        ss = sum((w - 1) * p["std"] ** 2 + w * (p["mean"] - mean) ** 2 for w, p in zip(n, parts))
-        std = np.sqrt(ss / (total - 1))
-    ess = sum(w / p["tau"] for w, p in zip(n, parts))  # per grain: sum_k n_k / tau_k
+    n = [p["n"] for p in parts]
+    pooled = pool_chains(n, *([p[k] for p in parts] for k in ("mean", "stderr", "std", "tau")))
     extra = {
         "acceptance": sum(p["accepted"] for p in parts) / sum(p["attempted"] for p in parts),
         "tau_max": float(max(p["tau"].max() for p in parts)),
-        "effective_samples": float(ess.min()),
-        "std_W": std,
+        "effective_samples": float(pooled.effective_samples.min()),  # min over the grains of sum_k n_k / tau_k
+        "std_W": pooled.std,
     }
     if "G" in parts[0]:
-        extra["G"] = sum(w * p["G"] for w, p in zip(n, parts)) / total
-        extra["stderr_G"] = np.sqrt(sum((w * p["stderr_G"]) ** 2 for w, p in zip(n, parts))) / total
-    return mean, stderr, extra
+        extra["G"], extra["stderr_G"] = pool_means(n, [p["G"] for p in parts], [p["stderr_G"] for p in parts])
+    return pooled.mean, pooled.stderr, extra
 
 
 def _run_tasks(func, tasks, K, tick):

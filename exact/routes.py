@@ -4,9 +4,9 @@
 method     engine                                                      reach
 =========  ==========================================================  ==========
 fast       order-ideal path sums (:mod:`.triangle.moments`)            N ~ 28-30
-thesis     nested-matrix integration (:mod:`.thesis.nested`)           N <= 9
-lambda     Lambda/Gamma recursions (:mod:`.thesis.recursions`)         N <= 12
-maps       map counting of Sec. 4.6 (:mod:`.thesis.map_counting`)      N <= 9
+thesis     nested-matrix integration (:mod:`.thesis.nested_route`)     N <= 9
+lambda     Lambda/Gamma recursions (:mod:`.thesis.lambda_route`)       N <= 12
+maps       map counting of Sec. 4.6 (:mod:`.thesis.maps_route`)        N <= 9
 pfaffian   Schur Pfaffians, minor summation (:mod:`.triangle.pfaffian.route`)  N ~ 64-100
 auto       the fastest runnable of the five, by their plans (the default)
 =========  ==========================================================  ==========
@@ -39,7 +39,7 @@ from typing import Any, NamedTuple
 from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan, duration_text
 from .protocol import Progress, Table, TableEngine
-from .thesis import map_counting, nested, recursions
+from .thesis import lambda_route, maps_route, nested_route
 from .triangle import moments as ideal_moments
 from .triangle.pfaffian import route as pfaffian_route
 from forcenet.core.validation import check_int, check_layers
@@ -48,9 +48,9 @@ __all__ = ["ENGINES", "METHODS", "MAX_MOMENTS", "Choice", "choose", "table_plan"
 
 ENGINES: dict[str, TableEngine] = {
     "fast": ideal_moments,
-    "thesis": nested,
-    "lambda": recursions,
-    "maps": map_counting,
+    "thesis": nested_route,
+    "lambda": lambda_route,
+    "maps": maps_route,
     "pfaffian": pfaffian_route,
 }
 METHODS = (*ENGINES, "auto")

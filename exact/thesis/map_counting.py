@@ -21,32 +21,18 @@ from __future__ import annotations
 
 from collections import Counter
 from collections.abc import Iterable, Iterator
-from concurrent.futures import Executor
-from decimal import Decimal
 from fractions import Fraction
 from functools import lru_cache
 
 from ..triangle.spacings import rank_gap_moments, rising
-from ..triangle.staircase import count, dimension
+from ..triangle.staircase import dimension
 from forcenet.core.validation import check_grain, check_int, check_layers
 from .coefficients import defect_line, upper_bound
 from .recursions import count_lambda, table_from_bulk
-from forcenet.core.plan import Plan, combine, table_range
-from ..protocol import Progress, Table, run_independent
+from ..protocol import Progress
 from forcenet.core.errors import ArgumentError
 
-__all__ = [
-    "is_map",
-    "maps",
-    "count_maps",
-    "maps_by_bottom_row",
-    "map_from_tableau",
-    "tableau_from_map",
-    "mean_W_thesis_maps",
-    "moment_thesis_maps",
-    "moments_by_maps",
-    "mean_W_by_maps", "table_plan", "table_run"
-]
+__all__ = ["is_map", "maps", "count_maps", "maps_by_bottom_row", "map_from_tableau", "tableau_from_map", "mean_W_thesis_maps", "moment_thesis_maps", "moments_by_maps", "mean_W_by_maps"]
 
 
 def is_map(h: dict[int, tuple[int, ...]], p: int) -> bool:
@@ -497,111 +483,3 @@ def mean_W_by_maps(N: int) -> list[list[Fraction]]:
     """
     _, moments, _ = moments_by_maps(N, 1)
     return [[moments[1][(i, j)] for j in range(1, i + 1)] for i in range(1, N + 1)]
-
-
-# ------------------------------------------------------ the table route: plan and run
-
-_MAX_N = 9  # N = 9 visits 1.1e11 maps per grain; N = 10 is out of reach
-_SECONDS_PER_MAP_GRAIN = 5.2e-6  # mean_W_thesis_maps per map and grain, measured N = 6, 7 (2 cores)
-_SECONDS_PER_MAP_CELL2 = 2.5e-7  # moments_by_maps per map and d^2 (tableau of each map), measured N = 7
-
-
-def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, executor: Executor | None = None) -> Plan:
-    """The cost of :func:`table_run` (``--method maps``): ``<W>`` by the map formulas, ``<W^s>`` by averaging over all maps.
-
-    The engine protocol (:mod:`forcenet.exact.protocol`).  Both passes
-    enumerate maps one by one, independent tasks on ``executor`` if given:
-    the first once per bulk grain (the modified maps of (4.90)), the second,
-    for ``moments >= 2``, once through the bijection with tableaux.  Memory:
-    one map at a time, the plan never refuses for it.
-
-    Parameters
-    ----------
-    N : int
-        Number of layers, ``>= 2`` (the route reaches ``N <= 9``).
-    moments : int
-        Highest moment, ``>= 1``.
-    memory_bytes : int, optional
-        Memory available to the run (None: not checked).
-    executor : concurrent.futures.Executor, optional
-        Where the two passes run (default: this process).
-
-    Returns
-    -------
-    Plan
-
-    Raises
-    ------
-    ArgumentError
-        If ``N`` or ``moments`` is not an integer ``>= 2`` or ``>= 1``.
-
-    Examples
-    --------
-    >>> table_plan(7, 3).seconds < 30
-    True
-    >>> table_plan(10).refusal
-    'N=10 is out of range for --method maps: N must be an integer in 2..9 (N = 10 would enumerate 3.97e+15 maps per grain)'
-    """
-    N, moments = check_layers(N), check_int(moments, "moments", 1)
-    what = f"--method maps N={N}"
-    refusal = table_range(what, "maps", N, moments, _MAX_N, max_moments=None,
-                          why_N=f"N = {N} would enumerate {Decimal(count(N)):.3g} maps per grain")
-    if refusal is not None:
-        return refusal
-    plans = _pass_plans(N, moments)
-    what = plans[0].what if len(plans) == 1 else f"{what}, map sums and every map's tableau"
-    return combine(what, plans, "grain").within_memory(memory_bytes)
-
-
-def _pass_plans(N: int, moments: int) -> list[Plan]:
-    what = f"--method maps N={N}"
-    grains = (N - 1) * (N - 2) // 2
-    d = dimension(N)
-    plans = [Plan(f"{what}, map sums per grain ({count(N)} maps each)", count(N) * d * _SECONDS_PER_MAP_GRAIN,
-                  0, grains, "grain")]
-    if moments >= 2:
-        plans.append(Plan(f"{what}, every map's tableau for <W^s>", count(N) * d * d * _SECONDS_PER_MAP_CELL2,
-                          0, 1, "grain"))
-    return plans
-
-
-def _higher_moment_tables(N: int, moments: int, progress: Progress | None = None) -> dict[int, Table]:
-    """``{s: <W^s> table}`` for ``s = 2..moments`` by map counting through the tableau bijection; one tick."""
-    _, mom, _ = moments_by_maps(N, moments)
-    if progress is not None:
-        progress()
-    return {s: [[mom[s][(i, j)] for j in range(1, i + 1)] for i in range(1, N + 1)] for s in range(2, moments + 1)}
-
-
-def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, progress: Progress | None = None,
-              executor: Executor | None = None) -> dict[int, Table]:
-    """``{s: <W^s> table}``: ``s = 1`` from (4.67), (4.90)-(4.91), ``s >= 2`` averaged over all maps.
-
-    The arguments are those of :func:`table_plan`; ``progress`` is called
-    once per bulk grain and once for the moment pass.
-
-    Returns
-    -------
-    dict of int to list of lists of Fraction
-
-    Raises
-    ------
-    ArgumentError
-        If the plan is refused (out of range, or more memory than ``memory_bytes``).
-
-    Examples
-    --------
-    >>> tables = table_run(5, 2)
-    >>> [str(x) for x in tables[2][-1]]
-    ['1/66', '65/792', '25/198', '65/792', '1/66']
-    """
-    table_plan(N, moments, memory_bytes=memory_bytes).check()
-    calls: list = [(mean_W_thesis_maps, (N,), {})]
-    if moments >= 2:
-        calls.append((_higher_moment_tables, (N, moments), {}))
-    results = run_independent(calls, executor=executor, progress=progress,
-                              weights=[plan.ticks for plan in _pass_plans(N, moments)])
-    tables = {1: results[0]}
-    if moments >= 2:
-        tables.update(results[1])
-    return tables

@@ -46,7 +46,7 @@ from typing import NamedTuple
 import sympy
 
 from forcenet.core.validation import check_layers
-from .nested import _check_powers, _integrate_layer, _multiply_site, _prune
+from .nested import check_powers, integrate_layer, multiply_site, prune_layer
 from forcenet.core.errors import ArgumentError
 
 __all__ = ["w_symbol", "NestedLayer", "nested_layers", "integrate_layer_step", "moment_symbolic"]
@@ -158,8 +158,8 @@ def integrate_layer_step(layer: NestedLayer, powers: dict | None = None) -> Nest
         raise ArgumentError(f"layer m={layer.m}: the top layer W_11 = 1 is not integrated; use normalization()")
     powers = powers or {}
     left, sites, right = layer.state
-    sites = [_multiply_site(site, powers.get((layer.m, k), 0)) for k, site in enumerate(sites, start=1)]
-    return _to_sympy(layer.m - 1, _prune(*_integrate_layer(left, sites, right)))
+    sites = [multiply_site(site, powers.get((layer.m, k), 0)) for k, site in enumerate(sites, start=1)]
+    return _to_sympy(layer.m - 1, prune_layer(*integrate_layer(left, sites, right)))
 
 
 def nested_layers(N: int, powers: dict | None = None) -> list[NestedLayer]:
@@ -195,7 +195,7 @@ def nested_layers(N: int, powers: dict | None = None) -> list[NestedLayer]:
     1/360
     """
     N = check_layers(N, maximum=_MAX_N)
-    powers = _check_powers(N, powers)
+    powers = check_powers(N, powers)
     one = {0: Fraction(1)}
     state = ({(): Fraction(1)}, [{((), ()): dict(one)} for _ in range(N)], {(): Fraction(1)})
     layers = [_to_sympy(N, state)]
@@ -231,7 +231,7 @@ def moment_symbolic(N: int, grain: tuple[int, int], s: int = 1) -> sympy.Rationa
     (1/4, 9/56)
     """
     N = check_layers(N, maximum=_MAX_N)
-    (grain, s), = _check_powers(N, {grain: s}).items() or [((1, 1), 0)]
+    (grain, s), = check_powers(N, {grain: s}).items() or [((1, 1), 0)]
     if grain == (1, 1):  # W_11 = 1
         return sympy.Integer(1)
     return nested_layers(N, {grain: s})[-1].normalization() / nested_layers(N)[-1].normalization()

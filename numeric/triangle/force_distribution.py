@@ -32,7 +32,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from forcenet.core.validation import check_int
+from forcenet.core.validation import check_int, check_real
 from forcenet.core.errors import ArgumentError
 
 if TYPE_CHECKING:
@@ -200,8 +200,7 @@ def histogram_edges(f_max: float, bins: int) -> np.ndarray:
     [0.0, 0.5, 1.0, 1.5, 2.0]
     """
     bins = check_int(bins, "bins", 1)
-    if not (isinstance(f_max, (int, float)) and math.isfinite(f_max) and f_max > 0):
-        raise ArgumentError(f"f_max={f_max!r}: need a finite number > 0")
+    f_max = check_real(f_max, "f_max", 0, low_open=True)
     return np.linspace(0.0, f_max, bins + 1)
 
 

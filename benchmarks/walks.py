@@ -4,7 +4,8 @@
     python benchmarks/walks.py entropy --phi 0.3 --dps 30
 
 Runs the command line in this process under ``sys.setprofile`` and counts, over forcenet's own
-functions: the calls of each argument check (``check_layers``, ``check_int``, ``check_dps``, ...),
+functions: the calls of each argument check (``check_layers``, ``check_int``, ``check_dps``, ...; a check's
+delegation to another, such as ``check_layers`` to ``check_int``, counts once),
 the distinct functions entered and the modules they live in, and the deepest chain of forcenet
 frames. Nothing else is timed or compared; the command's output goes to /dev/null.
 """
@@ -31,8 +32,9 @@ def walk(argv: list[str]) -> dict:
         if event == "call":
             name = frame.f_code.co_name
             functions.add((module, name))
-            if name.startswith("check_"):
-                checks[name] += 1
+            caller = frame.f_back.f_code.co_name if frame.f_back else ""
+            if name.startswith("check_") and not caller.startswith("check_"):
+                checks[name] += 1  # an argument check, not a check's own delegation (check_layers -> check_int)
             depth[0] += 1
             depth[1] = max(depth[1], depth[0])
         elif event == "return":

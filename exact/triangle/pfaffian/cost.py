@@ -91,10 +91,11 @@ def primes_plan(what: str, N: int, per_prime: float, per_worker: int, workers: i
     'prime'
     """
     n, d = N - 1, dimension(N)
-    nprimes = ceil(((d + 1) * count(N)).bit_length() / log2(prime_limit(max(n, 1)) * 0.999))
+    bound = (d + 1) * count(N)  # the survival sums' bound: what the primes' product must exceed
+    nprimes = ceil(bound.bit_length() / log2(prime_limit(max(n, 1)) * 0.999))
     reused = 0
     if store is not None:
-        primes = route_primes(N, (d + 1) * count(N))
+        primes = route_primes(N, bound)
         nprimes, reused = len(primes), sum(store.holds(p) for p in primes)
     executor = as_executor(executor)
     nworkers = workers_for(workers, max(1, nprimes - reused), per_prime * (nprimes - reused), executor)

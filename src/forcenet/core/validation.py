@@ -117,8 +117,6 @@ def check_layers(N, *, name: str = "N", minimum: int = 2, maximum: int | None = 
     ...
     forcenet.core.errors.ArgumentError: N=1 is out of range: N must be an integer >= 2
     """
-    if type(N) is int and N >= minimum and (maximum is None or N <= maximum):
-        return N  # an int in range: one check, no nested call
     return check_int(N, name, minimum, maximum)
 
 
@@ -220,6 +218,4 @@ def check_dps(dps, name: str = "dps", minimum: int = 5, maximum: int = 10000) ->
     >>> check_dps(50)
     50
     """
-    if type(dps) is int and minimum <= dps <= maximum:
-        return dps  # an int in range: one check, no nested call
     return check_int(dps, name, minimum, maximum)

@@ -22,9 +22,18 @@ missing small ones are computed), and
   Sec. 3 (N = 100 ... 1000), which none of the fits saw;
 * draws ``notes/figures/scaling_refit.png``.
 
+The exact files are large (the column at N = 160: megabytes of digits) and stay
+out of the repository; ``notes/data/lattice_columns.json`` keeps what the refit
+needs of each finished column (25 digits, correctly rounded, and the SHA-256 of
+the exact file), so a later session refits without recomputing and extends
+the frontier from there (issue 26).
+
 Usage::
 
-    python benchmarks/scaling_refit.py --lattice 112 120 --dir out     # exact <W_(i,1)> only (19 and 27 min)
+    python benchmarks/scaling_refit.py --lattice 112 120 --dir out --checkpoint ckpt  # exact <W_(i,1)> only (19 and 27 min), resumable
+    python benchmarks/scaling_refit.py --record --digest notes/data/lattice_columns.json --dir out  # keep the derived numbers
+    python benchmarks/scaling_refit.py --edge-N 32 48 64 80 96 112 120 128 --fit-from 32 \
+        --digest notes/data/lattice_columns.json --dir out   # the lattice-direction refit from the digest
     python benchmarks/scaling_refit.py --N 8 12 16 20 24 28 32 36 40 44 48 52 56 60 64 72 80 88 100 \
         --edge-N 112 120 --fit-from 32 --dir out      # the data of notes/scaling_limit.md Sec. 4
 """
@@ -49,16 +58,80 @@ SAMPLED = {
 }
 
 
-def load_column(N: int, directory: str):
-    """``<W_{i,1}>``, ``i = 1..N``: from the full table if there is one, else from ``lattice_N{N}.json``."""
+DIGEST_DIGITS = 25  # significant digits kept of each exact <W_(i,1)> in the digest (the deviations are ~1e-2..1e-3)
+DIGEST_FORMAT = 1
+
+
+def load_column(N: int, directory: str, digest: dict | None = None):
+    """``<W_{i,1}>``, ``i = 1..N``: from the full table if there is one, else from ``lattice_N{N}.json``,
+    else from the digest of exact columns (``--digest``)."""
     full = os.path.join(directory, f"mean_W_N{N}.json")
-    if os.path.exists(full) or N <= 40:
-        return [row[0] for row in load_table(N, directory)]
     path = os.path.join(directory, f"lattice_N{N}.json")
-    if not os.path.exists(path):
-        raise SystemExit(f"{path} is missing: python benchmarks/scaling_refit.py --lattice {N} --dir {directory}")
+    if os.path.exists(full) or (N <= 40 and not os.path.exists(path)):
+        return [row[0] for row in load_table(N, directory)]
+    if os.path.exists(path):
+        with open(path) as handle:
+            return [float(Fraction(x)) for x in json.load(handle)["W_i1"]]
+    if digest is not None and str(N) in digest["columns"]:
+        return [float(x) for x in digest["columns"][str(N)]["W_i1"]]
+    raise SystemExit(f"{path} is missing: python benchmarks/scaling_refit.py --lattice {N} --dir {directory}")
+
+
+def decimal_text(x: Fraction, digits: int = DIGEST_DIGITS) -> str:
+    """``x`` correctly rounded to ``digits`` significant digits (decimal division is correctly rounded)."""
+    import decimal
+
+    with decimal.localcontext() as context:
+        context.prec = digits
+        return str(decimal.Decimal(x.numerator) / decimal.Decimal(x.denominator))
+
+
+def read_digest(path: str | None) -> dict | None:
+    if path is None or not os.path.exists(path):
+        return None
     with open(path) as handle:
-        return [float(Fraction(x)) for x in json.load(handle)["W_i1"]]
+        digest = json.load(handle)
+    if digest.get("format") != DIGEST_FORMAT:
+        raise SystemExit(f"{path}: digest format {digest.get('format')!r}, this script reads {DIGEST_FORMAT}")
+    return digest
+
+
+def record_digest(path: str, directory: str) -> list[int]:
+    """Add every exact ``lattice_N{N}.json`` of ``directory`` to the digest at ``path`` (written atomically).
+
+    The digest keeps what the refit needs of each exact column, its values to
+    ``DIGEST_DIGITS`` digits, and the SHA-256 of the exact file, so that a
+    rebuild (the command in the digest) can be checked byte for byte.
+    """
+    import glob
+    import hashlib
+
+    from forcenet.exact.triangle.tables import write_atomic
+
+    digest = read_digest(path) or {
+        "format": DIGEST_FORMAT,
+        "what": "exact <W_(i,1)>, i = 1..N, of the fully mobilized triangle (the lattice direction), "
+                f"{DIGEST_DIGITS} significant digits, correctly rounded; sha256: of the exact lattice_N{{N}}.json",
+        "rebuild": "python benchmarks/scaling_refit.py --lattice N --dir out --checkpoint ckpt",
+        "columns": {},
+    }
+    added = []
+    for name in sorted(glob.glob(os.path.join(directory, "lattice_N*.json"))):
+        with open(name, "rb") as handle:
+            raw = handle.read()
+        data = json.loads(raw)
+        N = int(data["N"])
+        entry = {"sha256": hashlib.sha256(raw).hexdigest(),
+                 "W_i1": [decimal_text(Fraction(x)) for x in data["W_i1"]]}
+        old = digest["columns"].get(str(N))
+        if old is not None and old["sha256"] != entry["sha256"]:
+            raise SystemExit(f"{name}: its sha256 differs from the digest's record of N = {N}: two exact runs disagree")
+        if old is None:
+            added.append(N)
+        digest["columns"][str(N)] = entry
+    digest["columns"] = {k: digest["columns"][k] for k in sorted(digest["columns"], key=int)}
+    write_atomic(path, json.dumps(digest, indent=1) + "\n")
+    return added
 
 
 def write_lattice(N: int, directory: str, checkpoint: str | None = None):
@@ -123,6 +196,28 @@ def fit(model, Ns, devs):
     return params, float(np.sqrt(np.mean(((pred - devs) / devs) ** 2)))
 
 
+EXPONENT_GRID = np.linspace(0.40, 1.00, 601)
+
+
+def fit_free_exponent(Ns, devs, grid=EXPONENT_GRID):
+    """``a N^-g + b N^-1 + c N^-2g`` with ``g`` free (a series in ``N^-g`` beside the analytic ``1/N``).
+
+    For each ``g`` on the grid, ``a, b, c`` by relative least squares; returns
+    ``(g, a, b, c)`` and the relative RMS residual at the best ``g``.  For
+    ``g = 2/3`` this is the three-term model of the notes.
+    """
+    Ns, devs = np.asarray(Ns, float), np.asarray(devs, float)
+    best = None
+    for g in grid:
+        X = np.stack([Ns**-g, Ns**-1.0, Ns ** (-2 * g)], axis=1) / np.abs(devs)[:, None]
+        coef, *_ = np.linalg.lstsq(X, devs / np.abs(devs), rcond=None)
+        pred = coef[0] * Ns**-g + coef[1] / Ns + coef[2] * Ns ** (-2 * g)
+        rms = float(np.sqrt(np.mean(((pred - devs) / devs) ** 2)))
+        if best is None or rms < best[1]:
+            best = ((float(g), *(float(c) for c in coef)), rms)
+    return best
+
+
 def predict(model, params, N):
     if MODELS[model] is None:
         return params[0] * N ** -params[1]
@@ -131,22 +226,34 @@ def predict(model, params, N):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--N", type=int, nargs="+", default=[8, 12, 16, 20, 24, 28, 32, 40, 48, 56, 64])
+    parser.add_argument("--N", type=int, nargs="*", default=[],
+                        help="full tables (the bulk probes and the lattice direction); none: the lattice direction only")
     parser.add_argument("--dir", default="out")
     parser.add_argument("--fit-from", type=int, default=16, help="smallest N used in the fits")
     parser.add_argument("--figures", default="notes/figures")
     parser.add_argument("--edge-N", type=int, nargs="*", default=[], help="further N with the lattice direction only")
     parser.add_argument("--lattice", type=int, nargs="*", default=[], help="compute lattice_N{N}.json for these N and stop")
     parser.add_argument("--checkpoint", default=None, help="record --lattice's finished primes in this directory (resumable)")
+    parser.add_argument("--digest", default=None,
+                        help="JSON digest of exact lattice columns (notes/data/lattice_columns.json): read for "
+                             "--edge-N without an exact file in --dir; with --record, written")
+    parser.add_argument("--record", action="store_true", help="add every lattice_N*.json of --dir to --digest and stop")
     args = parser.parse_args(argv)
     if args.lattice:
         for N in args.lattice:
             write_lattice(N, args.dir, args.checkpoint)
         return
+    if args.record:
+        if args.digest is None:
+            parser.error("--record needs --digest FILE")
+        added = record_digest(args.digest, args.dir)
+        print(f"{args.digest}: added N = {added}" if added else f"{args.digest}: nothing new")
+        return
+    digest = read_digest(args.digest)
     Ns = sorted(N for N in args.N if N % 4 == 0)
     tables = {N: load_table(N, args.dir) for N in Ns}
     edge_Ns = sorted(set(Ns) | {N for N in args.edge_N if N % 4 == 0})
-    columns = {N: (load_column(N, args.dir) if N not in tables else [row[0] for row in tables[N]]) for N in edge_Ns}
+    columns = {N: (load_column(N, args.dir, digest) if N not in tables else [row[0] for row in tables[N]]) for N in edge_Ns}
 
     def edge(z):
         return lambda N: (columns[N][round(z * N) - 1], float(lattice_response(round(z * N) / N)))
@@ -161,8 +268,9 @@ def main(argv=None):
         return probe
 
     probes = [("edge z=1/4", edge(0.25), None, edge_Ns), ("edge z=1/2", edge(0.5), 0.5, edge_Ns),
-              ("edge z=3/4", edge(0.75), 0.75, edge_Ns),
-              ("bulk z=1/2, x~0 (N<W>)", bulk(0.5), None, Ns), ("bulk z=3/4, x~0 (N<W>)", bulk(0.75), None, Ns)]
+              ("edge z=3/4", edge(0.75), 0.75, edge_Ns)]
+    if Ns:  # the bulk needs full tables
+        probes += [("bulk z=1/2, x~0 (N<W>)", bulk(0.5), None, Ns), ("bulk z=3/4, x~0 (N<W>)", bulk(0.75), None, Ns)]
     fitted = {}
     print("| probe | limit | " + " | ".join(f"N={N}" for N in edge_Ns) + " |")
     print("|" + " --- |" * (len(edge_Ns) + 2))
@@ -192,6 +300,25 @@ def main(argv=None):
             else:
                 cells = " | ".join("-" for _ in SAMPLED[0.5])
             print(f"| {name} | {model} | {use[0]}-{use[-1]} | " + ", ".join(f"{p:.4g}" for p in params) + f" | {rms:.2e} | {cells} |")
+
+    print("\nthe leading exponent g of a N^-g + b/N + c N^-2g fitted freely on N = fit-from..N_max, as N_max grows:")
+    for name, _, _z, sizes in probes[:3]:
+        use = [N for N in sizes if N >= args.fit_from]
+        cells = []
+        for k in range(5, len(use) + 1):  # at least five points for four parameters
+            (g, *_), rms = fit_free_exponent(use[:k], [fitted[name][N] for N in use[:k]])
+            cells.append(f"{use[k - 1]}: {g:.3f} ({rms:.1e})")
+        print(f"  {name}: " + ", ".join(cells))
+    print("\nout of sample: the three-term fit on N < N_max predicts N_max (relative error):")
+    model = "a/N^(2/3) + b/N + c/N^(4/3)"
+    for name, _, _z, sizes in probes[:3]:
+        use = [N for N in sizes if N >= args.fit_from]
+        cells = []
+        for k in range(4, len(use)):
+            params, _ = fit(model, use[:k], [fitted[name][N] for N in use[:k]])
+            target = use[k]
+            cells.append(f"{target}: {(predict(model, params, target) - fitted[name][target]) / fitted[name][target]:+.1e}")
+        print(f"  {name}: " + ", ".join(cells))
 
     import matplotlib
 

@@ -42,7 +42,7 @@ from .protocol import Progress, Table, TableEngine
 from .thesis import lambda_route, maps_route, nested_route
 from .triangle import moments as ideal_moments
 from .triangle.pfaffian import route as pfaffian_route
-from forcenet.core.validation import check_int, check_layers
+from forcenet.core.validation import MAX_MOMENTS, check_layers, check_moments
 
 __all__ = ["ENGINES", "METHODS", "MAX_MOMENTS", "Choice", "choose", "table_plan", "table_run"]
 
@@ -54,7 +54,6 @@ ENGINES: dict[str, TableEngine] = {
     "pfaffian": pfaffian_route,
 }
 METHODS = (*ENGINES, "auto")
-MAX_MOMENTS = 50
 _ENGINE_OPTIONS = {"pfaffian": ("workers", "checkpoint")}  # keywords of one engine beyond the protocol's
 
 
@@ -129,8 +128,7 @@ def choose(N: int, moments: int = 1, *, memory_bytes: int | None = None, executo
     >>> choose(8, moments=2).method
     'fast'
     """
-    N = check_layers(N)
-    moments = check_int(moments, "moments", 1, MAX_MOMENTS)
+    N, moments = check_layers(N), check_moments(moments)  # once for the candidates (each checks again when called alone)
     given = {k: v for k, v in options.items() if v is not None}
     candidates = [m for m in (ENGINES if methods is None else methods)
                   if all(k in _ENGINE_OPTIONS.get(_engine_name(m), ()) for k in given)]
@@ -199,8 +197,7 @@ def table_plan(method: str, N: int, moments: int = 1, memory_bytes: int | None =
     if method == "auto":
         choice = choose(N, moments, memory_bytes=memory_bytes, executor=executor, **options)
         return replace(choice.plan, what=f"{choice.plan.what}; {choice.why}") if choice.why else choice.plan
-    engine = _engine(method)
-    moments = check_int(moments, "moments", 1, MAX_MOMENTS)
+    engine = _engine(method)  # the engine checks N and moments at its boundary
     return engine.table_plan(N, moments, memory_bytes=memory_bytes, executor=executor, **_options(method, options))
 
 
@@ -232,7 +229,6 @@ def table_run(method: str, N: int, moments: int = 1, progress: Progress | None =
     """
     if method == "auto":
         method = choose(N, moments, memory_bytes=memory_bytes, executor=executor, **options).method
-    engine = _engine(method)
-    moments = check_int(moments, "moments", 1, MAX_MOMENTS)
+    engine = _engine(method)  # the engine checks N and moments at its boundary
     return engine.table_run(N, moments, memory_bytes=memory_bytes, progress=progress, executor=executor,
                             **_options(method, options))

@@ -8,7 +8,7 @@ May import: as the package (notes/architecture.md), and :mod:`.recursions`.
 from __future__ import annotations
 
 from concurrent.futures import Executor
-from forcenet.core.validation import check_int, check_layers
+from forcenet.core.validation import check_layers, check_moments
 from forcenet.core.plan import Plan, table_range
 from ..protocol import Progress, Table, run_independent
 from .recursions import mean_W_gamma
@@ -58,7 +58,7 @@ def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, exe
     >>> table_plan(9, moments=2).refusal
     'moments=2 is out of range for --method lambda: moments must be 1 (higher moments use --method fast, thesis or maps)'
     """
-    N, moments = check_layers(N), check_int(moments, "moments", 1)
+    N, moments = check_layers(N), check_moments(moments)
     what = f"--method lambda N={N}, Gamma recursions"
     refusal = table_range(what, "lambda", N, moments, _MAX_N, why_N="the index boxes of (4.32) outgrow memory")
     if refusal is not None:

@@ -10,7 +10,7 @@ from __future__ import annotations
 from concurrent.futures import Executor
 from decimal import Decimal
 from ..triangle.staircase import count, dimension
-from forcenet.core.validation import check_int, check_layers
+from forcenet.core.validation import check_layers, check_moments
 from forcenet.core.plan import Plan, combine, table_range
 from ..protocol import Progress, Table, run_independent
 from .map_counting import mean_W_thesis_maps, moments_by_maps
@@ -60,7 +60,7 @@ def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, exe
     >>> table_plan(10).refusal
     'N=10 is out of range for --method maps: N must be an integer in 2..9 (N = 10 would enumerate 3.97e+15 maps per grain)'
     """
-    N, moments = check_layers(N), check_int(moments, "moments", 1)
+    N, moments = check_layers(N), check_moments(moments)
     what = f"--method maps N={N}"
     refusal = table_range(what, "maps", N, moments, _MAX_N, max_moments=None,
                           why_N=f"N = {N} would enumerate {Decimal(count(N)):.3g} maps per grain")

@@ -8,7 +8,7 @@ May import: as the package (notes/architecture.md), and :mod:`.nested`.
 from __future__ import annotations
 
 from concurrent.futures import Executor
-from forcenet.core.validation import check_int, check_layers
+from forcenet.core.validation import check_layers, check_moments
 from forcenet.core.plan import Plan, table_range
 from ..protocol import Progress, Table, run_independent
 from .nested import integrate_layers, moment_table_nested
@@ -63,7 +63,7 @@ def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, exe
     >>> table_plan(10).refusal
     'N=10 is out of range for --method thesis: N must be an integer in 2..9 (the nested bonds outgrow memory at N = 10)'
     """
-    N, moments = check_layers(N), check_int(moments, "moments", 1)
+    N, moments = check_layers(N), check_moments(moments)
     what = f"--method thesis N={N}, nested integrations"
     refusal = table_range(what, "thesis", N, moments, max(_TABLE_COST), max_moments=_MAX_ORDER,
                           why_N="the nested bonds outgrow memory at N = 10",

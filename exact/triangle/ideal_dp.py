@@ -21,6 +21,10 @@ So the number of tableaux whose chain passes through ``mask`` is
 equivalents).  Everything is computed modulo word-size primes with numpy and
 reconstructed exactly by CRT (:mod:`forcenet.exact.modular`), so results are Python
 integers.
+
+An engine's inside: ``N`` and ``n`` arrive checked by the public functions
+of :mod:`.moments`, :mod:`.gaps` and :mod:`.distribution`, and are trusted
+here (issue 25: validate at the boundary, trust inside).
 """
 
 from __future__ import annotations
@@ -32,7 +36,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..modular import crt, primes_for_bound
-from .staircase import count, dimension
+from .staircase import count, trusted_dimension
 from forcenet.core.errors import ArgumentError
 
 __all__ = [
@@ -76,7 +80,7 @@ def ideal_levels(n: int):
     for p in range(n):
         level = np.concatenate([level, level + (p + 1)])
     order = np.argsort(level, kind="stable").astype(np.uint32 if n < 32 else np.int64)
-    d = dimension(n + 1)
+    d = trusted_dimension(n + 1)
     bounds = np.concatenate([[0], np.cumsum(np.bincount(level, minlength=d + 1))])
     return order, bounds
 
@@ -117,7 +121,7 @@ def forward_counts_mod(n: int, primes, progress=None) -> np.ndarray:
     pvec = np.asarray(primes, dtype=np.int64)
     f = np.zeros((1 << n, P), dtype=np.uint32)
     f[0] = 1
-    d = dimension(n + 1)
+    d = trusted_dimension(n + 1)
     for k in range(1, d + 1):
         masks = order[bounds[k] : bounds[k + 1]].astype(np.int64)
         acc = np.zeros((masks.size, P), dtype=np.int64)
@@ -142,7 +146,7 @@ def _prime_chunks(n: int, primes, memory_bytes: int):
 
 def survival_primes(N: int):
     """Primes whose product bounds every survival sum for ``N`` layers."""
-    return primes_for_bound((dimension(N) + 1) * count(N))
+    return primes_for_bound((trusted_dimension(N) + 1) * count(N))
 
 
 def estimate_survival_cost(N: int, memory_bytes: int = 12 * 2**30) -> MemoryEstimate:
@@ -247,7 +251,7 @@ def survival_counts(N: int, progress=None, memory_bytes: int = 12 * 2**30):
     (1, 4, 3, 2, 1)
     """
     n = N - 1
-    d = dimension(n + 1)
+    d = trusted_dimension(n + 1)
     one_prime = (1 << n) * (_BYTES_PER_RESIDUE + _BYTES_PER_MASK)
     if one_prime > max(memory_bytes, 2**32):
         raise ArgumentError(
@@ -313,7 +317,7 @@ def marked_chain_sums(n: int, primes, initial, update, progress=None) -> np.ndar
     start = np.zeros((1, n_states, P), dtype=np.int64)
     start[0, :, :] = np.asarray(initial, dtype=np.int64)[:, None]
     F[0] = update(np.zeros(1, dtype=np.int64), start)[0] % pvec
-    d = dimension(n + 1)
+    d = trusted_dimension(n + 1)
     for k in range(1, d + 1):
         masks = order[bounds[k] : bounds[k + 1]].astype(np.int64)
         acc = np.zeros((masks.size, n_states, P), dtype=np.int64)

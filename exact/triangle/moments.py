@@ -33,10 +33,10 @@ from typing import Any
 from ..modular import crt, primes_for_bound
 from forcenet.core.plan import Plan, combine
 from ..protocol import Progress, Table, run_independent
-from forcenet.core.validation import check_grain, check_int, check_layers
+from forcenet.core.validation import check_grain, check_int, check_layers, check_moments
 from .ideal_dp import estimate_survival_cost, marked_chain_sums, parts_table, survival_counts
 from .spacings import rising
-from .staircase import count, dimension
+from .staircase import count, trusted_dimension
 from forcenet.core.errors import ArgumentError
 
 __all__ = [
@@ -99,12 +99,16 @@ def mean_W(N: int, progress: Progress | None = None, memory_bytes: int | None = 
     ----------
     Ostojic (2006), Eqs. (4.63)-(4.77); Fig. 4.3 compares N = 11.
     """
-    N = check_layers(N)
+    return _mean_table(check_layers(N), progress, memory_bytes)
+
+
+def _mean_table(N: int, progress: Progress | None = None, memory_bytes: int | None = None) -> Table:
+    """:func:`mean_W` for ``N`` already checked (the engine's inside, :func:`table_run`)."""
     if progress is not None or memory_bytes is not None:
         C, total = survival_counts(N, progress, **({"memory_bytes": memory_bytes} if memory_bytes else {}))
     else:
         C, total = _survival(N)
-    d = dimension(N)
+    d = trusted_dimension(N)
     den = total * (d + 1)
     return [[Fraction(_mean_numerator(N, i, j, C), den) for j in range(1, i + 1)] for i in range(1, N + 1)]
 
@@ -136,7 +140,7 @@ def mean_W_grain(N: int, i: int, j: int) -> Fraction:
     N = check_layers(N)
     i, j = check_grain(N, (i, j))
     C, total = _survival(N)
-    d = dimension(N)
+    d = trusted_dimension(N)
     return Fraction(_mean_numerator(N, i, j, C), total * (d + 1))
 
 
@@ -205,7 +209,7 @@ def moment_table_plan(N: int, s: int, memory_bytes: int | None = None) -> Plan:
 
 
 def _moment_plan(N: int, s: int, memory_bytes: int | None) -> Plan:
-    n, d = N - 1, dimension(N)
+    n, d = N - 1, trusted_dimension(N)
     grains = N * (N + 1) // 2
     what = f"<W^{s}> table N={N}"
     if N > 24:
@@ -270,9 +274,12 @@ def moment_table(N: int, s: int = 2, *, memory_bytes: int | None = None, progres
     >>> [str(x) for x in moment_table(4, 2)[-1]]
     ['1/28', '9/56', '9/56', '1/28']
     """
-    N = check_layers(N)
-    s = check_int(s, "s", 1)
-    n, d = N - 1, dimension(N)
+    return _moment_table(check_layers(N), check_int(s, "s", 1), memory_bytes, progress)
+
+
+def _moment_table(N: int, s: int, memory_bytes: int | None = None, progress: Progress | None = None) -> Table:
+    """:func:`moment_table` for ``N`` and ``s`` already checked (the engine's inside, :func:`table_run`)."""
+    n, d = N - 1, trusted_dimension(N)
     total = count(N)
     grains = [(i, j) for i in range(1, N + 1) for j in range(1, i + 1)]
     if n == 0:
@@ -343,7 +350,7 @@ def moment(N: int, grain: tuple[int, int], s: int) -> Fraction:
 
 @lru_cache(maxsize=256)
 def _single_moment(N: int, i: int, j: int, s: int) -> Fraction:
-    n, d = N - 1, dimension(N)
+    n, d = N - 1, trusted_dimension(N)
     total = count(N)
     primes = primes_for_bound(total * comb(d + s, s))
     _check_state_memory(N, s + 1, len(primes))
@@ -396,7 +403,7 @@ def correlation(N: int, grain1: tuple[int, int], grain2: tuple[int, int]) -> Fra
 
 @lru_cache(maxsize=256)
 def _correlation(N: int, g1, g2) -> Fraction:
-    n, d = N - 1, dimension(N)
+    n, d = N - 1, trusted_dimension(N)
     total = count(N)
     primes = primes_for_bound(total * (d + 1) * (d + 2))
     _check_state_memory(N, 4, len(primes))
@@ -506,7 +513,7 @@ def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, exe
     >>> table_plan(20, memory_bytes=2**20).runnable
     False
     """
-    N, moments = check_layers(N), check_int(moments, "moments", 1)
+    N, moments = check_layers(N), check_moments(moments)
     plans = _pass_plans(N, moments, memory_bytes)
     what = plans[0].what if moments == 1 else f"exact tables N={N}, <W^s> for s = 1..{moments} (order ideals)"
     return combine(what, plans, "ideal")
@@ -542,13 +549,13 @@ def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, prog
     >>> [str(x) for x in table_run(5, 2)[2][-1]]
     ['1/66', '65/792', '25/198', '65/792', '1/66']
     """
-    N, moments = check_layers(N), check_int(moments, "moments", 1)
+    N, moments = check_layers(N), check_moments(moments)
     weights = None
     if memory_bytes is not None or executor is not None:
         plans = _pass_plans(N, moments, memory_bytes)
         combine(f"exact tables N={N}", plans).check()
         weights = [plan.ticks for plan in plans]
-    calls: list[tuple[Callable[..., Any], tuple, dict]] = [(mean_W, (N,), {"memory_bytes": _budget(memory_bytes, _RESIDUE_CAP)})]
-    calls += [(moment_table, (N, s), {"memory_bytes": memory_bytes}) for s in range(2, moments + 1)]
+    calls: list[tuple[Callable[..., Any], tuple, dict]] = [(_mean_table, (N,), {"memory_bytes": _budget(memory_bytes, _RESIDUE_CAP)})]
+    calls += [(_moment_table, (N, s), {"memory_bytes": memory_bytes}) for s in range(2, moments + 1)]
     tables = run_independent(calls, executor=executor, progress=progress, weights=weights)
     return dict(enumerate(tables, start=1))

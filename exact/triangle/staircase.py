@@ -35,6 +35,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "dimension",
+    "trusted_dimension",
     "grain_to_cell",
     "cell_to_grain",
     "staircase_cells",
@@ -71,11 +72,21 @@ def dimension(N: int) -> int:
     >>> dimension(5)
     10
     """
-    return _dimension(check_layers(N, minimum=1))
+    return trusted_dimension(check_layers(N, minimum=1))
 
 
-def _dimension(N: int) -> int:
-    """:func:`dimension` for ``N`` already checked: the one place the formula is written."""
+def trusted_dimension(N: int) -> int:
+    """:func:`dimension` for an ``N`` its caller has checked: the one place the formula (4.3) is written.
+
+    The engines call it inside, after their public function checked ``N``
+    once (issue 25: validate at the boundary, trust inside); users call
+    :func:`dimension`.
+
+    Examples
+    --------
+    >>> trusted_dimension(5)
+    10
+    """
     return N * (N - 1) // 2
 
 
@@ -253,7 +264,7 @@ def _prime_exponents_of_count(N: int) -> list[tuple[int, int]]:
     """Prime factorisation of ``count = d! / D`` (Legendre's formula)."""
     import numpy as np
 
-    n, d = N - 1, _dimension(N)
+    n, d = N - 1, trusted_dimension(N)
     primes = _primes_upto(max(d, 2 * n, 2))
     exps = np.zeros(primes.size, dtype=np.int64)
     power = primes.copy()
@@ -310,7 +321,7 @@ def count_digits(N: int) -> int:
 
 
 def _count_digits(N: int) -> int:
-    n, d = N - 1, _dimension(N)
+    n, d = N - 1, trusted_dimension(N)
     log10 = (math.lgamma(d + 1) - sum(math.lgamma(2 * k + 2) - math.lgamma(k + 1) for k in range(n))) / math.log(10)
     return int(log10) + 1
 
@@ -335,7 +346,7 @@ def count_plan(N: int, memory_bytes: int | None = None) -> Plan:
     if N > _COUNT_MAX_N:
         return Plan(f"count N={N}", 0, refusal=f"N={N} is out of range for count: N must be an integer in 2..{_COUNT_MAX_N} "
                                                 "(beyond, the integer has more than 10^12 digits)")
-    d = _dimension(N)
+    d = trusted_dimension(N)
     digits = _count_digits(N)
     plan = Plan(f"count N={N} ({float(digits):.3g} digits)", 2.2e-7 * d**1.1, 24 * d + 4 * digits)
     return plan.within_memory(memory_bytes)

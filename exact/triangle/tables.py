@@ -15,7 +15,7 @@ import tempfile
 from fractions import Fraction
 
 from .moments import mean_W, moment_table
-from forcenet.core.validation import check_int, check_layers
+from forcenet.core.validation import check_layers, check_moments
 from .staircase import count, normalization
 
 __all__ = ["exact_table", "to_json", "to_csv", "to_latex", "write_atomic", "fraction_str"]
@@ -40,7 +40,7 @@ def exact_table(N: int, moments: int = 1, mean_table=None, progress=None, moment
     ``moments >= 2``, ``mean_W2`` ... ``mean_W{moments}``.
     """
     N = check_layers(N)
-    moments = check_int(moments, "moments", 1)
+    moments = check_moments(moments)
     table = {
         "N": N,
         "count": count(N),

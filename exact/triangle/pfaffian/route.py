@@ -46,7 +46,7 @@ from ...execution import as_executor
 from ...modular import crt_many
 from forcenet.core.plan import Plan, table_range
 from ...protocol import Progress, Table
-from forcenet.core.validation import check_int, check_layers
+from forcenet.core.validation import check_layers, check_moments
 from ..staircase import dimension
 from .cost import STARTUP_SECONDS, edge_seconds, prime_seconds, primes_plan
 from .engine import count_residue, edge_residues, level_points, prime_residues
@@ -450,7 +450,7 @@ def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, exe
     >>> table_plan(201).refusal
     'N=201 is out of range for --method pfaffian: N must be an integer in 2..200'
     """
-    N, moments = check_layers(N), check_int(moments, "moments", 1)
+    N, moments = check_layers(N), check_moments(moments)
     what = f"exact table N={N} (Pfaffians)"
     refusal = table_range(what, "pfaffian", N, moments, MAX_N)
     if refusal is not None:
@@ -501,7 +501,7 @@ def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, prog
     >>> [str(x) for x in table_run(5)[1][-1]]
     ['1/11', '1/4', '7/22', '1/4', '1/11']
     """
-    N, moments = check_layers(N), check_int(moments, "moments", 1)
+    N, moments = check_layers(N), check_moments(moments)
     if moments > 1 or N > MAX_N or memory_bytes is not None:
         table_plan(N, moments, memory_bytes=memory_bytes, executor=executor, workers=workers,
                    checkpoint=checkpoint).check()

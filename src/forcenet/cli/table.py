@@ -154,15 +154,16 @@ def cmd_table(args):
         check_output_dir(args.out_dir, files=[f"mean_W_N{args.N}.{ext}" for ext in ("json", "csv", "tex")])
     memory = available_memory()
     args.method, why = _resolve_method(args, memory)
-    client, store = _engine_options(args, table_plan(args.method, args.N, args.moments, memory).seconds)
+    local_plan = table_plan(args.method, args.N, args.moments, memory)
+    client, store = _engine_options(args, local_plan.seconds)
     try:
-        return _table(args, fmt, memory, client, store, why)
+        return _table(args, fmt, memory, client, store, why, local_plan)
     finally:
         if client is not None:
             client.close()
 
 
-def _table(args, fmt, memory, client, store, why=""):
+def _table(args, fmt, memory, client, store, why, local_plan):
     from dataclasses import replace
 
     from forcenet.core.plan import combine_by_time, phase_progress
@@ -172,7 +173,8 @@ def _table(args, fmt, memory, client, store, why=""):
     from forcenet.testing import cross_check, cross_check_plan
 
     options = {k: v for k, v in (("executor", client), ("checkpoint", store)) if v is not None}
-    plans = [table_plan(args.method, args.N, args.moments, memory, **options)]
+    # a cluster or a checkpoint store changes the plan (workers, reuse); else the local plan stands
+    plans = [table_plan(args.method, args.N, args.moments, memory, **options) if options else local_plan]
     if why:
         plans[0] = replace(plans[0], what=f"{plans[0].what}; {why}")
     cross = fmt is None and args.samples > 0

@@ -38,6 +38,8 @@ __all__ = [
     "is_integer",
     "check_int",
     "check_layers",
+    "check_moments",
+    "MAX_MOMENTS",
     "check_grain",
     "check_real",
     "check_dps",
@@ -118,6 +120,24 @@ def check_layers(N, *, name: str = "N", minimum: int = 2, maximum: int | None = 
     forcenet.core.errors.ArgumentError: N=1 is out of range: N must be an integer >= 2
     """
     return check_int(N, name, minimum, maximum)
+
+
+MAX_MOMENTS = 50  # the highest moment s of W^s a table route takes (forcenet table --moments)
+
+
+def check_moments(moments) -> int:
+    """Validate the highest moment ``s`` of ``W^s`` of a table, an integer in ``1..MAX_MOMENTS``.
+
+    Examples
+    --------
+    >>> check_moments(2)
+    2
+    >>> check_moments(0)
+    Traceback (most recent call last):
+    ...
+    forcenet.core.errors.ArgumentError: moments=0 is out of range: moments must be an integer in 1..50
+    """
+    return check_int(moments, "moments", 1, MAX_MOMENTS)
 
 
 def check_grain(N: int, grain, name: str = "grain") -> tuple[int, int]:

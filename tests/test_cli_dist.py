@@ -5,6 +5,8 @@ from fractions import Fraction
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from forcenet.cli import main
 from forcenet.exact.triangle import distribution as D
@@ -140,3 +142,19 @@ def test_a_short_metropolis_chain_is_flagged_not_hidden(sandbox, capsys):
     code, _, err = run(["dist", "--N", "6", "--ensemble", "--plot", "p.png", "--samples", "200", "--sweeps", "20",
                         "--bins", "8"], capsys)
     assert code == 0 and "error bars unreliable" in err and (sandbox / "p.png").exists()
+
+
+@settings(max_examples=25, deadline=None)
+@given(b=st.lists(st.integers(min_value=-10**40, max_value=10**40) | st.just(0), min_size=1, max_size=40))
+def test_bernstein_to_monomial_equals_the_binomial_expansion(b):
+    """The Taylor-shift conversion (FLINT) against the literal expansion of sum_k b_k w^k (1-w)^(n-k)."""
+    from math import comb
+
+    from forcenet.exact.triangle.pieces import bernstein_to_monomial
+
+    n = len(b) - 1
+    literal = [0] * (n + 1)
+    for k, x in enumerate(b):
+        for t in range(n - k + 1):
+            literal[k + t] += x * comb(n - k, t) * (-1) ** t
+    assert bernstein_to_monomial(b) == literal

@@ -331,3 +331,41 @@ def test_two_time_formula_gives_the_second_moment(N):
             integrand = poly.coeff_monomial(y ** (j - 1)) * factorial(d) / count(N)
             value = 2 * sympy.integrate(sympy.integrate(integrand, (s, 0, t)), (t, 0, 1))
             assert Fraction(int(value.p), int(value.q)) == table[i - 1][j - 1]
+
+
+# ------------------------------------------------ one grain's law by the faster route (forcenet dist --grain)
+
+
+def test_single_grain_route_takes_pfaffians_only_where_they_reach():
+    assert fl.single_grain_route(8, (8, 4))[0] == "ideals"  # interior: the DP only
+    route_name, plan = fl.single_grain_route(64, (64, 64))
+    assert route_name == "pfaffian" and plan.runnable and plan.unit == "prime"
+    route_name, plan = fl.single_grain_route(40, (40, 20))  # interior beyond the DP: refused, with both reaches named
+    assert not plan.runnable and "2..30" in plan.refusal and "two-time" in plan.refusal and "(i, 1), (i, i)" in plan.refusal
+    with pytest.raises(ValueError, match="N=129 is out of range"):
+        fl.single_grain_route(129, (129, 1))
+    with pytest.raises(ValueError, match="route='x'"):
+        fl.single_grain_gap_law(5, (5, 1), "x")
+
+
+@settings(max_examples=8, deadline=None)
+@given(N=st.integers(min_value=3, max_value=11), data=st.data())
+def test_single_grain_gap_law_is_the_same_by_both_routes(N, data):
+    i = data.draw(st.integers(min_value=2, max_value=N))
+    j = data.draw(st.sampled_from([1, i]))
+    assert fl.single_grain_gap_law(N, (i, j), "pfaffian") == fl.single_grain_gap_law(N, (i, j), "ideals")
+
+
+def test_dist_beyond_the_dp_gives_the_lattice_grain_law(cli):
+    """``forcenet dist --N 34 --grain 34,1``: beyond the DP's N = 30, by Pfaffians; its mean against the mean route."""
+    import json
+
+    code, out, _ = cli(["dist", "--N", "34", "--grain", "34,1", "--format", "json", "--quiet"])
+    assert code == 0
+    data = json.loads(out)
+    assert Fraction(data["mean"]) == route.lattice_direction(34, workers=1)[-1]  # <W_{34,1}>, another functional
+    (piece,) = data["pieces"]
+    assert len(piece["density"]) == 34 * 33 // 2  # degree d - 1
+    assert sum(Fraction(c) / (k + 1) for k, c in enumerate(piece["density"])) == 1  # a density on [0, 1]
+    code, _, err = cli(["dist", "--N", "34", "--grain", "34,17"])
+    assert code == 2 and "2..30" in err and "two-time" in err

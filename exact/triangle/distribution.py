@@ -52,7 +52,7 @@ from forcenet.core.plan import Plan
 from forcenet.core.validation import check_grain, check_int, check_layers
 from .gaps import GapCounts, chain_pass, contact_gap_counts, contact_gap_law, gap_laws_plan
 from .joint_gaps import q_gap_counts
-from .pieces import Piece, as_pieces, bin_probabilities, piecewise_cdf, sum_pieces
+from .pieces import Piece, as_pieces, bernstein_to_monomial, bin_probabilities, piecewise_cdf, sum_pieces
 from .moments import mean_W_grain
 from .spacings import rising
 from forcenet.core.errors import ArgumentError
@@ -116,13 +116,8 @@ def density_from_gaps(gaps: GapCounts, var: sympy.Symbol = W_SYMBOL) -> sympy.Po
     """
     _check_density_gaps(gaps)
     d, c = gaps.d, gaps.counts
-    coeffs = [0] * d  # integer coefficients of w^m, times total / d
-    for g in range(1, d + 1):
-        if not c[g]:
-            continue
-        a = c[g] * comb(d - 1, g - 1)
-        for t in range(d - g + 1):  # (1-w)^(d-g) = sum_t C(d-g, t) (-w)^t
-            coeffs[g - 1 + t] += a * comb(d - g, t) * (-1) ** t
+    # integer coefficients of w^m, times total / d: Bernstein weights c[k+1] C(d-1, k), k = 0..d-1
+    coeffs = bernstein_to_monomial([c[k + 1] * comb(d - 1, k) for k in range(d)])
     return _poly([Fraction(d * x, gaps.total) for x in coeffs], var)
 
 
@@ -139,16 +134,11 @@ def cdf_from_gaps(gaps: GapCounts, var: sympy.Symbol = W_SYMBOL) -> sympy.Poly:
     """
     _check_density_gaps(gaps)
     d, c = gaps.d, gaps.counts
-    coeffs = [0] * (d + 1)
-    G = 0
-    for k in range(d + 1):
+    coeffs, G = [], 0
+    for k in range(d + 1):  # Bernstein weights P(gap <= k) C(d, k), times total
         G += c[k]
-        if not G:
-            continue
-        a = G * comb(d, k)
-        for t in range(d - k + 1):
-            coeffs[k + t] += a * comb(d - k, t) * (-1) ** t
-    return _poly([Fraction(x, gaps.total) for x in coeffs], var)
+        coeffs.append(G * comb(d, k))
+    return _poly([Fraction(x, gaps.total) for x in bernstein_to_monomial(coeffs)], var)
 
 
 def moment_from_gaps(gaps: GapCounts, s: int) -> Fraction:

@@ -44,6 +44,7 @@ Fraction(23, 198)
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Sequence
+from dataclasses import replace
 from fractions import Fraction
 from math import ceil, log2
 from typing import Any
@@ -64,12 +65,14 @@ from .tasks import route_primes, run_primes, workers_for
 from forcenet.core.errors import ArgumentError
 
 __all__ = ["edge_level_residues", "lattice_level_sums", "lattice_gap_laws", "lattice_mean_W2", "grain_gap_law",
-           "lattice_gap_laws_plan"]
+           "lattice_gap_laws_plan", "single_grain_route", "single_grain_gap_law"]
 
 MAX_LAW_N = 128  # the interpolation's exact float64 products need M < 2^13
 # CPU seconds on the reference machine.  Measured on 2026-11-25 on the loaded 2-core machine at N = 40 and scaled by
 # the ratio (8x) of the lattice directions' measured time to their model (route.edge_seconds) in the same run.
-_SECONDS_PER_LAGRANGE = 1e-8  # per M^2: the Lagrange matrix
+# per M^2: the Lagrange matrix.  Re-measured on 2026-11-26 (one prime, one window, N = 48-120: 0.149 ... 5.35 s
+# beyond the lattice directions' evaluations, 0.9-1.2e-7 per M^2); the constant of 2026-11-25 (1e-8) was 10x low.
+_SECONDS_PER_LAGRANGE = 1e-7
 _SECONDS_PER_INTERPOLATION = 5.4e-10  # per M^2 (n + 2): the two BLAS products and the assembly
 _SECONDS_PER_CRT = 3e-7  # per value and prime: the Chinese remainders, in the parent process
 
@@ -417,3 +420,95 @@ def lattice_gap_laws_plan(N: int, memory_bytes: int | None = None, workers: int 
     crt = _SECONDS_PER_CRT * windows * (d + 1) * nprimes
     return Plan(what, STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers + crt, nworkers * per_worker, nprimes,
                 "prime").within_memory(memory_bytes)
+
+
+def single_grain_route(N: int, grain: tuple[int, int], memory_bytes: int | None = None) -> tuple[str, Plan]:
+    """The faster exact route to one grain's gap law, and its plan: ``"pfaffian"`` or ``"ideals"``.
+
+    Lattice-direction grains ``(i, 1)``, ``(i, i)`` have both routes, the
+    Pfaffian one (:func:`grain_gap_law`, ``N <= 128``) and the order-ideal
+    DP (:func:`forcenet.exact.triangle.gaps.grain_gap_counts`, ``N <= 30``):
+    the faster runnable plan wins (the laws are equal, tested).  Interior
+    grains have only the DP: their gap is a two-time quantity
+    (``notes/fluctuations.md`` Sec. 3).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``2..128``.
+    grain : (int, int)
+        ``(i, j)``, ``2 <= i <= N``, ``1 <= j <= i``.
+    memory_bytes : int, optional
+        Memory available to the run.
+
+    Returns
+    -------
+    (str, Plan)
+        The route's name and its plan (refused, with the reason of every
+        route, when none can run).
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` or the grain is out of range.
+
+    Examples
+    --------
+    >>> single_grain_route(64, (64, 1))[0], single_grain_route(12, (12, 6))[0]
+    ('pfaffian', 'ideals')
+    >>> single_grain_route(40, (40, 20))[1].refusal  # doctest: +ELLIPSIS
+    'N=40 is out of range for exact gap laws: N must be an integer in 2..30 (the order-ideal DP, ...'
+    """
+    from ..gaps import gap_laws_plan
+
+    N = check_layers(N, maximum=MAX_LAW_N)
+    i, j = check_grain(N, grain)
+    what = f"exact density of W_({i},{j}) N={N}"
+    ideals = gap_laws_plan(N, 1, memory_bytes, what=f"{what} (order ideals)")
+    if i == 1 or j not in (1, i):
+        if ideals.runnable:
+            return "ideals", ideals
+        return "ideals", Plan(what, 0, refusal=f"{ideals.refusal} (the order-ideal DP, the one route to an interior "
+                                                f"grain: its gap is a two-time quantity, notes/fluctuations.md Sec. 3); "
+                                                f"the lattice-direction grains (i, 1), (i, i) reach N = {MAX_LAW_N} by Pfaffians")
+    pfaffian = replace(lattice_gap_laws_plan(N, memory_bytes, layers=1), what=f"{what} (Pfaffians)")
+    if ideals.runnable and (not pfaffian.runnable or ideals.seconds <= pfaffian.seconds):
+        return "ideals", ideals
+    return "pfaffian", pfaffian
+
+
+def single_grain_gap_law(N: int, grain: tuple[int, int], route: str, progress: Callable[[int], object] | None = None) -> GapCounts:
+    """One grain's gap law by the route :func:`single_grain_route` chose (``"pfaffian"`` or ``"ideals"``).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers.
+    grain : (int, int)
+        The grain ``(i, j)``.
+    route : {"pfaffian", "ideals"}
+        The route.
+    progress : callable, optional
+        ``progress(k)`` with the route's plan's ticks.
+
+    Returns
+    -------
+    GapCounts
+
+    Raises
+    ------
+    ArgumentError
+        If the route does not reach the grain.
+
+    Examples
+    --------
+    >>> single_grain_gap_law(6, (6, 1), "pfaffian") == single_grain_gap_law(6, (6, 1), "ideals")
+    True
+    """
+    if route == "ideals":
+        from ..gaps import grain_gap_counts
+
+        return grain_gap_counts(N, grain, progress)
+    if route == "pfaffian":
+        return grain_gap_law(N, grain, progress=progress)
+    raise ArgumentError(f"route={route!r} is not a route: it must be 'pfaffian' or 'ideals'")

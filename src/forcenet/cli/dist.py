@@ -30,7 +30,8 @@ from .output import destination, emit, write_files
 
 __all__ = ["register"]
 
-_MAX_LAYERS = 30
+_MAX_LAYERS = 128  # fluctuations.MAX_LAW_N: a lattice-direction grain's law by Pfaffians
+_MAX_DP_LAYERS = 30  # the order-ideal DP: interior grains, contacts, layers, the ensemble
 
 
 def _grain(text):
@@ -65,12 +66,13 @@ def _what(args):
 def _compute(args, what, tick=None):
     """Exact objects: (title, variable, pieces of the density, pieces of the CDF, extra fields)."""
     from forcenet.exact.triangle import distribution as D
-    from forcenet.exact.triangle.gaps import contact_gap_law, grain_gap_counts
+    from forcenet.exact.triangle.gaps import contact_gap_law
+    from forcenet.exact.triangle.pfaffian.fluctuations import single_grain_gap_law
 
     N = args.N
     if what[0] == "grain":
         (i, j), kind = what[1], what[2]
-        gaps = grain_gap_counts(N, (i, j), tick) if kind is None else contact_gap_law(N, (i, j), kind, tick)
+        gaps = single_grain_gap_law(N, (i, j), what[3], tick) if kind is None else contact_gap_law(N, (i, j), kind, tick)
         name = f"W_{{{i},{j}}}" if kind is None else f"(sqrt3/2) {kind}^{{({i},{j})}}"
         extra = {"mean": D.moment_from_gaps(gaps, 1), "second_moment": D.moment_from_gaps(gaps, 2)}
         return (name, "w", *D.grain_pieces(gaps), extra)
@@ -154,6 +156,7 @@ def _plot_plan(args):
 
 def cmd_dist(args):
     from forcenet.exact.triangle.distribution import distribution_plan
+    from forcenet.exact.triangle.pfaffian.fluctuations import single_grain_route
 
     N = args.N
     what = _what(args)
@@ -168,8 +171,12 @@ def cmd_dist(args):
           or given(args, "seed")):
         raise UsageError("--samples, --sweeps, --bins, --f-max and --seed set the sampled histograms of --plot")
     memory = available_memory()
-    plans = [distribution_plan(N, {"grain": "contact" if len(what) > 2 and what[2] else "grain",
-                                   "layer": "layer", "ensemble": "ensemble"}[what[0]], memory)]
+    if what[0] == "grain" and what[2] is None:  # a grain's W: the faster of the DP and, on a lattice direction, Pfaffians
+        route, plan = single_grain_route(N, what[1], memory)
+        what = (*what, route)
+        plans = [plan]
+    else:
+        plans = [distribution_plan(N, {"grain": "contact", "layer": "layer", "ensemble": "ensemble"}[what[0]], memory)]
     if args.plot is not None:
         args.samples = 20000 if args.samples is None else args.samples
         args.sweeps = 3000 if args.sweeps is None else args.sweeps
@@ -239,7 +246,9 @@ def _figure(args, what, pieces, tick):
 
 def register(sub):
     p = sub.add_parser("dist", help="exact force distributions: density and CDF of a grain or contact, pooled P(f)")
-    add_layers(p, _MAX_LAYERS, help_text=f"number of layers (2..{_MAX_LAYERS}; one pass over the 2^(N-1) ideals per layer)")
+    add_layers(p, _MAX_LAYERS, help_text=f"number of layers (2..{_MAX_LAYERS}: a lattice-direction grain --grain i,1 or i,i "
+                                          f"by Pfaffians; everything else 2..{_MAX_DP_LAYERS}, one pass over the 2^(N-1) "
+                                          "ideals per layer)")
     which = p.add_mutually_exclusive_group(required=True)
     which.add_argument("--grain", type=_grain, help="i,j: the density of W_ij (or of its contact force with --contact)")
     which.add_argument("--layer", type=integer("layer", 2), help="P(f) of layer i, f = i W_ij pooled over j (2..N)")

@@ -302,3 +302,21 @@ def test_sample_slice_move(capsys):
     assert code == 0 and data["move"] == "slice" and data["acceptance"] == 1.0
     _assert_within_5_sigma(data, mean_W(6))
     assert main(["sample", "--N", "6", "--move", "slice"]) == 2  # exact sampler: no move to choose
+
+
+@pytest.mark.parametrize("argv, needed", [
+    (["entropy", "--phi", "0.3", "--bethe", "--L-max", "60"], "at least 80"),  # any bracketing a <= 16 may come
+    (["entropy", "--Q", "1/60", "--bethe"], "at least 300"),  # k = 2..5 widths of 60
+])
+def test_bethe_widths_are_refused_by_the_plan_before_any_work(argv, needed, capsys):
+    """The plan counts the widths of every density the Bethe route will solve: a too small --L-max is refused
+    in one line naming the L_max that works, before the closed forms run (it used to fail after them)."""
+    from forcenet.numeric.chicken_wire import isotropic_bethe
+
+    code = main(argv)
+    _, err = capsys.readouterr()
+    assert code == 2 and needed in err and "L_max=" in err and "closed forms" not in err
+    L = int(needed.split()[-1])  # the L_max named is the smallest that works
+    Q = Fraction(1, 60) if "1/60" in argv else None
+    assert isotropic_bethe.isotropic_entropy_plan(Q, L).runnable
+    assert not isotropic_bethe.isotropic_entropy_plan(Q, L - 1).runnable

@@ -220,7 +220,8 @@ def bethe_plan(sequences: int, L_max: int) -> Plan:
     return Plan(f"{sequences} Bethe-ansatz sequence(s) to L = {L_max}", seconds, 200 * 2**20, sequences, "sequence")
 
 
-DIRECT_DENOMINATOR = 60  # a density c/a with a <= 60 is solved directly (widths L = k a, 4 of them within L_max >= 240)
+DIRECT_DENOMINATOR = 60  # a density c/a with a <= 60 is solved directly (widths L = k a, k >= 2: 4 of them need
+# L_max >= 5a, i.e. a <= 48 at the default 240; the plan names the L_max a larger a needs)
 
 
 def _direct(Q: Fraction | float | None) -> bool:
@@ -268,7 +269,27 @@ def isotropic_entropy_plan(Q: Fraction | float | None, L_max: int) -> Plan:
             _check_density(Q)
         except ArgumentError as exc:
             return plan.refuse(str(exc))
+    # the widths: every density solved needs 4 multiples of its denominator in [L_min, L_max] (isotropic_limit)
+    if _direct(Q):
+        denominators = [Fraction(Q).denominator]
+    elif Q is not None:
+        denominators = [f.denominator for f in bracketing_fractions(float(Q))]
+    else:  # a density known only once phi is solved: any bracketing denominator up to 16 may come
+        denominators = list(range(3, 17))
+    short = [a for a in denominators if _widths(a, L_max) < 4]
+    if short:
+        need = min(L for L in range(L_max, 100 * max(short)) if all(_widths(a, L) >= 4 for a in denominators))
+        which = f"Q={Q}" if Q is not None else "a density given by --phi (a bracketing fraction c/a, a <= 16)"
+        return plan.refuse(f"L_max={L_max} is out of range for {which}: the widths L = k a in "
+                           f"[max(24, L_max/4), L_max] must give 4 for a = {', '.join(map(str, short))}; "
+                           f"L_max must be at least {need}")
     return plan
+
+
+def _widths(a: int, L_max: int) -> int:
+    """How many widths ``L = k a`` (``k >= 2``) :func:`isotropic_entropy` takes in ``[max(24, L_max // 4), L_max]``."""
+    L_min = max(24, L_max // 4)
+    return len(range(max(2, -(-L_min // a)), L_max // a + 1))
 
 
 def isotropic_entropy(Q: Fraction | float, L_max: int = 240) -> tuple[float, float, tuple[Fraction, ...]]:

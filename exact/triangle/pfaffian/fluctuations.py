@@ -70,9 +70,11 @@ __all__ = ["edge_level_residues", "lattice_level_sums", "lattice_gap_laws", "lat
 MAX_LAW_N = 128  # the interpolation's exact float64 products need M < 2^13
 # CPU seconds on the reference machine.  Measured on 2026-11-25 on the loaded 2-core machine at N = 40 and scaled by
 # the ratio (8x) of the lattice directions' measured time to their model (route.edge_seconds) in the same run.
-# per M^2: the Lagrange matrix.  Re-measured on 2026-11-26 (one prime, one window, N = 48-120: 0.149 ... 5.35 s
-# beyond the lattice directions' evaluations, 0.9-1.2e-7 per M^2); the constant of 2026-11-25 (1e-8) was 10x low.
-_SECONDS_PER_LAGRANGE = 1e-7
+# per M^2: the Lagrange matrix.  Re-measured on 2026-11-26: one prime, one window, N = 48-120, 0.149 ... 5.35 s
+# beyond the lattice directions' evaluations, 0.9-1.2e-7 per M^2, on a machine that ran the route's own primes
+# (cost.prime_seconds, edge_seconds) 1.6-1.9x slower than their reference model in the same session; so 5.5e-8
+# on the reference machine.  The constant of 2026-11-25 (1e-8) was 5x low.
+_SECONDS_PER_LAGRANGE = 5.5e-8
 _SECONDS_PER_INTERPOLATION = 5.4e-10  # per M^2 (n + 2): the two BLAS products and the assembly
 _SECONDS_PER_CRT = 3e-7  # per value and prime: the Chinese remainders, in the parent process
 

@@ -65,7 +65,7 @@ from .tasks import route_primes, run_primes, workers_for
 from forcenet.core.errors import ArgumentError
 
 __all__ = ["edge_level_residues", "lattice_level_sums", "lattice_gap_laws", "lattice_mean_W2", "grain_gap_law",
-           "lattice_gap_laws_plan", "single_grain_route", "single_grain_gap_law"]
+           "lattice_gap_laws_plan", "single_grain_route", "single_grain_gap_law", "law_prime_seconds"]
 
 MAX_LAW_N = 128  # the interpolation's exact float64 products need M < 2^13
 # CPU seconds on the reference machine.  Measured on 2026-11-25 on the loaded 2-core machine at N = 40 and scaled by
@@ -247,7 +247,7 @@ def _level_sums(N: int, layers: list[int], workers: int | None, progress: Callab
     if n == 0:
         return E, total
     primes = route_primes(N, total)
-    nworkers = workers_for(workers, len(primes), _prime_seconds(N, len(windows)) * len(primes))
+    nworkers = workers_for(workers, len(primes), law_prime_seconds(N, len(windows)) * len(primes))
     residues = run_primes(_edge_level_residues, [(N, p, backend, windows) for p in primes], None, nworkers,
                           progress, None)  # in the order of the primes
     for m in windows:
@@ -330,8 +330,15 @@ def lattice_mean_W2(N: int, **kwargs: Any) -> list[Fraction]:
     return out
 
 
-def _prime_seconds(N: int, windows: int | None = None) -> float:
-    """CPU seconds of one prime: the lattice directions' evaluations and the interpolation of ``windows`` windows."""
+def law_prime_seconds(N: int, windows: int | None = None) -> float:
+    """CPU seconds of one prime on the reference machine: the lattice directions' evaluations and the interpolation
+    of ``windows`` windows (default all ``N - 1``); ``benchmarks/cost_check.py`` times it on this machine.
+
+    Examples
+    --------
+    >>> law_prime_seconds(64, 1) < law_prime_seconds(64)
+    True
+    """
     n, d = N - 1, dimension(N)
     M = level_points(d)
     windows = n if windows is None else windows
@@ -415,7 +422,7 @@ def lattice_gap_laws_plan(N: int, memory_bytes: int | None = None, workers: int 
     n, d = N - 1, dimension(N)
     nprimes = ceil(product_count(N).bit_length() / log2(prime_limit(max(n, 1)) * 0.999))
     windows = n if layers is None else check_int(layers, "layers", 1, n)
-    cpu = _prime_seconds(N, windows) * nprimes
+    cpu = law_prime_seconds(N, windows) * nprimes
     nworkers = workers_for(workers, nprimes, cpu)
     M = level_points(d)
     per_worker = 8 * (3 * M * M + 2 * M * n) + 160 * 2**20

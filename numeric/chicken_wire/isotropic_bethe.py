@@ -270,8 +270,8 @@ def isotropic_entropy_plan(Q: Fraction | float | None, L_max: int) -> Plan:
         except ArgumentError as exc:
             return plan.refuse(str(exc))
     # the widths: every density solved needs 4 multiples of its denominator in [L_min, L_max] (isotropic_limit)
-    if _direct(Q):
-        denominators = [Fraction(Q).denominator]
+    if isinstance(Q, Fraction) and _direct(Q):
+        denominators = [Q.denominator]
     elif Q is not None:
         denominators = [f.denominator for f in bracketing_fractions(float(Q))]
     else:  # a density known only once phi is solved: any bracketing denominator up to 16 may come

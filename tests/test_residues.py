@@ -1,4 +1,4 @@
-"""The one modular Gauss-Jordan of the Pfaffian route (exact/triangle/pfaffian/residues.py) against Python integers."""
+"""The one modular Gaussian elimination of the Pfaffian route (exact/triangle/pfaffian/residues.py) against Python integers."""
 
 import numpy as np
 from hypothesis import given, settings

@@ -174,7 +174,7 @@ def _kernel_matrix(B, X1, expo, c, n, p, Wt):
     for i in range(s):
         for j in range(s):
             K[i, j] = red(B[i, j] + red(qp[i] * X1[i, j], p, pinv) * qp[j], p, pinv)
-    Ki = solve(K, np.eye(s), p, pinv)  # the inverse: Gauss-Jordan on the identity
+    Ki = solve(K, np.eye(s), p, pinv)  # the inverse: elimination on the identity
     if Ki is None:
         return False
     BKi = _matmul(B, Ki, n, s, p, pinv)

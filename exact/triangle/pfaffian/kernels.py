@@ -2,7 +2,7 @@
 
 Residues are ``float64`` integers, reduced by the arithmetic of :mod:`.residues`
 (:func:`~.residues.red`, :func:`~.residues.lred`, :func:`~.residues.inv_mod`; the
-Gauss-Jordan :func:`~.residues.solve`, shared with :mod:`.dense`).  Nothing here
+Gaussian elimination :func:`~.residues.solve`, shared with :mod:`.dense`).  Nothing here
 rounds: every value is an exact integer, so the results are exact residues.
 
 The hot loop is :func:`point_values`: for every ``y`` the leading

@@ -8,7 +8,7 @@ to ``[0, p)`` with one floating multiply, a floor and at most one correction
 without the correction, to a value in ``(-p, 2p)``.  Nothing here rounds:
 every value is an exact integer, so the results are exact residues.
 
-:func:`solve` is the modular Gauss-Jordan elimination of the Pfaffian route:
+:func:`solve` is the modular Gaussian elimination of the Pfaffian route:
 the displacement kernels (:mod:`.kernels`, four right-hand sides) and the
 dense baseline (:mod:`.dense`, the identity: the inverse) both call it.
 
@@ -27,7 +27,7 @@ __all__ = ["JIT", "SOLVE_SLACK", "red", "lred", "inv_mod", "axpy", "solve", "laz
 JIT: Final[dict[str, Any]] = {"cache": True, "boundscheck": False, "nogil": True}
 """The compile options of every kernel of the Pfaffian route (machine code cached on disk, no bounds checks)."""
 
-# The slack of the lazy Gauss-Jordan reduction (:func:`lazy_rounds`): 2^26 >= 2p for every prime of the
+# The slack of the lazy elimination reduction (:func:`lazy_rounds`): 2^26 >= 2p for every prime of the
 # route (p < 2^25, engine.prime_limit). The proof is in lazy_rounds' docstring; the dense baseline's own
 # copy used 2^24, which proves the bound only for p <= 2^23 (its primes, engine.dense_prime_limit).
 SOLVE_SLACK: Final = 2.0**26
@@ -94,11 +94,15 @@ def lazy_rounds(p):
 
 @njit(**JIT)
 def solve(K, Rhs, p, pinv):
-    """``K^{-1} Rhs`` modulo ``p`` by Gauss-Jordan with row pivoting, lazily reduced; None if ``K`` is singular mod p.
+    """``K^{-1} Rhs`` modulo ``p`` by Gaussian elimination with row pivoting, lazily reduced; None if ``K`` is singular mod p.
 
-    Rows other than the pivot row are reduced every :func:`lazy_rounds` rounds
-    (each round adds less than ``p^2`` to an entry); the pivot row is reduced
-    when its pivot is taken.  ``Rhs`` the identity gives the inverse.
+    Forward elimination below each pivot (the pivot row is normalized and
+    reduced when its pivot is taken), then back substitution on the right
+    sides: ``s^3/3 + s^2 m`` multiply-adds against Gauss-Jordan's
+    ``s^3/2 + s^2 m`` (1.4x at ``m = 4``, the kernels' four right sides).
+    Rows still to be changed are reduced every :func:`lazy_rounds` rounds in
+    both phases (each round adds less than ``p^2`` to an entry).  ``Rhs`` the
+    identity gives the inverse.
     """
     s = K.shape[0]
     m = Rhs.shape[1]
@@ -110,7 +114,7 @@ def solve(K, Rhs, p, pinv):
             M[i, s + j] = Rhs[i, j]
     lazy = lazy_rounds(p)
     rounds = 0
-    for c in range(s):
+    for c in range(s):  # forward: a unit upper triangle
         r = -1
         for i in range(c, s):
             M[i, c] = red(M[i, c], p, pinv)
@@ -124,15 +128,28 @@ def solve(K, Rhs, p, pinv):
         f = inv_mod(M[c, c], p, pinv)
         for j in range(c, s + m):
             M[c, j] = red(red(M[c, j], p, pinv) * f, p, pinv)
-        for i in range(s):
-            if i != c:
-                g = red(M[i, c], p, pinv)
-                if g != 0.0:
-                    axpy(M, i, c, p - g, uint64(c), uint64(s + m))
+        for i in range(c + 1, s):
+            g = M[i, c]  # reduced by the pivot search
+            if g != 0.0:
+                axpy(M, i, c, p - g, uint64(c), uint64(s + m))
         rounds += 1
         if rounds >= lazy:
-            for i in range(s):
+            for i in range(c + 1, s):
                 for j in range(c, s + m):
+                    M[i, j] = red(M[i, j], p, pinv)
+            rounds = 0
+    rounds = 0
+    for c in range(s - 1, 0, -1):  # back: column c of the triangle clears the right sides above it
+        for j in range(s, s + m):
+            M[c, j] = red(M[c, j], p, pinv)
+        for i in range(c):
+            g = M[i, c]  # reduced when row i was normalized; untouched since
+            if g != 0.0:
+                axpy(M, i, c, p - g, uint64(s), uint64(s + m))
+        rounds += 1
+        if rounds >= lazy:
+            for i in range(c):
+                for j in range(s, s + m):
                     M[i, j] = red(M[i, j], p, pinv)
             rounds = 0
     out = np.empty((s, m))

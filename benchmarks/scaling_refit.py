@@ -302,13 +302,17 @@ def main(argv=None):
             print(f"| {name} | {model} | {use[0]}-{use[-1]} | " + ", ".join(f"{p:.4g}" for p in params) + f" | {rms:.2e} | {cells} |")
 
     print("\nthe leading exponent g of a N^-g + b/N + c N^-2g fitted freely on N = fit-from..N_max, as N_max grows:")
-    for name, _, _z, sizes in probes[:3]:
+    for name, _, z, sizes in probes[:3]:
         use = [N for N in sizes if N >= args.fit_from]
         cells = []
         for k in range(5, len(use) + 1):  # at least five points for four parameters
             (g, *_), rms = fit_free_exponent(use[:k], [fitted[name][N] for N in use[:k]])
             cells.append(f"{use[k - 1]}: {g:.3f} ({rms:.1e})")
         print(f"  {name}: " + ", ".join(cells))
+        if z is not None and len(use) >= 5:  # the free fit on all of the exact range, extrapolated to the sampled N
+            (g, a, b, c), _ = fit_free_exponent(use, [fitted[name][N] for N in use])
+            pred = {N: a * N**-g + b / N + c * N ** (-2 * g) for N in SAMPLED[z]}
+            print(f"    g = {g:.3f} extrapolated: " + ", ".join(f"N={N} {(pred[N] - d) / e:+.1f} sigma" for N, (d, e) in SAMPLED[z].items()))
     print("\nout of sample: the three-term fit on N < N_max predicts N_max (relative error):")
     model = "a/N^(2/3) + b/N + c/N^(4/3)"
     for name, _, _z, sizes in probes[:3]:

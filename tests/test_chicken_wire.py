@@ -193,7 +193,8 @@ def test_entropy_plans_scale_and_refuse():
     assert closed_form_plan(2000).seconds > closed_form_plan(1000).seconds > closed_form_plan(50).seconds
     assert closed_form_plan(1000, maximum=True).seconds > closed_form_plan(1000).seconds
     assert isotropic_entropy_plan(Fraction(1, 6), 240).ticks == 1  # solved directly
-    assert isotropic_entropy_plan(Fraction(1, 61), 240).ticks == 2  # interpolated between two
+    assert isotropic_entropy_plan(Fraction(7, 61), 240).ticks == 2  # interpolated between two
+    assert "outside the fractions" in isotropic_entropy_plan(Fraction(1, 61), 240).refusal  # below 1/16: none
     assert isotropic_entropy_plan(None, 240).ticks == 2
     assert isotropic_entropy_plan(Fraction(1, 6), 480).seconds > isotropic_entropy_plan(Fraction(1, 6), 240).seconds
     for Q in (Fraction(0), Fraction(1, 3)):

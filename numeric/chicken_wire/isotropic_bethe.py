@@ -273,7 +273,10 @@ def isotropic_entropy_plan(Q: Fraction | float | None, L_max: int) -> Plan:
     if isinstance(Q, Fraction) and _direct(Q):
         denominators = [Q.denominator]
     elif Q is not None:
-        denominators = [f.denominator for f in bracketing_fractions(float(Q))]
+        try:
+            denominators = [f.denominator for f in bracketing_fractions(float(Q))]
+        except ArgumentError as exc:  # below 1/16 or above 5/16: no two fractions to interpolate between
+            return plan.refuse(str(exc))
     else:  # a density known only once phi is solved: any bracketing denominator up to 16 may come
         denominators = list(range(3, 17))
     short = [a for a in denominators if _widths(a, L_max) < 4]

@@ -1,0 +1,73 @@
+"""The derived numbers of the frontier (notes/data/lattice_columns.json, issue 26) against a fresh exact run.
+
+The exact lattice-direction columns are megabytes and stay out of the repository; the digest keeps
+25 correctly rounded digits of each and the SHA-256 of the exact file.  Here the smallest column is
+rebuilt by the command the digest names (the Pfaffian route, through ``benchmarks/scaling_refit.py``):
+same bytes, same digits.  The larger ones are checked for their shape only (their rebuild takes minutes
+to hours; the hash is what a rebuild is compared with).
+"""
+
+import hashlib
+import importlib.util
+import json
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+DIGEST = ROOT / "notes" / "data" / "lattice_columns.json"
+
+
+@pytest.fixture(scope="module")
+def refit():
+    spec = importlib.util.spec_from_file_location("forcenet_scaling_refit", ROOT / "benchmarks" / "scaling_refit.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.fixture(scope="module")
+def digest():
+    return json.loads(DIGEST.read_text())
+
+
+def test_the_smallest_column_rebuilds_to_the_same_bytes_and_digits(refit, digest, tmp_path, capsys):
+    N = min(int(k) for k in digest["columns"])
+    assert N <= 40  # seconds, not minutes
+    refit.write_lattice(N, str(tmp_path))
+    raw = (tmp_path / f"lattice_N{N}.json").read_bytes()
+    entry = digest["columns"][str(N)]
+    assert hashlib.sha256(raw).hexdigest() == entry["sha256"]
+    from fractions import Fraction
+
+    exact = [Fraction(x) for x in json.loads(raw)["W_i1"]]
+    assert entry["W_i1"] == [refit.decimal_text(x) for x in exact]
+    # the decimal is the correctly rounded value: within half a unit of its last digit
+    for x, text in zip(exact, entry["W_i1"]):
+        from decimal import Decimal
+
+        unit = Decimal(1).scaleb(Decimal(text).adjusted() - refit.DIGEST_DIGITS + 1)
+        assert abs(Fraction(Decimal(text)) - x) <= Fraction(unit) / 2
+
+
+def test_every_recorded_column_has_the_shape_of_a_lattice_direction(digest):
+    assert digest["format"] == 1 and digest["columns"]
+    for key, entry in digest["columns"].items():
+        N = int(key)
+        values = [float(x) for x in entry["W_i1"]]
+        assert len(values) == N and len(entry["sha256"]) == 64
+        assert values[0] == 1.0  # W_11 carries the whole overload
+        assert all(0 < v < 1 for v in values[1:])
+
+
+def test_recording_refuses_a_column_that_disagrees_with_its_record(refit, tmp_path, capsys):
+    out, digest_path = tmp_path / "out", tmp_path / "digest.json"
+    out.mkdir()
+    refit.write_lattice(8, str(out))
+    assert refit.record_digest(str(digest_path), str(out)) == [8]
+    assert refit.record_digest(str(digest_path), str(out)) == []  # the same bytes again: nothing new
+    data = json.loads((out / "lattice_N8.json").read_text())
+    data["W_i1"][3] = "1/3"
+    (out / "lattice_N8.json").write_text(json.dumps(data) + "\n")
+    with pytest.raises(SystemExit, match="two exact runs disagree"):
+        refit.record_digest(str(digest_path), str(out))

@@ -369,3 +369,56 @@ def test_dist_beyond_the_dp_gives_the_lattice_grain_law(cli):
     assert sum(Fraction(c) / (k + 1) for k, c in enumerate(piece["density"])) == 1  # a density on [0, 1]
     code, _, err = cli(["dist", "--N", "34", "--grain", "34,17"])
     assert code == 2 and "2..30" in err and "two-time" in err
+
+
+# ------------------------------------------------ the floor load's law from the Legendre ensemble (de Bruijn)
+
+
+def _floor_density_by_de_bruijn(N, j):
+    """Density of ``W_{N,j}`` from the floor's Vandermonde density alone (notes/fluctuations.md Sec. 5).
+
+    ``E[(W - w)_+] = int_0^(1-w) G(s, s + w) ds`` with ``G(s, t) = P(j - 1 floor points in [0, s],
+    none in (s, t])``, and ``G`` is ``[zeta^(j-1)]`` of de Bruijn's Pfaffian of
+    ``int int_{x<y} (x^i y^k - x^k y^i) phi(x) phi(y)``, ``phi = zeta 1[x <= s] + 1[x > t]``
+    (bordered by ``int x^i phi`` when ``n`` is odd), over its value at ``zeta = 1``, ``t = s``.
+    """
+    import sympy as sp
+
+    s, t, z, w, x, y = sp.symbols("s t zeta w x y")
+    n = N - 1
+
+    def pair(i, k):
+        f = x**i * y**k - x**k * y**i
+        low = sp.integrate(sp.integrate(f, (x, 0, y)), (y, 0, s))
+        split = sp.integrate(sp.integrate(f, (x, 0, s)), (y, t, 1))
+        high = sp.integrate(sp.integrate(f, (x, t, y)), (y, t, 1))
+        return sp.expand(z**2 * low + z * split + high)
+
+    def pfaffian(A):
+        if A.shape[0] == 0:
+            return sp.Integer(1)
+        rest = range(1, A.shape[0])
+        return sp.expand(sum((-1) ** (k + 1) * A[0, k] * pfaffian(A.extract([r for r in rest if r != k], [r for r in rest if r != k]))
+                             for k in rest))
+
+    size = n + n % 2
+    A = sp.zeros(size, size)
+    for i in range(n):
+        for k in range(i + 1, n):
+            A[i, k], A[k, i] = pair(i, k), -pair(i, k)
+        if n % 2:
+            border = sp.expand(z * sp.integrate(x**i, (x, 0, s)) + sp.integrate(x**i, (x, t, 1)))
+            A[i, n], A[n, i] = border, -border
+    P = pfaffian(A)
+    G = P.coeff(z, j - 1) / P.subs({z: 1, t: s})
+    F = sp.integrate(G.subs(t, s + w), (s, 0, 1 - w))
+    return sp.Poly(sp.expand(sp.diff(F, w, 2)), w)
+
+
+@pytest.mark.parametrize("N", [3, 4, 5])
+def test_a_floor_load_law_from_de_bruijn_equals_the_dp(N):
+    from forcenet.exact.triangle.distribution import density
+
+    for j in range(1, N + 1):
+        dp = density(N, (N, j))
+        assert _floor_density_by_de_bruijn(N, j).all_coeffs() == dp.all_coeffs()

@@ -70,6 +70,7 @@ __all__ = [
     "pool_gaps",
     "grain_pieces",
     "layer_pieces",
+    "layer_pieces_from_gaps",
     "Piece",
     "layer_force_density",
     "triangle_force_density",
@@ -539,7 +540,20 @@ def layer_pieces(N: int, i: int, var: sympy.Symbol = F_SYMBOL,
     >>> p[0].hi, F[0].poly.as_expr()
     (3, -f**2/9 + 2*f/3)
     """
-    pieces = as_pieces(layer_force_density(N, i, var, progress), (0, i))
+    return layer_pieces_from_gaps(pool_gaps(chain_pass("layer", check_layers(N), check_int(i, "i", 2, N), progress)), i, var)
+
+
+def layer_pieces_from_gaps(gaps: GapCounts, i: int, var: sympy.Symbol = F_SYMBOL) -> tuple[list[Piece], list[Piece]]:
+    """Layer ``i``'s ``P_i(f)``, ``f = i W``, and its CDF from the layer's pooled gap law, whatever route gave it.
+
+    Examples
+    --------
+    >>> from forcenet.exact.triangle.gaps import layer_gap_counts
+    >>> p, F = layer_pieces_from_gaps(pool_gaps(layer_gap_counts(3, 3)), 3)
+    >>> p[0].poly.as_expr()
+    2/3 - 2*f/9
+    """
+    pieces = as_pieces(_scaled(density_from_gaps(gaps, var), Fraction(1, check_int(i, "i", 2)), var), (0, i))
     return pieces, piecewise_cdf(pieces)
 
 

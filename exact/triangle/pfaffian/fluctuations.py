@@ -61,6 +61,7 @@ from ...modular import crt_many
 from ..staircase import count as product_count
 from .cost import STARTUP_SECONDS, edge_seconds
 from .route import count
+from .floor import floor_gap_laws, floor_plan
 from .tasks import route_primes, run_primes, workers_for
 from forcenet.core.errors import ArgumentError
 
@@ -432,13 +433,15 @@ def lattice_gap_laws_plan(N: int, memory_bytes: int | None = None, workers: int 
 
 
 def single_grain_route(N: int, grain: tuple[int, int], memory_bytes: int | None = None) -> tuple[str, Plan]:
-    """The faster exact route to one grain's gap law, and its plan: ``"pfaffian"`` or ``"ideals"``.
+    """The faster exact route to one grain's gap law, and its plan: ``"pfaffian"``, ``"floor"`` or ``"ideals"``.
 
     Lattice-direction grains ``(i, 1)``, ``(i, i)`` have both routes, the
     Pfaffian one (:func:`grain_gap_law`, ``N <= 128``) and the order-ideal
     DP (:func:`forcenet.exact.triangle.gaps.grain_gap_counts`, ``N <= 30``):
-    the faster runnable plan wins (the laws are equal, tested).  Interior
-    grains have only the DP: their gap is a two-time quantity
+    the faster runnable plan wins (the laws are equal, tested).  Floor loads
+    ``(N, j)`` have the DP and de Bruijn Pfaffians with a fugacity
+    (:func:`.floor.floor_gap_laws`, polynomial, two-dimensional).  Other
+    interior grains have only the DP: their gap is a two-time quantity
     (``notes/fluctuations.md`` Sec. 3).
 
     Parameters
@@ -465,7 +468,7 @@ def single_grain_route(N: int, grain: tuple[int, int], memory_bytes: int | None 
     --------
     >>> single_grain_route(64, (64, 1))[0], single_grain_route(12, (12, 6))[0]
     ('pfaffian', 'ideals')
-    >>> single_grain_route(40, (40, 20))[1].refusal  # doctest: +ELLIPSIS
+    >>> single_grain_route(40, (39, 20))[1].refusal  # doctest: +ELLIPSIS
     'N=40 is out of range for exact gap laws: N must be an integer in 2..30 (the order-ideal DP, ...'
     """
     from ..gaps import gap_laws_plan
@@ -474,12 +477,18 @@ def single_grain_route(N: int, grain: tuple[int, int], memory_bytes: int | None 
     i, j = check_grain(N, grain)
     what = f"exact density of W_({i},{j}) N={N}"
     ideals = gap_laws_plan(N, 1, memory_bytes, what=f"{what} (order ideals)")
+    if i == N and 1 < j < N:  # a floor load: the DP or de Bruijn Pfaffians with a fugacity (every floor load at once)
+        floor = replace(floor_plan(N, True, memory_bytes), what=f"{what} (de Bruijn Pfaffians, every floor load)")
+        if ideals.runnable and (not floor.runnable or ideals.seconds <= floor.seconds):
+            return "ideals", ideals
+        return "floor", floor
     if i == 1 or j not in (1, i):
         if ideals.runnable:
             return "ideals", ideals
         return "ideals", Plan(what, 0, refusal=f"{ideals.refusal} (the order-ideal DP, the one route to an interior "
                                                 f"grain: its gap is a two-time quantity, notes/fluctuations.md Sec. 3); "
-                                                f"the lattice-direction grains (i, 1), (i, i) reach N = {MAX_LAW_N} by Pfaffians")
+                                                f"the lattice-direction grains (i, 1), (i, i) and the floor (N, j) reach "
+                                                f"N = {MAX_LAW_N} by Pfaffians")
     pfaffian = replace(lattice_gap_laws_plan(N, memory_bytes, layers=1), what=f"{what} (Pfaffians)")
     if ideals.runnable and (not pfaffian.runnable or ideals.seconds <= pfaffian.seconds):
         return "ideals", ideals
@@ -520,4 +529,7 @@ def single_grain_gap_law(N: int, grain: tuple[int, int], route: str, progress: C
         return grain_gap_counts(N, grain, progress)
     if route == "pfaffian":
         return grain_gap_law(N, grain, progress=progress)
-    raise ArgumentError(f"route={route!r} is not a route: it must be 'pfaffian' or 'ideals'")
+    if route == "floor" and grain[0] == N:
+        return floor_gap_laws(N, progress=progress)[grain[1]]
+    raise ArgumentError(f"route={route!r} is not a route to grain {tuple(grain)!r}: it must be 'pfaffian', 'ideals' "
+                        f"or, for a floor load (N, j), 'floor'")

@@ -5,6 +5,7 @@ Examples (shell)::
     forcenet dist --N 12 --grain 12,6 --format json            # density and CDF of W_{12,6}, "p/q" coefficients
     forcenet dist --N 12 --grain 6,3 --contact F5 --grid 10     # a contact force (units of 2/sqrt3), on a grid
     forcenet dist --N 12 --layer 12 --format csv                # P(f) of the floor, f = N W
+    forcenet dist --N 40 --layer 40 --grid 50                   # the floor beyond the DP: de Bruijn Pfaffians
     forcenet dist --N 16 --ensemble --plot out.png              # exact P(f) against exact-sampler and Metropolis histograms
 """
 
@@ -67,6 +68,7 @@ def _compute(args, what, tick=None):
     """Exact objects: (title, variable, pieces of the density, pieces of the CDF, extra fields)."""
     from forcenet.exact.triangle import distribution as D
     from forcenet.exact.triangle.gaps import contact_gap_law
+    from forcenet.exact.triangle.pfaffian.floor import layer_gap_law
     from forcenet.exact.triangle.pfaffian.fluctuations import single_grain_gap_law
 
     N = args.N
@@ -78,7 +80,8 @@ def _compute(args, what, tick=None):
         return (name, "w", *D.grain_pieces(gaps), extra)
     if what[0] == "layer":
         i = what[1]
-        return (f"P(f), f = {i} W_{{{i},j}} (layer {i})", "f", *D.layer_pieces(N, i, progress=tick), {})
+        gaps = layer_gap_law(N, i, what[2], tick)
+        return (f"P(f), f = {i} W_{{{i},j}} (layer {i})", "f", *D.layer_pieces_from_gaps(gaps, i), {})
     pieces = D.triangle_force_density(N, progress=tick)
     return "P(f), f = i W_{i,j} over layers 2..N (ensemble)", "f", pieces, D.piecewise_cdf(pieces), {}
 
@@ -156,6 +159,7 @@ def _plot_plan(args):
 
 def cmd_dist(args):
     from forcenet.exact.triangle.distribution import distribution_plan
+    from forcenet.exact.triangle.pfaffian.floor import layer_route
     from forcenet.exact.triangle.pfaffian.fluctuations import single_grain_route
 
     N = args.N
@@ -173,6 +177,10 @@ def cmd_dist(args):
     memory = available_memory()
     if what[0] == "grain" and what[2] is None:  # a grain's W: the faster of the DP and, on a lattice direction, Pfaffians
         route, plan = single_grain_route(N, what[1], memory)
+        what = (*what, route)
+        plans = [plan]
+    elif what[0] == "layer":  # the floor: the faster of the DP and de Bruijn Pfaffians; other layers: the DP
+        route, plan = layer_route(N, what[1], memory)
         what = (*what, route)
         plans = [plan]
     else:
@@ -247,8 +255,8 @@ def _figure(args, what, pieces, tick):
 def register(sub):
     p = sub.add_parser("dist", help="exact force distributions: density and CDF of a grain or contact, pooled P(f)")
     add_layers(p, _MAX_LAYERS, help_text=f"number of layers (2..{_MAX_LAYERS}: a lattice-direction grain --grain i,1 or i,i "
-                                          f"by Pfaffians; everything else 2..{_MAX_DP_LAYERS}, one pass over the 2^(N-1) "
-                                          "ideals per layer)")
+                                          f"and the floor (--layer N, --grain N,j) by Pfaffians; everything else "
+                                          f"2..{_MAX_DP_LAYERS}, one pass over the 2^(N-1) ideals per layer)")
     which = p.add_mutually_exclusive_group(required=True)
     which.add_argument("--grain", type=_grain, help="i,j: the density of W_ij (or of its contact force with --contact)")
     which.add_argument("--layer", type=integer("layer", 2), help="P(f) of layer i, f = i W_ij pooled over j (2..N)")

@@ -1,0 +1,541 @@
+"""The floor's exact load laws from its Legendre ensemble: de Bruijn Pfaffians on a grid, in polynomial time.
+
+``notes/fluctuations.md`` Sec. 5 has the derivation.  The free partial sums
+``v_1 < ... < v_n`` of the floor (``n = N - 1``) have the density
+``prod_{a<b} (v_b - v_a)`` on ``[0, 1]``: a beta = 1 Legendre ensemble.  With
+``v_0 = 0``, ``v_N = 1`` the floor loads are its spacings,
+``W_{N,j} = v_j - v_{j-1}``, and
+
+    sum_j E[(W_{N,j} - w)_+] = Integral_0^(1-w) E(s, s + w) ds,          (1)
+
+``E(s, t) = P(no point in (s, t))``: the set of ``s`` with ``(s, s + w)``
+inside the ``j``-th gap has length ``(W_{N,j} - w)_+``.  Marking the points
+below ``s`` with ``zeta`` splits (1) by grain: the coefficient of
+``zeta^(j-1)`` is ``E[(W_{N,j} - w)_+]``.  By de Bruijn (1955), ``E`` is a
+Pfaffian whose entries are explicit polynomials in ``s``, ``t`` and ``zeta``:
+
+    a_kl = c_kl (zeta^2 s^e + 1 - t^e) + mu_k rho_l - mu_l rho_k,   e = k + l + 2,
+    c_kl = (l - k) / ((k+1)(l+1)(k+l+2)),  rho_k = (1 - t^(k+1)) / (k+1),  mu_k = (zeta s^(k+1) - 1) / (k+1),
+
+``k, l = 0..n-1``, bordered by ``m_k = (zeta s^(k+1) + 1 - t^(k+1)) / (k+1)``
+when ``n`` is odd, divided by the same Pfaffian at ``s = t``.  Both sides of
+(1) are polynomials (``E`` of total degree ``<= d``, (1) of degree
+``d + 1`` in ``w``), so (1) holds modulo a prime at any residues: the route
+evaluates the Pfaffian at the ``(d + 1)(d + 3)`` nodes ``u = 0..d``,
+``w = 0..d+2`` (``s = (1 - w) u``), integrates in ``u`` by exact quadrature
+weights, recovers (1) as a polynomial in ``w`` by forward differences (the
+extra node checks its degree), and its second derivative, the pooled
+density ``sum_g x_g Beta(g, d+1-g)``, in the Bernstein basis gives the gap
+law ``count x_g``.  Chinese remainders (bound ``N count``) make it exact;
+the total mass ``N count`` and the mean ``sum_g g c_g = (d + 1) count`` are
+checked exactly.
+
+Cost per prime: ``(d + 1)(d + 3)`` Pfaffians of order ``n`` (``~ n^3/3``
+multiply-adds each, lazily reduced) per value of ``zeta``: ``O(n^7)``; one
+value for the pooled law, ``n + 1`` for every grain's law.  The
+two-dimensional grid is the price of a two-time quantity
+(``notes/fluctuations.md`` Sec. 4: no evaluate-and-combine route needs fewer
+than ``~ d^2/8`` nodes).
+
+May import: :mod:`forcenet.core.validation`, :mod:`forcenet.core.plan`,
+:mod:`forcenet.core.errors`, :mod:`forcenet.exact.modular`,
+:mod:`forcenet.exact.triangle.gaps`, :mod:`forcenet.exact.triangle.distribution` (``pool_gaps``),
+:mod:`forcenet.exact.checkpoints`, :mod:`forcenet.exact.triangle.staircase` and its own package.
+
+Examples
+--------
+>>> law = floor_pooled_gap_law(4)  # the four floor loads of N = 4, pooled
+>>> law.counts, law.total
+((0, 4, 2, 2, 0, 0, 0, 0), 8)
+>>> floor_gap_laws(4)[2].counts  # W_{4,2}: the rank gap is 2 or 3
+(0, 0, 1, 1, 0, 0, 0, 0)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from concurrent.futures import Executor
+from dataclasses import replace
+from math import ceil, log2
+from os import PathLike
+from typing import Any
+
+import numpy as np
+from numba import njit
+
+from forcenet.core.errors import ArgumentError
+from forcenet.core.plan import Plan
+from forcenet.core.validation import check_int, check_layers
+from ...checkpoints import CheckpointStore
+from ...modular import crt_many, primes_for_bound
+from ..distribution import pool_gaps
+from ..gaps import GapCounts, gap_laws_plan, layer_gap_counts
+from ..staircase import count, dimension
+from .cost import STARTUP_SECONDS
+from .kernels import pfaffian_mod
+from .residues import JIT, inv_mod, lred, red
+from .tasks import checkpoint_store, run_primes, workers_for
+
+__all__ = ["MAX_FLOOR_N", "floor_primes", "floor_prime_residues", "floor_pooled_gap_law", "floor_gap_laws",
+           "floor_plan", "floor_prime_seconds", "layer_route", "layer_gap_law"]
+
+MAX_FLOOR_N = 128  # the lazy Pfaffian's bound below needs order <= 128
+FLOOR_PRIME_LIMIT = 2**22  # lazy elimination: p + 64 * 2 p^2 < 2^53 for every p below it, order <= 128
+# CPU seconds per multiply-add of the Pfaffians (n^3/3 per node and zeta value) and per n^2 of the entries (the
+# fill): measured on 2026-11-26 on the 2-core machine, compiled kernels timed alone at N = 36 and 40 (0.45 and
+# 0.42 ns per multiply-add; 4.2 and 5.2 us per fill), its background job running.
+_SECONDS_PER_FMA = 4.5e-10
+_SECONDS_PER_ENTRY = 3.5e-9
+
+
+# ------------------------------------------------------------------ compiled kernels
+
+
+@njit(**JIT)
+def _pfaffian_lazy(A, size, p, pinv):
+    """Pfaffian of the skew matrix whose upper triangle is ``A``, modulo ``p < 2^22``, ``size <= 128``.
+
+    The entries may start unreduced, ``0 <= A < 3 p^2`` (:func:`_fill`).  No
+    pivoting: ``(value, False)`` if a pivot ``A[k, k+1]`` vanishes (the caller
+    falls back to :func:`~.kernels.pfaffian_mod`).  Only ``j > i`` is kept and
+    updated; an entry is reduced only when its row becomes a pivot row, and
+    the multipliers only to ``(-p, 2p)`` (:func:`~.residues.lred`), so it
+    changes by less than ``4 p^2`` per step over at most ``size/2 <= 64``
+    steps: ``|A| < 3 p^2 + 256 p^2 < 2^52.1``, exact.
+    """
+    result = 1.0
+    for k in range(0, size, 2):
+        for j in range(k + 1, size):
+            A[k, j] = red(A[k, j], p, pinv)
+        for j in range(k + 2, size):
+            A[k + 1, j] = red(A[k + 1, j], p, pinv)
+        a = A[k, k + 1]
+        if a == 0.0:
+            return 0.0, False
+        result = red(result * a, p, pinv)
+        ainv = inv_mod(a, p, pinv)
+        for i in range(k + 2, size):
+            f0 = lred((p - A[k, i]) * ainv, p, pinv)  # A[i, k] / a
+            g1 = lred(A[k + 1, i] * ainv, p, pinv)  # -A[i, k+1] / a
+            for j in range(i + 1, size):
+                A[i, j] += f0 * A[k + 1, j] + g1 * A[k, j]
+    return result, True
+
+
+@njit(**JIT)
+def _fill(A, n, size, s, t, zeta, C, iota, sp, tp, p, pinv, full):
+    """The de Bruijn matrix at ``(s, t, zeta)`` (module docstring): the upper triangle unreduced (``< 3 p^2``), or
+    both halves reduced if ``full``."""
+    sp[0] = 1.0
+    tp[0] = 1.0
+    for e in range(1, 2 * n + 1):
+        sp[e] = red(sp[e - 1] * s, p, pinv)
+        tp[e] = red(tp[e - 1] * t, p, pinv)
+    z2 = red(zeta * zeta, p, pinv)
+    D = np.empty(2 * n + 1)
+    for e in range(2, 2 * n + 1):
+        D[e] = red(z2 * sp[e] + 1.0 + p - tp[e], p, pinv)
+    rho = np.empty(n)
+    mu = np.empty(n)
+    nmu = np.empty(n)
+    for k in range(n):
+        rho[k] = red((1.0 + p - tp[k + 1]) * iota[k], p, pinv)
+        mu[k] = red((red(zeta * sp[k + 1], p, pinv) + p - 1.0) * iota[k], p, pinv)
+        nmu[k] = p - mu[k]
+    for k in range(n):
+        for m in range(k + 1, n):
+            A[k, m] = C[k, m] * D[k + m + 2] + mu[k] * rho[m] + nmu[m] * rho[k]
+        if size > n:
+            A[k, n] = red(mu[k] + iota[k] + rho[k], p, pinv)  # zeta s^(k+1)/(k+1) + rho_k
+    if full:
+        for k in range(size):
+            A[k, k] = 0.0
+            for m in range(k + 1, size):
+                A[k, m] = red(A[k, m], p, pinv)
+                A[m, k] = red(p - A[k, m], p, pinv)
+
+
+@njit(**JIT)
+def _grid(n, d, p, zetas, lam, C, iota):
+    """``(1 - w) sum_u lam_u Pf(s = (1 - w) u, t = s + w, zeta)`` for ``w = 0..d+2`` and every ``zeta``, mod ``p``."""
+    pinv = 1.0 / p
+    size = n + (n % 2)
+    A = np.zeros((size, size))
+    sp = np.empty(2 * n + 1)
+    tp = np.empty(2 * n + 1)
+    out = np.zeros((d + 3, zetas.shape[0]))
+    failures = 0
+    for a in range(d + 3):
+        w = float(a)
+        one_w = red(1.0 + p - w, p, pinv)
+        for b in range(d + 1):
+            s = red(one_w * b, p, pinv)
+            t = red(s + w, p, pinv)
+            for z in range(zetas.shape[0]):
+                _fill(A, n, size, s, t, zetas[z], C, iota, sp, tp, p, pinv, False)
+                value, ok = _pfaffian_lazy(A, size, p, pinv)
+                if not ok:
+                    failures += 1
+                    _fill(A, n, size, s, t, zetas[z], C, iota, sp, tp, p, pinv, True)
+                    value = pfaffian_mod(A, p)
+                out[a, z] = red(out[a, z] + lam[b] * value, p, pinv)
+        for z in range(zetas.shape[0]):
+            out[a, z] = red(out[a, z] * one_w, p, pinv)
+    return out, failures
+
+
+@njit(**JIT)
+def _quadrature_weights(d, p):
+    """``lam_b`` with ``sum_b lam_b P(b) = Integral_0^1 P`` for every polynomial of degree ``<= d`` (nodes ``0..d``)."""
+    pinv = 1.0 / p
+    W = np.zeros(d + 2)  # prod_{c=0}^{d} (u - c), constant term first
+    W[0] = 1.0
+    for c in range(d + 1):
+        for k in range(c + 1, 0, -1):
+            W[k] = red(W[k - 1] + (p - c) * W[k], p, pinv)
+        W[0] = red((p - c) * W[0], p, pinv)
+    inv = np.empty(d + 2)
+    for k in range(1, d + 2):
+        inv[k] = inv_mod(float(k), p, pinv)
+    fact = np.empty(d + 1)
+    fact[0] = 1.0
+    for k in range(1, d + 1):
+        fact[k] = red(fact[k - 1] * k, p, pinv)
+    lam = np.empty(d + 1)
+    q = np.empty(d + 1)
+    for b in range(d + 1):
+        q[d] = W[d + 1]  # W / (u - b) by synthetic division
+        for k in range(d, 0, -1):
+            q[k - 1] = red(W[k] + b * q[k], p, pinv)
+        integral = 0.0
+        for k in range(d + 1):
+            integral = red(integral + q[k] * inv[k + 1], p, pinv)
+        denom = red(fact[b] * fact[d - b], p, pinv)  # |prod_{c != b} (b - c)|
+        lam[b] = red(integral * inv_mod(denom, p, pinv), p, pinv)
+        if (d - b) % 2 == 1 and lam[b] != 0.0:
+            lam[b] = p - lam[b]
+    return lam
+
+
+@njit(**JIT)
+def _monomials(values, p):
+    """Monomial coefficients of the polynomial through ``(a, values[a])``, ``a = 0..k``, by forward differences."""
+    pinv = 1.0 / p
+    k = values.shape[0] - 1
+    diff = values.copy()
+    for r in range(1, k + 1):  # diff[r] = Delta^r f(0)
+        for a in range(k, r - 1, -1):
+            diff[a] = red(diff[a] - diff[a - 1] + p, p, pinv)
+    coef = np.zeros(k + 1)
+    basis = np.zeros(k + 1)  # binom(w, r), constant term first
+    basis[0] = 1.0
+    coef[0] = diff[0]
+    for r in range(1, k + 1):
+        ir = inv_mod(float(r), p, pinv)
+        for m in range(r, 0, -1):  # basis *= (w - r + 1) / r
+            basis[m] = red(red(basis[m - 1] + (p - (r - 1)) * basis[m], p, pinv) * ir, p, pinv)
+        basis[0] = red(red((p - (r - 1)) * basis[0], p, pinv) * ir, p, pinv)
+        for m in range(r + 1):
+            coef[m] = red(coef[m] + diff[r] * basis[m], p, pinv)
+    return coef
+
+
+@njit(**JIT)
+def _gap_residues(J, d, total_mod, p):
+    """``count x_g`` mod ``p`` from the values of (1) at ``w = 0..d+2``; ``-1`` in slot 0 if the degree exceeds ``d + 1``."""
+    pinv = 1.0 / p
+    coef = _monomials(J, p)
+    out = np.zeros(d + 2)
+    if coef[d + 2] != 0.0:
+        out[0] = -1.0
+        return out
+    fact = np.empty(d + 1)
+    fact[0] = 1.0
+    for k in range(1, d + 1):
+        fact[k] = red(fact[k - 1] * k, p, pinv)
+    ifact = np.empty(d + 1)
+    for k in range(d + 1):
+        ifact[k] = inv_mod(fact[k], p, pinv)
+    delta = np.empty(d)  # the density (second derivative), monomials
+    for k in range(d):
+        delta[k] = red(coef[k + 2] * red(float((k + 1) * (k + 2)), p, pinv), p, pinv)
+    scale = red(total_mod * inv_mod(float(d), p, pinv), p, pinv)  # count / d
+    for k in range(d):  # Bernstein: beta_k = sum_i C(k, i) / C(d-1, i) delta_i, gap k + 1
+        acc = 0.0
+        for i in range(k + 1):
+            # C(k, i) / C(d-1, i) = k! (d-1-i)! / ((k-i)! (d-1)!)
+            ratio = red(red(fact[k] * ifact[k - i], p, pinv) * red(fact[d - 1 - i] * ifact[d - 1], p, pinv), p, pinv)
+            acc = red(acc + ratio * delta[i], p, pinv)
+        out[k + 1] = red(acc * scale, p, pinv)
+    return out
+
+
+# ------------------------------------------------------------------ one prime
+
+
+def _constants(n: int, p: int) -> tuple[np.ndarray, np.ndarray]:
+    iota = np.array([pow(k + 1, p - 2, p) for k in range(n)], dtype=np.float64)
+    C = np.zeros((n, n))
+    for k in range(n):
+        for m in range(n):
+            C[k, m] = (m - k) % p * pow((k + 1) * (m + 1) * (k + m + 2), p - 2, p) % p
+    return C, iota
+
+
+def _zeta_coefficients(values: np.ndarray, p: int) -> np.ndarray:
+    """Rows: the coefficients in ``zeta`` (through ``zeta = 0..n``) of each row of values."""
+    return np.array([_monomials(row, p) for row in values])
+
+
+def floor_prime_residues(N: int, p: int, grains: bool = False) -> np.ndarray:
+    """The floor's gap counts modulo one prime: pooled (one row) or of every grain ``j = 1..N`` (``N`` rows).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``2..128``.
+    p : int
+        A prime of the route (:func:`floor_primes`).
+    grains : bool
+        Every grain's law (``n + 1`` values of ``zeta``) instead of the pooled one (``zeta = 1``).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``int64``, shape ``(rows, d + 2)``: ``counts[g]`` modulo ``p``.
+
+    Raises
+    ------
+    ArithmeticError
+        If the recovered polynomial (1) has a degree above ``d + 1`` (it never has), or the normalization vanishes.
+
+    Examples
+    --------
+    >>> floor_prime_residues(3, 4194301).tolist()
+    [[0, 2, 1, 0, 0]]
+    """
+    N = check_layers(N, maximum=MAX_FLOOR_N)
+    n, d = N - 1, dimension(N)
+    C, iota = _constants(n, p)
+    zetas = np.arange(n + 1, dtype=np.float64) if grains else np.ones(1)
+    lam = _quadrature_weights(d, p)
+    size = n + (n % 2)
+    A = np.zeros((size, size))
+    _fill(A, n, size, 0.0, 0.0, 1.0, C, iota, np.empty(2 * n + 1), np.empty(2 * n + 1), p, 1.0 / p, True)
+    Z = int(pfaffian_mod(A, p))
+    if Z == 0:
+        raise ArithmeticError(f"the floor's normalization vanishes modulo p={p}")
+    values, _failures = _grid(n, d, p, zetas, lam, C, iota)
+    values = values * float(pow(Z, p - 2, p)) % p
+    rows = _zeta_coefficients(values, p).T if grains else values.T  # rows: grain j = k + 1, or the pool
+    total_mod = float(count(N) % p)
+    out = np.empty((rows.shape[0], d + 2), dtype=np.int64)
+    for r, J in enumerate(rows):
+        g = _gap_residues(np.ascontiguousarray(J), d, total_mod, p)
+        if g[0] < 0:
+            raise ArithmeticError(f"the floor's integral (1) has degree above d + 1 modulo p={p}")
+        out[r] = g.astype(np.int64)
+    return out
+
+
+# ------------------------------------------------------------------ exact laws
+
+
+def floor_primes(N: int) -> tuple[int, ...]:
+    """The primes of the floor route: below ``2^22``, above ``max(2N + 3, d + 3)``, product above ``N count(N)``.
+
+    Examples
+    --------
+    >>> floor_primes(5)
+    (4194301,)
+    """
+    N = check_layers(N, maximum=MAX_FLOOR_N)
+    return primes_for_bound(N * count(N), limit=FLOOR_PRIME_LIMIT, smallest=max(2 * N + 3, dimension(N) + 3))
+
+
+def _laws(N: int, grains: bool, workers: int | None, progress: Callable[..., Any] | None,
+          executor: Executor | None, checkpoint: str | PathLike | CheckpointStore | None) -> list[GapCounts]:
+    d, total = dimension(N), count(N)
+    primes = floor_primes(N)
+    store = checkpoint_store(checkpoint, "floor-grains" if grains else "floor", N)
+    nworkers = workers_for(workers, len(primes), floor_prime_seconds(N, grains) * len(primes), executor)
+    residues = run_primes(floor_prime_residues, [(N, p, grains) for p in primes], executor, nworkers, progress, store)
+    rows = residues[0].shape[0]
+    laws = []
+    for r in range(rows):
+        counts = crt_many([[int(res[r, g]) for res in residues] for g in range(d + 2)], primes)
+        mass = total * (N if not grains else 1)
+        if counts[0] or counts[d + 1] or sum(counts) != mass or any(c > mass for c in counts):
+            raise ArithmeticError(f"the floor's reconstructed gap law {r} breaks the exact checks (mass {mass})")
+        laws.append(GapCounts(tuple(counts), mass, d))
+    mean = sum(g * c for law in laws for g, c in enumerate(law.counts))
+    if mean != (d + 1) * total:  # sum_j E[g_j] = d + 1: the N loads sum to 1
+        raise ArithmeticError("the floor's reconstructed gap laws do not sum to the overload")
+    return laws
+
+
+def floor_pooled_gap_law(N: int, *, workers: int | None = None, progress: Callable[..., Any] | None = None,
+                         executor: Executor | None = None,
+                         checkpoint: str | PathLike | CheckpointStore | None = None) -> GapCounts:
+    """Exact rank-gap law of the floor's ``N`` loads ``W_{N,1..N}``, pooled, by de Bruijn Pfaffians (module docstring).
+
+    Equal to ``pool_gaps(layer_gap_counts(N, N))`` of the order-ideal DP
+    (tested), which stops near N = 22; this route is polynomial (``O(n^7)``
+    per prime, :func:`floor_plan`).  The pooled density, its CDF and moments
+    follow from :mod:`forcenet.exact.triangle.distribution`
+    (``density_from_gaps``; ``f = N W`` for the floor's ``P(f)``).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``2..128``.
+    workers : int, optional
+        Local worker processes (default: the available cores when the run is long enough).
+    progress : callable, optional
+        ``progress(1)`` after each prime.
+    executor : concurrent.futures.Executor or dask Client, optional
+        Where the per-prime tasks run (:func:`forcenet.exact.execution.run_tasks`).
+    checkpoint : path or CheckpointStore, optional
+        Keep every finished prime there; a rerun reuses them.
+
+    Returns
+    -------
+    GapCounts
+        ``counts[g] = sum_j #{tableaux with gap g at W_{N,j}}``, ``total = N count(N)``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is out of range.
+
+    Examples
+    --------
+    >>> from forcenet.exact.triangle.distribution import moment_from_gaps
+    >>> moment_from_gaps(floor_pooled_gap_law(5), 2)  # <W^2> over the floor of N = 5
+    Fraction(127, 1980)
+    """
+    N = check_layers(N, maximum=MAX_FLOOR_N)
+    return _laws(N, False, workers, progress, executor, checkpoint)[0]
+
+
+def floor_gap_laws(N: int, *, workers: int | None = None, progress: Callable[..., Any] | None = None,
+                   executor: Executor | None = None,
+                   checkpoint: str | PathLike | CheckpointStore | None = None) -> dict[int, GapCounts]:
+    """Exact rank-gap law of every floor load ``W_{N,j}``, ``j = 1..N``, by de Bruijn Pfaffians with a fugacity.
+
+    The pooled route (:func:`floor_pooled_gap_law`) at ``zeta = 0..n``: ``n + 1``
+    times its cost.  Parameters as there.
+
+    Returns
+    -------
+    dict
+        ``{j: GapCounts}``, ``total = count(N)``.
+
+    Examples
+    --------
+    >>> laws = floor_gap_laws(5)
+    >>> laws[1].counts[:3], laws[1] == laws[5]  # the corner is Beta(1, d); the mirror symmetry
+    ((0, 12, 0), True)
+    """
+    N = check_layers(N, maximum=MAX_FLOOR_N)
+    laws = _laws(N, True, workers, progress, executor, checkpoint)
+    return {j: law for j, law in enumerate(laws, start=1)}
+
+
+def floor_prime_seconds(N: int, grains: bool = False) -> float:
+    """CPU seconds of one prime of the floor route on the reference machine.
+
+    Examples
+    --------
+    >>> floor_prime_seconds(40, grains=True) > 30 * floor_prime_seconds(40)
+    True
+    """
+    n, d = N - 1, dimension(N)
+    nodes = (d + 1) * (d + 3) * ((n + 1) if grains else 1)
+    size = n + n % 2
+    return nodes * (_SECONDS_PER_FMA * size**3 / 3 + _SECONDS_PER_ENTRY * n * n)
+
+
+def floor_plan(N: int, grains: bool = False, memory_bytes: int | None = None, workers: int | None = None) -> Plan:
+    """The cost of :func:`floor_pooled_gap_law` (or :func:`floor_gap_laws`), one tick per prime.
+
+    Examples
+    --------
+    >>> plan = floor_plan(40)
+    >>> plan.runnable, plan.unit, plan.ticks
+    (True, 'prime', 109)
+    >>> floor_plan(200).refusal
+    'N=200 is out of range for the floor route: N must be an integer in 2..128'
+    """
+    N = check_layers(N)
+    what = f"the floor's {'gap laws' if grains else 'pooled gap law'} N={N} (de Bruijn Pfaffians)"
+    if N > MAX_FLOOR_N:
+        return Plan(what, 0, refusal=f"N={N} is out of range for the floor route: N must be an integer in 2..{MAX_FLOOR_N}")
+    nprimes = ceil((N * count(N)).bit_length() / log2(FLOOR_PRIME_LIMIT * 0.99))
+    cpu = floor_prime_seconds(N, grains) * nprimes
+    nworkers = workers_for(workers, nprimes, cpu)
+    d = dimension(N)
+    per_worker = 8 * (d + 3) * (N + 1) * 4 + 160 * 2**20
+    return Plan(what, STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers, nworkers * per_worker, nprimes,
+                "prime").within_memory(memory_bytes)
+
+
+
+def layer_route(N: int, i: int, memory_bytes: int | None = None) -> tuple[str, Plan]:
+    """The faster exact route to layer ``i``'s pooled gap law, and its plan: ``"floor"`` or ``"ideals"``.
+
+    The floor (``i = N``) has two routes, :func:`floor_pooled_gap_law`
+    (``N <= 128``) and the order-ideal DP (``N <= 30``, memory permitting):
+    the faster runnable plan wins (the laws are equal, tested).  The other
+    layers have only the DP.
+
+    Parameters
+    ----------
+    N, i : int
+        Number of layers ``2..128`` and the layer ``2..N``.
+    memory_bytes : int, optional
+        Memory available to the run.
+
+    Returns
+    -------
+    (str, Plan)
+        The route's name and its plan (refused, naming both reaches, when none can run).
+
+    Examples
+    --------
+    >>> layer_route(40, 40)[0], layer_route(12, 12)[0]
+    ('floor', 'ideals')
+    >>> layer_route(40, 20)[1].refusal  # doctest: +ELLIPSIS
+    'N=40 is out of range for exact gap laws: N must be an integer in 2..30 (the order-ideal DP, ...'
+    """
+    N = check_layers(N, maximum=MAX_FLOOR_N)
+    i = check_int(i, "i", 2, N)
+    what = f"exact P(f) of layer {i} N={N}"
+    ideals = gap_laws_plan(N, 1, memory_bytes, what=f"{what} (order ideals)")
+    if i != N:
+        if ideals.runnable:
+            return "ideals", ideals
+        return "ideals", Plan(what, 0, refusal=f"{ideals.refusal} (the order-ideal DP, the one route to a layer above "
+                                                f"the floor); the floor, layer N, reaches N = {MAX_FLOOR_N} by de Bruijn Pfaffians")
+    floor = replace(floor_plan(N, False, memory_bytes), what=f"{what} (de Bruijn Pfaffians)")
+    if ideals.runnable and (not floor.runnable or ideals.seconds <= floor.seconds):
+        return "ideals", ideals
+    return "floor", floor
+
+
+def layer_gap_law(N: int, i: int, route: str, progress: Callable[..., Any] | None = None) -> GapCounts:
+    """Layer ``i``'s pooled gap law by the route :func:`layer_route` chose.
+
+    Examples
+    --------
+    >>> layer_gap_law(7, 7, "floor") == layer_gap_law(7, 7, "ideals")
+    True
+    """
+    N = check_layers(N, maximum=MAX_FLOOR_N)
+    i = check_int(i, "i", 2, N)
+    if route == "ideals":
+        return pool_gaps(layer_gap_counts(N, i, progress))
+    if route == "floor" and i == N:
+        return floor_pooled_gap_law(N, progress=progress)
+    raise ArgumentError(f"route={route!r} is out of range for layer {i}: it must be 'ideals', or 'floor' for the "
+                        f"floor (layer {N})")

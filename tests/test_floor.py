@@ -1,0 +1,119 @@
+"""The floor's load laws by de Bruijn Pfaffians (exact/triangle/pfaffian/floor.py) against the order-ideal DP.
+
+Two routes: the DP counts tableaux level by level over the order ideals; the
+Pfaffian route integrates the Legendre ensemble's gap probability over a grid
+of (s, w) nodes modulo word-size primes.  They share nothing but the count.
+"""
+
+import json
+from concurrent.futures import ThreadPoolExecutor
+from fractions import Fraction
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from forcenet.core.errors import ArgumentError
+from forcenet.exact.triangle.distribution import layer_pieces, layer_pieces_from_gaps, moment_from_gaps, pool_gaps
+from forcenet.exact.triangle.gaps import layer_gap_counts
+from forcenet.exact.triangle.pfaffian.floor import (
+    MAX_FLOOR_N,
+    floor_gap_laws,
+    floor_plan,
+    floor_pooled_gap_law,
+    floor_prime_residues,
+    floor_primes,
+    layer_gap_law,
+    layer_route,
+)
+from forcenet.exact.triangle.pfaffian.fluctuations import single_grain_gap_law, single_grain_route
+from forcenet.exact.triangle.staircase import count, dimension
+
+
+@settings(max_examples=8)
+@given(st.integers(2, 10))
+def test_pooled_floor_law_equals_the_dp(N):
+    assert floor_pooled_gap_law(N, workers=1) == pool_gaps(layer_gap_counts(N, N))
+
+
+@settings(max_examples=6)
+@given(st.integers(2, 9))
+def test_every_floor_load_law_equals_the_dp(N):
+    laws = floor_gap_laws(N, workers=1)
+    assert sorted(laws) == list(range(1, N + 1))
+    assert [laws[j] for j in range(1, N + 1)] == list(layer_gap_counts(N, N))
+
+
+def test_the_fugacity_route_sums_to_the_pooled_route_beyond_the_fast_dp():
+    """N = 13: zeta = 0..n interpolated against zeta = 1 alone, and the exact structure of the floor."""
+    N = 13
+    laws = floor_gap_laws(N, workers=1)
+    assert pool_gaps(laws[j] for j in range(1, N + 1)) == floor_pooled_gap_law(N, workers=1)
+    d = dimension(N)
+    assert all(laws[j] == laws[N + 1 - j] for j in range(1, N + 1))  # the mirror symmetry
+    assert laws[1].counts[1] == count(N)  # the corner: T(1, 1) = 1, W_{N,1} ~ Beta(1, d)
+    assert all(law.counts[1] == 0 for j, law in laws.items() if 1 < j < N)  # a cell lies between two diagonal cells
+    assert sum(sum(g * c for g, c in enumerate(law.counts)) for law in laws.values()) == (d + 1) * count(N)
+
+
+def test_one_prime_residues_match_the_exact_law():
+    N = 9
+    law = floor_pooled_gap_law(N, workers=1)
+    for p in (floor_primes(N)[0], 4194167):
+        assert floor_prime_residues(N, p)[0].tolist() == [c % p for c in law.counts]
+
+
+def test_executor_and_checkpoint_give_the_same_law(tmp_path):
+    N = 12
+    plain = floor_pooled_gap_law(N, workers=1)
+    with ThreadPoolExecutor(2) as pool:
+        assert floor_pooled_gap_law(N, executor=pool) == plain
+    ticks = []
+    assert floor_pooled_gap_law(N, workers=1, checkpoint=tmp_path, progress=ticks.append) == plain
+    assert len(ticks) == len(floor_primes(N)) and any(tmp_path.iterdir())
+    assert floor_pooled_gap_law(N, workers=1, checkpoint=tmp_path) == plain  # from the records
+
+
+def test_layer_route_picks_the_faster_runnable_route():
+    assert layer_route(40, 40)[0] == "floor" and layer_route(8, 8)[0] == "ideals"
+    route, plan = layer_route(40, 39)
+    assert route == "ideals" and not plan.runnable
+    assert "2..30" in plan.refusal and f"reaches N = {MAX_FLOOR_N}" in plan.refusal
+    assert layer_gap_law(8, 8, "floor") == layer_gap_law(8, 8, "ideals")
+    with pytest.raises(ArgumentError, match="route='floor' is out of range for layer 7"):
+        layer_gap_law(8, 7, "floor")
+    assert floor_plan(MAX_FLOOR_N + 1).refusal.startswith(f"N={MAX_FLOOR_N + 1} is out of range for the floor route")
+    assert floor_plan(30, grains=True).seconds > 20 * floor_plan(30).seconds
+
+
+def test_single_grain_route_takes_the_floor_for_a_floor_load():
+    assert single_grain_route(36, (36, 18))[0] == "floor"
+    assert single_grain_route(12, (12, 6))[0] == "ideals"
+    assert single_grain_gap_law(9, (9, 4), "floor") == single_grain_gap_law(9, (9, 4), "ideals")
+    with pytest.raises(ArgumentError, match="route='floor' is not a route to grain"):
+        single_grain_gap_law(9, (8, 4), "floor")
+
+
+def test_layer_pieces_from_gaps_is_layer_pieces():
+    assert layer_pieces_from_gaps(pool_gaps(layer_gap_counts(7, 7)), 7) == layer_pieces(7, 7)
+
+
+def test_cli_layer_takes_the_floor_route_beyond_the_dp(cli):
+    """N = 19: the plans choose the Pfaffians; the density is the DP's (N = 19 by the DP: about a minute, so the
+    check is against the Pfaffian law's own exact second moment and the normalizations)."""
+    code, out, err = cli(["dist", "--N", "19", "--layer", "19", "--format", "json"])
+    assert code == 0 and "de Bruijn Pfaffians" in err
+    data = json.loads(out)
+    (piece,) = data["pieces"]
+    coeffs = [Fraction(c) for c in piece["density"]]
+
+    def moment(k):  # Integral_0^19 f^k P(f) df, exactly
+        return sum(c * Fraction(19) ** (m + k + 1) / (m + k + 1) for m, c in enumerate(coeffs))
+
+    assert moment(0) == 1 and moment(1) == 1
+    assert moment(2) == moment_from_gaps(floor_pooled_gap_law(19), 2) * 19 * 19
+
+@pytest.mark.slow
+@pytest.mark.parametrize("N", [14, 16, 18])
+def test_pooled_floor_law_equals_the_dp_slow(N):
+    assert floor_pooled_gap_law(N) == pool_gaps(layer_gap_counts(N, N))

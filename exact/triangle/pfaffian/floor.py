@@ -21,16 +21,17 @@ Pfaffian whose entries are explicit polynomials in ``s``, ``t`` and ``zeta``:
 when ``n`` is odd, divided by the same Pfaffian at ``s = t``.  Both sides of
 (1) are polynomials (``E`` of total degree ``<= d``, (1) of degree
 ``d + 1`` in ``w``), so (1) holds modulo a prime at any residues: the route
-evaluates the Pfaffian at the ``(d + 1)(d + 3)`` nodes ``u = 0..d``,
-``w = 0..d+2`` (``s = (1 - w) u``), integrates in ``u`` by exact quadrature
-weights, recovers (1) as a polynomial in ``w`` by forward differences (the
+evaluates the Pfaffian at the ``(d + 1)(d + 3)`` nodes ``u = b/d``,
+``b = 0..d``, ``w = 0..d+2`` (``s = (1 - w) u``; half of them, the others
+are their mirrors ``v -> 1 - v``), integrates in ``u`` by exact quadrature
+weights (closed Newton-Cotes), recovers (1) as a polynomial in ``w`` by forward differences (the
 extra node checks its degree), and its second derivative, the pooled
 density ``sum_g x_g Beta(g, d+1-g)``, in the Bernstein basis gives the gap
 law ``count x_g``.  Chinese remainders (bound ``N count``) make it exact;
 the total mass ``N count`` and the mean ``sum_g g c_g = (d + 1) count`` are
 checked exactly.
 
-Cost per prime: ``(d + 1)(d + 3)`` Pfaffians of order ``n`` (``~ n^3/3``
+Cost per prime: ``(d/2 + 1)(d + 3)`` Pfaffians of order ``n`` (``~ n^3/3``
 multiply-adds each, lazily reduced) per value of ``zeta``: ``O(n^7)``; one
 value for the pooled law, ``n + 1`` for every grain's law.  The
 two-dimensional grid is the price of a two-time quantity
@@ -157,61 +158,80 @@ def _fill(A, n, size, s, t, zeta, C, iota, sp, tp, p, pinv, full):
 
 @njit(**JIT)
 def _grid(n, d, p, zetas, lam, C, iota):
-    """``(1 - w) sum_u lam_u Pf(s = (1 - w) u, t = s + w, zeta)`` for ``w = 0..d+2`` and every ``zeta``, mod ``p``."""
+    """Half the grid, by the mirror ``v -> 1 - v``: ``(1 - w) sum_b lam_b Pf(s, t, zeta)`` over the nodes
+    ``u = b/d``, ``b <= d/2`` (``A``), and the same without the middle node (``B``), for ``w = 0..d+2`` and every
+    ``zeta``, mod ``p``; ``s = (1 - w) u``, ``t = s + w``.
+
+    The node ``d - b`` is the mirror of ``b`` (``s, t -> 1 - t, 1 - s``) and its
+    weight is ``lam_b``: its Pfaffian is ``zeta^n`` times the one at ``b`` with
+    ``zeta -> 1/zeta``, so the whole sum is ``A(zeta) + zeta^n B(1/zeta)``
+    (``A + B`` at ``zeta = 1``).
+    """
     pinv = 1.0 / p
     size = n + (n % 2)
     A = np.zeros((size, size))
     sp = np.empty(2 * n + 1)
     tp = np.empty(2 * n + 1)
-    out = np.zeros((d + 3, zetas.shape[0]))
+    nz = zetas.shape[0]
+    outA = np.zeros((d + 3, nz))
+    outB = np.zeros((d + 3, nz))
     failures = 0
+    dinv = inv_mod(float(d), p, pinv)
     for a in range(d + 3):
         w = float(a)
         one_w = red(1.0 + p - w, p, pinv)
-        for b in range(d + 1):
-            s = red(one_w * b, p, pinv)
+        for b in range(d // 2 + 1):
+            s = red(one_w * red(b * dinv, p, pinv), p, pinv)
             t = red(s + w, p, pinv)
-            for z in range(zetas.shape[0]):
+            for z in range(nz):
                 _fill(A, n, size, s, t, zetas[z], C, iota, sp, tp, p, pinv, False)
                 value, ok = _pfaffian_lazy(A, size, p, pinv)
                 if not ok:
                     failures += 1
                     _fill(A, n, size, s, t, zetas[z], C, iota, sp, tp, p, pinv, True)
                     value = pfaffian_mod(A, p)
-                out[a, z] = red(out[a, z] + lam[b] * value, p, pinv)
-        for z in range(zetas.shape[0]):
-            out[a, z] = red(out[a, z] * one_w, p, pinv)
-    return out, failures
+                term = red(lam[b] * value, p, pinv)
+                outA[a, z] = red(outA[a, z] + term, p, pinv)
+                if 2 * b != d:
+                    outB[a, z] = red(outB[a, z] + term, p, pinv)
+        for z in range(nz):
+            outA[a, z] = red(outA[a, z] * one_w, p, pinv)
+            outB[a, z] = red(outB[a, z] * one_w, p, pinv)
+    return outA, outB, failures
 
 
 @njit(**JIT)
 def _quadrature_weights(d, p):
-    """``lam_b`` with ``sum_b lam_b P(b) = Integral_0^1 P`` for every polynomial of degree ``<= d`` (nodes ``0..d``)."""
+    """``lam_b`` with ``sum_b lam_b P(b/d) = Integral_0^1 P`` for every polynomial of degree ``<= d`` (closed
+    Newton-Cotes, ``lam_b = lam_(d-b)``): ``(1/d) Integral_0^d`` of the Lagrange basis on the nodes ``0..d``."""
     pinv = 1.0 / p
-    W = np.zeros(d + 2)  # prod_{c=0}^{d} (u - c), constant term first
+    W = np.zeros(d + 2)  # prod_{c=0}^{d} (x - c), constant term first
     W[0] = 1.0
     for c in range(d + 1):
         for k in range(c + 1, 0, -1):
             W[k] = red(W[k - 1] + (p - c) * W[k], p, pinv)
         W[0] = red((p - c) * W[0], p, pinv)
-    inv = np.empty(d + 2)
-    for k in range(1, d + 2):
-        inv[k] = inv_mod(float(k), p, pinv)
+    scaled = np.empty(d + 2)  # d^(k+1) / (k+1)
+    power = 1.0
+    for k in range(d + 1):
+        power = red(power * d, p, pinv)
+        scaled[k] = red(power * inv_mod(float(k + 1), p, pinv), p, pinv)
     fact = np.empty(d + 1)
     fact[0] = 1.0
     for k in range(1, d + 1):
         fact[k] = red(fact[k - 1] * k, p, pinv)
+    dinv = inv_mod(float(d), p, pinv)
     lam = np.empty(d + 1)
     q = np.empty(d + 1)
     for b in range(d + 1):
-        q[d] = W[d + 1]  # W / (u - b) by synthetic division
+        q[d] = W[d + 1]  # W / (x - b) by synthetic division
         for k in range(d, 0, -1):
             q[k - 1] = red(W[k] + b * q[k], p, pinv)
         integral = 0.0
         for k in range(d + 1):
-            integral = red(integral + q[k] * inv[k + 1], p, pinv)
+            integral = red(integral + q[k] * scaled[k], p, pinv)
         denom = red(fact[b] * fact[d - b], p, pinv)  # |prod_{c != b} (b - c)|
-        lam[b] = red(integral * inv_mod(denom, p, pinv), p, pinv)
+        lam[b] = red(red(integral * inv_mod(denom, p, pinv), p, pinv) * dinv, p, pinv)
         if (d - b) % 2 == 1 and lam[b] != 0.0:
             lam[b] = p - lam[b]
     return lam
@@ -325,9 +345,12 @@ def floor_prime_residues(N: int, p: int, grains: bool = False) -> np.ndarray:
     Z = int(pfaffian_mod(A, p))
     if Z == 0:
         raise ArithmeticError(f"the floor's normalization vanishes modulo p={p}")
-    values, _failures = _grid(n, d, p, zetas, lam, C, iota)
-    values = values * float(pow(Z, p - 2, p)) % p
-    rows = _zeta_coefficients(values, p).T if grains else values.T  # rows: grain j = k + 1, or the pool
+    half, mirror, _failures = _grid(n, d, p, zetas, lam, C, iota)
+    if grains:  # A(zeta) + zeta^n B(1/zeta), in coefficients
+        values = (_zeta_coefficients(half, p) + _zeta_coefficients(mirror, p)[:, ::-1]) % p
+    else:
+        values = (half + mirror) % p
+    rows = (values.astype(np.int64) * pow(Z, p - 2, p) % p).T.astype(np.float64)  # rows: grain j = k + 1, or the pool
     total_mod = float(count(N) % p)
     out = np.empty((rows.shape[0], d + 2), dtype=np.int64)
     for r, J in enumerate(rows):
@@ -451,7 +474,7 @@ def floor_prime_seconds(N: int, grains: bool = False) -> float:
     True
     """
     n, d = N - 1, dimension(N)
-    nodes = (d + 1) * (d + 3) * ((n + 1) if grains else 1)
+    nodes = (d // 2 + 1) * (d + 3) * ((n + 1) if grains else 1)  # half the grid: the mirror
     size = n + n % 2
     return nodes * (_SECONDS_PER_FMA * size**3 / 3 + _SECONDS_PER_ENTRY * n * n)
 

@@ -117,3 +117,27 @@ def test_cli_layer_takes_the_floor_route_beyond_the_dp(cli):
 @pytest.mark.parametrize("N", [14, 16, 18])
 def test_pooled_floor_law_equals_the_dp_slow(N):
     assert floor_pooled_gap_law(N) == pool_gaps(layer_gap_counts(N, N))
+
+
+@settings(max_examples=20)
+@given(st.integers(1, 9), st.integers(0, 4194300), st.integers(0, 4194300), st.integers(0, 4194300))
+def test_one_bordered_elimination_gives_both_fugacities(n, s, t, zeta):
+    """Pf X(+-zeta) = Pf Y (1 -+ zeta S) (the pair kernel) against two direct Pfaffians with pivoting."""
+    import numpy as np
+
+    from forcenet.exact.triangle.pfaffian.floor import _constants, _fill, _fill_pair, _pfaffian_pair
+    from forcenet.exact.triangle.pfaffian.kernels import pfaffian_mod
+
+    p = 4194301
+    C, iota = _constants(n, p)
+    size = n + n % 2
+    direct = []
+    for z in (zeta, (p - zeta) % p):
+        A = np.zeros((size, size))
+        _fill(A, n, size, float(s), float(t), float(z), C, iota, np.empty(2 * n + 1), np.empty(2 * n + 1), p, 1 / p, True)
+        direct.append(int(pfaffian_mod(A, p)))
+    M = np.zeros((size + 2, size + 2))
+    _fill_pair(M, n, float(s), float(t), float(zeta * zeta % p), C, iota, np.empty(2 * n + 1), np.empty(2 * n + 1), p, 1 / p)
+    pf, S, ok = _pfaffian_pair(M, size, p, 1 / p)
+    if ok:  # a vanishing pivot of Y sends the kernel to the pivoting fallback
+        assert [int(pf) * (1 - zeta * int(S)) % p, int(pf) * (1 + zeta * int(S)) % p] == direct

@@ -33,7 +33,8 @@ checked exactly.
 
 Cost per prime: ``(d/2 + 1)(d + 3)`` Pfaffians of order ``n`` (``~ n^3/3``
 multiply-adds each, lazily reduced) per value of ``zeta``: ``O(n^7)``; one
-value for the pooled law, ``n + 1`` for every grain's law.  The
+value for the pooled law, ``n + 1`` for every grain's law (in pairs ``+-zeta``,
+one bordered elimination each: a rank-two term enters a Pfaffian affinely).  The
 two-dimensional grid is the price of a two-time quantity
 (``notes/fluctuations.md`` Sec. 4: no evaluate-and-combine route needs fewer
 than ``~ d^2/8`` nodes).
@@ -201,6 +202,117 @@ def _grid(n, d, p, zetas, lam, C, iota):
 
 
 @njit(**JIT)
+def _fill_pair(A, n, s, t, y, C, iota, sp, tp, p, pinv):
+    """The bordered matrix ``M = [[Y, sigma, rho], [., 0, 0]]`` at ``y = zeta^2`` (upper triangle, ``< 3 p^2``).
+
+    The de Bruijn matrix is ``X(zeta) = Y(zeta^2) + zeta (sigma rho^T - rho sigma^T)``
+    (``Y`` of order ``n + n % 2``, bordered by ``rho`` and ``1`` when ``n`` is odd),
+    and a rank-two skew term enters a Pfaffian affinely:
+    ``Pf X(+-zeta) = Pf Y -+ zeta Pf M = Pf Y (1 -+ zeta S)``, ``S`` the last
+    entry left after eliminating ``Y`` (:func:`_pfaffian_pair`; the sign is
+    the Schur complement's, checked against :func:`_fill` in the tests).
+    """
+    sp[0] = 1.0
+    tp[0] = 1.0
+    for e in range(1, 2 * n + 1):
+        sp[e] = red(sp[e - 1] * s, p, pinv)
+        tp[e] = red(tp[e - 1] * t, p, pinv)
+    D = np.empty(2 * n + 1)
+    for e in range(2, 2 * n + 1):
+        D[e] = red(y * sp[e] + 1.0 + p - tp[e], p, pinv)
+    rho = np.empty(n)
+    sig = np.empty(n)
+    niota = np.empty(n)
+    for k in range(n):
+        rho[k] = red((1.0 + p - tp[k + 1]) * iota[k], p, pinv)
+        sig[k] = red(sp[k + 1] * iota[k], p, pinv)
+        niota[k] = p - iota[k]
+    size = n + n % 2
+    for k in range(n):
+        for m in range(k + 1, n):
+            A[k, m] = C[k, m] * D[k + m + 2] + niota[k] * rho[m] + iota[m] * rho[k]
+        if size > n:
+            A[k, n] = rho[k]
+        A[k, size] = sig[k]
+        A[k, size + 1] = rho[k]
+    if size > n:
+        A[n, size] = 0.0
+        A[n, size + 1] = 1.0
+    A[size, size + 1] = 0.0
+
+
+@njit(**JIT)
+def _pfaffian_pair(A, size, p, pinv):
+    """``(Pf Y, S, ok)`` for ``M`` of :func:`_fill_pair` (``Y`` of order ``size``): :func:`_pfaffian_lazy`'s steps
+    over ``Y`` only, then the one entry left."""
+    result = 1.0
+    top = size + 2
+    for k in range(0, size, 2):
+        for j in range(k + 1, top):
+            A[k, j] = red(A[k, j], p, pinv)
+        for j in range(k + 2, top):
+            A[k + 1, j] = red(A[k + 1, j], p, pinv)
+        a = A[k, k + 1]
+        if a == 0.0:
+            return 0.0, 0.0, False
+        result = red(result * a, p, pinv)
+        ainv = inv_mod(a, p, pinv)
+        for i in range(k + 2, top):
+            f0 = lred((p - A[k, i]) * ainv, p, pinv)
+            g1 = lred(A[k + 1, i] * ainv, p, pinv)
+            for j in range(i + 1, top):
+                A[i, j] += f0 * A[k + 1, j] + g1 * A[k, j]
+    return result, red(A[size, size + 1], p, pinv), True
+
+
+@njit(**JIT)
+def _grid_pairs(n, d, p, zpos, with_zero, lam, C, iota):
+    """:func:`_grid` for every floor load: ``zeta`` in ``[0 if with_zero] + [z, -z for z in zpos]`` (the columns),
+    each pair ``+-z`` from one elimination (:func:`_fill_pair`)."""
+    pinv = 1.0 / p
+    size = n + (n % 2)
+    M = np.zeros((size + 2, size + 2))
+    A = np.zeros((size, size))
+    sp = np.empty(2 * n + 1)
+    tp = np.empty(2 * n + 1)
+    nz = with_zero + 2 * zpos.shape[0]
+    outA = np.zeros((d + 3, nz))
+    outB = np.zeros((d + 3, nz))
+    vals = np.empty(nz)
+    failures = 0
+    dinv = inv_mod(float(d), p, pinv)
+    for a in range(d + 3):
+        w = float(a)
+        one_w = red(1.0 + p - w, p, pinv)
+        for b in range(d // 2 + 1):
+            s = red(one_w * red(b * dinv, p, pinv), p, pinv)
+            t = red(s + w, p, pinv)
+            for z in range(zpos.shape[0] + with_zero):
+                zeta = 0.0 if (with_zero and z == 0) else zpos[z - with_zero]
+                _fill_pair(M, n, s, t, red(zeta * zeta, p, pinv), C, iota, sp, tp, p, pinv)
+                pf, S, ok = _pfaffian_pair(M, size, p, pinv)
+                cols = (0, 0) if (with_zero and z == 0) else (with_zero + 2 * (z - with_zero), with_zero + 2 * (z - with_zero) + 1)
+                if ok:
+                    zS = red(zeta * S, p, pinv)
+                    vals[cols[0]] = red(pf * red(1.0 + p - zS, p, pinv), p, pinv)
+                    vals[cols[1]] = red(pf * red(1.0 + zS, p, pinv), p, pinv)
+                else:
+                    failures += 1
+                    for c, zz in ((cols[0], zeta), (cols[1], p - zeta if zeta != 0.0 else 0.0)):
+                        _fill(A, n, size, s, t, zz, C, iota, sp, tp, p, pinv, True)
+                        vals[c] = pfaffian_mod(A, p)
+            for c in range(nz):
+                term = red(lam[b] * vals[c], p, pinv)
+                outA[a, c] = red(outA[a, c] + term, p, pinv)
+                if 2 * b != d:
+                    outB[a, c] = red(outB[a, c] + term, p, pinv)
+        for c in range(nz):
+            outA[a, c] = red(outA[a, c] * one_w, p, pinv)
+            outB[a, c] = red(outB[a, c] * one_w, p, pinv)
+    return outA, outB, failures
+
+
+@njit(**JIT)
 def _quadrature_weights(d, p):
     """``lam_b`` with ``sum_b lam_b P(b/d) = Integral_0^1 P`` for every polynomial of degree ``<= d`` (closed
     Newton-Cotes, ``lam_b = lam_(d-b)``): ``(1/d) Integral_0^d`` of the Lagrange basis on the nodes ``0..d``."""
@@ -302,9 +414,34 @@ def _constants(n: int, p: int) -> tuple[np.ndarray, np.ndarray]:
     return C, iota
 
 
-def _zeta_coefficients(values: np.ndarray, p: int) -> np.ndarray:
-    """Rows: the coefficients in ``zeta`` (through ``zeta = 0..n``) of each row of values."""
-    return np.array([_monomials(row, p) for row in values])
+def _zeta_nodes(n: int) -> tuple[np.ndarray, int, list[int]]:
+    """``n + 1`` fugacities in pairs ``+-z`` (and 0 when ``n`` is even): ``(zpos, with_zero, the column order)``."""
+    with_zero = 1 - n % 2
+    zpos = np.arange(1, (n + 1 - with_zero) // 2 + 1, dtype=np.float64)
+    nodes = [0] * with_zero + [v for z in range(1, len(zpos) + 1) for v in (z, -z)]
+    return zpos, with_zero, nodes
+
+
+def _inverse_vandermonde(nodes: list[int], p: int) -> np.ndarray:
+    """``V^-1`` modulo ``p``: the coefficients of the polynomial through ``(nodes[i], values[i])`` are ``V^-1 values``."""
+    k = len(nodes)
+    inv = np.zeros((k, k), dtype=np.int64)
+    for i, x in enumerate(nodes):
+        basis, denom = [1], 1  # prod_{j != i} (z - x_j), constant term first
+        for j, y in enumerate(nodes):
+            if j != i:
+                basis = [((basis[m - 1] if m else 0) - y * (basis[m] if m < len(basis) else 0)) % p
+                         for m in range(len(basis) + 1)]
+                denom = denom * (x - y) % p
+        scale = pow(denom, p - 2, p)
+        for m in range(k):
+            inv[m, i] = basis[m] * scale % p
+    return inv
+
+
+def _zeta_coefficients(values: np.ndarray, inverse: np.ndarray, p: int) -> np.ndarray:
+    """Rows: the coefficients in ``zeta`` of each row of values (columns at the nodes of ``inverse``)."""
+    return (values.astype(np.int64) @ inverse.T) % p
 
 
 def floor_prime_residues(N: int, p: int, grains: bool = False) -> np.ndarray:
@@ -337,7 +474,6 @@ def floor_prime_residues(N: int, p: int, grains: bool = False) -> np.ndarray:
     N = check_layers(N, maximum=MAX_FLOOR_N)
     n, d = N - 1, dimension(N)
     C, iota = _constants(n, p)
-    zetas = np.arange(n + 1, dtype=np.float64) if grains else np.ones(1)
     lam = _quadrature_weights(d, p)
     size = n + (n % 2)
     A = np.zeros((size, size))
@@ -345,10 +481,13 @@ def floor_prime_residues(N: int, p: int, grains: bool = False) -> np.ndarray:
     Z = int(pfaffian_mod(A, p))
     if Z == 0:
         raise ArithmeticError(f"the floor's normalization vanishes modulo p={p}")
-    half, mirror, _failures = _grid(n, d, p, zetas, lam, C, iota)
     if grains:  # A(zeta) + zeta^n B(1/zeta), in coefficients
-        values = (_zeta_coefficients(half, p) + _zeta_coefficients(mirror, p)[:, ::-1]) % p
+        zpos, with_zero, nodes = _zeta_nodes(n)
+        half, mirror, _failures = _grid_pairs(n, d, p, zpos, with_zero, lam, C, iota)
+        inverse = _inverse_vandermonde(nodes, p)
+        values = (_zeta_coefficients(half, inverse, p) + _zeta_coefficients(mirror, inverse, p)[:, ::-1]) % p
     else:
+        half, mirror, _failures = _grid(n, d, p, np.ones(1), lam, C, iota)
         values = (half + mirror) % p
     rows = (values.astype(np.int64) * pow(Z, p - 2, p) % p).T.astype(np.float64)  # rows: grain j = k + 1, or the pool
     total_mod = float(count(N) % p)
@@ -470,12 +609,14 @@ def floor_prime_seconds(N: int, grains: bool = False) -> float:
 
     Examples
     --------
-    >>> floor_prime_seconds(40, grains=True) > 30 * floor_prime_seconds(40)
+    >>> 18 < floor_prime_seconds(40, grains=True) / floor_prime_seconds(40) < 24  # n + 1 fugacities, in pairs
     True
     """
     n, d = N - 1, dimension(N)
-    nodes = (d // 2 + 1) * (d + 3) * ((n + 1) if grains else 1)  # half the grid: the mirror
+    nodes = (d // 2 + 1) * (d + 3)  # half the grid: the mirror
     size = n + n % 2
+    if grains:  # one bordered elimination per pair +-zeta
+        return nodes * (n + 2) // 2 * (_SECONDS_PER_FMA * (size + 2) ** 3 / 3 + _SECONDS_PER_ENTRY * n * n)
     return nodes * (_SECONDS_PER_FMA * size**3 / 3 + _SECONDS_PER_ENTRY * n * n)
 
 

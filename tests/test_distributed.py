@@ -139,9 +139,9 @@ def test_scheduler_without_the_extra_is_one_line():
 
 
 def test_unreachable_scheduler_is_one_line(monkeypatch, capsys):
-    from forcenet.cli import table
+    from forcenet.cli import cluster
 
-    monkeypatch.setattr(table, "_CONNECT_SECONDS", 1)
+    monkeypatch.setattr(cluster, "CONNECT_SECONDS", 1)
     assert main(["table", "--N", "20", "--method", "pfaffian", "--format", "json", "--scheduler", "tcp://127.0.0.1:9"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--scheduler=tcp://127.0.0.1:9: cannot connect" in err
@@ -187,3 +187,12 @@ def test_ctrl_c_ends_a_multi_worker_run_within_seconds(tmp_path):
     while time.monotonic() < deadline and not all(_gone(pid) for pid in workers):
         time.sleep(0.05)
     assert all(_gone(pid) for pid in workers)
+
+
+def test_the_floor_route_on_the_cluster_gives_the_local_law(client):
+    """The floor's de Bruijn Pfaffians hand their primes to the cluster like the table does."""
+    from forcenet.exact.triangle.pfaffian.floor import floor_gap_laws, floor_pooled_gap_law
+
+    assert floor_pooled_gap_law(16, executor=client) == floor_pooled_gap_law(16, workers=1)
+    assert floor_gap_laws(9, executor=client) == floor_gap_laws(9, workers=1)
+

@@ -125,19 +125,38 @@ def test_one_bordered_elimination_gives_both_fugacities(n, s, t, zeta):
     """Pf X(+-zeta) = Pf Y (1 -+ zeta S) (the pair kernel) against two direct Pfaffians with pivoting."""
     import numpy as np
 
-    from forcenet.exact.triangle.pfaffian.floor import _constants, _fill, _fill_pair, _pfaffian_pair
+    from forcenet.exact.triangle.pfaffian.floor import de_bruijn_constants
+    from forcenet.exact.triangle.pfaffian.floor_kernels import fill, fill_pair, pfaffian_pair
     from forcenet.exact.triangle.pfaffian.kernels import pfaffian_mod
 
     p = 4194301
-    C, iota = _constants(n, p)
+    C, iota = de_bruijn_constants(n, p)
     size = n + n % 2
     direct = []
     for z in (zeta, (p - zeta) % p):
         A = np.zeros((size, size))
-        _fill(A, n, size, float(s), float(t), float(z), C, iota, np.empty(2 * n + 1), np.empty(2 * n + 1), p, 1 / p, True)
+        fill(A, n, size, float(s), float(t), float(z), C, iota, np.empty(2 * n + 1), np.empty(2 * n + 1), p, 1 / p, True)
         direct.append(int(pfaffian_mod(A, p)))
     M = np.zeros((size + 2, size + 2))
-    _fill_pair(M, n, float(s), float(t), float(zeta * zeta % p), C, iota, np.empty(2 * n + 1), np.empty(2 * n + 1), p, 1 / p)
-    pf, S, ok = _pfaffian_pair(M, size, p, 1 / p)
+    fill_pair(M, n, float(s), float(t), float(zeta * zeta % p), C, iota, np.empty(2 * n + 1), np.empty(2 * n + 1), p, 1 / p)
+    pf, S, ok = pfaffian_pair(M, size, p, 1 / p)
     if ok:  # a vanishing pivot of Y sends the kernel to the pivoting fallback
         assert [int(pf) * (1 - zeta * int(S)) % p, int(pf) * (1 + zeta * int(S)) % p] == direct
+
+
+def test_dist_floor_checkpoints_and_refuses_them_elsewhere(cli, tmp_path):
+    """--checkpoint on the floor's route: a rerun reuses every prime and prints the same bytes; on the DP it is refused."""
+    ck = tmp_path / "ck"
+    code, first, err = cli(["dist", "--N", "19", "--layer", "19", "--format", "json", "--checkpoint", str(ck)])
+    assert code == 0 and "reused 0 of" in err
+    code, again, err = cli(["dist", "--N", "19", "--layer", "19", "--format", "json", "--checkpoint", str(ck)])
+    assert code == 0 and again == first and "computed 0" in err
+    code, plain, _ = cli(["dist", "--N", "19", "--layer", "19", "--format", "json", "--no-checkpoint"])
+    assert code == 0 and plain == first
+    code, out, err = cli(["dist", "--N", "12", "--layer", "12", "--checkpoint", str(tmp_path / "other")])
+    assert code == 2 and out == "" and "--checkpoint applies to the floor's de Bruijn Pfaffians" in err
+    assert not (tmp_path / "other").exists()
+    with pytest.raises(ArgumentError, match="checkpoint"):
+        single_grain_gap_law(9, (9, 4), "ideals", checkpoint=tmp_path)
+    with pytest.raises(ArgumentError, match="belong to the floor's route"):
+        layer_gap_law(9, 9, "ideals", checkpoint=tmp_path)

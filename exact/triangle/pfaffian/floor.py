@@ -63,10 +63,9 @@ from os import PathLike
 from typing import Any
 
 import numpy as np
-from numba import njit
 
 from forcenet.core.errors import ArgumentError
-from forcenet.core.plan import Plan
+from forcenet.core.plan import Plan, with_compilation
 from forcenet.core.validation import check_int, check_layers
 from ...checkpoints import CheckpointStore
 from ...modular import crt_many, primes_for_bound
@@ -75,337 +74,37 @@ from ..gaps import GapCounts, gap_laws_plan, layer_gap_counts
 from ..staircase import count, dimension
 from .cost import STARTUP_SECONDS
 from .kernels import pfaffian_mod
-from .residues import JIT, inv_mod, lred, red
+from .floor_kernels import fill, gap_residues, grid, grid_pairs, monomials, quadrature_weights
 from .tasks import checkpoint_store, run_primes, workers_for
 
 __all__ = ["MAX_FLOOR_N", "floor_primes", "floor_prime_residues", "floor_pooled_gap_law", "floor_gap_laws",
-           "floor_plan", "floor_prime_seconds", "layer_route", "layer_gap_law"]
+           "floor_plan", "floor_prime_seconds", "layer_route", "layer_gap_law", "de_bruijn_constants"]
 
 MAX_FLOOR_N = 128  # the lazy Pfaffian's bound below needs order <= 128
 FLOOR_PRIME_LIMIT = 2**22  # lazy elimination: p + 64 * 2 p^2 < 2^53 for every p below it, order <= 128
 # CPU seconds per multiply-add of the Pfaffians (n^3/3 per node and zeta value) and per n^2 of the entries (the
 # fill): measured on 2026-11-26 on the 2-core machine, compiled kernels timed alone at N = 36 and 40 (0.45 and
 # 0.42 ns per multiply-add; 4.2 and 5.2 us per fill), its background job running.
+# Compiling the kernels on a first run (numba's cache empty): 54 s (pooled) and 75 s (every load) measured on
+# 2026-11-26 on this machine at load 7, against 19 s for the table's kernels (engine.COMPILE_SECONDS) on the
+# reference machine, which this session's machine ran 2-3.5x slower: about 25 s and 35 s there.
+COMPILE_SECONDS = {"floor": 25.0, "floor-grains": 35.0}
 _SECONDS_PER_FMA = 4.5e-10
 _SECONDS_PER_ENTRY = 3.5e-9
-
-
-# ------------------------------------------------------------------ compiled kernels
-
-
-@njit(**JIT)
-def _pfaffian_lazy(A, size, p, pinv):
-    """Pfaffian of the skew matrix whose upper triangle is ``A``, modulo ``p < 2^22``, ``size <= 128``.
-
-    The entries may start unreduced, ``0 <= A < 3 p^2`` (:func:`_fill`).  No
-    pivoting: ``(value, False)`` if a pivot ``A[k, k+1]`` vanishes (the caller
-    falls back to :func:`~.kernels.pfaffian_mod`).  Only ``j > i`` is kept and
-    updated; an entry is reduced only when its row becomes a pivot row, and
-    the multipliers only to ``(-p, 2p)`` (:func:`~.residues.lred`), so it
-    changes by less than ``4 p^2`` per step over at most ``size/2 <= 64``
-    steps: ``|A| < 3 p^2 + 256 p^2 < 2^52.1``, exact.
-    """
-    result = 1.0
-    for k in range(0, size, 2):
-        for j in range(k + 1, size):
-            A[k, j] = red(A[k, j], p, pinv)
-        for j in range(k + 2, size):
-            A[k + 1, j] = red(A[k + 1, j], p, pinv)
-        a = A[k, k + 1]
-        if a == 0.0:
-            return 0.0, False
-        result = red(result * a, p, pinv)
-        ainv = inv_mod(a, p, pinv)
-        for i in range(k + 2, size):
-            f0 = lred((p - A[k, i]) * ainv, p, pinv)  # A[i, k] / a
-            g1 = lred(A[k + 1, i] * ainv, p, pinv)  # -A[i, k+1] / a
-            for j in range(i + 1, size):
-                A[i, j] += f0 * A[k + 1, j] + g1 * A[k, j]
-    return result, True
-
-
-@njit(**JIT)
-def _fill(A, n, size, s, t, zeta, C, iota, sp, tp, p, pinv, full):
-    """The de Bruijn matrix at ``(s, t, zeta)`` (module docstring): the upper triangle unreduced (``< 3 p^2``), or
-    both halves reduced if ``full``."""
-    sp[0] = 1.0
-    tp[0] = 1.0
-    for e in range(1, 2 * n + 1):
-        sp[e] = red(sp[e - 1] * s, p, pinv)
-        tp[e] = red(tp[e - 1] * t, p, pinv)
-    z2 = red(zeta * zeta, p, pinv)
-    D = np.empty(2 * n + 1)
-    for e in range(2, 2 * n + 1):
-        D[e] = red(z2 * sp[e] + 1.0 + p - tp[e], p, pinv)
-    rho = np.empty(n)
-    mu = np.empty(n)
-    nmu = np.empty(n)
-    for k in range(n):
-        rho[k] = red((1.0 + p - tp[k + 1]) * iota[k], p, pinv)
-        mu[k] = red((red(zeta * sp[k + 1], p, pinv) + p - 1.0) * iota[k], p, pinv)
-        nmu[k] = p - mu[k]
-    for k in range(n):
-        for m in range(k + 1, n):
-            A[k, m] = C[k, m] * D[k + m + 2] + mu[k] * rho[m] + nmu[m] * rho[k]
-        if size > n:
-            A[k, n] = red(mu[k] + iota[k] + rho[k], p, pinv)  # zeta s^(k+1)/(k+1) + rho_k
-    if full:
-        for k in range(size):
-            A[k, k] = 0.0
-            for m in range(k + 1, size):
-                A[k, m] = red(A[k, m], p, pinv)
-                A[m, k] = red(p - A[k, m], p, pinv)
-
-
-@njit(**JIT)
-def _grid(n, d, p, zetas, lam, C, iota):
-    """Half the grid, by the mirror ``v -> 1 - v``: ``(1 - w) sum_b lam_b Pf(s, t, zeta)`` over the nodes
-    ``u = b/d``, ``b <= d/2`` (``A``), and the same without the middle node (``B``), for ``w = 0..d+2`` and every
-    ``zeta``, mod ``p``; ``s = (1 - w) u``, ``t = s + w``.
-
-    The node ``d - b`` is the mirror of ``b`` (``s, t -> 1 - t, 1 - s``) and its
-    weight is ``lam_b``: its Pfaffian is ``zeta^n`` times the one at ``b`` with
-    ``zeta -> 1/zeta``, so the whole sum is ``A(zeta) + zeta^n B(1/zeta)``
-    (``A + B`` at ``zeta = 1``).
-    """
-    pinv = 1.0 / p
-    size = n + (n % 2)
-    A = np.zeros((size, size))
-    sp = np.empty(2 * n + 1)
-    tp = np.empty(2 * n + 1)
-    nz = zetas.shape[0]
-    outA = np.zeros((d + 3, nz))
-    outB = np.zeros((d + 3, nz))
-    failures = 0
-    dinv = inv_mod(float(d), p, pinv)
-    for a in range(d + 3):
-        w = float(a)
-        one_w = red(1.0 + p - w, p, pinv)
-        for b in range(d // 2 + 1):
-            s = red(one_w * red(b * dinv, p, pinv), p, pinv)
-            t = red(s + w, p, pinv)
-            for z in range(nz):
-                _fill(A, n, size, s, t, zetas[z], C, iota, sp, tp, p, pinv, False)
-                value, ok = _pfaffian_lazy(A, size, p, pinv)
-                if not ok:
-                    failures += 1
-                    _fill(A, n, size, s, t, zetas[z], C, iota, sp, tp, p, pinv, True)
-                    value = pfaffian_mod(A, p)
-                term = red(lam[b] * value, p, pinv)
-                outA[a, z] = red(outA[a, z] + term, p, pinv)
-                if 2 * b != d:
-                    outB[a, z] = red(outB[a, z] + term, p, pinv)
-        for z in range(nz):
-            outA[a, z] = red(outA[a, z] * one_w, p, pinv)
-            outB[a, z] = red(outB[a, z] * one_w, p, pinv)
-    return outA, outB, failures
-
-
-@njit(**JIT)
-def _fill_pair(A, n, s, t, y, C, iota, sp, tp, p, pinv):
-    """The bordered matrix ``M = [[Y, sigma, rho], [., 0, 0]]`` at ``y = zeta^2`` (upper triangle, ``< 3 p^2``).
-
-    The de Bruijn matrix is ``X(zeta) = Y(zeta^2) + zeta (sigma rho^T - rho sigma^T)``
-    (``Y`` of order ``n + n % 2``, bordered by ``rho`` and ``1`` when ``n`` is odd),
-    and a rank-two skew term enters a Pfaffian affinely:
-    ``Pf X(+-zeta) = Pf Y -+ zeta Pf M = Pf Y (1 -+ zeta S)``, ``S`` the last
-    entry left after eliminating ``Y`` (:func:`_pfaffian_pair`; the sign is
-    the Schur complement's, checked against :func:`_fill` in the tests).
-    """
-    sp[0] = 1.0
-    tp[0] = 1.0
-    for e in range(1, 2 * n + 1):
-        sp[e] = red(sp[e - 1] * s, p, pinv)
-        tp[e] = red(tp[e - 1] * t, p, pinv)
-    D = np.empty(2 * n + 1)
-    for e in range(2, 2 * n + 1):
-        D[e] = red(y * sp[e] + 1.0 + p - tp[e], p, pinv)
-    rho = np.empty(n)
-    sig = np.empty(n)
-    niota = np.empty(n)
-    for k in range(n):
-        rho[k] = red((1.0 + p - tp[k + 1]) * iota[k], p, pinv)
-        sig[k] = red(sp[k + 1] * iota[k], p, pinv)
-        niota[k] = p - iota[k]
-    size = n + n % 2
-    for k in range(n):
-        for m in range(k + 1, n):
-            A[k, m] = C[k, m] * D[k + m + 2] + niota[k] * rho[m] + iota[m] * rho[k]
-        if size > n:
-            A[k, n] = rho[k]
-        A[k, size] = sig[k]
-        A[k, size + 1] = rho[k]
-    if size > n:
-        A[n, size] = 0.0
-        A[n, size + 1] = 1.0
-    A[size, size + 1] = 0.0
-
-
-@njit(**JIT)
-def _pfaffian_pair(A, size, p, pinv):
-    """``(Pf Y, S, ok)`` for ``M`` of :func:`_fill_pair` (``Y`` of order ``size``): :func:`_pfaffian_lazy`'s steps
-    over ``Y`` only, then the one entry left."""
-    result = 1.0
-    top = size + 2
-    for k in range(0, size, 2):
-        for j in range(k + 1, top):
-            A[k, j] = red(A[k, j], p, pinv)
-        for j in range(k + 2, top):
-            A[k + 1, j] = red(A[k + 1, j], p, pinv)
-        a = A[k, k + 1]
-        if a == 0.0:
-            return 0.0, 0.0, False
-        result = red(result * a, p, pinv)
-        ainv = inv_mod(a, p, pinv)
-        for i in range(k + 2, top):
-            f0 = lred((p - A[k, i]) * ainv, p, pinv)
-            g1 = lred(A[k + 1, i] * ainv, p, pinv)
-            for j in range(i + 1, top):
-                A[i, j] += f0 * A[k + 1, j] + g1 * A[k, j]
-    return result, red(A[size, size + 1], p, pinv), True
-
-
-@njit(**JIT)
-def _grid_pairs(n, d, p, zpos, with_zero, lam, C, iota):
-    """:func:`_grid` for every floor load: ``zeta`` in ``[0 if with_zero] + [z, -z for z in zpos]`` (the columns),
-    each pair ``+-z`` from one elimination (:func:`_fill_pair`)."""
-    pinv = 1.0 / p
-    size = n + (n % 2)
-    M = np.zeros((size + 2, size + 2))
-    A = np.zeros((size, size))
-    sp = np.empty(2 * n + 1)
-    tp = np.empty(2 * n + 1)
-    nz = with_zero + 2 * zpos.shape[0]
-    outA = np.zeros((d + 3, nz))
-    outB = np.zeros((d + 3, nz))
-    vals = np.empty(nz)
-    failures = 0
-    dinv = inv_mod(float(d), p, pinv)
-    for a in range(d + 3):
-        w = float(a)
-        one_w = red(1.0 + p - w, p, pinv)
-        for b in range(d // 2 + 1):
-            s = red(one_w * red(b * dinv, p, pinv), p, pinv)
-            t = red(s + w, p, pinv)
-            for z in range(zpos.shape[0] + with_zero):
-                zeta = 0.0 if (with_zero and z == 0) else zpos[z - with_zero]
-                _fill_pair(M, n, s, t, red(zeta * zeta, p, pinv), C, iota, sp, tp, p, pinv)
-                pf, S, ok = _pfaffian_pair(M, size, p, pinv)
-                cols = (0, 0) if (with_zero and z == 0) else (with_zero + 2 * (z - with_zero), with_zero + 2 * (z - with_zero) + 1)
-                if ok:
-                    zS = red(zeta * S, p, pinv)
-                    vals[cols[0]] = red(pf * red(1.0 + p - zS, p, pinv), p, pinv)
-                    vals[cols[1]] = red(pf * red(1.0 + zS, p, pinv), p, pinv)
-                else:
-                    failures += 1
-                    for c, zz in ((cols[0], zeta), (cols[1], p - zeta if zeta != 0.0 else 0.0)):
-                        _fill(A, n, size, s, t, zz, C, iota, sp, tp, p, pinv, True)
-                        vals[c] = pfaffian_mod(A, p)
-            for c in range(nz):
-                term = red(lam[b] * vals[c], p, pinv)
-                outA[a, c] = red(outA[a, c] + term, p, pinv)
-                if 2 * b != d:
-                    outB[a, c] = red(outB[a, c] + term, p, pinv)
-        for c in range(nz):
-            outA[a, c] = red(outA[a, c] * one_w, p, pinv)
-            outB[a, c] = red(outB[a, c] * one_w, p, pinv)
-    return outA, outB, failures
-
-
-@njit(**JIT)
-def _quadrature_weights(d, p):
-    """``lam_b`` with ``sum_b lam_b P(b/d) = Integral_0^1 P`` for every polynomial of degree ``<= d`` (closed
-    Newton-Cotes, ``lam_b = lam_(d-b)``): ``(1/d) Integral_0^d`` of the Lagrange basis on the nodes ``0..d``."""
-    pinv = 1.0 / p
-    W = np.zeros(d + 2)  # prod_{c=0}^{d} (x - c), constant term first
-    W[0] = 1.0
-    for c in range(d + 1):
-        for k in range(c + 1, 0, -1):
-            W[k] = red(W[k - 1] + (p - c) * W[k], p, pinv)
-        W[0] = red((p - c) * W[0], p, pinv)
-    scaled = np.empty(d + 2)  # d^(k+1) / (k+1)
-    power = 1.0
-    for k in range(d + 1):
-        power = red(power * d, p, pinv)
-        scaled[k] = red(power * inv_mod(float(k + 1), p, pinv), p, pinv)
-    fact = np.empty(d + 1)
-    fact[0] = 1.0
-    for k in range(1, d + 1):
-        fact[k] = red(fact[k - 1] * k, p, pinv)
-    dinv = inv_mod(float(d), p, pinv)
-    lam = np.empty(d + 1)
-    q = np.empty(d + 1)
-    for b in range(d + 1):
-        q[d] = W[d + 1]  # W / (x - b) by synthetic division
-        for k in range(d, 0, -1):
-            q[k - 1] = red(W[k] + b * q[k], p, pinv)
-        integral = 0.0
-        for k in range(d + 1):
-            integral = red(integral + q[k] * scaled[k], p, pinv)
-        denom = red(fact[b] * fact[d - b], p, pinv)  # |prod_{c != b} (b - c)|
-        lam[b] = red(red(integral * inv_mod(denom, p, pinv), p, pinv) * dinv, p, pinv)
-        if (d - b) % 2 == 1 and lam[b] != 0.0:
-            lam[b] = p - lam[b]
-    return lam
-
-
-@njit(**JIT)
-def _monomials(values, p):
-    """Monomial coefficients of the polynomial through ``(a, values[a])``, ``a = 0..k``, by forward differences."""
-    pinv = 1.0 / p
-    k = values.shape[0] - 1
-    diff = values.copy()
-    for r in range(1, k + 1):  # diff[r] = Delta^r f(0)
-        for a in range(k, r - 1, -1):
-            diff[a] = red(diff[a] - diff[a - 1] + p, p, pinv)
-    coef = np.zeros(k + 1)
-    basis = np.zeros(k + 1)  # binom(w, r), constant term first
-    basis[0] = 1.0
-    coef[0] = diff[0]
-    for r in range(1, k + 1):
-        ir = inv_mod(float(r), p, pinv)
-        for m in range(r, 0, -1):  # basis *= (w - r + 1) / r
-            basis[m] = red(red(basis[m - 1] + (p - (r - 1)) * basis[m], p, pinv) * ir, p, pinv)
-        basis[0] = red(red((p - (r - 1)) * basis[0], p, pinv) * ir, p, pinv)
-        for m in range(r + 1):
-            coef[m] = red(coef[m] + diff[r] * basis[m], p, pinv)
-    return coef
-
-
-@njit(**JIT)
-def _gap_residues(J, d, total_mod, p):
-    """``count x_g`` mod ``p`` from the values of (1) at ``w = 0..d+2``; ``-1`` in slot 0 if the degree exceeds ``d + 1``."""
-    pinv = 1.0 / p
-    coef = _monomials(J, p)
-    out = np.zeros(d + 2)
-    if coef[d + 2] != 0.0:
-        out[0] = -1.0
-        return out
-    fact = np.empty(d + 1)
-    fact[0] = 1.0
-    for k in range(1, d + 1):
-        fact[k] = red(fact[k - 1] * k, p, pinv)
-    ifact = np.empty(d + 1)
-    for k in range(d + 1):
-        ifact[k] = inv_mod(fact[k], p, pinv)
-    delta = np.empty(d)  # the density (second derivative), monomials
-    for k in range(d):
-        delta[k] = red(coef[k + 2] * red(float((k + 1) * (k + 2)), p, pinv), p, pinv)
-    scale = red(total_mod * inv_mod(float(d), p, pinv), p, pinv)  # count / d
-    for k in range(d):  # Bernstein: beta_k = sum_i C(k, i) / C(d-1, i) delta_i, gap k + 1
-        acc = 0.0
-        for i in range(k + 1):
-            # C(k, i) / C(d-1, i) = k! (d-1-i)! / ((k-i)! (d-1)!)
-            ratio = red(red(fact[k] * ifact[k - i], p, pinv) * red(fact[d - 1 - i] * ifact[d - 1], p, pinv), p, pinv)
-            acc = red(acc + ratio * delta[i], p, pinv)
-        out[k + 1] = red(acc * scale, p, pinv)
-    return out
 
 
 # ------------------------------------------------------------------ one prime
 
 
-def _constants(n: int, p: int) -> tuple[np.ndarray, np.ndarray]:
+def de_bruijn_constants(n: int, p: int) -> tuple[np.ndarray, np.ndarray]:
+    """``(C, iota)`` modulo ``p``: ``C_kl = (l - k)/((k+1)(l+1)(k+l+2))`` and ``iota_k = 1/(k+1)``, ``k, l < n``.
+
+    Examples
+    --------
+    >>> C, iota = de_bruijn_constants(2, 7)
+    >>> C.tolist(), iota.tolist()  # C_01 = 1/(1*2*3) = 6 mod 7
+    ([[0.0, 6.0], [1.0, 0.0]], [1.0, 4.0])
+    """
     iota = np.array([pow(k + 1, p - 2, p) for k in range(n)], dtype=np.float64)
     C = np.zeros((n, n))
     for k in range(n):
@@ -473,27 +172,27 @@ def floor_prime_residues(N: int, p: int, grains: bool = False) -> np.ndarray:
     """
     N = check_layers(N, maximum=MAX_FLOOR_N)
     n, d = N - 1, dimension(N)
-    C, iota = _constants(n, p)
-    lam = _quadrature_weights(d, p)
+    C, iota = de_bruijn_constants(n, p)
+    lam = quadrature_weights(d, p)
     size = n + (n % 2)
     A = np.zeros((size, size))
-    _fill(A, n, size, 0.0, 0.0, 1.0, C, iota, np.empty(2 * n + 1), np.empty(2 * n + 1), p, 1.0 / p, True)
+    fill(A, n, size, 0.0, 0.0, 1.0, C, iota, np.empty(2 * n + 1), np.empty(2 * n + 1), p, 1.0 / p, True)
     Z = int(pfaffian_mod(A, p))
     if Z == 0:
         raise ArithmeticError(f"the floor's normalization vanishes modulo p={p}")
     if grains:  # A(zeta) + zeta^n B(1/zeta), in coefficients
         zpos, with_zero, nodes = _zeta_nodes(n)
-        half, mirror, _failures = _grid_pairs(n, d, p, zpos, with_zero, lam, C, iota)
+        half, mirror, _failures = grid_pairs(n, d, p, zpos, with_zero, lam, C, iota)
         inverse = _inverse_vandermonde(nodes, p)
         values = (_zeta_coefficients(half, inverse, p) + _zeta_coefficients(mirror, inverse, p)[:, ::-1]) % p
     else:
-        half, mirror, _failures = _grid(n, d, p, np.ones(1), lam, C, iota)
+        half, mirror, _failures = grid(n, d, p, np.ones(1), lam, C, iota)
         values = (half + mirror) % p
     rows = (values.astype(np.int64) * pow(Z, p - 2, p) % p).T.astype(np.float64)  # rows: grain j = k + 1, or the pool
     total_mod = float(count(N) % p)
     out = np.empty((rows.shape[0], d + 2), dtype=np.int64)
     for r, J in enumerate(rows):
-        g = _gap_residues(np.ascontiguousarray(J), d, total_mod, p)
+        g = gap_residues(np.ascontiguousarray(J), d, total_mod, p)
         if g[0] < 0:
             raise ArithmeticError(f"the floor's integral (1) has degree above d + 1 modulo p={p}")
         out[r] = g.astype(np.int64)
@@ -640,8 +339,11 @@ def floor_plan(N: int, grains: bool = False, memory_bytes: int | None = None, wo
     nworkers = workers_for(workers, nprimes, cpu)
     d = dimension(N)
     per_worker = 8 * (d + 3) * (N + 1) * 4 + 160 * 2**20
-    return Plan(what, STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers, nworkers * per_worker, nprimes,
+    plan = Plan(what, STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers, nworkers * per_worker, nprimes,
                 "prime").within_memory(memory_bytes)
+    kernels = [grid_pairs if grains else grid, quadrature_weights, monomials, gap_residues, pfaffian_mod]
+    name = "floor-grains" if grains else "floor"
+    return with_compilation(plan, f"Pfaffian {name}", COMPILE_SECONDS[name], kernels)
 
 
 
@@ -687,8 +389,13 @@ def layer_route(N: int, i: int, memory_bytes: int | None = None) -> tuple[str, P
     return "floor", floor
 
 
-def layer_gap_law(N: int, i: int, route: str, progress: Callable[..., Any] | None = None) -> GapCounts:
+def layer_gap_law(N: int, i: int, route: str, progress: Callable[..., Any] | None = None, *,
+                  executor: Executor | None = None,
+                  checkpoint: str | PathLike | CheckpointStore | None = None) -> GapCounts:
     """Layer ``i``'s pooled gap law by the route :func:`layer_route` chose.
+
+    ``executor`` and ``checkpoint`` (as for :func:`floor_pooled_gap_law`) belong
+    to the floor's route, the one over primes; the DP refuses them.
 
     Examples
     --------
@@ -698,8 +405,10 @@ def layer_gap_law(N: int, i: int, route: str, progress: Callable[..., Any] | Non
     N = check_layers(N, maximum=MAX_FLOOR_N)
     i = check_int(i, "i", 2, N)
     if route == "ideals":
+        if executor is not None or checkpoint is not None:
+            raise ArgumentError("executor= and checkpoint= belong to the floor's route over primes, not to the DP")
         return pool_gaps(layer_gap_counts(N, i, progress))
     if route == "floor" and i == N:
-        return floor_pooled_gap_law(N, progress=progress)
+        return floor_pooled_gap_law(N, progress=progress, executor=executor, checkpoint=checkpoint)
     raise ArgumentError(f"route={route!r} is out of range for layer {i}: it must be 'ideals', or 'floor' for the "
                         f"floor (layer {N})")

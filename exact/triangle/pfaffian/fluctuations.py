@@ -495,7 +495,8 @@ def single_grain_route(N: int, grain: tuple[int, int], memory_bytes: int | None 
     return "pfaffian", pfaffian
 
 
-def single_grain_gap_law(N: int, grain: tuple[int, int], route: str, progress: Callable[[int], object] | None = None) -> GapCounts:
+def single_grain_gap_law(N: int, grain: tuple[int, int], route: str, progress: Callable[[int], object] | None = None,
+                         **options: Any) -> GapCounts:
     """One grain's gap law by the route :func:`single_grain_route` chose (``"pfaffian"`` or ``"ideals"``).
 
     Parameters
@@ -508,6 +509,8 @@ def single_grain_gap_law(N: int, grain: tuple[int, int], route: str, progress: C
         The route.
     progress : callable, optional
         ``progress(k)`` with the route's plan's ticks.
+    **options
+        ``executor``, ``checkpoint`` of :func:`.floor.floor_gap_laws` (the floor's route only).
 
     Returns
     -------
@@ -523,13 +526,15 @@ def single_grain_gap_law(N: int, grain: tuple[int, int], route: str, progress: C
     >>> single_grain_gap_law(6, (6, 1), "pfaffian") == single_grain_gap_law(6, (6, 1), "ideals")
     True
     """
+    if route == "floor" and grain[0] == N:
+        return floor_gap_laws(N, progress=progress, **options)[grain[1]]
+    if options:
+        raise ArgumentError(f"{', '.join(sorted(options))}: only the floor's route (route='floor') takes them")
     if route == "ideals":
         from ..gaps import grain_gap_counts
 
         return grain_gap_counts(N, grain, progress)
     if route == "pfaffian":
         return grain_gap_law(N, grain, progress=progress)
-    if route == "floor" and grain[0] == N:
-        return floor_gap_laws(N, progress=progress)[grain[1]]
     raise ArgumentError(f"route={route!r} is not a route to grain {tuple(grain)!r}: it must be 'pfaffian', 'ideals' "
                         f"or, for a floor load (N, j), 'floor'")

@@ -27,6 +27,7 @@ from .common import (
     real,
     run_planned,
 )
+from .cluster import add_engine_options, engine_options
 from .output import destination, emit, write_files
 
 __all__ = ["register"]
@@ -64,7 +65,17 @@ def _what(args):
     return ("ensemble",)
 
 
-def _compute(args, what, tick=None):
+def _floor_options(args, what, plan_seconds):
+    """``--scheduler``/``--checkpoint`` for the floor's route (the one over primes here): (client, store)."""
+    from forcenet.exact.triangle.pfaffian.tasks import checkpoint_store
+
+    floor = what[0] in ("grain", "layer") and what[-1] == "floor"
+    key = "floor-grains" if what[0] == "grain" else "floor"
+    return engine_options(args, floor, "the floor's de Bruijn Pfaffians (--layer N, --grain N,j beyond the DP)",
+                          plan_seconds, lambda directory: checkpoint_store(directory, key, args.N))
+
+
+def _compute(args, what, tick=None, options=None):
     """Exact objects: (title, variable, pieces of the density, pieces of the CDF, extra fields)."""
     from forcenet.exact.triangle import distribution as D
     from forcenet.exact.triangle.gaps import contact_gap_law
@@ -74,13 +85,14 @@ def _compute(args, what, tick=None):
     N = args.N
     if what[0] == "grain":
         (i, j), kind = what[1], what[2]
-        gaps = single_grain_gap_law(N, (i, j), what[3], tick) if kind is None else contact_gap_law(N, (i, j), kind, tick)
+        gaps = (single_grain_gap_law(N, (i, j), what[3], tick, **(options or {})) if kind is None
+                else contact_gap_law(N, (i, j), kind, tick))
         name = f"W_{{{i},{j}}}" if kind is None else f"(sqrt3/2) {kind}^{{({i},{j})}}"
         extra = {"mean": D.moment_from_gaps(gaps, 1), "second_moment": D.moment_from_gaps(gaps, 2)}
         return (name, "w", *D.grain_pieces(gaps), extra)
     if what[0] == "layer":
         i = what[1]
-        gaps = layer_gap_law(N, i, what[2], tick)
+        gaps = layer_gap_law(N, i, what[2], tick, **(options or {}))
         return (f"P(f), f = {i} W_{{{i},j}} (layer {i})", "f", *D.layer_pieces_from_gaps(gaps, i), {})
     pieces = D.triangle_force_density(N, progress=tick)
     return "P(f), f = i W_{i,j} over layers 2..N (ensemble)", "f", pieces, D.piecewise_cdf(pieces), {}
@@ -185,6 +197,16 @@ def cmd_dist(args):
         plans = [plan]
     else:
         plans = [distribution_plan(N, {"grain": "contact", "layer": "layer", "ensemble": "ensemble"}[what[0]], memory)]
+    client, store = _floor_options(args, what, plans[0].seconds)
+    options = {k: v for k, v in (("executor", client), ("checkpoint", store)) if v is not None}
+    try:
+        return _dist(args, what, plans, options, store)
+    finally:
+        if client is not None:
+            client.close()
+
+
+def _dist(args, what, plans, options, store):
     if args.plot is not None:
         args.samples = 20000 if args.samples is None else args.samples
         args.sweeps = 3000 if args.sweeps is None else args.sweeps
@@ -198,12 +220,17 @@ def cmd_dist(args):
     def run(tick):
         from forcenet.numeric.triangle.force_distribution import density_grid
 
-        title, var, pieces, cdf_pieces, extra = _compute(args, what, tick)
+        title, var, pieces, cdf_pieces, extra = _compute(args, what, tick, options)
         grid = density_grid(pieces, cdf_pieces, args.grid) if args.grid is not None else None
         png = _figure(args, what, pieces, tick) if args.plot is not None else None
         return title, var, pieces, cdf_pieces, extra, grid, png
 
     title, var, pieces, cdf_pieces, extra, grid, png = run_planned(plan, run, force=args.force, quiet=args.quiet)
+    if store is not None and not args.quiet:
+        import sys
+
+        print(f"forcenet: checkpoints in {store.path}: reused {store.reused} of {plans[0].ticks} primes, "
+              f"computed {plans[0].ticks - store.reused}", file=sys.stderr)
     text = {"json": lambda: _json(args, title, var, pieces, cdf_pieces, extra, grid),
             "csv": lambda: _csv(var, pieces, cdf_pieces, grid),
             "latex": lambda: _latex(title, var, pieces, cdf_pieces, grid),
@@ -270,6 +297,7 @@ def register(sub):
     p.add_argument("--bins", type=integer("bins", 1, 1000), default=None, help="histogram bins for --plot (default 40)")
     p.add_argument("--f-max", type=real("f-max", 0, low_open=True), default=None, help="histogram range [0, f-max] for --plot (default 4)")
     add_seed(p)
+    add_engine_options(p, "the floor's de Bruijn Pfaffians (--layer N, --grain N,j beyond the DP)")
     add_force(p)
     add_quiet(p)
     p.set_defaults(func=cmd_dist)

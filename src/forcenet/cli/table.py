@@ -20,6 +20,7 @@ from .common import (
     refuse_together,
     run_planned,
 )
+from .cluster import add_engine_options, engine_options
 from .output import check_output_dir, emit, write_files, write_stdout
 
 __all__ = ["register"]
@@ -73,60 +74,15 @@ def _refuse_ignored(args):
         refuse_together(args, "seed", "samples", "the seed drives the cross-check's samples, and --samples 0 asks for none")
 
 
-_DISTRIBUTED_MISSING = "--scheduler needs Dask's distributed scheduler: pip install 'forcenet[distributed]'"
-_CONNECT_SECONDS = 10  # waiting for the scheduler, then for its first worker
-
-
-def _connect(address: str):
-    """A Dask client of the scheduler at ``address`` (``tcp://host:port`` or a scheduler file), with a worker."""
-    try:
-        from distributed import Client
-    except ImportError:
-        raise UsageError(_DISTRIBUTED_MISSING) from None
-    if os.path.isfile(address):
-        where = {"scheduler_file": address}
-    elif "://" in address:
-        where = {"address": address}
-    else:
-        raise UsageError(f"--scheduler={address}: give the tcp://host:port of a running `dask scheduler` "
-                         "or its scheduler file")
-    try:
-        client = Client(**where, timeout=_CONNECT_SECONDS, set_as_default=False)
-    except (OSError, TimeoutError, ValueError) as exc:
-        reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        raise UsageError(f"--scheduler={address}: cannot connect ({reason})") from None
-    try:
-        client.wait_for_workers(1, timeout=_CONNECT_SECONDS)
-    except (OSError, TimeoutError):
-        client.close()
-        raise UsageError(f"--scheduler={address}: the cluster has no workers (start `dask worker {address}`)") from None
-    return client
-
-
 def _engine_options(args, plan_seconds):
     """``--scheduler``, ``--checkpoint``, ``--no-checkpoint``: (client or None, checkpoint store or None).
 
     Runs announced at over a minute checkpoint by default in the user's cache directory.
     """
-    from forcenet.exact.checkpoints import CheckpointStore, default_directory
+    from forcenet.exact.checkpoints import CheckpointStore
 
-    from .common import FORCE_SECONDS
-
-    if args.checkpoint is not None and args.no_checkpoint:
-        raise UsageError("--checkpoint and --no-checkpoint contradict each other: give one")
-    if args.method != "pfaffian":
-        for name in ("scheduler", "checkpoint"):
-            if getattr(args, name) is not None:
-                raise UsageError(f"--{name} applies to --method pfaffian only (the route over independent primes)")
-        return None, None
-    directory = args.checkpoint
-    if directory is not None:
-        check_output_dir(directory, "--checkpoint")
-    elif not args.no_checkpoint and plan_seconds > FORCE_SECONDS:
-        directory = default_directory()
-    store = None if directory is None else CheckpointStore(directory, "pfaffian-table", args.N, args.moments)
-    client = _connect(args.scheduler) if args.scheduler is not None else None
-    return client, store
+    return engine_options(args, args.method == "pfaffian", "--method pfaffian", plan_seconds,
+                          lambda directory: CheckpointStore(directory, "pfaffian-table", args.N, args.moments))
 
 
 def _resolve_method(args, memory):
@@ -295,15 +251,7 @@ def register(sub):
         "pfaffian: Schur Pfaffians and minor summation, polynomial in N, for large N, <W> only "
         "(notes/free_fermions.md)",
     )
-    p.add_argument("--scheduler", metavar="ADDRESS",
-                   help="run --method pfaffian's per-prime tasks on a Dask cluster: the tcp://host:port of a running "
-                        "`dask scheduler`, or its scheduler file (workers need forcenet installed; "
-                        "pip install 'forcenet[distributed]')")
-    p.add_argument("--checkpoint", metavar="DIR",
-                   help="record every finished prime of --method pfaffian in DIR; a rerun of the same request "
-                        "recomputes only what is missing (default for runs announced at over a minute: "
-                        "$XDG_CACHE_HOME/forcenet, else ~/.cache/forcenet)")
-    p.add_argument("--no-checkpoint", action="store_true", help="no checkpoints, even for runs over a minute")
+    add_engine_options(p, "--method pfaffian")
     add_force(p)
     add_quiet(p)
     p.set_defaults(func=cmd_table)

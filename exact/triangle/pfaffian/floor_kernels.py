@@ -83,6 +83,23 @@ def fill(A, n, size, s, t, zeta, C, iota, sp, tp, p, pinv, full):
                 A[m, k] = red(p - A[k, m], p, pinv)
 
 
+@njit(inline="always", **JIT)
+def _add_node(outA, outB, a, weight, vals, mirrored, p, pinv):
+    """Row ``a`` of both sums plus ``weight`` times the node's values (``B`` only for a node with a mirror)."""
+    for c in range(vals.shape[0]):
+        term = red(weight * vals[c], p, pinv)
+        outA[a, c] = red(outA[a, c] + term, p, pinv)
+        if mirrored:
+            outB[a, c] = red(outB[a, c] + term, p, pinv)
+
+
+@njit(inline="always", **JIT)
+def _scale_row(outA, outB, a, factor, p, pinv):
+    for c in range(outA.shape[1]):
+        outA[a, c] = red(outA[a, c] * factor, p, pinv)
+        outB[a, c] = red(outB[a, c] * factor, p, pinv)
+
+
 @njit(**JIT)
 def grid(n, d, p, zetas, lam, C, iota):
     """Half the grid, by the mirror ``v -> 1 - v``: ``(1 - w) sum_b lam_b Pf(s, t, zeta)`` over the nodes
@@ -102,6 +119,7 @@ def grid(n, d, p, zetas, lam, C, iota):
     nz = zetas.shape[0]
     outA = np.zeros((d + 3, nz))
     outB = np.zeros((d + 3, nz))
+    vals = np.empty(nz)
     failures = 0
     dinv = inv_mod(float(d), p, pinv)
     for a in range(d + 3):
@@ -117,13 +135,9 @@ def grid(n, d, p, zetas, lam, C, iota):
                     failures += 1
                     fill(A, n, size, s, t, zetas[z], C, iota, sp, tp, p, pinv, True)
                     value = pfaffian_mod(A, p)
-                term = red(lam[b] * value, p, pinv)
-                outA[a, z] = red(outA[a, z] + term, p, pinv)
-                if 2 * b != d:
-                    outB[a, z] = red(outB[a, z] + term, p, pinv)
-        for z in range(nz):
-            outA[a, z] = red(outA[a, z] * one_w, p, pinv)
-            outB[a, z] = red(outB[a, z] * one_w, p, pinv)
+                vals[z] = value
+            _add_node(outA, outB, a, lam[b], vals, 2 * b != d, p, pinv)
+        _scale_row(outA, outB, a, one_w, p, pinv)
     return outA, outB, failures
 
 
@@ -227,14 +241,8 @@ def grid_pairs(n, d, p, zpos, with_zero, lam, C, iota):
                     for c, zz in ((cols[0], zeta), (cols[1], p - zeta if zeta != 0.0 else 0.0)):
                         fill(A, n, size, s, t, zz, C, iota, sp, tp, p, pinv, True)
                         vals[c] = pfaffian_mod(A, p)
-            for c in range(nz):
-                term = red(lam[b] * vals[c], p, pinv)
-                outA[a, c] = red(outA[a, c] + term, p, pinv)
-                if 2 * b != d:
-                    outB[a, c] = red(outB[a, c] + term, p, pinv)
-        for c in range(nz):
-            outA[a, c] = red(outA[a, c] * one_w, p, pinv)
-            outB[a, c] = red(outB[a, c] * one_w, p, pinv)
+            _add_node(outA, outB, a, lam[b], vals, 2 * b != d, p, pinv)
+        _scale_row(outA, outB, a, one_w, p, pinv)
     return outA, outB, failures
 
 

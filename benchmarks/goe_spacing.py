@@ -73,5 +73,7 @@ if __name__ == "__main__":
     print(f"p(1) with 30 and 60 nodes: {gap_density(1.0, 30):.15f} {gap_density(1.0, 60):.15f}")
     inverse = _integral(lambda s: gap_density(s) / s)
     print(f"E[1/s] = {inverse:.10f} (Wigner surmise: pi/2 = {np.pi / 2:.10f})")
+    second = _integral(lambda s: s * s * gap_density(s))
+    print(f"E[s^2] = {second:.10f}; the floor's <f^2> as N -> oo: (pi^2/8) E[s^2] = {np.pi**2 / 8 * second:.8f}")
     for f in (0, 0.1, 0.25, 0.5, 1, 1.5, 2, 3):
         print(f"P_oo({f}) = {floor_limit_density(f):.9f}")

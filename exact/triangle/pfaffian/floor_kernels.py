@@ -15,7 +15,7 @@ from numba import njit
 from .kernels import pfaffian_mod
 from .residues import JIT, inv_mod, lred, red
 
-__all__ = ["pfaffian_lazy", "fill", "grid", "fill_pair", "pfaffian_pair", "grid_pairs", "quadrature_weights",
+__all__ = ["pfaffian_lazy", "eliminate", "fill", "grid", "fill_pair", "pfaffian_pair", "grid_pairs", "quadrature_weights",
            "monomials", "gap_residues"]
 
 
@@ -31,38 +31,51 @@ def pfaffian_lazy(A, size, p, pinv):
     changes by less than ``4 p^2`` per step over at most ``size/2 <= 64``
     steps: ``|A| < 3 p^2 + 256 p^2 < 2^52.1``, exact.
     """
+    return eliminate(A, size, size, p, pinv)
+
+
+@njit(**JIT)
+def eliminate(A, size, top, p, pinv):
+    """:func:`pfaffian_lazy`'s steps over the leading ``size`` rows of an order-``top`` upper triangle:
+    ``(product of the pivots, ok)``; the trailing block is left as its Schur complement."""
     result = 1.0
     for k in range(0, size, 2):
-        for j in range(k + 1, size):
+        for j in range(k + 1, top):
             A[k, j] = red(A[k, j], p, pinv)
-        for j in range(k + 2, size):
+        for j in range(k + 2, top):
             A[k + 1, j] = red(A[k + 1, j], p, pinv)
         a = A[k, k + 1]
         if a == 0.0:
             return 0.0, False
         result = red(result * a, p, pinv)
         ainv = inv_mod(a, p, pinv)
-        for i in range(k + 2, size):
+        for i in range(k + 2, top):
             f0 = lred((p - A[k, i]) * ainv, p, pinv)  # A[i, k] / a
             g1 = lred(A[k + 1, i] * ainv, p, pinv)  # -A[i, k+1] / a
-            for j in range(i + 1, size):
+            for j in range(i + 1, top):
                 A[i, j] += f0 * A[k + 1, j] + g1 * A[k, j]
     return result, True
+
+
+@njit(inline="always", **JIT)
+def _diagonals(n, s, t, y, sp, tp, p, pinv):
+    """The powers ``s^e``, ``t^e`` (into ``sp``, ``tp``) and ``D_e = y s^e + 1 - t^e``, ``e = 2..2n``."""
+    sp[0] = 1.0
+    tp[0] = 1.0
+    for e in range(1, 2 * n + 1):
+        sp[e] = red(sp[e - 1] * s, p, pinv)
+        tp[e] = red(tp[e - 1] * t, p, pinv)
+    D = np.empty(2 * n + 1)
+    for e in range(2, 2 * n + 1):
+        D[e] = red(y * sp[e] + 1.0 + p - tp[e], p, pinv)
+    return D
 
 
 @njit(**JIT)
 def fill(A, n, size, s, t, zeta, C, iota, sp, tp, p, pinv, full):
     """The de Bruijn matrix at ``(s, t, zeta)`` (module docstring): the upper triangle unreduced (``< 3 p^2``), or
     both halves reduced if ``full``."""
-    sp[0] = 1.0
-    tp[0] = 1.0
-    for e in range(1, 2 * n + 1):
-        sp[e] = red(sp[e - 1] * s, p, pinv)
-        tp[e] = red(tp[e - 1] * t, p, pinv)
-    z2 = red(zeta * zeta, p, pinv)
-    D = np.empty(2 * n + 1)
-    for e in range(2, 2 * n + 1):
-        D[e] = red(z2 * sp[e] + 1.0 + p - tp[e], p, pinv)
+    D = _diagonals(n, s, t, red(zeta * zeta, p, pinv), sp, tp, p, pinv)
     rho = np.empty(n)
     mu = np.empty(n)
     nmu = np.empty(n)
@@ -94,6 +107,19 @@ def _add_node(outA, outB, a, weight, vals, mirrored, p, pinv):
 
 
 @njit(inline="always", **JIT)
+def _outputs(d, nz):
+    """The two half-grid sums (rows ``w = 0..d+2``) and one node's values."""
+    return np.zeros((d + 3, nz)), np.zeros((d + 3, nz)), np.empty(nz)
+
+
+@njit(inline="always", **JIT)
+def _node(a, b, one_w, dinv, p, pinv):
+    """The node ``(u = b/d, w = a)``: ``s = (1 - w) u``, ``t = s + w``."""
+    s = red(one_w * red(b * dinv, p, pinv), p, pinv)
+    return s, red(s + a, p, pinv)
+
+
+@njit(inline="always", **JIT)
 def _scale_row(outA, outB, a, factor, p, pinv):
     for c in range(outA.shape[1]):
         outA[a, c] = red(outA[a, c] * factor, p, pinv)
@@ -117,17 +143,13 @@ def grid(n, d, p, zetas, lam, C, iota):
     sp = np.empty(2 * n + 1)
     tp = np.empty(2 * n + 1)
     nz = zetas.shape[0]
-    outA = np.zeros((d + 3, nz))
-    outB = np.zeros((d + 3, nz))
-    vals = np.empty(nz)
+    outA, outB, vals = _outputs(d, nz)
     failures = 0
     dinv = inv_mod(float(d), p, pinv)
     for a in range(d + 3):
-        w = float(a)
-        one_w = red(1.0 + p - w, p, pinv)
+        one_w = red(1.0 + p - a, p, pinv)
         for b in range(d // 2 + 1):
-            s = red(one_w * red(b * dinv, p, pinv), p, pinv)
-            t = red(s + w, p, pinv)
+            s, t = _node(a, b, one_w, dinv, p, pinv)
             for z in range(nz):
                 fill(A, n, size, s, t, zetas[z], C, iota, sp, tp, p, pinv, False)
                 value, ok = pfaffian_lazy(A, size, p, pinv)
@@ -152,14 +174,7 @@ def fill_pair(A, n, s, t, y, C, iota, sp, tp, p, pinv):
     entry left after eliminating ``Y`` (:func:`pfaffian_pair`; the sign is
     the Schur complement's, checked against :func:`fill` in the tests).
     """
-    sp[0] = 1.0
-    tp[0] = 1.0
-    for e in range(1, 2 * n + 1):
-        sp[e] = red(sp[e - 1] * s, p, pinv)
-        tp[e] = red(tp[e - 1] * t, p, pinv)
-    D = np.empty(2 * n + 1)
-    for e in range(2, 2 * n + 1):
-        D[e] = red(y * sp[e] + 1.0 + p - tp[e], p, pinv)
+    D = _diagonals(n, s, t, y, sp, tp, p, pinv)
     rho = np.empty(n)
     sig = np.empty(n)
     niota = np.empty(n)
@@ -185,23 +200,9 @@ def fill_pair(A, n, s, t, y, C, iota, sp, tp, p, pinv):
 def pfaffian_pair(A, size, p, pinv):
     """``(Pf Y, S, ok)`` for ``M`` of :func:`fill_pair` (``Y`` of order ``size``): :func:`pfaffian_lazy`'s steps
     over ``Y`` only, then the one entry left."""
-    result = 1.0
-    top = size + 2
-    for k in range(0, size, 2):
-        for j in range(k + 1, top):
-            A[k, j] = red(A[k, j], p, pinv)
-        for j in range(k + 2, top):
-            A[k + 1, j] = red(A[k + 1, j], p, pinv)
-        a = A[k, k + 1]
-        if a == 0.0:
-            return 0.0, 0.0, False
-        result = red(result * a, p, pinv)
-        ainv = inv_mod(a, p, pinv)
-        for i in range(k + 2, top):
-            f0 = lred((p - A[k, i]) * ainv, p, pinv)
-            g1 = lred(A[k + 1, i] * ainv, p, pinv)
-            for j in range(i + 1, top):
-                A[i, j] += f0 * A[k + 1, j] + g1 * A[k, j]
+    result, ok = eliminate(A, size, size + 2, p, pinv)
+    if not ok:
+        return 0.0, 0.0, False
     return result, red(A[size, size + 1], p, pinv), True
 
 
@@ -216,17 +217,13 @@ def grid_pairs(n, d, p, zpos, with_zero, lam, C, iota):
     sp = np.empty(2 * n + 1)
     tp = np.empty(2 * n + 1)
     nz = with_zero + 2 * zpos.shape[0]
-    outA = np.zeros((d + 3, nz))
-    outB = np.zeros((d + 3, nz))
-    vals = np.empty(nz)
+    outA, outB, vals = _outputs(d, nz)
     failures = 0
     dinv = inv_mod(float(d), p, pinv)
     for a in range(d + 3):
-        w = float(a)
-        one_w = red(1.0 + p - w, p, pinv)
+        one_w = red(1.0 + p - a, p, pinv)
         for b in range(d // 2 + 1):
-            s = red(one_w * red(b * dinv, p, pinv), p, pinv)
-            t = red(s + w, p, pinv)
+            s, t = _node(a, b, one_w, dinv, p, pinv)
             for z in range(zpos.shape[0] + with_zero):
                 zeta = 0.0 if (with_zero and z == 0) else zpos[z - with_zero]
                 fill_pair(M, n, s, t, red(zeta * zeta, p, pinv), C, iota, sp, tp, p, pinv)

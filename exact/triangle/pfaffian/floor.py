@@ -58,7 +58,6 @@ from __future__ import annotations
 from collections.abc import Callable
 from concurrent.futures import Executor
 from dataclasses import replace
-from math import ceil, log2
 from os import PathLike
 from typing import Any
 
@@ -73,8 +72,8 @@ from ..distribution import pool_gaps
 from ..gaps import GapCounts, gap_laws_plan, layer_gap_counts
 from ..staircase import count, dimension
 from .cost import STARTUP_SECONDS
-from .kernels import pfaffian_mod
-from .floor_kernels import fill, gap_residues, grid, grid_pairs, monomials, quadrature_weights
+from .kernels import dual_weights, lagrange_matrix, pfaffian_mod
+from .floor_kernels import fill, gap_residues, grid, grid_pairs, monomials
 from .tasks import checkpoint_store, run_primes, workers_for
 
 __all__ = ["MAX_FLOOR_N", "floor_primes", "floor_prime_residues", "floor_pooled_gap_law", "floor_gap_laws",
@@ -121,26 +120,10 @@ def _zeta_nodes(n: int) -> tuple[np.ndarray, int, list[int]]:
     return zpos, with_zero, nodes
 
 
-def _inverse_vandermonde(nodes: list[int], p: int) -> np.ndarray:
-    """``V^-1`` modulo ``p``: the coefficients of the polynomial through ``(nodes[i], values[i])`` are ``V^-1 values``."""
-    k = len(nodes)
-    inv = np.zeros((k, k), dtype=np.int64)
-    for i, x in enumerate(nodes):
-        basis, denom = [1], 1  # prod_{j != i} (z - x_j), constant term first
-        for j, y in enumerate(nodes):
-            if j != i:
-                basis = [((basis[m - 1] if m else 0) - y * (basis[m] if m < len(basis) else 0)) % p
-                         for m in range(len(basis) + 1)]
-                denom = denom * (x - y) % p
-        scale = pow(denom, p - 2, p)
-        for m in range(k):
-            inv[m, i] = basis[m] * scale % p
-    return inv
-
-
-def _zeta_coefficients(values: np.ndarray, inverse: np.ndarray, p: int) -> np.ndarray:
-    """Rows: the coefficients in ``zeta`` of each row of values (columns at the nodes of ``inverse``)."""
-    return (values.astype(np.int64) @ inverse.T) % p
+def _zeta_coefficients(values: np.ndarray, lagrange: np.ndarray, p: int) -> np.ndarray:
+    """Rows: the coefficients in ``zeta`` of each row of values (columns at the nodes of the Lagrange matrix
+    :func:`~.kernels.lagrange_matrix`, residues below ``2^22``: the products stay exact in ``int64``)."""
+    return (values.astype(np.int64) @ lagrange.astype(np.int64).T) % p
 
 
 def floor_prime_residues(N: int, p: int, grains: bool = False) -> np.ndarray:
@@ -173,7 +156,9 @@ def floor_prime_residues(N: int, p: int, grains: bool = False) -> np.ndarray:
     N = check_layers(N, maximum=MAX_FLOOR_N)
     n, d = N - 1, dimension(N)
     C, iota = de_bruijn_constants(n, p)
-    lam = quadrature_weights(d, p)
+    # closed Newton-Cotes weights on u = b/d: the functional Integral_0^1 u^k du = 1/(k+1) on the Lagrange basis
+    nodes_u = np.array([b * pow(d, p - 2, p) % p for b in range(d + 1)], dtype=np.float64)
+    lam = dual_weights(nodes_u, np.array([pow(k + 1, p - 2, p) for k in range(d + 1)], dtype=np.float64), float(p))
     size = n + (n % 2)
     A = np.zeros((size, size))
     fill(A, n, size, 0.0, 0.0, 1.0, C, iota, np.empty(2 * n + 1), np.empty(2 * n + 1), p, 1.0 / p, True)
@@ -183,8 +168,8 @@ def floor_prime_residues(N: int, p: int, grains: bool = False) -> np.ndarray:
     if grains:  # A(zeta) + zeta^n B(1/zeta), in coefficients
         zpos, with_zero, nodes = _zeta_nodes(n)
         half, mirror, _failures = grid_pairs(n, d, p, zpos, with_zero, lam, C, iota)
-        inverse = _inverse_vandermonde(nodes, p)
-        values = (_zeta_coefficients(half, inverse, p) + _zeta_coefficients(mirror, inverse, p)[:, ::-1]) % p
+        lagrange = lagrange_matrix(np.array([z % p for z in nodes], dtype=np.float64), float(p))
+        values = (_zeta_coefficients(half, lagrange, p) + _zeta_coefficients(mirror, lagrange, p)[:, ::-1]) % p
     else:
         half, mirror, _failures = grid(n, d, p, np.ones(1), lam, C, iota)
         values = (half + mirror) % p
@@ -334,14 +319,14 @@ def floor_plan(N: int, grains: bool = False, memory_bytes: int | None = None, wo
     what = f"the floor's {'gap laws' if grains else 'pooled gap law'} N={N} (de Bruijn Pfaffians)"
     if N > MAX_FLOOR_N:
         return Plan(what, 0, refusal=f"N={N} is out of range for the floor route: N must be an integer in 2..{MAX_FLOOR_N}")
-    nprimes = ceil((N * count(N)).bit_length() / log2(FLOOR_PRIME_LIMIT * 0.99))
+    nprimes = len(floor_primes(N))
     cpu = floor_prime_seconds(N, grains) * nprimes
     nworkers = workers_for(workers, nprimes, cpu)
     d = dimension(N)
     per_worker = 8 * (d + 3) * (N + 1) * 4 + 160 * 2**20
     plan = Plan(what, STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers, nworkers * per_worker, nprimes,
                 "prime").within_memory(memory_bytes)
-    kernels = [grid_pairs if grains else grid, quadrature_weights, monomials, gap_residues, pfaffian_mod]
+    kernels = [grid_pairs if grains else grid, monomials, gap_residues, pfaffian_mod]
     name = "floor-grains" if grains else "floor"
     return with_compilation(plan, f"Pfaffian {name}", COMPILE_SECONDS[name], kernels)
 

@@ -15,7 +15,7 @@ from numba import njit
 from .kernels import pfaffian_mod
 from .residues import JIT, inv_mod, lred, red
 
-__all__ = ["pfaffian_lazy", "eliminate", "fill", "grid", "fill_pair", "pfaffian_pair", "grid_pairs", "quadrature_weights",
+__all__ = ["pfaffian_lazy", "eliminate", "fill", "grid", "fill_pair", "pfaffian_pair", "grid_pairs",
            "monomials", "gap_residues"]
 
 
@@ -241,43 +241,6 @@ def grid_pairs(n, d, p, zpos, with_zero, lam, C, iota):
             _add_node(outA, outB, a, lam[b], vals, 2 * b != d, p, pinv)
         _scale_row(outA, outB, a, one_w, p, pinv)
     return outA, outB, failures
-
-
-@njit(**JIT)
-def quadrature_weights(d, p):
-    """``lam_b`` with ``sum_b lam_b P(b/d) = Integral_0^1 P`` for every polynomial of degree ``<= d`` (closed
-    Newton-Cotes, ``lam_b = lam_(d-b)``): ``(1/d) Integral_0^d`` of the Lagrange basis on the nodes ``0..d``."""
-    pinv = 1.0 / p
-    W = np.zeros(d + 2)  # prod_{c=0}^{d} (x - c), constant term first
-    W[0] = 1.0
-    for c in range(d + 1):
-        for k in range(c + 1, 0, -1):
-            W[k] = red(W[k - 1] + (p - c) * W[k], p, pinv)
-        W[0] = red((p - c) * W[0], p, pinv)
-    scaled = np.empty(d + 2)  # d^(k+1) / (k+1)
-    power = 1.0
-    for k in range(d + 1):
-        power = red(power * d, p, pinv)
-        scaled[k] = red(power * inv_mod(float(k + 1), p, pinv), p, pinv)
-    fact = np.empty(d + 1)
-    fact[0] = 1.0
-    for k in range(1, d + 1):
-        fact[k] = red(fact[k - 1] * k, p, pinv)
-    dinv = inv_mod(float(d), p, pinv)
-    lam = np.empty(d + 1)
-    q = np.empty(d + 1)
-    for b in range(d + 1):
-        q[d] = W[d + 1]  # W / (x - b) by synthetic division
-        for k in range(d, 0, -1):
-            q[k - 1] = red(W[k] + b * q[k], p, pinv)
-        integral = 0.0
-        for k in range(d + 1):
-            integral = red(integral + q[k] * scaled[k], p, pinv)
-        denom = red(fact[b] * fact[d - b], p, pinv)  # |prod_{c != b} (b - c)|
-        lam[b] = red(red(integral * inv_mod(denom, p, pinv), p, pinv) * dinv, p, pinv)
-        if (d - b) % 2 == 1 and lam[b] != 0.0:
-            lam[b] = p - lam[b]
-    return lam
 
 
 @njit(**JIT)

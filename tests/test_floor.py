@@ -22,6 +22,7 @@ from forcenet.exact.triangle.pfaffian.floor import (
     floor_plan,
     floor_pooled_gap_law,
     floor_prime_residues,
+    floor_prime_seconds,
     floor_primes,
     layer_gap_law,
     layer_route,
@@ -83,7 +84,9 @@ def test_layer_route_picks_the_faster_runnable_route():
     with pytest.raises(ArgumentError, match="route='floor' is out of range for layer 7"):
         layer_gap_law(8, 7, "floor")
     assert floor_plan(MAX_FLOOR_N + 1).refusal.startswith(f"N={MAX_FLOOR_N + 1} is out of range for the floor route")
-    assert floor_plan(30, grains=True).seconds > 10 * floor_plan(30).seconds  # n + 1 fugacities, in pairs
+    # n + 1 fugacities in (n + 2)/2 pairs, one bordered Pfaffian each
+    assert floor_prime_seconds(30, grains=True) == pytest.approx(15 * floor_prime_seconds(30))
+    assert floor_plan(30, grains=True).seconds > floor_plan(30).seconds
 
 
 def test_single_grain_route_takes_the_floor_for_a_floor_load():

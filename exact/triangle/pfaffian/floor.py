@@ -31,10 +31,13 @@ law ``count x_g``.  Chinese remainders (bound ``N count``) make it exact;
 the total mass ``N count`` and the mean ``sum_g g c_g = (d + 1) count`` are
 checked exactly.
 
-Cost per prime: ``(d/2 + 1)(d + 3)`` Pfaffians of order ``n`` (``~ n^3/3``
-multiply-adds each, lazily reduced) per value of ``zeta``: ``O(n^7)``; one
-value for the pooled law, ``n + 1`` for every grain's law (in pairs ``+-zeta``,
-one bordered elimination each: a rank-two term enters a Pfaffian affinely).  The
+Cost per prime: ``(d/2 + 1)(d + 3)`` bordered Pfaffians of order ``n + 2``
+per pair ``+-zeta`` (one for the pooled law at ``zeta = 1``, ``(n + 2)/2`` for
+every grain's law: a rank-two term enters a Pfaffian affinely).  Their
+``n x n`` block is Cauchy-like with four generators, so each costs
+``O(n^2)`` by a displacement elimination (:mod:`.floor_displacement`; the lazy
+``O(n^3)`` elimination of :mod:`.floor_kernels` is the baseline, 3.3-4.7x
+slower at N = 20-44): ``O(n^6)`` pooled, ``O(n^7)`` for every grain.  The
 two-dimensional grid is the price of a two-time quantity
 (``notes/fluctuations.md`` Sec. 4: no evaluate-and-combine route needs fewer
 than ``~ d^2/8`` nodes).
@@ -73,6 +76,7 @@ from ..gaps import GapCounts, gap_laws_plan, layer_gap_counts
 from ..staircase import count, dimension
 from .cost import STARTUP_SECONDS
 from .kernels import dual_weights, lagrange_matrix, pfaffian_mod
+from .floor_displacement import bordered_pfaffians, inverse_table
 from .floor_kernels import fill, gap_residues, grid, grid_pairs, monomials
 from .tasks import checkpoint_store, run_primes, workers_for
 
@@ -81,15 +85,17 @@ __all__ = ["MAX_FLOOR_N", "floor_primes", "floor_prime_residues", "floor_pooled_
 
 MAX_FLOOR_N = 128  # the lazy Pfaffian's bound below needs order <= 128
 FLOOR_PRIME_LIMIT = 2**22  # lazy elimination: p + 64 * 2 p^2 < 2^53 for every p below it, order <= 128
-# CPU seconds per multiply-add of the Pfaffians (n^3/3 per node and zeta value) and per n^2 of the entries (the
-# fill): measured on 2026-11-26 on the 2-core machine, compiled kernels timed alone at N = 36 and 40 (0.45 and
-# 0.42 ns per multiply-add; 4.2 and 5.2 us per fill), its background job running.
 # Compiling the kernels on a first run (numba's cache empty): 54 s (pooled) and 75 s (every load) measured on
 # 2026-11-26 on this machine at load 7, against 19 s for the table's kernels (engine.COMPILE_SECONDS) on the
 # reference machine, which this session's machine ran 2-3.5x slower: about 25 s and 35 s there.
 COMPILE_SECONDS = {"floor": 25.0, "floor-grains": 35.0}
-_SECONDS_PER_FMA = 4.5e-10
-_SECONDS_PER_ENTRY = 3.5e-9
+# CPU seconds per bordered Pfaffian by the displacement kernel: per n^2 (the rows of the n/2 pivots) and per n
+# (a pivot's set-up, the loop's prologue, the generators). Fitted on whole primes at N = 20 and 44 (every load;
+# 0.52 and 45 ns, checked at N = 28, 36 and on the pooled grid at N = 28-60 within 8 %) on 2026-11-26, then scaled
+# by 1.47, the factor by which the same day's machine ran the elimination kernel faster than its own model
+# (31.5 s against 46.3 s per prime at N = 36), so that the two models speak of the same reference machine.
+_SECONDS_PER_ROW = 7.7e-10
+_SECONDS_PER_PIVOT = 6.6e-8
 
 
 # ------------------------------------------------------------------ one prime
@@ -126,7 +132,7 @@ def _zeta_coefficients(values: np.ndarray, lagrange: np.ndarray, p: int) -> np.n
     return (values.astype(np.int64) @ lagrange.astype(np.int64).T) % p
 
 
-def floor_prime_residues(N: int, p: int, grains: bool = False) -> np.ndarray:
+def floor_prime_residues(N: int, p: int, grains: bool = False, kernel: str = "displacement") -> np.ndarray:
     """The floor's gap counts modulo one prime: pooled (one row) or of every grain ``j = 1..N`` (``N`` rows).
 
     Parameters
@@ -137,6 +143,10 @@ def floor_prime_residues(N: int, p: int, grains: bool = False) -> np.ndarray:
         A prime of the route (:func:`floor_primes`).
     grains : bool
         Every grain's law (``n + 1`` values of ``zeta``) instead of the pooled one (``zeta = 1``).
+    kernel : {"displacement", "elimination"}
+        How each Pfaffian is evaluated: by its displacement structure
+        (:mod:`.floor_displacement`, ``O(n^2)``, the default) or by the lazy
+        elimination of the explicit matrix (``O(n^3)``; the baseline).  Same residues.
 
     Returns
     -------
@@ -154,8 +164,12 @@ def floor_prime_residues(N: int, p: int, grains: bool = False) -> np.ndarray:
     [[0, 2, 1, 0, 0]]
     """
     N = check_layers(N, maximum=MAX_FLOOR_N)
+    if kernel not in ("displacement", "elimination"):
+        raise ArgumentError(f"kernel={kernel!r} is out of range: it must be 'displacement' or 'elimination'")
+    displacement = kernel == "displacement"
     n, d = N - 1, dimension(N)
     C, iota = de_bruijn_constants(n, p)
+    invx = inverse_table(n, p)
     # closed Newton-Cotes weights on u = b/d: the functional Integral_0^1 u^k du = 1/(k+1) on the Lagrange basis
     nodes_u = np.array([b * pow(d, p - 2, p) % p for b in range(d + 1)], dtype=np.float64)
     lam = dual_weights(nodes_u, np.array([pow(k + 1, p - 2, p) for k in range(d + 1)], dtype=np.float64), float(p))
@@ -167,11 +181,11 @@ def floor_prime_residues(N: int, p: int, grains: bool = False) -> np.ndarray:
         raise ArithmeticError(f"the floor's normalization vanishes modulo p={p}")
     if grains:  # A(zeta) + zeta^n B(1/zeta), in coefficients
         zpos, with_zero, nodes = _zeta_nodes(n)
-        half, mirror, _failures = grid_pairs(n, d, p, zpos, with_zero, lam, C, iota)
+        half, mirror, _failures = grid_pairs(n, d, p, zpos, with_zero, lam, C, iota, invx, displacement)
         lagrange = lagrange_matrix(np.array([z % p for z in nodes], dtype=np.float64), float(p))
         values = (_zeta_coefficients(half, lagrange, p) + _zeta_coefficients(mirror, lagrange, p)[:, ::-1]) % p
     else:
-        half, mirror, _failures = grid(n, d, p, np.ones(1), lam, C, iota)
+        half, mirror, _failures = grid(n, d, p, lam, C, iota, invx, displacement)
         values = (half + mirror) % p
     rows = (values.astype(np.int64) * pow(Z, p - 2, p) % p).T.astype(np.float64)  # rows: grain j = k + 1, or the pool
     total_mod = float(count(N) % p)
@@ -226,7 +240,7 @@ def floor_pooled_gap_law(N: int, *, workers: int | None = None, progress: Callab
     """Exact rank-gap law of the floor's ``N`` loads ``W_{N,1..N}``, pooled, by de Bruijn Pfaffians (module docstring).
 
     Equal to ``pool_gaps(layer_gap_counts(N, N))`` of the order-ideal DP
-    (tested), which stops near N = 22; this route is polynomial (``O(n^7)``
+    (tested), which stops near N = 22; this route is polynomial (``O(n^6)``
     per prime, :func:`floor_plan`).  The pooled density, its CDF and moments
     follow from :mod:`forcenet.exact.triangle.distribution`
     (``density_from_gaps``; ``f = N W`` for the floor's ``P(f)``).
@@ -298,10 +312,8 @@ def floor_prime_seconds(N: int, grains: bool = False) -> float:
     """
     n, d = N - 1, dimension(N)
     nodes = (d // 2 + 1) * (d + 3)  # half the grid: the mirror
-    size = n + n % 2
-    if grains:  # one bordered elimination per pair +-zeta
-        return nodes * (n + 2) // 2 * (_SECONDS_PER_FMA * (size + 2) ** 3 / 3 + _SECONDS_PER_ENTRY * n * n)
-    return nodes * (_SECONDS_PER_FMA * size**3 / 3 + _SECONDS_PER_ENTRY * n * n)
+    lanes = (n + 2) // 2 if grains else 1  # one bordered Pfaffian per pair +-zeta
+    return nodes * lanes * (_SECONDS_PER_ROW * n * n + _SECONDS_PER_PIVOT * n)
 
 
 def floor_plan(N: int, grains: bool = False, memory_bytes: int | None = None, workers: int | None = None) -> Plan:
@@ -326,7 +338,7 @@ def floor_plan(N: int, grains: bool = False, memory_bytes: int | None = None, wo
     per_worker = 8 * (d + 3) * (N + 1) * 4 + 160 * 2**20
     plan = Plan(what, STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers, nworkers * per_worker, nprimes,
                 "prime").within_memory(memory_bytes)
-    kernels = [grid_pairs if grains else grid, monomials, gap_residues, pfaffian_mod]
+    kernels = [grid_pairs if grains else grid, bordered_pfaffians, monomials, gap_residues, pfaffian_mod]
     name = "floor-grains" if grains else "floor"
     return with_compilation(plan, f"Pfaffian {name}", COMPILE_SECONDS[name], kernels)
 

@@ -1,10 +1,13 @@
 """The compiled kernels of the floor's route (:mod:`.floor`): de Bruijn Pfaffians on the grid, modulo ``p < 2^22``.
 
 The derivation and the route are in :mod:`.floor` and ``notes/fluctuations.md``
-Sec. 5.1.  Residues are ``float64`` integers as in :mod:`.residues`; the
-Pfaffians are eliminated lazily (:func:`pfaffian_lazy` has the bound).
+Sec. 5.1.  Residues are ``float64`` integers as in :mod:`.residues`.  The
+grids evaluate their Pfaffians by the displacement kernel of
+:mod:`.floor_displacement` (the default), or by the lazy elimination of the
+explicit matrices here (:func:`pfaffian_lazy` has the bound; the baseline of
+the benchmarks and a second route in the tests).
 
-May import: :mod:`.residues`, :mod:`.kernels` (``pfaffian_mod``, the pivoting fallback).
+May import: :mod:`.residues`, :mod:`.kernels` (``pfaffian_mod``, the pivoting fallback), :mod:`.floor_displacement`.
 """
 
 from __future__ import annotations
@@ -12,11 +15,14 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from .floor_displacement import STREAMS, STRIDE, bordered_pfaffians
 from .kernels import pfaffian_mod
 from .residues import JIT, inv_mod, lred, red
 
 __all__ = ["pfaffian_lazy", "eliminate", "fill", "grid", "fill_pair", "pfaffian_pair", "grid_pairs",
-           "monomials", "gap_residues"]
+           "monomials", "gap_residues", "GRID_LANES"]
+
+GRID_LANES = 16  # nodes of a row side by side in the displacement kernel (the pooled grid)
 
 
 @njit(**JIT)
@@ -127,38 +133,57 @@ def _scale_row(outA, outB, a, factor, p, pinv):
 
 
 @njit(**JIT)
-def grid(n, d, p, zetas, lam, C, iota):
-    """Half the grid, by the mirror ``v -> 1 - v``: ``(1 - w) sum_b lam_b Pf(s, t, zeta)`` over the nodes
-    ``u = b/d``, ``b <= d/2`` (``A``), and the same without the middle node (``B``), for ``w = 0..d+2`` and every
-    ``zeta``, mod ``p``; ``s = (1 - w) u``, ``t = s + w``.
+def grid(n, d, p, lam, C, iota, invx, displacement):
+    """Half the grid at ``zeta = 1``, by the mirror ``v -> 1 - v``: ``(1 - w) sum_b lam_b Pf(s, t)`` over the
+    nodes ``u = b/d``, ``b <= d/2`` (``A``), and the same without the middle node (``B``), for ``w = 0..d+2``, mod
+    ``p``; ``s = (1 - w) u``, ``t = s + w``.
 
-    The node ``d - b`` is the mirror of ``b`` (``s, t -> 1 - t, 1 - s``) and its
-    weight is ``lam_b``: its Pfaffian is ``zeta^n`` times the one at ``b`` with
-    ``zeta -> 1/zeta``, so the whole sum is ``A(zeta) + zeta^n B(1/zeta)``
-    (``A + B`` at ``zeta = 1``).
+    The node ``d - b`` is the mirror of ``b`` (``s, t -> 1 - t, 1 - s``) with
+    the weight ``lam_b`` and the same Pfaffian at ``zeta = 1``, so the whole
+    sum is ``A + B``.  ``displacement``: the nodes of a row go
+    :data:`GRID_LANES` at a time through
+    :func:`~.floor_displacement.bordered_pfaffians` (``Pf X(1) = Pf Y (1 - S)``);
+    otherwise one lazy elimination of the de Bruijn matrix per node (the
+    baseline).  ``invx``: :func:`~.floor_displacement.inverse_table`.
     """
     pinv = 1.0 / p
     size = n + (n % 2)
     A = np.zeros((size, size))
     sp = np.empty(2 * n + 1)
     tp = np.empty(2 * n + 1)
-    nz = zetas.shape[0]
-    outA, outB, vals = _outputs(d, nz)
+    outA, outB, vals = _outputs(d, 1)
     failures = 0
     dinv = inv_mod(float(d), p, pinv)
+    half = d // 2 + 1
+    Z = np.zeros(STREAMS * STRIDE * GRID_LANES)
+    ss = np.empty(GRID_LANES)
+    ts = np.empty(GRID_LANES)
+    ys = np.ones(GRID_LANES)
+    pf = np.empty(GRID_LANES)
+    S = np.empty(GRID_LANES)
+    ok = np.empty(GRID_LANES, dtype=np.bool_)
     for a in range(d + 3):
         one_w = red(1.0 + p - a, p, pinv)
-        for b in range(d // 2 + 1):
-            s, t = _node(a, b, one_w, dinv, p, pinv)
-            for z in range(nz):
-                fill(A, n, size, s, t, zetas[z], C, iota, sp, tp, p, pinv, False)
-                value, ok = pfaffian_lazy(A, size, p, pinv)
-                if not ok:
-                    failures += 1
-                    fill(A, n, size, s, t, zetas[z], C, iota, sp, tp, p, pinv, True)
-                    value = pfaffian_mod(A, p)
-                vals[z] = value
-            _add_node(outA, outB, a, lam[b], vals, 2 * b != d, p, pinv)
+        for b0 in range(0, half, GRID_LANES):
+            lanes = min(GRID_LANES, half - b0)
+            for l in range(lanes):
+                ss[l], ts[l] = _node(a, b0 + l, one_w, dinv, p, pinv)
+            if displacement:
+                bordered_pfaffians(n, ss[:lanes], ts[:lanes], ys[:lanes], invx, p, Z, pf, S, ok)
+            for l in range(lanes):
+                if displacement and ok[l]:
+                    value = red(pf[l] * red(1.0 + p - S[l], p, pinv), p, pinv)
+                else:
+                    good = False
+                    if not displacement:
+                        fill(A, n, size, ss[l], ts[l], 1.0, C, iota, sp, tp, p, pinv, False)
+                        value, good = pfaffian_lazy(A, size, p, pinv)
+                    if not good:  # a vanishing pivot: pivoting
+                        failures += 1
+                        fill(A, n, size, ss[l], ts[l], 1.0, C, iota, sp, tp, p, pinv, True)
+                        value = pfaffian_mod(A, p)
+                vals[0] = value
+                _add_node(outA, outB, a, lam[b0 + l], vals, 2 * (b0 + l) != d, p, pinv)
         _scale_row(outA, outB, a, one_w, p, pinv)
     return outA, outB, failures
 
@@ -207,32 +232,56 @@ def pfaffian_pair(A, size, p, pinv):
 
 
 @njit(**JIT)
-def grid_pairs(n, d, p, zpos, with_zero, lam, C, iota):
+def grid_pairs(n, d, p, zpos, with_zero, lam, C, iota, invx, displacement):
     """:func:`grid` for every floor load: ``zeta`` in ``[0 if with_zero] + [z, -z for z in zpos]`` (the columns),
-    each pair ``+-z`` from one elimination (:func:`fill_pair`)."""
+    each pair ``+-z`` from one bordered Pfaffian (:func:`fill_pair`).
+
+    ``displacement``: the pairs of a node go side by side through
+    :func:`~.floor_displacement.bordered_pfaffians`; otherwise one lazy
+    elimination each (:func:`pfaffian_pair`, the baseline).  A vanishing
+    pivot falls back to two pivoting Pfaffians.
+    """
     pinv = 1.0 / p
     size = n + (n % 2)
     M = np.zeros((size + 2, size + 2))
     A = np.zeros((size, size))
     sp = np.empty(2 * n + 1)
     tp = np.empty(2 * n + 1)
+    npairs = with_zero + zpos.shape[0]
     nz = with_zero + 2 * zpos.shape[0]
     outA, outB, vals = _outputs(d, nz)
     failures = 0
     dinv = inv_mod(float(d), p, pinv)
+    Z = np.zeros(STREAMS * STRIDE * npairs)
+    zetas = np.empty(npairs)
+    ys = np.empty(npairs)
+    for z in range(npairs):
+        zetas[z] = 0.0 if (with_zero and z == 0) else zpos[z - with_zero]
+        ys[z] = red(zetas[z] * zetas[z], p, pinv)
+    ss = np.empty(npairs)
+    ts = np.empty(npairs)
+    pf = np.empty(npairs)
+    S = np.empty(npairs)
+    ok = np.empty(npairs, dtype=np.bool_)
     for a in range(d + 3):
         one_w = red(1.0 + p - a, p, pinv)
         for b in range(d // 2 + 1):
             s, t = _node(a, b, one_w, dinv, p, pinv)
-            for z in range(zpos.shape[0] + with_zero):
-                zeta = 0.0 if (with_zero and z == 0) else zpos[z - with_zero]
-                fill_pair(M, n, s, t, red(zeta * zeta, p, pinv), C, iota, sp, tp, p, pinv)
-                pf, S, ok = pfaffian_pair(M, size, p, pinv)
+            ss[:] = s
+            ts[:] = t
+            if displacement:
+                bordered_pfaffians(n, ss, ts, ys, invx, p, Z, pf, S, ok)
+            else:
+                for z in range(npairs):
+                    fill_pair(M, n, s, t, ys[z], C, iota, sp, tp, p, pinv)
+                    pf[z], S[z], ok[z] = pfaffian_pair(M, size, p, pinv)
+            for z in range(npairs):
+                zeta = zetas[z]
                 cols = (0, 0) if (with_zero and z == 0) else (with_zero + 2 * (z - with_zero), with_zero + 2 * (z - with_zero) + 1)
-                if ok:
-                    zS = red(zeta * S, p, pinv)
-                    vals[cols[0]] = red(pf * red(1.0 + p - zS, p, pinv), p, pinv)
-                    vals[cols[1]] = red(pf * red(1.0 + zS, p, pinv), p, pinv)
+                if ok[z]:
+                    zS = red(zeta * S[z], p, pinv)
+                    vals[cols[0]] = red(pf[z] * red(1.0 + p - zS, p, pinv), p, pinv)
+                    vals[cols[1]] = red(pf[z] * red(1.0 + zS, p, pinv), p, pinv)
                 else:
                     failures += 1
                     for c, zz in ((cols[0], zeta), (cols[1], p - zeta if zeta != 0.0 else 0.0)):

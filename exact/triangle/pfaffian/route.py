@@ -445,14 +445,18 @@ def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, exe
     >>> plan = table_plan(32)
     >>> plan.runnable, plan.ticks, plan.unit
     (True, 55, 'prime')
-    >>> table_plan(8, moments=2).refusal
-    'moments=2 is out of range for --method pfaffian: moments must be 1 (higher moments use --method fast, thesis or maps)'
+    >>> print(table_plan(8, moments=2).refusal)  # doctest: +NORMALIZE_WHITESPACE
+    moments=2 is out of range for --method pfaffian: moments must be 1 (higher moments use --method fast, thesis or
+    maps; by Pfaffians, the whole law of a floor load or a lattice-direction load: forcenet dist --N N --grain N,j
+    or --grain i,1)
     >>> table_plan(201).refusal
     'N=201 is out of range for --method pfaffian: N must be an integer in 2..200'
     """
     N, moments = check_layers(N), check_moments(moments)
     what = f"exact table N={N} (Pfaffians)"
-    refusal = table_range(what, "pfaffian", N, moments, MAX_N)
+    refusal = table_range(what, "pfaffian", N, moments, MAX_N,
+                          why_moments="by Pfaffians, the whole law of a floor load or a lattice-direction load: "
+                                      "forcenet dist --N N --grain N,j or --grain i,1")
     if refusal is not None:
         return refusal
     n, d = N - 1, dimension(N)

@@ -199,8 +199,8 @@ def phase_progress(progress, plan: Plan):
     return tick
 
 
-def first_moment_only(what: str, method: str, moments: int) -> Plan | None:
-    """The refusal of a route that computes ``<W>`` only, or None when ``moments == 1``.
+def first_moment_only(what: str, method: str, moments: int, why: str = "") -> Plan | None:
+    """The refusal of a route that computes ``<W>`` only, or None when ``moments == 1``; ``why`` adds where else to look.
 
     Examples
     --------
@@ -212,7 +212,7 @@ def first_moment_only(what: str, method: str, moments: int) -> Plan | None:
     if moments == 1:
         return None
     return Plan(what, 0, refusal=f"moments={moments} is out of range for --method {method}: moments must be 1 "
-                                 "(higher moments use --method fast, thesis or maps)")
+                                 "(higher moments use --method fast, thesis or maps" + (f"; {why}" if why else "") + ")")
 
 
 def table_range(what: str, method: str, N: int, moments: int, max_N: int, *, max_moments: int | None = 1,
@@ -238,7 +238,7 @@ def table_range(what: str, method: str, N: int, moments: int, max_N: int, *, max
         return Plan(what, 0, refusal=f"N={N} is out of range for --method {method}: N must be an integer in 2..{max_N}"
                                      + (f" ({why_N})" if why_N else ""))
     if max_moments == 1:
-        return first_moment_only(what, method, moments)
+        return first_moment_only(what, method, moments, why_moments)
     if max_moments is not None and moments > max_moments:
         return Plan(what, 0, refusal=f"moments={moments} is out of range for --method {method}: moments must be an "
                                      f"integer in 1..{max_moments}" + (f" ({why_moments})" if why_moments else ""))

@@ -15,7 +15,7 @@ normalized variance against ``1/N`` and the profile against ``x``.
 
 Usage::
 
-    python benchmarks/floor_variance.py --N 20 24 28 32 36 40 --out floor_variance.json --checkpoint ckpt
+    python benchmarks/floor_variance.py --N 12 16 20 24 28 32 36 40 --out floor_variance.json --checkpoint ckpt
     python benchmarks/floor_variance.py --N 20 --out floor_variance.json --figure floor_variance.png
 """
 
@@ -81,9 +81,13 @@ def figure(data: dict, path: str) -> None:
     right.legend(fontsize=7)
     centre = [data[str(N)]["loads"][N // 2 - 1]["normalized_var"] if N % 2 == 0 else
               data[str(N)]["loads"][N // 2]["normalized_var"] for N in Ns]
-    left.plot([1 / N for N in Ns], centre, "o-", label="exact, central load")
+    inv2 = [1 / N**2 for N in Ns]
+    left.plot(inv2, centre, "o", label="exact, central load")
+    slope = sum((GOE_NORMALIZED_VARIANCE - c) * N**2 for c, N in zip(centre, Ns) if N >= 24) / sum(N >= 24 for N in Ns)
+    left.plot([0, max(inv2)], [GOE_NORMALIZED_VARIANCE, GOE_NORMALIZED_VARIANCE - slope * max(inv2)], "-", lw=0.7,
+              label=f"GOE - {slope:.2f}/N^2 (mean over N >= 24)")
     left.axhline(GOE_NORMALIZED_VARIANCE, color="k", ls="--", lw=0.8, label="GOE spacing (N = oo)")
-    left.set_xlabel("1/N")
+    left.set_xlabel("1/N^2")
     left.set_ylabel("normalized variance")
     left.set_xlim(left=0)
     left.legend(fontsize=8)

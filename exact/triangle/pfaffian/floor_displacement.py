@@ -30,8 +30,10 @@ exact in ``float64``.  The loop over the rows is a vector loop over one flat
 array with a compile-time stride (:data:`STRIDE`), padded to a multiple of 4
 rows (zeros, which stay zero).
 
-Measured (``notes/benchmarks.md``): 4.3-5.8x per bordered Pfaffian against the
-lazy elimination of :mod:`.floor_kernels` at N = 36-48, in the same run.
+Measured (``notes/benchmarks.md``): against the lazy elimination of
+:mod:`.floor_kernels`, 4.3-5.8x per bordered Pfaffian at N = 36-48 and
+3.3-4.7x per prime of the floor route at N = 20-44, in the same run
+(``benchmarks/floor_displacement.py``).
 
 May import: :mod:`.residues`.
 """

@@ -127,3 +127,19 @@ def test_laws_by_the_displacement_kernel_match_the_mirror_and_the_pool():
     pooled = floor_pooled_gap_law(12, workers=1)
     assert all(laws[j] == laws[13 - j] for j in range(1, 13))
     assert tuple(sum(law.counts[g] for law in laws.values()) for g in range(len(pooled.counts))) == pooled.counts
+
+
+@pytest.mark.parametrize("n", [126, 127])
+def test_the_kernel_holds_at_the_routes_largest_order(n):
+    """N = 127, 128: the stride's padding and the bounds at the largest order the route allows."""
+    rng = np.random.default_rng(n)
+    lanes = rng.integers(0, P, size=(3, 3)).astype(np.float64)
+    pf, S, ok = np.empty(3), np.empty(3), np.empty(3, dtype=np.bool_)
+    bordered_pfaffians(n, lanes[:, 0].copy(), lanes[:, 1].copy(), lanes[:, 2].copy(), inverse_table(n, P), P,
+                       lane_buffer(3), pf, S, ok)
+    C, iota = de_bruijn_constants(n, P)
+    size = n + n % 2
+    for l in range(3):
+        M = np.zeros((size + 2, size + 2))
+        fill_pair(M, n, lanes[l, 0], lanes[l, 1], lanes[l, 2], C, iota, np.empty(2 * n + 1), np.empty(2 * n + 1), P, 1 / P)
+        assert pfaffian_pair(M, size, P, 1 / P) == (pf[l], S[l], bool(ok[l]))

@@ -417,6 +417,68 @@ def _floor_density_by_de_bruijn(N, j):
     return sp.Poly(sp.expand(sp.diff(F, w, 2)), w)
 
 
+def _layer_above_floor_density_by_pfaffian(N, j):
+    """Density of ``W_{N-1,j}`` (the layer above the floor) from a de Bruijn-type Pfaffian (notes/fluctuations.md Sec. 6).
+
+    The free partial sums ``u`` of layer ``N - 1`` (``m = N - 2`` points) and the
+    floor ``v`` have the joint density ``Delta(u) 1[u interlaces v]``.  The floor
+    integrates out to ``Phi(u) = prod of the gaps of (0, u, 1)``, a Pfaffian
+    with the kernel ``K(x, y) = x (y - x)`` (``x < y``, antisymmetric), the row
+    ``x (1 - x)`` against a constant row (and, ``m`` even, the border ``x`` and a
+    ``1``); de Bruijn's integration against ``Delta(u)`` then gives
+    ``G(s, t) = [zeta^(j-1)] Pf[[A, B], [-B^T, C]] / (the same at zeta = 1, t = s)`` with
+    ``A_kl = int int x^k y^l K(x, y) chi chi``, ``B_k = int x^k (x (1 - x), x) chi``,
+    ``chi = zeta 1[x <= s] + 1[x > t]``.
+    """
+    import sympy as sp
+
+    s, t, z, w, x, y = sp.symbols("s t zeta w x y")
+    m = N - 2
+
+    def double(f):  # int int_{x<y} f chi(x) chi(y)
+        low = sp.integrate(sp.integrate(f, (x, 0, y)), (y, 0, s))
+        split = sp.integrate(sp.integrate(f, (x, 0, s)), (y, t, 1))
+        high = sp.integrate(sp.integrate(f, (x, t, y)), (y, t, 1))
+        return sp.expand(z**2 * low + z * split + high)
+
+    def single(f):
+        return sp.expand(z * sp.integrate(f, (x, 0, s)) + sp.integrate(f, (x, t, 1)))
+
+    def pfaffian(A):
+        if A.shape[0] == 0:
+            return sp.Integer(1)
+        rest = range(1, A.shape[0])
+        return sp.expand(sum((-1) ** (k + 1) * A[0, k] * pfaffian(A.extract([r for r in rest if r != k], [r for r in rest if r != k]))
+                             for k in rest))
+
+    constant_rows = 1 if m % 2 else 2
+    A = sp.zeros(m + constant_rows, m + constant_rows)
+    for k in range(m):
+        for l in range(k + 1, m):
+            A[k, l] = double((x**k * y**l - x**l * y**k) * x * (y - x))
+            A[l, k] = -A[k, l]
+        A[k, m] = single(x**k * x * (1 - x))
+        A[m, k] = -A[k, m]
+        if constant_rows == 2:
+            A[k, m + 1] = single(x**k * x)
+            A[m + 1, k] = -A[k, m + 1]
+    if constant_rows == 2:
+        A[m, m + 1], A[m + 1, m] = 1, -1
+    P = pfaffian(A)
+    G = P.coeff(z, j - 1) / P.subs({z: 1, t: s})
+    F = sp.integrate(G.subs(t, s + w), (s, 0, 1 - w))
+    return sp.Poly(sp.expand(sp.diff(F, w, 2)), w)
+
+
+@pytest.mark.parametrize("N", [3, 4, 5])
+def test_the_layer_above_the_floor_is_a_pfaffian_ensemble_too(N):
+    """Every load of layer N - 1 from the Pfaffian with the kernel x (y - x): the DP's density, exactly."""
+    from forcenet.exact.triangle.distribution import density
+
+    for j in range(1, N):
+        assert _layer_above_floor_density_by_pfaffian(N, j).all_coeffs() == density(N, (N - 1, j)).all_coeffs()
+
+
 @pytest.mark.parametrize("N", [3, 4, 5])
 def test_a_floor_load_law_from_de_bruijn_equals_the_dp(N):
     from forcenet.exact.triangle.distribution import density

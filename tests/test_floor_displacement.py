@@ -25,14 +25,23 @@ from forcenet.exact.triangle.pfaffian.kernels import dual_weights
 P = 4194301
 
 
-def _explicit(n, s, t, y, p):
-    """fill_pair's bordered matrix, both halves, reduced."""
-    C, iota = de_bruijn_constants(n, p)
+def _upper(n, s, t, y, p, C, iota):
+    """fill_pair's bordered matrix (upper triangle, unreduced) at ``(s, t, y)``."""
     size = n + n % 2
     M = np.zeros((size + 2, size + 2))
     fill_pair(M, n, float(s), float(t), float(y), C, iota, np.empty(2 * n + 1), np.empty(2 * n + 1), p, 1 / p)
-    M = np.triu(M % p, 1)
+    return M
+
+
+def _explicit(n, s, t, y, p):
+    """fill_pair's bordered matrix, both halves, reduced."""
+    M = np.triu(_upper(n, s, t, y, p, *de_bruijn_constants(n, p)) % p, 1)
     return ((M - M.T) % p).astype(np.int64)
+
+
+def _by_elimination(n, s, t, y, p, C, iota):
+    """``(Pf Y, S, ok)`` by the lazy elimination of the explicit matrix (the other route)."""
+    return pfaffian_pair(_upper(n, s, t, y, p, C, iota), n + n % 2, p, 1 / p)
 
 
 @settings(max_examples=25)
@@ -62,11 +71,8 @@ def test_bordered_pfaffians_equal_the_lazy_elimination(n, lanes):
     pf, S, ok = np.empty(L), np.empty(L), np.empty(L, dtype=np.bool_)
     bordered_pfaffians(n, ss, ts, ys, inverse_table(n, P), P, lane_buffer(L), pf, S, ok)
     C, iota = de_bruijn_constants(n, P)
-    size = n + n % 2
     for l, (s, t, y) in enumerate(lanes):
-        M = np.zeros((size + 2, size + 2))
-        fill_pair(M, n, float(s), float(t), float(y), C, iota, np.empty(2 * n + 1), np.empty(2 * n + 1), P, 1 / P)
-        pf1, S1, ok1 = pfaffian_pair(M, size, P, 1 / P)
+        pf1, S1, ok1 = _by_elimination(n, s, t, y, P, C, iota)
         assert bool(ok[l]) == ok1
         if ok1:
             assert (pf[l], S[l]) == (pf1, S1)
@@ -83,9 +89,7 @@ def test_a_vanishing_pivot_is_reported_on_the_same_lanes():
     C, iota = de_bruijn_constants(n, p)
     flagged = 0
     for l in range(400):
-        M = np.zeros((8, 8))
-        fill_pair(M, n, lanes[l, 0], lanes[l, 1], lanes[l, 2], C, iota, np.empty(13), np.empty(13), p, 1 / p)
-        pf1, S1, ok1 = pfaffian_pair(M, 6, p, 1 / p)
+        pf1, S1, ok1 = _by_elimination(n, *lanes[l], p, C, iota)
         assert bool(ok[l]) == ok1 and (not ok1 or (pf[l], S[l]) == (pf1, S1))
         flagged += not ok1
     assert 0 < flagged < 400  # both branches ran
@@ -138,8 +142,5 @@ def test_the_kernel_holds_at_the_routes_largest_order(n):
     bordered_pfaffians(n, lanes[:, 0].copy(), lanes[:, 1].copy(), lanes[:, 2].copy(), inverse_table(n, P), P,
                        lane_buffer(3), pf, S, ok)
     C, iota = de_bruijn_constants(n, P)
-    size = n + n % 2
     for l in range(3):
-        M = np.zeros((size + 2, size + 2))
-        fill_pair(M, n, lanes[l, 0], lanes[l, 1], lanes[l, 2], C, iota, np.empty(2 * n + 1), np.empty(2 * n + 1), P, 1 / P)
-        assert pfaffian_pair(M, size, P, 1 / P) == (pf[l], S[l], bool(ok[l]))
+        assert _by_elimination(n, *lanes[l], P, C, iota) == (pf[l], S[l], bool(ok[l]))

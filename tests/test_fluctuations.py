@@ -376,66 +376,16 @@ def test_dist_beyond_the_dp_gives_the_lattice_grain_law(cli):
 # ------------------------------------------------ the floor load's law from the Legendre ensemble (de Bruijn)
 
 
-def _floor_density_by_de_bruijn(N, j):
-    """Density of ``W_{N,j}`` from the floor's Vandermonde density alone (notes/fluctuations.md Sec. 5).
-
-    ``E[(W - w)_+] = int_0^(1-w) G(s, s + w) ds`` with ``G(s, t) = P(j - 1 floor points in [0, s],
-    none in (s, t])``, and ``G`` is ``[zeta^(j-1)]`` of de Bruijn's Pfaffian of
-    ``int int_{x<y} (x^i y^k - x^k y^i) phi(x) phi(y)``, ``phi = zeta 1[x <= s] + 1[x > t]``
-    (bordered by ``int x^i phi`` when ``n`` is odd), over its value at ``zeta = 1``, ``t = s``.
-    """
+def _gap_pfaffian_tools():
+    """What the two de Bruijn checks share, in sympy: with ``chi = zeta 1[x <= s] + 1[x > t]``,
+    ``double(f) = int int_{x<y} f chi(x) chi(y)``, ``single(f) = int f chi``, a Pfaffian by expansion, and the
+    load's density from the Pfaffian ``P``: ``G = [zeta^(j-1)] P / P(zeta = 1, t = s)``,
+    ``E[(W - w)_+] = int_0^(1-w) G(s, s + w) ds``, its second derivative in ``w``."""
     import sympy as sp
 
     s, t, z, w, x, y = sp.symbols("s t zeta w x y")
-    n = N - 1
 
-    def pair(i, k):
-        f = x**i * y**k - x**k * y**i
-        low = sp.integrate(sp.integrate(f, (x, 0, y)), (y, 0, s))
-        split = sp.integrate(sp.integrate(f, (x, 0, s)), (y, t, 1))
-        high = sp.integrate(sp.integrate(f, (x, t, y)), (y, t, 1))
-        return sp.expand(z**2 * low + z * split + high)
-
-    def pfaffian(A):
-        if A.shape[0] == 0:
-            return sp.Integer(1)
-        rest = range(1, A.shape[0])
-        return sp.expand(sum((-1) ** (k + 1) * A[0, k] * pfaffian(A.extract([r for r in rest if r != k], [r for r in rest if r != k]))
-                             for k in rest))
-
-    size = n + n % 2
-    A = sp.zeros(size, size)
-    for i in range(n):
-        for k in range(i + 1, n):
-            A[i, k], A[k, i] = pair(i, k), -pair(i, k)
-        if n % 2:
-            border = sp.expand(z * sp.integrate(x**i, (x, 0, s)) + sp.integrate(x**i, (x, t, 1)))
-            A[i, n], A[n, i] = border, -border
-    P = pfaffian(A)
-    G = P.coeff(z, j - 1) / P.subs({z: 1, t: s})
-    F = sp.integrate(G.subs(t, s + w), (s, 0, 1 - w))
-    return sp.Poly(sp.expand(sp.diff(F, w, 2)), w)
-
-
-def _layer_above_floor_density_by_pfaffian(N, j):
-    """Density of ``W_{N-1,j}`` (the layer above the floor) from a de Bruijn-type Pfaffian (notes/fluctuations.md Sec. 6).
-
-    The free partial sums ``u`` of layer ``N - 1`` (``m = N - 2`` points) and the
-    floor ``v`` have the joint density ``Delta(u) 1[u interlaces v]``.  The floor
-    integrates out to ``Phi(u) = prod of the gaps of (0, u, 1)``, a Pfaffian
-    with the kernel ``K(x, y) = x (y - x)`` (``x < y``, antisymmetric), the row
-    ``x (1 - x)`` against a constant row (and, ``m`` even, the border ``x`` and a
-    ``1``); de Bruijn's integration against ``Delta(u)`` then gives
-    ``G(s, t) = [zeta^(j-1)] Pf[[A, B], [-B^T, C]] / (the same at zeta = 1, t = s)`` with
-    ``A_kl = int int x^k y^l K(x, y) chi chi``, ``B_k = int x^k (x (1 - x), x) chi``,
-    ``chi = zeta 1[x <= s] + 1[x > t]``.
-    """
-    import sympy as sp
-
-    s, t, z, w, x, y = sp.symbols("s t zeta w x y")
-    m = N - 2
-
-    def double(f):  # int int_{x<y} f chi(x) chi(y)
+    def double(f):
         low = sp.integrate(sp.integrate(f, (x, 0, y)), (y, 0, s))
         split = sp.integrate(sp.integrate(f, (x, 0, s)), (y, t, 1))
         high = sp.integrate(sp.integrate(f, (x, t, y)), (y, t, 1))
@@ -451,6 +401,51 @@ def _layer_above_floor_density_by_pfaffian(N, j):
         return sp.expand(sum((-1) ** (k + 1) * A[0, k] * pfaffian(A.extract([r for r in rest if r != k], [r for r in rest if r != k]))
                              for k in rest))
 
+    def load_density(P, j):
+        G = P.coeff(z, j - 1) / P.subs({z: 1, t: s})
+        F = sp.integrate(G.subs(t, s + w), (s, 0, 1 - w))
+        return sp.Poly(sp.expand(sp.diff(F, w, 2)), w)
+
+    return sp, x, y, double, single, pfaffian, load_density
+
+
+def _floor_density_by_de_bruijn(N, j):
+    """Density of ``W_{N,j}`` from the floor's Vandermonde density alone (notes/fluctuations.md Sec. 5).
+
+    ``E[(W - w)_+] = int_0^(1-w) G(s, s + w) ds`` with ``G(s, t) = P(j - 1 floor points in [0, s],
+    none in (s, t])``, and ``G`` is ``[zeta^(j-1)]`` of de Bruijn's Pfaffian of
+    ``int int_{x<y} (x^i y^k - x^k y^i) phi(x) phi(y)``, ``phi = zeta 1[x <= s] + 1[x > t]``
+    (bordered by ``int x^i phi`` when ``n`` is odd), over its value at ``zeta = 1``, ``t = s``.
+    """
+    sp, x, y, double, single, pfaffian, load_density = _gap_pfaffian_tools()
+    n = N - 1
+    size = n + n % 2
+    A = sp.zeros(size, size)
+    for i in range(n):
+        for k in range(i + 1, n):
+            A[i, k] = double(x**i * y**k - x**k * y**i)
+            A[k, i] = -A[i, k]
+        if n % 2:
+            A[i, n] = single(x**i)
+            A[n, i] = -A[i, n]
+    return load_density(pfaffian(A), j)
+
+
+def _layer_above_floor_density_by_pfaffian(N, j):
+    """Density of ``W_{N-1,j}`` (the layer above the floor) from a de Bruijn-type Pfaffian (notes/fluctuations.md Sec. 6).
+
+    The free partial sums ``u`` of layer ``N - 1`` (``m = N - 2`` points) and the
+    floor ``v`` have the joint density ``Delta(u) 1[u interlaces v]``.  The floor
+    integrates out to ``Phi(u) = prod of the gaps of (0, u, 1)``, a Pfaffian
+    with the kernel ``K(x, y) = x (y - x)`` (``x < y``, antisymmetric), the row
+    ``x (1 - x)`` against a constant row (and, ``m`` even, the border ``x`` and a
+    ``1``); de Bruijn's integration against ``Delta(u)`` then gives
+    ``G(s, t) = [zeta^(j-1)] Pf[[A, B], [-B^T, C]] / (the same at zeta = 1, t = s)`` with
+    ``A_kl = int int x^k y^l K(x, y) chi chi``, ``B_k = int x^k (x (1 - x), x) chi``,
+    ``chi = zeta 1[x <= s] + 1[x > t]``.
+    """
+    sp, x, y, double, single, pfaffian, load_density = _gap_pfaffian_tools()
+    m = N - 2
     constant_rows = 1 if m % 2 else 2
     A = sp.zeros(m + constant_rows, m + constant_rows)
     for k in range(m):
@@ -464,10 +459,7 @@ def _layer_above_floor_density_by_pfaffian(N, j):
             A[m + 1, k] = -A[k, m + 1]
     if constant_rows == 2:
         A[m, m + 1], A[m + 1, m] = 1, -1
-    P = pfaffian(A)
-    G = P.coeff(z, j - 1) / P.subs({z: 1, t: s})
-    F = sp.integrate(G.subs(t, s + w), (s, 0, 1 - w))
-    return sp.Poly(sp.expand(sp.diff(F, w, 2)), w)
+    return load_density(pfaffian(A), j)
 
 
 @pytest.mark.parametrize("N", [3, 4, 5])

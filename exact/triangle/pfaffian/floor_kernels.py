@@ -132,6 +132,13 @@ def _scale_row(outA, outB, a, factor, p, pinv):
         outB[a, c] = red(outB[a, c] * factor, p, pinv)
 
 
+@njit(inline="always", **JIT)
+def _lane_state(lanes):
+    """The displacement kernel's state and per-lane arrays for ``lanes`` lanes: ``Z, ss, ts, pf, S, ok``."""
+    return (np.zeros(STREAMS * STRIDE * lanes), np.empty(lanes), np.empty(lanes), np.empty(lanes), np.empty(lanes),
+            np.empty(lanes, dtype=np.bool_))
+
+
 @njit(**JIT)
 def grid(n, d, p, lam, C, iota, invx, displacement):
     """Half the grid at ``zeta = 1``, by the mirror ``v -> 1 - v``: ``(1 - w) sum_b lam_b Pf(s, t)`` over the
@@ -155,13 +162,8 @@ def grid(n, d, p, lam, C, iota, invx, displacement):
     failures = 0
     dinv = inv_mod(float(d), p, pinv)
     half = d // 2 + 1
-    Z = np.zeros(STREAMS * STRIDE * GRID_LANES)
-    ss = np.empty(GRID_LANES)
-    ts = np.empty(GRID_LANES)
+    Z, ss, ts, pf, S, ok = _lane_state(GRID_LANES)
     ys = np.ones(GRID_LANES)
-    pf = np.empty(GRID_LANES)
-    S = np.empty(GRID_LANES)
-    ok = np.empty(GRID_LANES, dtype=np.bool_)
     for a in range(d + 3):
         one_w = red(1.0 + p - a, p, pinv)
         for b0 in range(0, half, GRID_LANES):
@@ -252,17 +254,12 @@ def grid_pairs(n, d, p, zpos, with_zero, lam, C, iota, invx, displacement):
     outA, outB, vals = _outputs(d, nz)
     failures = 0
     dinv = inv_mod(float(d), p, pinv)
-    Z = np.zeros(STREAMS * STRIDE * npairs)
+    Z, ss, ts, pf, S, ok = _lane_state(npairs)
     zetas = np.empty(npairs)
     ys = np.empty(npairs)
     for z in range(npairs):
         zetas[z] = 0.0 if (with_zero and z == 0) else zpos[z - with_zero]
         ys[z] = red(zetas[z] * zetas[z], p, pinv)
-    ss = np.empty(npairs)
-    ts = np.empty(npairs)
-    pf = np.empty(npairs)
-    S = np.empty(npairs)
-    ok = np.empty(npairs, dtype=np.bool_)
     for a in range(d + 3):
         one_w = red(1.0 + p - a, p, pinv)
         for b in range(d // 2 + 1):

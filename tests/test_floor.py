@@ -24,9 +24,8 @@ from forcenet.exact.triangle.pfaffian.floor import (
     floor_prime_residues,
     floor_prime_seconds,
     floor_primes,
-    layer_gap_law,
-    layer_route,
 )
+from forcenet.exact.triangle.pfaffian.layers import layer_gap_law, layer_route
 from forcenet.exact.triangle.pfaffian.fluctuations import single_grain_gap_law, single_grain_route
 from forcenet.exact.triangle.staircase import count, dimension
 
@@ -77,9 +76,8 @@ def test_executor_and_checkpoint_give_the_same_law(tmp_path):
 
 def test_layer_route_picks_the_faster_runnable_route():
     assert layer_route(40, 40)[0] == "floor" and layer_route(8, 8)[0] == "ideals"
-    route, plan = layer_route(40, 39)
-    assert route == "ideals" and not plan.runnable
-    assert "2..30" in plan.refusal and f"reaches N = {MAX_FLOOR_N}" in plan.refusal
+    route, plan = layer_route(40, 39)  # above the floor beyond the DP: the layer's de Bruijn Pfaffians
+    assert route == "layers" and plan.runnable and "de Bruijn" in plan.what
     assert layer_gap_law(8, 8, "floor") == layer_gap_law(8, 8, "ideals")
     with pytest.raises(ArgumentError, match="route='floor' is out of range for layer 7"):
         layer_gap_law(8, 7, "floor")
@@ -157,11 +155,11 @@ def test_dist_floor_checkpoints_and_refuses_them_elsewhere(cli, tmp_path):
     code, plain, _ = cli(["dist", "--N", "19", "--layer", "19", "--format", "json", "--no-checkpoint"])
     assert code == 0 and plain == first
     code, out, err = cli(["dist", "--N", "12", "--layer", "12", "--checkpoint", str(tmp_path / "other")])
-    assert code == 2 and out == "" and "--checkpoint applies to the floor's de Bruijn Pfaffians" in err
+    assert code == 2 and out == "" and "--checkpoint applies to the de Bruijn Pfaffians of a layer" in err
     assert not (tmp_path / "other").exists()
     with pytest.raises(ArgumentError, match="checkpoint"):
         single_grain_gap_law(9, (9, 4), "ideals", checkpoint=tmp_path)
-    with pytest.raises(ArgumentError, match="belong to the floor's route"):
+    with pytest.raises(ArgumentError, match="belong to the Pfaffian routes"):
         layer_gap_law(9, 9, "ideals", checkpoint=tmp_path)
 
 

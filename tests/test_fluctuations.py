@@ -340,8 +340,8 @@ def test_single_grain_route_takes_pfaffians_only_where_they_reach():
     assert fl.single_grain_route(8, (8, 4))[0] == "ideals"  # interior: the DP only
     route_name, plan = fl.single_grain_route(64, (64, 64))
     assert route_name == "pfaffian" and plan.runnable and plan.unit == "prime"
-    route_name, plan = fl.single_grain_route(40, (39, 20))  # interior beyond the DP: refused, with both reaches named
-    assert not plan.runnable and "2..30" in plan.refusal and "two-time" in plan.refusal and "(i, 1), (i, i)" in plan.refusal
+    route_name, plan = fl.single_grain_route(40, (39, 20))  # interior beyond the DP: the layer's de Bruijn Pfaffians
+    assert route_name == "layers" and plan.runnable and "every load of layer 39" in plan.what
     with pytest.raises(ValueError, match="N=129 is out of range"):
         fl.single_grain_route(129, (129, 1))
     with pytest.raises(ValueError, match="route='x'"):
@@ -367,8 +367,8 @@ def test_dist_beyond_the_dp_gives_the_lattice_grain_law(cli):
     (piece,) = data["pieces"]
     assert len(piece["density"]) == 34 * 33 // 2  # degree d - 1
     assert sum(Fraction(c) / (k + 1) for k, c in enumerate(piece["density"])) == 1  # a density on [0, 1]
-    code, _, err = cli(["dist", "--N", "34", "--grain", "33,17"])
-    assert code == 2 and "2..30" in err and "two-time" in err
+    code, _, err = cli(["dist", "--N", "34", "--grain", "33,17"])  # above the floor: the layer's Pfaffians, hours
+    assert code == 2 and "every load of layer 33" in err and "--force" in err
     code, _, err = cli(["dist", "--N", "34", "--grain", "34,17"])  # a floor load: de Bruijn Pfaffians, over an hour
     assert code == 2 and "de Bruijn Pfaffians" in err and "--force" in err
 

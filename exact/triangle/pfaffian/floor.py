@@ -44,7 +44,7 @@ than ``~ d^2/8`` nodes).
 
 May import: :mod:`forcenet.core.validation`, :mod:`forcenet.core.plan`,
 :mod:`forcenet.core.errors`, :mod:`forcenet.exact.modular`,
-:mod:`forcenet.exact.triangle.gaps`, :mod:`forcenet.exact.triangle.distribution` (``pool_gaps``),
+:mod:`forcenet.exact.triangle.gaps`,
 :mod:`forcenet.exact.checkpoints`, :mod:`forcenet.exact.triangle.staircase` and its own package.
 
 Examples
@@ -60,7 +60,6 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from concurrent.futures import Executor
-from dataclasses import replace
 from os import PathLike
 from typing import Any
 
@@ -68,11 +67,10 @@ import numpy as np
 
 from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan, with_compilation
-from forcenet.core.validation import check_int, check_layers
+from forcenet.core.validation import check_layers
 from ...checkpoints import CheckpointStore
 from ...modular import crt_many, primes_for_bound
-from ..distribution import pool_gaps
-from ..gaps import GapCounts, gap_laws_plan, layer_gap_counts
+from ..gaps import GapCounts
 from ..staircase import count, dimension
 from .cost import STARTUP_SECONDS
 from .kernels import dual_weights, lagrange_matrix, pfaffian_mod
@@ -81,7 +79,8 @@ from .floor_kernels import fill, gap_residues, grid, grid_pairs, monomials
 from .tasks import checkpoint_store, run_primes, workers_for
 
 __all__ = ["MAX_FLOOR_N", "floor_primes", "floor_prime_residues", "floor_pooled_gap_law", "floor_gap_laws",
-           "floor_plan", "floor_prime_seconds", "layer_route", "layer_gap_law", "de_bruijn_constants"]
+           "floor_plan", "floor_prime_seconds", "de_bruijn_constants", "quadrature_weights", "zeta_coefficients",
+           "FLOOR_PRIME_LIMIT", "COMPILE_SECONDS"]
 
 MAX_FLOOR_N = 128  # the lazy Pfaffian's bound below needs order <= 128
 FLOOR_PRIME_LIMIT = 2**22  # lazy elimination: p + 64 * 2 p^2 < 2^53 for every p below it, order <= 128
@@ -126,7 +125,20 @@ def _zeta_nodes(n: int) -> tuple[np.ndarray, int, list[int]]:
     return zpos, with_zero, nodes
 
 
-def _zeta_coefficients(values: np.ndarray, lagrange: np.ndarray, p: int) -> np.ndarray:
+def quadrature_weights(d: int, p: int) -> np.ndarray:
+    """Closed Newton-Cotes weights on the nodes ``u = b/d``, ``b = 0..d``, modulo ``p``: the functional
+    ``Integral_0^1 u^k du = 1/(k+1)``, ``k <= d``, on the Lagrange basis.
+
+    Examples
+    --------
+    >>> quadrature_weights(2, 7).tolist()  # Simpson: 1/6, 4/6, 1/6
+    [6.0, 3.0, 6.0]
+    """
+    nodes_u = np.array([b * pow(d, p - 2, p) % p for b in range(d + 1)], dtype=np.float64)
+    return dual_weights(nodes_u, np.array([pow(k + 1, p - 2, p) for k in range(d + 1)], dtype=np.float64), float(p))
+
+
+def zeta_coefficients(values: np.ndarray, lagrange: np.ndarray, p: int) -> np.ndarray:
     """Rows: the coefficients in ``zeta`` of each row of values (columns at the nodes of the Lagrange matrix
     :func:`~.kernels.lagrange_matrix`, residues below ``2^22``: the products stay exact in ``int64``)."""
     return (values.astype(np.int64) @ lagrange.astype(np.int64).T) % p
@@ -170,9 +182,7 @@ def floor_prime_residues(N: int, p: int, grains: bool = False, kernel: str = "di
     n, d = N - 1, dimension(N)
     C, iota = de_bruijn_constants(n, p)
     invx = inverse_table(n, p)
-    # closed Newton-Cotes weights on u = b/d: the functional Integral_0^1 u^k du = 1/(k+1) on the Lagrange basis
-    nodes_u = np.array([b * pow(d, p - 2, p) % p for b in range(d + 1)], dtype=np.float64)
-    lam = dual_weights(nodes_u, np.array([pow(k + 1, p - 2, p) for k in range(d + 1)], dtype=np.float64), float(p))
+    lam = quadrature_weights(d, p)
     size = n + (n % 2)
     A = np.zeros((size, size))
     fill(A, n, size, 0.0, 0.0, 1.0, C, iota, np.empty(2 * n + 1), np.empty(2 * n + 1), p, 1.0 / p, True)
@@ -183,7 +193,7 @@ def floor_prime_residues(N: int, p: int, grains: bool = False, kernel: str = "di
         zpos, with_zero, nodes = _zeta_nodes(n)
         half, mirror, _failures = grid_pairs(n, d, p, zpos, with_zero, lam, C, iota, invx, displacement)
         lagrange = lagrange_matrix(np.array([z % p for z in nodes], dtype=np.float64), float(p))
-        values = (_zeta_coefficients(half, lagrange, p) + _zeta_coefficients(mirror, lagrange, p)[:, ::-1]) % p
+        values = (zeta_coefficients(half, lagrange, p) + zeta_coefficients(mirror, lagrange, p)[:, ::-1]) % p
     else:
         half, mirror, _failures = grid(n, d, p, lam, C, iota, invx, displacement)
         values = (half + mirror) % p
@@ -341,71 +351,3 @@ def floor_plan(N: int, grains: bool = False, memory_bytes: int | None = None, wo
     kernels = [grid_pairs if grains else grid, bordered_pfaffians, monomials, gap_residues, pfaffian_mod]
     name = "floor-grains" if grains else "floor"
     return with_compilation(plan, f"Pfaffian {name}", COMPILE_SECONDS[name], kernels)
-
-
-
-def layer_route(N: int, i: int, memory_bytes: int | None = None) -> tuple[str, Plan]:
-    """The faster exact route to layer ``i``'s pooled gap law, and its plan: ``"floor"`` or ``"ideals"``.
-
-    The floor (``i = N``) has two routes, :func:`floor_pooled_gap_law`
-    (``N <= 128``) and the order-ideal DP (``N <= 30``, memory permitting):
-    the faster runnable plan wins (the laws are equal, tested).  The other
-    layers have only the DP.
-
-    Parameters
-    ----------
-    N, i : int
-        Number of layers ``2..128`` and the layer ``2..N``.
-    memory_bytes : int, optional
-        Memory available to the run.
-
-    Returns
-    -------
-    (str, Plan)
-        The route's name and its plan (refused, naming both reaches, when none can run).
-
-    Examples
-    --------
-    >>> layer_route(40, 40)[0], layer_route(12, 12)[0]
-    ('floor', 'ideals')
-    >>> layer_route(40, 20)[1].refusal  # doctest: +ELLIPSIS
-    'N=40 is out of range for exact gap laws: N must be an integer in 2..30 (the order-ideal DP, ...'
-    """
-    N = check_layers(N, maximum=MAX_FLOOR_N)
-    i = check_int(i, "i", 2, N)
-    what = f"exact P(f) of layer {i} N={N}"
-    ideals = gap_laws_plan(N, 1, memory_bytes, what=f"{what} (order ideals)")
-    if i != N:
-        if ideals.runnable:
-            return "ideals", ideals
-        return "ideals", Plan(what, 0, refusal=f"{ideals.refusal} (the order-ideal DP, the one route to a layer above "
-                                                f"the floor); the floor, layer N, reaches N = {MAX_FLOOR_N} by de Bruijn Pfaffians")
-    floor = replace(floor_plan(N, False, memory_bytes), what=f"{what} (de Bruijn Pfaffians)")
-    if ideals.runnable and (not floor.runnable or ideals.seconds <= floor.seconds):
-        return "ideals", ideals
-    return "floor", floor
-
-
-def layer_gap_law(N: int, i: int, route: str, progress: Callable[..., Any] | None = None, *,
-                  executor: Executor | None = None,
-                  checkpoint: str | PathLike | CheckpointStore | None = None) -> GapCounts:
-    """Layer ``i``'s pooled gap law by the route :func:`layer_route` chose.
-
-    ``executor`` and ``checkpoint`` (as for :func:`floor_pooled_gap_law`) belong
-    to the floor's route, the one over primes; the DP refuses them.
-
-    Examples
-    --------
-    >>> layer_gap_law(7, 7, "floor") == layer_gap_law(7, 7, "ideals")
-    True
-    """
-    N = check_layers(N, maximum=MAX_FLOOR_N)
-    i = check_int(i, "i", 2, N)
-    if route == "ideals":
-        if executor is not None or checkpoint is not None:
-            raise ArgumentError("executor= and checkpoint= belong to the floor's route over primes, not to the DP")
-        return pool_gaps(layer_gap_counts(N, i, progress))
-    if route == "floor" and i == N:
-        return floor_pooled_gap_law(N, progress=progress, executor=executor, checkpoint=checkpoint)
-    raise ArgumentError(f"route={route!r} is out of range for layer {i}: it must be 'ideals', or 'floor' for the "
-                        f"floor (layer {N})")

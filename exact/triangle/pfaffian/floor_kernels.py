@@ -20,7 +20,7 @@ from .kernels import pfaffian_mod
 from .residues import JIT, inv_mod, lred, red
 
 __all__ = ["pfaffian_lazy", "eliminate", "fill", "grid", "fill_pair", "pfaffian_pair", "grid_pairs",
-           "monomials", "gap_residues", "GRID_LANES"]
+           "monomials", "gap_residues", "GRID_LANES", "grid_node", "grid_outputs", "add_node", "scale_row"]
 
 GRID_LANES = 16  # nodes of a row side by side in the displacement kernel (the pooled grid)
 
@@ -103,7 +103,7 @@ def fill(A, n, size, s, t, zeta, C, iota, sp, tp, p, pinv, full):
 
 
 @njit(inline="always", **JIT)
-def _add_node(outA, outB, a, weight, vals, mirrored, p, pinv):
+def add_node(outA, outB, a, weight, vals, mirrored, p, pinv):
     """Row ``a`` of both sums plus ``weight`` times the node's values (``B`` only for a node with a mirror)."""
     for c in range(vals.shape[0]):
         term = red(weight * vals[c], p, pinv)
@@ -113,20 +113,20 @@ def _add_node(outA, outB, a, weight, vals, mirrored, p, pinv):
 
 
 @njit(inline="always", **JIT)
-def _outputs(d, nz):
+def grid_outputs(d, nz):
     """The two half-grid sums (rows ``w = 0..d+2``) and one node's values."""
     return np.zeros((d + 3, nz)), np.zeros((d + 3, nz)), np.empty(nz)
 
 
 @njit(inline="always", **JIT)
-def _node(a, b, one_w, dinv, p, pinv):
+def grid_node(a, b, one_w, dinv, p, pinv):
     """The node ``(u = b/d, w = a)``: ``s = (1 - w) u``, ``t = s + w``."""
     s = red(one_w * red(b * dinv, p, pinv), p, pinv)
     return s, red(s + a, p, pinv)
 
 
 @njit(inline="always", **JIT)
-def _scale_row(outA, outB, a, factor, p, pinv):
+def scale_row(outA, outB, a, factor, p, pinv):
     for c in range(outA.shape[1]):
         outA[a, c] = red(outA[a, c] * factor, p, pinv)
         outB[a, c] = red(outB[a, c] * factor, p, pinv)
@@ -158,7 +158,7 @@ def grid(n, d, p, lam, C, iota, invx, displacement):
     A = np.zeros((size, size))
     sp = np.empty(2 * n + 1)
     tp = np.empty(2 * n + 1)
-    outA, outB, vals = _outputs(d, 1)
+    outA, outB, vals = grid_outputs(d, 1)
     failures = 0
     dinv = inv_mod(float(d), p, pinv)
     half = d // 2 + 1
@@ -169,7 +169,7 @@ def grid(n, d, p, lam, C, iota, invx, displacement):
         for b0 in range(0, half, GRID_LANES):
             lanes = min(GRID_LANES, half - b0)
             for l in range(lanes):
-                ss[l], ts[l] = _node(a, b0 + l, one_w, dinv, p, pinv)
+                ss[l], ts[l] = grid_node(a, b0 + l, one_w, dinv, p, pinv)
             if displacement:
                 bordered_pfaffians(n, ss[:lanes], ts[:lanes], ys[:lanes], invx, p, Z, pf, S, ok)
             for l in range(lanes):
@@ -185,8 +185,8 @@ def grid(n, d, p, lam, C, iota, invx, displacement):
                         fill(A, n, size, ss[l], ts[l], 1.0, C, iota, sp, tp, p, pinv, True)
                         value = pfaffian_mod(A, p)
                 vals[0] = value
-                _add_node(outA, outB, a, lam[b0 + l], vals, 2 * (b0 + l) != d, p, pinv)
-        _scale_row(outA, outB, a, one_w, p, pinv)
+                add_node(outA, outB, a, lam[b0 + l], vals, 2 * (b0 + l) != d, p, pinv)
+        scale_row(outA, outB, a, one_w, p, pinv)
     return outA, outB, failures
 
 
@@ -251,7 +251,7 @@ def grid_pairs(n, d, p, zpos, with_zero, lam, C, iota, invx, displacement):
     tp = np.empty(2 * n + 1)
     npairs = with_zero + zpos.shape[0]
     nz = with_zero + 2 * zpos.shape[0]
-    outA, outB, vals = _outputs(d, nz)
+    outA, outB, vals = grid_outputs(d, nz)
     failures = 0
     dinv = inv_mod(float(d), p, pinv)
     Z, ss, ts, pf, S, ok = _lane_state(npairs)
@@ -263,7 +263,7 @@ def grid_pairs(n, d, p, zpos, with_zero, lam, C, iota, invx, displacement):
     for a in range(d + 3):
         one_w = red(1.0 + p - a, p, pinv)
         for b in range(d // 2 + 1):
-            s, t = _node(a, b, one_w, dinv, p, pinv)
+            s, t = grid_node(a, b, one_w, dinv, p, pinv)
             ss[:] = s
             ts[:] = t
             if displacement:
@@ -284,8 +284,8 @@ def grid_pairs(n, d, p, zpos, with_zero, lam, C, iota, invx, displacement):
                     for c, zz in ((cols[0], zeta), (cols[1], p - zeta if zeta != 0.0 else 0.0)):
                         fill(A, n, size, s, t, zz, C, iota, sp, tp, p, pinv, True)
                         vals[c] = pfaffian_mod(A, p)
-            _add_node(outA, outB, a, lam[b], vals, 2 * b != d, p, pinv)
-        _scale_row(outA, outB, a, one_w, p, pinv)
+            add_node(outA, outB, a, lam[b], vals, 2 * b != d, p, pinv)
+        scale_row(outA, outB, a, one_w, p, pinv)
     return outA, outB, failures
 
 

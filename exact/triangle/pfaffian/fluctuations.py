@@ -62,6 +62,7 @@ from ..staircase import count as product_count
 from .cost import STARTUP_SECONDS, edge_seconds
 from .route import count
 from .floor import floor_gap_laws, floor_plan
+from .layers import layer_gap_laws, layer_plan
 from .tasks import route_primes, run_primes, workers_for
 from forcenet.core.errors import ArgumentError
 
@@ -433,16 +434,19 @@ def lattice_gap_laws_plan(N: int, memory_bytes: int | None = None, workers: int 
 
 
 def single_grain_route(N: int, grain: tuple[int, int], memory_bytes: int | None = None) -> tuple[str, Plan]:
-    """The faster exact route to one grain's gap law, and its plan: ``"pfaffian"``, ``"floor"`` or ``"ideals"``.
+    """The faster exact route to one grain's gap law, and its plan: ``"pfaffian"``, ``"floor"``, ``"layers"`` or
+    ``"ideals"``.
 
-    Lattice-direction grains ``(i, 1)``, ``(i, i)`` have both routes, the
-    Pfaffian one (:func:`grain_gap_law`, ``N <= 128``) and the order-ideal
-    DP (:func:`forcenet.exact.triangle.gaps.grain_gap_counts`, ``N <= 30``):
-    the faster runnable plan wins (the laws are equal, tested).  Floor loads
-    ``(N, j)`` have the DP and de Bruijn Pfaffians with a fugacity
-    (:func:`.floor.floor_gap_laws`, polynomial, two-dimensional).  Other
-    interior grains have only the DP: their gap is a two-time quantity
-    (``notes/fluctuations.md`` Sec. 3).
+    Every grain has the order-ideal DP
+    (:func:`forcenet.exact.triangle.gaps.grain_gap_counts`, ``N <= 30``) and a
+    polynomial route, ``N <= 128``: the Pfaffian one of the lattice
+    directions ``(i, 1)``, ``(i, i)`` (:func:`grain_gap_law`, one-time), de
+    Bruijn Pfaffians with a fugacity for the floor loads ``(N, j)``
+    (:func:`.floor.floor_gap_laws`) and for the other interior loads
+    (:func:`.layers.layer_gap_laws`, every load of the layer at once; the gap
+    is a two-time quantity, ``notes/fluctuations.md`` Sec. 3, so these are
+    two-dimensional grids).  The faster runnable plan wins (the laws are
+    equal, tested).
 
     Parameters
     ----------
@@ -468,8 +472,8 @@ def single_grain_route(N: int, grain: tuple[int, int], memory_bytes: int | None 
     --------
     >>> single_grain_route(64, (64, 1))[0], single_grain_route(12, (12, 6))[0]
     ('pfaffian', 'ideals')
-    >>> single_grain_route(40, (39, 20))[1].refusal  # doctest: +ELLIPSIS
-    'N=40 is out of range for exact gap laws: N must be an integer in 2..30 (the order-ideal DP, ...'
+    >>> single_grain_route(40, (39, 20))[0]
+    'layers'
     """
     from ..gaps import gap_laws_plan
 
@@ -482,13 +486,13 @@ def single_grain_route(N: int, grain: tuple[int, int], memory_bytes: int | None 
         if ideals.runnable and (not floor.runnable or ideals.seconds <= floor.seconds):
             return "ideals", ideals
         return "floor", floor
-    if i == 1 or j not in (1, i):
-        if ideals.runnable:
+    if i == 1:  # W_11 = 1
+        return "ideals", ideals
+    if j not in (1, i):  # an interior load above the floor: the DP or the layer's de Bruijn Pfaffians
+        layers = replace(layer_plan(N, i, True, memory_bytes), what=f"{what} (de Bruijn Pfaffians, every load of layer {i})")
+        if ideals.runnable and (not layers.runnable or ideals.seconds <= layers.seconds):
             return "ideals", ideals
-        return "ideals", Plan(what, 0, refusal=f"{ideals.refusal} (the order-ideal DP, the one route to an interior "
-                                                f"grain: its gap is a two-time quantity, notes/fluctuations.md Sec. 3); "
-                                                f"the lattice-direction grains (i, 1), (i, i) and the floor (N, j) reach "
-                                                f"N = {MAX_LAW_N} by Pfaffians")
+        return "layers", layers
     pfaffian = replace(lattice_gap_laws_plan(N, memory_bytes, layers=1), what=f"{what} (Pfaffians)")
     if ideals.runnable and (not pfaffian.runnable or ideals.seconds <= pfaffian.seconds):
         return "ideals", ideals
@@ -497,7 +501,7 @@ def single_grain_route(N: int, grain: tuple[int, int], memory_bytes: int | None 
 
 def single_grain_gap_law(N: int, grain: tuple[int, int], route: str, progress: Callable[[int], object] | None = None,
                          **options: Any) -> GapCounts:
-    """One grain's gap law by the route :func:`single_grain_route` chose (``"pfaffian"`` or ``"ideals"``).
+    """One grain's gap law by the route :func:`single_grain_route` chose.
 
     Parameters
     ----------
@@ -505,12 +509,12 @@ def single_grain_gap_law(N: int, grain: tuple[int, int], route: str, progress: C
         Number of layers.
     grain : (int, int)
         The grain ``(i, j)``.
-    route : {"pfaffian", "ideals"}
+    route : {"pfaffian", "floor", "layers", "ideals"}
         The route.
     progress : callable, optional
         ``progress(k)`` with the route's plan's ticks.
     **options
-        ``executor``, ``checkpoint`` of :func:`.floor.floor_gap_laws` (the floor's route only).
+        ``executor``, ``checkpoint`` of :func:`.floor.floor_gap_laws` (the de Bruijn routes only).
 
     Returns
     -------
@@ -528,13 +532,16 @@ def single_grain_gap_law(N: int, grain: tuple[int, int], route: str, progress: C
     """
     if route == "floor" and grain[0] == N:
         return floor_gap_laws(N, progress=progress, **options)[grain[1]]
+    if route == "layers" and grain[0] < N:
+        return layer_gap_laws(N, grain[0], progress=progress, **options)[grain[1]]
     if options:
-        raise ArgumentError(f"{', '.join(sorted(options))}: only the floor's route (route='floor') takes them")
+        raise ArgumentError(f"{', '.join(sorted(options))}: only the de Bruijn routes (route='floor', 'layers') take "
+                            f"them")
     if route == "ideals":
         from ..gaps import grain_gap_counts
 
         return grain_gap_counts(N, grain, progress)
     if route == "pfaffian":
         return grain_gap_law(N, grain, progress=progress)
-    raise ArgumentError(f"route={route!r} is not a route to grain {tuple(grain)!r}: it must be 'pfaffian', 'ideals' "
-                        f"or, for a floor load (N, j), 'floor'")
+    raise ArgumentError(f"route={route!r} is not a route to grain {tuple(grain)!r}: it must be 'pfaffian', 'ideals', "
+                        f"'floor' for a floor load (N, j) or 'layers' for a load above the floor")

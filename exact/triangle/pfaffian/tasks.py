@@ -35,7 +35,8 @@ __all__ = ["PARALLEL_MIN_SECONDS", "ROUTES", "route_primes", "checkpoint_store",
 
 PARALLEL_MIN_SECONDS = 20.0  # below this, starting workers (numba import, ~3 s each) costs more than it saves
 ROUTES = {"count": "pfaffian-count", "table": "pfaffian-table", "lattice": "pfaffian-lattice",
-          "floor": "pfaffian-floor", "floor-grains": "pfaffian-floor-grains"}  # checkpoint names
+          "floor": "pfaffian-floor", "floor-grains": "pfaffian-floor-grains",
+          "layer": "pfaffian-layer", "layer-grains": "pfaffian-layer-grains"}  # checkpoint names (a layer's: + i)
 
 
 def route_primes(N: int, bound: int) -> tuple[int, ...]:
@@ -54,9 +55,11 @@ def route_primes(N: int, bound: int) -> tuple[int, ...]:
     return primes_for_bound(bound, limit=prime_limit(max(N - 1, 1)), smallest=max(2 * N + 3, dimension(N) + 2))
 
 
-def checkpoint_store(checkpoint: str | PathLike | CheckpointStore | None, route: str, N: int) -> CheckpointStore | None:
-    """The checkpoint store of one request of ``route`` (a key of :data:`ROUTES`): None, from a directory, or a given
-    store (reused when it is this request's, else its directory and report).
+def checkpoint_store(checkpoint: str | PathLike | CheckpointStore | None, route: str, N: int,
+                     layer: int | None = None) -> CheckpointStore | None:
+    """The checkpoint store of one request of ``route`` (a key of :data:`ROUTES`, with the ``layer`` of a layer's
+    route): None, from a directory, or a given store (reused when it is this request's, else its directory and
+    report).
 
     Examples
     --------
@@ -65,7 +68,7 @@ def checkpoint_store(checkpoint: str | PathLike | CheckpointStore | None, route:
     """
     if checkpoint is None:
         return None
-    name = ROUTES[route]
+    name = ROUTES[route] + ("" if layer is None else f"{int(layer)}")
     if isinstance(checkpoint, CheckpointStore):
         if checkpoint.request["route"] == name and checkpoint.request["N"] == N:
             return checkpoint

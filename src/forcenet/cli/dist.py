@@ -69,17 +69,22 @@ def _floor_options(args, what, plan_seconds):
     """``--scheduler``/``--checkpoint`` for the floor's route (the one over primes here): (client, store)."""
     from forcenet.exact.triangle.pfaffian.tasks import checkpoint_store
 
-    floor = what[0] in ("grain", "layer") and what[-1] == "floor"
-    key = "floor-grains" if what[0] == "grain" else "floor"
-    return engine_options(args, floor, "the floor's de Bruijn Pfaffians (--layer N, --grain N,j beyond the DP)",
-                          plan_seconds, lambda directory: checkpoint_store(directory, key, args.N))
+    route = what[-1] if what[0] in ("grain", "layer") else None
+    key = {"floor": "floor", "layers": "layer"}.get(route)
+    if key is not None and what[0] == "grain":
+        key += "-grains"
+    layer = what[1][0] if what[0] == "grain" else what[1] if what[0] == "layer" else None
+    return engine_options(args, key is not None, "the de Bruijn Pfaffians of a layer (--layer i, --grain i,j beyond "
+                          "the DP, off the lattice directions)", plan_seconds,
+                          lambda directory: checkpoint_store(directory, key, args.N,
+                                                             layer=layer if route == "layers" else None))
 
 
 def _compute(args, what, tick=None, options=None):
     """Exact objects: (title, variable, pieces of the density, pieces of the CDF, extra fields)."""
     from forcenet.exact.triangle import distribution as D
     from forcenet.exact.triangle.gaps import contact_gap_law
-    from forcenet.exact.triangle.pfaffian.floor import layer_gap_law
+    from forcenet.exact.triangle.pfaffian.layers import layer_gap_law
     from forcenet.exact.triangle.pfaffian.fluctuations import single_grain_gap_law
 
     N = args.N
@@ -171,7 +176,7 @@ def _plot_plan(args):
 
 def cmd_dist(args):
     from forcenet.exact.triangle.distribution import distribution_plan
-    from forcenet.exact.triangle.pfaffian.floor import layer_route
+    from forcenet.exact.triangle.pfaffian.layers import layer_route
     from forcenet.exact.triangle.pfaffian.fluctuations import single_grain_route
 
     N = args.N
@@ -191,7 +196,7 @@ def cmd_dist(args):
         route, plan = single_grain_route(N, what[1], memory)
         what = (*what, route)
         plans = [plan]
-    elif what[0] == "layer":  # the floor: the faster of the DP and de Bruijn Pfaffians; other layers: the DP
+    elif what[0] == "layer":  # the faster of the DP and de Bruijn Pfaffians
         route, plan = layer_route(N, what[1], memory)
         what = (*what, route)
         plans = [plan]

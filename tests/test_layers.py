@@ -1,0 +1,169 @@
+"""Every layer's load laws by de Bruijn Pfaffians (exact/triangle/pfaffian/layers.py) against the order-ideal DP.
+
+Two routes: the DP counts tableaux level by level over the order ideals; the
+layers' route integrates the floor out twice (a Gelfand-Tsetlin volume as a
+determinant, de Bruijn's Pfaffian of it, de Bruijn again against the layer's
+Vandermonde) and evaluates the result on a grid modulo primes.  They share
+nothing but the count.  The kernel's closed forms are checked against their
+defining integrals in sympy.
+"""
+
+from concurrent.futures import ThreadPoolExecutor
+from fractions import Fraction
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from forcenet.core.errors import ArgumentError
+from forcenet.exact.triangle.distribution import pool_gaps
+from forcenet.exact.triangle.gaps import contact_gap_counts, grain_gap_counts, layer_gap_counts
+from forcenet.exact.triangle.pfaffian.floor import floor_primes
+from forcenet.exact.triangle.pfaffian.fluctuations import single_grain_gap_law, single_grain_route
+from forcenet.exact.triangle.pfaffian.layers import (
+    floor_contact_gap_law,
+    layer_gap_law,
+    layer_gap_laws,
+    layer_plan,
+    layer_pooled_gap_law,
+    layer_prime_residues,
+    layer_prime_seconds,
+    layer_route,
+    layer_tables,
+)
+from forcenet.exact.triangle.staircase import count, dimension
+
+
+@settings(max_examples=10, deadline=None)
+@given(N=st.integers(3, 10), data=st.data())
+def test_pooled_layer_law_equals_the_dp(N, data):
+    i = data.draw(st.integers(2, N - 1))
+    assert layer_pooled_gap_law(N, i, workers=1) == pool_gaps(layer_gap_counts(N, i))
+
+
+@settings(max_examples=8, deadline=None)
+@given(N=st.integers(3, 9), data=st.data())
+def test_every_load_of_a_layer_equals_the_dp(N, data):
+    i = data.draw(st.integers(2, N - 1))
+    laws = layer_gap_laws(N, i, workers=1)
+    assert sorted(laws) == list(range(1, i + 1))
+    assert [laws[j] for j in range(1, i + 1)] == list(layer_gap_counts(N, i))
+
+
+def test_every_layer_at_N_11_by_both_routes():
+    """All layers of N = 11, pooled: the three-part fugacity combination (every load) sums to the pooled route."""
+    N = 11
+    for i in range(2, N):
+        pooled = layer_pooled_gap_law(N, i, workers=1)
+        assert pooled == pool_gaps(layer_gap_counts(N, i))
+        if i in (4, 10):
+            assert pool_gaps(layer_gap_laws(N, i, workers=1).values()) == pooled
+
+
+def test_the_structure_of_layer_laws_beyond_the_fast_dp():
+    """N = 14, layer 9: the mirror symmetry, the lattice-direction grains against their one-time Pfaffian route,
+    the loads summing to the overload."""
+    N, i = 14, 9
+    d = dimension(N)
+    laws = layer_gap_laws(N, i, workers=1)
+    assert all(laws[j] == laws[i + 1 - j] for j in range(1, i + 1))
+    assert laws[1] == single_grain_gap_law(N, (i, 1), "pfaffian")
+    assert sum(sum(g * c for g, c in enumerate(law.counts)) for law in laws.values()) == (d + 1) * count(N)
+    assert all(law.counts[1] == 0 for law in laws.values())  # two cells apart on a diagonal: gap >= 2
+
+
+def test_one_prime_residues_match_the_exact_law():
+    N, i = 9, 5
+    law = layer_pooled_gap_law(N, i, workers=1)
+    for p in (floor_primes(N)[0], 4194167):
+        assert layer_prime_residues(N, i, p)[0].tolist() == [c % p for c in law.counts]
+
+
+@pytest.mark.parametrize("k", [1, 2, 3, 5])
+def test_the_kernel_tables_are_their_defining_integrals(k):
+    """kappa, L_r, w of layer N - k against sympy: K(x, y) = int int_(p<q) [f_x(p) f_y(q) - f_y(p) f_x(q)],
+    f_x(p) = (p - x)_+^(k-1), on x < y; L_r(x) = int int_(p<q) [f_x(p) q^r - p^r f_x(q)]; in a = 1 - x."""
+    import sympy as sp
+
+    x, y, pp, q, a, b = sp.symbols("x y p q a b")
+    f = lambda var, at: (var - at) ** (k - 1)  # noqa: E731
+    t1 = (sp.integrate(f(pp, x), (pp, x, y)) * sp.integrate(f(q, y), (q, y, 1))
+          + sp.integrate(f(pp, x) * sp.integrate(f(q, y), (q, pp, 1)), (pp, y, 1)))
+    t2 = sp.integrate(f(pp, y) * sp.integrate(f(q, x), (q, pp, 1)), (pp, y, 1))
+    K = sp.Poly(sp.expand((t1 - t2).subs({x: 1 - a, y: 1 - b})), a, b)
+    N, prime = k + 6, 4194301
+    kappa, lam, w, iota = layer_tables(N, N - k, prime)
+    mod = lambda c: int(sp.Rational(c).p * pow(int(sp.Rational(c).q), -1, prime) % prime)  # noqa: E731
+    assert [mod(K.coeff_monomial(a**al * b ** (2 * k - al))) for al in range(k + 1)] == [int(c) for c in kappa]
+    assert K.is_homogeneous and K.total_degree() == 2 * k
+    for r in range(k):
+        L = sp.expand(sp.integrate(f(pp, x) * sp.integrate(q**r, (q, pp, 1)), (pp, x, 1))
+                      - sp.integrate(f(q, x) * sp.integrate(pp**r, (pp, 0, q)), (q, x, 1)))
+        La = sp.Poly(sp.expand(L.subs(x, 1 - a)), a)
+        assert [mod(La.coeff_monomial(a**g)) for g in range(2 * k + 2)] == [int(c) for c in lam[r]]
+    m = N - k - 1
+    assert [int(c) for c in w] == [sum(int(kappa[al]) * pow(c + 2 * k - al + 1, -1, prime) for al in range(k + 1))
+                                   % prime for c in range(m)]
+
+
+def test_the_contacts_above_the_floor_equal_the_dp():
+    """F5, F6 of layer N - 1 pooled: the uniform position of the floor point between its two neighbours."""
+    for N in range(3, 10):
+        contacts = contact_gap_counts(N)
+        dp = pool_gaps([contacts[(N - 1, j, kind)] for j in range(1, N) for kind in ("F5", "F6")])
+        assert floor_contact_gap_law(N) == dp
+    N = 8
+    law = floor_contact_gap_law(N)
+    assert Fraction(law.d * law.counts[1], law.total) / (2 * (N - 1)) == Fraction(4143, 4199)  # P(0), Sec. 6.2
+    with pytest.raises(ArgumentError, match="layer N-1's pooled gap law"):
+        floor_contact_gap_law(N, pool_gaps(layer_gap_counts(N, N - 2)))
+    with pytest.raises(ArgumentError, match="N >= 3"):
+        floor_contact_gap_law(2)
+
+
+def test_executor_and_checkpoint_give_the_same_law(tmp_path):
+    N, i = 12, 7
+    plain = layer_pooled_gap_law(N, i, workers=1)
+    with ThreadPoolExecutor(2) as pool:
+        assert layer_pooled_gap_law(N, i, executor=pool) == plain
+    ticks = []
+    assert layer_pooled_gap_law(N, i, workers=1, checkpoint=tmp_path, progress=ticks.append) == plain
+    assert len(ticks) == len(floor_primes(N)) and any(tmp_path.iterdir())
+    assert layer_pooled_gap_law(N, i, workers=1, checkpoint=tmp_path) == plain  # from the records
+    other = layer_pooled_gap_law(N, i + 1, workers=1, checkpoint=tmp_path)  # another layer: its own records
+    assert other == pool_gaps(layer_gap_counts(N, i + 1))
+
+
+def test_routes_and_plans():
+    assert layer_route(40, 20)[0] == "layers" and layer_route(40, 40)[0] == "floor" and layer_route(10, 5)[0] == "ideals"
+    assert single_grain_route(40, (39, 20))[0] == "layers" and single_grain_route(10, (9, 4))[0] == "ideals"
+    assert single_grain_gap_law(9, (8, 4), "layers") == grain_gap_counts(9, (8, 4))
+    assert layer_gap_law(8, 5, "layers") == layer_gap_law(8, 5, "ideals")
+    with pytest.raises(ArgumentError, match="route='layers' is out of range for layer 8"):
+        layer_gap_law(8, 8, "layers")
+    with pytest.raises(ArgumentError, match="i=8 is out of range"):
+        layer_pooled_gap_law(8, 8)
+    plan = layer_plan(40, 39)
+    assert plan.runnable and plan.unit == "prime" and plan.ticks == len(floor_primes(40))
+    assert layer_plan(30, 15, grains=True).seconds > 5 * layer_plan(30, 15).seconds
+    assert layer_prime_seconds(40, 20) > layer_prime_seconds(30, 15)
+
+
+def test_cli_layer_above_the_floor_beyond_the_dp(cli):
+    """``forcenet dist --N 20 --layer 19``: the plans choose the layers' Pfaffians; the density integrates to 1 and
+    its mean is 1/i (f = i W has mean 1)."""
+    import json
+
+    code, out, _ = cli(["dist", "--N", "20", "--layer", "19", "--format", "json", "--quiet"])
+    assert code == 0 and layer_route(20, 19)[0] == "layers"
+    (piece,) = json.loads(out)["pieces"]
+    coeffs = [Fraction(c) for c in piece["density"]]
+    hi = Fraction(piece["hi"])
+    moment = lambda k: sum(c * hi ** (m + k + 1) / (m + k + 1) for m, c in enumerate(coeffs))  # noqa: E731
+    assert moment(0) == 1 and moment(1) == 1
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("N,i", [(14, 13), (16, 8), (16, 3)])
+def test_pooled_layer_law_equals_the_dp_slow(N, i):
+    assert layer_pooled_gap_law(N, i) == pool_gaps(layer_gap_counts(N, i))

@@ -56,7 +56,7 @@ def test_auto_picks_the_pfaffian_route_for_large_N_and_the_dp_for_higher_moments
     assert choice.method == "pfaffian" and choice.plan.runnable
     assert choice.why.startswith("auto chose pfaffian: the fastest by the plans (")
     assert "auto chose pfaffian" in routes.table_plan("auto", 28).what
-    assert routes.choose(16, moments=2).method == "fast"  # the Pfaffian route has <W> only
+    assert routes.choose(16, moments=2).method == "fast"  # the Pfaffian route's second moments cost a grid per layer
 
 
 @pytest.mark.parametrize("moments", [1, 2, 3])

@@ -163,6 +163,39 @@ def test_cli_layer_above_the_floor_beyond_the_dp(cli):
     assert moment(0) == 1 and moment(1) == 1
 
 
+@settings(max_examples=6, deadline=None)
+@given(N=st.integers(2, 8), moments=st.integers(2, 4))
+def test_moment_tables_by_pfaffians_equal_the_dp(N, moments):
+    """``table --method pfaffian --moments s``: every load's gap law, layer by layer, against the order-ideal DP."""
+    from forcenet.exact import routes
+
+    assert routes.table_run("pfaffian", N, moments) == routes.table_run("fast", N, moments)
+
+
+def test_cli_table_second_moments_by_pfaffians(cli, tmp_path):
+    """The issue's command at a size the default run affords: mean_W2 equal to the DP's; checkpoints per layer."""
+    import json
+
+    ck = tmp_path / "ck"
+    code, out, err = cli(["table", "--N", "9", "--method", "pfaffian", "--moments", "2", "--format", "json",
+                          "--checkpoint", str(ck)])
+    assert code == 0 and "every layer's gap laws" in err
+    code, dp, _ = cli(["table", "--N", "9", "--method", "fast", "--moments", "2", "--format", "json"])
+    assert json.loads(out)["mean_W2"] == json.loads(dp)["mean_W2"] and json.loads(out)["mean_W"] == json.loads(dp)["mean_W"]
+    assert len([p for p in ck.iterdir()]) == 8  # one request per layer 2..9
+    code, again, _ = cli(["table", "--N", "9", "--method", "pfaffian", "--moments", "2", "--format", "json",
+                          "--checkpoint", str(ck)])
+    assert code == 0 and again == out
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("N", [14, 16])
+def test_second_moment_table_by_pfaffians_equals_the_dp_slow(N):
+    from forcenet.exact import routes
+
+    assert routes.table_run("pfaffian", N, 2)[2] == routes.table_run("fast", N, 2)[2]
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("N,i", [(14, 13), (16, 8), (16, 3)])
 def test_pooled_layer_law_equals_the_dp_slow(N, i):

@@ -50,6 +50,7 @@ from forcenet.core.validation import check_layers, check_moments
 from ..staircase import dimension
 from .cost import STARTUP_SECONDS, edge_seconds, prime_seconds, primes_plan
 from .engine import count_residue, edge_residues, level_points, prime_residues
+from .moments import moments_plan, moments_run
 from .tasks import checkpoint_store, route_primes, run_primes, workers_for
 
 __all__ = [
@@ -419,7 +420,7 @@ def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, exe
     N : int
         Number of layers, ``>= 2`` (the route reaches ``N <= 200``).
     moments : int
-        Highest moment, ``>= 1`` (the route computes ``<W>`` only: 1).
+        Highest moment, ``>= 1`` (``>= 2``: every load's gap law by :mod:`.moments`, ``N <= 128``).
     memory_bytes : int, optional
         Memory available to the run (None: not checked).
     executor : concurrent.futures.Executor or Dask Client, optional
@@ -445,18 +446,16 @@ def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, exe
     >>> plan = table_plan(32)
     >>> plan.runnable, plan.ticks, plan.unit
     (True, 55, 'prime')
-    >>> print(table_plan(8, moments=2).refusal)  # doctest: +NORMALIZE_WHITESPACE
-    moments=2 is out of range for --method pfaffian: moments must be 1 (higher moments use --method fast, thesis or
-    maps; by Pfaffians, the whole law of a floor load or a lattice-direction load: forcenet dist --N N --grain N,j
-    or --grain i,1)
+    >>> table_plan(8, moments=2).what  # higher moments: every load's gap law (:mod:`.moments`)
+    "exact <W^s> tables s <= 2 N=8 (de Bruijn Pfaffians, every layer's gap laws)"
     >>> table_plan(201).refusal
     'N=201 is out of range for --method pfaffian: N must be an integer in 2..200'
     """
     N, moments = check_layers(N), check_moments(moments)
+    if moments > 1:  # every load's gap law, layer by layer (de Bruijn Pfaffians)
+        return moments_plan(N, moments, memory_bytes=memory_bytes, workers=workers)
     what = f"exact table N={N} (Pfaffians)"
-    refusal = table_range(what, "pfaffian", N, moments, MAX_N,
-                          why_moments="by Pfaffians, the whole law of a floor load or a lattice-direction load: "
-                                      "forcenet dist --N N --grain N,j or --grain i,1")
+    refusal = table_range(what, "pfaffian", N, moments, MAX_N)
     if refusal is not None:
         return refusal
     n, d = N - 1, dimension(N)
@@ -468,7 +467,8 @@ def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, exe
 def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, progress: Progress | None = None,
               executor: Executor | None = None, workers: int | None = None,
               checkpoint: Checkpoint = None) -> dict[int, Table]:
-    """``{1: <W> table}`` by Pfaffians, the engine protocol's run; ``progress(1)`` per prime.
+    """``{1: <W> table}`` by Pfaffians (``{s: <W^s> table}`` for ``moments >= 2``), the engine protocol's run;
+    ``progress(1)`` per prime.
 
     The arguments are those of :func:`table_plan`; a request the plan refuses
     (out of range, or more memory than ``memory_bytes``) raises before any
@@ -479,7 +479,7 @@ def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, prog
     N : int
         Number of layers, ``2..200``.
     moments : int
-        Highest moment; only 1 is computed by this route.
+        Highest moment; ``>= 2`` runs :func:`.moments.moments_run`.
     memory_bytes : int, optional
         Memory available to the run (None: not checked).
     progress : callable, optional
@@ -506,7 +506,10 @@ def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, prog
     ['1/11', '1/4', '7/22', '1/4', '1/11']
     """
     N, moments = check_layers(N), check_moments(moments)
-    if moments > 1 or N > MAX_N or memory_bytes is not None:
+    if moments > 1:
+        return moments_run(N, moments, memory_bytes=memory_bytes, progress=progress, executor=executor,
+                           workers=workers, checkpoint=checkpoint)
+    if N > MAX_N or memory_bytes is not None:
         table_plan(N, moments, memory_bytes=memory_bytes, executor=executor, workers=workers,
                    checkpoint=checkpoint).check()
     S, total = _survival_table(N, workers, progress, "numba", as_executor(executor), checkpoint)

@@ -179,13 +179,44 @@ def test_cli_table_second_moments_by_pfaffians(cli, tmp_path):
     ck = tmp_path / "ck"
     code, out, err = cli(["table", "--N", "9", "--method", "pfaffian", "--moments", "2", "--format", "json",
                           "--checkpoint", str(ck)])
-    assert code == 0 and "every layer's gap laws" in err
+    assert code == 0 and "one request per layer" in err
     code, dp, _ = cli(["table", "--N", "9", "--method", "fast", "--moments", "2", "--format", "json"])
     assert json.loads(out)["mean_W2"] == json.loads(dp)["mean_W2"] and json.loads(out)["mean_W"] == json.loads(dp)["mean_W"]
     assert len([p for p in ck.iterdir()]) == 8  # one request per layer 2..9
     code, again, _ = cli(["table", "--N", "9", "--method", "pfaffian", "--moments", "2", "--format", "json",
                           "--checkpoint", str(ck)])
     assert code == 0 and again == out
+
+
+@settings(max_examples=5, deadline=None)
+@given(N=st.integers(2, 9))
+def test_the_ensemble_by_pfaffians_is_the_dps(N):
+    from forcenet.exact.triangle.pfaffian.layers import ensemble_pieces
+
+    assert ensemble_pieces(N, "pfaffians") == ensemble_pieces(N, "ideals")
+
+
+def test_cli_ensemble_beyond_the_dps_reach_takes_the_pfaffians(cli, tmp_path):
+    """``dist --N 19 --ensemble``: the plans choose every layer's Pfaffians (the DP's 18 passes are slower); the
+    density integrates to 1, its mean is 1 (f = i W has mean 1 in every layer); checkpoints: one request per layer."""
+    import json
+
+    from forcenet.exact.triangle.pfaffian.layers import ensemble_route
+
+    assert ensemble_route(19)[0] == "pfaffians"
+    ck = tmp_path / "ck"
+    code, out, err = cli(["dist", "--N", "19", "--ensemble", "--format", "json", "--checkpoint", str(ck)])
+    assert code == 0 and "one request per layer" in err
+    assert len(list(ck.iterdir())) == 18
+    total = mean = Fraction(0)
+    for piece in json.loads(out)["pieces"]:
+        lo, hi = Fraction(piece["lo"]), Fraction(piece["hi"])
+        for m, c in enumerate(piece["density"]):
+            total += Fraction(c) * (hi ** (m + 1) - lo ** (m + 1)) / (m + 1)
+            mean += Fraction(c) * (hi ** (m + 2) - lo ** (m + 2)) / (m + 2)
+    assert total == 1 and mean == 1
+    code, out2, err = cli(["dist", "--N", "12", "--ensemble", "--checkpoint", str(ck)])  # the DP: refused
+    assert code == 2 and "--checkpoint applies to the de Bruijn Pfaffians" in err
 
 
 @pytest.mark.slow

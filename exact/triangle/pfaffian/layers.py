@@ -31,8 +31,8 @@ Cost per prime: the floor's ``(d/2 + 1)(d + 3)`` nodes, one Pfaffian of order
 every load of the layer), ``O(n^3 + m^2 k)`` each: ``O(n^7)`` pooled.
 
 May import: :mod:`forcenet.core`, :mod:`forcenet.exact.modular`, :mod:`forcenet.exact.checkpoints`,
-:mod:`forcenet.exact.triangle.gaps`, :mod:`forcenet.exact.triangle.distribution` (``pool_gaps``),
-:mod:`forcenet.exact.triangle.staircase` and its own package.
+:mod:`forcenet.exact.triangle.gaps`, :mod:`forcenet.exact.triangle.distribution`,
+:mod:`forcenet.exact.triangle.pieces`, :mod:`forcenet.exact.triangle.staircase` and its own package.
 
 Examples
 --------
@@ -48,6 +48,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from concurrent.futures import Executor
 from dataclasses import replace
+from fractions import Fraction
 from math import comb
 from os import PathLike
 from typing import Any
@@ -55,12 +56,13 @@ from typing import Any
 import numpy as np
 
 from forcenet.core.errors import ArgumentError
-from forcenet.core.plan import Plan, with_compilation
+from forcenet.core.plan import Plan, combine, with_compilation
 from forcenet.core.validation import check_int, check_layers
 from ...checkpoints import CheckpointStore
 from ...modular import crt_many
-from ..distribution import pool_gaps
+from ..distribution import distribution_plan, layer_pieces_from_gaps, pool_gaps, triangle_force_density
 from ..gaps import GapCounts, gap_laws_plan, layer_gap_counts
+from ..pieces import Piece, sum_pieces
 from ..staircase import count, dimension
 from .cost import STARTUP_SECONDS
 from .floor import (COMPILE_SECONDS, MAX_FLOOR_N, floor_plan, floor_pooled_gap_law, floor_primes, quadrature_weights,
@@ -71,7 +73,8 @@ from .layer_kernels import layer_fill, layer_grid
 from .tasks import checkpoint_store, run_primes, workers_for
 
 __all__ = ["layer_tables", "layer_prime_residues", "layer_pooled_gap_law", "layer_gap_laws", "layer_plan",
-           "layer_prime_seconds", "layer_route", "layer_gap_law", "floor_contact_gap_law"]
+           "layer_prime_seconds", "layer_route", "layer_gap_law", "floor_contact_gap_law", "ensemble_route",
+           "ensemble_pieces"]
 
 # CPU seconds of the grid, on the floor's reference machine: per node (the fill: powers, moments, two small matrix
 # products), per fugacity (a combination of the three parts) and per cube of the order (the lazy elimination).
@@ -438,3 +441,55 @@ def floor_contact_gap_law(N: int, layer: GapCounts | None = None, **options: Any
         acc += q
         counts[g - 1] = 2 * acc
     return GapCounts(tuple(counts), 2 * layer.total, d)
+
+
+def ensemble_route(N: int, memory_bytes: int | None = None) -> tuple[str, Plan]:
+    """The faster exact route to the ensemble ``P(f)`` (every grain of layers ``2..N``): ``"pfaffians"`` or ``"ideals"``.
+
+    The order-ideal DP (``N - 1`` passes, ``N <= 30``) against every layer's
+    pooled law by de Bruijn Pfaffians (:func:`layer_pooled_gap_law` and the
+    floor's, ``N <= 128``); the faster runnable plan wins.
+
+    Examples
+    --------
+    >>> ensemble_route(12)[0], ensemble_route(40)[0]
+    ('ideals', 'pfaffians')
+    """
+    N = check_layers(N, maximum=MAX_FLOOR_N)
+    ideals = distribution_plan(N, "ensemble", memory_bytes)
+    plans = [layer_plan(N, i, False, memory_bytes) for i in range(2, N)] + [floor_plan(N, False, memory_bytes)]
+    pfaffians = combine(f"exact ensemble P(f) N={N} (de Bruijn Pfaffians, every layer's pooled law)", plans, "prime")
+    pfaffians = replace(pfaffians, seconds=pfaffians.seconds - (len(plans) - 1) * STARTUP_SECONDS)  # one process
+    if ideals.runnable and (not pfaffians.runnable or ideals.seconds <= pfaffians.seconds):
+        return "ideals", ideals
+    return "pfaffians", pfaffians
+
+
+def ensemble_pieces(N: int, route: str, progress: Callable[..., Any] | None = None, *,
+                    executor: Executor | None = None, checkpoint: str | PathLike | None = None) -> list[Piece]:
+    """The exact ensemble ``P(f)``, ``f = i W_ij`` over every grain of layers ``2..N``, by :func:`ensemble_route`'s route.
+
+    As :func:`forcenet.exact.triangle.distribution.triangle_force_density`
+    (equal, tested), which is the ``"ideals"`` route; ``"pfaffians"`` takes
+    every layer's pooled gap law from de Bruijn Pfaffians instead
+    (``executor``, ``checkpoint``: a directory, one request per layer).
+
+    Examples
+    --------
+    >>> ensemble_pieces(5, "pfaffians") == ensemble_pieces(5, "ideals")
+    True
+    """
+    N = check_layers(N, maximum=MAX_FLOOR_N)
+    if route == "ideals":
+        if executor is not None or checkpoint is not None:
+            raise ArgumentError("executor= and checkpoint= belong to the Pfaffian routes over primes, not to the DP")
+        return triangle_force_density(N, progress=progress)
+    if route != "pfaffians":
+        raise ArgumentError(f"route={route!r} is out of range for the ensemble: it must be 'ideals' or 'pfaffians'")
+    grains = N * (N + 1) // 2 - 1
+    terms = []
+    for i in range(2, N + 1):
+        gaps = layer_gap_law(N, i, "floor" if i == N else "layers", progress, executor=executor, checkpoint=checkpoint)
+        (piece,), _cdf = layer_pieces_from_gaps(gaps, i)
+        terms.append((piece.hi, piece.poly * Fraction(i, grains)))
+    return sum_pieces(terms, piece.poly.gens[0])

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from concurrent.futures import Executor
+from dataclasses import replace
 from fractions import Fraction
 from os import PathLike
 from typing import Any
@@ -39,6 +40,7 @@ from ...checkpoints import CheckpointStore
 from ...protocol import Table
 from ..distribution import moment_from_gaps
 from ..gaps import GapCounts
+from .cost import STARTUP_SECONDS
 from .floor import MAX_FLOOR_N, floor_gap_laws, floor_plan
 from .layers import layer_gap_laws, layer_plan
 
@@ -66,7 +68,8 @@ def moments_plan(N: int, moments: int = 2, *, memory_bytes: int | None = None,
                                      f"integer in 2..{MAX_MOMENTS_N}")
     plans = [layer_plan(N, i, True, memory_bytes, workers) for i in range(2, N)]
     plans.append(floor_plan(N, True, memory_bytes, workers))
-    return combine(what, plans, "prime")
+    plan = combine(what, plans, "prime")
+    return replace(plan, seconds=plan.seconds - (len(plans) - 1) * STARTUP_SECONDS)  # one process starts once
 
 
 def every_load_gap_law(N: int, i: int, **options: Any) -> dict[int, GapCounts]:

@@ -83,3 +83,15 @@ def engine_options(args, applies: bool, what: str, plan_seconds: float, store_fo
     store = None if directory is None else store_for(directory)
     client = connect_scheduler(args.scheduler) if args.scheduler is not None else None
     return client, store
+
+
+def report_checkpoints(store, ticks: int) -> None:
+    """The closing line on stderr about a run's checkpoints: a store's reuse, or the directory of a run with one
+    request per layer (``store`` is then the directory itself)."""
+    import sys
+
+    if isinstance(store, str):
+        print(f"forcenet: checkpoints in {store} (one request per layer)", file=sys.stderr)
+    else:
+        print(f"forcenet: checkpoints in {store.path}: reused {store.reused} of {ticks} primes, "
+              f"computed {ticks - store.reused}", file=sys.stderr)

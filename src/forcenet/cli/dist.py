@@ -27,7 +27,7 @@ from .common import (
     real,
     run_planned,
 )
-from .cluster import add_engine_options, engine_options
+from .cluster import add_engine_options, engine_options, report_checkpoints
 from .output import destination, emit, write_files
 
 __all__ = ["register"]
@@ -69,13 +69,15 @@ def _floor_options(args, what, plan_seconds):
     """``--scheduler``/``--checkpoint`` for the floor's route (the one over primes here): (client, store)."""
     from forcenet.exact.triangle.pfaffian.tasks import checkpoint_store
 
-    route = what[-1] if what[0] in ("grain", "layer") else None
-    key = {"floor": "floor", "layers": "layer"}.get(route)
+    route = what[-1] if len(what) > 1 else None
+    key = {"floor": "floor", "layers": "layer", "pfaffians": "ensemble"}.get(route)
     if key is not None and what[0] == "grain":
         key += "-grains"
     layer = what[1][0] if what[0] == "grain" else what[1] if what[0] == "layer" else None
+    if key == "ensemble":  # one request per layer: the directory itself
+        return engine_options(args, True, "", plan_seconds, lambda directory: directory)
     return engine_options(args, key is not None, "the de Bruijn Pfaffians of a layer (--layer i, --grain i,j beyond "
-                          "the DP, off the lattice directions)", plan_seconds,
+                          "the DP, off the lattice directions; --ensemble)", plan_seconds,
                           lambda directory: checkpoint_store(directory, key, args.N,
                                                              layer=layer if route == "layers" else None))
 
@@ -84,7 +86,7 @@ def _compute(args, what, tick=None, options=None):
     """Exact objects: (title, variable, pieces of the density, pieces of the CDF, extra fields)."""
     from forcenet.exact.triangle import distribution as D
     from forcenet.exact.triangle.gaps import contact_gap_law
-    from forcenet.exact.triangle.pfaffian.layers import layer_gap_law
+    from forcenet.exact.triangle.pfaffian.layers import ensemble_pieces, layer_gap_law
     from forcenet.exact.triangle.pfaffian.fluctuations import single_grain_gap_law
 
     N = args.N
@@ -99,7 +101,7 @@ def _compute(args, what, tick=None, options=None):
         i = what[1]
         gaps = layer_gap_law(N, i, what[2], tick, **(options or {}))
         return (f"P(f), f = {i} W_{{{i},j}} (layer {i})", "f", *D.layer_pieces_from_gaps(gaps, i), {})
-    pieces = D.triangle_force_density(N, progress=tick)
+    pieces = ensemble_pieces(N, what[1], tick, **(options or {}))
     return "P(f), f = i W_{i,j} over layers 2..N (ensemble)", "f", pieces, D.piecewise_cdf(pieces), {}
 
 
@@ -176,7 +178,7 @@ def _plot_plan(args):
 
 def cmd_dist(args):
     from forcenet.exact.triangle.distribution import distribution_plan
-    from forcenet.exact.triangle.pfaffian.layers import layer_route
+    from forcenet.exact.triangle.pfaffian.layers import ensemble_route, layer_route
     from forcenet.exact.triangle.pfaffian.fluctuations import single_grain_route
 
     N = args.N
@@ -200,8 +202,12 @@ def cmd_dist(args):
         route, plan = layer_route(N, what[1], memory)
         what = (*what, route)
         plans = [plan]
+    elif what[0] == "ensemble":  # the faster of the DP and every layer's de Bruijn Pfaffians
+        route, plan = ensemble_route(N, memory)
+        what = (*what, route)
+        plans = [plan]
     else:
-        plans = [distribution_plan(N, {"grain": "contact", "layer": "layer", "ensemble": "ensemble"}[what[0]], memory)]
+        plans = [distribution_plan(N, "contact", memory)]
     client, store = _floor_options(args, what, plans[0].seconds)
     options = {k: v for k, v in (("executor", client), ("checkpoint", store)) if v is not None}
     try:
@@ -232,10 +238,7 @@ def _dist(args, what, plans, options, store):
 
     title, var, pieces, cdf_pieces, extra, grid, png = run_planned(plan, run, force=args.force, quiet=args.quiet)
     if store is not None and not args.quiet:
-        import sys
-
-        print(f"forcenet: checkpoints in {store.path}: reused {store.reused} of {plans[0].ticks} primes, "
-              f"computed {plans[0].ticks - store.reused}", file=sys.stderr)
+        report_checkpoints(store, plans[0].ticks)
     text = {"json": lambda: _json(args, title, var, pieces, cdf_pieces, extra, grid),
             "csv": lambda: _csv(var, pieces, cdf_pieces, grid),
             "latex": lambda: _latex(title, var, pieces, cdf_pieces, grid),
@@ -286,9 +289,9 @@ def _figure(args, what, pieces, tick):
 
 def register(sub):
     p = sub.add_parser("dist", help="exact force distributions: density and CDF of a grain or contact, pooled P(f)")
-    add_layers(p, _MAX_LAYERS, help_text=f"number of layers (2..{_MAX_LAYERS}: a lattice-direction grain --grain i,1 or i,i "
-                                          f"and the floor (--layer N, --grain N,j) by Pfaffians; everything else "
-                                          f"2..{_MAX_DP_LAYERS}, one pass over the 2^(N-1) ideals per layer)")
+    add_layers(p, _MAX_LAYERS, help_text=f"number of layers (2..{_MAX_LAYERS}: every grain, layer and the ensemble by "
+                                          f"Pfaffians, polynomial; the contacts 2..{_MAX_DP_LAYERS}, one pass over the "
+                                          f"2^(N-1) ideals per layer; the faster route by the plans)")
     which = p.add_mutually_exclusive_group(required=True)
     which.add_argument("--grain", type=_grain, help="i,j: the density of W_ij (or of its contact force with --contact)")
     which.add_argument("--layer", type=integer("layer", 2), help="P(f) of layer i, f = i W_ij pooled over j (2..N)")

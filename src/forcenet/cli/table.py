@@ -20,7 +20,7 @@ from .common import (
     refuse_together,
     run_planned,
 )
-from .cluster import add_engine_options, engine_options
+from .cluster import add_engine_options, engine_options, report_checkpoints
 from .output import check_output_dir, emit, write_files, write_stdout
 
 __all__ = ["register"]
@@ -81,6 +81,8 @@ def _engine_options(args, plan_seconds):
     """
     from forcenet.exact.checkpoints import CheckpointStore
 
+    if args.method == "pfaffian" and args.moments > 1:  # every layer's gap laws: one request per layer
+        return engine_options(args, True, "--method pfaffian", plan_seconds, lambda directory: directory)
     return engine_options(args, args.method == "pfaffian", "--method pfaffian", plan_seconds,
                           lambda directory: CheckpointStore(directory, "pfaffian-table", args.N, args.moments))
 
@@ -149,10 +151,7 @@ def _table(args, fmt, memory, client, store, why, local_plan):
 
     tables, check = run_planned(plan, run, force=args.force, quiet=args.quiet)
     if store is not None and not args.quiet:
-        import sys
-
-        print(f"forcenet: checkpoints in {store.path}: reused {store.reused} of {plans[0].ticks} primes, "
-              f"computed {plans[0].ticks - store.reused}", file=sys.stderr)
+        report_checkpoints(store, plans[0].ticks)
     table = exact_table(args.N, args.moments, mean_table=tables[1], moment_tables={s: t for s, t in tables.items() if s > 1})
     render = {"json": to_json, "csv": to_csv, "latex": to_latex}
     if fmt is not None:

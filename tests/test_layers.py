@@ -121,6 +121,18 @@ def test_the_contacts_above_the_floor_equal_the_dp():
         floor_contact_gap_law(2)
 
 
+@pytest.mark.parametrize("N", [13, 17])
+def test_layer_N_minus_1_sum_of_squares_beyond_the_dp(N):
+    """sum_j <W_(N-1,j)^2> = 3/(2N - 1): an exact identity of the DP's tables (N <= 10, checked here too at N = 7),
+    met by the Pfaffian route's layer N - 1 law where the test does not run the DP."""
+    from forcenet.exact import routes
+    from forcenet.exact.triangle.distribution import moment_from_gaps
+
+    assert sum(routes.table_run("fast", 7, 2)[2][5]) == Fraction(3, 13)
+    law = layer_pooled_gap_law(N, N - 1, workers=1)
+    assert moment_from_gaps(law, 2) * (N - 1) == Fraction(3, 2 * N - 1)
+
+
 def test_executor_and_checkpoint_give_the_same_law(tmp_path):
     N, i = 12, 7
     plain = layer_pooled_gap_law(N, i, workers=1)

@@ -72,12 +72,10 @@ def load_numbers(law, d: int) -> dict:
 
 
 def write_atomic(path: str, data: dict) -> None:
-    tmp = f"{path}.tmp{os.getpid()}"
-    with open(tmp, "w") as fh:
-        json.dump(data, fh, indent=1, sort_keys=True)
-        fh.flush()
-        os.fsync(fh.fileno())
-    os.replace(tmp, path)
+    """The JSON file, written all or nothing (the command line's writer)."""
+    from forcenet.cli.output import write_files
+
+    write_files({path: json.dumps(data, indent=1, sort_keys=True)}, name="--out")
 
 
 def figure(data: dict, path: str) -> None:

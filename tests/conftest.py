@@ -59,3 +59,38 @@ class FullStream(io.StringIO):
 def full_stream():
     """A :class:`FullStream`, to put in place of ``sys.stdout``."""
     return FullStream()
+
+
+def layer_agrees_with_the_exact_sampler(laws, N, i, samples=20000, seed=2811):
+    """Every load of layer ``i``: its exact ``<W^2>`` and ``P(W <= <W>)`` from its gap law (``{j: GapCounts}``)
+    against ``samples`` exact samples, at the testing toolkit's false-alarm rate 1e-3 for the whole set."""
+    from fractions import Fraction
+
+    import numpy as np
+    from scipy.stats import binom
+
+    from forcenet.exact.triangle.distribution import moment_from_gaps
+    from forcenet.numeric.agreement import compare_samples
+    from forcenet.exact.triangle.staircase import dimension
+    from forcenet.numeric.triangle.exact_sampler import ExactSampler
+
+    d = dimension(N)
+    cuts = [float(laws[j].mean() / (d + 1)) for j in range(1, i + 1)]
+    second = [float(moment_from_gaps(laws[j], 2)) for j in range(1, i + 1)]
+    exact_cdf = [sum(float(Fraction(c, laws[j].total)) * binom.sf(g - 1, d, w) for g, c in enumerate(laws[j].counts) if c)
+                 for j, w in zip(range(1, i + 1), cuts)]  # I_w(g, d+1-g) = P(Binomial(d, w) >= g); floats at this edge
+    sampler, rows, drawn = ExactSampler(N, seed=seed), [], 0
+    while drawn < samples:
+        W = sampler.sample_W(min(sampler.batch, samples - drawn))
+        rows.append(W[:, i - 1, :i])
+        drawn += W.shape[0]
+    X = np.concatenate(rows)
+    data = np.concatenate([X**2, (X <= np.array(cuts)).astype(float)], axis=1)
+    keys = [f"W2_{j}" for j in range(1, i + 1)] + [f"cdf_{j}" for j in range(1, i + 1)]
+    return compare_samples(data, second + exact_cdf, keys=keys, alpha=1e-3)
+
+
+@pytest.fixture
+def against_the_sampler():
+    """:func:`layer_agrees_with_the_exact_sampler`."""
+    return layer_agrees_with_the_exact_sampler

@@ -164,29 +164,8 @@ def test_dist_floor_checkpoints_and_refuses_them_elsewhere(cli, tmp_path):
 
 
 @pytest.mark.slow
-def test_floor_laws_agree_with_the_exact_sampler():
+def test_floor_laws_agree_with_the_exact_sampler(against_the_sampler):
     """Every floor load's <W^2> and P(W <= <W>) at N = 28 against 20000 exact samples (alpha = 1e-3)."""
-    import numpy as np
-    from scipy.stats import binom
-
-    from forcenet.numeric.agreement import compare_samples
-    from forcenet.numeric.triangle.exact_sampler import ExactSampler
-
-    N, samples = 28, 20000
-    laws = floor_gap_laws(N)
-    d = dimension(N)
-    means = [laws[j].mean() / (d + 1) for j in range(1, N + 1)]
-    second = [float(moment_from_gaps(laws[j], 2)) for j in range(1, N + 1)]
-    cuts = [float(m) for m in means]
-    exact_cdf = [sum(float(Fraction(c, laws[j].total)) * binom.sf(g - 1, d, w) for g, c in enumerate(laws[j].counts) if c)
-                 for j, w in zip(range(1, N + 1), cuts)]  # I_w(g, d+1-g) = P(Binomial(d, w) >= g); floats at this edge
-    sampler, rows, drawn = ExactSampler(N, seed=2811), [], 0
-    while drawn < samples:
-        W = sampler.sample_W(min(sampler.batch, samples - drawn))
-        rows.append(W[:, N - 1, :N])
-        drawn += W.shape[0]
-    X = np.concatenate(rows)
-    data = np.concatenate([X**2, (X <= np.array(cuts)).astype(float)], axis=1)
-    keys = [f"W2_{j}" for j in range(1, N + 1)] + [f"cdf_{j}" for j in range(1, N + 1)]
-    result = compare_samples(data, second + exact_cdf, keys=keys, alpha=1e-3)
+    N = 28
+    result = against_the_sampler(floor_gap_laws(N), N, N)
     assert result.passed, result.summary()

@@ -243,3 +243,11 @@ def test_second_moment_table_by_pfaffians_equals_the_dp_slow(N):
 @pytest.mark.parametrize("N,i", [(14, 13), (16, 8), (16, 3)])
 def test_pooled_layer_law_equals_the_dp_slow(N, i):
     assert layer_pooled_gap_law(N, i) == pool_gaps(layer_gap_counts(N, i))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("N,i", [(28, 27), (28, 14)])
+def test_layer_laws_agree_with_the_exact_sampler(against_the_sampler, N, i):
+    """Every load of layer N - 1 and of the middle layer at N = 28 against 20000 exact samples (alpha = 1e-3)."""
+    result = against_the_sampler(layer_gap_laws(N, i), N, i)
+    assert result.passed, result.summary()

@@ -80,7 +80,7 @@ from .tasks import checkpoint_store, run_primes, workers_for
 
 __all__ = ["MAX_FLOOR_N", "floor_primes", "floor_prime_residues", "floor_pooled_gap_law", "floor_gap_laws",
            "floor_plan", "floor_prime_seconds", "de_bruijn_constants", "quadrature_weights", "zeta_coefficients",
-           "FLOOR_PRIME_LIMIT", "COMPILE_SECONDS"]
+           "FLOOR_PRIME_LIMIT", "COMPILE_SECONDS", "grid_gap_residues", "exact_gap_laws"]
 
 MAX_FLOOR_N = 128  # the lazy Pfaffian's bound below needs order <= 128
 FLOOR_PRIME_LIMIT = 2**22  # lazy elimination: p + 64 * 2 p^2 < 2^53 for every p below it, order <= 128
@@ -197,13 +197,26 @@ def floor_prime_residues(N: int, p: int, grains: bool = False, kernel: str = "di
     else:
         half, mirror, _failures = grid(n, d, p, lam, C, iota, invx, displacement)
         values = (half + mirror) % p
+    return grid_gap_residues(values, Z, N, p, "the floor")
+
+
+def grid_gap_residues(values: np.ndarray, Z: int, N: int, p: int, what: str) -> np.ndarray:
+    """The gap counts modulo ``p`` from a grid's sums (rows ``w = 0..d+2``, a column per law) and the
+    normalization ``Z``: ``int64``, shape ``(laws, d + 2)``; ``what`` names the route in the error.
+
+    Raises
+    ------
+    ArithmeticError
+        If a recovered polynomial (1) has a degree above ``d + 1``.
+    """
+    d = dimension(N)
     rows = (values.astype(np.int64) * pow(Z, p - 2, p) % p).T.astype(np.float64)  # rows: grain j = k + 1, or the pool
     total_mod = float(count(N) % p)
     out = np.empty((rows.shape[0], d + 2), dtype=np.int64)
     for r, J in enumerate(rows):
         g = gap_residues(np.ascontiguousarray(J), d, total_mod, p)
         if g[0] < 0:
-            raise ArithmeticError(f"the floor's integral (1) has degree above d + 1 modulo p={p}")
+            raise ArithmeticError(f"{what}'s integral (1) has degree above d + 1 modulo p={p}")
         out[r] = g.astype(np.int64)
     return out
 
@@ -225,22 +238,26 @@ def floor_primes(N: int) -> tuple[int, ...]:
 
 def _laws(N: int, grains: bool, workers: int | None, progress: Callable[..., Any] | None,
           executor: Executor | None, checkpoint: str | PathLike | CheckpointStore | None) -> list[GapCounts]:
-    d, total = dimension(N), count(N)
+    total = count(N)
     primes = floor_primes(N)
     store = checkpoint_store(checkpoint, "floor-grains" if grains else "floor", N)
     nworkers = workers_for(workers, len(primes), floor_prime_seconds(N, grains) * len(primes), executor)
     residues = run_primes(floor_prime_residues, [(N, p, grains) for p in primes], executor, nworkers, progress, store)
-    rows = residues[0].shape[0]
+    return exact_gap_laws(residues, primes, N, total * (N if not grains else 1), "the floor")
+
+
+def exact_gap_laws(residues: list, primes: tuple[int, ...], N: int, mass: int, what: str) -> list[GapCounts]:
+    """The exact gap laws of one row of ``loads`` by Chinese remainders of every prime's residues, checked: each
+    law's mass ``mass``, and the loads' gaps summing to ``(d + 1) count`` (the loads of a layer sum to 1)."""
+    d, total = dimension(N), count(N)
     laws = []
-    for r in range(rows):
+    for r in range(residues[0].shape[0]):
         counts = crt_many([[int(res[r, g]) for res in residues] for g in range(d + 2)], primes)
-        mass = total * (N if not grains else 1)
         if counts[0] or counts[d + 1] or sum(counts) != mass or any(c > mass for c in counts):
-            raise ArithmeticError(f"the floor's reconstructed gap law {r} breaks the exact checks (mass {mass})")
+            raise ArithmeticError(f"{what}'s reconstructed gap law {r} breaks the exact checks (mass {mass})")
         laws.append(GapCounts(tuple(counts), mass, d))
-    mean = sum(g * c for law in laws for g, c in enumerate(law.counts))
-    if mean != (d + 1) * total:  # sum_j E[g_j] = d + 1: the N loads sum to 1
-        raise ArithmeticError("the floor's reconstructed gap laws do not sum to the overload")
+    if sum(g * c for law in laws for g, c in enumerate(law.counts)) != (d + 1) * total:
+        raise ArithmeticError(f"{what}'s reconstructed gap laws do not sum to the overload")
     return laws
 
 

@@ -59,14 +59,13 @@ from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan, combine, with_compilation
 from forcenet.core.validation import check_int, check_layers
 from ...checkpoints import CheckpointStore
-from ...modular import crt_many
 from ..distribution import distribution_plan, layer_pieces_from_gaps, pool_gaps, triangle_force_density
 from ..gaps import GapCounts, gap_laws_plan, layer_gap_counts
 from ..pieces import Piece, sum_pieces
 from ..staircase import count, dimension
 from .cost import STARTUP_SECONDS
-from .floor import (COMPILE_SECONDS, MAX_FLOOR_N, floor_plan, floor_pooled_gap_law, floor_primes, quadrature_weights,
-                    zeta_coefficients)
+from .floor import (COMPILE_SECONDS, MAX_FLOOR_N, exact_gap_laws, floor_plan, floor_pooled_gap_law, floor_primes,
+                    grid_gap_residues, quadrature_weights, zeta_coefficients)
 from .floor_kernels import gap_residues, monomials, pfaffian_lazy
 from .kernels import lagrange_matrix, pfaffian_mod
 from .layer_kernels import layer_fill, layer_grid
@@ -141,15 +140,8 @@ def layer_prime_residues(N: int, i: int, p: int, grains: bool = False) -> np.nda
     grains : bool
         Every load's law (``m + 1`` values of ``zeta``) instead of the pooled one (``zeta = 1``).
 
-    Returns
-    -------
-    numpy.ndarray
-        ``int64``, shape ``(rows, d + 2)``: ``counts[g]`` modulo ``p``.
-
-    Raises
-    ------
-    ArithmeticError
-        If the recovered polynomial has a degree above ``d + 1``, or the normalization vanishes.
+    Returns and raises as :func:`.floor.floor_prime_residues` (``counts[g]``
+    modulo ``p``, ``int64``, one row per law; ``ArithmeticError`` if a check fails).
 
     Examples
     --------
@@ -173,15 +165,7 @@ def layer_prime_residues(N: int, i: int, p: int, grains: bool = False) -> np.nda
         values = (zeta_coefficients(half, lagrange, p) + zeta_coefficients(mirror, lagrange, p)[:, ::-1]) % p
     else:
         values = (half + mirror) % p
-    rows = (values.astype(np.int64) * pow(Z, p - 2, p) % p).T.astype(np.float64)
-    total_mod = float(count(N) % p)
-    out = np.empty((rows.shape[0], d + 2), dtype=np.int64)
-    for r, J in enumerate(rows):
-        g = gap_residues(np.ascontiguousarray(J), d, total_mod, p)
-        if g[0] < 0:
-            raise ArithmeticError(f"layer {i}'s integral has degree above d + 1 modulo p={p}")
-        out[r] = g.astype(np.int64)
-    return out
+    return grid_gap_residues(values, Z, N, p, f"layer {i}")
 
 
 def _prime_task(N: int, p: int, i: int, grains: bool) -> np.ndarray:
@@ -194,21 +178,12 @@ def _prime_task(N: int, p: int, i: int, grains: bool) -> np.ndarray:
 
 def _laws(N: int, i: int, grains: bool, workers: int | None, progress: Callable[..., Any] | None,
           executor: Executor | None, checkpoint: str | PathLike | CheckpointStore | None) -> list[GapCounts]:
-    d, total = dimension(N), count(N)
+    total = count(N)
     primes = floor_primes(N)
     store = checkpoint_store(checkpoint, "layer-grains" if grains else "layer", N, layer=i)
     nworkers = workers_for(workers, len(primes), layer_prime_seconds(N, i, grains) * len(primes), executor)
     residues = run_primes(_prime_task, [(N, p, i, grains) for p in primes], executor, nworkers, progress, store)
-    laws = []
-    for r in range(residues[0].shape[0]):
-        counts = crt_many([[int(res[r, g]) for res in residues] for g in range(d + 2)], primes)
-        mass = total * (i if not grains else 1)
-        if counts[0] or counts[d + 1] or sum(counts) != mass or any(c > mass for c in counts):
-            raise ArithmeticError(f"layer {i}'s reconstructed gap law {r} breaks the exact checks (mass {mass})")
-        laws.append(GapCounts(tuple(counts), mass, d))
-    if sum(g * c for law in laws for g, c in enumerate(law.counts)) != (d + 1) * total:  # the i loads sum to 1
-        raise ArithmeticError(f"layer {i}'s reconstructed gap laws do not sum to the overload")
-    return laws
+    return exact_gap_laws(residues, primes, N, total * (i if not grains else 1), f"layer {i}")
 
 
 def layer_pooled_gap_law(N: int, i: int, *, workers: int | None = None,
@@ -226,14 +201,9 @@ def layer_pooled_gap_law(N: int, i: int, *, workers: int | None = None,
         Number of layers, ``3..128``.
     i : int
         The layer, ``2..N-1``.
-    workers : int, optional
-        Local worker processes (default: the available cores when the run is long enough).
-    progress : callable, optional
-        ``progress(1)`` after each prime.
-    executor : concurrent.futures.Executor or dask Client, optional
-        Where the per-prime tasks run (:func:`forcenet.exact.execution.run_tasks`).
-    checkpoint : path or CheckpointStore, optional
-        Keep every finished prime there; a rerun reuses them.
+    workers, progress, executor, checkpoint
+        As for :func:`.floor.floor_pooled_gap_law`: local processes, a tick per
+        prime, where the per-prime tasks run, the records a rerun reuses.
 
     Returns
     -------
@@ -260,12 +230,8 @@ def layer_gap_laws(N: int, i: int, *, workers: int | None = None, progress: Call
                    executor: Executor | None = None,
                    checkpoint: str | PathLike | CheckpointStore | None = None) -> dict[int, GapCounts]:
     """Exact rank-gap law of every load ``W_{i,j}``, ``j = 1..i``, of layer ``i``, by de Bruijn Pfaffians with a
-    fugacity: :func:`layer_pooled_gap_law` at ``zeta = 0..i-1``, ``i`` times its cost.  Parameters as there.
-
-    Returns
-    -------
-    dict
-        ``{j: GapCounts}``, ``total = count(N)``.
+    fugacity: :func:`layer_pooled_gap_law` at ``zeta = 0..i-1``, ``i`` times its cost.  Parameters as there;
+    returns ``{j: GapCounts}`` with ``total = count(N)``.
 
     Examples
     --------

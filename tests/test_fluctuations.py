@@ -337,7 +337,7 @@ def test_two_time_formula_gives_the_second_moment(N):
 
 
 def test_single_grain_route_takes_pfaffians_only_where_they_reach():
-    assert fl.single_grain_route(8, (8, 4))[0] == "ideals"  # interior: the DP only
+    assert fl.single_grain_route(8, (8, 4))[0] == "ideals"  # interior, small N: the DP is the faster
     route_name, plan = fl.single_grain_route(64, (64, 64))
     assert route_name == "pfaffian" and plan.runnable and plan.unit == "prime"
     route_name, plan = fl.single_grain_route(40, (39, 20))  # interior beyond the DP: the layer's de Bruijn Pfaffians

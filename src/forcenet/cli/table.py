@@ -247,8 +247,9 @@ def register(sub):
         "upwards), exact, up to N ~ 30; thesis: the nested-matrix integration of Secs. 4.3-4.5; "
         "lambda: the integer recursions Lambda (4.50) and Gamma (4.73)-(4.77); "
         "maps: the map-counting formulas (4.67), (4.90)-(4.91) of Sec. 4.6; "
-        "pfaffian: Schur Pfaffians and minor summation, polynomial in N, for large N, <W> only "
-        "(notes/free_fermions.md)",
+        "pfaffian: Schur Pfaffians and minor summation, polynomial in N, for large N (notes/free_fermions.md); "
+        "with --moments s >= 2, every load's gap law by de Bruijn Pfaffians, layer by layer, polynomial but "
+        "steep (notes/fluctuations.md Sec. 6)",
     )
     add_engine_options(p, "--method pfaffian")
     add_force(p)

@@ -123,8 +123,9 @@ def test_the_contacts_above_the_floor_equal_the_dp():
 
 @pytest.mark.parametrize("N", [13, 17])
 def test_layer_N_minus_1_sum_of_squares_beyond_the_dp(N):
-    """sum_j <W_(N-1,j)^2> = 3/(2N - 1): an exact identity of the DP's tables (N <= 10, checked here too at N = 7),
-    met by the Pfaffian route's layer N - 1 law where the test does not run the DP."""
+    """sum_j <W_(N-1,j)^2> = 3/(2N - 1) (proved in notes/force_distribution.md Sec. 6.2: the uniform floor point,
+    the unitary corner's moments, Aomoto and a loop equation of the Legendre ensemble): the DP's table at N = 7,
+    and the Pfaffian route's layer N - 1 law where the test does not run the DP."""
     from forcenet.exact import routes
     from forcenet.exact.triangle.distribution import moment_from_gaps
 

@@ -209,27 +209,46 @@ def test_the_ensemble_by_pfaffians_is_the_dps(N):
     assert ensemble_pieces(N, "pfaffians") == ensemble_pieces(N, "ideals")
 
 
-def test_cli_ensemble_beyond_the_dps_reach_takes_the_pfaffians(cli, tmp_path):
-    """``dist --N 19 --ensemble``: the plans choose every layer's Pfaffians (the DP's 18 passes are slower); the
-    density integrates to 1, its mean is 1 (f = i W has mean 1 in every layer); checkpoints: one request per layer."""
+def _ensemble_moments(out):
+    """Integral and mean of the ensemble density in ``dist --format json``'s output, exactly."""
     import json
 
-    from forcenet.exact.triangle.pfaffian.layers import ensemble_route
-
-    assert ensemble_route(19)[0] == "pfaffians"
-    ck = tmp_path / "ck"
-    code, out, err = cli(["dist", "--N", "19", "--ensemble", "--format", "json", "--checkpoint", str(ck)])
-    assert code == 0 and "one request per layer" in err
-    assert len(list(ck.iterdir())) == 18
     total = mean = Fraction(0)
     for piece in json.loads(out)["pieces"]:
         lo, hi = Fraction(piece["lo"]), Fraction(piece["hi"])
         for m, c in enumerate(piece["density"]):
             total += Fraction(c) * (hi ** (m + 1) - lo ** (m + 1)) / (m + 1)
             mean += Fraction(c) * (hi ** (m + 2) - lo ** (m + 2)) / (m + 2)
-    assert total == 1 and mean == 1
-    code, out2, err = cli(["dist", "--N", "12", "--ensemble", "--checkpoint", str(ck)])  # the DP: refused
+    return total, mean
+
+
+def test_cli_ensemble_by_the_pfaffians_is_the_dps_output(cli, tmp_path, monkeypatch):
+    """``dist --ensemble`` on the Pfaffians' route (chosen here by hand at N = 8, where the plans pick the DP) prints
+    the DP's bytes; checkpoints: one request per layer; the DP refuses --checkpoint."""
+    from forcenet.core.plan import Plan
+    from forcenet.exact.triangle.pfaffian import layers
+
+    code, dp, _ = cli(["dist", "--N", "8", "--ensemble", "--format", "json"])
+    assert code == 0 and layers.ensemble_route(8)[0] == "ideals"
+    monkeypatch.setattr(layers, "ensemble_route", lambda N, memory=None: ("pfaffians", Plan("every layer's Pfaffians", 1.0)))
+    ck = tmp_path / "ck"
+    code, out, err = cli(["dist", "--N", "8", "--ensemble", "--format", "json", "--checkpoint", str(ck)])
+    assert code == 0 and out == dp and "one request per layer" in err
+    assert len(list(ck.iterdir())) == 7
+    monkeypatch.undo()
+    code, _, err = cli(["dist", "--N", "8", "--ensemble", "--checkpoint", str(ck)])
     assert code == 2 and "--checkpoint applies to the de Bruijn Pfaffians" in err
+
+
+@pytest.mark.slow
+def test_cli_ensemble_beyond_the_dps_reach_takes_the_pfaffians(cli, tmp_path):
+    """``dist --N 19 --ensemble``: the plans choose every layer's Pfaffians (the DP's 18 passes are slower); the
+    density integrates to 1, its mean is 1 (f = i W has mean 1 in every layer)."""
+    from forcenet.exact.triangle.pfaffian.layers import ensemble_route
+
+    assert ensemble_route(19)[0] == "pfaffians"
+    code, out, err = cli(["dist", "--N", "19", "--ensemble", "--format", "json", "--quiet"])
+    assert code == 0 and _ensemble_moments(out) == (1, 1)
 
 
 @pytest.mark.slow

@@ -60,6 +60,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from concurrent.futures import Executor
+from functools import cache
 from os import PathLike
 from typing import Any
 
@@ -224,6 +225,7 @@ def grid_gap_residues(values: np.ndarray, Z: int, N: int, p: int, what: str) -> 
 # ------------------------------------------------------------------ exact laws
 
 
+@cache  # every layer's plan asks for the same primes (moments_plan, ensemble_route)
 def floor_primes(N: int) -> tuple[int, ...]:
     """The primes of the floor route: below ``2^22``, above ``max(2N + 3, d + 3)``, product above ``N count(N)``.
 

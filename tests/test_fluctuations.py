@@ -478,3 +478,44 @@ def test_a_floor_load_law_from_de_bruijn_equals_the_dp(N):
     for j in range(1, N + 1):
         dp = density(N, (N, j))
         assert _floor_density_by_de_bruijn(N, j).all_coeffs() == dp.all_coeffs()
+
+
+def _two_time_functional(a, b, j, c):
+    """``sum_j c_j L_j`` on the monomial ``s^a t^b zeta^j``: ``c_j Integral Integral_(s<t) s^a t^b``."""
+    return Fraction(c[j], (a + 1) * (a + b + 2))
+
+
+def _rank(rows):
+    """Exact rank over Q (python-flint)."""
+    import flint
+
+    matrix = flint.fmpq_mat(len(rows), len(rows[0]), [flint.fmpq(x.numerator, x.denominator)
+                                                      for row in rows for x in row])
+    return matrix.rref()[1]
+
+
+@settings(max_examples=4, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_no_rule_below_the_two_time_bound(seed):
+    """notes/fluctuations.md Sec. 6.1: any rule for a layer's functionals needs
+    ``(k+1)(k+2)/2 (floor(m/2)+1)`` nodes; one node fewer leaves no exact weights, the full grid has them."""
+    d, m = 4, 2
+    k, h = d // 2, m // 2
+    bound = (k + 1) * (k + 2) // 2 * (h + 1)
+    rng = np.random.default_rng(seed)
+    c = [int(x) for x in rng.integers(1, 50, size=m + 1)]
+    monomials = [(a, b, j) for a in range(d + 1) for b in range(d + 1 - a) for j in range(m + 1)]
+
+    # the form l(G H) on V_k (x) U_h is the Gram form (x) the Hankel form: rank = the bound
+    basis = [(a, b, j) for a in range(k + 1) for b in range(k + 1 - a) for j in range(h + 1)]
+    form = [[_two_time_functional(p[0] + q[0], p[1] + q[1], p[2] + q[2], c) for q in basis] for p in basis]
+    assert _rank(form) == bound == len(basis)
+
+    def exact_weights_exist(r):
+        nodes = [tuple(Fraction(int(x), 97) for x in rng.integers(1, 97, size=3)) for _ in range(r)]
+        lhs = [[s**a * t**b * z**j for (s, t, z) in nodes] for (a, b, j) in monomials]
+        augmented = [row + [_two_time_functional(a, b, j, c)] for row, (a, b, j) in zip(lhs, monomials)]
+        return _rank(lhs) == _rank(augmented)
+
+    assert not exact_weights_exist(bound - 1)
+    assert exact_weights_exist(len(monomials))

@@ -79,13 +79,15 @@ def _per_point_seconds(N: int, eliminations: int) -> float:
 
 
 def primes_plan(what: str, N: int, per_prime: float, per_worker: int, workers: int | None, executor: Executor | None,
-                store: CheckpointStore | None, memory_bytes: int | None, entries: int, lattice: bool) -> Plan:
+                store: CheckpointStore | None, memory_bytes: int | None, entries: int, lattice: bool,
+                bound_factor: int = 1) -> Plan:
     """The plan of a run over the route's primes.
 
     ``per_prime`` CPU seconds each, spread over the workers (those of
     ``executor``, else local processes), the primes recorded in ``store`` not
     counted; then the client's Chinese remaindering of ``entries`` integers
-    (quadratic in the number of primes); compiling the kernels first when this
+    (quadratic in the number of primes; the integers are below ``bound_factor
+    (d + 1) count``); compiling the kernels first when this
     machine's cache lacks them (a local run); refused beyond ``memory_bytes``.
 
     Examples
@@ -94,7 +96,7 @@ def primes_plan(what: str, N: int, per_prime: float, per_worker: int, workers: i
     'prime'
     """
     n, d = N - 1, dimension(N)
-    bound = (d + 1) * count(N)  # the survival sums' bound: what the primes' product must exceed
+    bound = (d + 1) * count(N) * bound_factor  # the survival sums' bound: what the primes' product must exceed
     nprimes = ceil(bound.bit_length() / log2(prime_limit(max(n, 1)) * 0.999))
     reused = 0
     if store is not None:

@@ -239,15 +239,17 @@ def _work_array(shape) -> np.ndarray:
     return buffer[:size].reshape(shape)
 
 
-def _level_sums(N: int, p: int, K, values, shape):
+def _level_sums(N: int, p: int, K, values, shape, shifts: tuple[int, ...] = (0,)):
     """Evaluate ``values(c, R)`` at the ``M/2`` representatives; the weighted sums over them and over their partners.
 
     ``values`` fills ``R`` (shape ``shape``) at ``q = c`` and returns False on a
     zero pivot or a singular ``K(c)``, which moves ``c`` to the next candidate.
-    Returns ``(T1, T2)``: ``sum_c lam(c) Z(c) R(c)`` and ``sum_c lam(1/c) Z(1/c) R(c)``,
-    where ``lam`` are the weights of the functional ``q^l -> l! (d - l)!`` on
-    the ``M`` points ``c, 1/c`` (the caller turns ``R(c)`` into ``R(1/c)`` by the
-    complement symmetry).
+    Returns ``[(T1, T2)]``, one pair per ``shift`` ``h``: ``sum_c lam(c) Z(c) R(c)``
+    and ``sum_c lam(1/c) Z(1/c) R(c)``, where ``lam`` are the weights of the
+    functional ``q^l -> (l + h)! (d - l)!`` (``h = 0``: the level sums; ``h = 1``:
+    the level sums weighted by ``l + 1``, the second moments of the entries,
+    ``notes/fluctuations.md`` Sec. 1) on the ``M`` points ``c, 1/c`` (the caller
+    turns ``R(c)`` into ``R(1/c)`` by the complement symmetry).
     """
     d = dimension(N)
     M = level_points(d)
@@ -270,21 +272,31 @@ def _level_sums(N: int, p: int, K, values, shape):
         reps.append(c)
         partners.append(ci)
     points = np.array(reps + partners, dtype=np.float64)
-    g = np.zeros(M)
-    fact = [1] * (d + 1)
-    for k in range(1, d + 1):
+    fact = [1] * (d + 2)
+    for k in range(1, d + 2):
         fact[k] = fact[k - 1] * k % p
-    g[: d + 1] = [fact[l] * fact[d - l] % p for l in range(d + 1)]
-    lam = K.dual_weights(points, g, float(p))
     B, _, _ = setup_matrices(N - 1, p)
     z0 = int(K.pfaffian_mod(B.copy(), float(p)))  # Z(q) = Z(0) (1 + q)^d
-    weight = np.array([int(lam[i]) * z0 * pow(1 + int(points[i]), d, p) % p for i in range(M)], dtype=np.float64)
+    z = [z0 * pow(1 + int(points[i]), d, p) % p for i in range(M)]
     half = M // 2
-    return K.weighted_sum(weight[:half], R, float(p)), K.weighted_sum(weight[half:], R, float(p))
+    sums = []
+    for h in shifts:
+        g = np.zeros(M)
+        g[: d + 1] = [fact[l + h] * fact[d - l] % p for l in range(d + 1)]
+        lam = K.dual_weights(points, g, float(p))
+        weight = np.array([int(lam[i]) * z[i] % p for i in range(M)], dtype=np.float64)
+        sums.append((K.weighted_sum(weight[:half], R, float(p)), K.weighted_sum(weight[half:], R, float(p))))
+    return sums
 
 
-def prime_residues(N: int, p: int, backend: str = "numba", total_mod_p: int | None = None) -> np.ndarray:
+def prime_residues(N: int, p: int, backend: str = "numba", total_mod_p: int | None = None,
+                   second: bool = False) -> np.ndarray:
     """``S[m][k] mod p`` (``m = 1..n`` rows, ``k = 0..n`` columns; row 0 unused) for ``N`` layers.
+
+    With ``second``, also ``S2[m][k] = sum_A (|A| + 1) w(A) [N_m(A) = k]``, the
+    same sums weighted by the level plus one (the second moments of the
+    tableau entries, ``notes/fluctuations.md`` Sec. 1): the same evaluations,
+    a second level functional.
 
     Parameters
     ----------
@@ -298,25 +310,30 @@ def prime_residues(N: int, p: int, backend: str = "numba", total_mod_p: int | No
         baseline; needs ``p <`` :func:`dense_prime_limit`).
     total_mod_p : int, optional
         ``count(N) mod p``; when given, every row is checked to sum to
-        ``(d + 1) count`` modulo ``p``.
+        ``(d + 1) count`` modulo ``p`` (``S2``: ``(d + 1)(d + 2)/2 count``).
+    second : bool
+        Return ``[S, S2]`` (shape ``(2, n + 1, n + 1)``) instead of ``S``.
 
     Returns
     -------
-    numpy.ndarray of int64, shape ``(n + 1, n + 1)``
+    numpy.ndarray of int64, shape ``(n + 1, n + 1)`` (``(2, n + 1, n + 1)`` with ``second``)
 
     Examples
     --------
     >>> S = prime_residues(4, 8388593)
     >>> S[1].tolist(), S[3].tolist()  # sum_A w(A) [N_m(A) = k]; each row sums to (d+1) count = 14
     ([2, 5, 5, 2], [7, 7, 0, 0])
+    >>> prime_residues(4, 8388593, second=True)[1][3].tolist()  # each row sums to (d+1)(d+2)/2 count = 56
+    [16, 40, 0, 0]
     """
     N = check_layers(N)
     n, d = N - 1, dimension(N)
     p = check_prime(N, p)
     K = kernel_module(backend)
-    S = np.zeros((n + 1, n + 1), dtype=np.int64)
+    shifts = (0, 1) if second else (0,)
     if n == 0:
-        return S
+        S = np.zeros((len(shifts), 1, 1), dtype=np.int64)
+        return S if second else S[0]
     B, X1, expo = setup_matrices(n, p)
     # y points: 1 and pairs (c, 1/c), at least n + 1 of them
     y_stream = pair_points(p, {1})
@@ -325,26 +342,29 @@ def prime_residues(N: int, p: int, backend: str = "numba", total_mod_p: int | No
     inv_index = [0] + [k + 1 + (1 if k % 2 == 0 else -1) for k in range(ny - 1)]
     us = np.array([(y - 1) % p for y in ys[1:]], dtype=np.float64)
     # R[j, k] = E_c[y_j^{N_m(B)}], m = n - k (row 0: y = 1, all ones)
-    T1, T2 = _level_sums(N, p, K, lambda c, R: K.point_values(B, X1, expo, c, us, n, float(p), R[1:]), (ny, n))
-    T = np.zeros((ny, n), dtype=np.int64)
-    for j in range(ny):
-        for k in range(n):
-            w = k + 1  # window size n - m + 1; partners: R(1/c, y) = y^w R(c, 1/y)
-            T[j, k] = (int(T1[j, k]) + pow(ys[j], w, p) * int(T2[inv_index[j], k])) % p
+    sums = _level_sums(N, p, K, lambda c, R: K.point_values(B, X1, expo, c, us, n, float(p), R[1:]), (ny, n), shifts)
     L = K.lagrange_matrix(np.array(ys, dtype=np.float64), float(p)).astype(np.int64)
-    coeff = _matmul_mod(L, T, p)  # coeff[t, k]: coefficient of y^t of the window k
-    for k in range(n):
-        w = k + 1
-        if coeff[w + 1 :, k].any():
-            raise ArithmeticError(f"nonzero coefficient beyond the degree modulo {p}: inconsistent residues")
-        m = n - k
-        for t in range(w + 1):
-            S[m, w - t] = coeff[t, k]  # N_m(A) = w - N_m(B)
-    if total_mod_p is not None:
-        target = (d + 1) * total_mod_p % p
-        if any(int(S[m].sum()) % p != target for m in range(1, n + 1)):
-            raise ArithmeticError(f"rows do not sum to (d + 1) count modulo {p}")
-    return S
+    out = np.zeros((len(shifts), n + 1, n + 1), dtype=np.int64)
+    for h, (T1, T2) in zip(shifts, sums):
+        T = np.zeros((ny, n), dtype=np.int64)
+        for j in range(ny):
+            for k in range(n):
+                w = k + 1  # window size n - m + 1; partners: R(1/c, y) = y^w R(c, 1/y)
+                T[j, k] = (int(T1[j, k]) + pow(ys[j], w, p) * int(T2[inv_index[j], k])) % p
+        coeff = _matmul_mod(L, T, p)  # coeff[t, k]: coefficient of y^t of the window k
+        S = out[h]
+        for k in range(n):
+            w = k + 1
+            if coeff[w + 1 :, k].any():
+                raise ArithmeticError(f"nonzero coefficient beyond the degree modulo {p}: inconsistent residues")
+            m = n - k
+            for t in range(w + 1):
+                S[m, w - t] = coeff[t, k]  # N_m(A) = w - N_m(B)
+        if total_mod_p is not None:
+            target = (d + 1) * (d + 2 if h else 1) * pow(2 if h else 1, -1, p) * total_mod_p % p
+            if any(int(S[m].sum()) % p != target for m in range(1, n + 1)):
+                raise ArithmeticError(f"rows do not sum to their total modulo {p}")
+    return out if second else out[0]
 
 
 def edge_residues(N: int, p: int, backend: str = "numba") -> np.ndarray:
@@ -371,7 +391,7 @@ def edge_residues(N: int, p: int, backend: str = "numba") -> np.ndarray:
     if n == 0:
         return out
     B, X1, expo = setup_matrices(n, p)
-    T1, T2 = _level_sums(N, p, K, lambda c, R: K.edge_values(B, X1, expo, c, n, float(p), R), (2, n))
+    [(T1, T2)] = _level_sums(N, p, K, lambda c, R: K.edge_values(B, X1, expo, c, n, float(p), R), (2, n))
     first = (T1[0].astype(np.int64) + T2[1].astype(np.int64)) % p  # all of the window in B
     last = (T1[1].astype(np.int64) + T2[0].astype(np.int64)) % p  # none of the window in B
     if (first != last).any():

@@ -34,7 +34,8 @@ from .engine import prime_limit
 __all__ = ["PARALLEL_MIN_SECONDS", "ROUTES", "route_primes", "checkpoint_store", "run_primes", "workers_for"]
 
 PARALLEL_MIN_SECONDS = 20.0  # below this, starting workers (numba import, ~3 s each) costs more than it saves
-ROUTES = {"count": "pfaffian-count", "table": "pfaffian-table", "lattice": "pfaffian-lattice",
+ROUTES = {"count": "pfaffian-count", "table": "pfaffian-table", "table2": "pfaffian-table-second",
+          "lattice": "pfaffian-lattice",
           "floor": "pfaffian-floor", "floor-grains": "pfaffian-floor-grains",
           "layer": "pfaffian-layer", "layer-grains": "pfaffian-layer-grains"}  # checkpoint names (a layer's: + i)
 

@@ -12,7 +12,9 @@ The route behind ``forcenet table --method pfaffian`` (derivation and proofs in
 * :mod:`.engine`: one prime: the survival table ``S[m][k]`` modulo ``p``;
 * :mod:`.route`: primes, Chinese remaindering, worker processes, the
   ``<W>`` table (4.63)-(4.77), the lattice directions alone
-  (``lattice_direction``, two eliminations per level point instead of ``n + 1``), the count (4.1), the plans.
+  (``lattice_direction``, two eliminations per level point instead of ``n + 1``), the count (4.1), the plans;
+* :mod:`.partial_sums`: ``<S_ij^2>`` of every partial sum and ``E[T^2]`` of
+  every tableau entry, from the same evaluations with a second level functional.
 
 May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.modular`,
 :mod:`forcenet.core.plan`, :mod:`forcenet.exact.triangle.staircase`.
@@ -26,6 +28,8 @@ Examples
 
 from .route import (count, expected_entries, lattice_direction, lattice_direction_plan, mean_W, normalization,
                     survival_table, table_plan, table_run)
+from .partial_sums import entry_moments, partial_sum_moments, partial_sum_moments_plan
 
 __all__ = ["count", "normalization", "expected_entries", "mean_W", "lattice_direction", "lattice_direction_plan",
-           "survival_table", "table_plan", "table_run"]
+           "survival_table", "table_plan", "table_run", "partial_sum_moments", "partial_sum_moments_plan",
+           "entry_moments"]

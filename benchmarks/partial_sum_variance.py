@@ -4,7 +4,10 @@
 uniforms, so ``Var S = Var T/(d+1)^2 + E[T (d+1-T)]/((d+1)^2 (d+2))``: the
 tableau part and the Dirichlet noise (notes/fluctuations.md Sec. 1; the
 lattice directions' analogue is Sec. 2).  ``partial_sum_moments`` gives both
-exactly for about the price of the mean table.  For each N this prints, at
+exactly for about the price of the mean table.  ``Var S/<W>^2``, with ``<W>``
+the mean load around ``S_ij``, is the variance of the number of partial sums
+below a point; a beta-ensemble's bulk makes it grow like ``ln N/(beta pi^2)``.
+For each N this prints, at
 depths ``z = i/N`` and across the layer at ``x = j/i``, ``sd(T)/(d+1)`` (the
 tableau part) and the whole ``Var S``, and the local exponents of the tableau
 part between neighbouring N.  Results accumulate in a JSON file (atomic
@@ -52,7 +55,9 @@ def record(N: int, checkpoint: str | None) -> dict:
         tableau = (ET2 - ET * ET) / (d + 1) ** 2  # Var T / (d+1)^2
         noise = (ET * (d + 1) - ET2) / ((d + 1) ** 2 * (d + 2))
         assert tableau + noise == second - first * first
-        rows.append({"z": str(z), "x": str(x), "i": i, "j": j, "mean": float(first),
+        spacing = (moments[1][i - 1][j] - (moments[1][i - 1][j - 2] if j > 1 else 0)) / 2  # <W> around S_ij
+        rows.append({"z": str(z), "x": str(x), "i": i, "j": j, "mean": float(first), "spacing": float(spacing),
+                     "count_var": float((second - first * first) / spacing**2),
                      "var": float(second - first * first), "tableau_sd": math.sqrt(tableau),
                      "noise_var": float(noise)})
     return {"N": N, "seconds": round(time.perf_counter() - t0, 1), "probes": rows}
@@ -82,6 +87,18 @@ def report(data: dict) -> None:
         print(f"  z={z}, x={x}: " + ", ".join(pairs))
 
 
+def report_log_correlated(data: dict) -> None:
+    """``Var S / <W>^2`` (the variance of the number of partial sums below a point) against ``ln N``."""
+    runs = sorted(data.values(), key=lambda r: r["N"])
+    print("\nVar S_ij / <W>^2 (<W> the mean load around S_ij), and its slope per ln N "
+          f"(a beta-ensemble's bulk: 1/(beta pi^2); beta = 2: {1 / (2 * math.pi**2):.4f}, beta = 1: "
+          f"{1 / math.pi**2:.4f}):")
+    for k, (z, x) in enumerate((z, x) for z in DEPTHS for x in ACROSS):
+        values = [(r["N"], r["probes"][k]["count_var"]) for r in runs]
+        slopes = [f"{a[0]}-{b[0]}: {(b[1] - a[1]) / math.log(b[0] / a[0]):.4f}" for a, b in zip(values, values[1:])]
+        print(f"  z={z}, x={x}: " + ", ".join(f"{v:.4f}" for _, v in values) + "; slopes " + ", ".join(slopes))
+
+
 def figure(data: dict, path: str) -> None:
     import matplotlib
 
@@ -90,15 +107,22 @@ def figure(data: dict, path: str) -> None:
 
     runs = sorted(data.values(), key=lambda r: r["N"])
     Ns = [r["N"] for r in runs]
-    fig, ax = plt.subplots(figsize=(6, 4.2))
+    logs = [math.log(N) for N in Ns]
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2))
     for k, (z, x) in enumerate((z, x) for z in DEPTHS for x in ACROSS):
-        sd = [r["probes"][k]["tableau_sd"] for r in runs]
-        ax.loglog(Ns, sd, "o-", ms=3, label=f"z = {z}, x = {x}")
-    ax.loglog(Ns, [0.5 * N ** -0.75 for N in Ns], "k:", label="N^(-3/4)")
-    ax.loglog(Ns, [0.5 * N ** -1.0 for N in Ns], "k--", label="N^(-1)")
-    ax.set_xlabel("N")
-    ax.set_ylabel("sd(T)/(d+1): the tableau part of sd(S_ij)")
-    ax.legend(fontsize=7)
+        label = f"z = {z}, x = {x}"
+        left.loglog(Ns, [r["probes"][k]["tableau_sd"] for r in runs], "o-", ms=3, label=label)
+        right.plot(logs, [r["probes"][k]["count_var"] for r in runs], "o-", ms=3, label=label)
+    left.loglog(Ns, [0.6 * N**-1.0 * math.sqrt(math.log(N)) for N in Ns], "k--", label="sqrt(ln N)/N")
+    left.set_xlabel("N")
+    left.set_ylabel("sd(T)/(d+1): the tableau part of sd(S_ij)")
+    for beta, style in ((1, "k--"), (2, "k:")):
+        top = runs[-1]["probes"][-1 if beta == 1 else 3]["count_var"]
+        right.plot(logs, [top + (u - logs[-1]) / (beta * math.pi**2) for u in logs], style,
+                   label=f"slope 1/({beta} pi^2)")
+    right.set_xlabel("ln N")
+    right.set_ylabel("Var S_ij / <W>^2")
+    right.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=130)
 
@@ -118,6 +142,7 @@ def main() -> None:
         write_atomically(args.out, data)
         print(f"N={N}: {data[str(N)]['seconds']} s", flush=True)
     report(data)
+    report_log_correlated(data)
     if args.figure:
         figure(data, args.figure)
 

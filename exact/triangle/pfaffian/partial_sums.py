@@ -57,6 +57,30 @@ def partial_sum_moments_plan(N: int, *, memory_bytes: int | None = None, workers
                              checkpoint: str | PathLike | CheckpointStore | None = None) -> Plan:
     """The cost of :func:`partial_sum_moments`: the mean table's cost per prime, a few more primes.
 
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``2..200``.
+    memory_bytes : int, optional
+        Memory available to the run (None: not checked); a plan over it is refused.
+    workers : int, optional
+        Local worker processes (default: the cores when the run pays for them).
+    executor : concurrent.futures.Executor or Dask Client, optional
+        Runs the per-prime tasks; the plan counts its workers.
+    checkpoint : str, os.PathLike or CheckpointStore, optional
+        The plan counts only the primes not yet recorded there.
+
+    Returns
+    -------
+    Plan
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is outside ``2..200``.
+    ArgumentTypeError
+        If ``N`` is not an integer.
+
     Examples
     --------
     >>> from forcenet.exact.triangle.pfaffian.route import table_plan
@@ -138,6 +162,11 @@ def entry_moments(N: int, **kwargs: Any) -> dict[tuple[int, int], tuple[Fraction
     -------
     dict of (int, int) to (Fraction, Fraction)
         For ``1 <= r <= c <= N - 1``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N`` is outside ``2..200``.
 
     Examples
     --------

@@ -108,3 +108,29 @@ def test_plan():
     assert plan.ticks > route.table_plan(40).ticks
     with pytest.raises(ArgumentError, match="N"):
         partial_sums.partial_sum_moments_plan(201)
+
+
+@pytest.mark.slow
+def test_partial_sums_agree_with_the_exact_sampler_at_N64():
+    """<S_ij> and <S_ij^2> at depths and positions across the triangle against 20000 exact samples (alpha = 1e-3)."""
+    import numpy as np
+
+    from forcenet.numeric.agreement import compare_samples
+    from forcenet.numeric.triangle.exact_sampler import ExactSampler
+
+    N, samples = 64, 20000
+    moments = partial_sums.partial_sum_moments(N)
+    probes = [(i, j) for i in (8, 16, 32, 48, 63, 64) for j in (1, i // 4, i // 2, i - 1)]
+    sampler, columns, drawn = ExactSampler(N, seed=6401), [], 0
+    while drawn < samples:
+        W = sampler.sample_W(min(sampler.batch, samples - drawn))
+        S = np.cumsum(W, axis=2)  # S[:, i-1, j-1] = S_ij
+        columns.append(np.stack([S[:, i - 1, j - 1] for i, j in probes], axis=1))
+        drawn += W.shape[0]
+    X = np.concatenate(columns)
+    data = np.concatenate([X, X**2], axis=1)
+    expected = ([float(moments[1][i - 1][j - 1]) for i, j in probes]
+                + [float(moments[2][i - 1][j - 1]) for i, j in probes])
+    keys = [f"S_{i},{j}" for i, j in probes] + [f"S2_{i},{j}" for i, j in probes]
+    result = compare_samples(data, expected, keys=keys, alpha=1e-3)
+    assert result.passed, result.summary()

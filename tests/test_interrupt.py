@@ -22,7 +22,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from forcenet.core import plan as plan_module
-from forcenet.core.plan import Plan, chunks, combine, kernels_cached, with_compilation
+from forcenet.core.plan import Plan, chunks, combine, interruptible_compilation, kernels_cached, with_compilation
 
 # exit after SIGINT: a call of ~0.15 s, then the interpreter's exit (~1-2 s on the loaded 2-core machine)
 LATENCY = 8.0
@@ -113,6 +113,63 @@ def test_a_cold_cache_is_announced_and_interruptible_while_compiling(tmp_path):
     assert "(compiling the kernels, once: ~" in announcement
     assert code == 130 and latency < LATENCY, (code, latency, err)
     assert os.listdir(work) == []
+
+
+# SIGINT delivered while LLVM runs numba's object-cache callback (a ctypes callback, where Python swallows
+# exceptions): before the fix the run went on to exit 0, or failed on the half-built library
+IN_CALLBACK = """
+import os, signal, sys, time
+from numba.core import codegen
+original, fired = codegen.JITCodeLibrary._object_compiled_hook.__func__, []
+def hook(cls, ll_module, buf):
+    if not fired:
+        fired.append(True)
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(0.2)  # Python's handler runs here, inside LLVM's callback
+    return original(cls, ll_module, buf)
+codegen.JITCodeLibrary._object_compiled_hook = classmethod(hook)
+from forcenet.cli import main
+code = main(sys.argv[1:])
+assert fired, "the callback never ran: nothing was compiled"
+sys.exit(code)
+"""
+
+
+def test_ctrl_c_inside_llvms_callback_is_not_lost(tmp_path):
+    cache, work = tmp_path / "numba-cache", tmp_path / "work"
+    cache.mkdir()
+    work.mkdir()
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache))
+    proc = subprocess.run([sys.executable, "-c", IN_CALLBACK, "sample", "--N", "12", "--samples", "20000",
+                           "--out", "o.txt"], cwd=work, env=env, capture_output=True, text=True, timeout=300,
+                          check=False)
+    assert proc.returncode == 130, proc.stderr
+    assert proc.stderr.rstrip().splitlines()[-1] == "forcenet: interrupted; no partial output was written"
+    assert os.listdir(work) == []
+
+
+def test_interruptible_compilation_delivers_a_deferred_interrupt(monkeypatch):
+    """In-process: SIGINT inside a native callback waits for the callback to return, then raises."""
+    import ctypes
+
+    monkeypatch.setattr(plan_module, "NATIVE_CALL_SITES", [("call_native", __file__)])
+    seen = []
+
+    @ctypes.CFUNCTYPE(None)
+    def callback():
+        signal.raise_signal(signal.SIGINT)
+        seen.append("callback returned")
+
+    def call_native():
+        callback()  # a ctypes function pointer: native code calling back into Python
+
+    with pytest.raises(KeyboardInterrupt):
+        with interruptible_compilation(retry_seconds=0.01):
+            call_native()
+            seen.append("after the call")
+            time.sleep(5)  # the deferred interrupt arrives here
+    assert seen == ["callback returned", "after the call"]
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
 
 
 # ------------------------------------------------------------------ the cuts change nothing

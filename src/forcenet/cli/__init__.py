@@ -31,6 +31,7 @@ import traceback
 from importlib.metadata import version
 
 from forcenet.core.errors import ForcenetError
+from forcenet.core.plan import interruptible_compilation
 
 from . import chicken_wire, dist, limit, sample, table
 from .common import Parser, UsageError, given
@@ -127,7 +128,8 @@ def main(argv=None) -> int:
         return 0 if exc.code in (0, None) else 2
     try:
         _check_destinations(args)
-        return args.func(args)
+        with interruptible_compilation():  # Ctrl-C while numba compiles is not lost in LLVM's callbacks
+            return args.func(args)
     except ForcenetError as exc:  # expected failures (UsageError, the library's argument checks): they name the argument
         return _error(str(exc))
     except MemoryError:

@@ -21,13 +21,18 @@ False
 
 from __future__ import annotations
 
+import os
+import signal
+import threading
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass, replace
 
 from .errors import ArgumentError
 
 __all__ = ["Plan", "duration_text", "combine", "combine_by_time", "phase_progress", "first_moment_only", "table_range", "chunks",
-           "first_chunk", "CHUNK_SECONDS", "kernels_cached", "with_compilation"]
+           "first_chunk", "CHUNK_SECONDS", "kernels_cached", "with_compilation",
+           "interruptible_compilation"]
 
 CHUNK_SECONDS = 0.15  # compiled work per call: Ctrl-C is seen within this, the calls' overhead stays far below 1 %
 
@@ -336,3 +341,88 @@ def with_compilation(plan: Plan, name: str, seconds: float, kernels) -> Plan:
     if not plan.runnable or any(n == name for n, _ in plan.compiling) or kernels_cached(kernels):
         return plan
     return replace(plan, seconds=plan.seconds + seconds, compiling=plan.compiling + ((name, seconds),))
+
+
+# Python code that native code calls back (ctypes callbacks) swallows exceptions: a KeyboardInterrupt raised
+# there is printed as "Exception ignored" and lost. LLVM calls back into llvmlite's object cache while numba
+# finalizes machine code, so these call sites are where Ctrl-C must wait (function name, file path suffix).
+NATIVE_CALL_SITES = [("__call__", os.path.join("llvmlite", "binding", "ffi.py"))]
+
+
+def _inside_native_callback(frame) -> bool:
+    """Whether ``frame`` runs in a callback from a native call made at one of ``NATIVE_CALL_SITES``."""
+    caller = frame.f_back  # ``frame`` itself at a call site: between its own bytecodes raising is safe
+    while caller is not None:
+        code = caller.f_code
+        if any(code.co_name == name and code.co_filename.endswith(path) for name, path in NATIVE_CALL_SITES):
+            return True
+        caller = caller.f_back
+    return False
+
+
+@contextmanager
+def interruptible_compilation(retry_seconds: float = 0.02):
+    """Make Ctrl-C end the run even when it arrives while numba compiles.
+
+    Python's own SIGINT handler raises ``KeyboardInterrupt`` wherever the
+    main thread is; inside a callback from native code (LLVM's object cache
+    calling llvmlite while numba finalizes a kernel) the exception is
+    swallowed, and the run then goes on to the end or fails on a half-built
+    library.  Within this context SIGINT raises ``KeyboardInterrupt`` as
+    before, except inside such a callback, where it is asked again
+    ``retry_seconds`` later (the callback has returned by then).  A deferred
+    interrupt still pending when the block ends is raised there.  Outside the
+    main thread, or when SIGINT already has a handler of the caller's, the
+    block runs unchanged.
+
+    Parameters
+    ----------
+    retry_seconds : float, optional
+        The delay before an interrupt that arrived inside a callback is
+        delivered again.
+
+    Yields
+    ------
+    None
+
+    Raises
+    ------
+    KeyboardInterrupt
+        On Ctrl-C, outside native callbacks.
+
+    Examples
+    --------
+    >>> with interruptible_compilation():
+    ...     sum(range(10))
+    45
+    """
+    if (threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGINT) is not signal.default_int_handler):
+        yield
+        return
+    lock, state = threading.Lock(), {"pending": False, "closed": False}
+
+    def again():
+        with lock:
+            if not state["closed"]:
+                signal.raise_signal(signal.SIGINT)
+
+    def handler(signum, frame):
+        if frame is not None and _inside_native_callback(frame):
+            state["pending"] = True
+            timer = threading.Timer(retry_seconds, again)
+            timer.daemon = True
+            timer.start()
+            return
+        state["pending"] = False
+        raise KeyboardInterrupt
+
+    signal.signal(signal.SIGINT, handler)
+    try:
+        yield
+    finally:
+        with lock:
+            state["closed"] = True
+            signal.signal(signal.SIGINT, signal.default_int_handler)
+    if state["pending"]:
+        raise KeyboardInterrupt

@@ -44,6 +44,22 @@ STARTUP_SECONDS = 1.5  # numba import and loading the cached kernels (first comp
 WORKER_TASK_SECONDS = 0.0102  # on the worker, in parallel with the other workers
 CLIENT_TASK_SECONDS = 0.0075  # in the client, the scheduler and the nanny, one task after the other
 CRT_SECONDS = 2.3e-9  # per reconstructed entry and prime^2: the client's Chinese remaindering (benchmarks)
+WORKER_BASE_BYTES = 160 * 2**20  # a worker process: the interpreter, numpy and the loaded kernels
+
+
+def worker_bytes(N: int, rows: int) -> int:
+    """Peak bytes of one worker of a per-prime task: ``rows`` int64 rows of length ``n`` per paired level point.
+
+    The table keeps ``n + 2`` rows per point (``y = 0..n`` and the two
+    bordering ones), the lattice directions 2.
+
+    Examples
+    --------
+    >>> worker_bytes(40, 2) < worker_bytes(40, 41) < 2 * WORKER_BASE_BYTES
+    True
+    """
+    n = N - 1
+    return level_points(dimension(N)) // 2 * rows * n * 8 + WORKER_BASE_BYTES
 
 
 def prime_seconds(N: int) -> float:

@@ -73,7 +73,7 @@ from ...checkpoints import CheckpointStore
 from ...modular import crt_many, primes_for_bound
 from ..gaps import GapCounts
 from ..staircase import count, dimension
-from .cost import STARTUP_SECONDS
+from .cost import STARTUP_SECONDS, WORKER_BASE_BYTES
 from .kernels import dual_weights, lagrange_matrix, pfaffian_mod
 from .floor_displacement import bordered_pfaffians, inverse_table
 from .floor_kernels import fill, gap_residues, grid, grid_pairs, monomials
@@ -364,7 +364,7 @@ def floor_plan(N: int, grains: bool = False, memory_bytes: int | None = None, wo
     cpu = floor_prime_seconds(N, grains) * nprimes
     nworkers = workers_for(workers, nprimes, cpu)
     d = dimension(N)
-    per_worker = 8 * (d + 3) * (N + 1) * 4 + 160 * 2**20
+    per_worker = 8 * (d + 3) * (N + 1) * 4 + WORKER_BASE_BYTES
     plan = Plan(what, STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers, nworkers * per_worker, nprimes,
                 "prime").within_memory(memory_bytes)
     kernels = [grid_pairs if grains else grid, bordered_pfaffians, monomials, gap_residues, pfaffian_mod]

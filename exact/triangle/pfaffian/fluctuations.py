@@ -59,7 +59,7 @@ from .engine import (MAX_POINT_FAILURES, PointFailureError, check_prime, kernel_
                      prime_limit, setup_matrices)
 from ...modular import crt_many
 from ..staircase import count as product_count
-from .cost import STARTUP_SECONDS, edge_seconds
+from .cost import STARTUP_SECONDS, WORKER_BASE_BYTES, edge_seconds
 from .route import count
 from .floor import floor_gap_laws, floor_plan
 from .layers import layer_gap_laws, layer_plan
@@ -427,7 +427,7 @@ def lattice_gap_laws_plan(N: int, memory_bytes: int | None = None, workers: int 
     cpu = law_prime_seconds(N, windows) * nprimes
     nworkers = workers_for(workers, nprimes, cpu)
     M = level_points(d)
-    per_worker = 8 * (3 * M * M + 2 * M * n) + 160 * 2**20
+    per_worker = 8 * (3 * M * M + 2 * M * n) + WORKER_BASE_BYTES
     crt = _SECONDS_PER_CRT * windows * (d + 1) * nprimes
     return Plan(what, STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers + crt, nworkers * per_worker, nprimes,
                 "prime").within_memory(memory_bytes)

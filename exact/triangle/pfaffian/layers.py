@@ -63,7 +63,7 @@ from ..distribution import distribution_plan, layer_pieces_from_gaps, pool_gaps,
 from ..gaps import GapCounts, gap_laws_plan, layer_gap_counts
 from ..pieces import Piece, sum_pieces
 from ..staircase import count, dimension
-from .cost import STARTUP_SECONDS
+from .cost import STARTUP_SECONDS, WORKER_BASE_BYTES
 from .floor import (COMPILE_SECONDS, MAX_FLOOR_N, exact_gap_laws, floor_plan, floor_pooled_gap_law, floor_primes,
                     grid_gap_residues, quadrature_weights, zeta_coefficients)
 from .floor_kernels import gap_residues, monomials, pfaffian_lazy
@@ -278,7 +278,7 @@ def layer_plan(N: int, i: int, grains: bool = False, memory_bytes: int | None = 
     nprimes = len(floor_primes(N))
     cpu = layer_prime_seconds(N, i, grains) * nprimes
     nworkers = workers_for(workers, nprimes, cpu)
-    per_worker = 8 * (dimension(N) + 3) * (N + 1) * 4 + 160 * 2**20
+    per_worker = 8 * (dimension(N) + 3) * (N + 1) * 4 + WORKER_BASE_BYTES
     plan = Plan(what, STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers, nworkers * per_worker, nprimes,
                 "prime").within_memory(memory_bytes)
     kernels = [layer_grid, layer_fill, pfaffian_lazy, monomials, gap_residues, pfaffian_mod]

@@ -38,14 +38,12 @@ from typing import Any
 
 from ...checkpoints import CheckpointStore
 from ...execution import as_executor
-from ...modular import crt_many
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_layers
 from ..staircase import dimension
-from .cost import primes_plan, prime_seconds
-from .engine import level_points, prime_residues
-from .route import MAX_N, count
-from .tasks import checkpoint_store, route_primes, run_primes, workers_for
+from .cost import primes_plan, prime_seconds, worker_bytes
+from .route import MAX_N, _survival_table
+from .tasks import checkpoint_store
 
 __all__ = ["second_survival_tables", "entry_moments", "partial_sum_moments", "partial_sum_moments_plan"]
 
@@ -91,7 +89,7 @@ def partial_sum_moments_plan(N: int, *, memory_bytes: int | None = None, workers
     N = check_layers(N, maximum=MAX_N)
     n, d = N - 1, dimension(N)
     what = f"exact <S_ij^2> N={N} (Pfaffians: the mean's evaluations, a second level functional)"
-    per_worker = level_points(d) // 2 * (n + 2) * n * 8 + 160 * 2**20
+    per_worker = worker_bytes(N, n + 2)
     return primes_plan(what, N, prime_seconds(N), per_worker, workers, as_executor(executor),
                        checkpoint_store(checkpoint, "table2", N), memory_bytes, entries=2 * n * n, lattice=False,
                        bound_factor=(d + 2) // 2 + 1)
@@ -128,21 +126,7 @@ def second_survival_tables(N: int, *, workers: int | None = None, progress=None,
     (2, [7, 7, 0, 0], [16, 40, 0, 0])
     """
     N = check_layers(N, maximum=MAX_N)
-    n, d = N - 1, dimension(N)
-    total = count(N, backend, checkpoint=checkpoint)
-    if n == 0:
-        return [[0]], [[0]], total
-    primes = route_primes(N, (d + 1) * (d + 2) // 2 * total)
-    executor = as_executor(executor)
-    tasks = [(N, p, backend, total % p, True) for p in primes]
-    nworkers = workers_for(workers, len(tasks), prime_seconds(N) * len(primes), executor)
-    residues = run_primes(prime_residues, tasks, executor, nworkers, progress, checkpoint_store(checkpoint, "table2", N))
-    cells = [(h, m, k) for h in (0, 1) for m in range(1, n + 1) for k in range(n + 1)]
-    entries = dict(zip(cells, crt_many([[r[h, m, k] for r in residues] for (h, m, k) in cells], primes)))
-    S, S2 = ([[0] * (n + 1)] + [[entries[h, m, k] for k in range(n + 1)] for m in range(1, n + 1)] for h in (0, 1))
-    if any(sum(row) != (d + 1) * total for row in S[1:]) or any(2 * sum(row) != (d + 1) * (d + 2) * total
-                                                                   for row in S2[1:]):
-        raise ArithmeticError("reconstructed rows do not sum to their totals")
+    (S, S2), total = _survival_table(N, workers, progress, backend, as_executor(executor), checkpoint, second=True)
     return S, S2, total
 
 

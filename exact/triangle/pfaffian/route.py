@@ -37,7 +37,7 @@ from __future__ import annotations
 
 from concurrent.futures import Executor
 from fractions import Fraction
-from math import factorial
+from math import comb, factorial
 from typing import Any
 from os import PathLike
 
@@ -48,8 +48,8 @@ from forcenet.core.plan import Plan, table_range
 from ...protocol import Progress, Table
 from forcenet.core.validation import check_layers, check_moments
 from ..staircase import dimension
-from .cost import STARTUP_SECONDS, edge_seconds, prime_seconds, primes_plan
-from .engine import count_residue, edge_residues, level_points, prime_residues
+from .cost import STARTUP_SECONDS, edge_seconds, prime_seconds, primes_plan, worker_bytes
+from .engine import count_residue, edge_residues, prime_residues
 from .moments import moments_plan, moments_run
 from .tasks import checkpoint_store, route_primes, run_primes, workers_for
 
@@ -195,24 +195,32 @@ def survival_table(N: int, *, workers: int | None = None, progress: Progress | N
     (2, [2, 5, 5, 2], [7, 7, 0, 0])
     """
     N = check_layers(N, maximum=MAX_N)
-    return _survival_table(N, workers, progress, backend, as_executor(executor), checkpoint)
+    (S,), total = _survival_table(N, workers, progress, backend, as_executor(executor), checkpoint)
+    return S, total
 
 
 def _survival_table(N: int, workers: int | None, progress: Progress | None, backend: str, executor: Executor | None,
-                    checkpoint: Checkpoint) -> tuple[list[list[int]], int]:
+                    checkpoint: Checkpoint, second: bool = False) -> tuple[list[list[list[int]]], int]:
+    """``[S]`` (``[S, S2]`` with ``second``) and ``count(N)``: every prime's residues, combined by CRT."""
     n, d = N - 1, dimension(N)
+    levels = 2 if second else 1
     total = count(N, backend, checkpoint=checkpoint)
     if n == 0:
-        return [[0]], total
-    primes = route_primes(N, (d + 1) * total)
-    tasks = [(N, p, backend, total % p) for p in primes]
+        return [[[0]]] * levels, total
+    primes = route_primes(N, comb(d + levels, levels) * total)  # |S2| <= (d + 1)(d + 2)/2 count
+    tasks = [(N, p, backend, total % p, True) if second else (N, p, backend, total % p) for p in primes]
     nworkers = workers_for(workers, len(tasks), prime_seconds(N) * len(primes), executor)
-    residues = run_primes(prime_residues, tasks, executor, nworkers, progress, checkpoint_store(checkpoint, "table", N))
-    entries = crt_many([[r[m, k] for r in residues] for m in range(1, n + 1) for k in range(n + 1)], primes)
-    out = [[0] * (n + 1)] + [entries[(m - 1) * (n + 1):m * (n + 1)] for m in range(1, n + 1)]
-    if any(sum(row) != (d + 1) * total for row in out[1:]):
-        raise ArithmeticError("reconstructed rows do not sum to (d + 1) count")
-    return out, total
+    residues = run_primes(prime_residues, tasks, executor, nworkers, progress,
+                          checkpoint_store(checkpoint, "table2" if second else "table", N))
+    residues = [r.reshape((levels, n + 1, n + 1)) for r in residues]
+    cells = [(h, m, k) for h in range(levels) for m in range(1, n + 1) for k in range(n + 1)]
+    entries = dict(zip(cells, crt_many([[r[cell] for r in residues] for cell in cells], primes)))
+    tables = [[[0] * (n + 1)] + [[entries[h, m, k] for k in range(n + 1)] for m in range(1, n + 1)]
+              for h in range(levels)]
+    for h, table in enumerate(tables):  # level h sums to C(d + 1 + h, h + 1) count
+        if any(sum(row) != comb(d + 1 + h, h + 1) * total for row in table[1:]):
+            raise ArithmeticError("reconstructed rows do not sum to their totals")
+    return tables, total
 
 
 def mean_W(N: int, **kwargs: Any) -> Table:
@@ -405,8 +413,8 @@ def lattice_direction_plan(N: int, memory_bytes: int | None = None, workers: int
     what = f"<W_(i,1)> N={N} (Pfaffians)"
     if N > MAX_N:
         return Plan(what, 0, refusal=f"N={N} is out of range for the Pfaffian route: N must be an integer in 2..{MAX_N}")
-    n, d = N - 1, dimension(N)
-    per_worker = level_points(d) // 2 * 2 * n * 8 + 160 * 2**20
+    n = N - 1
+    per_worker = worker_bytes(N, 2)
     return primes_plan(what, N, edge_seconds(N), per_worker, workers, executor, checkpoint_store(checkpoint, "lattice", N),
                        memory_bytes, entries=n, lattice=True)
 
@@ -458,8 +466,8 @@ def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, exe
     refusal = table_range(what, "pfaffian", N, moments, MAX_N)
     if refusal is not None:
         return refusal
-    n, d = N - 1, dimension(N)
-    per_worker = level_points(d) // 2 * (n + 2) * n * 8 + 160 * 2**20
+    n = N - 1
+    per_worker = worker_bytes(N, n + 2)
     return primes_plan(what, N, prime_seconds(N), per_worker, workers, executor, checkpoint_store(checkpoint, "table", N),
                        memory_bytes, entries=n * n, lattice=False)
 
@@ -512,5 +520,5 @@ def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, prog
     if N > MAX_N or memory_bytes is not None:
         table_plan(N, moments, memory_bytes=memory_bytes, executor=executor, workers=workers,
                    checkpoint=checkpoint).check()
-    S, total = _survival_table(N, workers, progress, "numba", as_executor(executor), checkpoint)
+    (S,), total = _survival_table(N, workers, progress, "numba", as_executor(executor), checkpoint)
     return {1: _table_from_survival(N, S, total)}

@@ -172,6 +172,38 @@ def test_interruptible_compilation_delivers_a_deferred_interrupt(monkeypatch):
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
 
 
+def test_ctrl_c_in_a_constructor_leaves_only_the_one_line_message(monkeypatch, capsys):
+    """Ctrl-C inside a third-party constructor: its ``__del__`` fails on the half-built object, silently."""
+    import gc
+
+    from forcenet.cli import limit, main
+
+    finalized = []
+
+    class HalfBuilt:  # like llvmlite's PipelineTuningOptions, interrupted in __init__
+        def __init__(self):
+            raise KeyboardInterrupt
+            self.handle = 1  # never reached
+
+        def __del__(self):
+            finalized.append(True)
+            del self.handle  # AttributeError: Python would print "Exception ignored in ..."
+
+    def command(args):
+        HalfBuilt()
+
+    monkeypatch.setattr(limit, "cmd_limit", command)
+    monkeypatch.setattr(sys, "unraisablehook", sys.__unraisablehook__)  # Python's own: it prints to stderr
+    gc.disable()  # the object must be freed by main's release, not by a collection later
+    try:
+        code = main(["limit", "--x", "0.2", "--z", "0.6"])
+    finally:
+        gc.enable()
+    err = capsys.readouterr().err
+    assert code == 130 and finalized == [True]
+    assert err.splitlines() == ["forcenet: interrupted; no partial output was written"], err
+
+
 # ------------------------------------------------------------------ the cuts change nothing
 
 

@@ -118,6 +118,21 @@ def _internal_error(exc: BaseException, debug: bool) -> int:
     return 1
 
 
+def _release_quietly(exc: BaseException) -> None:
+    """Free the interrupted frames now, silencing the finalizers of objects that Ctrl-C left half-built.
+
+    Ctrl-C can land inside a third-party constructor (llvmlite's, while numba
+    compiles); that object's ``__del__`` then fails on a missing attribute and
+    Python prints "Exception ignored in ..." after the one-line message.
+    """
+    hook = sys.unraisablehook
+    sys.unraisablehook = lambda unraisable: None
+    try:
+        traceback.clear_frames(exc.__traceback__)  # the executing frames (this one) are skipped
+    finally:
+        sys.unraisablehook = hook
+
+
 def main(argv=None) -> int:
     """Run the command line; returns the exit code."""
     sys.set_int_max_str_digits(0)  # huge exact integers are printed whole (count --N 84 has 4300+ digits)
@@ -134,7 +149,8 @@ def main(argv=None) -> int:
         return _error(str(exc))
     except MemoryError:
         return _error("out of memory: choose a smaller size (the cost announcement is an estimate)")
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
+        _release_quietly(exc)
         print("forcenet: interrupted; no partial output was written", file=sys.stderr)
         gc.freeze()  # no collection of the compiled kernels' objects at exit: 1.8 s -> 0.2 s (tests/test_interrupt.py)
         return 130

@@ -172,6 +172,29 @@ def test_interruptible_compilation_delivers_a_deferred_interrupt(monkeypatch):
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
 
 
+def test_interruptible_compilation_defers_an_interrupt_out_of_a_finalizer():
+    """SIGINT while a ``__del__`` runs (where Python swallows exceptions) is delivered after it."""
+    import gc
+
+    seen = []
+
+    class Disposable:
+        def __del__(self):
+            signal.raise_signal(signal.SIGINT)
+            seen.append("finalizer returned")
+
+    gc.disable()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            with interruptible_compilation(retry_seconds=0.01):
+                Disposable()  # freed at once: __del__ runs here
+                seen.append("after the finalizer")
+                time.sleep(5)
+    finally:
+        gc.enable()
+    assert seen == ["finalizer returned", "after the finalizer"]
+
+
 def test_ctrl_c_in_a_constructor_leaves_only_the_one_line_message(monkeypatch, capsys):
     """Ctrl-C inside a third-party constructor: its ``__del__`` fails on the half-built object, silently."""
     import gc

@@ -349,12 +349,15 @@ def with_compilation(plan: Plan, name: str, seconds: float, kernels) -> Plan:
 NATIVE_CALL_SITES = [("__call__", os.path.join("llvmlite", "binding", "ffi.py"))]
 
 
-def _inside_native_callback(frame) -> bool:
-    """Whether ``frame`` runs in a callback from a native call made at one of ``NATIVE_CALL_SITES``."""
+def _where_exceptions_are_swallowed(frame) -> bool:
+    """Whether ``frame`` runs in a callback from a native call at one of ``NATIVE_CALL_SITES``, or in a ``__del__``."""
+    if frame.f_code.co_name == "__del__":
+        return True
     caller = frame.f_back  # ``frame`` itself at a call site: between its own bytecodes raising is safe
     while caller is not None:
         code = caller.f_code
-        if any(code.co_name == name and code.co_filename.endswith(path) for name, path in NATIVE_CALL_SITES):
+        if code.co_name == "__del__" or any(code.co_name == name and code.co_filename.endswith(path)
+                                            for name, path in NATIVE_CALL_SITES):
             return True
         caller = caller.f_back
     return False
@@ -368,9 +371,10 @@ def interruptible_compilation(retry_seconds: float = 0.02):
     main thread is; inside a callback from native code (LLVM's object cache
     calling llvmlite while numba finalizes a kernel) the exception is
     swallowed, and the run then goes on to the end or fails on a half-built
-    library.  Within this context SIGINT raises ``KeyboardInterrupt`` as
-    before, except inside such a callback, where it is asked again
-    ``retry_seconds`` later (the callback has returned by then).  A deferred
+    library; so it is in a finalizer (``__del__``, e.g. llvmlite disposing
+    of a module).  Within this context SIGINT raises ``KeyboardInterrupt`` as
+    before, except inside such a callback or finalizer, where it is asked
+    again ``retry_seconds`` later (it has returned by then).  A deferred
     interrupt still pending when the block ends is raised there.  Outside the
     main thread, or when SIGINT already has a handler of the caller's, the
     block runs unchanged.
@@ -408,7 +412,7 @@ def interruptible_compilation(retry_seconds: float = 0.02):
                 signal.raise_signal(signal.SIGINT)
 
     def handler(signum, frame):
-        if frame is not None and _inside_native_callback(frame):
+        if frame is not None and _where_exceptions_are_swallowed(frame):
             state["pending"] = True
             timer = threading.Timer(retry_seconds, again)
             timer.daemon = True

@@ -404,7 +404,7 @@ def interruptible_compilation(retry_seconds: float = 0.02):
             or signal.getsignal(signal.SIGINT) is not signal.default_int_handler):
         yield
         return
-    lock, state = threading.Lock(), {"pending": False, "closed": False}
+    lock, state, timers = threading.Lock(), {"pending": False, "closed": False}, []
 
     def again():
         with lock:
@@ -414,9 +414,9 @@ def interruptible_compilation(retry_seconds: float = 0.02):
     def handler(signum, frame):
         if frame is not None and _where_exceptions_are_swallowed(frame):
             state["pending"] = True
-            timer = threading.Timer(retry_seconds, again)
-            timer.daemon = True
-            timer.start()
+            timers.append(threading.Timer(retry_seconds, again))
+            timers[-1].daemon = True
+            timers[-1].start()
             return
         state["pending"] = False
         raise KeyboardInterrupt
@@ -428,5 +428,8 @@ def interruptible_compilation(retry_seconds: float = 0.02):
         with lock:
             state["closed"] = True
             signal.signal(signal.SIGINT, signal.default_int_handler)
+        for timer in timers:  # no thread of ours outlives the block
+            timer.cancel()
+            timer.join()
     if state["pending"]:
         raise KeyboardInterrupt

@@ -163,12 +163,14 @@ def test_interruptible_compilation_delivers_a_deferred_interrupt(monkeypatch):
     def call_native():
         callback()  # a ctypes function pointer: native code calling back into Python
 
+    t0 = time.monotonic()
     with pytest.raises(KeyboardInterrupt):
         with interruptible_compilation(retry_seconds=0.01):
             call_native()
             seen.append("after the call")
-            time.sleep(5)  # the deferred interrupt arrives here
+            time.sleep(5)  # the deferred interrupt arrives here, and wakes the sleep
     assert seen == ["callback returned", "after the call"]
+    assert time.monotonic() - t0 < 2.5, "the deferred interrupt waited for the sleep to end"
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
 
 
@@ -185,14 +187,34 @@ def test_interruptible_compilation_defers_an_interrupt_out_of_a_finalizer():
 
     gc.disable()
     try:
+        t0 = time.monotonic()
         with pytest.raises(KeyboardInterrupt):
             with interruptible_compilation(retry_seconds=0.01):
                 Disposable()  # freed at once: __del__ runs here
                 seen.append("after the finalizer")
-                time.sleep(5)
+                threading.Event().wait(5)  # a blocking wait: the interrupt must wake it
     finally:
         gc.enable()
     assert seen == ["finalizer returned", "after the finalizer"]
+    assert time.monotonic() - t0 < 2.5, "the deferred interrupt waited for the wait to end"
+
+
+def test_a_deferred_interrupt_is_dropped_when_the_block_completes():
+    """The work the interrupt would have stopped is done: the block ends normally, the handler is restored."""
+    import gc
+
+    class Disposable:
+        def __del__(self):
+            signal.raise_signal(signal.SIGINT)
+
+    gc.disable()
+    try:
+        with interruptible_compilation(retry_seconds=5.0):
+            Disposable()  # deferred by 5 s; the block ends first
+    finally:
+        gc.enable()
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    time.sleep(0.1)  # the cancelled retry never fires
 
 
 def test_ctrl_c_in_a_constructor_leaves_only_the_one_line_message(monkeypatch, capsys):

@@ -374,10 +374,12 @@ def interruptible_compilation(retry_seconds: float = 0.02):
     library; so it is in a finalizer (``__del__``, e.g. llvmlite disposing
     of a module).  Within this context SIGINT raises ``KeyboardInterrupt`` as
     before, except inside such a callback or finalizer, where it is asked
-    again ``retry_seconds`` later (it has returned by then).  A deferred
-    interrupt still pending when the block ends is raised there.  Outside the
-    main thread, or when SIGINT already has a handler of the caller's, the
-    block runs unchanged.
+    again ``retry_seconds`` later (it has returned by then), to the main
+    thread, so that a blocking wait there ends at once.  A deferred
+    interrupt still pending when the block ends is dropped if the block ran
+    to its end (the work it would have stopped is done) and raised there
+    otherwise.  Outside the main thread, or when SIGINT already has a handler
+    of the caller's, the block runs unchanged.
 
     Parameters
     ----------
@@ -404,32 +406,45 @@ def interruptible_compilation(retry_seconds: float = 0.02):
             or signal.getsignal(signal.SIGINT) is not signal.default_int_handler):
         yield
         return
-    lock, state, timers = threading.Lock(), {"pending": False, "closed": False}, []
+    state, timers = {"pending": False, "closed": False}, []
+    main_thread = threading.main_thread().ident
 
     def again():
-        with lock:
-            if not state["closed"]:
+        if not state["closed"]:
+            if hasattr(signal, "pthread_kill"):  # to the main thread: it may be blocked in a wait
+                signal.pthread_kill(main_thread, signal.SIGINT)
+            else:  # pragma: no cover - Windows
                 signal.raise_signal(signal.SIGINT)
 
     def handler(signum, frame):
         if frame is not None and _where_exceptions_are_swallowed(frame):
             state["pending"] = True
-            timers.append(threading.Timer(retry_seconds, again))
-            timers[-1].daemon = True
-            timers[-1].start()
+            timer = threading.Timer(retry_seconds, again)
+            timer.daemon = True
+            timer.start()
+            timers.append(timer)  # only started timers: a nested call may run between these lines
             return
         state["pending"] = False
         raise KeyboardInterrupt
 
+    def record(signum, frame):  # while the block ends: note the interrupt, raise nothing yet
+        state["pending"] = True
+
     signal.signal(signal.SIGINT, handler)
+    completed = False
     try:
         yield
+        completed = True
     finally:
-        with lock:
-            state["closed"] = True
-            signal.signal(signal.SIGINT, signal.default_int_handler)
-        for timer in timers:  # no thread of ours outlives the block
+        while signal.getsignal(signal.SIGINT) is not record:
+            try:
+                signal.signal(signal.SIGINT, record)
+            except KeyboardInterrupt:  # a Ctrl-C just before: kept for the end
+                state["pending"] = True
+        state["closed"] = True
+        for timer in list(timers):  # no thread of ours outlives the block
             timer.cancel()
             timer.join()
-    if state["pending"]:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+    if state["pending"] and not completed:
         raise KeyboardInterrupt

@@ -218,6 +218,33 @@ def fit_free_exponent(Ns, devs, grid=EXPONENT_GRID):
     return best
 
 
+SERIES = (2 / 3, 1.0, 4 / 3, 5 / 3)  # the N^(-1/3) series from N^(-2/3), four terms
+
+
+def drift_under_series(Ns, devs, N_maxes, step=8):
+    """The free fit's ``g`` at each ``N_max`` if the deviations were exactly the four-term ``N^(-1/3)`` series.
+
+    The series ``sum_k a_k N^-e_k`` (``SERIES``) is fitted to ``devs`` (relative
+    least squares), its values replace the data on the grid ``Ns`` and continue
+    every ``step`` beyond it, and :func:`fit_free_exponent` is run on each
+    prefix ending at ``N_max``.  If the exact ``g`` drifts like this synthetic
+    one, the data are what a series with leading exponent 2/3 looks like from
+    here.  Returns ``(amplitudes, relative RMS residual of the series, {N_max: g})``.
+    """
+    Ns, devs = np.asarray(Ns, float), np.asarray(devs, float)
+    X = np.stack([Ns**-e for e in SERIES], axis=1) / np.abs(devs)[:, None]
+    amps, *_ = np.linalg.lstsq(X, devs / np.abs(devs), rcond=None)
+    rms = float(np.sqrt(np.mean((X @ amps - devs / np.abs(devs)) ** 2)))
+    grid = [*Ns, *np.arange(Ns[-1] + step, max(N_maxes) + 1, step)]
+    drift = {}
+    for N_max in N_maxes:
+        use = np.array([N for N in grid if N <= N_max], float)
+        truth = sum(a * use**-e for a, e in zip(amps, SERIES))
+        (g, *_), _ = fit_free_exponent(use, truth)
+        drift[N_max] = g
+    return [float(a) for a in amps], rms, drift
+
+
 def predict(model, params, N):
     if MODELS[model] is None:
         return params[0] * N ** -params[1]
@@ -313,6 +340,20 @@ def main(argv=None):
             (g, a, b, c), _ = fit_free_exponent(use, [fitted[name][N] for N in use])
             pred = {N: a * N**-g + b / N + c * N ** (-2 * g) for N in SAMPLED[z]}
             print(f"    g = {g:.3f} extrapolated: " + ", ".join(f"N={N} {(pred[N] - d) / e:+.1f} sigma" for N, (d, e) in SAMPLED[z].items()))
+    print("\nif the truth were the N^(-1/3) series from N^(-2/3) (four terms fitted on the exact range), the free"
+          " fit's g as N_max grows (the exact range, then every 8):")
+    for name, _, _z, sizes in probes[:3]:
+        use = [N for N in sizes if N >= args.fit_from]
+        if len(use) < 5:
+            continue
+        later = [N for N in (160, 200, 300, 500, 1000, 2000) if N > use[-1]]
+        amps, rms, drift = drift_under_series(use, [fitted[name][N] for N in use], use[4:] + later)
+        print(f"  {name}: amplitudes " + ", ".join(f"{a:.4g}" for a in amps) + f" ({rms:.1e}); g: "
+              + ", ".join(f"{N}: {g:.3f}" for N, g in drift.items()))
+        if _z is not None:  # the series, extrapolated to the sampled deviations it never saw
+            print("    the series extrapolated: " + ", ".join(
+                f"N={N} {(sum(a * N**-e for a, e in zip(amps, SERIES)) - d) / err:+.1f} sigma"
+                for N, (d, err) in SAMPLED[_z].items()))
     print("\nout of sample: the three-term fit on N < N_max predicts N_max (relative error):")
     model = "a/N^(2/3) + b/N + c/N^(4/3)"
     for name, _, _z, sizes in probes[:3]:

@@ -71,3 +71,23 @@ def test_recording_refuses_a_column_that_disagrees_with_its_record(refit, tmp_pa
     (out / "lattice_N8.json").write_text(json.dumps(data) + "\n")
     with pytest.raises(SystemExit, match="two exact runs disagree"):
         refit.record_digest(str(digest_path), str(out))
+
+
+def test_the_drift_of_a_pure_two_thirds_series_is_none(refit):
+    """A three-term series led by N^(-2/3) (the fourth amplitude zero): the series is recovered and the free g is 2/3."""
+    import numpy as np
+
+    Ns = [32, 48, 64, 80, 96, 112, 128]
+    truth = [0.3 * N ** (-2 / 3) - 0.1 / N + 1.7 * N ** (-4 / 3) for N in Ns]
+    amps, rms, drift = refit.drift_under_series(Ns, truth, [96, 128, 500])
+    assert np.allclose(amps, [0.3, -0.1, 1.7, 0.0], atol=1e-8) and rms < 1e-10
+    assert all(abs(g - 2 / 3) <= 0.0005 for g in drift.values())  # the grid's step is 0.001
+
+
+def test_a_fourth_term_makes_the_free_exponent_drift_down_to_two_thirds(refit):
+    """With a positive N^(-5/3) term the free fit starts above 2/3 and falls toward it as N_max grows."""
+    Ns = list(range(32, 137, 8))
+    truth = [0.3 * N ** (-2 / 3) + 0.35 / N - 0.15 * N ** (-4 / 3) + 2.5 * N ** (-5 / 3) for N in Ns]
+    _, _, drift = refit.drift_under_series(Ns, truth, [96, 136, 1000, 2000])
+    g = [drift[N] for N in (96, 136, 1000, 2000)]
+    assert g[0] > g[1] > g[2] > g[3] > 2 / 3

@@ -199,6 +199,34 @@ def test_interruptible_compilation_defers_an_interrupt_out_of_a_finalizer():
     assert time.monotonic() - t0 < 2.5, "the deferred interrupt waited for the wait to end"
 
 
+def test_interruptible_compilation_defers_an_interrupt_out_of_a_weakref_finalizer():
+    """weakref.finalize's callbacks swallow exceptions as __del__ does: the interrupt comes after them."""
+    import gc
+    import weakref
+
+    seen = []
+
+    class Owner:
+        pass
+
+    def cleanup():
+        signal.raise_signal(signal.SIGINT)
+        seen.append("callback returned")
+
+    gc.disable()
+    try:
+        t0 = time.monotonic()
+        with pytest.raises(KeyboardInterrupt):
+            with interruptible_compilation(retry_seconds=0.01):
+                weakref.finalize(Owner(), cleanup)  # the owner is freed at once: the callback runs here
+                seen.append("after the callback")
+                time.sleep(5)
+    finally:
+        gc.enable()
+    assert seen == ["callback returned", "after the callback"]
+    assert time.monotonic() - t0 < 2.5
+
+
 def test_a_deferred_interrupt_is_dropped_when_the_block_completes():
     """The work the interrupt would have stopped is done: the block ends normally, the handler is restored."""
     import gc

@@ -346,11 +346,12 @@ def with_compilation(plan: Plan, name: str, seconds: float, kernels) -> Plan:
 # Python code that native code calls back (ctypes callbacks) swallows exceptions: a KeyboardInterrupt raised
 # there is printed as "Exception ignored" and lost. LLVM calls back into llvmlite's object cache while numba
 # finalizes machine code, so these call sites are where Ctrl-C must wait (function name, file path suffix).
-NATIVE_CALL_SITES = [("__call__", os.path.join("llvmlite", "binding", "ffi.py"))]
+NATIVE_CALL_SITES = [("__call__", os.path.join("llvmlite", "binding", "ffi.py")),
+                     ("__call__", os.sep + "weakref.py")]  # weakref.finalize's callbacks, run by the collector
 
 
 def _where_exceptions_are_swallowed(frame) -> bool:
-    """Whether ``frame`` runs in a callback from a native call at one of ``NATIVE_CALL_SITES``, or in a ``__del__``."""
+    """Whether ``frame`` runs below one of ``NATIVE_CALL_SITES`` (a callback, a finalizer) or in a ``__del__``."""
     if frame.f_code.co_name == "__del__":
         return True
     caller = frame.f_back  # ``frame`` itself at a call site: between its own bytecodes raising is safe

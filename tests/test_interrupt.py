@@ -174,57 +174,55 @@ def test_interruptible_compilation_delivers_a_deferred_interrupt(monkeypatch):
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
 
 
-def test_interruptible_compilation_defers_an_interrupt_out_of_a_finalizer():
-    """SIGINT while a ``__del__`` runs (where Python swallows exceptions) is delivered after it."""
+def _interrupted_after(swallowing, wait):
+    """Run ``swallowing(seen)`` (it raises SIGINT where exceptions are swallowed), then ``wait``; the order seen."""
     import gc
 
     seen = []
-
-    class Disposable:
-        def __del__(self):
-            signal.raise_signal(signal.SIGINT)
-            seen.append("finalizer returned")
-
-    gc.disable()
+    gc.disable()  # the objects are freed by reference counts, inside the block
     try:
         t0 = time.monotonic()
         with pytest.raises(KeyboardInterrupt):
             with interruptible_compilation(retry_seconds=0.01):
-                Disposable()  # freed at once: __del__ runs here
-                seen.append("after the finalizer")
-                threading.Event().wait(5)  # a blocking wait: the interrupt must wake it
+                swallowing(seen)
+                seen.append("after")
+                wait(5)  # the deferred interrupt must wake it
     finally:
         gc.enable()
-    assert seen == ["finalizer returned", "after the finalizer"]
     assert time.monotonic() - t0 < 2.5, "the deferred interrupt waited for the wait to end"
+    return seen
+
+
+@pytest.mark.parametrize("wait", [time.sleep, lambda s: threading.Event().wait(s)], ids=["sleep", "event"])
+def test_interruptible_compilation_defers_an_interrupt_out_of_a_finalizer(wait):
+    """SIGINT while a ``__del__`` runs (where Python swallows exceptions) is delivered after it."""
+
+    def swallowing(seen):
+        class Disposable:
+            def __del__(self):
+                signal.raise_signal(signal.SIGINT)
+                seen.append("finalizer returned")
+
+        Disposable()  # freed at once: __del__ runs here
+
+    assert _interrupted_after(swallowing, wait) == ["finalizer returned", "after"]
 
 
 def test_interruptible_compilation_defers_an_interrupt_out_of_a_weakref_finalizer():
     """weakref.finalize's callbacks swallow exceptions as __del__ does: the interrupt comes after them."""
-    import gc
     import weakref
 
-    seen = []
+    def swallowing(seen):
+        class Owner:
+            pass
 
-    class Owner:
-        pass
+        def cleanup():
+            signal.raise_signal(signal.SIGINT)
+            seen.append("callback returned")
 
-    def cleanup():
-        signal.raise_signal(signal.SIGINT)
-        seen.append("callback returned")
+        weakref.finalize(Owner(), cleanup)  # the owner is freed at once: the callback runs here
 
-    gc.disable()
-    try:
-        t0 = time.monotonic()
-        with pytest.raises(KeyboardInterrupt):
-            with interruptible_compilation(retry_seconds=0.01):
-                weakref.finalize(Owner(), cleanup)  # the owner is freed at once: the callback runs here
-                seen.append("after the callback")
-                time.sleep(5)
-    finally:
-        gc.enable()
-    assert seen == ["callback returned", "after the callback"]
-    assert time.monotonic() - t0 < 2.5
+    assert _interrupted_after(swallowing, time.sleep) == ["callback returned", "after"]
 
 
 def test_a_deferred_interrupt_is_dropped_when_the_block_completes():

@@ -9,7 +9,8 @@ kernel, which draws the same random numbers and gives the same chain, only
 
 The first call of a kernel in a fresh environment compiles it (a few
 seconds, reported separately by ``benchmarks/bench_samplers.py``); numba
-caches the machine code next to the module (``__pycache__``), so later
+caches the machine code on disk (:mod:`forcenet.core.compiled`: under
+``~/.cache/forcenet/numba``, never inside the installed package), so later
 processes load it in well under a second.
 
 A compiled call does not return to Python until it is done, and Python acts
@@ -20,7 +21,7 @@ the interrupt is then seen within a fraction of a second, and the state
 between two calls is the state the one long call would have passed through
 (the chains go on bit for bit).
 
-May import: :mod:`forcenet.core.plan`.
+May import: :mod:`forcenet.core.plan`, :mod:`forcenet.core.compiled`.
 
 Examples
 --------
@@ -32,28 +33,27 @@ True
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 from forcenet.core.plan import CHUNK_SECONDS, chunks, first_chunk
 from forcenet.core.errors import ArgumentError
 
 __all__ = ["HAVE_NUMBA", "njit", "kernel_choice", "chunks", "first_chunk", "CHUNK_SECONDS"]
 
 try:  # pragma: no branch
-    import numba
+    import numba  # noqa: F401  (its presence is the question)
 
     HAVE_NUMBA = True
 
-    def njit(*args, **kwargs):
-        """``numba.njit`` with the machine code cached on disk (``cache=True``)."""
-        kwargs.setdefault("cache", True)
-        return numba.njit(*args, **kwargs)
+    from forcenet.core.compiled import njit  # cache=True by default, outside the package
 
 except ImportError:  # pragma: no cover - numba is a declared dependency
     HAVE_NUMBA = False
 
-    def njit(*args, **kwargs):
-        if args and callable(args[0]):
-            return args[0]
-        return lambda f: f
+    def njit(function: Callable[..., Any] | None = None, **options: Any) -> Any:
+        """Without numba: the Python function itself (the reference kernels run instead)."""
+        return (lambda f: f) if function is None else function
 
 
 def kernel_choice(kernel: str | None) -> str:

@@ -27,7 +27,9 @@ May import: :mod:`.kernels`, :mod:`.residues`.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, uint64
+from numba import uint64
+
+from forcenet.core.compiled import njit
 
 from .kernels import dual_weights, edge_values, lagrange_matrix, node_value, pfaffian_mod, weighted_sum
 from .residues import JIT, inv_mod, red, solve

@@ -41,7 +41,9 @@ May import: :mod:`.residues`.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, uint64
+from numba import uint64
+
+from forcenet.core.compiled import njit
 
 from .residues import JIT, inv_mod, lred, red
 

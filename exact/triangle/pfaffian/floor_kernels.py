@@ -13,7 +13,8 @@ May import: :mod:`.residues`, :mod:`.kernels` (``pfaffian_mod``, the pivoting fa
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from forcenet.core.compiled import njit
 
 from .floor_displacement import STREAMS, STRIDE, bordered_pfaffians
 from .kernels import pfaffian_mod

@@ -25,7 +25,7 @@ so every sum formed is below ``8 p^2 < 2^53``.
 The dense pair elimination that this replaced lives in :mod:`.dense` (the
 baseline of the benchmarks and a second route in the tests).
 
-Compiled on first use and cached on disk (``cache=True``); the pure-Python
+Compiled on first use and cached on disk (:mod:`forcenet.core.compiled`); the pure-Python
 twin :mod:`.kernels_python` has the same functions and is the reference of
 the tests.  The ``O(M^2)`` weights of the level functional (:func:`dual_weights`,
 :func:`weighted_sum`: seconds at N = 200) run as compiled calls of ~0.15 s
@@ -37,7 +37,9 @@ May import: :mod:`forcenet.core.plan`, :mod:`forcenet.core.errors`, :mod:`.resid
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, uint64
+from numba import uint64
+
+from forcenet.core.compiled import njit
 
 from forcenet.core.plan import chunks, first_chunk
 from forcenet.core.errors import ArgumentError

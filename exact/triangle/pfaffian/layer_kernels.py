@@ -29,7 +29,8 @@ May import: :mod:`.residues`, :mod:`.kernels` (``pfaffian_mod``), :mod:`.floor_k
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from forcenet.core.compiled import njit
 
 from .floor_kernels import add_node, grid_node, grid_outputs, pfaffian_lazy, scale_row
 from .kernels import pfaffian_mod

@@ -20,7 +20,9 @@ from __future__ import annotations
 from typing import Any, Final
 
 import numpy as np
-from numba import int64, njit, uint64
+from numba import int64, uint64
+
+from forcenet.core.compiled import njit
 
 __all__ = ["JIT", "SOLVE_SLACK", "red", "lred", "inv_mod", "axpy", "solve", "lazy_rounds"]
 

@@ -302,8 +302,8 @@ def kernels_cached(kernels) -> bool:
     """Whether numba holds machine code for every dispatcher of ``kernels`` without compiling.
 
     True when each is compiled in this process already or its on-disk cache
-    (``cache=True``: the ``.nbi`` index beside the module, or under
-    ``NUMBA_CACHE_DIR``) has an entry for this machine and this source.
+    (``cache=True``: the ``.nbi`` index under ``NUMBA_CACHE_DIR``, or
+    :func:`forcenet.core.compiled.cache_directory`, or beside the module) has an entry for this machine and this source.
 
     Examples
     --------

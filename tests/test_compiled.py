@@ -1,0 +1,184 @@
+"""Where the compiled kernels cache their machine code (forcenet.core.compiled): never inside the package.
+
+The defect: numba's ``cache=True`` wrote into ``__pycache__`` beside each kernel, i.e. into
+site-packages for a regular install; after ``pip uninstall`` (or the one ``pip install -e .`` does
+first) the leftover ``forcenet/`` folder of cache files shadowed the editable install
+("No module named 'forcenet.exact...'").
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+import pkgutil
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numba
+import pytest
+
+import forcenet
+import forcenet.exact
+import forcenet.numeric
+from forcenet.core.compiled import cache_directory, njit
+
+PROBE = '''
+from forcenet.core.compiled import njit
+
+
+@njit
+def twice(x):
+    return 2 * x
+'''
+
+
+def _package_roots() -> list[Path]:
+    return [Path(p).resolve() for package in (forcenet, forcenet.exact, forcenet.numeric) for p in package.__path__]
+
+
+def _kernels():
+    """Every numba dispatcher defined in a module of forcenet (the Pfaffian route's and the samplers' kernels)."""
+    seen = {}
+    for package in (forcenet.exact, forcenet.numeric):
+        for info in pkgutil.walk_packages(package.__path__, package.__name__ + "."):
+            if info.name.endswith("__main__"):
+                continue
+            module = importlib.import_module(info.name)
+            for name, value in vars(module).items():
+                if isinstance(value, numba.core.dispatcher.Dispatcher) and value.__module__ == module.__name__:
+                    seen[f"{module.__name__}.{name}"] = value
+    return seen
+
+
+def test_no_kernel_caches_inside_the_package(monkeypatch):
+    kernels = _kernels()
+    assert len(kernels) >= 40  # the Pfaffian route's and the samplers' kernels
+    roots = _package_roots()
+    inside = []
+    for name, kernel in kernels.items():
+        cache = getattr(kernel, "_cache", None)
+        path = getattr(cache, "_cache_path", None)
+        if path is None:  # not cached at all: only allowed for kernels declared cache=False
+            inside.append((name, "no cache"))
+            continue
+        if any(Path(path).resolve().is_relative_to(root) for root in roots):
+            inside.append((name, path))
+    assert not inside, inside
+
+
+def test_the_cache_follows_xdg_cache_home_and_numba_cache_dir_still_wins(tmp_path):
+    (tmp_path / "probe_kernel.py").write_text(PROBE)
+    xdg, numba_dir = tmp_path / "xdg", tmp_path / "numba-dir"
+    code = textwrap.dedent("""
+        import sys
+        sys.path.insert(0, sys.argv[1])
+        import probe_kernel
+        assert probe_kernel.twice(21) == 42
+        print(probe_kernel.twice._cache._cache_path)
+    """)
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+
+    def run(extra):
+        out = subprocess.run([sys.executable, "-c", code, str(tmp_path)], env={**env, **extra}, capture_output=True,
+                             text=True, check=True, timeout=120)
+        return Path(out.stdout.strip())
+
+    path = run({"XDG_CACHE_HOME": str(xdg)})
+    assert path.is_relative_to(xdg / "forcenet" / "numba")
+    assert any(f.suffix == ".nbi" for f in path.iterdir())  # the index was written there
+    assert not (tmp_path / "__pycache__").exists() or not any(
+        f.suffix in (".nbi", ".nbc") for f in (tmp_path / "__pycache__").iterdir())  # and nothing beside the module
+    assert run({"XDG_CACHE_HOME": str(xdg), "NUMBA_CACHE_DIR": str(numba_dir)}).is_relative_to(numba_dir)
+
+
+def test_a_second_process_loads_the_cached_code(tmp_path, monkeypatch):
+    from forcenet.core.plan import kernels_cached
+
+    (tmp_path / "probe_kernel.py").write_text(PROBE)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    module = importlib.import_module("probe_kernel")
+    try:
+        assert not kernels_cached([module.twice])
+        assert module.twice(4) == 8
+        sys.modules.pop("probe_kernel")
+        fresh = importlib.import_module("probe_kernel")  # a new dispatcher: only the cache on disk can say
+        assert not fresh.twice.overloads and kernels_cached([fresh.twice])
+        assert fresh.twice(5) == 10 and fresh.twice._cache_hits  # loaded, not compiled
+    finally:
+        sys.modules.pop("probe_kernel", None)
+
+
+def test_an_unwritable_cache_home_falls_back_to_numbas_choice(tmp_path, monkeypatch):
+    (tmp_path / "probe_kernel.py").write_text(PROBE)
+    blocker = tmp_path / "not-a-folder"
+    blocker.write_text("")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(blocker))  # cannot hold a folder
+    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    try:
+        module = importlib.import_module("probe_kernel")
+        assert module.twice(3) == 6
+        assert not Path(module.twice._cache._cache_path).is_relative_to(blocker)
+    finally:
+        sys.modules.pop("probe_kernel", None)
+
+
+def test_njit_keeps_numbas_options_and_cache_false():
+    @njit(cache=False, fastmath={"contract"})
+    def fma(a, b, c):
+        return a * b + c
+
+    assert fma(2.0, 3.0, 1.0) == 7.0
+    assert isinstance(fma._cache, numba.core.caching.NullCache)
+    assert fma.targetoptions.get("fastmath")
+    assert cache_directory().endswith(os.path.join("forcenet", "numba"))
+
+
+@pytest.mark.parametrize("options", [{}, {"nogil": True, "boundscheck": False}])
+def test_njit_as_bare_and_configured_decorator(options, tmp_path, monkeypatch):
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    source = tmp_path / "probe_options.py"
+    decorator = "@njit" if not options else "@njit(" + ", ".join(f"{k}={v!r}" for k, v in options.items()) + ")"
+    source.write_text(f"from forcenet.core.compiled import njit\n\n\n{decorator}\ndef add(x, y):\n    return x + y\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    try:
+        module = importlib.import_module("probe_options")
+        assert module.add(2, 3) == 5
+        assert Path(module.add._cache._cache_path).is_relative_to(tmp_path / "forcenet" / "numba")
+        for key, value in options.items():
+            assert module.add.targetoptions[key] == value
+    finally:
+        sys.modules.pop("probe_options", None)
+
+
+@pytest.mark.slow
+def test_a_regular_install_then_an_editable_one_imports(tmp_path):
+    """The reported sequence, end to end: ``pip install .``, a compiled run, ``pip install -e .``, import."""
+    root = Path(__file__).resolve().parents[1]
+    venv = tmp_path / "venv"
+    subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True, timeout=300)
+    python = venv / "bin" / "python"
+    env = {**{k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}, "XDG_CACHE_HOME": str(tmp_path / "xdg")}
+
+    def run(*args):
+        return subprocess.run([str(python), *args], env=env, capture_output=True, text=True, timeout=1200,
+                              check=False, cwd=tmp_path)
+
+    assert run("-m", "pip", "install", "-q", str(root)).returncode == 0
+    from forcenet.exact.triangle.staircase import count_by_hooks
+
+    expected = str(count_by_hooks(9))  # the hook-length formula: a second route to the Pfaffian count
+    probe = "from forcenet.exact.triangle.pfaffian.route import count; print(count(9))"
+    first = run("-c", probe)
+    assert first.returncode == 0 and first.stdout.strip() == expected, first.stderr
+    site = Path(run("-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])").stdout.strip())
+    assert not [f for f in (site / "forcenet").rglob("*") if f.suffix in (".nbi", ".nbc")]
+    assert run("-m", "pip", "install", "-q", "-e", str(root)).returncode == 0
+    assert not (site / "forcenet").exists()  # nothing left behind to shadow the editable install
+    second = run("-c", probe)
+    assert second.returncode == 0 and second.stdout.strip() == expected, second.stderr

@@ -2,7 +2,8 @@
 
 Residues are ``float64`` integers, reduced by the arithmetic of :mod:`.residues`
 (:func:`~.residues.red`, :func:`~.residues.lred`, :func:`~.residues.inv_mod`; the
-Gaussian elimination :func:`~.residues.solve`, shared with :mod:`.dense`).  Nothing here
+skew-symmetric elimination :func:`~.residues.skew_solve` for the kernel ``K(c)``,
+half the work of the general :func:`~.residues.solve` that :mod:`.dense` keeps).  Nothing here
 rounds: every value is an exact integer, so the results are exact residues.
 
 The hot loop is :func:`point_values`: for every ``y`` the leading
@@ -43,7 +44,7 @@ from forcenet.core.compiled import njit
 
 from forcenet.core.plan import chunks, first_chunk
 from forcenet.core.errors import ArgumentError
-from .residues import JIT, inv_mod, lred, red, solve
+from .residues import JIT, inv_mod, lred, red, skew_solve
 
 __all__ = ["pfaffian_mod", "point_values", "edge_values", "dual_weights", "lagrange_matrix", "weighted_sum", "LANES",
            "node_value", "master_factors", "dual_block", "weighted_rows"]
@@ -277,11 +278,11 @@ def _kernel_generators(B, X1, expo, c, n, p, F, Wd):
         Rhs[i, 1] = v
         Rhs[i, 2] = red(red(sa * a, p, pinv) * qp[i], p, pinv)
         Rhs[i, 3] = red(sa * qp[i], p, pinv)
-    K = np.empty((s, s))
+    K = np.zeros((s, s))  # skew-symmetric: its upper triangle is all skew_solve reads
     for i in range(s):
-        for j in range(s):
+        for j in range(i + 1, s):
             K[i, j] = red(B[i, j] + red(qp[i] * X1[i, j], p, pinv) * qp[j], p, pinv)
-    Y = solve(K, Rhs, p, pinv)
+    Y = skew_solve(K, Rhs, p, pinv)
     if Y is None:
         return False
     # f = u + u' side, g = v side; B times K^-1 (u + u') and K^-1 v

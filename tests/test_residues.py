@@ -6,7 +6,7 @@ from hypothesis import strategies as st
 from sympy import prevprime
 
 from forcenet.exact.triangle.pfaffian.engine import prime_limit
-from forcenet.exact.triangle.pfaffian.residues import SOLVE_SLACK, inv_mod, lazy_rounds, red, solve
+from forcenet.exact.triangle.pfaffian.residues import SOLVE_SLACK, inv_mod, lazy_rounds, red, skew_solve, solve
 
 TOP = prime_limit(1)  # the route's primes are below 2^25
 
@@ -67,3 +67,68 @@ def test_red_and_inv_mod_on_the_largest_prime():
     x = float((p - 1) * (p - 1) * 8)  # a sum of eight products of residues, below 2^53
     assert int(red(x, float(p), 1.0 / p)) == (p - 1) * (p - 1) * 8 % p
     assert int(inv_mod(12345.0, float(p), 1.0 / p)) * 12345 % p == 1
+
+
+def _skew(rng, s, p, density, zero_block):
+    K = rng.integers(0, p, size=(s, s)) * (rng.random((s, s)) < density)
+    if zero_block:  # a zero leading block: the first pivot row must look past it, and exchanges happen
+        K[: s // 2, : s // 2] = 0
+    K = np.triu(K, 1)
+    return (K - K.T) % p
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(min_value=1, max_value=24), st.integers(min_value=1, max_value=4),
+       st.sampled_from([prevprime(TOP), 8388593, 101, 7, 3]), st.sampled_from([1.0, 0.3, 0.1]), st.booleans(),
+       st.integers(min_value=0, max_value=2**32 - 1))
+def test_skew_solve_is_the_exact_inverse_times_the_right_side(s, m, p, density, zero_block, seed):
+    """Bunch's elimination on skew-symmetric matrices against textbook elimination on Python ints (singular ones too)."""
+    rng = np.random.default_rng(seed)
+    K = _skew(rng, s, p, density, zero_block)
+    Rhs = rng.integers(0, p, size=(s, m))
+    got = skew_solve(K.astype(np.float64), Rhs.astype(np.float64), float(p), 1.0 / p)
+    want = _solve_exact(K.tolist(), Rhs.tolist(), p)
+    if want is None:
+        assert got is None
+    else:
+        assert got.astype(np.int64).tolist() == want
+
+
+def test_skew_solve_reads_only_the_upper_triangle_and_sees_odd_sizes_singular():
+    p = prevprime(TOP)
+    rng = np.random.default_rng(7)
+    K = _skew(rng, 10, p, 1.0, False)
+    Rhs = rng.integers(0, p, size=(10, 3)).astype(np.float64)
+    upper = np.triu(K, 1).astype(np.float64)
+    want = solve(K.astype(np.float64), Rhs, float(p), 1.0 / p)
+    assert want is not None
+    assert skew_solve(upper, Rhs, float(p), 1.0 / p).tolist() == want.tolist()
+    assert skew_solve(_skew(rng, 9, p, 1.0, False).astype(np.float64), Rhs[:9], float(p), 1.0 / p) is None
+
+
+def test_skew_solve_solves_the_routes_kernels_as_the_general_elimination_does():
+    """The kernel K(c) = B + Q X1 Q of the Pfaffian route (skew-symmetric), at several N, c and primes."""
+    from forcenet.exact.triangle.pfaffian.engine import setup_matrices
+
+    for N, p in ((5, 8388593), (12, prevprime(TOP)), (31, 1000003)):
+        n = N - 1
+        B, X1, expo = setup_matrices(n, p)
+        rng = np.random.default_rng(N)
+        for c in (2, 12345, p - 3):
+            q = np.array([pow(c, int(e), p) for e in expo], dtype=object)
+            K = (B.astype(np.int64).astype(object) + (q[:, None] * X1.astype(np.int64).astype(object) % p) * q[None, :]) % p
+            K = K.astype(np.float64)
+            assert (K + K.T).astype(np.int64).__mod__(p).max() == 0  # skew-symmetric modulo p
+            Rhs = rng.integers(0, p, size=(K.shape[0], 4)).astype(np.float64)
+            want, got = solve(K, Rhs, float(p), 1.0 / p), skew_solve(K, Rhs, float(p), 1.0 / p)
+            assert (want is None) == (got is None)
+            if want is not None:
+                assert got.tolist() == want.tolist()
+
+
+@given(st.integers(min_value=3, max_value=TOP - 1))
+def test_the_skew_elimination_stays_within_the_lazy_bound(q):
+    """skew_solve reduces every lazy_rounds // 2 pivot pairs, two products per pair and entry."""
+    p = int(prevprime(q + 1))
+    pairs = max(1, lazy_rounds(float(p)) // 2)
+    assert (p - 1) + 2 * pairs * (p - 1) ** 2 + p <= 2**53

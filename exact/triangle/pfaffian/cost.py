@@ -36,8 +36,10 @@ _SECONDS_PER_ROW = 1.14e-9  # per n^2 and y: the displacement elimination (n piv
 _SECONDS_PER_PIVOT = 3.1e-8  # per n and y: a pivot's set-up (reading the pivot, the lanes' loop overhead)
 # per s^3 of the kernel set-up (four solves with K(q), s = n + 1 or n + 2); 3.3e-10 with the Gauss-Jordan solve,
 # scaled by 0.77, the measured ratio per prime of the lattice directions at N = 120 after the solve became an
-# elimination with back substitution (2026-11-26, notes/benchmarks.md)
-_SECONDS_PER_KERNEL = 2.5e-10
+# elimination with back substitution (2026-11-26, notes/benchmarks.md), and by 0.57, the measured ratio of the
+# kernel set-up at N = 152 after K(c) got the skew-symmetric elimination (s^3/6) and one chain of powers
+# (2026-11-27: 1.05 -> 0.59 ms per level point; per prime 6.6 -> 4.4 s, notes/benchmarks.md)
+_SECONDS_PER_KERNEL = 1.43e-10
 _SECONDS_PER_WEIGHT = 9e-9  # per M^2: the weights of the level functional, the sums over the points, the set-up
 STARTUP_SECONDS = 1.5  # numba import and loading the cached kernels (first compilation ever: ~10 s more)
 # a Dask cluster's cost per task on loopback (notes/benchmarks.md, `python benchmarks/cluster.py overhead 200`):

@@ -186,8 +186,15 @@ def skew_solve(K, Rhs, p, pinv):
     multiply-adds against :func:`solve`'s ``s^3/3``.  Between two reductions
     an entry receives at most ``2 (lazy_rounds(p) // 2)`` products below
     ``p^2``, within the bound :func:`lazy_rounds` proves; so does a right
-    side in the back substitution, which runs by columns.  Only the upper
-    triangle of ``K`` is read.  An odd ``s`` is singular.
+    side in the back substitution, which runs by columns (``p < 2^25``, the
+    route's primes, where ``lazy_rounds(p) >= 7``).  Only the upper triangle
+    of ``K`` is read.  An odd ``s`` is singular.
+
+    Examples
+    --------
+    >>> K = np.array([[0.0, 2.0], [-2.0 % 7, 0.0]])
+    >>> skew_solve(K, np.array([[1.0], [3.0]]), 7.0, 1.0 / 7).tolist()  # 2 z1 = 1, -2 z0 = 3 (mod 7)
+    [[2.0], [4.0]]
     """
     s = K.shape[0]
     m = Rhs.shape[1]

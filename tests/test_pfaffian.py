@@ -249,9 +249,9 @@ def test_a_zero_pivot_moves_the_point(monkeypatch):
     real = kernels.point_values
     calls = []
 
-    def flaky(B, X1, expo, c, us, n, p, R):
+    def flaky(B, X1, expo, c, us, n, p, R, BC=None):
         calls.append(c)
-        return False if len(calls) % 3 == 0 else real(B, X1, expo, c, us, n, p, R)
+        return False if len(calls) % 3 == 0 else real(B, X1, expo, c, us, n, p, R, BC)
 
     expected = engine.prime_residues(7, PRIME)
     monkeypatch.setattr(kernels, "point_values", flaky)
@@ -259,9 +259,9 @@ def test_a_zero_pivot_moves_the_point(monkeypatch):
     assert len(calls) > engine.level_points(21) // 2
     real_edge, calls[:] = kernels.edge_values, []
 
-    def flaky_edge(B, X1, expo, c, n, p, R):
+    def flaky_edge(B, X1, expo, c, n, p, R, BC=None):
         calls.append(c)
-        return False if len(calls) % 3 == 0 else real_edge(B, X1, expo, c, n, p, R)
+        return False if len(calls) % 3 == 0 else real_edge(B, X1, expo, c, n, p, R, BC)
 
     edge = engine.edge_residues(7, PRIME)
     monkeypatch.setattr(kernels, "edge_values", flaky_edge)
@@ -292,7 +292,8 @@ def test_displacement_generators_equal_the_dense_kernel(N, c):
     Wt = np.zeros((size, size))
     assert dense._kernel_matrix(B, X1, expo, float(c), n, float(p), Wt)
     F, Wd = np.zeros((size, 2)), np.zeros(n)
-    assert kernels._kernel_generators(B, X1, expo, float(c), n, float(p), F, Wd)
+    assert kernels._kernel_generators(B, X1, expo, float(c), n, float(p), F, Wd,
+                                      kernels.kernel_constants(B, expo, n, float(p)))
     x = [(n - i // 2) * (1 if i % 2 == 0 else -1) for i in range(size)]
     F = F.astype(np.int64).tolist()
     for i in range(size):

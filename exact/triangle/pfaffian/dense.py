@@ -209,14 +209,14 @@ def _window_pfaffians(A, Wt, u, with_j, n, p, bufs, out):
 
 
 @njit(**JIT)
-def point_values_dense(B, X1, expo, c, us, n, p, R):
+def point_values_dense(B, X1, expo, c, us, n, p, R, BC=None):
     """:func:`point_values` by the dense pair elimination (the baseline; needs ``p + 2 (n-1) p^2 < 2^53``).
 
     Builds the kernel ``W`` (:func:`_kernel_matrix`) and, for every ``u_j`` of
     ``us``, the leading pair-Pfaffians of ``J + D_u W D_u``: ``R[j, k]`` is the
     window of the ``k + 1`` largest parts (``m = n - k``).  Returns False when
     ``K(c)`` is singular or a pivot vanishes modulo ``p`` (the caller takes
-    another ``c``).
+    another ``c``).  ``BC`` is accepted for the interface and not used.
     """
     size = 2 * n
     Wt = np.zeros((size, size))

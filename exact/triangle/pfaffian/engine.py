@@ -50,7 +50,7 @@ from ..staircase import dimension
 from forcenet.core.errors import ArgumentError
 
 __all__ = ["prime_limit", "dense_prime_limit", "level_points", "setup_matrices", "prime_residues", "edge_residues", "count_residue",
-           "PointFailureError", "with_kernels_compiled", "kernel_module", "pair_points", "check_prime"]
+           "PointFailureError", "with_kernels_compiled", "kernel_module", "constants", "pair_points", "check_prime"]
 
 MAX_POINT_FAILURES = 64
 # compiling the kernels on a first run (empty numba cache), CPU seconds: benchmarks/compile_times.py
@@ -122,6 +122,19 @@ def setup_matrices(n: int, p: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     sign = np.where((idx[:, None] + idx[None, :]) % 2 == 0, p - 1, 1)  # -(-1)^(i+j)
     X1 = alpha[:, None] * alpha[None, :] % p * M % p * sign % p
     return B.astype(np.float64), X1.astype(np.float64), parts
+
+
+def constants(K: ModuleType, B: np.ndarray, expo: np.ndarray, n: int, p: int) -> np.ndarray | None:
+    """The per-prime constants of the kernel module ``K`` (:func:`~.kernels.kernel_constants`), or None if it has none.
+
+    Examples
+    --------
+    >>> B, X1, expo = setup_matrices(4, 101)
+    >>> constants(kernel_module("numba"), B, expo, 4, 101).shape, constants(kernel_module("python"), B, expo, 4, 101)
+    ((4, 6), None)
+    """
+    make = getattr(K, "kernel_constants", None)
+    return None if make is None else make(B, expo, n, float(p))
 
 
 def kernel_module(backend: str) -> ModuleType:
@@ -342,7 +355,8 @@ def prime_residues(N: int, p: int, backend: str = "numba", total_mod_p: int | No
     inv_index = [0] + [k + 1 + (1 if k % 2 == 0 else -1) for k in range(ny - 1)]
     us = np.array([(y - 1) % p for y in ys[1:]], dtype=np.float64)
     # R[j, k] = E_c[y_j^{N_m(B)}], m = n - k (row 0: y = 1, all ones)
-    sums = _level_sums(N, p, K, lambda c, R: K.point_values(B, X1, expo, c, us, n, float(p), R[1:]), (ny, n), shifts)
+    BC = constants(K, B, expo, n, p)
+    sums = _level_sums(N, p, K, lambda c, R: K.point_values(B, X1, expo, c, us, n, float(p), R[1:], BC), (ny, n), shifts)
     L = K.lagrange_matrix(np.array(ys, dtype=np.float64), float(p)).astype(np.int64)
     out = np.zeros((len(shifts), n + 1, n + 1), dtype=np.int64)
     for h, (T1, T2) in zip(shifts, sums):
@@ -391,7 +405,8 @@ def edge_residues(N: int, p: int, backend: str = "numba") -> np.ndarray:
     if n == 0:
         return out
     B, X1, expo = setup_matrices(n, p)
-    [(T1, T2)] = _level_sums(N, p, K, lambda c, R: K.edge_values(B, X1, expo, c, n, float(p), R), (2, n))
+    BC = constants(K, B, expo, n, p)
+    [(T1, T2)] = _level_sums(N, p, K, lambda c, R: K.edge_values(B, X1, expo, c, n, float(p), R, BC), (2, n))
     first = (T1[0].astype(np.int64) + T2[1].astype(np.int64)) % p  # all of the window in B
     last = (T1[1].astype(np.int64) + T2[0].astype(np.int64)) % p  # none of the window in B
     if (first != last).any():

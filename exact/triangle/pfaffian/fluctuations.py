@@ -55,7 +55,7 @@ from forcenet.core.plan import Plan
 from forcenet.core.validation import check_grain, check_int, check_layers
 from ..gaps import GapCounts
 from ..staircase import dimension
-from .engine import (MAX_POINT_FAILURES, PointFailureError, check_prime, kernel_module, pair_points, level_points,
+from .engine import (MAX_POINT_FAILURES, PointFailureError, check_prime, constants, kernel_module, pair_points, level_points,
                      prime_limit, setup_matrices)
 from ...modular import crt_many
 from ..staircase import count as product_count
@@ -149,6 +149,7 @@ def _edge_level_residues(N: int, p: int, backend: str, windows: Sequence[int]) -
         return out
     columns = [n - m for m in windows]  # the window m is the column of the n - m + 1 largest parts
     B, X1, expo = setup_matrices(n, p)
+    BC = constants(K, B, expo, n, p)
     M = level_points(d)
     reps: list[int] = []
     partners: list[int] = []
@@ -158,7 +159,7 @@ def _edge_level_residues(N: int, p: int, backend: str, windows: Sequence[int]) -
     R = np.empty((2, n))
     while len(reps) < M // 2:
         c, ci = next(stream)
-        if not K.edge_values(B, X1, expo, float(c), n, float(p), R):
+        if not K.edge_values(B, X1, expo, float(c), n, float(p), R, BC):
             failures += 1
             if failures > MAX_POINT_FAILURES:
                 raise PointFailureError(f"{failures} evaluation points failed modulo {p}")

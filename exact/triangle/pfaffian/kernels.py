@@ -46,7 +46,7 @@ from forcenet.core.plan import chunks, first_chunk
 from forcenet.core.errors import ArgumentError
 from .residues import JIT, inv_mod, lred, red, skew_solve
 
-__all__ = ["pfaffian_mod", "point_values", "edge_values", "dual_weights", "lagrange_matrix", "weighted_sum", "LANES",
+__all__ = ["pfaffian_mod", "point_values", "edge_values", "kernel_constants", "dual_weights", "lagrange_matrix", "weighted_sum", "LANES",
            "node_value", "master_factors", "dual_block", "weighted_rows"]
 
 LANES = 8  # values of y eliminated side by side
@@ -239,7 +239,7 @@ def _gko_windows(F, Wd, T, us, js, n, p, out, Z):
 
 
 @njit(**JIT)
-def _kernel_generators(B, X1, expo, c, n, p, F, Wd):
+def _kernel_generators(B, X1, expo, c, n, p, F, Wd, C):
     """The kernel ``W`` at ``q = c`` as its two displacement generators ``F`` and pair entries ``Wd``, in ``O(n^3/2)``.
 
     ``notes/free_fermions.md`` Sec. 4.1: with ``D B + B D = u v^T - v u^T``
@@ -285,51 +285,83 @@ def _kernel_generators(B, X1, expo, c, n, p, F, Wd):
     Y = skew_solve(K, Rhs, p, pinv)
     if Y is None:
         return False
-    # f = u + u' side, g = v side; B times K^-1 (u + u') and K^-1 v
+    # f = u + u' side, g = v side: B K^-1 (u + u') and B K^-1 v, then the pair entries
+    # (B K^-1)_bb = sum_j B_bj (K^-1)_jb with (K^-1)_jb (a_j + a_b) = (-y_u y_v^T + y_v y_u^T + y_u' y_v'^T - y_v' y_u'^T)_jb,
+    # i.e. sum_j C_bj (...)_jb with C = kernel_constants: all as exact float64 dot products of residues with the
+    # 13-bit halves of residues (each term below 2^38, a sum of s < 2^8 terms below 2^46), one reduction each
     yk = np.empty(s)
     for i in range(s):
         yk[i] = red(Y[i, 0] + Y[i, 2], p, pinv)
-    chunk = max(1, min(64, int((2.0**53 - p) / (p * p))))  # p + chunk p^2 < 2^53
-    yv = Y[:, 1].copy()
+    Ys = np.empty((10, s))
+    for j in range(s):
+        _split(yk[j], Ys, 0, j)
+        _split(Y[j, 1], Ys, 2, j)  # y_v
+        _split(Y[j, 0], Ys, 4, j)  # y_u
+        _split(Y[j, 2], Ys, 6, j)  # y_u'
+        _split(Y[j, 3], Ys, 8, j)  # y_v'
     for a in range(n):
-        bk = 0.0
-        bv = 0.0
-        for j in range(s):
-            bk += B[a, j] * yk[j]
-            bv += B[a, j] * yv[j]
-            if j % chunk == chunk - 1:
-                bk = red(bk, p, pinv)
-                bv = red(bv, p, pinv)
-        bk = red(bk, p, pinv)
-        bv = red(bv, p, pinv)
+        bk = _join(_dot(B[a], Ys[0], s), _dot(B[a], Ys[1], s), p, pinv)
+        bv = _join(_dot(B[a], Ys[2], s), _dot(B[a], Ys[3], s), p, pinv)
         F[2 * a, 0] = red(Rhs[a, 1] + p - bv, p, pinv)
         F[2 * a + 1, 0] = Y[a, 1]
         F[2 * a, 1] = red(Rhs[a, 0] + p - bk, p, pinv)
         F[2 * a + 1, 1] = yk[a]
-    # (K^-1)_jb = (-y_u y_v^T + y_v y_u^T + y_u' y_v'^T - y_v' y_u'^T)_jb / (a_j + a_b), b a part
-    inv = np.zeros(2 * n + 1)
-    for v in range(1, 2 * n + 1):
-        inv[v] = inv_mod(float(v), p, pinv)
-    y0 = Y[:, 0].copy()
-    y2 = Y[:, 2].copy()
-    y3 = Y[:, 3].copy()
-    kcol = np.empty(s)
     for b in range(n):
-        c0, c1, c2, c3 = Y[b, 0], Y[b, 1], Y[b, 2], Y[b, 3]
-        for j in range(s):  # column b of K^-1 (its diagonal entry is zero)
-            g = yv[j] * c0 + (p - y0[j]) * c1 + y2[j] * c3 + (p - y3[j]) * c2
-            kcol[j] = 0.0 if j == b else red(red(g, p, pinv) * inv[expo[j] + expo[b]], p, pinv)
-        acc = 0.0
-        for j in range(s):
-            acc += B[b, j] * kcol[j]
-            if j % chunk == chunk - 1:
-                acc = red(acc, p, pinv)
-        Wd[b] = red(acc, p, pinv)
+        sv = _join(_dot(C[b], Ys[2], s), _dot(C[b], Ys[3], s), p, pinv)
+        s0 = _join(_dot(C[b], Ys[4], s), _dot(C[b], Ys[5], s), p, pinv)
+        s2 = _join(_dot(C[b], Ys[6], s), _dot(C[b], Ys[7], s), p, pinv)
+        s3 = _join(_dot(C[b], Ys[8], s), _dot(C[b], Ys[9], s), p, pinv)
+        Wd[b] = red(Y[b, 0] * sv + (p - Y[b, 1]) * s0 + Y[b, 3] * s2 + (p - Y[b, 2]) * s3, p, pinv)
     return True
 
 
 @njit(**JIT)
-def point_values(B, X1, expo, c, us, n, p, R):
+def kernel_constants(B, expo, n, p):
+    """``C[b, j] = B[b, j] / (a_j + a_b)`` modulo ``p`` (``0`` at ``j = b``), ``b`` a part: the same for every level point.
+
+    The pair entries of the kernel are ``W[2b, 2b+1] = sum_j C[b, j] g_jb``
+    with ``g`` the rank-four displacement of ``K^-1`` (:func:`_kernel_generators`);
+    computed once per prime and passed to :func:`point_values` and
+    :func:`edge_values` (``BC``).
+    """
+    pinv = 1.0 / p
+    s = B.shape[0]
+    inv = np.zeros(2 * n + 1)
+    for v in range(1, 2 * n + 1):
+        inv[v] = inv_mod(float(v), p, pinv)
+    C = np.zeros((n, s))
+    for b in range(n):
+        for j in range(s):
+            if j != b:
+                C[b, j] = red(B[b, j] * inv[expo[j] + expo[b]], p, pinv)
+    return C
+
+
+@njit(inline="always", **JIT)
+def _split(v, Ys, row, j):
+    """The residue ``v`` as ``8192 hi + lo`` into ``Ys[row, j]`` (``hi < 2^12``) and ``Ys[row + 1, j]`` (``lo < 2^13``)."""
+    hi = np.floor(v * (1.0 / 8192.0))
+    Ys[row, j] = hi
+    Ys[row + 1, j] = v - hi * 8192.0
+
+
+@njit(inline="always", fastmath={"contract", "reassoc"}, **JIT)
+def _dot(x, y, s):
+    """``sum x_j y_j``, ``j < s``, of exact integers whose sum stays below ``2^53`` (any order is exact)."""
+    acc = 0.0
+    for j in range(s):
+        acc += x[j] * y[j]
+    return acc
+
+
+@njit(inline="always", **JIT)
+def _join(hi, lo, p, pinv):
+    """``(8192 hi + lo) mod p`` for the two exact sums of a split dot product."""
+    return red(red(hi, p, pinv) * 8192.0 + lo, p, pinv)
+
+
+@njit(**JIT)
+def point_values(B, X1, expo, c, us, n, p, R, BC=None):
     """``R[j, k] = E_c[y_j^{N_m(B)}]`` at the level fugacity ``q = c``, modulo ``p``, every ``y_j = 1 + u_j``.
 
     Builds the kernel ``W`` as its two displacement generators
@@ -338,12 +370,18 @@ def point_values(B, X1, expo, c, us, n, p, R):
     ``J + D_u W D_u`` (:func:`_gko_windows`): ``R[j, k]`` is the window of
     the ``k + 1`` largest parts (``m = n - k``).  Returns False when ``K(c)``
     is singular or a pivot vanishes modulo ``p`` (the caller takes another ``c``).
+    ``BC``: :func:`kernel_constants` ``(B, expo, n, p)``, the same for every
+    point of a prime (computed here when not given).
     """
     _check_width(n)
     size = 2 * n
     F = np.empty((size, 2))
     Wd = np.empty(n)
-    if not _kernel_generators(B, X1, expo, c, n, p, F, Wd):
+    if BC is None:
+        C = kernel_constants(B, expo, n, p)
+    else:
+        C = BC
+    if not _kernel_generators(B, X1, expo, c, n, p, F, Wd, C):
         return False
     T = _pivot_inverses(n, p)
     L = LANES
@@ -362,20 +400,25 @@ def point_values(B, X1, expo, c, us, n, p, R):
 
 
 @njit(**JIT)
-def edge_values(B, X1, expo, c, n, p, R):
+def edge_values(B, X1, expo, c, n, p, R, BC=None):
     """The two extreme coefficients in ``y`` of every window at ``q = c``, modulo ``p``.
 
     ``R[0, k] = P_c(every site of the window in B)``: the top coefficient of
     ``Pf(J + D_u W D_u)`` in ``u``, i.e. the Pfaffian of ``W`` itself (a
     correlation function of the point process); ``R[1, k] = P_c(no site of the
     window in B)``: the value at ``y = 0`` (``u = -1``).  Two eliminations per
-    point instead of ``n + 1``, both by displacement (two lanes).
+    point instead of ``n + 1``, both by displacement (two lanes).  ``BC`` as in
+    :func:`point_values`.
     """
     _check_width(n)
     size = 2 * n
     F = np.empty((size, 2))
     Wd = np.empty(n)
-    if not _kernel_generators(B, X1, expo, c, n, p, F, Wd):
+    if BC is None:
+        C = kernel_constants(B, expo, n, p)
+    else:
+        C = BC
+    if not _kernel_generators(B, X1, expo, c, n, p, F, Wd, C):
         return False
     T = _pivot_inverses(n, p)
     us = np.array([1.0, p - 1.0])

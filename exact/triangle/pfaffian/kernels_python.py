@@ -103,8 +103,8 @@ def _kernel_matrix(B, X1, expo, c, n, p):
     return matrix
 
 
-def point_values(B, X1, expo, c, us, n, p, R):
-    """Pure-Python twin of :func:`.kernels.point_values` (fills ``R``, returns False on a zero pivot)."""
+def point_values(B, X1, expo, c, us, n, p, R, BC=None):
+    """Pure-Python twin of :func:`.kernels.point_values` (fills ``R``, returns False on a zero pivot; ``BC`` unused)."""
     p, c, n = int(p), int(c), int(n)
     matrix = _kernel_matrix(B, X1, expo, c, n, p)
     if matrix is None:
@@ -117,8 +117,8 @@ def point_values(B, X1, expo, c, us, n, p, R):
     return True
 
 
-def edge_values(B, X1, expo, c, n, p, R):
-    """Pure-Python twin of :func:`.kernels.edge_values`: ``R[0]`` Pfaffians of ``W``, ``R[1]`` at ``y = 0``."""
+def edge_values(B, X1, expo, c, n, p, R, BC=None):
+    """Pure-Python twin of :func:`.kernels.edge_values`: ``R[0]`` Pfaffians of ``W``, ``R[1]`` at ``y = 0`` (``BC`` unused)."""
     p, c, n = int(p), int(c), int(n)
     matrix = _kernel_matrix(B, X1, expo, c, n, p)
     if matrix is None:

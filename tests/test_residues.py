@@ -29,6 +29,16 @@ def _solve_exact(K, Rhs, p):
     return [row[s : s + m] for row in M]
 
 
+def _agrees_with_python_integers(solver, K, Rhs, p):
+    """``solver`` (float64 residues) and :func:`_solve_exact` give the same solution, or both say singular."""
+    got = solver(np.asarray(K, dtype=np.float64), np.asarray(Rhs, dtype=np.float64), float(p), 1.0 / p)
+    want = _solve_exact(np.asarray(K).tolist(), np.asarray(Rhs).tolist(), p)
+    if want is None:
+        assert got is None
+    else:
+        assert got.astype(np.int64).tolist() == want
+
+
 @settings(max_examples=30, deadline=None)
 @given(st.integers(min_value=1, max_value=12), st.integers(min_value=1, max_value=4),
        st.sampled_from([prevprime(TOP), prevprime(2**23), 8388593, 101, 7]), st.integers(min_value=0, max_value=2**32 - 1))
@@ -36,12 +46,7 @@ def test_solve_is_the_exact_inverse_times_the_right_side(s, m, p, seed):
     rng = np.random.default_rng(seed)
     K = rng.integers(0, p, size=(s, s)).astype(np.float64)
     Rhs = rng.integers(0, p, size=(s, m)).astype(np.float64)
-    got = solve(K, Rhs, float(p), 1.0 / p)
-    want = _solve_exact(K.tolist(), Rhs.tolist(), p)
-    if want is None:
-        assert got is None
-    else:
-        assert got.astype(np.int64).tolist() == want
+    _agrees_with_python_integers(solve, K, Rhs, p)
 
 
 def test_solve_of_the_identity_is_the_inverse_and_sees_a_singular_matrix():
@@ -86,12 +91,7 @@ def test_skew_solve_is_the_exact_inverse_times_the_right_side(s, m, p, density, 
     rng = np.random.default_rng(seed)
     K = _skew(rng, s, p, density, zero_block)
     Rhs = rng.integers(0, p, size=(s, m))
-    got = skew_solve(K.astype(np.float64), Rhs.astype(np.float64), float(p), 1.0 / p)
-    want = _solve_exact(K.tolist(), Rhs.tolist(), p)
-    if want is None:
-        assert got is None
-    else:
-        assert got.astype(np.int64).tolist() == want
+    _agrees_with_python_integers(skew_solve, K, Rhs, p)
 
 
 def test_skew_solve_reads_only_the_upper_triangle_and_sees_odd_sizes_singular():

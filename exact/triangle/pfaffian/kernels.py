@@ -345,7 +345,7 @@ def _split(v, Ys, row, j):
     Ys[row + 1, j] = v - hi * 8192.0
 
 
-@njit(inline="always", fastmath={"contract", "reassoc"}, **JIT)
+@njit(fastmath={"contract", "reassoc"}, **JIT)  # not inlined by numba: its own reassoc flag lets LLVM vectorize the sum
 def _dot(x, y, s):
     """``sum x_j y_j``, ``j < s``, of exact integers whose sum stays below ``2^53`` (any order is exact)."""
     acc = 0.0

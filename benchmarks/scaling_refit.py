@@ -245,6 +245,25 @@ def drift_under_series(Ns, devs, N_maxes, step=8):
     return [float(a) for a in amps], rms, drift
 
 
+def predict_ahead(Ns, devs, target):
+    """Predictions for an exact column not yet computed, to be written down before it is.
+
+    Fits on ``(Ns, devs)`` the four-term series (``SERIES``), the three-term
+    model and the free-exponent fit, and continues each to ``N = target``.
+    Returns a dict: ``series``, ``three_term`` and ``free`` (predicted
+    deviations), ``g_series`` (the free fit's ``g`` at ``N_max = target`` if the
+    series is the truth) and ``g_stays`` (the same if the free fit is).
+    """
+    amps, _, drift = drift_under_series(Ns, devs, [target])
+    (g, a, b, c), _ = fit_free_exponent(Ns, devs)
+    free = a * target**-g + b / target + c * target ** (-2 * g)
+    (g_stays, *_), _ = fit_free_exponent([*Ns, target], [*devs, free])
+    model = "a/N^(2/3) + b/N + c/N^(4/3)"
+    params, _ = fit(model, Ns, devs)
+    return {"series": sum(x * target**-e for x, e in zip(amps, SERIES)), "three_term": predict(model, params, target),
+            "free": free, "g_series": drift[target], "g_stays": g_stays}
+
+
 def predict(model, params, N):
     if MODELS[model] is None:
         return params[0] * N ** -params[1]
@@ -264,6 +283,8 @@ def main(argv=None):
     parser.add_argument("--digest", default=None,
                         help="JSON digest of exact lattice columns (notes/data/lattice_columns.json): read for "
                              "--edge-N without an exact file in --dir; with --record, written")
+    parser.add_argument("--predict", type=int, default=None, metavar="N",
+                        help="also print the fits' predictions for the lattice column at N (before it is computed)")
     parser.add_argument("--record", action="store_true", help="add every lattice_N*.json of --dir to --digest and stop")
     args = parser.parse_args(argv)
     if args.lattice:
@@ -354,6 +375,16 @@ def main(argv=None):
             print("    the series extrapolated: " + ", ".join(
                 f"N={N} {(sum(a * N**-e for a, e in zip(amps, SERIES)) - d) / err:+.1f} sigma"
                 for N, (d, err) in SAMPLED[_z].items()))
+    if args.predict is not None:
+        print(f"\npredictions for N = {args.predict}, fitted on N = {args.fit_from}..{edge_Ns[-1]}:")
+        for name, _, _z, sizes in probes[:3]:
+            use = [N for N in sizes if N >= args.fit_from]
+            if len(use) < 5:
+                continue
+            ahead = predict_ahead(use, [fitted[name][N] for N in use], args.predict)
+            print(f"  {name}: deviation: series {ahead['series']:.7f}, three-term {ahead['three_term']:.7f}, "
+                  f"free exponent {ahead['free']:.7f}; free g at N_max = {args.predict}: "
+                  f"{ahead['g_series']:.3f} (series), {ahead['g_stays']:.3f} (exponent stays put)")
     print("\nout of sample: the three-term fit on N < N_max predicts N_max (relative error):")
     model = "a/N^(2/3) + b/N + c/N^(4/3)"
     for name, _, _z, sizes in probes[:3]:

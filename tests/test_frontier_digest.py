@@ -91,3 +91,14 @@ def test_a_fourth_term_makes_the_free_exponent_drift_down_to_two_thirds(refit):
     _, _, drift = refit.drift_under_series(Ns, truth, [96, 136, 1000, 2000])
     g = [drift[N] for N in (96, 136, 1000, 2000)]
     assert g[0] > g[1] > g[2] > g[3] > 2 / 3
+
+
+def test_predictions_ahead_recover_a_series_and_separate_it_from_three_terms(refit):
+    """On exact four-term series data the series' prediction at the next N is exact; the three-term fit misses."""
+    Ns = list(range(32, 153, 8))
+    series = lambda N: 0.28 * N ** (-2 / 3) + 0.35 / N - 0.12 * N ** (-4 / 3) + 2.46 * N ** (-5 / 3)  # noqa: E731
+    ahead = refit.predict_ahead(Ns, [series(N) for N in Ns], 160)
+    assert abs(ahead["series"] - series(160)) < 1e-12
+    assert abs(ahead["three_term"] - series(160)) > 1e-4 * series(160)
+    assert abs(ahead["free"] - series(160)) < abs(ahead["three_term"] - series(160))
+    assert ahead["g_series"] <= ahead["g_stays"] + 0.0005  # the series' exponent only falls

@@ -1,4 +1,4 @@
-"""Refit of the finite-size corrections of the response on exact tables (to N = 100) and lattice columns (to N = 120) (issue 18).
+"""Refit of the finite-size corrections of the response on exact tables and lattice columns (issues 18 and 26).
 
 ``notes/scaling_limit.md`` asks whether the correction on the lattice
 directions is ``N^-1``, ``N^-2/3`` or a mix.  With the Pfaffian route the exact
@@ -19,7 +19,7 @@ missing small ones are computed), and
 
 * prints the local exponents ``-d log|delta| / d log N`` between neighbours;
 * extrapolates each fit to the exact-sampler values of ``notes/scaling_limit.md``
-  Sec. 3 (N = 100 ... 1000), which none of the fits saw;
+  Sec. 3 (N = 100 ... 2000), which none of the fits saw;
 * draws ``notes/figures/scaling_refit.png``.
 
 The exact files are large (the column at N = 160: megabytes of digits) and stay

@@ -48,6 +48,7 @@ from fractions import Fraction
 import numpy as np
 
 from forcenet.numeric.limit_shape.surface import bulk_response, lattice_response
+from forcenet.exact.triangle.tables import fraction_from_text
 
 # exact-sampler deviations from the limit, notes/scaling_limit.md Sec. 3 (seed 2026, 16384 ... 200 samples): N -> (delta, stderr)
 SAMPLED = {
@@ -71,7 +72,7 @@ def load_column(N: int, directory: str, digest: dict | None = None):
         return [row[0] for row in load_table(N, directory)]
     if os.path.exists(path):
         with open(path) as handle:
-            return [float(Fraction(x)) for x in json.load(handle)["W_i1"]]
+            return [float(fraction_from_text(x)) for x in json.load(handle)["W_i1"]]
     if digest is not None and str(N) in digest["columns"]:
         return [float(x) for x in digest["columns"][str(N)]["W_i1"]]
     raise SystemExit(f"{path} is missing: python benchmarks/scaling_refit.py --lattice {N} --dir {directory}")
@@ -122,7 +123,7 @@ def record_digest(path: str, directory: str) -> list[int]:
         data = json.loads(raw)
         N = int(data["N"])
         entry = {"sha256": hashlib.sha256(raw).hexdigest(),
-                 "W_i1": [decimal_text(Fraction(x)) for x in data["W_i1"]]}
+                 "W_i1": [decimal_text(fraction_from_text(x)) for x in data["W_i1"]]}
         old = digest["columns"].get(str(N))
         if old is not None and old["sha256"] != entry["sha256"]:
             raise SystemExit(f"{name}: its sha256 differs from the digest's record of N = {N}: two exact runs disagree")
@@ -139,7 +140,7 @@ def write_lattice(N: int, directory: str, checkpoint: str | None = None):
     import time
 
     from forcenet.exact.triangle.pfaffian.route import lattice_direction, lattice_direction_plan
-    from forcenet.exact.triangle.tables import write_atomic
+    from forcenet.exact.triangle.tables import integer_text, write_atomic
 
     import resource
 
@@ -153,7 +154,7 @@ def write_lattice(N: int, directory: str, checkpoint: str | None = None):
     wall = time.perf_counter() - t0
     cpu = time.process_time() - c0 + children() - k0
     write_atomic(os.path.join(directory, f"lattice_N{N}.json"),
-                 json.dumps({"N": N, "W_i1": [f"{x.numerator}/{x.denominator}" for x in column]}) + "\n")
+                 json.dumps({"N": N, "W_i1": [f"{integer_text(x.numerator)}/{integer_text(x.denominator)}" for x in column]}) + "\n")
     print(f"N={N}: lattice direction exact, {plan.ticks} primes, plan {plan.seconds:.0f} s, "
           f"wall {wall:.0f} s, CPU {cpu:.0f} s, load {os.getloadavg()[0]:.1f}", flush=True)
 
@@ -169,7 +170,7 @@ def load_table(N: int, directory: str):
         write_atomic(path, to_json(exact_table(N, mean_table=mean_W(N))) + "\n")
     with open(path) as handle:
         data = json.load(handle)
-    return [[float(Fraction(x)) for x in row] for row in data["mean_W"]]
+    return [[float(fraction_from_text(x)) for x in row] for row in data["mean_W"]]
 
 
 MODELS = {

@@ -11,18 +11,105 @@ from __future__ import annotations
 
 import json
 import os
+import sys
 import tempfile
 from fractions import Fraction
 
+from forcenet.core.errors import ArgumentError
 from .moments import mean_W, moment_table
 from forcenet.core.validation import check_layers, check_moments
 from .staircase import count, normalization
 
-__all__ = ["exact_table", "to_json", "to_csv", "to_latex", "write_atomic", "fraction_str"]
+__all__ = ["exact_table", "to_json", "to_csv", "to_latex", "write_atomic", "fraction_str", "integer_text",
+           "fraction_from_text"]
+
+
+def integer_text(n: int) -> str:
+    """The decimal digits of ``n``, however long: Python's limit on ``str(int)`` does not apply.
+
+    Python refuses ``str(n)`` beyond ``sys.get_int_max_str_digits()`` digits
+    (4300 by default); the exact tables pass it from N = 160 on (the lattice
+    column's denominators).  Longer integers are split by a power of ten and
+    their halves converted separately.  The global limit is never changed.
+
+    Parameters
+    ----------
+    n : int
+        Any integer.
+
+    Returns
+    -------
+    str
+        ``str(n)`` as if there were no limit.
+
+    Examples
+    --------
+    >>> integer_text(-1234567)
+    '-1234567'
+    >>> len(integer_text(7 ** 10000))  # 8451 digits, twice the default limit
+    8451
+    """
+    limit = sys.get_int_max_str_digits() if hasattr(sys, "get_int_max_str_digits") else 0
+    if limit == 0 or n.bit_length() <= 3 * limit:  # 3 bits make less than one digit
+        return str(n)
+    if n < 0:
+        return "-" + integer_text(-n)
+    k = n.bit_length() * 30103 // 200000  # about half the digits (log10(2) = 0.30103)
+    high, low = divmod(n, 10**k)
+    return integer_text(high) + integer_text(low).zfill(k)
+
+
+def _integer_from_text(digits: str, text: str) -> int:
+    limit = sys.get_int_max_str_digits() if hasattr(sys, "get_int_max_str_digits") else 0
+    if limit == 0 or len(digits) <= limit:
+        return int(digits)
+    if not digits.isdigit() or not digits.isascii():
+        raise ArgumentError(f"text must be an exact rational 'p/q' or 'p' in decimal digits, got {text[:40]!r}...")
+    k = len(digits) // 2
+    return _integer_from_text(digits[:-k], text) * 10**k + _integer_from_text(digits[-k:], text)
+
+
+def fraction_from_text(text: str) -> Fraction:
+    """The exact rational written ``"p/q"`` or ``"p"`` (as :func:`fraction_str` writes it), however long.
+
+    Parameters
+    ----------
+    text : str
+        Decimal numerator, optionally ``/`` and a positive decimal denominator.
+
+    Returns
+    -------
+    Fraction
+        The value, in lowest terms.
+
+    Raises
+    ------
+    ArgumentError
+        If ``text`` is not of that form or the denominator is 0.
+
+    Examples
+    --------
+    >>> fraction_from_text("41/132"), fraction_from_text("-3")
+    (Fraction(41, 132), Fraction(-3, 1))
+    >>> x = Fraction(7 ** 10000, 3 ** 9000)
+    >>> fraction_from_text(fraction_str(x)) == x
+    True
+    """
+    head, slash, tail = text.strip().partition("/")
+    sign = -1 if head.startswith("-") else 1
+    head = head[1:] if head[:1] in "+-" else head
+    if not head.isdigit() or not head.isascii() or (tail and (not tail.isdigit() or not tail.isascii())) \
+            or (slash and not tail):
+        raise ArgumentError(f"text must be an exact rational 'p/q' or 'p' in decimal digits, got {text[:40]!r}")
+    numerator = sign * _integer_from_text(head, text)
+    denominator = _integer_from_text(tail, text) if tail else 1
+    if denominator == 0:
+        raise ArgumentError(f"text must have a positive denominator, got {text[:40]!r}")
+    return Fraction(numerator, denominator)
 
 
 def fraction_str(x) -> str:
-    """``"p/q"`` or ``"p"`` for an exact rational.
+    """``"p/q"`` or ``"p"`` for an exact rational, however long (:func:`integer_text`).
 
     Examples
     --------
@@ -30,7 +117,9 @@ def fraction_str(x) -> str:
     ('1/2', '2')
     """
     x = Fraction(x)
-    return str(x.numerator) if x.denominator == 1 else f"{x.numerator}/{x.denominator}"
+    if x.denominator == 1:
+        return integer_text(x.numerator)
+    return f"{integer_text(x.numerator)}/{integer_text(x.denominator)}"
 
 
 def exact_table(N: int, moments: int = 1, mean_table=None, progress=None, moment_tables=None) -> dict:
@@ -58,7 +147,7 @@ def _moment_keys(table):
 
 def to_json(table: dict) -> str:
     """JSON with exact values as strings (schema in the README)."""
-    out = {"N": table["N"], "count": str(table["count"]), "normalization": fraction_str(table["normalization"])}
+    out = {"N": table["N"], "count": integer_text(table["count"]), "normalization": fraction_str(table["normalization"])}
     for key in _moment_keys(table):
         out[key] = [[fraction_str(x) for x in row] for row in table[key]]
     return json.dumps(out)
@@ -77,8 +166,8 @@ def to_csv(table: dict) -> str:
 def _latex_fraction(x) -> str:
     x = Fraction(x)
     if x.denominator == 1:
-        return str(x.numerator)
-    return rf"\frac{{{x.numerator}}}{{{x.denominator}}}"
+        return integer_text(x.numerator)
+    return rf"\frac{{{integer_text(x.numerator)}}}{{{integer_text(x.denominator)}}}"
 
 
 def to_latex(table: dict, key: str = "mean_W") -> str:

@@ -17,9 +17,9 @@ import argparse
 import json
 import os
 import time
-from fractions import Fraction
 
 from forcenet.exact.triangle.distribution import moment_from_gaps
+from forcenet.exact.triangle.tables import fraction_from_text, fraction_str
 from forcenet.exact.triangle.pfaffian.fluctuations import lattice_gap_laws
 
 
@@ -37,7 +37,7 @@ def main(argv=None):
         start = time.time()
         laws = lattice_gap_laws(N, workers=args.workers)
         seconds = time.time() - start
-        moments = {i: [str(moment_from_gaps(law, s)) for s in range(1, 5)] for i, law in laws.items()}
+        moments = {i: [fraction_str(moment_from_gaps(law, s)) for s in range(1, 5)] for i, law in laws.items()}
         data[str(N)] = {"seconds": seconds, "moments": moments}
         tmp = args.out + ".tmp"
         with open(tmp, "w") as handle:
@@ -46,7 +46,7 @@ def main(argv=None):
         row = []
         for z in (0.25, 0.5, 0.75, 1.0):
             i = max(2, round(z * N))
-            m1, m2 = (Fraction(x) for x in moments[i][:2])
+            m1, m2 = (fraction_from_text(x) for x in moments[i][:2])
             d = N * (N - 1) // 2
             g1, g2 = m1 * (d + 1), m2 * (d + 1) * (d + 2) - m1 * (d + 1)  # E[g], E[g^2]
             rank = float(g2 - g1 * g1) ** 0.5 / (d + 1)  # the tableau part of the fluctuation, sd(g)/(d+1)

@@ -19,11 +19,11 @@ import argparse
 import json
 import os
 import time
-from fractions import Fraction
 
 import numpy as np
 
 from forcenet.numeric.agreement import compare_samples
+from forcenet.exact.triangle.tables import fraction_from_text
 from forcenet.numeric.triangle.exact_sampler import ExactSampler
 
 
@@ -38,7 +38,7 @@ def main(argv=None):
     path = os.path.join(args.dir, f"lattice_N{args.N}.json")
     if os.path.exists(path):
         with open(path) as handle:
-            column = [Fraction(x) for x in json.load(handle)["W_i1"]]
+            column = [fraction_from_text(x) for x in json.load(handle)["W_i1"]]
     else:
         from forcenet.exact.triangle.pfaffian.route import lattice_direction
 

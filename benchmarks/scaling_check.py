@@ -16,11 +16,11 @@ from __future__ import annotations
 import argparse
 import json
 import os
-from fractions import Fraction
 
 import numpy as np
 
 from forcenet.numeric.limit_shape.surface import bulk_response, lattice_response
+from forcenet.exact.triangle.tables import fraction_from_text
 
 
 def load_table(N: int, directory: str = "out"):
@@ -31,7 +31,7 @@ def load_table(N: int, directory: str = "out"):
         write_atomic(path, to_json(exact_table(N)) + "\n")
     with open(path) as handle:
         data = json.load(handle)
-    return [[float(Fraction(x)) for x in row] for row in data["mean_W"]]
+    return [[float(fraction_from_text(x)) for x in row] for row in data["mean_W"]]
 
 
 def fit_power(Ns, deviations):

@@ -154,7 +154,8 @@ def write_lattice(N: int, directory: str, checkpoint: str | None = None):
     wall = time.perf_counter() - t0
     cpu = time.process_time() - c0 + children() - k0
     write_atomic(os.path.join(directory, f"lattice_N{N}.json"),
-                 json.dumps({"N": N, "W_i1": [f"{integer_text(x.numerator)}/{integer_text(x.denominator)}" for x in column]}) + "\n")
+                 json.dumps({"N": N, "W_i1": [f"{integer_text(x.numerator)}/{integer_text(x.denominator)}"  # "1/1" kept:
+                                              for x in column]}) + "\n")  # the digest's sha256 are of these bytes
     print(f"N={N}: lattice direction exact, {plan.ticks} primes, plan {plan.seconds:.0f} s, "
           f"wall {wall:.0f} s, CPU {cpu:.0f} s, load {os.getloadavg()[0]:.1f}", flush=True)
 
@@ -222,6 +223,17 @@ def fit_free_exponent(Ns, devs, grid=EXPONENT_GRID):
 SERIES = (2 / 3, 1.0, 4 / 3, 5 / 3)  # the N^(-1/3) series from N^(-2/3), four terms
 
 
+def series_value(amps, N):
+    """``sum_k a_k N^-e_k`` over ``SERIES`` (``N`` a number or an array)."""
+    return sum(a * N**-e for a, e in zip(amps, SERIES))
+
+
+def free_value(params, N):
+    """``a N^-g + b/N + c N^-2g`` for the ``(g, a, b, c)`` of :func:`fit_free_exponent`."""
+    g, a, b, c = params
+    return a * N**-g + b / N + c * N ** (-2 * g)
+
+
 def drift_under_series(Ns, devs, N_maxes, step=8):
     """The free fit's ``g`` at each ``N_max`` if the deviations were exactly the four-term ``N^(-1/3)`` series.
 
@@ -240,7 +252,7 @@ def drift_under_series(Ns, devs, N_maxes, step=8):
     drift = {}
     for N_max in N_maxes:
         use = np.array([N for N in grid if N <= N_max], float)
-        truth = sum(a * use**-e for a, e in zip(amps, SERIES))
+        truth = series_value(amps, use)
         (g, *_), _ = fit_free_exponent(use, truth)
         drift[N_max] = g
     return [float(a) for a in amps], rms, drift
@@ -256,12 +268,11 @@ def predict_ahead(Ns, devs, target):
     series is the truth) and ``g_stays`` (the same if the free fit is).
     """
     amps, _, drift = drift_under_series(Ns, devs, [target])
-    (g, a, b, c), _ = fit_free_exponent(Ns, devs)
-    free = a * target**-g + b / target + c * target ** (-2 * g)
+    free = free_value(fit_free_exponent(Ns, devs)[0], target)
     (g_stays, *_), _ = fit_free_exponent([*Ns, target], [*devs, free])
     model = "a/N^(2/3) + b/N + c/N^(4/3)"
     params, _ = fit(model, Ns, devs)
-    return {"series": sum(x * target**-e for x, e in zip(amps, SERIES)), "three_term": predict(model, params, target),
+    return {"series": series_value(amps, target), "three_term": predict(model, params, target),
             "free": free, "g_series": drift[target], "g_stays": g_stays}
 
 
@@ -359,8 +370,8 @@ def main(argv=None):
             cells.append(f"{use[k - 1]}: {g:.3f} ({rms:.1e})")
         print(f"  {name}: " + ", ".join(cells))
         if z is not None and len(use) >= 5:  # the free fit on all of the exact range, extrapolated to the sampled N
-            (g, a, b, c), _ = fit_free_exponent(use, [fitted[name][N] for N in use])
-            pred = {N: a * N**-g + b / N + c * N ** (-2 * g) for N in SAMPLED[z]}
+            (g, *rest), _ = fit_free_exponent(use, [fitted[name][N] for N in use])
+            pred = {N: free_value((g, *rest), N) for N in SAMPLED[z]}
             print(f"    g = {g:.3f} extrapolated: " + ", ".join(f"N={N} {(pred[N] - d) / e:+.1f} sigma" for N, (d, e) in SAMPLED[z].items()))
     print("\nif the truth were the N^(-1/3) series from N^(-2/3) (four terms fitted on the exact range), the free"
           " fit's g as N_max grows (the exact range, then every 8):")
@@ -374,7 +385,7 @@ def main(argv=None):
               + ", ".join(f"{N}: {g:.3f}" for N, g in drift.items()))
         if _z is not None:  # the series, extrapolated to the sampled deviations it never saw
             print("    the series extrapolated: " + ", ".join(
-                f"N={N} {(sum(a * N**-e for a, e in zip(amps, SERIES)) - d) / err:+.1f} sigma"
+                f"N={N} {(series_value(amps, N) - d) / err:+.1f} sigma"
                 for N, (d, err) in SAMPLED[_z].items()))
     if args.predict is not None:
         print(f"\npredictions for N = {args.predict}, fitted on N = {args.fit_from}..{edge_Ns[-1]}:")

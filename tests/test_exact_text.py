@@ -9,6 +9,7 @@ process, so these tests set it explicitly.
 import json
 import random
 import sys
+from contextlib import contextmanager
 from fractions import Fraction
 
 import pytest
@@ -17,25 +18,27 @@ from hypothesis import given, settings, strategies as st
 from forcenet.core.errors import ArgumentError
 from forcenet.exact.triangle.tables import fraction_from_text, fraction_str, integer_text, to_csv, to_json, to_latex
 
-pytestmark = pytest.mark.skipif(not hasattr(sys, "set_int_max_str_digits"), reason="Python without the limit")
+@contextmanager
+def _limit(digits: int):
+    """Python's int/str limit set to ``digits`` (0: none) inside the block, restored after."""
+    old = sys.get_int_max_str_digits()
+    sys.set_int_max_str_digits(digits)
+    try:
+        yield
+    finally:
+        sys.set_int_max_str_digits(old)
 
 
 @pytest.fixture
 def default_limit():
     """The interpreter's default limit (4300 digits), restored afterwards."""
-    old = sys.get_int_max_str_digits()
-    sys.set_int_max_str_digits(4300)
-    yield 4300
-    sys.set_int_max_str_digits(old)
+    with _limit(4300):
+        yield 4300
 
 
 def _unlimited_str(n: int) -> str:
-    old = sys.get_int_max_str_digits()
-    sys.set_int_max_str_digits(0)
-    try:
+    with _limit(0):
         return str(n)
-    finally:
-        sys.set_int_max_str_digits(old)
 
 
 def _big(seed: int, bits: int) -> int:
@@ -46,27 +49,19 @@ def _big(seed: int, bits: int) -> int:
 @settings(max_examples=40, deadline=None)
 @given(seed=st.integers(0, 2**32), bits=st.integers(1, 60000))
 def test_integer_text_is_str_without_the_limit(seed, bits):
-    old = sys.get_int_max_str_digits()
-    sys.set_int_max_str_digits(4300)
-    try:
+    with _limit(4300):
         n = _big(seed, bits)
         text = integer_text(n)
         assert text == _unlimited_str(n)
         assert fraction_from_text(text) == n
-    finally:
-        sys.set_int_max_str_digits(old)
 
 
 @settings(max_examples=30, deadline=None)
 @given(seed=st.integers(0, 2**32), bits=st.integers(1, 40000), den_bits=st.integers(1, 40000))
 def test_fractions_round_trip_through_their_text(seed, bits, den_bits):
-    old = sys.get_int_max_str_digits()
-    sys.set_int_max_str_digits(4300)
-    try:
+    with _limit(4300):
         x = Fraction(_big(seed, bits), abs(_big(seed + 1, den_bits)) or 1)
         assert fraction_from_text(fraction_str(x)) == x
-    finally:
-        sys.set_int_max_str_digits(old)
 
 
 def test_the_default_limit_is_in_force_and_would_refuse(default_limit):

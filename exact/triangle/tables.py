@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import sys
 import tempfile
 from fractions import Fraction
@@ -22,6 +23,8 @@ from .staircase import count, normalization
 
 __all__ = ["exact_table", "to_json", "to_csv", "to_latex", "write_atomic", "fraction_str", "integer_text",
            "fraction_from_text"]
+
+_RATIONAL = re.compile(r"([+-]?)([0-9]+)(?:/([0-9]+))?", re.ASCII)  # what fraction_str writes
 
 
 def integer_text(n: int) -> str:
@@ -49,7 +52,7 @@ def integer_text(n: int) -> str:
     >>> len(integer_text(7 ** 10000))  # 8451 digits, twice the default limit
     8451
     """
-    limit = sys.get_int_max_str_digits() if hasattr(sys, "get_int_max_str_digits") else 0
+    limit = sys.get_int_max_str_digits()  # 0: no limit
     if limit == 0 or n.bit_length() <= 3 * limit:  # 3 bits make less than one digit
         return str(n)
     if n < 0:
@@ -59,14 +62,13 @@ def integer_text(n: int) -> str:
     return integer_text(high) + integer_text(low).zfill(k)
 
 
-def _integer_from_text(digits: str, text: str) -> int:
-    limit = sys.get_int_max_str_digits() if hasattr(sys, "get_int_max_str_digits") else 0
+def _integer_from_digits(digits: str) -> int:
+    """``int(digits)`` for validated ASCII digits, however many (halves below the limit)."""
+    limit = sys.get_int_max_str_digits()
     if limit == 0 or len(digits) <= limit:
         return int(digits)
-    if not digits.isdigit() or not digits.isascii():
-        raise ArgumentError(f"text must be an exact rational 'p/q' or 'p' in decimal digits, got {text[:40]!r}...")
     k = len(digits) // 2
-    return _integer_from_text(digits[:-k], text) * 10**k + _integer_from_text(digits[-k:], text)
+    return _integer_from_digits(digits[:-k]) * 10**k + _integer_from_digits(digits[-k:])
 
 
 def fraction_from_text(text: str) -> Fraction:
@@ -95,17 +97,15 @@ def fraction_from_text(text: str) -> Fraction:
     >>> fraction_from_text(fraction_str(x)) == x
     True
     """
-    head, slash, tail = text.strip().partition("/")
-    sign = -1 if head.startswith("-") else 1
-    head = head[1:] if head[:1] in "+-" else head
-    if not head.isdigit() or not head.isascii() or (tail and (not tail.isdigit() or not tail.isascii())) \
-            or (slash and not tail):
+    match = _RATIONAL.fullmatch(text.strip())
+    if match is None:
         raise ArgumentError(f"text must be an exact rational 'p/q' or 'p' in decimal digits, got {text[:40]!r}")
-    numerator = sign * _integer_from_text(head, text)
-    denominator = _integer_from_text(tail, text) if tail else 1
-    if denominator == 0:
+    sign, numerator, denominator = match.groups()
+    q = _integer_from_digits(denominator) if denominator else 1
+    if q == 0:
         raise ArgumentError(f"text must have a positive denominator, got {text[:40]!r}")
-    return Fraction(numerator, denominator)
+    p = _integer_from_digits(numerator)
+    return Fraction(-p if sign == "-" else p, q)
 
 
 def fraction_str(x) -> str:

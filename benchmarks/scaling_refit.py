@@ -41,6 +41,7 @@ Usage::
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import os
 from fractions import Fraction
@@ -61,20 +62,25 @@ SAMPLED = {
 
 DIGEST_DIGITS = 25  # significant digits kept of each exact <W_(i,1)> in the digest (the deviations are ~1e-2..1e-3)
 DIGEST_FORMAT = 1
+BULK_ROWS = (0.25, 0.5, 0.75)  # the rows i = z N a full table's digest keeps whole (the bulk probes read them)
+BULK_PROBES = {"bulk z=1/2, x~0 (N<W>)": 0.5, "bulk z=3/4, x~0 (N<W>)": 0.75}
 
 
 def load_column(N: int, directory: str, digest: dict | None = None):
     """``<W_{i,1}>``, ``i = 1..N``: from the full table if there is one, else from ``lattice_N{N}.json``,
-    else from the digest of exact columns (``--digest``)."""
+    else from the digest of exact columns and tables (``--digest``), else computed (``N <= 40``)."""
     full = os.path.join(directory, f"mean_W_N{N}.json")
     path = os.path.join(directory, f"lattice_N{N}.json")
-    if os.path.exists(full) or (N <= 40 and not os.path.exists(path)):
+    if os.path.exists(full):
         return [row[0] for row in load_table(N, directory)]
     if os.path.exists(path):
         with open(path) as handle:
             return [float(fraction_from_text(x)) for x in json.load(handle)["W_i1"]]
-    if digest is not None and str(N) in digest["columns"]:
-        return [float(x) for x in digest["columns"][str(N)]["W_i1"]]
+    for kind in ("columns", "tables"):  # a full table's digest keeps its first column too
+        if digest is not None and str(N) in digest.get(kind, {}):
+            return [float(x) for x in digest[kind][str(N)]["W_i1"]]
+    if N <= 40:
+        return [row[0] for row in load_table(N, directory)]
     raise SystemExit(f"{path} is missing: python benchmarks/scaling_refit.py --lattice {N} --dir {directory}")
 
 
@@ -98,11 +104,15 @@ def read_digest(path: str | None) -> dict | None:
 
 
 def record_digest(path: str, directory: str) -> list[int]:
-    """Add every exact ``lattice_N{N}.json`` of ``directory`` to the digest at ``path`` (written atomically).
+    """Add every exact ``lattice_N{N}.json`` and full table ``mean_W_N{N}.json`` (N a multiple of 4) of
+    ``directory`` to the digest at ``path`` (written atomically); the N added, columns and tables alike.
 
     The digest keeps what the refit needs of each exact column, its values to
     ``DIGEST_DIGITS`` digits, and the SHA-256 of the exact file, so that a
-    rebuild (the command in the digest) can be checked byte for byte.
+    rebuild (the command in the digest) can be checked byte for byte.  Of a
+    full table it keeps the rows ``z N``, ``z`` in ``BULK_ROWS`` (the bulk
+    probes), and its first column must equal a recorded lattice column of the
+    same N digit for digit (two routes).
     """
     import glob
     import hashlib
@@ -130,9 +140,51 @@ def record_digest(path: str, directory: str) -> list[int]:
         if old is None:
             added.append(N)
         digest["columns"][str(N)] = entry
+    if "tables" not in digest:
+        digest["tables_what"] = ("full tables <W_ij>: the rows i = z N, z = 1/4, 1/2, 3/4 (the bulk probes), and the "
+                                 f"first column, {DIGEST_DIGITS} significant digits; sha256: of the exact mean_W_N{{N}}.json")
+        digest["tables_rebuild"] = "forcenet table --method pfaffian --N N --out out/mean_W_N{N}.json --force"
+    tables = digest.setdefault("tables", {})
+    for name in sorted(glob.glob(os.path.join(directory, "mean_W_N*.json"))):
+        with open(name, "rb") as handle:
+            raw = handle.read()
+        data = json.loads(raw)
+        N = int(data["N"])
+        if N % 4:
+            continue
+        table = data["mean_W"]
+        first = [decimal_text(fraction_from_text(row[0])) for row in table]
+        entry = {"sha256": hashlib.sha256(raw).hexdigest(), "W_i1": first,
+                 "rows": {str(i): [decimal_text(fraction_from_text(x)) for x in table[i - 1]] for i in bulk_row_indices(N)}}
+        column = digest["columns"].get(str(N))
+        if column is not None and column["W_i1"] != first:
+            raise SystemExit(f"{name}: its first column differs from the recorded lattice column of N = {N}: "
+                             "two exact routes disagree")
+        old = tables.get(str(N))
+        if old is not None and old["sha256"] != entry["sha256"]:
+            raise SystemExit(f"{name}: its sha256 differs from the digest's record of N = {N}: two exact runs disagree")
+        if old is None:
+            added.append(N)
+        tables[str(N)] = entry
+    digest["tables"] = {k: tables[k] for k in sorted(tables, key=int)}
     digest["columns"] = {k: digest["columns"][k] for k in sorted(digest["columns"], key=int)}
     write_atomic(path, json.dumps(digest, indent=1) + "\n")
-    return added
+    return sorted(set(added))
+
+
+def bulk_row_indices(N: int) -> list[int]:
+    """The rows ``i = z N``, ``z`` in ``BULK_ROWS``, that a full table's digest keeps (``N`` a multiple of 4)."""
+    return [round(z * N) for z in BULK_ROWS]
+
+
+def load_rows(N: int, directory: str, digest: dict | None = None) -> dict[int, list[float]]:
+    """The rows ``i = z N`` of the full table of ``N`` (``bulk_row_indices``): from ``mean_W_N{N}.json`` in
+    ``directory`` (computed on the fly for ``N <= 40``), else from the digest's record of that table."""
+    if not os.path.exists(os.path.join(directory, f"mean_W_N{N}.json")) and digest is not None \
+            and str(N) in digest.get("tables", {}):
+        return {int(i): [float(x) for x in row] for i, row in digest["tables"][str(N)]["rows"].items()}
+    table = load_table(N, directory)
+    return {i: table[i - 1] for i in bulk_row_indices(N)}
 
 
 def write_lattice(N: int, directory: str, checkpoint: str | None = None):
@@ -160,6 +212,7 @@ def write_lattice(N: int, directory: str, checkpoint: str | None = None):
           f"wall {wall:.0f} s, CPU {cpu:.0f} s, load {os.getloadavg()[0]:.1f}", flush=True)
 
 
+@functools.lru_cache(maxsize=4)
 def load_table(N: int, directory: str):
     path = os.path.join(directory, f"mean_W_N{N}.json")
     if not os.path.exists(path):
@@ -276,6 +329,27 @@ def predict_ahead(Ns, devs, target):
             "free": free, "g_series": drift[target], "g_stays": g_stays}
 
 
+BULK_SERIES = {"analytic, two terms": (1.0, 2.0), "analytic, three terms": (1.0, 2.0, 3.0),
+               "edge-like": (2 / 3, 1.0, 4 / 3)}  # the bulk's candidate corrections (notes/scaling_limit.md Sec. 4)
+
+
+def predict_bulk(Ns, devs, target):
+    """Predictions of a bulk probe's deviation ``N <W> - G`` at ``N = target``, to be written down before.
+
+    Each series of ``BULK_SERIES`` (powers of ``1/N``) is fitted on
+    ``(Ns, devs)`` by relative least squares and continued to ``target``.
+    Returns ``{name: (prediction, relative RMS residual of the fit)}``.
+    """
+    Ns, devs = np.asarray(Ns, float), np.asarray(devs, float)
+    out = {}
+    for name, powers in BULK_SERIES.items():
+        X = np.stack([Ns**-e for e in powers], axis=1) / np.abs(devs)[:, None]
+        coef, *_ = np.linalg.lstsq(X, devs / np.abs(devs), rcond=None)
+        rms = float(np.sqrt(np.mean((X @ coef - devs / np.abs(devs)) ** 2)))
+        out[name] = (float(sum(c * target**-e for c, e in zip(coef, powers))), rms)
+    return out
+
+
 def predict(model, params, N):
     if MODELS[model] is None:
         return params[0] * N ** -params[1]
@@ -296,8 +370,10 @@ def main(argv=None):
                         help="JSON digest of exact lattice columns (notes/data/lattice_columns.json): read for "
                              "--edge-N without an exact file in --dir; with --record, written")
     parser.add_argument("--predict", type=int, default=None, metavar="N",
-                        help="also print the fits' predictions for the lattice column at N (before it is computed)")
-    parser.add_argument("--record", action="store_true", help="add every lattice_N*.json of --dir to --digest and stop")
+                        help="also print the fits' predictions for the lattice column at N, and with --N for the "
+                             "bulk probes of the full table at N (before they are computed)")
+    parser.add_argument("--record", action="store_true",
+                        help="add every lattice_N*.json and mean_W_N*.json of --dir to --digest and stop")
     args = parser.parse_args(argv)
     if args.lattice:
         for N in args.lattice:
@@ -311,9 +387,9 @@ def main(argv=None):
         return
     digest = read_digest(args.digest)
     Ns = sorted(N for N in args.N if N % 4 == 0)
-    tables = {N: load_table(N, args.dir) for N in Ns}
+    rows = {N: load_rows(N, args.dir, digest) for N in Ns}
     edge_Ns = sorted(set(Ns) | {N for N in args.edge_N if N % 4 == 0})
-    columns = {N: (load_column(N, args.dir, digest) if N not in tables else [row[0] for row in tables[N]]) for N in edge_Ns}
+    columns = {N: load_column(N, args.dir, digest) for N in edge_Ns}
 
     def edge(z):
         return lambda N: (columns[N][round(z * N) - 1], float(lattice_response(round(z * N) / N)))
@@ -323,14 +399,14 @@ def main(argv=None):
             i = round(z * N)
             j = i // 2 + 1 if i % 2 else i // 2  # x = (2j - i - 1)/N = 0 or -1/N
             x = (2 * j - i - 1) / N
-            return N * tables[N][i - 1][j - 1], float(bulk_response(x, i / N))
+            return N * rows[N][i][j - 1], float(bulk_response(x, i / N))
 
         return probe
 
     probes = [("edge z=1/4", edge(0.25), None, edge_Ns), ("edge z=1/2", edge(0.5), 0.5, edge_Ns),
               ("edge z=3/4", edge(0.75), 0.75, edge_Ns)]
     if Ns:  # the bulk needs full tables
-        probes += [("bulk z=1/2, x~0 (N<W>)", bulk(0.5), None, Ns), ("bulk z=3/4, x~0 (N<W>)", bulk(0.75), None, Ns)]
+        probes += [(name, bulk(z), None, Ns) for name, z in BULK_PROBES.items()]
     fitted = {}
     print("| probe | limit | " + " | ".join(f"N={N}" for N in edge_Ns) + " |")
     print("|" + " --- |" * (len(edge_Ns) + 2))
@@ -397,6 +473,14 @@ def main(argv=None):
             print(f"  {name}: deviation: series {ahead['series']:.7f}, three-term {ahead['three_term']:.7f}, "
                   f"free exponent {ahead['free']:.7f}; free g at N_max = {args.predict}: "
                   f"{ahead['g_series']:.3f} (series), {ahead['g_stays']:.3f} (exponent stays put)")
+        for name, _, _z, sizes in probes[3:]:  # the grid point x = 0 or -1/N goes with the parity of the row z N
+            z = BULK_PROBES[name]
+            use = [N for N in sizes if N >= args.fit_from and round(z * N) % 2 == round(z * args.predict) % 2]
+            if len(use) < 4:
+                continue
+            ahead = predict_bulk(use, [fitted[name][N] for N in use], args.predict)
+            print(f"  {name} fitted on N = {use[0]}..{use[-1]}: deviation: " + ", ".join(
+                f"{series} {value:.7f} ({rms:.1e})" for series, (value, rms) in ahead.items()))
     print("\nout of sample: the three-term fit on N < N_max predicts N_max (relative error):")
     model = "a/N^(2/3) + b/N + c/N^(4/3)"
     for name, _, _z, sizes in probes[:3]:

@@ -60,6 +60,37 @@ def test_every_recorded_column_has_the_shape_of_a_lattice_direction(digest):
         assert all(0 < v < 1 for v in values[1:])
 
 
+def test_the_smallest_table_rebuilds_by_the_digests_command_to_the_same_bytes_and_digits(refit, digest, cli, tmp_path):
+    """The command the digest names for its tables (``forcenet table --method pfaffian``) gives the recorded bytes."""
+    N = min(int(k) for k in digest["tables"])
+    assert N <= 40 and digest["tables_rebuild"].startswith("forcenet table --method pfaffian --N N --out ")
+    out = tmp_path / f"mean_W_N{N}.json"
+    code, _, err = cli(["table", "--method", "pfaffian", "--N", str(N), "--out", str(out), "--quiet"])
+    assert code == 0, err
+    entry = digest["tables"][str(N)]
+    assert hashlib.sha256(out.read_bytes()).hexdigest() == entry["sha256"]
+    from fractions import Fraction
+
+    table = [[Fraction(x) for x in row] for row in json.loads(out.read_text())["mean_W"]]
+    assert entry["W_i1"] == [refit.decimal_text(row[0]) for row in table]
+    assert entry["rows"] == {str(i): [refit.decimal_text(x) for x in table[i - 1]] for i in refit.bulk_row_indices(N)}
+
+
+def test_every_recorded_table_has_the_shape_of_the_triangle_and_meets_the_lattice_columns(refit, digest):
+    assert digest["tables"]
+    for key, entry in digest["tables"].items():
+        N = int(key)
+        assert N % 4 == 0 and len(entry["sha256"]) == 64 and len(entry["W_i1"]) == N
+        assert sorted(map(int, entry["rows"])) == refit.bulk_row_indices(N)
+        for i, row in entry["rows"].items():
+            values = [float(x) for x in row]
+            assert len(values) == int(i) and all(0 < v < 1 for v in values)
+            assert row == row[::-1]  # the mirror symmetry of the triangle, digit for digit
+            assert row[0] == entry["W_i1"][int(i) - 1]
+        if key in digest["columns"]:  # two exact routes: the full table's first column is the lattice column
+            assert entry["W_i1"] == digest["columns"][key]["W_i1"]
+
+
 def test_recording_refuses_a_column_that_disagrees_with_its_record(refit, tmp_path, capsys):
     out, digest_path = tmp_path / "out", tmp_path / "digest.json"
     out.mkdir()
@@ -102,3 +133,44 @@ def test_predictions_ahead_recover_a_series_and_separate_it_from_three_terms(ref
     assert abs(ahead["three_term"] - series(160)) > 1e-4 * series(160)
     assert abs(ahead["free"] - series(160)) < abs(ahead["three_term"] - series(160))
     assert ahead["g_series"] <= ahead["g_stays"] + 0.0005  # the series' exponent only falls
+
+
+def test_a_full_table_is_recorded_by_its_bulk_rows_and_must_meet_the_lattice_route(refit, tmp_path):
+    """The digest of a full table keeps the rows z N and its first column; the first column must equal the
+    lattice route's column of the same N digit for digit (two exact routes), and a changed table is refused."""
+    from forcenet.exact.triangle.pfaffian.route import mean_W
+
+    out, digest_path = tmp_path / "out", tmp_path / "digest.json"
+    out.mkdir()
+    refit.write_lattice(12, str(out))
+    refit.load_table(12, str(out))  # N <= 40: computed on the fly and written as mean_W_N12.json
+    assert refit.record_digest(str(digest_path), str(out)) == [12]
+    entry = json.loads(digest_path.read_text())["tables"]["12"]
+    table = mean_W(12)
+    assert sorted(int(i) for i in entry["rows"]) == refit.bulk_row_indices(12) == [3, 6, 9]
+    for i, row in entry["rows"].items():
+        assert row == [refit.decimal_text(x) for x in table[int(i) - 1]]
+    assert entry["W_i1"] == [refit.decimal_text(row[0]) for row in table]
+    assert hashlib.sha256((out / "mean_W_N12.json").read_bytes()).hexdigest() == entry["sha256"]
+    # the refit reads the recorded rows when the exact table is gone
+    (out / "mean_W_N12.json").unlink()
+    digest = refit.read_digest(str(digest_path))
+    rows = refit.load_rows(12, str(out / "none"), digest)
+    assert rows[6] == [float(refit.decimal_text(x)) for x in table[5]]
+    # a table whose first column disagrees with the recorded lattice column is refused
+    data = {"N": 12, "count": "1", "normalization": "1", "mean_W": [[str(x) for x in row] for row in table]}
+    data["mean_W"][4][0] = "1/7"
+    (out / "mean_W_N12.json").write_text(json.dumps(data) + "\n")
+    with pytest.raises(SystemExit, match="two exact routes disagree"):
+        refit.record_digest(str(digest_path), str(out))
+
+
+def test_bulk_predictions_recover_an_analytic_correction(refit):
+    """On exact a/N + b/N^2 data the analytic fits predict the next N exactly; the edge-like series does not."""
+    Ns = list(range(32, 81, 4))
+    law = lambda N: 1.809 / N - 2.02 / N**2  # noqa: E731
+    ahead = refit.predict_bulk(Ns, [law(N) for N in Ns], 128)
+    assert abs(ahead["analytic, two terms"][0] - law(128)) < 1e-13
+    assert abs(ahead["analytic, three terms"][0] - law(128)) < 1e-11
+    assert ahead["analytic, two terms"][1] < 1e-12
+    assert ahead["edge-like"][1] > 1e-5 and abs(ahead["edge-like"][0] - law(128)) > 1e-3 * law(128)

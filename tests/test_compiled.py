@@ -182,3 +182,56 @@ def test_a_regular_install_then_an_editable_one_imports(tmp_path):
     assert not (site / "forcenet").exists()  # nothing left behind to shadow the editable install
     second = run("-c", probe)
     assert second.returncode == 0 and second.stdout.strip() == expected, second.stderr
+
+
+def _has_avx512() -> bool:
+    from llvmlite import binding
+
+    return "+avx512f" in binding.get_host_cpu_features().flatten().split(",")
+
+
+def test_the_users_choice_and_an_imported_numba_keep_the_vector_width():
+    from forcenet.core.compiled import prefer_wide_vectors
+
+    assert prefer_wide_vectors({"NUMBA_CPU_NAME": "generic"}) is None
+    assert prefer_wide_vectors({"NUMBA_CPU_FEATURES": "+avx2"}) is None
+    environ: dict = {}
+    assert prefer_wide_vectors(environ) is None and environ == {}  # numba is imported here: too late to choose
+
+
+_WIDTH_PROBE = '''
+import sys
+from forcenet.core.compiled import prefer_wide_vectors
+chosen = prefer_wide_vectors()
+from forcenet.exact.triangle.pfaffian import engine, kernels
+residues = engine.prime_residues(9, 8388593).tolist()
+[asm] = kernels._gko_sites.inspect_asm().values()
+print(repr((chosen, asm.count("zmm"), residues)))
+'''
+
+
+def test_the_command_lines_processes_compile_the_route_with_512_bit_vectors_and_the_same_residues(tmp_path):
+    """``forcenet.__main__.run`` first: the hot loop of the table becomes 512-bit vector code, the residues stay."""
+    import ast
+
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}  # compiled here, so the machine code can be read
+    env.pop("NUMBA_CPU_FEATURES", None)
+    env.pop("NUMBA_CPU_NAME", None)
+    out = subprocess.run([sys.executable, "-c", _WIDTH_PROBE], env=env, capture_output=True, text=True, check=True)
+    chosen, zmm, residues = ast.literal_eval(out.stdout.strip().splitlines()[-1])
+    from forcenet.exact.triangle.pfaffian import engine
+
+    assert residues == engine.prime_residues(9, 8388593).tolist()  # this process: numba's own choice
+    if _has_avx512():
+        assert chosen.endswith(",-prefer-256-bit") and zmm > 0
+    else:
+        assert chosen is None
+
+
+def test_the_forcenet_command_prints_the_bytes_of_the_library(tmp_path, cli):
+    """The console entry (wide vectors in its processes) and ``main`` in this process give the same table."""
+    env = {k: v for k, v in os.environ.items() if k not in ("NUMBA_CPU_FEATURES", "NUMBA_CPU_NAME")}
+    argv = ["table", "--N", "14", "--method", "pfaffian", "--format", "json"]
+    run = subprocess.run([sys.executable, "-m", "forcenet", *argv], env=env, capture_output=True, text=True, check=True)
+    code, out, _ = cli(argv)
+    assert code == 0 and run.stdout == out

@@ -16,7 +16,8 @@ set, still wins (numba's rule); when neither place is writable, numba's own
 choice applies.  The cache is checked against the source's content hash, so
 a changed kernel is compiled again, and the code is the same wherever it is cached.
 
-Imports only: the standard library and, when a kernel is defined, ``numba``.
+Imports only: the standard library and, when a kernel is defined, ``numba`` (``llvmlite``, numba's
+compiler, to read the machine's features in :func:`prefer_wide_vectors`).
 
 Examples
 --------
@@ -34,7 +35,11 @@ import os
 from collections.abc import Callable
 from typing import Any
 
-__all__ = ["cache_directory", "njit"]
+__all__ = ["cache_directory", "njit", "prefer_wide_vectors"]
+
+# LLVM tunes most AVX-512 Intel cores to prefer 256-bit vectors (``prefer-256-bit``); the route's hot loops
+# run over blocks of eight float64, one 512-bit vector: 1.4x per table prime at N = 100 (notes/benchmarks.md)
+WIDE_VECTOR_FEATURE = "-prefer-256-bit"
 
 
 def cache_directory() -> str:
@@ -124,3 +129,49 @@ def njit(function: Callable[..., Any] | None = None, **options: Any) -> Any:
         return dispatcher
 
     return decorate if function is None else decorate(function)
+
+
+def prefer_wide_vectors(environ: Any = None) -> str | None:
+    """Let numba compile 512-bit vector loops on an AVX-512 machine, for the processes of a command-line run.
+
+    Sets ``NUMBA_CPU_FEATURES`` in ``environ`` (default ``os.environ``) to
+    this machine's features plus ``-prefer-256-bit``, so that LLVM vectorizes
+    the kernels' loops over blocks of eight float64 with one 512-bit vector
+    instead of two 256-bit ones (LLVM's tuning for most Intel cores with
+    AVX-512).  numba reads the variable when it is imported and worker
+    processes inherit it, so the command line calls this first thing
+    (``forcenet.__main__.run``), before numba is imported; a library user
+    may do the same in their own process.  The residues do not change: the
+    kernels' arithmetic is exact in any vector width.  Nothing is done when
+    the user chose (``NUMBA_CPU_FEATURES`` or ``NUMBA_CPU_NAME`` set), when
+    numba is already imported, or without AVX-512.
+
+    Parameters
+    ----------
+    environ : mapping, optional
+        The environment to set (``os.environ`` by default).
+
+    Returns
+    -------
+    str or None
+        The feature string set, or None when nothing was set.
+
+    Examples
+    --------
+    >>> prefer_wide_vectors({"NUMBA_CPU_FEATURES": "+avx2"}) is None  # the user's choice wins
+    True
+    """
+    import sys
+
+    environ = os.environ if environ is None else environ
+    if "NUMBA_CPU_FEATURES" in environ or "NUMBA_CPU_NAME" in environ or "numba" in sys.modules:
+        return None
+    try:
+        from llvmlite import binding
+    except ImportError:  # pragma: no cover - llvmlite comes with numba
+        return None
+    features = binding.get_host_cpu_features().flatten()
+    if "+avx512f" not in features.split(","):
+        return None
+    environ["NUMBA_CPU_FEATURES"] = f"{features},{WIDE_VECTOR_FEATURE}"
+    return environ["NUMBA_CPU_FEATURES"]

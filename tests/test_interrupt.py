@@ -28,13 +28,14 @@ from forcenet.core.plan import Plan, chunks, combine, interruptible_compilation,
 LATENCY = 8.0
 # what the installed ``forcenet`` script runs (``python -m forcenet`` interrupted while numba compiles exits
 # by the signal, -2, after the handler's 130: a matter of runpy, reported with issue 24)
-ENTRY = "import sys; from forcenet.cli import main; sys.exit(main(sys.argv[1:]))"
+ENTRY = "import sys; from forcenet.__main__ import run; sys.exit(run())"
 
 
-def _interrupt(args, cwd, wait_for="estimated", after=1.0, env=None):
-    """Run ``forcenet *args`` in ``cwd``; SIGINT ``after`` s past the first stderr text containing ``wait_for``.
+def _interrupt(args, cwd, wait_for="estimated", after=1.0, env=None, signum=signal.SIGINT, workers=False):
+    """Run ``forcenet *args`` in ``cwd``; ``signum`` ``after`` s past the first stderr text containing ``wait_for``
+    (with ``workers``, also past the first child processes).
 
-    Returns (exit code, seconds from SIGINT to exit, stderr).
+    Returns (exit code, seconds from the signal to exit, stderr); with ``workers``, also the children seen.
     """
     proc = subprocess.Popen([sys.executable, "-c", ENTRY, *args], cwd=cwd, stdout=subprocess.DEVNULL,
                             stderr=subprocess.PIPE, text=True, env=env)
@@ -53,10 +54,16 @@ def _interrupt(args, cwd, wait_for="estimated", after=1.0, env=None):
     reader.start()
     try:
         assert seen.wait(120), "the command never announced its run"
+        children = []
+        deadline = time.monotonic() + 120
+        while workers and not children and time.monotonic() < deadline and proc.poll() is None:
+            time.sleep(0.2)
+            children = _children(proc.pid)
         assert proc.poll() is None, f"the command ended before the interrupt: {''.join(err)}"
         time.sleep(after)
+        children = _children(proc.pid) if workers else []
         t0 = time.monotonic()
-        proc.send_signal(signal.SIGINT)
+        proc.send_signal(signum)
         code = proc.wait(60)
         latency = time.monotonic() - t0
     finally:
@@ -64,7 +71,27 @@ def _interrupt(args, cwd, wait_for="estimated", after=1.0, env=None):
             proc.kill()
             proc.wait()
     reader.join(5)
-    return code, latency, "".join(err)
+    return (code, latency, "".join(err), children) if workers else (code, latency, "".join(err))
+
+
+def _children(pid):
+    """The child processes of ``pid`` (Linux: ``/proc/PID/task/*/children``)."""
+    found = []
+    for task in os.listdir(f"/proc/{pid}/task") if os.path.isdir(f"/proc/{pid}/task") else []:
+        try:
+            with open(f"/proc/{pid}/task/{task}/children") as handle:
+                found += [int(c) for c in handle.read().split()]
+        except OSError:
+            pass
+    return found
+
+
+def _alive(pid):
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    return True
 
 
 SLOW = pytest.mark.slow  # ~10 s each on the shared machine, most of it starting and ending Python
@@ -90,6 +117,26 @@ def test_ctrl_c_inside_a_compiled_kernel_exits_130_within_seconds(tmp_path, case
     assert err.rstrip().splitlines()[-1] == "forcenet: interrupted; no partial output was written"
     assert "Traceback" not in err
     assert os.listdir(tmp_path) == []  # no output, no temporary, no directory
+
+
+@pytest.mark.skipif(not os.path.exists("/proc/self/task"), reason="reads the child processes from /proc")
+def test_sigterm_ends_a_pool_run_as_ctrl_c_does_and_leaves_no_worker_behind(tmp_path):
+    """``kill PID`` of a multi-worker run: exit 143 within seconds, every worker process gone, no file.
+
+    Before: SIGTERM ended the main process at once and left its two pool workers running to the end of
+    their primes (seen on the frontier run of 2026-11-27).
+    """
+    args = ["table", "--N", "64", "--method", "pfaffian", "--force", "--no-checkpoint", "--out", "t.json"]
+    code, latency, err, children = _interrupt(args, tmp_path, after=1.0, signum=signal.SIGTERM, workers=True)
+    assert children, "no worker process was started"
+    assert code == 143, err
+    assert latency < LATENCY, f"{latency:.1f} s from SIGTERM to exit"
+    assert err.rstrip().splitlines()[-1] == "forcenet: interrupted; no partial output was written"
+    deadline = time.monotonic() + LATENCY
+    while any(_alive(c) for c in children) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert not [c for c in children if _alive(c)], "a worker outlived the run"
+    assert os.listdir(tmp_path) == []
 
 
 @pytest.mark.slow

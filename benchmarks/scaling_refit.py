@@ -137,6 +137,10 @@ def record_digest(path: str, directory: str) -> list[int]:
         old = digest["columns"].get(str(N))
         if old is not None and old["sha256"] != entry["sha256"]:
             raise SystemExit(f"{name}: its sha256 differs from the digest's record of N = {N}: two exact runs disagree")
+        table = digest.get("tables", {}).get(str(N))
+        if table is not None and table["W_i1"] != entry["W_i1"]:  # recorded in the other order: the same meeting
+            raise SystemExit(f"{name}: it differs from the first column of the recorded full table of N = {N}: "
+                             "two exact routes disagree")
         if old is None:
             added.append(N)
         digest["columns"][str(N)] = entry

@@ -163,6 +163,16 @@ def test_a_full_table_is_recorded_by_its_bulk_rows_and_must_meet_the_lattice_rou
     (out / "mean_W_N12.json").write_text(json.dumps(data) + "\n")
     with pytest.raises(SystemExit, match="two exact routes disagree"):
         refit.record_digest(str(digest_path), str(out))
+    # and in the other order: the table recorded first, then a lattice column that disagrees with it
+    other, second = tmp_path / "other", tmp_path / "second.json"
+    other.mkdir()
+    refit.load_table(12, str(other))
+    assert refit.record_digest(str(second), str(other)) == [12]
+    column = {"N": 12, "W_i1": [str(row[0]) for row in table]}
+    column["W_i1"][4] = "1/7"
+    (other / "lattice_N12.json").write_text(json.dumps(column) + "\n")
+    with pytest.raises(SystemExit, match="two exact routes disagree"):
+        refit.record_digest(str(second), str(other))
 
 
 def test_bulk_predictions_recover_an_analytic_correction(refit):

@@ -240,18 +240,28 @@ MODELS = {
 }
 
 
+def power_fit(powers, Ns, devs):
+    """``sum_k c_k N^-e_k`` (``e_k`` in ``powers``) fitted to ``devs`` by relative least squares:
+    the amplitudes and the relative RMS residual."""
+    Ns, devs = np.asarray(Ns, float), np.asarray(devs, float)
+    X = np.stack([Ns**-e for e in powers], axis=1) / np.abs(devs)[:, None]
+    coef, *_ = np.linalg.lstsq(X, devs / np.abs(devs), rcond=None)
+    return tuple(float(c) for c in coef), float(np.sqrt(np.mean((X @ coef - devs / np.abs(devs)) ** 2)))
+
+
+def power_value(coef, powers, N):
+    """``sum_k c_k N^-e_k`` (``N`` a number or an array)."""
+    return sum(c * N**-e for c, e in zip(coef, powers))
+
+
 def fit(model, Ns, devs):
     """Parameters and relative RMS residual of one model."""
+    if MODELS[model] is not None:
+        return power_fit(MODELS[model], Ns, devs)
     Ns, devs = np.asarray(Ns, float), np.asarray(devs, float)
-    if MODELS[model] is None:
-        slope, intercept = np.polyfit(np.log(Ns), np.log(np.abs(devs)), 1)
-        params = (float(np.sign(devs[-1]) * np.exp(intercept)), float(-slope))
-        pred = params[0] * Ns ** -params[1]
-    else:
-        X = np.stack([Ns**-e for e in MODELS[model]], axis=1) / np.abs(devs)[:, None]
-        coef, *_ = np.linalg.lstsq(X, devs / np.abs(devs), rcond=None)
-        params = tuple(float(c) for c in coef)
-        pred = sum(c * Ns**-e for c, e in zip(coef, MODELS[model]))
+    slope, intercept = np.polyfit(np.log(Ns), np.log(np.abs(devs)), 1)
+    params = (float(np.sign(devs[-1]) * np.exp(intercept)), float(-slope))
+    pred = params[0] * Ns ** -params[1]
     return params, float(np.sqrt(np.mean(((pred - devs) / devs) ** 2)))
 
 
@@ -265,15 +275,11 @@ def fit_free_exponent(Ns, devs, grid=EXPONENT_GRID):
     ``(g, a, b, c)`` and the relative RMS residual at the best ``g``.  For
     ``g = 2/3`` this is the three-term model of the notes.
     """
-    Ns, devs = np.asarray(Ns, float), np.asarray(devs, float)
     best = None
     for g in grid:
-        X = np.stack([Ns**-g, Ns**-1.0, Ns ** (-2 * g)], axis=1) / np.abs(devs)[:, None]
-        coef, *_ = np.linalg.lstsq(X, devs / np.abs(devs), rcond=None)
-        pred = coef[0] * Ns**-g + coef[1] / Ns + coef[2] * Ns ** (-2 * g)
-        rms = float(np.sqrt(np.mean(((pred - devs) / devs) ** 2)))
+        coef, rms = power_fit((g, 1.0, 2 * g), Ns, devs)
         if best is None or rms < best[1]:
-            best = ((float(g), *(float(c) for c in coef)), rms)
+            best = ((float(g), *coef), rms)
     return best
 
 
@@ -282,7 +288,7 @@ SERIES = (2 / 3, 1.0, 4 / 3, 5 / 3)  # the N^(-1/3) series from N^(-2/3), four t
 
 def series_value(amps, N):
     """``sum_k a_k N^-e_k`` over ``SERIES`` (``N`` a number or an array)."""
-    return sum(a * N**-e for a, e in zip(amps, SERIES))
+    return power_value(amps, SERIES, N)
 
 
 def free_value(params, N):
@@ -301,10 +307,8 @@ def drift_under_series(Ns, devs, N_maxes, step=8):
     one, the data are what a series with leading exponent 2/3 looks like from
     here.  Returns ``(amplitudes, relative RMS residual of the series, {N_max: g})``.
     """
-    Ns, devs = np.asarray(Ns, float), np.asarray(devs, float)
-    X = np.stack([Ns**-e for e in SERIES], axis=1) / np.abs(devs)[:, None]
-    amps, *_ = np.linalg.lstsq(X, devs / np.abs(devs), rcond=None)
-    rms = float(np.sqrt(np.mean((X @ amps - devs / np.abs(devs)) ** 2)))
+    Ns = np.asarray(Ns, float)
+    amps, rms = power_fit(SERIES, Ns, devs)
     grid = [*Ns, *np.arange(Ns[-1] + step, max(N_maxes) + 1, step)]
     drift = {}
     for N_max in N_maxes:
@@ -312,7 +316,7 @@ def drift_under_series(Ns, devs, N_maxes, step=8):
         truth = series_value(amps, use)
         (g, *_), _ = fit_free_exponent(use, truth)
         drift[N_max] = g
-    return [float(a) for a in amps], rms, drift
+    return list(amps), rms, drift
 
 
 def predict_ahead(Ns, devs, target):
@@ -344,20 +348,17 @@ def predict_bulk(Ns, devs, target):
     ``(Ns, devs)`` by relative least squares and continued to ``target``.
     Returns ``{name: (prediction, relative RMS residual of the fit)}``.
     """
-    Ns, devs = np.asarray(Ns, float), np.asarray(devs, float)
     out = {}
     for name, powers in BULK_SERIES.items():
-        X = np.stack([Ns**-e for e in powers], axis=1) / np.abs(devs)[:, None]
-        coef, *_ = np.linalg.lstsq(X, devs / np.abs(devs), rcond=None)
-        rms = float(np.sqrt(np.mean((X @ coef - devs / np.abs(devs)) ** 2)))
-        out[name] = (float(sum(c * target**-e for c, e in zip(coef, powers))), rms)
+        coef, rms = power_fit(powers, Ns, devs)
+        out[name] = (float(power_value(coef, powers, target)), rms)
     return out
 
 
 def predict(model, params, N):
     if MODELS[model] is None:
         return params[0] * N ** -params[1]
-    return sum(c * N**-e for c, e in zip(params, MODELS[model]))
+    return power_value(params, MODELS[model], N)
 
 
 def main(argv=None):

@@ -126,50 +126,45 @@ def record_digest(path: str, directory: str) -> list[int]:
         "rebuild": "python benchmarks/scaling_refit.py --lattice N --dir out --checkpoint ckpt",
         "columns": {},
     }
-    added = []
-    for name in sorted(glob.glob(os.path.join(directory, "lattice_N*.json"))):
-        with open(name, "rb") as handle:
-            raw = handle.read()
-        data = json.loads(raw)
-        N = int(data["N"])
-        entry = {"sha256": hashlib.sha256(raw).hexdigest(),
-                 "W_i1": [decimal_text(fraction_from_text(x)) for x in data["W_i1"]]}
-        old = digest["columns"].get(str(N))
+
+    def exact_files(pattern):  # (file name, N, parsed data, sha256 of its bytes) of each exact file of directory
+        for name in sorted(glob.glob(os.path.join(directory, pattern))):
+            with open(name, "rb") as handle:
+                raw = handle.read()
+            data = json.loads(raw)
+            yield name, int(data["N"]), data, hashlib.sha256(raw).hexdigest()
+
+    def keep(records, name, N, entry):  # a second run of the same N must give the same bytes
+        old = records.get(str(N))
         if old is not None and old["sha256"] != entry["sha256"]:
             raise SystemExit(f"{name}: its sha256 differs from the digest's record of N = {N}: two exact runs disagree")
-        table = digest.get("tables", {}).get(str(N))
-        if table is not None and table["W_i1"] != entry["W_i1"]:  # recorded in the other order: the same meeting
-            raise SystemExit(f"{name}: it differs from the first column of the recorded full table of N = {N}: "
-                             "two exact routes disagree")
         if old is None:
             added.append(N)
-        digest["columns"][str(N)] = entry
+        records[str(N)] = entry
+
+    columns = {N: (name, {"sha256": sha, "W_i1": [decimal_text(fraction_from_text(x)) for x in data["W_i1"]]})
+               for name, N, data, sha in exact_files("lattice_N*.json")}
+    full = {N: (name, {"sha256": sha, "W_i1": [decimal_text(fraction_from_text(row[0])) for row in data["mean_W"]],
+                       "rows": {str(i): [decimal_text(fraction_from_text(x)) for x in data["mean_W"][i - 1]]
+                                for i in bulk_row_indices(N)}})
+            for name, N, data, sha in exact_files("mean_W_N*.json") if N % 4 == 0}
     if "tables" not in digest:
         digest["tables_what"] = ("full tables <W_ij>: the rows i = z N, z = 1/4, 1/2, 3/4 (the bulk probes), and the "
                                  f"first column, {DIGEST_DIGITS} significant digits; sha256: of the exact mean_W_N{{N}}.json")
         digest["tables_rebuild"] = "forcenet table --method pfaffian --N N --out out/mean_W_N{N}.json --force"
     tables = digest.setdefault("tables", {})
-    for name in sorted(glob.glob(os.path.join(directory, "mean_W_N*.json"))):
-        with open(name, "rb") as handle:
-            raw = handle.read()
-        data = json.loads(raw)
-        N = int(data["N"])
-        if N % 4:
-            continue
-        table = data["mean_W"]
-        first = [decimal_text(fraction_from_text(row[0])) for row in table]
-        entry = {"sha256": hashlib.sha256(raw).hexdigest(), "W_i1": first,
-                 "rows": {str(i): [decimal_text(fraction_from_text(x)) for x in table[i - 1]] for i in bulk_row_indices(N)}}
-        column = digest["columns"].get(str(N))
-        if column is not None and column["W_i1"] != first:
-            raise SystemExit(f"{name}: its first column differs from the recorded lattice column of N = {N}: "
+    # the two routes meet, whichever was recorded first: a table's first column is the lattice column
+    first = {int(N): r["W_i1"] for N, r in tables.items()} | {N: e["W_i1"] for N, (_, e) in full.items()}
+    lattice = {int(N): r["W_i1"] for N, r in digest["columns"].items()} | {N: e["W_i1"] for N, (_, e) in columns.items()}
+    for N in sorted(set(first) & set(lattice)):
+        if first[N] != lattice[N]:
+            name = (full.get(N) or columns.get(N) or (path,))[0]
+            raise SystemExit(f"{name}: the full table's first column differs from the lattice column of N = {N}: "
                              "two exact routes disagree")
-        old = tables.get(str(N))
-        if old is not None and old["sha256"] != entry["sha256"]:
-            raise SystemExit(f"{name}: its sha256 differs from the digest's record of N = {N}: two exact runs disagree")
-        if old is None:
-            added.append(N)
-        tables[str(N)] = entry
+    added: list[int] = []
+    for records, fresh in ((digest["columns"], columns), (tables, full)):
+        for N, (name, entry) in sorted(fresh.items()):
+            keep(records, name, N, entry)
     digest["tables"] = {k: tables[k] for k in sorted(tables, key=int)}
     digest["columns"] = {k: digest["columns"][k] for k in sorted(digest["columns"], key=int)}
     write_atomic(path, json.dumps(digest, indent=1) + "\n")

@@ -35,7 +35,7 @@ def _interrupt(args, cwd, wait_for="estimated", after=1.0, env=None, signum=sign
     """Run ``forcenet *args`` in ``cwd``; ``signum`` ``after`` s past the first stderr text containing ``wait_for``
     (with ``workers``, also past the first child processes).
 
-    Returns (exit code, seconds from the signal to exit, stderr); with ``workers``, also the children seen.
+    Returns (exit code, seconds from the signal to exit, stderr, the children seen with ``workers``).
     """
     proc = subprocess.Popen([sys.executable, "-c", ENTRY, *args], cwd=cwd, stdout=subprocess.DEVNULL,
                             stderr=subprocess.PIPE, text=True, env=env)
@@ -71,7 +71,7 @@ def _interrupt(args, cwd, wait_for="estimated", after=1.0, env=None, signum=sign
             proc.kill()
             proc.wait()
     reader.join(5)
-    return (code, latency, "".join(err), children) if workers else (code, latency, "".join(err))
+    return code, latency, "".join(err), children
 
 
 def _children(pid):
@@ -111,7 +111,7 @@ CASES = {
                                                                       "pfaffian, one process") else c
                                   for c in CASES])
 def test_ctrl_c_inside_a_compiled_kernel_exits_130_within_seconds(tmp_path, case):
-    code, latency, err = _interrupt(CASES[case], tmp_path)
+    code, latency, err, _ = _interrupt(CASES[case], tmp_path)
     assert code == 130, err
     assert latency < LATENCY, f"{case}: {latency:.1f} s from SIGINT to exit"
     assert err.rstrip().splitlines()[-1] == "forcenet: interrupted; no partial output was written"
@@ -142,7 +142,7 @@ def test_sigterm_ends_a_pool_run_as_ctrl_c_does_and_leaves_no_worker_behind(tmp_
 @pytest.mark.slow
 def test_ctrl_c_inside_the_histograms_of_dist_plot(tmp_path):
     args = ["dist", "--N", "12", "--ensemble", "--plot", "p.png", "--samples", "3000000", "--sweeps", "3000", "--force"]
-    code, latency, err = _interrupt(args, tmp_path, after=3.0)
+    code, latency, err, _ = _interrupt(args, tmp_path, after=3.0)
     assert code == 130 and latency < LATENCY, (code, latency, err)
     assert os.listdir(tmp_path) == []
 
@@ -154,7 +154,7 @@ def test_a_cold_cache_is_announced_and_interruptible_while_compiling(tmp_path):
     work = tmp_path / "work"
     work.mkdir()
     env = dict(os.environ, NUMBA_CACHE_DIR=str(cache))
-    code, latency, err = _interrupt(["sample", "--N", "12", "--samples", "20000", "--out", "o.txt"], work,
+    code, latency, err, _ = _interrupt(["sample", "--N", "12", "--samples", "20000", "--out", "o.txt"], work,
                                     wait_for="once", after=0.5, env=env)
     announcement = next(line for line in err.splitlines() if "estimated" in line)
     assert "(compiling the kernels, once: ~" in announcement

@@ -32,6 +32,7 @@ True
 from __future__ import annotations
 
 import os
+import sys
 from collections.abc import Callable
 from typing import Any
 
@@ -161,8 +162,6 @@ def prefer_wide_vectors(environ: Any = None) -> str | None:
     >>> prefer_wide_vectors({"NUMBA_CPU_FEATURES": "+avx2"}) is None  # the user's choice wins
     True
     """
-    import sys
-
     environ = os.environ if environ is None else environ
     if "NUMBA_CPU_FEATURES" in environ or "NUMBA_CPU_NAME" in environ or "numba" in sys.modules:
         return None

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from .scene import SQRT3, Scene, forces_from_lateral
-from forcenet.core.errors import ArgumentError
+from forcenet.core.errors import ArgumentError, ConvergenceError
 
 __all__ = ["uniform_networks", "maximin_network"]
 
@@ -133,8 +133,8 @@ def maximin_network(scene: Scene) -> tuple[np.ndarray, float]:
     ------
     forcenet.core.errors.ArgumentError
         If ``scene.ph`` is None.
-    RuntimeError
-        If the linear program fails.
+    ConvergenceError
+        If the linear program fails (also a ``RuntimeError``).
 
     Examples
     --------
@@ -161,7 +161,8 @@ def maximin_network(scene: Scene) -> tuple[np.ndarray, float]:
         method="highs",
     )
     if res.status != 0:
-        raise RuntimeError(f"linear program failed: {res.message}")
+        raise ConvergenceError(f"the maximin linear program of {scene} failed: {res.message}; "
+                               "check that the scene's loads can be balanced (forcenet.numeric.packing.scene)")
     x = res.x[:n]
     slack = float(min(res.x[n], b[~keep].min())) if (~keep).any() else float(res.x[n])
     return x.reshape(N - 1, P - 1), slack

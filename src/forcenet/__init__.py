@@ -1,16 +1,20 @@
 """forcenet: exact enumeration and Monte Carlo for the force network ensemble of static granular matter.
 
-* :mod:`forcenet.exact` — exact results (int, Fraction, sympy), one subpackage per model;
-* :mod:`forcenet.numeric` — samplers, floating point and arbitrary precision;
-* :mod:`forcenet.cli` — the command line ``forcenet``.
+The front door (one flat namespace, loaded on first use so ``import forcenet`` stays cheap):
 
-The exception family (:mod:`forcenet.core.errors`) is exported here:
-:class:`ForcenetError`, the base of every expected failure, and the argument
-errors :class:`ArgumentError` (also a ``ValueError``) and
-:class:`ArgumentTypeError` (also a ``TypeError``), and :class:`ConvergenceError`
-(also a ``RuntimeError``).  They are loaded on first
-use, so ``import forcenet`` stays cheap.
+* :func:`table` / :func:`plan` — the exact ``<W_ij>`` (and ``<W_ij^s>``) table of the fully
+  mobilized triangle and its cost, by the fastest route (:mod:`forcenet.front_door`);
+* :func:`count`, :func:`normalization` — the tableaux count and the volume, Eq. (4.1);
+* :func:`density`, :func:`cdf`, :func:`contact_density` — one load's exact law (Beta mixtures);
+* :class:`ExactSampler`, :class:`TriangleMetropolis` — the exact sampler and the thesis's Metropolis chain;
+* :func:`entropy`, :func:`tiling_entropy` — the chicken-wire entropy (7.1) and the square-triangle tiling's;
+* :mod:`forcenet.testing` — test your own sampler or formula against the exact ensemble;
+* the exception family (:mod:`forcenet.core.errors`): :class:`ForcenetError`, the base of every
+  expected failure, :class:`ArgumentError` (also a ``ValueError``), :class:`ArgumentTypeError`
+  (also a ``TypeError``) and :class:`ConvergenceError` (also a ``RuntimeError``).
 
+Behind it: :mod:`forcenet.exact` (exact results, one subpackage per model), :mod:`forcenet.numeric`
+(samplers, floating point), :mod:`forcenet.cli` (the command line, which calls these same functions).
 The map of the package is ``notes/architecture.md``.
 
 Examples
@@ -21,19 +25,51 @@ Examples
 True
 >>> issubclass(forcenet.ArgumentError, forcenet.ForcenetError), issubclass(forcenet.ArgumentError, ValueError)
 (True, True)
+>>> forcenet.table(5).mean_W[-1][2], forcenet.count(6)
+(Fraction(7, 22), 286)
 """
 
 from __future__ import annotations
 
 from importlib.metadata import PackageNotFoundError, version
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ loads them on first use
     from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceError, ForcenetError
+    from forcenet.exact.triangle.distribution import cdf, contact_density, density
+    from forcenet.exact.triangle.staircase import count, normalization
+    from forcenet.front_door import Table, TablePlan, plan, table
+    from forcenet.numeric.chicken_wire.isotropic import entropy, tiling_entropy
+    from forcenet.numeric.triangle import ExactSampler, TriangleMetropolis
 
-__all__ = ["ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError", "__version__"]
+# name -> the module that defines it, imported on first use (forcenet.exact costs about a second to import)
+_FRONT_DOOR = {
+    "table": "forcenet.front_door",
+    "plan": "forcenet.front_door",
+    "Table": "forcenet.front_door",
+    "TablePlan": "forcenet.front_door",
+    "count": "forcenet.exact.triangle.staircase",
+    "normalization": "forcenet.exact.triangle.staircase",
+    "density": "forcenet.exact.triangle.distribution",
+    "cdf": "forcenet.exact.triangle.distribution",
+    "contact_density": "forcenet.exact.triangle.distribution",
+    "ExactSampler": "forcenet.numeric.triangle",
+    "TriangleMetropolis": "forcenet.numeric.triangle",
+    "entropy": "forcenet.numeric.chicken_wire.isotropic",
+    "tiling_entropy": "forcenet.numeric.chicken_wire.isotropic",
+    "ForcenetError": "forcenet.core.errors",
+    "ArgumentError": "forcenet.core.errors",
+    "ArgumentTypeError": "forcenet.core.errors",
+    "ConvergenceError": "forcenet.core.errors",
+}
 
-_ERRORS = frozenset({"ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError"})
+_SUBPACKAGES = frozenset({"exact", "numeric", "testing"})
+
+__all__ = [  # the keys of _FRONT_DOOR (tests/test_front_door.py), written out for the linters
+    "table", "plan", "Table", "TablePlan", "count", "normalization", "density", "cdf", "contact_density",
+    "ExactSampler", "TriangleMetropolis", "entropy", "tiling_entropy",
+    "ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError", "__version__",
+]
 
 try:
     __version__: str = version("forcenet")  # one source: pyproject.toml, through the installed metadata
@@ -41,10 +77,20 @@ except PackageNotFoundError:  # imported from a tree that was never installed (n
     __version__ = "0+unknown"
 
 
-def __getattr__(name: str) -> type[Exception]:
-    """The exception family, imported on first use (``forcenet.exact`` costs about a second to import)."""
-    if name in _ERRORS:
-        from forcenet.core import errors
+def __getattr__(name: str) -> Any:
+    """The front door's names, imported on first use."""
+    if name in _FRONT_DOOR:
+        import importlib
 
-        return getattr(errors, name)
+        value = getattr(importlib.import_module(_FRONT_DOOR[name]), name)
+        globals()[name] = value
+        return value
+    if name in _SUBPACKAGES:  # forcenet.testing.compare without a separate import
+        import importlib
+
+        return importlib.import_module(f"forcenet.{name}")
     raise AttributeError(f"module 'forcenet' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_FRONT_DOOR, *_SUBPACKAGES})

@@ -74,36 +74,21 @@ def _refuse_ignored(args):
         refuse_together(args, "seed", "samples", "the seed drives the cross-check's samples, and --samples 0 asks for none")
 
 
-def _engine_options(args, plan_seconds):
-    """``--scheduler``, ``--checkpoint``, ``--no-checkpoint``: (client or None, checkpoint store or None).
+def _request(args, memory, client=None, directory=None):
+    """The front door's plan of the request (:func:`forcenet.front_door.plan`); ``auto`` with ``--scheduler`` or
+    ``--checkpoint`` chooses among the routes that take them."""
+    from forcenet.front_door import plan
 
-    Runs announced at over a minute checkpoint by default in the user's cache directory.
-    """
-    from forcenet.exact.checkpoints import CheckpointStore
-
-    if args.method == "pfaffian" and args.moments > 1:  # every layer's gap laws: one request per layer
-        return engine_options(args, True, "--method pfaffian", plan_seconds, lambda directory: directory)
-    return engine_options(args, args.method == "pfaffian", "--method pfaffian", plan_seconds,
-                          lambda directory: CheckpointStore(directory, "pfaffian-table", args.N, args.moments))
-
-
-def _resolve_method(args, memory):
-    """``--method auto``: the method the plans choose (among those taking --scheduler/--checkpoint when given), and
-    the one-line reason for the announcement; an explicit method as it is."""
-    from forcenet.exact.routes import choose
-
-    if args.method != "auto":
-        return args.method, ""
-    pfaffian_only = args.scheduler is not None or args.checkpoint is not None
-    choice = choose(args.N, args.moments, memory_bytes=memory, methods=("pfaffian",) if pfaffian_only else None)
-    if not choice.plan.runnable:
-        raise UsageError(choice.plan.refusal)
-    return choice.method, choice.why
+    method = args.method
+    if method == "auto" and client is None and directory is None and (args.scheduler or args.checkpoint):
+        method = "pfaffian"  # not yet connected: the only route that takes the options
+    request = plan(args.N, args.moments, method, executor=client, checkpoint=directory, memory_bytes=memory)
+    if not request.runnable:
+        raise UsageError(request.refusal)
+    return request
 
 
 def cmd_table(args):
-    from forcenet.exact.routes import table_plan
-
     _refuse_ignored(args)
     fmt = _output_format(args)
     if fmt is None and args.out is not None:  # pragma: no cover - _output_format infers it
@@ -111,30 +96,26 @@ def cmd_table(args):
     if fmt is None:
         check_output_dir(args.out_dir, files=[f"mean_W_N{args.N}.{ext}" for ext in ("json", "csv", "tex")])
     memory = available_memory()
-    args.method, why = _resolve_method(args, memory)
-    local_plan = table_plan(args.method, args.N, args.moments, memory)
-    client, store = _engine_options(args, local_plan.seconds)
+    request = _request(args, memory)
+    # --scheduler, --checkpoint (default: the user's cache for runs announced at over a minute)
+    client, directory = engine_options(args, request.method == "pfaffian", "--method pfaffian", request.seconds,
+                                       lambda directory: directory)
     try:
-        return _table(args, fmt, memory, client, store, why, local_plan)
+        if client is not None or directory is not None:  # a cluster or recorded primes change the plan
+            request = _request(args, memory, client, directory)
+        return _table(args, fmt, memory, request)
     finally:
         if client is not None:
             client.close()
 
 
-def _table(args, fmt, memory, client, store, why, local_plan):
-    from dataclasses import replace
-
+def _table(args, fmt, memory, request):
     from forcenet.core.plan import combine_by_time, phase_progress
-    from forcenet.exact.routes import table_plan, table_run
     from forcenet.exact.triangle.staircase import dimension
-    from forcenet.exact.triangle.tables import exact_table, fraction_str, to_csv, to_json, to_latex
+    from forcenet.exact.triangle.tables import fraction_str
     from forcenet.testing import cross_check, cross_check_plan
 
-    options = {k: v for k, v in (("executor", client), ("checkpoint", store)) if v is not None}
-    # a cluster or a checkpoint store changes the plan (workers, reuse); else the local plan stands
-    plans = [table_plan(args.method, args.N, args.moments, memory, **options) if options else local_plan]
-    if why:
-        plans[0] = replace(plans[0], what=f"{plans[0].what}; {why}")
+    plans = [request.cost]
     cross = fmt is None and args.samples > 0
     if cross:
         plans.append(cross_check_plan(args.N, args.samples, memory))
@@ -145,27 +126,26 @@ def _table(args, fmt, memory, client, store, why, local_plan):
 
     def run(tick):
         phase = [tick] * len(plans) if len(plans) == 1 else [phase_progress(tick, p) for p in plans]
-        tables = table_run(args.method, args.N, args.moments, progress=phase[0], memory_bytes=memory, **options)
-        check = cross_check(args.N, tables[1], args.samples, args.seed, phase[-1]) if cross else None
-        return tables, check
+        table = request.run(progress=phase[0])
+        check = cross_check(args.N, table.mean_W, args.samples, args.seed, phase[-1]) if cross else None
+        return table, check
 
-    tables, check = run_planned(plan, run, force=args.force, quiet=args.quiet)
-    if store is not None and not args.quiet:
-        report_checkpoints(store, plans[0].ticks)
-    table = exact_table(args.N, args.moments, mean_table=tables[1], moment_tables={s: t for s, t in tables.items() if s > 1})
-    render = {"json": to_json, "csv": to_csv, "latex": to_latex}
+    table, check = run_planned(plan, run, force=args.force, quiet=args.quiet)
+    if request.checkpoint is not None and not args.quiet:
+        report_checkpoints(request.checkpoint, plans[0].ticks)
+    render = {"json": table.to_json, "csv": table.to_csv, "latex": table.to_latex}
     if fmt is not None:
-        emit(render[fmt](table), args.out)
+        emit(render[fmt](), args.out)
         return 0
     # the main job: three files (all or none), a readable summary and the Monte Carlo check
     N = args.N
     stem = os.path.join(args.out_dir, f"mean_W_N{N}")
-    files = {f"{stem}.{ext}": render[fmt_name](table) for ext, fmt_name in (("json", "json"), ("csv", "csv"), ("tex", "latex"))}
-    bottom = table["mean_W"][-1]
+    files = {f"{stem}.{ext}": render[fmt_name]() for ext, fmt_name in (("json", "json"), ("csv", "csv"), ("tex", "latex"))}
+    bottom = table.mean_W[-1]
     lines = [
         f"Fully mobilized triangle, N = {N} layers, d = {dimension(N)} free forces",
-        f"  tableaux count (d! * normalization): {table['count']}",
-        f"  normalization (Eq. 4.1):             {fraction_str(table['normalization'])}",
+        f"  tableaux count (d! * normalization): {table.count}",
+        f"  normalization (Eq. 4.1):             {fraction_str(table.normalization)}",
         "  <W_N,j> on the bottom row:",
     ]
     lines += [f"    j = {j:2d}: {float(value):.10f}  = {fraction_str(value)}" for j, value in enumerate(bottom, start=1)]

@@ -1,0 +1,533 @@
+"""The front door: the exact table of the fully mobilized triangle, and its plan, in one call.
+
+``forcenet.table(N)`` is what ``forcenet table --N N`` computes, by the same
+route and to the same bytes: the exact ``<W_ij>`` (and ``<W_ij^s>``) of the
+fully mobilized triangle of Sec. 4.2, as :class:`fractions.Fraction`.
+``forcenet.plan(N)`` answers what that will cost (or why it cannot run, and
+what would) without doing the work.  Both take the same request; a plan runs
+as it was checked (:meth:`TablePlan.run`), so a request is validated and
+planned once.
+
+The routes themselves live in :mod:`forcenet.exact.routes` (the registry of
+table engines); this module only names the request, keeps what a user needs
+of the answer together (:class:`Table`) and renders it.
+
+Examples
+--------
+>>> import forcenet
+>>> t = forcenet.table(5)
+>>> [str(w) for w in t.mean_W[-1]], t.method
+(['1/11', '1/4', '7/22', '1/4', '1/11'], 'fast')
+>>> t.count, t.normalization   # d! * normalization, Eq. (4.1)
+(12, Fraction(1, 302400))
+>>> p = forcenet.plan(40)
+>>> p.method, p.runnable
+('pfaffian', True)
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from concurrent.futures import Executor
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import TYPE_CHECKING, Any
+
+from forcenet.core.errors import ArgumentError, ArgumentTypeError
+from forcenet.core.plan import Plan
+from forcenet.core.validation import check_int, check_layers, check_moments
+
+if TYPE_CHECKING:  # pragma: no cover - annotations only
+    import numpy as np
+    from matplotlib.axes import Axes
+
+__all__ = ["Table", "TablePlan", "plan", "table"]
+
+Progress = Callable[..., Any]
+
+
+def _available_memory() -> int:
+    """Bytes of memory available now (``MemAvailable``), 16 GiB if unknown."""
+    try:
+        with open("/proc/meminfo") as handle:
+            for line in handle:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return 16 * 2**30
+
+
+def _method(method: object) -> str:
+    from forcenet.exact.routes import METHODS
+
+    if not isinstance(method, str):
+        raise ArgumentTypeError(f"method={method!r} is not a string: method must be one of {', '.join(METHODS)}")
+    if method not in METHODS:
+        raise ArgumentError(f"method={method!r} is out of range: method must be one of {', '.join(METHODS)}")
+    return method
+
+
+def _checkpoint(checkpoint: object) -> str | None:
+    if checkpoint is None:
+        return None
+    if not isinstance(checkpoint, (str, os.PathLike)):
+        raise ArgumentTypeError(f"checkpoint={checkpoint!r} is not a directory path: give a str or os.PathLike")
+    return os.fspath(checkpoint)
+
+
+@dataclass(frozen=True)
+class TablePlan:
+    """A checked request for an exact table, with its cost: what :func:`plan` returns.
+
+    Attributes
+    ----------
+    N : int
+        Number of layers.
+    moments : int
+        Highest moment ``s`` of ``<W^s>``.
+    method : str
+        The route that runs it (``auto`` resolved to the fastest by the plans).
+    why : str
+        Why ``auto`` chose ``method`` (empty for an explicit method).
+    cost : Plan
+        Estimated seconds, peak bytes, progress ticks, or the refusal.
+    """
+
+    N: int
+    moments: int
+    method: str
+    why: str
+    cost: Plan
+    executor: Executor | None = field(default=None, repr=False)
+    checkpoint: Any = field(default=None, repr=False)
+    memory_bytes: int | None = field(default=None, repr=False)
+
+    @property
+    def runnable(self) -> bool:
+        """True when the request can run (in range, within memory)."""
+        return self.cost.runnable
+
+    @property
+    def refusal(self) -> str | None:
+        """Why it cannot run, and what would; None when it can."""
+        return self.cost.refusal
+
+    @property
+    def seconds(self) -> float:
+        """Estimated wall time on the 2-core reference machine."""
+        return self.cost.seconds
+
+    @property
+    def nbytes(self) -> int:
+        """Estimated peak memory in bytes."""
+        return self.cost.nbytes
+
+    def describe(self) -> str:
+        """The cost in words: ``'~1 min, ~0.25 GiB'``.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.plan(6, method="fast").describe()  # doctest: +ELLIPSIS
+        '~0 s, ~...GiB'
+        """
+        return self.cost.describe()
+
+    def check(self) -> TablePlan:
+        """The plan itself when it can run; else :class:`~forcenet.ArgumentError` with its refusal.
+
+        Raises
+        ------
+        ArgumentError
+            If the plan is refused.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.plan(7).check().method
+        'fast'
+        """
+        self.cost.check()
+        return self
+
+    def run(self, progress: Progress | bool | None = None) -> Table:
+        """Compute the table this plan describes (the plan is not made again).
+
+        Parameters
+        ----------
+        progress : callable, bool or None
+            ``progress(k)`` is called with the plan's ticks as the run goes;
+            ``True``: a progress bar (tqdm); None: nothing.
+
+        Returns
+        -------
+        Table
+
+        Raises
+        ------
+        ArgumentError
+            If the plan is refused.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.plan(4, method="thesis").run().mean_W[-1]
+        [Fraction(1, 7), Fraction(5, 14), Fraction(5, 14), Fraction(1, 7)]
+        """
+        from forcenet.exact.routes import table_run
+
+        self.check()
+        options = _engine_options(self.executor, self.checkpoint)
+        bar = None
+        if progress is True:
+            from tqdm.auto import tqdm
+
+            bar = tqdm(total=self.cost.ticks or None, desc=f"table N={self.N}", unit=self.cost.unit)
+            progress = bar.update
+        try:
+            tables = table_run(self.method, self.N, self.moments, progress=progress or None,
+                               memory_bytes=self.memory_bytes, **options)
+        finally:
+            if bar is not None:
+                bar.close()
+        return Table(self.N, self.method, self.why, tables)
+
+
+def _engine_options(executor: Executor | None, checkpoint: object) -> dict[str, Any]:
+    return {k: v for k, v in (("executor", executor), ("checkpoint", checkpoint)) if v is not None}
+
+
+def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor | None = None,
+         checkpoint: str | os.PathLike[str] | None = None, memory_bytes: int | None = None) -> TablePlan:
+    """What :func:`table` will cost for this request, or why it cannot run and what would; nothing is computed.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers of the triangle, ``>= 2``.
+    moments : int
+        Highest moment ``s`` of ``<W^s>``, ``1..50``.
+    method : str
+        ``"auto"`` (the fastest route by the plans, the default), ``"fast"``
+        (order-ideal dynamic program), ``"thesis"`` (nested-matrix integration,
+        Secs. 4.3-4.5), ``"lambda"`` (the recursions (4.50), (4.73)-(4.77)),
+        ``"maps"`` (map counting, Sec. 4.6) or ``"pfaffian"`` (Schur
+        Pfaffians, polynomial in N).
+    executor : concurrent.futures.Executor or Dask Client, optional
+        Runs the Pfaffian route's independent primes (``auto`` then chooses
+        among the routes that use it).
+    checkpoint : str or os.PathLike, optional
+        A directory where the Pfaffian route records every finished prime; a
+        rerun recomputes only what is missing.
+    memory_bytes : int, optional
+        Memory the run may use; default: what the machine has available now.
+
+    Returns
+    -------
+    TablePlan
+        The chosen method, its estimated cost, or its refusal naming what would work.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N``, ``moments`` or ``method`` is out of range.
+
+    Examples
+    --------
+    >>> import forcenet
+    >>> forcenet.plan(200).method
+    'pfaffian'
+    >>> print(forcenet.plan(40, method="fast").refusal)  # doctest: +ELLIPSIS
+    N=40 is out of range for the exact table here: ...; method='auto' runs it by pfaffian (~...)
+    """
+    from dataclasses import replace
+
+    from forcenet.exact.checkpoints import CheckpointStore
+    from forcenet.exact.routes import choose, table_plan
+
+    N, moments, method = check_layers(N), check_moments(moments), _method(method)
+    directory = _checkpoint(checkpoint)
+    memory = _available_memory() if memory_bytes is None else memory_bytes
+    why = ""
+    if method == "auto":
+        pfaffian_only = executor is not None or directory is not None  # the options only the Pfaffian route takes
+        choice = choose(N, moments, memory_bytes=memory, methods=("pfaffian",) if pfaffian_only else None)
+        method, why = choice.method, choice.why
+        if not choice.plan.runnable:
+            return TablePlan(N, moments, method, why, choice.plan, executor, directory, memory)
+    store: Any = directory
+    if directory is not None and method == "pfaffian" and moments == 1:  # the store reports what it reused
+        store = CheckpointStore(directory, "pfaffian-table", N, moments)
+    cost = table_plan(method, N, moments, memory, **_engine_options(executor, store))
+    if why:
+        cost = replace(cost, what=f"{cost.what}; {why}")
+    elif not cost.runnable:  # an explicit method out of reach: name the route that runs it
+        others = [m for m in ("fast", "pfaffian") if m != method]
+        choice = choose(N, moments, memory_bytes=memory, methods=others)
+        if choice.plan.runnable:
+            cost = replace(cost, refusal=f"{cost.refusal}; method='auto' runs it by {choice.method} "
+                                         f"(~{_duration(choice.plan.seconds)})")
+    return TablePlan(N, moments, method, why, cost, executor, store, memory)
+
+
+def _duration(seconds: float) -> str:
+    from forcenet.core.plan import duration_text
+
+    return duration_text(seconds)
+
+
+def table(N: int, moments: int = 1, method: str = "auto", *, executor: Executor | None = None,
+          checkpoint: str | os.PathLike[str] | None = None, progress: Progress | bool | None = None,
+          memory_bytes: int | None = None) -> Table:
+    """The exact table of ``<W_ij>`` (and ``<W_ij^s>``) of the fully mobilized triangle, as ``forcenet table`` makes it.
+
+    The vertical force ``W_ij`` on grain ``j`` of layer ``i`` (Sec. 4.2),
+    averaged over the uniform measure on force networks in balance (the
+    order polytope of the shifted staircase), exactly.  ``method="auto"``
+    runs the fastest route by the plans (:func:`plan`), the same choice and
+    the same bytes as the command line.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``>= 2``.
+    moments : int
+        Highest moment ``s`` of ``<W^s>``, ``1..50``.
+    method : str
+        ``"auto"`` (default), ``"fast"``, ``"thesis"``, ``"lambda"``,
+        ``"maps"`` or ``"pfaffian"`` (see :func:`plan`).
+    executor : concurrent.futures.Executor or Dask Client, optional
+        Runs the Pfaffian route's independent primes (a Dask
+        ``Client`` or ``client.get_executor()`` runs them on a cluster).
+    checkpoint : str or os.PathLike, optional
+        A directory recording every finished prime (resumable runs).
+    progress : callable, bool or None
+        ``progress(k)`` with the plan's ticks; ``True``: a progress bar.
+    memory_bytes : int, optional
+        Memory the run may use; default: what the machine has available now.
+
+    Returns
+    -------
+    Table
+        Exact :class:`~fractions.Fraction` rows, the method used and why.
+
+    Raises
+    ------
+    ArgumentError
+        If the request is out of range, or its plan is refused (the message
+        names the route that would run it).
+
+    Examples
+    --------
+    >>> import forcenet
+    >>> t = forcenet.table(6, moments=2)
+    >>> t.mean_W[5][1], t.moment(2)[5][1]  # grain (6, 2)
+    (Fraction(413, 2288), Fraction(855, 19448))
+    >>> forcenet.table(40, method="fast")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    forcenet.core.errors.ArgumentError: N=40 is out of range for the exact table here: ...; method='auto' runs it by pfaffian (~...)
+    """
+    return plan(N, moments, method, executor=executor, checkpoint=checkpoint,
+                memory_bytes=memory_bytes).check().run(progress)
+
+
+class Table:
+    """An exact table of the fully mobilized triangle: ``<W_ij^s>`` for ``s = 1..moments``.
+
+    Rows ``i = 1..N`` (layer ``i`` holds ``i`` grains), entries ``j = 1..i``,
+    every value a :class:`~fractions.Fraction`.  Returned by :func:`table`;
+    the text renderings are byte for byte the command line's.
+
+    Attributes
+    ----------
+    N : int
+        Number of layers.
+    method : str
+        The route that computed it.
+    why : str
+        Why ``auto`` chose that route (empty for an explicit method).
+    moments : int
+        Highest moment held.
+
+    Examples
+    --------
+    >>> import forcenet
+    >>> t = forcenet.table(4)
+    >>> t
+    Table(N=4, moments=1, method='fast')
+    >>> t.to_numpy().round(4)[-1]
+    array([0.1429, 0.3571, 0.3571, 0.1429])
+    """
+
+    def __init__(self, N: int, method: str, why: str, tables: dict[int, list[list[Fraction]]]):
+        self.N, self.method, self.why = N, method, why
+        self._tables = tables
+        self.moments = max(tables)
+
+    def __repr__(self) -> str:
+        return f"Table(N={self.N}, moments={self.moments}, method={self.method!r})"
+
+    @property
+    def mean_W(self) -> list[list[Fraction]]:
+        """``<W_ij>``: row ``i - 1`` holds ``j = 1..i``."""
+        return self._tables[1]
+
+    def moment(self, s: int = 1) -> list[list[Fraction]]:
+        """``<W_ij^s>`` for ``1 <= s <= moments``.
+
+        Parameters
+        ----------
+        s : int
+            The moment.
+
+        Returns
+        -------
+        list of lists of Fraction
+
+        Raises
+        ------
+        ArgumentError
+            If ``s`` was not computed.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.table(3, moments=2).moment(2)[-1]
+        [Fraction(1, 10), Fraction(3, 10), Fraction(1, 10)]
+        """
+        s = check_int(s, "s", 1)
+        if s not in self._tables:
+            raise ArgumentError(f"s={s} is out of range: this table holds s = 1..{self.moments} "
+                                f"(ask forcenet.table({self.N}, moments={s}))")
+        return self._tables[s]
+
+    @property
+    def count(self) -> int:
+        """Standard shifted staircase tableaux: ``d! * normalization``, Eq. (4.1)."""
+        from forcenet.exact.triangle.staircase import count
+
+        return count(self.N)
+
+    @property
+    def normalization(self) -> Fraction:
+        """The volume of the space of force networks, Eq. (4.1)."""
+        from forcenet.exact.triangle.staircase import normalization
+
+        return normalization(self.N)
+
+    def to_dict(self) -> dict[str, Any]:
+        """``{"N", "count", "normalization", "mean_W", "mean_W2", ...}`` with exact values (the renderers' input).
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> sorted(forcenet.table(4, moments=2).to_dict())
+        ['N', 'count', 'mean_W', 'mean_W2', 'normalization']
+        """
+        out: dict[str, Any] = {"N": self.N, "count": self.count, "normalization": self.normalization}
+        out.update({"mean_W" if s == 1 else f"mean_W{s}": rows for s, rows in sorted(self._tables.items())})
+        return out
+
+    def to_json(self) -> str:
+        """The JSON of ``forcenet table`` (the main job's ``.json`` file; ``--format json`` prints it and a newline).
+
+        Exact values are ``"p/q"`` strings.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.table(3).to_json()
+        '{"N": 3, "count": "1", "normalization": "1/6", "mean_W": [["1"], ["1/2", "1/2"], ["1/4", "1/2", "1/4"]]}'
+        """
+        from forcenet.exact.triangle.tables import to_json
+
+        return to_json(self.to_dict())
+
+    def to_csv(self) -> str:
+        """The CSV of ``forcenet table --format csv``: ``i,j,mean_W[,mean_W2...]``."""
+        from forcenet.exact.triangle.tables import to_csv
+
+        return to_csv(self.to_dict())
+
+    def to_latex(self) -> str:
+        """The LaTeX ``tabular`` of ``forcenet table --format latex``."""
+        from forcenet.exact.triangle.tables import to_latex
+
+        return to_latex(self.to_dict())
+
+    def to_numpy(self, s: int = 1) -> np.ndarray:
+        """``<W_ij^s>`` as an ``(N, N)`` float array (correctly rounded), NaN where ``j > i``.
+
+        Parameters
+        ----------
+        s : int
+            The moment.
+
+        Returns
+        -------
+        numpy.ndarray
+        """
+        import numpy as np
+
+        out = np.full((self.N, self.N), np.nan)
+        for i, row in enumerate(self.moment(s)):
+            out[i, :len(row)] = [float(x) for x in row]  # float(Fraction) rounds correctly
+        return out
+
+    def _repr_latex_(self) -> str | None:
+        if self.N > 10:
+            return None
+        from forcenet.exact.triangle.tables import _latex_fraction
+
+        rows = [" & ".join(_latex_fraction(x) for x in row) + " & " * (self.N - len(row)) for row in self.mean_W]
+        body = r" \\ ".join(rows)
+        return rf"$\langle W_{{ij}}\rangle,\ N={self.N}:\ \left(\begin{{array}}{{{'c' * self.N}}}{body}\end{{array}}\right)$"
+
+    def _repr_html_(self) -> str:
+        from html import escape
+
+        from forcenet.exact.triangle.tables import fraction_str
+
+        rows = range(1, self.N + 1) if self.N <= 12 else [*range(1, 7), *range(self.N - 2, self.N + 1)]
+        cells = []
+        for i in rows:
+            texts = [fraction_str(x) for x in self.mean_W[i - 1]]
+            shown = [escape(t) if len(t) < 16 else f"{float(x):.6g}" for t, x in zip(texts, self.mean_W[i - 1])]
+            cells.append(f"<tr><th>{i}</th>" + "".join(f"<td>{t}</td>" for t in shown) + "</tr>")
+        head = f"<p>&lt;W<sub>ij</sub>&gt;, N = {self.N} ({escape(self.method)})</p>"
+        return head + "<table>" + "".join(cells) + "</table>"
+
+    def plot(self, s: int = 1, ax: Axes | None = None) -> Axes:
+        """The triangle drawn as it stands: grain ``(i, j)`` at ``(j - (i + 1)/2, -i)``, coloured by ``<W_ij^s>``.
+
+        Parameters
+        ----------
+        s : int
+            The moment.
+        ax : matplotlib.axes.Axes, optional
+            Where to draw (default: a new figure).
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+        """
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(5, 4.5))
+        xs, ys, cs = [], [], []
+        for i, row in enumerate(self.moment(s), start=1):
+            for j, value in enumerate(row, start=1):
+                xs.append(j - (i + 1) / 2)
+                ys.append(-i)
+                cs.append(float(value))
+        size = max(4.0, 2400 / self.N**2)
+        points = ax.scatter(xs, ys, c=cs, s=size, cmap="viridis")
+        ax.figure.colorbar(points, ax=ax, label=r"$\langle W_{ij}\rangle$" if s == 1 else rf"$\langle W_{{ij}}^{s}\rangle$")
+        ax.set_aspect("equal")
+        ax.set_axis_off()
+        ax.set_title(f"N = {self.N}")
+        return ax

@@ -1,0 +1,138 @@
+"""The front door (``forcenet.table``, ``forcenet.plan``, ``forcenet.Table``): one request, the command line's bytes.
+
+Every exact number is checked against an independent route (the plain dictionary dynamic program and the
+linear-extension enumeration of :mod:`forcenet.exact.reference`); the renderings against the command line run
+in this process; the refusals by the registry's plans.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import subprocess
+import sys
+from fractions import Fraction
+
+import pytest
+from hypothesis import given, settings, strategies as st
+
+import forcenet
+from forcenet.cli import main
+from forcenet.exact.reference.dictionary_dp import mean_W_dictionary
+from forcenet.exact.reference.linear_extensions import linear_extension_moments
+
+
+def _cli(*args: str) -> str:
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        assert main(list(args)) == 0
+    return out.getvalue()
+
+
+@settings(max_examples=12, deadline=None)
+@given(N=st.integers(2, 8), method=st.sampled_from(["auto", "fast", "lambda", "pfaffian"]))
+def test_the_mean_table_equals_the_dictionary_dp(N, method):
+    t = forcenet.table(N, method=method)
+    assert t.mean_W == mean_W_dictionary(N)
+    assert all(isinstance(x, Fraction) for row in t.mean_W for x in row)
+    assert t.method in ("fast", "thesis", "lambda", "maps", "pfaffian") and (method == "auto") == bool(t.why)
+
+
+@pytest.mark.parametrize("N", [3, 4, 5])
+def test_second_moments_equal_the_linear_extension_enumeration(N):
+    t = forcenet.table(N, moments=2)
+    _, reference, _ = linear_extension_moments(N, s_max=2)
+    for i in range(1, N + 1):
+        for j in range(1, i + 1):
+            assert t.moment(2)[i - 1][j - 1] == reference[2][(i, j)], (i, j)
+
+
+def test_count_and_normalization_are_eq_4_1():
+    t = forcenet.table(6)
+    from math import factorial
+
+    assert t.count == forcenet.count(6) == 286
+    assert t.normalization == Fraction(t.count, factorial(15)) == forcenet.normalization(6)
+
+
+@pytest.mark.parametrize("fmt", ["json", "csv", "latex"])
+@pytest.mark.parametrize("N, moments", [(7, 1), (5, 2)])
+def test_renderings_are_the_command_lines_bytes(fmt, N, moments):
+    t = forcenet.table(N, moments=moments)
+    text = {"json": t.to_json, "csv": t.to_csv, "latex": t.to_latex}[fmt]()
+    printed = _cli("table", "--N", str(N), "--moments", str(moments), "--format", fmt)
+    assert printed == (text if text.endswith("\n") else text + "\n")
+    if fmt == "json":
+        assert json.loads(text)["mean_W"][-1] == [str(x) for x in t.mean_W[-1]]
+
+
+def test_auto_is_the_command_lines_choice():
+    request = forcenet.plan(40)
+    assert request.method == "pfaffian" and request.runnable and "auto chose pfaffian" in request.why
+    assert forcenet.plan(9).method == forcenet.table(9).method
+
+
+def test_an_explicit_method_out_of_reach_names_the_route_that_works():
+    with pytest.raises(forcenet.ArgumentError, match=r"method='auto' runs it by pfaffian"):
+        forcenet.table(40, method="fast")
+    refused = forcenet.plan(13, method="lambda")
+    assert not refused.runnable and "N=13" in refused.refusal and "method='auto'" in refused.refusal
+
+
+@pytest.mark.parametrize("kwargs, error", [
+    ({"N": 1}, forcenet.ArgumentError),
+    ({"N": 5.0}, forcenet.ArgumentTypeError),
+    ({"N": 5, "moments": 0}, forcenet.ArgumentError),
+    ({"N": 5, "method": "fastest"}, forcenet.ArgumentError),
+    ({"N": 5, "method": 3}, forcenet.ArgumentTypeError),
+    ({"N": 5, "checkpoint": 7}, forcenet.ArgumentTypeError),
+])
+def test_bad_requests_are_refused_by_the_family(kwargs, error):
+    with pytest.raises(error):
+        forcenet.plan(**kwargs)
+
+
+def test_a_plan_computes_nothing_and_runs_as_planned(monkeypatch):
+    from forcenet.exact import routes
+
+    calls = []
+    real = routes.table_run
+    monkeypatch.setattr(routes, "table_run", lambda *a, **k: calls.append(a) or real(*a, **k))
+    request = forcenet.plan(6, method="thesis")
+    assert calls == []
+    ticks: list[int] = []
+    table = request.run(progress=lambda k=1: ticks.append(k))
+    assert calls and calls[0][:3] == ("thesis", 6, 1)
+    assert table.mean_W == mean_W_dictionary(6) and table.method == "thesis"
+
+
+def test_the_table_object():
+    t = forcenet.table(5, moments=2)
+    assert repr(t) == f"Table(N=5, moments=2, method={t.method!r})"
+    with pytest.raises(forcenet.ArgumentError, match=r"moments=3"):
+        t.moment(3)
+    array = t.to_numpy()
+    assert array.shape == (5, 5) and float(t.mean_W[4][2]) == array[4, 2]
+    import numpy as np
+
+    assert np.isnan(array[0, 1]) and not np.isnan(array[4, 4])
+    assert "<table>" in t._repr_html_() and "7/22" in t._repr_html_()
+    assert r"\frac{7}{22}" in t._repr_latex_()
+    assert forcenet.table(12)._repr_latex_() is None  # too wide to typeset; the HTML shows it
+
+
+def test_plot_draws_every_grain():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    ax = forcenet.table(6).plot()
+    assert len(ax.collections[0].get_offsets()) == 21
+
+
+def test_import_forcenet_loads_nothing_heavy_and_every_front_door_name_resolves():
+    code = ("import sys, forcenet; heavy = [m for m in ('forcenet.exact', 'numpy', 'sympy', 'numba') if m in sys.modules];"
+            "print(heavy); [getattr(forcenet, n) for n in forcenet.__all__]; print(sorted(set(forcenet.__all__) - set(dir(forcenet))));"
+            "print(sorted(set(forcenet.__all__) ^ {*forcenet._FRONT_DOOR, '__version__'}))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.splitlines()
+    assert out == ["[]", "[]", "[]"]

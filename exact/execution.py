@@ -46,7 +46,7 @@ from math import ceil
 from forcenet.core.validation import check_int, is_integer
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 
-__all__ = ["available_cores", "as_executor", "executor_workers", "executor_label", "wall_seconds", "run_tasks"]
+__all__ = ["available_cores", "local_pool", "die_with_parent", "as_executor", "executor_workers", "executor_label", "wall_seconds", "run_tasks"]
 
 # glibc's mallopt parameters (<malloc.h>) and the ceiling of its own dynamic mmap threshold on 64-bit
 # (DEFAULT_MMAP_THRESHOLD_MAX = 32 MiB); the trim threshold is then twice it, as glibc sets it itself.
@@ -143,11 +143,76 @@ def wall_seconds(per_task: float, tasks: int, workers: int, overhead: float = 0.
     return ceil(tasks / max(1, workers)) * (per_task + overhead)
 
 
-def _local_pool(workers: int, start_method: str):
+_PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
+_WATCH_SECONDS = 0.5  # elsewhere: how often a worker's watchdog looks for its parent
+
+
+def die_with_parent(parent: int) -> None:
+    """End this worker process when its parent ``parent`` ends, however it ends (SIGKILL included).
+
+    Linux: the parent-death signal (``prctl(PR_SET_PDEATHSIG, SIGKILL)``),
+    then the parent's pid checked once more, for a parent that died between
+    this process's start and the ``prctl`` call (the kernel sends nothing
+    then). Elsewhere: a daemon thread that polls the parent's pid.  The
+    initializer of every local pool of the package (:func:`local_pool`).
+
+    Parameters
+    ----------
+    parent : int
+        The pid of the process that started the pool.
+    """
+    import signal
+    import sys
+
+    armed = False
+    if sys.platform.startswith("linux"):
+        try:
+            libc = ctypes.CDLL(None, use_errno=True)
+            armed = libc.prctl(_PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0) == 0
+        except (OSError, AttributeError):  # pragma: no cover - no prctl
+            armed = False
+    if os.getppid() != parent:  # the parent is gone already (we were re-parented)
+        os._exit(1)
+    if not armed:  # pragma: no cover - not Linux
+        import threading
+        import time
+
+        def watch() -> None:
+            while os.getppid() == parent:
+                time.sleep(_WATCH_SECONDS)
+            os._exit(1)
+
+        threading.Thread(target=watch, name="forcenet-parent-watch", daemon=True).start()
+
+
+def local_pool(workers: int, start_method: str = "spawn"):
+    """A local :class:`~concurrent.futures.ProcessPoolExecutor` whose workers die with this process.
+
+    Every worker runs :func:`die_with_parent` first, so a parent killed by
+    SIGKILL, the OOM killer or a time limit leaves no worker computing.
+
+    Parameters
+    ----------
+    workers : int
+        Worker processes.
+    start_method : str
+        ``"spawn"``, ``"fork"`` or ``"forkserver"`` (:mod:`multiprocessing`).
+
+    Returns
+    -------
+    concurrent.futures.ProcessPoolExecutor
+
+    Examples
+    --------
+    >>> with local_pool(1) as pool:
+    ...     pool.submit(abs, -3).result()
+    3
+    """
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
-    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(start_method))
+    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(start_method),
+                               initializer=die_with_parent, initargs=(os.getpid(),))
 
 
 def _terminate(pool) -> None:
@@ -294,7 +359,7 @@ def run_tasks(function, tasks, *, executor=None, workers: int = 1, progress=None
             finish(i, function(*tasks[i]))
         return results
     own = executor is None
-    pool = _local_pool(min(workers, len(pending)), start_method) if own else executor
+    pool = local_pool(min(workers, len(pending)), start_method) if own else executor
     futures = {}
     try:
         for i in pending:

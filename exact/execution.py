@@ -40,19 +40,26 @@ from __future__ import annotations
 import ctypes
 import ctypes.util
 import os
-from concurrent.futures import Executor, as_completed
+import time
+from concurrent.futures import FIRST_COMPLETED, CancelledError, Executor, as_completed, wait
 from math import ceil
 
 from forcenet.core.validation import check_int, is_integer
-from forcenet.core.errors import ArgumentError, ArgumentTypeError
+from forcenet.core.errors import ArgumentError, ArgumentTypeError, ForcenetError
 
-__all__ = ["available_cores", "local_pool", "die_with_parent", "as_executor", "executor_workers", "executor_label", "wall_seconds", "run_tasks"]
+__all__ = ["ClusterError", "WORKERLESS_SECONDS", "available_cores", "local_pool", "die_with_parent", "as_executor", "executor_workers", "executor_label", "wall_seconds", "run_tasks"]
 
 # glibc's mallopt parameters (<malloc.h>) and the ceiling of its own dynamic mmap threshold on 64-bit
 # (DEFAULT_MMAP_THRESHOLD_MAX = 32 MiB); the trim threshold is then twice it, as glibc sets it itself.
 _M_TRIM_THRESHOLD, _M_MMAP_THRESHOLD = -1, -3
 _MMAP_THRESHOLD = 32 * 2**20
 _READY: dict = {}
+WORKERLESS_SECONDS = 10.0  # a Dask cluster without a worker (or its scheduler gone) that long fails the run
+_POLL_SECONDS = 0.5  # how often a cluster run looks at its workers while no task finishes
+
+
+class ClusterError(ForcenetError):
+    """A cluster run cannot go on: the scheduler went away, every worker left, or workers cannot run forcenet."""
 
 
 def available_cores() -> int:
@@ -284,6 +291,52 @@ def _worker_call(client_pid: int, function, *args):
     return result
 
 
+def _cluster_workers(client) -> int | None:
+    """The workers a Dask client knows of (its scheduler's last report, no round trip); 0 once it is closed."""
+    if getattr(client, "status", "running") in ("closed", "closing", "failed"):
+        return 0
+    try:
+        return len(client.scheduler_info().get("workers", {}))
+    except Exception:  # noqa: BLE001 - the scheduler gone: counted as no worker
+        return 0
+
+
+def _cluster_result(future, label: str):
+    """A cluster task's result; the cluster's own failures as :class:`ClusterError`, a task's error as it is."""
+    try:
+        return future.result()
+    except CancelledError:
+        raise ClusterError(f"{label} cancelled the run's tasks: its scheduler went away or closed the connection; "
+                           "rerun (finished primes are kept with --checkpoint)") from None
+    except ImportError as exc:  # the task could not be unpickled or run on the worker
+        raise ClusterError(f"a worker of {label} cannot import forcenet ({type(exc).__name__}: {exc}): install "
+                           "forcenet, the same version, on every worker") from None
+    except OSError as exc:
+        if type(exc).__module__.startswith("distributed"):  # CommClosedError and its kind
+            raise ClusterError(f"{label} lost the connection ({type(exc).__name__}); rerun") from None
+        raise
+
+
+def _collect_from_cluster(futures: dict, finish, client) -> None:
+    """``finish(i, result)`` per finished task of a Dask cluster, bounded: a run whose cluster has no worker (or no
+    scheduler) for :data:`WORKERLESS_SECONDS` fails with :class:`ClusterError` instead of waiting for ever."""
+    label = executor_label(client.get_executor()) if callable(getattr(client, "get_executor", None)) else "the cluster"
+    waiting = set(futures)
+    idle_since: float | None = None
+    while waiting:
+        done, waiting = wait(waiting, timeout=_POLL_SECONDS, return_when=FIRST_COMPLETED)
+        for future in done:
+            finish(futures[future], _cluster_result(future, label))
+        if done or _cluster_workers(client):
+            idle_since = None
+            continue
+        now = time.monotonic()
+        idle_since = now if idle_since is None else idle_since
+        if now - idle_since > WORKERLESS_SECONDS:
+            raise ClusterError(f"{label} has had no worker for {WORKERLESS_SECONDS:g} s (its workers died or left, "
+                               "or the scheduler is gone); start workers and rerun")
+
+
 def run_tasks(function, tasks, *, executor=None, workers: int = 1, progress=None, weights=None,
               store=None, keys=None, start_method: str = "spawn") -> list:
     """``[function(*task) for task in tasks]``, the tasks run independently on an executor.
@@ -364,8 +417,12 @@ def run_tasks(function, tasks, *, executor=None, workers: int = 1, progress=None
     try:
         for i in pending:
             futures[pool.submit(_worker_call, os.getpid(), function, *tasks[i])] = i
-        for future in as_completed(futures):
-            finish(futures[future], future.result())
+        client = getattr(pool, "_client", None)  # a Dask cluster's executor
+        if client is None:
+            for future in as_completed(futures):
+                finish(futures[future], future.result())
+        else:
+            _collect_from_cluster(futures, finish, client)
     except BaseException:
         for future in futures:
             future.cancel()

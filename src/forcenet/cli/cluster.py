@@ -144,20 +144,28 @@ def _probe(address: str, scheme: str, host: str, port: int, security) -> dict:
     except OSError as exc:
         raise _refuse(address, f"cannot connect to {host}:{port} ({exc.strerror or exc})") from None
     context = security.get_connection_args("client")["ssl_context"]
+    sock = raw
     try:
+        raw.settimeout(CONNECT_SECONDS)
         if scheme == "tls":
-            raw.settimeout(CONNECT_SECONDS)
-            with context.wrap_socket(raw, server_hostname=None):
-                pass
+            sock = context.wrap_socket(raw, server_hostname=None)
+        head = _first_bytes(sock, 8)
     except ssl.SSLError as exc:
-        raise _refuse(address, f"the TLS handshake failed ({exc.reason or exc}): the certificates do not match "
-                               "the cluster's") from None
+        raise _refuse(address, f"TLS refused ({exc.reason or exc}): the scheduler's certificate is not signed by "
+                               "--tls-ca-file, or it refuses this client's certificate (--tls-cert)") from None
     except (TimeoutError, socket.timeout):
-        raise _refuse(address, f"no TLS handshake within {CONNECT_SECONDS:g} s (not a TLS server?)") from None
+        plain = "; a TLS scheduler needs tls:// and certificates" if scheme == "tcp" else ""
+        raise _refuse(address, f"the server at {host}:{port} said nothing within {CONNECT_SECONDS:g} s: not a Dask "
+                               f"scheduler{plain}") from None
     except OSError as exc:
-        raise _refuse(address, f"the TLS handshake failed ({exc.strerror or exc})") from None
+        raise _refuse(address, f"the connection to {host}:{port} failed ({exc.strerror or exc})") from None
     finally:
-        raw.close()
+        sock.close()
+    # a Dask server speaks first: its handshake, a message of a few frames (the count, 8 bytes little-endian)
+    if len(head) < 8:
+        raise _refuse(address, f"the server at {host}:{port} closed the connection: not a Dask scheduler")
+    if not 0 < int.from_bytes(head, "little") <= 64:
+        raise _refuse(address, f"the server at {host}:{port} speaks another protocol: not a Dask scheduler")
 
     async def identity():
         from distributed.comm import connect
@@ -186,6 +194,17 @@ def _probe(address: str, scheme: str, host: str, port: int, security) -> dict:
     if not isinstance(info, dict) or info.get("type") != "Scheduler":
         raise _refuse(address, f"the server at {host}:{port} is not a Dask scheduler")
     return info
+
+
+def _first_bytes(sock, count: int) -> bytes:
+    """Up to ``count`` bytes from ``sock`` (fewer if it closes; its timeout applies)."""
+    data = b""
+    while len(data) < count:
+        chunk = sock.recv(count - len(data))
+        if not chunk:
+            break
+        data += chunk
+    return data
 
 
 def connect_scheduler(text: str, security=None):

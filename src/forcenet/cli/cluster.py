@@ -67,10 +67,10 @@ def scheduler_address(text: str) -> tuple[str, str, str, int]:
         raise _refuse(text, f"the protocol {scheme}:// is not supported{where}: give tcp://HOST:PORT or "
                             "tls://HOST:PORT of a running `dask scheduler`, or its scheduler file")
     host, _, port = rest.rpartition(":")
-    if host.startswith("[") and host.endswith("]"):  # an IPv6 literal
-        host = host[1:-1]
-    if not host or not port.isascii() or not port.isdigit() or not 0 < int(port) < 65536 or "/" in host \
-            or any(c.isspace() for c in host):
+    bracketed = host.startswith("[") and host.endswith("]")  # an IPv6 literal
+    host = host[1:-1] if bracketed else host
+    if not host or not port.isascii() or not port.isdigit() or not 0 < int(port) < 65536 \
+            or any(c in "/?#@[]" or c.isspace() for c in host) or (":" in host and not bracketed):
         raise _refuse(text, f"{address!r} is not HOST:PORT with a port in 1..65535{where}: e.g. tcp://127.0.0.1:8786")
     return address, scheme, host, int(port)
 

@@ -270,3 +270,21 @@ def test_a_tls_cluster_refuses_a_client_in_one_line(tls, case, capsys, monkeypat
     assert code == 2 and out == "", err
     assert err.count("\n") == 1 and expected in err, err
     assert elapsed < 10, elapsed
+
+
+def test_the_readme_starts_nothing_on_every_interface():
+    """Issue 45 item 3: every `dask scheduler` and `dask worker` of the README binds loopback or a private address
+    (its dashboard too), the TLS cluster is shown, and what a scheduler lets its clients do is said."""
+    import ipaddress
+    import re
+    from pathlib import Path
+
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    starts = [line for line in readme.splitlines() if re.match(r"\s*dask (scheduler|worker)\b", line)]
+    assert len(starts) >= 4
+    for line in starts:
+        host = re.search(r"--host (\S+)", line)
+        assert host and ipaddress.ip_address(host.group(1)).is_private, line
+        assert "--no-dashboard" in line or re.search(r"--dashboard-address 127\.0\.0\.1:\d+", line), line
+    assert "--protocol tls" in readme and "--tls-ca-file ca.crt --tls-cert client.crt" in readme
+    assert "runs whatever its clients send" in readme

@@ -297,7 +297,7 @@ def _cluster_workers(client) -> int | None:
         return 0
     try:
         return len(client.scheduler_info().get("workers", {}))
-    except Exception:  # noqa: BLE001 - the scheduler gone: counted as no worker
+    except Exception:  # the scheduler gone: counted as no worker
         return 0
 
 
@@ -425,7 +425,10 @@ def run_tasks(function, tasks, *, executor=None, workers: int = 1, progress=None
             _collect_from_cluster(futures, finish, client)
     except BaseException:
         for future in futures:
-            future.cancel()
+            try:
+                future.cancel()  # a cluster's future cancels its task on the scheduler, if it can still reach it
+            except Exception:  # the scheduler gone: the failure being raised is the one to report
+                pass
         if own:
             _terminate(pool)
         raise

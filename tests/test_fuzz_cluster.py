@@ -386,7 +386,7 @@ def test_every_worker_killed_mid_run(tmp_path):
         code, seconds, lines = _run_and(c, tmp_path, lambda p: c.processes[1].kill(), after=2.0)
     finally:
         c.close()
-    assert code == 2 and seconds < 30, (seconds, lines)
+    assert code == 2 and seconds < 60, (seconds, lines)  # the scheduler notices, then 10 s without a worker
     _one_error(lines, "has had no worker for 10 s")
 
 
@@ -429,7 +429,7 @@ def test_workers_that_cannot_import_forcenet(tmp_path):
     finally:
         c.close()
     assert result.returncode == 2 and seconds < 60, result.stderr
-    _one_error(result.stderr.splitlines(), "--scheduler")
+    _one_error(result.stderr.splitlines(), "Dask scheduler")  # the worker fails its task, or leaves the cluster
 
 
 @pytest.mark.slow

@@ -139,7 +139,7 @@ def _probe(address: str, scheme: str, host: str, port: int, security) -> dict:
         raise _refuse(address, f"nothing listens at {host}:{port} (connection refused)") from None
     except socket.gaierror as exc:
         raise _refuse(address, f"unknown host {host!r} ({exc.strerror})") from None
-    except (TimeoutError, socket.timeout):
+    except TimeoutError:
         raise _refuse(address, f"no answer from {host}:{port} within {CONNECT_SECONDS:g} s") from None
     except OSError as exc:
         raise _refuse(address, f"cannot connect to {host}:{port} ({exc.strerror or exc})") from None
@@ -153,7 +153,7 @@ def _probe(address: str, scheme: str, host: str, port: int, security) -> dict:
     except ssl.SSLError as exc:
         raise _refuse(address, f"TLS refused ({exc.reason or exc}): the scheduler's certificate is not signed by "
                                "--tls-ca-file, or it refuses this client's certificate (--tls-cert)") from None
-    except (TimeoutError, socket.timeout):
+    except TimeoutError:
         plain = "; a TLS scheduler needs tls:// and certificates" if scheme == "tcp" else ""
         raise _refuse(address, f"the server at {host}:{port} said nothing within {CONNECT_SECONDS:g} s: not a Dask "
                                f"scheduler{plain}") from None
@@ -183,7 +183,7 @@ def _probe(address: str, scheme: str, host: str, port: int, security) -> dict:
 
     try:
         info = asyncio.run(bounded())
-    except Exception as exc:  # noqa: BLE001 - any failure of a stranger's reply is the same refusal
+    except Exception as exc:  # any failure of a stranger's reply is the same refusal
         timed_out = isinstance(exc, (TimeoutError, asyncio.TimeoutError))
         why = f"no answer within {CONNECT_SECONDS:g} s" if timed_out else f"{type(exc).__name__}"
         if scheme == "tls" and not timed_out:  # TLS 1.3: a refused client certificate shows after the handshake
@@ -239,9 +239,18 @@ def connect_scheduler(text: str, security=None):
     if scheme == "tcp" and security.require_encryption:
         raise _refuse(text, "TLS certificates are given but the address is tcp://: use tls://")
     info = _probe(address, scheme, host, port, security)
+    class BoundedClient(Client):
+        """Dask's client whose ``close`` is bounded and silent (a run's own error, not the closing's, is reported)."""
+
+        def close(self, timeout=None):
+            try:
+                return super().close(timeout=CONNECT_SECONDS)
+            except Exception:  # the scheduler gone already: nothing left to close
+                return None
+
     try:
-        client = Client(address, security=security, timeout=CONNECT_SECONDS, set_as_default=False)
-    except Exception as exc:  # noqa: BLE001 - the probe answered; anything now is the same refusal
+        client = BoundedClient(address, security=security, timeout=CONNECT_SECONDS, set_as_default=False)
+    except Exception as exc:  # the probe answered; anything now is the same refusal
         raise _refuse(text, f"cannot connect ({type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''})"
                       ) from None
     if not info.get("workers"):
@@ -249,19 +258,11 @@ def connect_scheduler(text: str, security=None):
               file=sys.stderr, flush=True)
         try:
             client.wait_for_workers(1, timeout=WORKER_SECONDS)
-        except Exception:  # noqa: BLE001 - a timeout, or the scheduler gone meanwhile
-            _close(client)
+        except Exception:  # a timeout, or the scheduler gone meanwhile
+            client.close()
             raise _refuse(text, f"the cluster has no workers after {WORKER_SECONDS:g} s "
                                 f"(start `dask worker {address}` with forcenet installed)") from None
     return client
-
-
-def _close(client) -> None:
-    """Close a client within a bounded time, whatever the scheduler's state."""
-    try:
-        client.close(timeout=CONNECT_SECONDS)
-    except Exception:  # noqa: BLE001, S110 - closing after a failure: nothing left to report
-        pass
 
 
 def add_engine_options(p, what: str) -> None:

@@ -246,7 +246,8 @@ class _Reviser:
 
     def __init__(self, plan: Plan, label: str, bar):
         self.plan, self.label, self.bar = plan, label, bar
-        self.t0, self.first, self.done, self.revised = time.perf_counter(), None, 0.0, False
+        self.t0, self.done, self.revised = time.perf_counter(), 0.0, False
+        self.first: tuple[float, float] | None = None  # (time, ticks) at the first finished tick
 
     def __call__(self, k: float = 1) -> None:
         if self.bar is not None:

@@ -40,19 +40,26 @@ from __future__ import annotations
 import ctypes
 import ctypes.util
 import os
-from concurrent.futures import Executor, as_completed
+import time
+from concurrent.futures import FIRST_COMPLETED, CancelledError, Executor, as_completed, wait
 from math import ceil
 
 from forcenet.core.validation import check_int, is_integer
-from forcenet.core.errors import ArgumentError, ArgumentTypeError
+from forcenet.core.errors import ArgumentError, ArgumentTypeError, ForcenetError
 
-__all__ = ["available_cores", "as_executor", "executor_workers", "executor_label", "wall_seconds", "run_tasks"]
+__all__ = ["ClusterError", "WORKERLESS_SECONDS", "available_cores", "local_pool", "die_with_parent", "as_executor", "executor_workers", "executor_label", "wall_seconds", "run_tasks"]
 
 # glibc's mallopt parameters (<malloc.h>) and the ceiling of its own dynamic mmap threshold on 64-bit
 # (DEFAULT_MMAP_THRESHOLD_MAX = 32 MiB); the trim threshold is then twice it, as glibc sets it itself.
 _M_TRIM_THRESHOLD, _M_MMAP_THRESHOLD = -1, -3
 _MMAP_THRESHOLD = 32 * 2**20
 _READY: dict = {}
+WORKERLESS_SECONDS = 10.0  # a Dask cluster without a worker (or its scheduler gone) that long fails the run
+_POLL_SECONDS = 0.5  # how often a cluster run looks at its workers while no task finishes
+
+
+class ClusterError(ForcenetError):
+    """A cluster run cannot go on: the scheduler went away, every worker left, or workers cannot run forcenet."""
 
 
 def available_cores() -> int:
@@ -143,11 +150,76 @@ def wall_seconds(per_task: float, tasks: int, workers: int, overhead: float = 0.
     return ceil(tasks / max(1, workers)) * (per_task + overhead)
 
 
-def _local_pool(workers: int, start_method: str):
+_PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
+_WATCH_SECONDS = 0.5  # elsewhere: how often a worker's watchdog looks for its parent
+
+
+def die_with_parent(parent: int) -> None:
+    """End this worker process when its parent ``parent`` ends, however it ends (SIGKILL included).
+
+    Linux: the parent-death signal (``prctl(PR_SET_PDEATHSIG, SIGKILL)``),
+    then the parent's pid checked once more, for a parent that died between
+    this process's start and the ``prctl`` call (the kernel sends nothing
+    then). Elsewhere: a daemon thread that polls the parent's pid.  The
+    initializer of every local pool of the package (:func:`local_pool`).
+
+    Parameters
+    ----------
+    parent : int
+        The pid of the process that started the pool.
+    """
+    import signal
+    import sys
+
+    armed = False
+    if sys.platform.startswith("linux"):
+        try:
+            libc = ctypes.CDLL(None, use_errno=True)
+            armed = libc.prctl(_PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0) == 0
+        except (OSError, AttributeError):  # pragma: no cover - no prctl
+            armed = False
+    if os.getppid() != parent:  # the parent is gone already (we were re-parented)
+        os._exit(1)
+    if not armed:  # pragma: no cover - not Linux
+        import threading
+        import time
+
+        def watch() -> None:
+            while os.getppid() == parent:
+                time.sleep(_WATCH_SECONDS)
+            os._exit(1)
+
+        threading.Thread(target=watch, name="forcenet-parent-watch", daemon=True).start()
+
+
+def local_pool(workers: int, start_method: str = "spawn"):
+    """A local :class:`~concurrent.futures.ProcessPoolExecutor` whose workers die with this process.
+
+    Every worker runs :func:`die_with_parent` first, so a parent killed by
+    SIGKILL, the OOM killer or a time limit leaves no worker computing.
+
+    Parameters
+    ----------
+    workers : int
+        Worker processes.
+    start_method : str
+        ``"spawn"``, ``"fork"`` or ``"forkserver"`` (:mod:`multiprocessing`).
+
+    Returns
+    -------
+    concurrent.futures.ProcessPoolExecutor
+
+    Examples
+    --------
+    >>> with local_pool(1) as pool:
+    ...     pool.submit(abs, -3).result()
+    3
+    """
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
-    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(start_method))
+    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(start_method),
+                               initializer=die_with_parent, initargs=(os.getpid(),))
 
 
 def _terminate(pool) -> None:
@@ -217,6 +289,52 @@ def _worker_call(client_pid: int, function, *args):
     if _READY["pinned"] < 2:
         _ready_worker()
     return result
+
+
+def _cluster_workers(client) -> int | None:
+    """The workers a Dask client knows of (its scheduler's last report, no round trip); 0 once it is closed."""
+    if getattr(client, "status", "running") in ("closed", "closing", "failed"):
+        return 0
+    try:
+        return len(client.scheduler_info().get("workers", {}))
+    except Exception:  # the scheduler gone: counted as no worker
+        return 0
+
+
+def _cluster_result(future, label: str):
+    """A cluster task's result; the cluster's own failures as :class:`ClusterError`, a task's error as it is."""
+    try:
+        return future.result()
+    except CancelledError:
+        raise ClusterError(f"{label} cancelled the run's tasks: its scheduler went away or closed the connection; "
+                           "rerun (finished primes are kept with --checkpoint)") from None
+    except ImportError as exc:  # the task could not be unpickled or run on the worker
+        raise ClusterError(f"a worker of {label} cannot import forcenet ({type(exc).__name__}: {exc}): install "
+                           "forcenet, the same version, on every worker") from None
+    except OSError as exc:
+        if type(exc).__module__.startswith("distributed"):  # CommClosedError and its kind
+            raise ClusterError(f"{label} lost the connection ({type(exc).__name__}); rerun") from None
+        raise
+
+
+def _collect_from_cluster(futures: dict, finish, client) -> None:
+    """``finish(i, result)`` per finished task of a Dask cluster, bounded: a run whose cluster has no worker (or no
+    scheduler) for :data:`WORKERLESS_SECONDS` fails with :class:`ClusterError` instead of waiting for ever."""
+    label = executor_label(client.get_executor()) if callable(getattr(client, "get_executor", None)) else "the cluster"
+    waiting = set(futures)
+    idle_since: float | None = None
+    while waiting:
+        done, waiting = wait(waiting, timeout=_POLL_SECONDS, return_when=FIRST_COMPLETED)
+        for future in done:
+            finish(futures[future], _cluster_result(future, label))
+        if done or _cluster_workers(client):
+            idle_since = None
+            continue
+        now = time.monotonic()
+        idle_since = now if idle_since is None else idle_since
+        if now - idle_since > WORKERLESS_SECONDS:
+            raise ClusterError(f"{label} has had no worker for {WORKERLESS_SECONDS:g} s (its workers died or left, "
+                               "or the scheduler is gone); start workers and rerun")
 
 
 def run_tasks(function, tasks, *, executor=None, workers: int = 1, progress=None, weights=None,
@@ -294,16 +412,23 @@ def run_tasks(function, tasks, *, executor=None, workers: int = 1, progress=None
             finish(i, function(*tasks[i]))
         return results
     own = executor is None
-    pool = _local_pool(min(workers, len(pending)), start_method) if own else executor
+    pool = local_pool(min(workers, len(pending)), start_method) if own else executor
     futures = {}
     try:
         for i in pending:
             futures[pool.submit(_worker_call, os.getpid(), function, *tasks[i])] = i
-        for future in as_completed(futures):
-            finish(futures[future], future.result())
+        client = getattr(pool, "_client", None)  # a Dask cluster's executor
+        if client is None:
+            for future in as_completed(futures):
+                finish(futures[future], future.result())
+        else:
+            _collect_from_cluster(futures, finish, client)
     except BaseException:
         for future in futures:
-            future.cancel()
+            try:
+                future.cancel()  # a cluster's future cancels its task on the scheduler, if it can still reach it
+            except Exception:  # the scheduler gone: the failure being raised is the one to report
+                pass
         if own:
             _terminate(pool)
         raise

@@ -144,7 +144,7 @@ def test_unreachable_scheduler_is_one_line(monkeypatch, capsys):
     monkeypatch.setattr(cluster, "CONNECT_SECONDS", 1)
     assert main(["table", "--N", "20", "--method", "pfaffian", "--format", "json", "--scheduler", "tcp://127.0.0.1:9"]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "--scheduler=tcp://127.0.0.1:9: cannot connect" in err
+    assert err.count("\n") == 1 and "--scheduler=tcp://127.0.0.1:9: nothing listens at 127.0.0.1:9" in err
 
 
 def _children(pid: int) -> list[int]:
@@ -196,3 +196,95 @@ def test_the_floor_route_on_the_cluster_gives_the_local_law(client):
     assert floor_pooled_gap_law(16, executor=client) == floor_pooled_gap_law(16, workers=1)
     assert floor_gap_laws(9, executor=client) == floor_gap_laws(9, workers=1)
 
+
+
+# ------------------------------------------------------------------ a TLS cluster on loopback (issue 45 item 3)
+
+from tls_certificates import OPENSSL, make_certificates  # noqa: E402 - the TLS part's own helper
+
+
+@pytest.fixture(scope="module")
+def tls(tmp_path_factory):
+    """A TLS scheduler on 127.0.0.1 with one worker, certificates made here: (address, certificates)."""
+    if OPENSSL is None:
+        pytest.skip("the openssl command makes the test's certificates")
+    from distributed.security import Security
+
+    certificates = make_certificates(tmp_path_factory.mktemp("tls"))
+    (ca, _), (node, node_key), (me, my_key) = certificates["ca"], certificates["node"], certificates["client"]
+    security = Security(tls_ca_file=ca, tls_scheduler_cert=node, tls_scheduler_key=node_key, tls_worker_cert=node,
+                        tls_worker_key=node_key, tls_client_cert=me, tls_client_key=my_key, require_encryption=True)
+    cluster = distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False, protocol="tls",
+                                       host="127.0.0.1", dashboard_address=None, security=security)
+    assert cluster.scheduler_address.startswith("tls://127.0.0.1:")
+    yield cluster.scheduler_address, certificates
+    cluster.close()
+
+
+def _tls_options(certificates, cert="client", ca="ca"):
+    return ["--tls-ca-file", certificates[ca][0], "--tls-cert", certificates[cert][0],
+            "--tls-key", certificates[cert][1]]
+
+
+def test_a_tls_cluster_gives_the_local_bytes(tls, capsys):
+    address, certificates = tls
+    expected = _local_json(12, capsys)
+    args = ["table", "--N", "12", "--method", "pfaffian", "--format", "json", "--scheduler", address]
+    assert main([*args, *_tls_options(certificates)]) == 0
+    out, err = capsys.readouterr()
+    assert out == expected, err
+    # the same client through Dask's own configuration (what DASK_DISTRIBUTED__COMM__TLS__* sets)
+    import dask
+
+    (ca, _), (me, my_key) = certificates["ca"], certificates["client"]
+    with dask.config.set({"distributed.comm.tls.ca-file": ca, "distributed.comm.tls.client.cert": me,
+                          "distributed.comm.tls.client.key": my_key}):
+        assert main(args) == 0
+    assert capsys.readouterr().out == expected
+
+
+TLS_REFUSALS = {  # a client refused by the TLS cluster: one line naming why, exit 2, within seconds
+    "no certificates": ([], "needs the cluster's CA and a client certificate"),
+    "a stranger's certificate": (["stranger"], "TLS refused"),
+    "a stranger's CA": (["client", "stranger_ca"], "TLS refused"),
+    "tcp:// to a TLS scheduler": (["tcp"], "said nothing within"),
+    "certificate without the CA": (["cert-only"], "--tls-ca-file missing"),
+}
+
+
+@pytest.mark.parametrize("case", list(TLS_REFUSALS))
+def test_a_tls_cluster_refuses_a_client_in_one_line(tls, case, capsys, monkeypatch):
+    from forcenet.cli import cluster
+
+    monkeypatch.setattr(cluster, "CONNECT_SECONDS", 2.0)
+    address, certificates = tls
+    how, expected = TLS_REFUSALS[case]
+    options = {"stranger": _tls_options(certificates, "stranger"), "client": _tls_options(certificates, "client", "stranger_ca"),
+               "tcp": _tls_options(certificates), "cert-only": _tls_options(certificates)[2:]}.get(how[0] if how else "", [])
+    if how == ["tcp"]:
+        address, options = address.replace("tls://", "tcp://"), []
+    t0 = time.monotonic()
+    code = main(["table", "--N", "12", "--method", "pfaffian", "--format", "json", "--scheduler", address, *options])
+    elapsed = time.monotonic() - t0
+    out, err = capsys.readouterr()
+    assert code == 2 and out == "", err
+    assert err.count("\n") == 1 and expected in err, err
+    assert elapsed < 10, elapsed
+
+
+def test_the_readme_starts_nothing_on_every_interface():
+    """Issue 45 item 3: every `dask scheduler` and `dask worker` of the README binds loopback or a private address
+    (its dashboard too), the TLS cluster is shown, and what a scheduler lets its clients do is said."""
+    import ipaddress
+    import re
+    from pathlib import Path
+
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    starts = [line for line in readme.splitlines() if re.match(r"\s*dask (scheduler|worker)\b", line)]
+    assert len(starts) >= 4
+    for line in starts:
+        host = re.search(r"--host (\S+)", line)
+        assert host and ipaddress.ip_address(host.group(1)).is_private, line
+        assert "--no-dashboard" in line or re.search(r"--dashboard-address 127\.0\.0\.1:\d+", line), line
+    assert "--protocol tls" in readme and "--tls-ca-file ca.crt --tls-cert client.crt" in readme
+    assert "runs whatever its clients send" in readme

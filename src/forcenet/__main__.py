@@ -3,8 +3,11 @@
 numba reads its CPU features when it is imported, and :mod:`forcenet.cli`
 imports it, so :func:`run` lets the kernels use 512-bit vectors
 (:func:`forcenet.core.compiled.prefer_wide_vectors`) before importing the
-command line.  It also makes SIGTERM (``kill PID``) end a run as Ctrl-C
-does: the worker processes stopped, nothing half-written, exit code 143.
+command line.  It also makes SIGTERM (``kill PID``) and SIGHUP (the
+terminal closed) end a run as Ctrl-C does: the worker processes stopped,
+nothing half-written, exit code 143 or 129 (``128 + signal``).  A SIGKILL
+cannot be caught: the workers then end by their parent-death signal
+(:func:`forcenet.exact.execution.die_with_parent`).
 """
 
 import signal
@@ -12,7 +15,8 @@ import sys
 
 
 def run() -> int:
-    """The ``forcenet`` command: wide vectors where the machine has them, SIGTERM as Ctrl-C, then the command line."""
+    """The ``forcenet`` command: wide vectors where the machine has them, SIGTERM and SIGHUP as Ctrl-C, then the
+    command line."""
     from forcenet.core.compiled import prefer_wide_vectors
 
     prefer_wide_vectors()
@@ -28,9 +32,11 @@ def run() -> int:
         else:  # SIGINT ignored (a background job): the interrupt all the same
             raise KeyboardInterrupt
 
-    signal.signal(signal.SIGTERM, on_terminate)
+    for name in ("SIGTERM", "SIGHUP"):
+        if hasattr(signal, name) and signal.getsignal(getattr(signal, name)) is not signal.SIG_IGN:
+            signal.signal(getattr(signal, name), on_terminate)  # SIGHUP ignored (nohup): left ignored
     code = main()
-    return 128 + signal.SIGTERM if terminated and code == 130 else code
+    return 128 + terminated[0] if terminated and code == 130 else code
 
 
 if __name__ == "__main__":

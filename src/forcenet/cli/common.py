@@ -21,7 +21,7 @@ import math
 import sys
 import time
 
-from forcenet.core.plan import Plan
+from forcenet.core.plan import Plan, duration_text
 from forcenet.core.validation import check_int, check_real
 from forcenet.core.errors import ArgumentError, ForcenetError
 
@@ -39,6 +39,7 @@ __all__ = [
     "add_seed",
     "available_memory",
     "run_planned",
+    "progress_label",
     "json_dumps",
 ]
 
@@ -209,6 +210,24 @@ class _PlainProgress:
         pass
 
 
+LABEL_CHARACTERS = 30  # a bar's label at most: the quantity and N, so the percentage shows at 80 columns
+REVISE_FACTOR = 1.5  # a measured rate this far from the plan's restates the estimate (once)
+REVISE_SECONDS = 2.0  # ... measured over at least this long, after the first finished tick
+
+
+def progress_label(what: str) -> str:
+    """The bar's label: the quantity and N, before the details (``"exact table N=40"``).
+
+    Examples
+    --------
+    >>> progress_label("exact table N=40 (Pfaffians); auto chose pfaffian: the fastest by the plans (pfaffian ~7 s)")
+    'exact table N=40'
+    """
+    cut = min([i for i in (what.find(" ("), what.find(";"), what.find(", ")) if i > 0] or [len(what)])
+    label = what[:cut].strip()
+    return label if len(label) <= LABEL_CHARACTERS else label[:LABEL_CHARACTERS - 3].rstrip() + "..."
+
+
 def _progress_bar(total: int, desc: str, unit: str, seconds: float = 0.0):
     """An animated bar on a terminal; elsewhere plain lines (over a minute) or nothing."""
     if not (sys.stderr is not None and sys.stderr.isatty()):
@@ -216,15 +235,50 @@ def _progress_bar(total: int, desc: str, unit: str, seconds: float = 0.0):
     from tqdm import tqdm
 
     # a bar counted in estimated seconds (phases of different units, core.plan.combine_by_time) moves by fractions
-    fmt = "{l_bar}{bar}| {n:.0f}/{total_fmt} estimated s [{elapsed}<{remaining}]" if unit == "s" else None
+    fmt = "{l_bar}{bar}| {n:.0f}/{total_fmt} est. s [{elapsed}<{remaining}]" if unit == "s" else None
     return tqdm(total=total, desc=desc, unit=unit, unit_scale=total >= 10_000, file=sys.stderr, leave=False,
                 bar_format=fmt)
+
+
+class _Reviser:
+    """``progress(k)`` that also restates the estimate once, from the measured rate, when it is off by
+    :data:`REVISE_FACTOR` (a loaded machine, a cluster): one line, one time, never two times on one line."""
+
+    def __init__(self, plan: Plan, label: str, bar):
+        self.plan, self.label, self.bar = plan, label, bar
+        self.t0, self.done, self.revised = time.perf_counter(), 0.0, False
+        self.first: tuple[float, float] | None = None  # (time, ticks) at the first finished tick
+
+    def __call__(self, k: float = 1) -> None:
+        if self.bar is not None:
+            self.bar.update(k)
+        self.done += k
+        now = time.perf_counter()
+        if self.first is None:  # the first tick pays the start-up (workers, kernels): the rate is measured after it
+            self.first = (now, self.done)
+            return
+        t1, n1 = self.first
+        if self.revised or now - t1 < REVISE_SECONDS or self.done <= n1 or self.done >= self.plan.ticks:
+            return
+        total = (t1 - self.t0) + (now - t1) * (self.plan.ticks - n1) / (self.done - n1)
+        if not 1 / REVISE_FACTOR <= total / max(self.plan.seconds, 1e-9) <= REVISE_FACTOR:
+            self.revised = True
+            line = (f"forcenet: {self.label}: at the measured rate ~{duration_text(total)} in all "
+                    f"({self.done / self.plan.ticks:.0%} after {duration_text(now - self.t0)})")
+            if hasattr(self.bar, "write"):
+                self.bar.write(line, file=sys.stderr)
+            else:
+                print(line, file=sys.stderr, flush=True)
 
 
 def run_planned(plan: Plan, run, *, force: bool = False, quiet: bool = False):
     """Refuse, announce, or run ``run(progress)`` under a progress bar, as the plan says.
 
-    ``run`` receives ``progress(k=1)`` (or None when nothing is shown).
+    ``run`` receives ``progress(k=1)`` (or None when nothing is shown).  The
+    announcement is its own line (the plan's ``what`` and one estimate; a
+    reason after ``;``, e.g. ``auto``'s choice, on a line of its own); the
+    bar's label is short (:func:`progress_label`); the estimate is restated
+    once from the measured rate when it is off (:class:`_Reviser`).
     """
     if not plan.runnable:
         raise UsageError(plan.refusal)
@@ -232,15 +286,19 @@ def run_planned(plan: Plan, run, *, force: bool = False, quiet: bool = False):
         raise UsageError(f"{plan.what} takes {plan.describe()}; add --force to run it")
     if quiet or plan.seconds <= ANNOUNCE_SECONDS:
         return run(None)
-    print(f"forcenet: {plan.what}: estimated {plan.describe()}", file=sys.stderr)
+    what, _, why = plan.what.partition("; ")
+    print(f"forcenet: {what}: estimated {plan.describe()}", file=sys.stderr)
+    if why:
+        print(f"forcenet: {why}", file=sys.stderr)
+    label = progress_label(plan.what)
     t0 = time.perf_counter()
-    bar = _progress_bar(plan.ticks, plan.what, plan.unit, plan.seconds) if plan.ticks else None
+    bar = _progress_bar(plan.ticks, label, plan.unit, plan.seconds) if plan.ticks else None
     try:
-        result = run(bar.update if bar else None)
+        result = run(_Reviser(plan, label, bar) if plan.ticks else None)
     finally:
         if bar:
             bar.close()
-    print(f"forcenet: {plan.what}: done in {time.perf_counter() - t0:.1f} s", file=sys.stderr)
+    print(f"forcenet: {label}: done in {time.perf_counter() - t0:.1f} s", file=sys.stderr)
     return result
 
 

@@ -1,0 +1,132 @@
+"""Issue 45 item 1: worker processes never outlive their parent, however it dies.
+
+A pooled run (the Pfaffian route's per-prime pool, the samplers' pool) is
+started as a subprocess, SIGKILLed once its workers exist, and every worker
+must be gone a few seconds later: each worker of a local pool arms the
+parent-death signal (:func:`forcenet.exact.execution.die_with_parent`).
+Before: all three processes of ``table --N 56 --method pfaffian`` were alive
+10 s after the parent's SIGKILL.
+"""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from forcenet.exact.execution import local_pool
+
+pytestmark = pytest.mark.skipif(not os.path.isdir("/proc/self/task"), reason="reads child processes from /proc")
+
+ENTRY = "import sys; from forcenet.__main__ import run; sys.exit(run())"
+GONE_SECONDS = 5.0  # the bound of the issue's acceptance is 10 s
+
+
+def _children(pid: int) -> list[int]:
+    found = []
+    try:
+        for task in os.listdir(f"/proc/{pid}/task"):
+            with open(f"/proc/{pid}/task/{task}/children") as handle:
+                found += [int(x) for x in handle.read().split()]
+    except (FileNotFoundError, ProcessLookupError):
+        pass
+    return found
+
+
+def _alive(pid: int) -> bool:
+    """Running or sleeping (a zombie or a reaped pid is gone)."""
+    try:
+        with open(f"/proc/{pid}/stat") as handle:
+            return handle.read().rsplit(")", 1)[-1].split()[0] not in ("Z", "X")
+    except (FileNotFoundError, ProcessLookupError):
+        return False
+
+
+def _workers(pid: int) -> list[int]:
+    """The pool's worker processes (not multiprocessing's resource tracker)."""
+    out = []
+    for child in _children(pid):
+        try:
+            with open(f"/proc/{child}/cmdline", "rb") as handle:
+                if b"resource_tracker" not in handle.read():
+                    out.append(child)
+        except FileNotFoundError:
+            pass
+    return out
+
+
+def _kill_parent_and_wait(args, tmp_path, count: int) -> tuple[list[int], float]:
+    """Start ``forcenet *args``, SIGKILL it once ``count`` workers run, return (workers, seconds until all are gone)."""
+    process = subprocess.Popen([sys.executable, "-c", ENTRY, *args], cwd=tmp_path, stdout=subprocess.DEVNULL,
+                               stderr=subprocess.DEVNULL)
+    try:
+        deadline, workers = time.monotonic() + 120, []
+        while time.monotonic() < deadline and process.poll() is None and len(workers) < count:
+            time.sleep(0.05)
+            workers = _workers(process.pid)
+        assert len(workers) >= count, "the run did not start its worker processes"
+        time.sleep(0.5)  # the workers have taken their first tasks
+        workers = _workers(process.pid)
+        process.kill()
+        process.wait(10)
+        t0 = time.monotonic()
+        while any(_alive(w) for w in workers) and time.monotonic() - t0 < GONE_SECONDS:
+            time.sleep(0.05)
+        return workers, time.monotonic() - t0
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.wait()
+        for pid in _workers(process.pid):  # never leave one behind, even when the test fails
+            os.kill(pid, signal.SIGKILL)
+
+
+def test_pfaffian_pool_workers_die_with_a_sigkilled_parent(tmp_path):
+    args = ["table", "--N", "56", "--method", "pfaffian", "--force", "--no-checkpoint", "--out", "t.json"]
+    workers, seconds = _kill_parent_and_wait(args, tmp_path, 2)
+    survivors = [w for w in workers if _alive(w)]
+    for pid in survivors:
+        os.kill(pid, signal.SIGKILL)
+    assert not survivors, f"{len(survivors)} of {len(workers)} workers alive {seconds:.1f} s after the parent's SIGKILL"
+    assert os.listdir(tmp_path) == []
+
+
+@pytest.mark.slow
+def test_sampler_pool_workers_die_with_a_sigkilled_parent(tmp_path):
+    args = ["sample", "--N", "30", "--sampler", "metropolis", "--samples", "1000", "--burn-in", "10000000",
+            "--workers", "2", "--force", "--out", "s.txt"]
+    workers, seconds = _kill_parent_and_wait(args, tmp_path, 2)
+    survivors = [w for w in workers if _alive(w)]
+    for pid in survivors:
+        os.kill(pid, signal.SIGKILL)
+    assert not survivors, f"{len(survivors)} of {len(workers)} workers alive {seconds:.1f} s after the parent's SIGKILL"
+
+
+def _parent_and_pdeathsig():
+    """(the parent's pid, the parent-death signal armed in this worker) read from /proc and prctl."""
+    import ctypes
+
+    libc = ctypes.CDLL(None)
+    value = ctypes.c_int(0)
+    libc.prctl(2, ctypes.byref(value), 0, 0, 0)  # PR_GET_PDEATHSIG
+    return os.getppid(), value.value
+
+
+@pytest.mark.parametrize("method", ["spawn", "fork"])
+def test_every_local_pool_arms_the_parent_death_signal(method):
+    with local_pool(1, method) as pool:
+        parent, armed = pool.submit(_parent_and_pdeathsig).result(timeout=60)
+    assert parent == os.getpid()
+    assert armed == signal.SIGKILL
+
+
+def test_a_worker_whose_parent_is_already_gone_exits_at_once():
+    # the race the check closes: the parent died before the worker armed its signal (then re-parented)
+    block = f"from forcenet.exact.execution import die_with_parent; die_with_parent({os.getpid()} + 10**7); print('ran')"
+    result = subprocess.run([sys.executable, "-c", block], capture_output=True, text=True, timeout=60, check=False)
+    assert result.returncode == 1 and result.stdout == ""
+    block = "import os; from forcenet.exact.execution import die_with_parent; die_with_parent(os.getppid()); print('ran')"
+    result = subprocess.run([sys.executable, "-c", block], capture_output=True, text=True, timeout=60, check=False)
+    assert result.returncode == 0 and result.stdout == "ran\n"  # the real parent: armed, and the work goes on

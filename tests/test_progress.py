@@ -1,0 +1,141 @@
+"""Issue 45 item 5: the progress bar readable at 80 columns, the announcement on its own line, one estimate per line,
+the estimate restated once from the measured rate.
+
+The bar is drawn on a pseudo-terminal of 80 columns (what a user's terminal is to tqdm): every frame fits and shows
+its percentage. Before: the bar's label was the whole announcement of ``--method auto`` and no percentage was ever
+visible at 80 or 120 columns.
+"""
+
+import fcntl
+import os
+import pty
+import re
+import select
+import struct
+import subprocess
+import sys
+import termios
+import time
+
+import pytest
+
+from forcenet.cli import common
+from forcenet.cli.common import progress_label, run_planned
+from forcenet.core.plan import Plan
+
+AUTO = ("exact table N=40 (Pfaffians); auto chose pfaffian: the fastest by the plans (pfaffian ~7 s; fast, thesis, "
+        "lambda, maps out of range)")
+DURATION = re.compile(r"~\d+(\.\d+)? (s|min|h|days)\b")
+
+
+def _terminal(columns: int = 80):
+    """(master, slave) of a pseudo-terminal ``columns`` wide."""
+    master, slave = pty.openpty()
+    fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 24, columns, 0, 0))
+    return master, slave
+
+
+def _read_all(master: int, timeout: float = 2.0) -> str:
+    chunks, deadline = [], time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        ready, _, _ = select.select([master], [], [], 0.1)
+        if not ready:
+            break
+        try:
+            chunks.append(os.read(master, 65536))
+        except OSError:
+            break
+    return b"".join(chunks).decode("utf-8", "replace")
+
+
+def _frames(text: str) -> list[str]:
+    """What a terminal shows line by line: every carriage-return-separated frame, escape sequences removed."""
+    text = re.sub(r"\x1b\[[0-9;]*[A-Za-z]", "", text)
+    return [frame for line in text.split("\n") for frame in line.split("\r") if frame.strip()]
+
+
+@pytest.mark.parametrize("unit", ["prime", "s"])
+def test_the_bar_shows_its_percentage_at_80_columns(monkeypatch, unit):
+    master, slave = _terminal(80)
+    terminal = os.fdopen(slave, "w", buffering=1)
+    monkeypatch.setattr(sys, "stderr", terminal)
+    monkeypatch.setattr(common, "REVISE_SECONDS", 1e9)  # this test is about the bar
+
+    def run(progress):
+        for _ in range(10):
+            time.sleep(0.12)  # tqdm redraws at most every 0.1 s
+            progress(1)
+        return "result"
+
+    try:
+        assert run_planned(Plan(AUTO, 5.0, ticks=10, unit=unit), run) == "result"
+        terminal.flush()
+        frames = _frames(_read_all(master))
+    finally:
+        terminal.close()
+        os.close(master)
+    assert frames[0] == "forcenet: exact table N=40 (Pfaffians): estimated ~5 s"
+    assert frames[1].startswith("forcenet: auto chose pfaffian")  # the reason: a line of its own
+    bars = [f for f in frames if f.startswith("exact table N=40:")]
+    assert bars, frames
+    assert all(len(f) <= 80 for f in bars), max(bars, key=len)
+    assert all(re.search(r"\b\d{1,3}%", f) for f in bars), bars
+    assert any("100%" in f or "90%" in f for f in bars), bars
+    assert frames[-1].startswith("forcenet: exact table N=40: done in")
+    assert all(len(DURATION.findall(f)) <= 1 for f in frames[:1])  # the announcement states one time
+
+
+def test_the_estimate_is_restated_once_from_the_measured_rate(monkeypatch, capsys):
+    monkeypatch.setattr(common, "REVISE_SECONDS", 0.2)
+
+    def run(progress):
+        for _ in range(20):
+            time.sleep(0.05)  # 20 ticks in ~1 s where the plan said 10 s: ten times fast
+            progress(1)
+
+    run_planned(Plan("exact table N=30 (Pfaffians)", 10.0, ticks=20, unit="prime"), run)
+    lines = capsys.readouterr().err.splitlines()
+    revised = [line for line in lines if "at the measured rate" in line]
+    assert len(revised) == 1, lines
+    assert revised[0].startswith("forcenet: exact table N=30: at the measured rate ~1 s in all")
+    assert all(len(DURATION.findall(line)) <= 1 for line in lines), lines  # no line states two different times
+
+
+def test_an_estimate_that_holds_is_not_restated(monkeypatch, capsys):
+    monkeypatch.setattr(common, "REVISE_SECONDS", 0.2)
+
+    def run(progress):
+        for _ in range(10):
+            time.sleep(0.25)
+            progress(1)
+
+    run_planned(Plan("exact table N=30 (Pfaffians)", 3.0, ticks=10, unit="prime"), run)  # 2.5 s: within 1.5x
+    assert "measured rate" not in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("what, label", [
+    (AUTO, "exact table N=40"),
+    ("exact tables N=9, <W^s> for s = 1..2 (order ideals)", "exact tables N=9"),
+    ("<W^2> table N=20", "<W^2> table N=20"),
+    ("x" * 50, "x" * 27 + "..."),
+])
+def test_the_label_is_the_quantity_and_N(what, label):
+    assert progress_label(what) == label
+
+
+@pytest.mark.slow
+def test_the_real_command_shows_a_percentage_at_80_columns(tmp_path):
+    master, slave = _terminal(80)
+    env = {**os.environ, "COLUMNS": "80"}
+    process = subprocess.Popen([sys.executable, "-m", "forcenet", "table", "--N", "40", "--format", "json", "--out",
+                                str(tmp_path / "t.json"), "--no-checkpoint", "--force"], stdin=subprocess.DEVNULL,
+                               stdout=subprocess.DEVNULL, stderr=slave, env=env)
+    os.close(slave)
+    output = []
+    while process.poll() is None:
+        output.append(_read_all(master, 1.0))
+    output.append(_read_all(master, 1.0))
+    os.close(master)
+    assert process.returncode == 0, "".join(output)
+    bars = [f for f in _frames("".join(output)) if f.startswith("exact table N=40:")]
+    assert bars and all(len(f) <= 80 and re.search(r"\b\d{1,3}%", f) for f in bars), bars

@@ -293,8 +293,9 @@ def samples_array(samples: Any, name: str = "samples") -> np.ndarray:
         raise ArgumentTypeError(f"{name} is not an array of numbers ({error}): {_SAMPLES}") from None
     kind = x.dtype.kind
     if kind == "O":  # Python ints beyond int64, Fractions, sympy numbers, or anything else
-        bad = next((v for v in x.flat if isinstance(v, (str, bytes, complex)) or not isinstance(v, Number)), None)
-        if bad is not None:
+        odd = [v for v in x.flat if isinstance(v, (str, bytes, complex)) or not isinstance(v, Number)]
+        if odd:
+            bad = odd[0]
             raise ArgumentTypeError(f"{name} holds {bad!r}, not a real number: {_SAMPLES}")
         try:
             x = x.astype(float)

@@ -545,3 +545,47 @@ def test_strategies_are_reached_lazily():
     assert ft.strategies is fst
     with pytest.raises(AttributeError):
         _ = ft.nothing
+
+
+# ---------------------------------------------------------------- issue 45's acceptance: the level without bounds
+
+
+def _level_at_20(alpha, runs, seed, exact):
+    """DISAGREES verdicts over ``runs`` tables of 20 correct samples of N = 6 (and how many were judged)."""
+    rows = ExactSampler(6, seed=seed).sample_W(20 * runs)
+    verdicts = [compare(rows[r * 20:(r + 1) * 20], exact, alpha=alpha).verdict for r in range(runs)]
+    return verdicts.count("DISAGREES"), runs - verdicts.count("cannot judge")
+
+
+@pytest.mark.parametrize("exact, route", [(mean_W(6), "the table's bounds"),
+                                          ([list(row) for row in mean_W(6)], "no bounds at all")])
+def test_without_bounds_at_N_6_K_20_DISAGREES_keeps_its_rate(exact, route):
+    """Issue 45 (59/6000 and 42/6000 at K = 10, 20 before): compare(samples, mean_W(6)) with no bounds argument.
+    The table carries [0, 1] (the bounded test); a plain list has none (the t route cannot judge 20 rows, so it
+    says nothing). 1000 tables at alpha = 0.02: a rate of 2 alpha would fail (the default level: -m slow)."""
+    alpha, runs = 0.02, 1000
+    assert alpha + 4 * binomial_sd(alpha, runs) < 2 * alpha
+    wrong, judged = _level_at_20(alpha, runs, 4520, exact)
+    assert wrong / runs < alpha + 4 * binomial_sd(alpha, runs), (route, wrong)
+    assert judged == (runs if route == "the table's bounds" else 0)
+
+
+@pytest.mark.slow
+def test_without_bounds_at_N_6_K_20_at_the_default_level():
+    """The issue's level, alpha = 1e-3: 16000 tables each way, a rate of 2 alpha would fail."""
+    alpha, runs = 1e-3, 16000
+    for seed, exact in ((4521, mean_W(6)), (4522, [list(row) for row in mean_W(6)])):
+        wrong, _ = _level_at_20(alpha, runs, seed, exact)
+        assert wrong / runs < alpha + 4 * binomial_sd(alpha, runs), wrong
+
+
+def test_the_same_calls_catch_a_wrong_sampler():
+    """The level tests above can fail: the same calls reject wrong samplers (the q-model at K = 100 with the
+    table's bounds; without bounds, a shift of 0.03 on two grains at K = 5000, where the t route judges)."""
+    q = q_model_samples(6, 100, np.random.default_rng(45))
+    assert compare(q, mean_W(6)).verdict == "DISAGREES"
+    W = ExactSampler(6, seed=46).sample_W(5000)
+    W[:, 4, 1] += 0.03
+    W[:, 4, 2] -= 0.03
+    report = compare(W, [list(row) for row in mean_W(6)])
+    assert report.judged and report.verdict == "DISAGREES" and report.worst in ((5, 2), (5, 3))

@@ -32,18 +32,62 @@ Examples
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Sequence
 from concurrent.futures import Executor
 from fractions import Fraction
-from typing import Any, Protocol
+from typing import Any, ParamSpec, Protocol
 
 from .execution import run_tasks
 from forcenet.core.plan import Plan
 
-__all__ = ["Progress", "Table", "TableEngine", "run_independent"]
+__all__ = ["BoundedTable", "Progress", "Table", "TableEngine", "bounded_result", "run_independent"]
 
 Progress = Callable[..., Any]  # progress(k=1): k more ticks of the plan done
 Table = list[list[Fraction]]  # rows i = 1..N, entries j = 1..i
+_P = ParamSpec("_P")
+
+
+class BoundedTable(list):
+    """An exact table (a list of rows) that knows where every sample of its values lies.
+
+    ``bounds = (lo, hi)``: numbers, or tables shaped like this one;
+    ``observable`` says what is bounded and why. A plain ``list`` in every
+    other respect (equal to the same rows, JSON-serializable).
+    :func:`forcenet.testing.compare` uses the bounds when it is given none:
+    the bounded test, whose level holds at every number of samples.
+
+    Examples
+    --------
+    >>> from forcenet.exact import mean_W
+    >>> table = mean_W(3)
+    >>> table.bounds, table == [[1], [0.5, 0.5], [0.25, 0.5, 0.25]]
+    ((0, 1), True)
+    """
+
+    def __init__(self, rows: Any = (), bounds: tuple[Any, Any] = (0, 1), observable: str = "") -> None:
+        super().__init__(rows)
+        self.bounds = bounds
+        self.observable = observable
+
+
+def bounded_result(lo: Any, hi: Any, observable: str) -> Callable[[Callable[_P, Table]], Callable[_P, BoundedTable]]:
+    """Decorate a table function: its result becomes a :class:`BoundedTable` with ``bounds = (lo, hi)``.
+
+    Examples
+    --------
+    >>> @bounded_result(0, 1, "a probability")
+    ... def half(n):
+    ...     return [[Fraction(1, 2)] * n]
+    >>> half(2).bounds, half(2).observable
+    ((0, 1), 'a probability')
+    """
+    def decorate(function: Callable[_P, Table]) -> Callable[_P, BoundedTable]:
+        @functools.wraps(function)
+        def table(*args: _P.args, **kwargs: _P.kwargs) -> BoundedTable:
+            return BoundedTable(function(*args, **kwargs), (lo, hi), observable)
+        return table
+    return decorate
 
 
 class TableEngine(Protocol):

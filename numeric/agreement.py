@@ -80,9 +80,10 @@ from forcenet.core.errors import ArgumentError
 __all__ = ["TableAgreement", "batch_means", "compare_samples", "compare_chain", "compare_means", "varying_columns"]
 
 _FIXED_RTOL = 1e-12  # a column is "fixed" when it varies by less than this (relative)
-# fewest independent rows the t route judges (without bounds): below, the Bonferroni tail of t is too
-# optimistic on skewed observables (notes/testing_against_exact.md, measured false-alarm rates)
-T_MIN_ROWS = 1000
+# The t route's size rule (the module docstring, "The t route's level"): the skewness term u = s^3 gamma / (3 sqrt n)
+# of the t statistic's tail (Wang 2005) may reach U_MAX at the critical value; the level is shrunk by cosh(u) <= cosh(1)
+U_MAX = 1.0
+_SKEW_RULE = True  # False: the t route without its size rule (benchmarks/false_alarm_rates.py, the rows "t, old")
 
 
 def _fmt_key(key) -> str:
@@ -122,6 +123,8 @@ class TableAgreement:
     method: str = "t"
     reason: str | None = None
     fixed_certain: bool = False
+    judged: bool = True
+    skew_term: float | None = None
 
     @property
     def values(self) -> int:
@@ -156,8 +159,13 @@ class TableAgreement:
 
         A fixed value that differs is one for the bounded test (an exact mean at the end of its range is
         that end); for the t route a value constant in the sample may still vary: ``reason`` says so.
+        Below the size where the t statistics keep their level (``judged`` False) they support nothing.
         """
-        if (self.fixed_failures and self.fixed_certain) or self.p_max <= self.level_max:
+        if self.fixed_failures and self.fixed_certain:
+            return True
+        if not self.judged:
+            return False
+        if self.p_max <= self.level_max:
             return True
         return self.p_chi2 is not None and self.p_chi2 <= self.level_chi2
 
@@ -274,9 +282,9 @@ def _bonferroni(max_z: float, values: int, df: int | None) -> float:
     if df is None:
         tail = math.erfc(max_z / math.sqrt(2))  # 2 (1 - Phi(|z|))
     else:
-        from scipy.stats import t as t_dist
+        from scipy.special import stdtr
 
-        tail = 2.0 * float(t_dist.sf(max_z, df))
+        tail = 2.0 * float(stdtr(df, -max_z))  # Student t's two tails
     return min(1.0, values * tail)
 
 
@@ -315,8 +323,68 @@ def _report(keys, mean, mu, stderr, z, **fields) -> TableAgreement:
                           stderr=tuple(map(float, stderr)), z=tuple(map(float, z)), **fields)
 
 
-def _rows_test(rows, mu, keys, alpha, hotelling, fixed, reason=None, **extra) -> TableAgreement:
-    """The t route: t per value, Bonferroni maximum, Hotelling, on rows ``(K, G)``."""
+def skewness(rows: np.ndarray) -> np.ndarray:
+    """Sample skewness ``m3 / m2^(3/2)`` of each column of ``(n, G)`` (0 for a constant column).
+
+    Examples
+    --------
+    >>> skewness(np.array([[0.0, 1.0], [0.0, 2.0], [3.0, 3.0]])).round(3).tolist()
+    [0.707, 0.0]
+    """
+    centred = rows - rows.mean(axis=0)
+    m2 = (centred**2).mean(axis=0)
+    m3 = (centred**3).mean(axis=0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(m2 > 0, m3 / np.where(m2 > 0, m2, 1.0) ** 1.5, 0.0)
+
+
+def skew_term(gamma: float, n: int, level: float, values: int) -> float:
+    """``u = s^3 gamma / (3 sqrt n)`` at the critical value of the Bonferroni maximum (the t route's size rule).
+
+    ``s = x sqrt(n / (n - 1 + x^2))`` is the self-normalized sum ``S_n / V_n`` at
+    the Student ``t`` critical value ``x`` of one value's two-sided share
+    ``level / (values cosh(U_MAX))`` with ``n - 1`` degrees of freedom. Wang
+    (Electron. J. Probab. 10 (2005) 1260), for ``E X^4`` finite:
+    ``P(S_n/V_n >= s) = (1 - Phi(s)) exp(-s^3 E X^3 / (3 sqrt(n) sigma^3)) (1 + O((1 + s)/sqrt n))``,
+    so the two tails of ``|t|`` sum to the normal-theory tail times
+    ``cosh(u)`` (to first order). The route judges while ``u <= U_MAX``
+    and shrinks its level by ``cosh(u)``.
+
+    Examples
+    --------
+    >>> round(skew_term(1.7, 2500, 5e-4, 20), 2)   # the most skewed W of N = 6: judged from about 2300 rows
+    0.9
+    >>> skew_term(0.0, 50, 1e-3, 1)
+    0.0
+    """
+    return _cubed(n, level, values) * abs(gamma) / (3 * math.sqrt(n))
+
+
+@lru_cache(maxsize=4096)
+def _cubed(n: int, level: float, values: int) -> float:
+    """``s^3`` at the critical value (cached: the rule and its reason ask it often)."""
+    from scipy.special import stdtrit
+
+    x = -float(stdtrit(n - 1, level / (2 * values * math.cosh(U_MAX))))  # Student t's upper quantile
+    return (x * math.sqrt(n / (n - 1 + x * x))) ** 3
+
+
+def _size_rule(gamma, n, level, G):
+    """``(judged, u, factor, worst)``: the size rule on the t statistics of ``n`` rows with effective skewness ``gamma``."""
+    if gamma is None or not _SKEW_RULE or G == 0:
+        return True, None, 1.0, None
+    worst = int(np.argmax(gamma))
+    u = skew_term(float(gamma[worst]), n, level, G)
+    return u <= U_MAX, u, math.cosh(min(u, U_MAX)), worst
+
+
+def _rows_test(rows, mu, keys, alpha, hotelling, fixed, reason=None, gamma=None, too_few=None,
+               **extra) -> TableAgreement:
+    """The t route: t per value, Bonferroni maximum, Hotelling, on rows ``(K, G)``.
+
+    ``gamma`` (one per value): the skewness the size rule charges the rows' t statistics with; below the size
+    where they keep their level the report carries ``judged=False`` and ``too_few(u, worst, level)`` as its reason.
+    """
     K = rows.shape[0]
     mean, dev, stderr, z = _z_scores(rows, mu)
     G = mean.size
@@ -324,10 +392,48 @@ def _rows_test(rows, mu, keys, alpha, hotelling, fixed, reason=None, **extra) ->
     if hotelling and hot is None and G >= 2:
         raise ArgumentError(f"hotelling=True needs more rows: {K} rows for {G} values")
     level_max, level_chi2 = (alpha / 2, alpha / 2) if hot is not None else (alpha, 0.0)
+    judged, u, factor, worst = _size_rule(gamma, K, level_max, G)
+    if not judged and too_few is not None:
+        reason = too_few(u, worst, level_max) + ("" if reason is None else f"; besides, {reason}")
     max_z = float(np.abs(z).max()) if G else 0.0
-    return _report(keys, mean, mu, stderr, z, df=K - 1, alpha=alpha, p_max=_bonferroni(max_z, G, K - 1),
+    return _report(keys, mean, mu, stderr, z, df=K - 1, alpha=alpha,
+                   p_max=min(1.0, factor * _bonferroni(max_z, G, K - 1)),
                    level_max=level_max, chi2=None if hot is None else hot[0], dof=0 if hot is None else hot[1],
-                   p_chi2=None if hot is None else hot[2], level_chi2=level_chi2, fixed=fixed, reason=reason, **extra)
+                   p_chi2=None if hot is None else hot[2], level_chi2=level_chi2, fixed=fixed, reason=reason,
+                   judged=judged, skew_term=u, **extra)
+
+
+def _charged(rows: np.ndarray) -> np.ndarray:
+    """The skewness the size rule charges independent rows with: ``|g1| + 2 sqrt(6 / K)`` (two standard errors of
+    the sample skewness of normal rows: the rows that happen to look symmetric are not trusted more)."""
+    return np.abs(skewness(rows)) + 2.0 * math.sqrt(6.0 / rows.shape[0])
+
+
+def t_rows_needed(gamma: float, level: float, values: int, limit: int = 1 << 30) -> int:
+    """The fewest independent rows the t route judges a value of skewness ``gamma`` at (charged ``+ 2 sqrt(6/K)``).
+
+    Examples
+    --------
+    >>> t_rows_needed(0.0, 1e-3, 1), t_rows_needed(1.7, 5e-4, 20)
+    (58, 2296)
+    """
+    return _t_rows_needed(math.ceil(abs(gamma) * 20) / 20, level, values, limit)  # up to a step of 0.05: cached
+
+
+@lru_cache(maxsize=1024)
+def _t_rows_needed(gamma: float, level: float, values: int, limit: int) -> int:
+    def judged(n):
+        return skew_term(abs(gamma) + 2.0 * math.sqrt(6.0 / n), n, level, values) <= U_MAX
+
+    low, high = 2, 4
+    while not judged(high):
+        if high >= limit:
+            return limit
+        low, high = high, min(2 * high, limit)
+    while high - low > 1:
+        mid = (low + high) // 2
+        low, high = (low, mid) if judged(mid) else (mid, high)
+    return high
 
 
 def _bounds(bounds, G: int):
@@ -441,10 +547,7 @@ def _check_alpha(alpha) -> float:
 
 
 def _t_reason(K: int | None, fixed) -> str | None:
-    """Why the t route cannot judge: too few independent rows ``K``, or a constant value off its exact mean."""
-    if K is not None and K < T_MIN_ROWS:
-        return (f"{K} rows: without bounds the t statistics keep their level from {T_MIN_ROWS} rows on (measured "
-                f"on skewed observables); pass bounds=(lo, hi) for a test valid at any number of rows, or draw more")
+    """Why the t route cannot judge a constant value off its exact mean (``K`` rows, or a chain: None)."""
     for key, sampled, exact in fixed:
         if not _same(sampled, exact):
             return (f"{_fmt_key(key)} never varies in {K} rows ({sampled!r}) but its exact mean is {exact!r}: "
@@ -486,8 +589,19 @@ def compare_samples(samples: ArrayLike, exact: Any, keys: list[Any] | None = Non
             raise ArgumentError("hotelling=True: Hotelling's test belongs to the t route (no bounds)")
         return _bounded_test(x, mu, keys, alpha, bounds, samples=x.shape[0])
     vary, fixed = _split(x, mu, keys)
-    return _rows_test(x[:, vary], mu[vary], [k for k, v in zip(keys, vary) if v], alpha, hotelling, fixed,
-                      reason=_t_reason(x.shape[0], fixed), samples=x.shape[0])
+    rows, K = x[:, vary], x.shape[0]
+    names = [k for k, v in zip(keys, vary) if v]
+
+    def too_few(u, worst, level):
+        g = float(abs(skewness(rows[:, worst:worst + 1])[0]))
+        return (f"{K} rows are too few for the t statistics without bounds: {_fmt_key(names[worst])} is skewed "
+                f"(sample skewness {g:.2g}) and at level {alpha:g} over {rows.shape[1]} values their tail is trusted "
+                f"from about {t_rows_needed(g, level, rows.shape[1])} rows on (skewness term {u:.2g} > {U_MAX:g}); "
+                f"pass bounds=(lo, hi) (every sample of a value lies in [lo, hi]) for the bounded test, valid at "
+                f"any number of rows, or draw more")
+
+    return _rows_test(rows, mu[vary], names, alpha, hotelling, fixed, reason=_t_reason(K, fixed),
+                      gamma=_charged(rows), too_few=too_few, samples=K)
 
 
 def compare_chain(chain: ArrayLike, exact: Any, keys: list[Any] | None = None, alpha: float = 1e-3,
@@ -540,7 +654,18 @@ def compare_chain(chain: ArrayLike, exact: Any, keys: list[Any] | None = None, a
         return _rows_test(x[:2, vary], mu[vary], [], alpha, False, fixed, reason=reason, fixed_certain=certain,
                           samples=x.shape[0])
     means, tau, layout = batch_means(x[:, vary], **batching)
-    return _rows_test(means, mu[vary], [k for k, v in zip(keys, vary) if v], alpha, hotelling, fixed,
+    names = [k for k, v in zip(keys, vary) if v]
+    steps = np.abs(skewness(x[:, vary]))
+    gamma = steps * np.sqrt(1.5 * np.asarray(tau, dtype=float) / layout["length"])  # a batch: length / (1.5 tau) rows
+
+    def too_few(u, worst, level):
+        return (f"the chain's {means.shape[0]} batch means of {layout['length']} steps are too few for the t "
+                f"statistics: {_fmt_key(names[worst])} is skewed (steps: {steps[worst]:.2g}, batch means: about "
+                f"{gamma[worst]:.2g}) and at level {alpha:g} over {len(names)} values their tail is trusted from "
+                f"about {int(math.ceil(x.shape[0] * (u / U_MAX) ** 2))} steps on (skewness term {u:.2g} > "
+                f"{U_MAX:g}); run a longer chain")
+
+    return _rows_test(means, mu[vary], names, alpha, hotelling, fixed, gamma=gamma, too_few=too_few,
                       reason=reason, fixed_certain=certain, samples=x.shape[0], tau=tuple(map(float, tau)),
                       batches=means.shape[0], batch_length=layout["length"], batch_gap=layout["gap"],
                       pilot=layout["pilot"])

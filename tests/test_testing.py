@@ -21,7 +21,7 @@ from forcenet.exact import mean_W, moment_table
 from forcenet.numeric.autocorr import AutocorrError
 from forcenet.numeric.triangle.exact_sampler import ExactSampler
 from forcenet.numeric.triangle.metropolis import TriangleMetropolis, q_model_samples
-from forcenet.numeric.agreement import T_MIN_ROWS
+from forcenet.numeric.agreement import t_rows_needed
 from forcenet.numeric.betting import rows_needed
 from forcenet.testing import (CannotJudgeError, DisagreementError, assert_agrees, assert_means_agree, compare,
                               exact_array, exact_mean_W)
@@ -61,21 +61,22 @@ def chain_rejection_rate(runs, chain, exact, alpha, **options):
 
 def test_ragged_exact_table_and_keys():
     W = ExactSampler(4, seed=5).sample_W(3000)
-    report = compare(W, mean_W(4))
-    assert report.values == 9 and len(report.fixed) == 1  # W_11 = 1 compared exactly
-    assert report.keys[0] == (2, 1) and report.fixed[0][0] == (1, 1)
-    assert report.passed
+    for options in ({}, {"bounds": False}):  # the table's own bounds (the bounded test), and the t route
+        report = compare(W, mean_W(4), **options)
+        assert report.values == 9 and len(report.fixed) == 1  # W_11 = 1 compared exactly
+        assert report.keys[0] == (2, 1) and report.fixed[0][0] == (1, 1)
+        assert report.passed and report.method == ("t" if options else "bounded")
 
 
 def test_none_entries_are_not_tested():
     W = ExactSampler(4, seed=5).sample_W(2000)
     table = [[None], [None, None], mean_W(4)[2], [None, None, None, None]]
-    report = compare(W, table)
+    report = compare(W, table, bounds=(0, 1))
     assert report.keys == ((3, 1), (3, 2), (3, 3)) and report.passed
 
 
 def test_exact_array_rejects_what_does_not_fit():
-    with pytest.raises(ValueError, match="more than the samples' axis"):
+    with pytest.raises(ValueError, match=r"more than the samples' axis of length 2 \(one sample has shape \(1, 2\)\)"):
         exact_array([[1, 2, 3]], (1, 2))
     with pytest.raises(ValueError, match="single number"):
         exact_array([1, 2], (2, 2))
@@ -93,9 +94,11 @@ def test_bad_input():
         compare(x, [0, 0], keys=["a"])
     with pytest.raises(ValueError, match="no value to test"):
         compare(x, [None, None])
+    with pytest.raises(ValueError, match="keys has 1 names for 2"):
+        compare(x, [0, 0], keys=["a"])
     y = x.copy()
     y[3, 1] = np.nan
-    with pytest.raises(ValueError, match="non-finite"):
+    with pytest.raises(ValueError, match=r"samples holds nan at \(3, 1\)"):
         compare(y, [0, 0])
     with pytest.raises(TypeError, match="chain=True"):
         compare(x, [0, 0], batch_factor=5)
@@ -122,12 +125,13 @@ def test_rounding_noise_is_a_fixed_value():
 
     W, _ = uniform_networks(Scene(N=2, P=3, F=1, j0=1, mg=1), 2000, np.random.default_rng(0))
     assert np.ptp(W[:, 0], axis=0).max() > 0  # rounding in the lateral-force route
-    report = compare(W, exact_mean_W(Scene(N=2, P=3, F=1, j0=1, mg=1)))
+    report = compare(W, exact_mean_W(Scene(N=2, P=3, F=1, j0=1, mg=1)), bounds=False)
     assert report.passed and [key for key, _, _ in report.fixed] == [(1, 1), (1, 2), (1, 3)]
+    assert compare(W, exact_mean_W(Scene(N=2, P=3, F=1, j0=1, mg=1))).passed  # the table's bounds: [0, row load]
 
 
 def test_a_fixed_value_that_differs_cannot_be_judged_without_bounds_and_fails_with_them():
-    W = ExactSampler(3, seed=1).sample_W(T_MIN_ROWS)
+    W = ExactSampler(3, seed=1).sample_W(3000)
     table = [[Fraction(1, 2)], *mean_W(3)[1:]]  # W_11 is always 1
     report = compare(W, table)  # t route: a constant value off its mean has no t statistic
     assert report.verdict == "cannot judge" and "(1, 1) never varies" in report.reason
@@ -166,8 +170,9 @@ def test_means_with_trusted_errors():
 
 def test_one_value():
     W = ExactSampler(6, seed=3).sample_W(4000)
-    report = assert_agrees(W[:, 5, 1], mean_W(6)[5][1])  # <W_62> = 413/2288
-    assert report.keys == ("value",) and report.passed
+    report = assert_agrees(W[:, 5, 1], mean_W(6)[5][1])  # <W_62> = 413/2288; one Fraction carries no bounds
+    assert report.keys == ("value",) and report.passed and report.method == "t"
+    assert assert_agrees(W[:100, 5, 1], mean_W(6)[5][1], bounds=(0, 1)).method == "bounded"
 
 
 # ---------------------------------------------------------------- power and failure messages
@@ -177,7 +182,7 @@ def test_the_q_model_is_caught_and_the_message_names_the_worst_grains():
     N = 6
     W = q_model_samples(N, 4000, np.random.default_rng(0))
     with pytest.raises(DisagreementError) as info:
-        assert_agrees(W, mean_W(N))
+        assert_agrees(W, mean_W(N))  # the table's bounds: the bounded test
     message = str(info.value)
     report = info.value.report
     (z, key), *_ = report.worst_values(1)
@@ -187,10 +192,10 @@ def test_the_q_model_is_caught_and_the_message_names_the_worst_grains():
 
 def test_a_biased_chain_is_caught_and_the_message_gives_tau():
     N = 4
-    chain = TriangleMetropolis(N, seed=7).run(sweeps=3000, burn_in=100)
+    chain = TriangleMetropolis(N, seed=7).run(sweeps=6000, burn_in=100)
     assert_agrees(chain, mean_W(N), chain=True)  # the correct sampler passes
     biased = chain.copy()
-    biased[:, 3, 0] += 0.04  # a bias of 0.04 on W_41 (about 10 standard errors)
+    biased[:, 3, 0] += 0.03  # a bias of 0.03 on W_41 (about 10 standard errors)
     with pytest.raises(DisagreementError) as info:
         assert_agrees(biased, mean_W(N), chain=True)
     message = str(info.value)
@@ -199,9 +204,14 @@ def test_a_biased_chain_is_caught_and_the_message_gives_tau():
 
 
 def test_second_moments_of_the_metropolis_chain():
+    """W^2 is skewed (3.4 at the corners): 3000 steps cannot be judged at 1e-3; the length the reason names can."""
     N = 5
     chain = TriangleMetropolis(N, seed=11).run(sweeps=3000, burn_in=200)
-    assert_agrees(chain**2, moment_table(N, 2), chain=True)
+    with pytest.raises(CannotJudgeError, match="batch means .* too few for the t statistics.*run a longer chain"):
+        assert_agrees(chain**2, moment_table(N, 2), chain=True)
+    steps = int(compare(chain**2, moment_table(N, 2), chain=True).reason.split("from about ")[1].split()[0])
+    longer = TriangleMetropolis(N, seed=12).run(sweeps=3 * steps, burn_in=200)  # "about": the skewness varies
+    assert_agrees(longer**2, moment_table(N, 2), chain=True)
 
 
 def test_power_of_the_bounded_test_on_independent_rows():
@@ -219,10 +229,10 @@ def test_power_of_the_bounded_test_on_independent_rows():
 
 def test_a_chain_with_bounds_keeps_the_t_route_on_its_batch_means():
     N = 4
-    chain = TriangleMetropolis(N, seed=7).run(sweeps=3000, burn_in=100)
+    chain = TriangleMetropolis(N, seed=7).run(sweeps=6000, burn_in=100)
     assert_agrees(chain, mean_W(N), chain=True, bounds=(0, 1))
     biased = chain.copy()
-    biased[:, 3, 0] += 0.04  # W_41 + 0.04, about 10 standard errors
+    biased[:, 3, 0] += 0.03  # W_41 + 0.03, about 10 standard errors
     report = compare(biased, mean_W(N), chain=True, bounds=(0, 1))
     assert report.verdict == "DISAGREES" and report.method == "t" and report.fixed == (((1, 1), 1.0, 1.0),)
     biased[5, 0, 0] = 0.99  # W_11: mean 1 at the end of [0, 1], any other value is certain
@@ -252,17 +262,35 @@ def test_too_few_rows_for_the_bounded_test():
 
 
 def test_too_few_rows_for_the_t_route():
-    W = ExactSampler(5, seed=1).sample_W(T_MIN_ROWS - 1)
-    report = compare(W, mean_W(5))
-    assert report.verdict == "cannot judge" and "pass bounds=(lo, hi)" in report.reason
+    W = ExactSampler(5, seed=1).sample_W(999)
+    report = compare(W, mean_W(5), bounds=False)
+    assert report.verdict == "cannot judge" and "pass bounds=(lo, hi)" in report.reason and not report.judged
     assert "cannot judge" in report.summary().splitlines()[-1] and "agrees" not in report.summary()
-    assert compare(W, mean_W(5), bounds=(0, 1)).passed
+    assert compare(W, mean_W(5)).passed  # the table's own bounds: the bounded test
+    need = int(report.reason.split("from about ")[1].split()[0])
+    assert need == t_rows_needed(max(abs(g) for g in _skews(W, 5)), report.level_max, report.values)
+    assert compare(ExactSampler(5, seed=2).sample_W(2 * need), mean_W(5), bounds=False).judged
+
+
+def _skews(W, N):
+    from forcenet.numeric.agreement import skewness
+
+    return skewness(np.stack([W[:, i, j] for i in range(1, N) for j in range(i + 1)], axis=1))
+
+
+def test_below_the_size_rule_a_wrong_table_is_not_called_disagreeing_by_the_t_route():
+    """Issue 45: the refusal covers DISAGREES too: a t statistic beyond its trusted size supports no verdict."""
+    W = ExactSampler(6, seed=3).sample_W(40)
+    wrong = [[Fraction(1)]] + [[w + Fraction(3, 20) for w in row] for row in mean_W(6)[1:]]
+    report = compare(W, wrong, bounds=False)
+    assert report.p_max <= report.level_max and report.verdict == "cannot judge" and not report.disagrees
+    assert compare(W, wrong, bounds=(0, 1)).verdict == "DISAGREES"  # a test valid at 40 rows supports it
 
 
 def test_two_samples_of_a_far_off_sampler_are_not_called_agreement():
     """Issue 24 item 4: two samples, max |z| in the hundreds: never 'agrees'."""
     W = ExactSampler(12, seed=2006).sample_W(2)
-    for options in ({}, {"bounds": (0, 1)}):
+    for options in ({}, {"bounds": False}):
         report = compare(W, mean_W(12), **options)
         assert report.verdict == "cannot judge" and report.max_z > 20, options
 
@@ -281,8 +309,9 @@ def test_the_main_job_says_cannot_judge(tmp_path, capsys):
 
 
 def test_false_alarm_rate_of_one_value_is_alpha():
+    """Normal rows: the t route judges from 58 rows at 1e-3 (the charged skewness 2 sqrt(6/K)), exactly at alpha."""
     alpha, runs = 0.1, 2000
-    rate = rejection_rate(runs, lambda s: not compare(np.random.default_rng(s).normal(size=T_MIN_ROWS), 0.0,
+    rate = rejection_rate(runs, lambda s: not compare(np.random.default_rng(s).normal(size=1000), 0.0,
                                                       alpha=alpha).passed)
     assert abs(rate - alpha) < 4 * binomial_sd(alpha, runs), rate
 
@@ -294,7 +323,7 @@ def test_false_alarm_rate_of_a_table_is_at_most_alpha(rho):
 
     def fails(seed):
         rng = np.random.default_rng(seed)
-        K = T_MIN_ROWS
+        K = 1000
         x = math.sqrt(1 - rho) * rng.normal(size=(K, G)) + math.sqrt(rho) * rng.normal(size=(K, 1))
         return not compare(x, np.zeros(G), alpha=alpha).passed
 
@@ -388,11 +417,13 @@ def test_false_alarm_rate_of_the_bounded_test_on_the_packing():
 
 @pytest.mark.slow
 def test_false_alarm_rate_of_the_t_route_at_its_smallest_K():
-    alpha, runs, N = 0.01, 2400, 6
-    rows = ExactSampler(N, seed=61).sample_W(T_MIN_ROWS * runs)
-    rate = np.mean([not compare(rows[r * T_MIN_ROWS:(r + 1) * T_MIN_ROWS], mean_W(N), alpha=alpha).passed
-                    for r in range(runs)])
-    assert rate < alpha + 4 * binomial_sd(alpha, runs), rate
+    """N = 6 without bounds at 2500 rows (just above the size rule's ~2300), alpha = 0.01: 2400 tables."""
+    alpha, runs, N, K = 0.01, 2400, 6, 2500
+    rows = ExactSampler(N, seed=61).sample_W(K * runs)
+    verdicts = [compare(rows[r * K:(r + 1) * K], mean_W(N), alpha=alpha, bounds=False).verdict for r in range(runs)]
+    judged = runs - verdicts.count("cannot judge")
+    assert judged > runs / 2
+    assert verdicts.count("DISAGREES") / judged < alpha + 4 * binomial_sd(alpha, judged)
 
 
 @pytest.mark.slow
@@ -514,3 +545,47 @@ def test_strategies_are_reached_lazily():
     assert ft.strategies is fst
     with pytest.raises(AttributeError):
         _ = ft.nothing
+
+
+# ---------------------------------------------------------------- issue 45's acceptance: the level without bounds
+
+
+def _level_at_20(alpha, runs, seed, exact):
+    """DISAGREES verdicts over ``runs`` tables of 20 correct samples of N = 6 (and how many were judged)."""
+    rows = ExactSampler(6, seed=seed).sample_W(20 * runs)
+    verdicts = [compare(rows[r * 20:(r + 1) * 20], exact, alpha=alpha).verdict for r in range(runs)]
+    return verdicts.count("DISAGREES"), runs - verdicts.count("cannot judge")
+
+
+@pytest.mark.parametrize("exact, route", [(mean_W(6), "the table's bounds"),
+                                          ([list(row) for row in mean_W(6)], "no bounds at all")])
+def test_without_bounds_at_N_6_K_20_DISAGREES_keeps_its_rate(exact, route):
+    """Issue 45 (59/6000 and 42/6000 at K = 10, 20 before): compare(samples, mean_W(6)) with no bounds argument.
+    The table carries [0, 1] (the bounded test); a plain list has none (the t route cannot judge 20 rows, so it
+    says nothing). 1000 tables at alpha = 0.02: a rate of 2 alpha would fail (the default level: -m slow)."""
+    alpha, runs = 0.02, 1000
+    assert alpha + 4 * binomial_sd(alpha, runs) < 2 * alpha
+    wrong, judged = _level_at_20(alpha, runs, 4520, exact)
+    assert wrong / runs < alpha + 4 * binomial_sd(alpha, runs), (route, wrong)
+    assert judged == (runs if route == "the table's bounds" else 0)
+
+
+@pytest.mark.slow
+def test_without_bounds_at_N_6_K_20_at_the_default_level():
+    """The issue's level, alpha = 1e-3: 16000 tables each way, a rate of 2 alpha would fail."""
+    alpha, runs = 1e-3, 16000
+    for seed, exact in ((4521, mean_W(6)), (4522, [list(row) for row in mean_W(6)])):
+        wrong, _ = _level_at_20(alpha, runs, seed, exact)
+        assert wrong / runs < alpha + 4 * binomial_sd(alpha, runs), wrong
+
+
+def test_the_same_calls_catch_a_wrong_sampler():
+    """The level tests above can fail: the same calls reject wrong samplers (the q-model at K = 100 with the
+    table's bounds; without bounds, a shift of 0.03 on two grains at K = 5000, where the t route judges)."""
+    q = q_model_samples(6, 100, np.random.default_rng(45))
+    assert compare(q, mean_W(6)).verdict == "DISAGREES"
+    W = ExactSampler(6, seed=46).sample_W(5000)
+    W[:, 4, 1] += 0.03
+    W[:, 4, 2] -= 0.03
+    report = compare(W, [list(row) for row in mean_W(6)])
+    assert report.judged and report.verdict == "DISAGREES" and report.worst in ((5, 2), (5, 3))

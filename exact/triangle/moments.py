@@ -32,7 +32,7 @@ from typing import Any
 
 from ..modular import crt, primes_for_bound
 from forcenet.core.plan import Plan, combine
-from ..protocol import Progress, Table, run_independent
+from ..protocol import Progress, Table, bounded_result, run_independent
 from forcenet.core.validation import check_grain, check_int, check_layers, check_moments
 from .ideal_dp import estimate_survival_cost, marked_chain_sums, parts_table, survival_counts
 from .spacings import rising
@@ -67,6 +67,7 @@ def _mean_numerator(N: int, i: int, j: int, C) -> int:
     return upper - lower
 
 
+@bounded_result(0, 1, "every W of the triangle lies in [0, 1]")
 def mean_W(N: int, progress: Progress | None = None, memory_bytes: int | None = None) -> list[list[Fraction]]:
     """Exact table of ``<W_{i,j}>``, rows ``i = 1..N``, ``j = 1..i``.
 
@@ -237,6 +238,7 @@ def _check_state_memory(N: int, n_states: int, n_primes: int) -> None:
         )
 
 
+@bounded_result(0, 1, "every W^s of the triangle lies in [0, 1]")
 def moment_table(N: int, s: int = 2, *, memory_bytes: int | None = None, progress: Progress | None = None) -> Table:
     """Exact ``<W_{i,j}^s>`` for every grain.
 

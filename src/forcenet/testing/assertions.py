@@ -55,7 +55,8 @@ from numpy.typing import ArrayLike
 from forcenet.numeric.agreement import TableAgreement, compare_chain, compare_means, compare_samples, varying_columns
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ForcenetError
 
-__all__ = ["CannotJudgeError", "DisagreementError", "TableAgreement", "assert_agrees", "assert_means_agree", "compare", "exact_array"]
+__all__ = ["CannotJudgeError", "DisagreementError", "TableAgreement", "assert_agrees", "assert_means_agree", "compare",
+           "exact_array", "samples_array"]
 
 
 class DisagreementError(ForcenetError, AssertionError):
@@ -77,33 +78,48 @@ class CannotJudgeError(ForcenetError, AssertionError):
 def _bounds_array(bounds, shape, tested):
     """``bounds=(lo, hi)``: each a number or a table shaped like ``exact``; as arrays over the tested values."""
     try:
-        ends = list(bounds)
+        ends = list(bounds) if not isinstance(bounds, (str, bytes)) else []
     except TypeError:
         ends = []
     if len(ends) != 2:
-        raise ArgumentError(f"bounds={bounds!r}: give (lo, hi), numbers or tables shaped like exact")
+        raise ArgumentError(f"bounds={bounds!r}: give (lo, hi), numbers or tables shaped like exact, e.g. bounds=(0, 1)")
     out = []
-    for end in ends:
+    for name, end in zip(("bounds[0] (lo)", "bounds[1] (hi)"), ends):
         if not isinstance(end, (list, tuple, np.ndarray)):
-            out.append(np.full(int(tested.sum()), _to_float(end, "")))
+            out.append(np.full(int(tested.sum()), _to_float(end, name)))
         else:
-            table = exact_array(end, shape)
+            table = exact_array(end, shape, name=name)
             if np.isnan(table[tested]).any():
-                raise ArgumentError("bounds: a tested value has no bound (None or missing)")
+                raise ArgumentError(f"{name}: a tested value has no bound (None or missing): give a number for "
+                                    f"every value that exact tests")
             out.append(table[tested])
     return tuple(out)
 
 
-def _to_float(value, where) -> float:
-    if value is None:
+def _to_float(value, name, none_ok=False) -> float:
+    """One entry of an exact table or of its bounds as a float (``None``: NaN, untested, where allowed)."""
+    if value is None and none_ok:
         return math.nan
+    what = ("a number (Fraction, sympy number, int or float), or None for a value not to test" if none_ok
+            else "a number (Fraction, sympy number, int or float)")
+    if value is None or isinstance(value, (str, bytes, bool, np.bool_)):
+        raise ArgumentTypeError(f"{name}={value!r} is not a number: give {what}")
     try:
-        return float(value)
+        x = float(value)
     except (TypeError, ValueError):
-        raise ArgumentTypeError(f"exact{where}={value!r} is not a number (Fraction, sympy, float or None)") from None
+        if hasattr(value, "__len__"):
+            raise ArgumentError(f"{name} is a sequence where one sample has no further axis: the samples have "
+                                f"fewer axes than {name.split('[')[0]}; give one row per sample shaped like "
+                                f"exact") from None
+        raise ArgumentTypeError(f"{name}={value!r} is not a number: give {what}") from None
+    except OverflowError:
+        raise ArgumentError(f"{name}={value!r} is too large for a float") from None
+    if not math.isfinite(x):
+        raise ArgumentError(f"{name}={value!r} is not finite: give {what}")
+    return x
 
 
-def exact_array(exact: Any, shape: Sequence[int]) -> np.ndarray:
+def exact_array(exact: Any, shape: Sequence[int], *, name: str = "exact") -> np.ndarray:
     """The exact table as floats of the given shape; ``NaN`` where nothing is to be tested.
 
     Ragged rows are padded (``mean_W(N)`` row ``i`` has ``i`` entries),
@@ -115,6 +131,8 @@ def exact_array(exact: Any, shape: Sequence[int]) -> np.ndarray:
         The exact values (``Fraction``, sympy numbers, floats or ``None``).
     shape : sequence of int
         The shape of one sample.
+    name : str
+        What the table is called in error messages (``exact``, or a bound).
 
     Returns
     -------
@@ -125,9 +143,10 @@ def exact_array(exact: Any, shape: Sequence[int]) -> np.ndarray:
     ------
     ArgumentError
         If ``exact`` has more entries than the samples' axis, a number where the
-        samples have an axis, or (an array) another shape.
+        samples have an axis, (an array) another shape, or an entry that is not
+        finite (``NaN`` or infinite: ``None`` marks a value not to test).
     ArgumentTypeError
-        If an entry is not a number.
+        If an entry is not a number (a string, a bool).
 
     Examples
     --------
@@ -137,31 +156,42 @@ def exact_array(exact: Any, shape: Sequence[int]) -> np.ndarray:
     >>> exact_array([[1, 2, 3]], (1, 2))
     Traceback (most recent call last):
     ...
-    forcenet.core.errors.ArgumentError: exact[0] has 3 entries, more than the samples' axis of length 2
+    forcenet.core.errors.ArgumentError: exact[0] has 3 entries, more than the samples' axis of length 2 (one sample has shape (1, 2)): give samples and exact of the same table
     """
     shape = tuple(shape)
     out = np.full(shape, np.nan)
 
     def fill(value, index):
-        where = "".join(f"[{k}]" for k in index)
+        where = name + "".join(f"[{k}]" for k in index)
         if len(index) == len(shape):
-            out[index] = _to_float(value, where)
+            out[index] = _to_float(value, where, none_ok=True)
             return
         if value is None:
             return
-        if isinstance(value, (str, bytes, Number)) or not hasattr(value, "__len__"):
-            raise ArgumentError(f"exact{where} is a single number where the samples have an axis of length "
-                             f"{shape[len(index)]}")
+        if isinstance(value, (str, bytes)):
+            raise ArgumentTypeError(f"{where}={value!r} is not a number: give a number or a sequence of numbers")
+        if isinstance(value, Number) or not hasattr(value, "__len__"):
+            raise ArgumentError(f"{where} is a single number where the samples have an axis of length "
+                                f"{shape[len(index)]} (one sample has shape {shape}): give samples and {name} of "
+                                f"the same table")
         if len(value) > shape[len(index)]:
-            raise ArgumentError(f"exact{where} has {len(value)} entries, more than the samples' axis of length "
-                             f"{shape[len(index)]}")
+            raise ArgumentError(f"{where} has {len(value)} entries, more than the samples' axis of length "
+                                f"{shape[len(index)]} (one sample has shape {shape}): give samples and {name} of "
+                                f"the same table")
         for k, item in enumerate(value):
             fill(item, index + (k,))
 
     if isinstance(exact, np.ndarray) and exact.dtype != object:
         if exact.shape != shape:
-            raise ArgumentError(f"exact has shape {exact.shape}, the samples' values have shape {shape}")
-        return exact.astype(float)
+            raise ArgumentError(f"{name} has shape {exact.shape}, one sample has shape {shape}: give samples and "
+                                f"{name} of the same table")
+        if exact.dtype.kind not in "iuf":
+            raise ArgumentTypeError(f"{name} is an array of {exact.dtype}: give numbers")
+        table = exact.astype(float)
+        if not np.isfinite(table).all():
+            raise ArgumentError(f"{name} holds a value that is not finite: give numbers, or None (an object "
+                                f"array or a list) for a value not to test")
+        return table
     fill(exact, ())
     return out
 
@@ -199,6 +229,99 @@ def _autocorrelated(flat: np.ndarray):
     return tau if tau > max(3.5, 1.0 + 80.0 / math.sqrt(n)) else None
 
 
+_BATCHING = frozenset({"batch_factor", "gap_factor", "pilot", "max_batches", "min_batches", "c", "tol"})
+_SAMPLES = "give one row per sample: a rectangular array of numbers of shape (K, ...), K >= 2, a row shaped like exact"
+
+
+def _flag(value, name, none_ok=False):
+    """``chain`` / ``hotelling``: True or False (``hotelling`` also None), never a string or a number."""
+    if value is None and none_ok:
+        return None
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    allowed = "True, False or None" if none_ok else "True or False"
+    raise ArgumentTypeError(f"{name}={value!r} is not a bool: give {name}={allowed}")
+
+
+def _alpha(alpha) -> float:
+    """The level: a number strictly between 0 and 1, never a string."""
+    from forcenet.core.validation import check_real
+
+    if isinstance(alpha, (str, bytes)):
+        raise ArgumentTypeError(f"alpha={alpha!r} is a string: give a number in (0, 1), e.g. alpha=1e-3")
+    return check_real(alpha, "alpha", 0, 1, low_open=True, high_open=True)
+
+
+def samples_array(samples: Any, name: str = "samples") -> np.ndarray:
+    """``samples`` as a float array ``(K, ...)`` with ``K >= 1`` rows of finite numbers, or a clear refusal.
+
+    Parameters
+    ----------
+    samples : array_like
+        One row per sample (numbers: ints, floats, bools, Fractions).
+    name : str
+        The argument's name in the messages.
+
+    Returns
+    -------
+    numpy.ndarray
+        Floats, at least one axis, at least one row and one value.
+
+    Raises
+    ------
+    ArgumentTypeError
+        On strings, complex numbers, ``None`` entries or a non-array.
+    ArgumentError
+        On an empty, ragged or scalar input, or a number that is not finite (or too large for a float).
+
+    Examples
+    --------
+    >>> samples_array([[1, 2], [3, 4]]).dtype
+    dtype('float64')
+    >>> samples_array([[1, 2], [3]])
+    Traceback (most recent call last):
+    ...
+    forcenet.core.errors.ArgumentError: samples is ragged (rows of different lengths): give one row per sample: ...
+    """
+    if samples is None or isinstance(samples, (str, bytes, dict, set, frozenset)) or callable(samples):
+        raise ArgumentTypeError(f"{name} is a {type(samples).__name__}: {_SAMPLES}")
+    try:
+        x = np.asarray(samples)
+    except ValueError:
+        raise ArgumentError(f"{name} is ragged (rows of different lengths): {_SAMPLES}") from None
+    except (TypeError, OverflowError) as error:
+        raise ArgumentTypeError(f"{name} is not an array of numbers ({error}): {_SAMPLES}") from None
+    kind = x.dtype.kind
+    if kind == "O":  # Python ints beyond int64, Fractions, sympy numbers, or anything else
+        odd = [v for v in x.flat if isinstance(v, (str, bytes, complex)) or not isinstance(v, Number)]
+        if odd:
+            bad = odd[0]
+            raise ArgumentTypeError(f"{name} holds {bad!r}, not a real number: {_SAMPLES}")
+        try:
+            x = x.astype(float)
+        except OverflowError:
+            raise ArgumentError(f"{name} holds a number too large for a float: {_SAMPLES}") from None
+        except (TypeError, ValueError):
+            raise ArgumentTypeError(f"{name} holds an entry that is not a real number: {_SAMPLES}") from None
+        kind = "f"
+    if kind == "c":
+        raise ArgumentTypeError(f"{name} holds complex numbers: {_SAMPLES} (real numbers)")
+    if kind not in "biuf":
+        example = next(iter(x.flat), None) if x.size else None
+        raise ArgumentTypeError(f"{name} holds {example!r} (dtype {x.dtype}), not numbers: {_SAMPLES}")
+    x = x.astype(float)
+    if x.ndim == 0:
+        raise ArgumentError(f"{name} is a single number: {_SAMPLES}")
+    if x.shape[0] == 0:
+        raise ArgumentError(f"{name} is empty (0 rows): {_SAMPLES}")
+    if x.size == 0:
+        raise ArgumentError(f"{name} has rows of no values (shape {x.shape}): {_SAMPLES}")
+    if not np.isfinite(x).all():
+        at = tuple(int(k) for k in np.argwhere(~np.isfinite(x))[0])
+        raise ArgumentError(f"{name} holds {x[at]} at {at}: every sample must be a finite number")
+    return x
+
+
 def compare(samples: ArrayLike, exact: Any, *, chain: bool = False, alpha: float = 1e-3,
             keys: Sequence[Any] | None = None, bounds: Sequence[Any] | None = None,
             hotelling: bool | None = None, **batching: Any) -> TableAgreement:
@@ -221,11 +344,15 @@ def compare(samples: ArrayLike, exact: Any, *, chain: bool = False, alpha: float
     keys : sequence, optional
         One name per tested value (row-major order); default: 1-based indices,
         ``(i, j)`` for a table (the thesis's grain ``(i, j)``).
-    bounds : (lo, hi), optional
+    bounds : (lo, hi) or False, optional
         Every sample of a value lies in ``[lo, hi]``; each a number or a table
         shaped like ``exact``. Independent samples then get the bounded test,
         valid at every number of samples; samples or exact values outside are
-        refused (``ArgumentError``).
+        refused (``ArgumentError``). Default: the bounds the exact table
+        carries (the project's tables do: ``mean_W(N)`` and
+        ``moment_table(N, s)`` in ``[0, 1]``, ``exact_mean_W(scene)`` in
+        ``[0, the row's load]``; :class:`forcenet.exact.protocol.BoundedTable`),
+        else none. ``False``: none, not even the table's (the t route).
     hotelling : bool, optional
         ``None``: run Hotelling's test when the rows suffice (see
         :mod:`forcenet.numeric.agreement`); ``False``: only the maximum. The
@@ -259,31 +386,49 @@ def compare(samples: ArrayLike, exact: Any, *, chain: bool = False, alpha: float
     ...
     forcenet.core.errors.ArgumentError: samples look autocorrelated (integrated time ...): pass chain=True
     """
-    x = np.asarray(samples, dtype=float)
-    if x.ndim == 0:
-        raise ArgumentError("samples is a single number: give one row per sample")
+    chain = _flag(chain, "chain")
+    hotelling = _flag(hotelling, "hotelling", none_ok=True)
+    alpha = _alpha(alpha)
+    x = samples_array(samples)
     shape = x.shape[1:]
     mu = exact_array(exact, shape)
     tested = ~np.isnan(mu)
     if not tested.any():
-        raise ArgumentError("exact has no value to test")
+        raise ArgumentError("exact has no value to test: give at least one number (None marks a value not to test)")
     positions = np.argwhere(tested) if shape else np.zeros((1, 0), dtype=int)
     flat = x.reshape(x.shape[0], -1)[:, tested.ravel()]
-    names = _default_keys(shape, positions) if keys is None else list(keys)
+    try:
+        names = _default_keys(shape, positions) if keys is None else list(keys)
+    except TypeError:
+        raise ArgumentTypeError(f"keys={keys!r} is not a sequence: give one name per tested value") from None
     if len(names) != flat.shape[1]:
-        raise ArgumentError(f"keys has {len(names)} names for {flat.shape[1]} tested values")
+        raise ArgumentError(f"keys has {len(names)} names for {flat.shape[1]} tested values: give one per value")
+    unknown = sorted(set(batching) - _BATCHING)
+    if unknown:
+        raise ArgumentTypeError(f"compare() got unexpected keywords {unknown}: the batch options of a chain are "
+                                f"{sorted(_BATCHING)}")
+    source = None
+    if bounds is None and getattr(exact, "bounds", None) is not None:  # the project's tables carry their bounds
+        bounds, source = exact.bounds, getattr(exact, "observable", "") or "the exact table's bounds"
+    if bounds is False:
+        bounds = None
     if bounds is not None:
         bounds = _bounds_array(bounds, shape, tested)
-    if chain:
-        return compare_chain(flat, mu[tested], keys=names, alpha=alpha, hotelling=hotelling, bounds=bounds, **batching)
-    if batching:
-        raise ArgumentTypeError(f"{sorted(batching)}: batch options apply to chains (chain=True)")
-    if not np.isfinite(flat).all():
-        raise ArgumentError("samples contain a non-finite number")
-    tau = _autocorrelated(flat)
-    if tau is not None:
-        raise ArgumentError(f"samples look autocorrelated (integrated time {tau:.2g}): pass chain=True")
-    return compare_samples(flat, mu[tested], keys=names, alpha=alpha, hotelling=hotelling, bounds=bounds)
+    try:
+        if chain:
+            return compare_chain(flat, mu[tested], keys=names, alpha=alpha, hotelling=hotelling, bounds=bounds,
+                                 **batching)
+        if batching:
+            raise ArgumentTypeError(f"{sorted(batching)}: batch options apply to chains (chain=True)")
+        tau = _autocorrelated(flat)
+        if tau is not None:
+            raise ArgumentError(f"samples look autocorrelated (integrated time {tau:.2g}): pass chain=True")
+        return compare_samples(flat, mu[tested], keys=names, alpha=alpha, hotelling=hotelling, bounds=bounds)
+    except ArgumentError as error:
+        if source is None or "bounds" not in str(error):
+            raise
+        raise ArgumentError(f"{error} [bounds from the exact table: {source}; pass bounds=(lo, hi) for others, or "
+                            f"bounds=False for none]") from None
 
 
 def assert_agrees(samples: ArrayLike, exact: Any, **options: Any) -> TableAgreement:

@@ -15,6 +15,7 @@ from functools import lru_cache
 from typing import TYPE_CHECKING
 
 from forcenet.core.errors import ArgumentError
+from forcenet.exact.protocol import BoundedTable
 
 if TYPE_CHECKING:
     from forcenet.numeric.packing import Scene
@@ -29,7 +30,7 @@ def _packing(N, P, F, j0, pv, mg):
     return mean_W_mobilized(N, P, F=F, j0=j0, pv=pv, mg=mg)
 
 
-def exact_mean_W(target: int | Scene) -> list[list[Fraction]]:
+def exact_mean_W(target: int | Scene) -> BoundedTable:
     """Exact ``<W_{i,j}>`` of the ``N``-layer triangle (Eqs. (4.63)-(4.77)) or of a fully mobilized packing scene.
 
     Parameters
@@ -43,7 +44,10 @@ def exact_mean_W(target: int | Scene) -> list[list[Fraction]]:
 
     Returns
     -------
-    list of lists of Fraction
+    forcenet.exact.protocol.BoundedTable
+        Rows of Fractions that carry their bounds (``compare`` uses them): every ``W`` of the triangle in
+        ``[0, 1]``; every ``W`` of row ``i`` of a packing in ``[0, F + P pv + i P mg]`` (repulsive forces carry
+        at most the row's load).
 
     Raises
     ------
@@ -53,8 +57,9 @@ def exact_mean_W(target: int | Scene) -> list[list[Fraction]]:
     Examples
     --------
     >>> from forcenet.numeric.packing import Scene
-    >>> exact_mean_W(Scene(N=2, P=2, F=1.0, j0=1, mg=1.0))
-    [[Fraction(2, 1), Fraction(1, 1)], [Fraction(2, 1), Fraction(3, 1)]]
+    >>> table = exact_mean_W(Scene(N=2, P=2, F=1.0, j0=1, mg=1.0))
+    >>> table, table.bounds
+    ([[Fraction(2, 1), Fraction(1, 1)], [Fraction(2, 1), Fraction(3, 1)]], (0, [[Fraction(3, 1), Fraction(3, 1)], [Fraction(5, 1), Fraction(5, 1)]]))
     >>> exact_mean_W(Scene(N=2, P=2, F=1.0, mg=1.0, ph=2.0))
     Traceback (most recent call last):
     ...
@@ -65,7 +70,10 @@ def exact_mean_W(target: int | Scene) -> list[list[Fraction]]:
     if isinstance(target, Scene):
         if target.ph is not None:
             raise ArgumentError(f"scene.ph={target.ph}: exact means are known when every q is allowed (ph=None)")
-        return _packing(target.N, target.P, Fraction(target.F), target.j0, Fraction(target.pv), Fraction(target.mg))
+        F, pv, mg = Fraction(target.F), Fraction(target.pv), Fraction(target.mg)
+        loads = [[F + target.P * pv + (i + 1) * target.P * mg] * target.P for i in range(target.N)]
+        return BoundedTable(_packing(target.N, target.P, F, target.j0, pv, mg), (0, loads),
+                            "every W of a packing's row lies in [0, the row's load F + P pv + i P mg]")
     from forcenet.exact import mean_W
 
     return mean_W(target)

@@ -157,3 +157,38 @@ def test_edge_law_refuses_the_ends():
             edge_amplitude(z, dps=10)
     with pytest.raises(ValueError, match="dps"):
         tracy_widom_moments(61)
+
+
+def _gt_volume(top):
+    """Volume of the Gelfand-Tsetlin polytope with top row ``top`` (sympy symbols), by nested integration."""
+    n = len(top)
+    levels = [list(top)]
+    variables = []
+    for m in range(n - 1, 0, -1):
+        row = [sympy.Symbol(f"x_{m}_{k}") for k in range(m)]
+        variables.append([(row[k], levels[-1][k], levels[-1][k + 1]) for k in range(m)])
+        levels.append(row)
+    integrand = sympy.Integer(1)
+    for bounds in reversed(variables):  # innermost level first
+        for var, lo, hi in bounds:
+            integrand = sympy.integrate(integrand, (var, lo, hi))
+    return sympy.factor(integrand)
+
+
+def test_given_the_floor_the_rows_above_are_a_uniform_gelfand_tsetlin_pattern():
+    # the floor's marginal density is the GT volume prod_{j<k} (l_k - l_j) / prod_{k<n} k!: checked by integration ...
+    for n in (3, 4):
+        top = sympy.symbols(f"l0:{n}")
+        vandermonde = sympy.prod([top[k] - top[j] for j in range(n) for k in range(j + 1, n)])
+        norm = sympy.prod([sympy.factorial(k) for k in range(1, n)])
+        assert sympy.simplify(_gt_volume(top) - vandermonde / norm) == 0
+    # ... so the floor is the beta = 1 Legendre ensemble: its Selberg integral is the ensemble's volume (4.1)
+    from forcenet.exact.triangle.staircase import normalization
+
+    half = sympy.Rational(1, 2)
+    for N in range(3, 13):
+        n = N - 1
+        selberg = sympy.prod([sympy.gamma(1 + j * half) ** 2 * sympy.gamma(1 + (j + 1) * half)
+                              / (sympy.gamma(2 + (n + j - 1) * half) * sympy.gamma(1 + half)) for j in range(n)])
+        ordered = selberg / sympy.factorial(n) / sympy.prod([sympy.factorial(k) for k in range(1, n)])
+        assert sympy.simplify(ordered - sympy.Rational(normalization(N).numerator, normalization(N).denominator)) == 0

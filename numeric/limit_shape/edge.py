@@ -22,7 +22,7 @@ May import: :mod:`forcenet.core`, mpmath, flint.
 Examples
 --------
 >>> mpmath.nstr(edge_amplitude("0.5", dps=15), 15)
-'0.292628294213844'
+'0.292628294213845'
 >>> EDGE_EXPONENT
 Fraction(2, 3)
 """
@@ -137,7 +137,7 @@ def tracy_widom_moments(dps: int = 20) -> tuple[mpmath.mpf, mpmath.mpf]:
     --------
     >>> mean, var = tracy_widom_moments(15)
     >>> mpmath.nstr(mean, 15), mpmath.nstr(var, 15)
-    ('-1.77108680741160', '0.813194792832958')
+    ('-1.7710868074116', '0.813194792832958')
     """
     dps = check_dps(dps, maximum=60)
     mean, variance = _tw_moments(dps)
@@ -185,7 +185,7 @@ def edge_scale(z: RealLike, dps: int = 20) -> mpmath.mpf:
     Examples
     --------
     >>> mpmath.nstr(edge_scale("0.5", dps=20), 20)  # 2^(2/3) 3^(5/6) / 24
-    '0.16522526902084126744'
+    '0.16522526902084117853'
     """
     dps = check_dps(dps)
     return guarded(lambda: _scale(_open_depth(z)), dps)

@@ -191,24 +191,39 @@ def main(argv=None):
         for n_text, rec in sorted(sampled.items(), key=lambda t: int(t[0])):
             pts.append((int(n_text), rec[str(z)]["sd"], rec[str(z)]["sd_err"], "sampled"))
         sd_rows[z] = (s, pts)
-        # fit N^(2/3) sd = s + b N^(-1/3) + c N^(-2/3) on the exact points (s fixed) and continue it
+        # N^(4/3) Var = s^2 + b t + c t^2 + d t^3, t = N^(-1/3): (1) s fixed, b, c, d fitted on the exact
+        # points N >= 24 and continued to the sampled ones; (2) all four fitted on exact and sampled together
         ex = [(N, v) for N, v, _, kind in pts if kind == "exact" and N >= 24]
         coef = None
-        if len(ex) >= 3:
+        if len(ex) >= 4:
             Nx = np.array([p[0] for p in ex], float)
-            y = np.array([p[1] for p in ex]) * Nx ** (2 / 3) - s
-            A = np.array([Nx ** (-1 / 3), Nx ** (-2 / 3)]).T
-            coef = np.linalg.lstsq(A, y, rcond=None)[0]
-            free = np.linalg.lstsq(np.array([np.ones_like(Nx), Nx ** (-1 / 3), Nx ** (-2 / 3)]).T, y + s, rcond=None)[0]
-            print(f"z = {z}: s(z) = {s:.6f}; exact N >= 24 with s fixed: b = {coef[0]:.4f}, c = {coef[1]:.4f}; "
-                  f"free intercept {free[0]:.4f} ({free[0] / s:.3f} s)")
+            t = Nx ** (-1 / 3)
+            y = np.array([p[1] for p in ex]) ** 2 * Nx ** (4 / 3)
+            coef = np.linalg.lstsq(np.array([t, t**2, t**3]).T, y - s * s, rcond=None)[0]
+            print(f"z = {z}: s(z) = {s:.6f}; N^(4/3) Var - s^2 fitted on exact N = {int(Nx[0])}..{int(Nx[-1])}: "
+                  + ", ".join(f"{c:.4f}" for c in coef) + " (t, t^2, t^3)")
+        allpts = [(N, v, err) for N, v, err, _ in pts if N >= 24]
+        if len(allpts) >= 5 and any(err for _, _, err in allpts):
+            Na = np.array([p[0] for p in allpts], float)
+            t = Na ** (-1 / 3)
+            y = np.array([p[1] for p in allpts]) ** 2 * Na ** (4 / 3)
+            # weights: 1 / error of N^(4/3) Var (exact points: a tiny floor, 1e-6 relative)
+            err = np.array([max(2 * v * e * N ** (4 / 3), 1e-6 * yy) for (N, v, e), yy in zip(allpts, y)])
+            A = np.array([np.ones_like(t), t, t**2, t**3]).T / err[:, None]
+            free, *_ = np.linalg.lstsq(A, y / err, rcond=None)
+            cov = np.linalg.inv(A.T @ A)
+            chi2 = float(np.sum((A @ free - y / err) ** 2))
+            print(f"  free fit on exact + sampled: intercept sqrt = {np.sqrt(free[0]):.5f} "
+                  f"(+- {np.sqrt(cov[0, 0]) / (2 * np.sqrt(free[0])):.5f}) = {np.sqrt(free[0]) / s:.3f} s(z); "
+                  f"chi2 {chi2:.1f} on {len(y) - 4} dof")
         for N, v, err, kind in pts:
             line = f"  N = {N:5d} {kind:8s} N^(2/3) sd = {v * N ** (2 / 3):.5f}"
             if err:
                 line += f" ± {err * N ** (2 / 3):.5f}"
             if coef is not None and kind == "sampled":
-                pred = (s + coef[0] * N ** (-1 / 3) + coef[1] * N ** (-2 / 3)) / N ** (2 / 3)
-                line += f"  (law continued from the exact sd: {pred * N ** (2 / 3):.5f}, {(v - pred) / err:+.1f} s.e.)"
+                tN = N ** (-1 / 3)
+                pred = np.sqrt(s * s + coef[0] * tN + coef[1] * tN**2 + coef[2] * tN**3)
+                line += f"  (continued from the exact sd with s fixed: {pred:.5f}, {(v * N ** (2 / 3) - pred) / (err * N ** (2 / 3)):+.1f} s.e.)"
             print(line)
 
     draw(curves, sampled, sd_rows, args.figures)

@@ -85,12 +85,25 @@ def free_amplitude(Ns, devs, k, lo):
     return np.linalg.lstsq(A[rows] / devs[rows, None], np.ones(rows.sum()), rcond=None)[0][0]
 
 
-def summarize_sampled(raw_path: str) -> dict:
-    """Mean and sd (both lattice directions pooled) with batch-scatter errors, for z = 1/4, 1/2, 3/4."""
+def summarize_sampled(raw_paths: list[str]) -> dict:
+    """Mean and sd (both lattice directions pooled) with batch-scatter errors, for z = 1/4, 1/2, 3/4.
+
+    Several raw files (independent seeds) pool their batches for the same N (same batch size).
+    """
     from edge_sampled import summary
 
-    with open(raw_path) as handle:
-        raw = json.load(handle)
+    raw: dict = {}
+    for path in raw_paths:
+        with open(path) as handle:
+            for n_text, record in json.load(handle).items():
+                if n_text not in raw:
+                    raw[n_text] = record
+                    continue
+                if record["size"] != raw[n_text]["size"]:
+                    raise SystemExit(f"N={n_text}: batches of {record['size']} and {raw[n_text]['size']} do not pool")
+                for key in ("sum_left", "sum_right", "sq_left", "sq_right"):
+                    raw[n_text][key] = raw[n_text][key] + record[key]
+                raw[n_text]["seconds"] += record["seconds"]
     out = {}
     for n_text, record in raw.items():
         N = int(n_text)
@@ -129,7 +142,8 @@ def write_json(path: str, data: dict) -> None:
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sampled", default=None, help="raw output of edge_sampled.py (refreshes the summary)")
+    parser.add_argument("--sampled", nargs="*", default=None,
+                        help="raw outputs of edge_sampled.py, independent seeds pooled (refreshes the summary)")
     parser.add_argument("--exact-sd", default=None, help="raw output of lattice_fluctuations.py (refreshes the summary)")
     parser.add_argument("--figures", default="notes/figures")
     parser.add_argument("--fit-until", type=int, default=128, help="largest N of the out-of-sample fit")
@@ -191,40 +205,25 @@ def main(argv=None):
         for n_text, rec in sorted(sampled.items(), key=lambda t: int(t[0])):
             pts.append((int(n_text), rec[str(z)]["sd"], rec[str(z)]["sd_err"], "sampled"))
         sd_rows[z] = (s, pts)
-        # N^(4/3) Var = s^2 + b t + c t^2 + d t^3, t = N^(-1/3): (1) s fixed, b, c, d fitted on the exact
-        # points N >= 24 and continued to the sampled ones; (2) all four fitted on exact and sampled together
-        ex = [(N, v) for N, v, _, kind in pts if kind == "exact" and N >= 24]
-        coef = None
-        if len(ex) >= 4:
-            Nx = np.array([p[0] for p in ex], float)
-            t = Nx ** (-1 / 3)
-            y = np.array([p[1] for p in ex]) ** 2 * Nx ** (4 / 3)
-            coef = np.linalg.lstsq(np.array([t, t**2, t**3]).T, y - s * s, rcond=None)[0]
-            print(f"z = {z}: s(z) = {s:.6f}; N^(4/3) Var - s^2 fitted on exact N = {int(Nx[0])}..{int(Nx[-1])}: "
-                  + ", ".join(f"{c:.4f}" for c in coef) + " (t, t^2, t^3)")
-        allpts = [(N, v, err) for N, v, err, _ in pts if N >= 24]
-        if len(allpts) >= 5 and any(err for _, _, err in allpts):
-            Na = np.array([p[0] for p in allpts], float)
-            t = Na ** (-1 / 3)
-            y = np.array([p[1] for p in allpts]) ** 2 * Na ** (4 / 3)
-            # weights: 1 / error of N^(4/3) Var (exact points: a tiny floor, 1e-6 relative)
-            err = np.array([max(2 * v * e * N ** (4 / 3), 1e-6 * yy) for (N, v, e), yy in zip(allpts, y)])
-            A = np.array([np.ones_like(t), t, t**2, t**3]).T / err[:, None]
-            free, *_ = np.linalg.lstsq(A, y / err, rcond=None)
-            cov = np.linalg.inv(A.T @ A)
-            chi2 = float(np.sum((A @ free - y / err) ** 2))
-            print(f"  free fit on exact + sampled: intercept sqrt = {np.sqrt(free[0]):.5f} "
-                  f"(+- {np.sqrt(cov[0, 0]) / (2 * np.sqrt(free[0])):.5f}) = {np.sqrt(free[0]) / s:.3f} s(z); "
-                  f"chi2 {chi2:.1f} on {len(y) - 4} dof")
-        for N, v, err, kind in pts:
-            line = f"  N = {N:5d} {kind:8s} N^(2/3) sd = {v * N ** (2 / 3):.5f}"
-            if err:
-                line += f" ± {err * N ** (2 / 3):.5f}"
-            if coef is not None and kind == "sampled":
-                tN = N ** (-1 / 3)
-                pred = np.sqrt(s * s + coef[0] * tN + coef[1] * tN**2 + coef[2] * tN**3)
-                line += f"  (continued from the exact sd with s fixed: {pred:.5f}, {(v * N ** (2 / 3) - pred) / (err * N ** (2 / 3)):+.1f} s.e.)"
-            print(line)
+        # N^(2/3) sd = s + b t + c t^2 (+ d t^3), t = N^(-1/3), on N >= 32: the sampled points with their
+        # errors, the exact ones with a floor of 1e-3 relative (the size of the orders left out); s free or fixed
+        print(f"z = {z}: s(z) = {s:.6f}; N^(2/3) sd / s(z): "
+              + ", ".join(f"{N}: {v * N ** (2 / 3) / s:.4f}" + (f" ± {err * N ** (2 / 3) / s:.4f}" if err else "")
+                          for N, v, err, _ in pts))
+        use = [(N, v, err) for N, v, err, _ in pts if N >= 32]
+        if len(use) >= 5:
+            Na = np.array([p[0] for p in use], float)
+            t, y = Na ** (-1 / 3), np.array([p[1] for p in use]) * Na ** (2 / 3)
+            e = np.array([max(err * N ** (2 / 3), 1e-3 * yy) for (N, _, err), yy in zip(use, y)])
+            for k in (2, 3):
+                A = np.array([t**j for j in range(k + 1)]).T / e[:, None]
+                free = np.linalg.lstsq(A, y / e, rcond=None)[0]
+                err0 = float(np.sqrt(np.linalg.inv(A.T @ A)[0, 0]))
+                chi2 = float(np.sum((A @ free - y / e) ** 2))
+                fixed = np.linalg.lstsq(A[:, 1:], (y - s) / e, rcond=None)[0]
+                chi2_fixed = float(np.sum((A[:, 1:] @ fixed - (y - s) / e) ** 2))
+                print(f"  {k} correction orders: free intercept {free[0]:.4f} ± {err0:.4f} ({free[0] / s:.3f} s), "
+                      f"chi2 {chi2:.1f} on {len(y) - k - 1}; s fixed: chi2 {chi2_fixed:.1f} on {len(y) - k}")
 
     draw(curves, sampled, sd_rows, args.figures)
 

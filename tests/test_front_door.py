@@ -136,3 +136,14 @@ def test_import_forcenet_loads_nothing_heavy_and_every_front_door_name_resolves(
             "print(sorted(set(forcenet.__all__) ^ {*forcenet._FRONT_DOOR, '__version__'}))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.splitlines()
     assert out == ["[]", "[]", "[]"]
+
+
+def test_the_table_carries_its_bounds_to_compare():
+    from forcenet.numeric.triangle.exact_sampler import ExactSampler
+    from forcenet.testing import compare
+
+    t = forcenet.table(5, moments=2)
+    assert t.mean_W.bounds == t.moment(2).bounds == (0, 1)
+    samples = ExactSampler(5, seed=3).sample_W(30)  # 30 samples: the bounded test, valid at any size
+    assert compare(samples, t.mean_W).method == "bounded"
+    assert compare(samples, [list(row) for row in t.mean_W]).method == "t"  # a plain table carries no bounds

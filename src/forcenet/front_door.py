@@ -363,8 +363,13 @@ class Table:
     """
 
     def __init__(self, N: int, method: str, why: str, tables: dict[int, list[list[Fraction]]]):
+        from forcenet.exact.protocol import BoundedTable
+
         self.N, self.method, self.why = N, method, why
-        self._tables = tables
+        # every W_ij lies in [0, 1], so W^s too: forcenet.testing.compare then uses the bounded test by default
+        self._tables = {s: BoundedTable(rows, (0, 1), "every W^s of the triangle lies in [0, 1]" if s > 1
+                                      else "every W of the triangle lies in [0, 1]")
+                        for s, rows in tables.items()}
         self.moments = max(tables)
 
     def __repr__(self) -> str:
@@ -372,7 +377,8 @@ class Table:
 
     @property
     def mean_W(self) -> list[list[Fraction]]:
-        """``<W_ij>``: row ``i - 1`` holds ``j = 1..i``."""
+        """``<W_ij>``: row ``i - 1`` holds ``j = 1..i`` (a list that carries its bounds, ``[0, 1]``, for
+        :func:`forcenet.testing.compare`)."""
         return self._tables[1]
 
     def moment(self, s: int = 1) -> list[list[Fraction]]:

@@ -44,7 +44,8 @@ from .triangle import moments as ideal_moments
 from .triangle.pfaffian import route as pfaffian_route
 from forcenet.core.validation import MAX_MOMENTS, check_layers, check_moments
 
-__all__ = ["ENGINES", "METHODS", "MAX_MOMENTS", "Choice", "choose", "table_plan", "table_run"]
+__all__ = ["ENGINES", "METHODS", "MAX_MOMENTS", "Choice", "choose", "table_plan", "table_run", "takes",
+           "checkpoint_for"]
 
 ENGINES: dict[str, TableEngine] = {
     "fast": ideal_moments,
@@ -54,7 +55,6 @@ ENGINES: dict[str, TableEngine] = {
     "pfaffian": pfaffian_route,
 }
 METHODS = (*ENGINES, "auto")
-_ENGINE_OPTIONS = {"pfaffian": ("workers", "checkpoint")}  # keywords of one engine beyond the protocol's
 
 
 def _engine(method: str) -> TableEngine:
@@ -63,13 +63,39 @@ def _engine(method: str) -> TableEngine:
     return ENGINES[method]
 
 
+def takes(method: str, option: str) -> bool:
+    """Whether the engine of ``method`` takes the keyword ``option`` beyond the protocol's (its ``OPTIONS``).
+
+    Examples
+    --------
+    >>> takes("pfaffian", "checkpoint"), takes("fast", "checkpoint")
+    (True, False)
+    """
+    return option in getattr(_engine(method), "OPTIONS", ())
+
+
+def checkpoint_for(method: str, directory: Any, N: int, moments: int = 1) -> Any:
+    """The checkpoint the engine of ``method`` keeps for a table request in ``directory`` (its ``checkpoint_for``).
+
+    Raises
+    ------
+    ArgumentError
+        If the method keeps no checkpoints.
+    """
+    engine = _engine(method)
+    if not takes(method, "checkpoint"):
+        raise ArgumentError(f"checkpoint= applies to the routes over independent primes only, not to method={method!r}")
+    return engine.checkpoint_for(directory, N, moments)  # type: ignore[attr-defined]
+
+
 def _options(method: str, options: dict[str, Any]) -> dict[str, Any]:
     """The given (not None) engine options; refused for a method that does not take them."""
     given = {k: v for k, v in options.items() if v is not None}
-    unknown = [k for k in given if k not in _ENGINE_OPTIONS.get(method, ())]
+    unknown = [k for k in given if not takes(method, k)]
     if unknown:
-        raise ArgumentError(f"{', '.join(f'{k}=' for k in unknown)} applies to method='pfaffian' only "
-                            "(the route over independent primes)")
+        able = [m for m in ENGINES if all(takes(m, k) for k in unknown)]
+        raise ArgumentError(f"{', '.join(f'{k}=' for k in unknown)} applies to method={' or '.join(map(repr, able))} "
+                            "only (the routes over independent primes)")
     return given
 
 
@@ -131,7 +157,7 @@ def choose(N: int, moments: int = 1, *, memory_bytes: int | None = None, executo
     N, moments = check_layers(N), check_moments(moments)  # once for the candidates (each checks again when called alone)
     given = {k: v for k, v in options.items() if v is not None}
     candidates = [m for m in (ENGINES if methods is None else methods)
-                  if all(k in _ENGINE_OPTIONS.get(_engine_name(m), ()) for k in given)]
+                  if all(takes(m, k) for k in given)]
     if not candidates:
         raise ArgumentError(f"{', '.join(f'{k}=' for k in given)} applies to method='pfaffian' only "
                             "(the route over independent primes)")
@@ -152,11 +178,6 @@ def choose(N: int, moments: int = 1, *, memory_bytes: int | None = None, executo
     refused = [m for m in plans if m not in runnable]
     out = f"; {', '.join(refused)} out of range" if refused else ""
     return Choice(method, runnable[method], f"auto chose {method}: the fastest by the plans ({costs}{out})")
-
-
-def _engine_name(method: str) -> str:
-    _engine(method)  # refuses an unknown name
-    return method
 
 
 def table_plan(method: str, N: int, moments: int = 1, memory_bytes: int | None = None, *,

@@ -244,27 +244,25 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
     """
     from dataclasses import replace
 
-    from forcenet.exact.checkpoints import CheckpointStore
-    from forcenet.exact.routes import choose, table_plan
+    from forcenet.exact.routes import ENGINES, checkpoint_for, choose, table_plan, takes
 
     N, moments, method = check_layers(N), check_moments(moments), _method(method)
     directory = _checkpoint(checkpoint)
     memory = _available_memory() if memory_bytes is None else memory_bytes
     why = ""
     if method == "auto":
-        pfaffian_only = executor is not None or directory is not None  # the options only the Pfaffian route takes
-        choice = choose(N, moments, memory_bytes=memory, methods=("pfaffian",) if pfaffian_only else None)
+        over_primes = executor is not None or directory is not None  # the routes over independent primes use them
+        choice = choose(N, moments, memory_bytes=memory,
+                        methods=[m for m in ENGINES if takes(m, "checkpoint")] if over_primes else None)
         method, why = choice.method, choice.why
         if not choice.plan.runnable:
             return TablePlan(N, moments, method, why, choice.plan, executor, directory, memory)
-    store: Any = directory
-    if directory is not None and method == "pfaffian" and moments == 1:  # the store reports what it reused
-        store = CheckpointStore(directory, "pfaffian-table", N, moments)
+    store = None if directory is None else checkpoint_for(method, directory, N, moments)
     cost = table_plan(method, N, moments, memory, **_engine_options(executor, store))
     if why:
         cost = replace(cost, what=f"{cost.what}; {why}")
     elif not cost.runnable:  # an explicit method out of reach: name the route that runs it
-        others = [m for m in ("fast", "pfaffian") if m != method]
+        others = [m for m in ENGINES if m != method]
         choice = choose(N, moments, memory_bytes=memory, methods=others)
         if choice.plan.runnable:
             cost = replace(cost, refusal=f"{cost.refusal}; method='auto' runs it by {choice.method} "

@@ -56,6 +56,8 @@ from .tasks import checkpoint_store, route_primes, run_primes, workers_for
 __all__ = [
     "MAX_N",
     "MIN_PLAN_SECONDS",
+    "OPTIONS",
+    "checkpoint_for",
     "count",
     "normalization",
     "survival_table",
@@ -69,6 +71,20 @@ __all__ = [
 
 MAX_N = 200
 MIN_PLAN_SECONDS = STARTUP_SECONDS  # every plan of the route pays the start-up (read by forcenet.exact.routes.choose)
+OPTIONS = ("workers", "checkpoint")  # keywords beyond the engine protocol's (read by forcenet.exact.routes)
+
+
+def checkpoint_for(directory: str | PathLike, N: int, moments: int = 1) -> CheckpointStore | str | PathLike:
+    """The checkpoint of a table request in ``directory``: the mean's store (it counts what it reused), or for
+    ``moments >= 2`` the directory itself (every layer keeps a request of its own).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> checkpoint_for(tempfile.gettempdir(), 12).request["route"]
+    'pfaffian-table'
+    """
+    return checkpoint_store(directory, "table", N) if moments == 1 else directory
 Checkpoint = str | PathLike | CheckpointStore | None
 
 

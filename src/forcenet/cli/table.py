@@ -6,7 +6,7 @@ import os
 
 import argparse
 
-from forcenet.exact.routes import MAX_MOMENTS, METHODS
+from forcenet.exact.routes import MAX_MOMENTS, METHODS, takes
 
 from .common import (
     UsageError,
@@ -98,7 +98,7 @@ def cmd_table(args):
     memory = available_memory()
     request = _request(args, memory)
     # --scheduler, --checkpoint (default: the user's cache for runs announced at over a minute)
-    client, directory = engine_options(args, request.method == "pfaffian", "--method pfaffian", request.seconds,
+    client, directory = engine_options(args, takes(request.method, "checkpoint"), "--method pfaffian", request.seconds,
                                        lambda directory: directory)
     try:
         if client is not None or directory is not None:  # a cluster or recorded primes change the plan

@@ -202,17 +202,23 @@ def test_sigkill_at_random_points_resumes_to_the_same_bytes(tmp_path, capsys):
 def test_runs_over_a_minute_checkpoint_by_default_in_the_cache(monkeypatch, tmp_path):
     import argparse
 
-    from forcenet.cli.table import _engine_options
+    import forcenet
+    from forcenet.cli.cluster import engine_options
 
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     args = argparse.Namespace(method="pfaffian", N=64, moments=1, scheduler=None, checkpoint=None, no_checkpoint=False)
-    client, store = _engine_options(args, plan_seconds=61)
+
+    def options(seconds):
+        return engine_options(args, True, "--method pfaffian", seconds, lambda directory: directory)
+
+    client, directory = options(61)
+    request = forcenet.plan(64, method="pfaffian", checkpoint=directory)  # what the command line plans with it
+    store = request.checkpoint
     assert client is None and store.path.startswith(os.path.join(str(tmp_path), "forcenet", "pfaffian-table-N64"))
-    assert _engine_options(args, plan_seconds=59) == (None, None)
+    assert options(59) == (None, None)
     args.no_checkpoint = True
-    assert _engine_options(args, plan_seconds=3600) == (None, None)
-    plan = route.table_plan(64, checkpoint=store)
-    assert f"checkpoints in {store.path}: 0 of {plan.ticks} primes recorded" in plan.what
+    assert options(3600) == (None, None)
+    assert f"checkpoints in {store.path}: 0 of {request.cost.ticks} primes recorded" in request.cost.what
 
 
 @pytest.mark.parametrize("argv, message", [

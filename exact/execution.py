@@ -120,7 +120,12 @@ def executor_workers(executor) -> int | None:
     executor = as_executor(executor)
     client = getattr(executor, "_client", None)  # distributed.cfexecutor.ClientExecutor
     if client is not None and callable(getattr(client, "nthreads", None)):
-        return max(1, sum(client.nthreads().values()))
+        try:
+            threads = client.nthreads()
+        except Exception as exc:  # the scheduler gone since the client connected
+            raise ClusterError(f"the Dask cluster cannot be reached ({type(exc).__name__}): its scheduler went away; "
+                               "rerun (finished primes are kept with --checkpoint)") from None
+        return max(1, sum(threads.values()))
     workers = getattr(executor, "_max_workers", None)
     return int(workers) if workers is not None and is_integer(workers) and workers > 0 else None
 

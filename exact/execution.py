@@ -44,10 +44,11 @@ import time
 from concurrent.futures import FIRST_COMPLETED, CancelledError, Executor, as_completed, wait
 from math import ceil
 
+from forcenet.core.lifetime import die_with_parent
 from forcenet.core.validation import check_int, is_integer
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ForcenetError
 
-__all__ = ["ClusterError", "WORKERLESS_SECONDS", "available_cores", "local_pool", "die_with_parent", "as_executor", "executor_workers", "executor_label", "wall_seconds", "run_tasks"]
+__all__ = ["ClusterError", "WORKERLESS_SECONDS", "available_cores", "local_pool", "as_executor", "executor_workers", "executor_label", "wall_seconds", "run_tasks"]
 
 # glibc's mallopt parameters (<malloc.h>) and the ceiling of its own dynamic mmap threshold on 64-bit
 # (DEFAULT_MMAP_THRESHOLD_MAX = 32 MiB); the trim threshold is then twice it, as glibc sets it itself.
@@ -120,7 +121,12 @@ def executor_workers(executor) -> int | None:
     executor = as_executor(executor)
     client = getattr(executor, "_client", None)  # distributed.cfexecutor.ClientExecutor
     if client is not None and callable(getattr(client, "nthreads", None)):
-        return max(1, sum(client.nthreads().values()))
+        try:
+            threads = client.nthreads()
+        except Exception as exc:  # the scheduler gone since the client connected
+            raise ClusterError(f"the Dask cluster cannot be reached ({type(exc).__name__}): its scheduler went away; "
+                               "rerun (finished primes are kept with --checkpoint)") from None
+        return max(1, sum(threads.values()))
     workers = getattr(executor, "_max_workers", None)
     return int(workers) if workers is not None and is_integer(workers) and workers > 0 else None
 
@@ -150,53 +156,14 @@ def wall_seconds(per_task: float, tasks: int, workers: int, overhead: float = 0.
     return ceil(tasks / max(1, workers)) * (per_task + overhead)
 
 
-_PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
-_WATCH_SECONDS = 0.5  # elsewhere: how often a worker's watchdog looks for its parent
-
-
-def die_with_parent(parent: int) -> None:
-    """End this worker process when its parent ``parent`` ends, however it ends (SIGKILL included).
-
-    Linux: the parent-death signal (``prctl(PR_SET_PDEATHSIG, SIGKILL)``),
-    then the parent's pid checked once more, for a parent that died between
-    this process's start and the ``prctl`` call (the kernel sends nothing
-    then). Elsewhere: a daemon thread that polls the parent's pid.  The
-    initializer of every local pool of the package (:func:`local_pool`).
-
-    Parameters
-    ----------
-    parent : int
-        The pid of the process that started the pool.
-    """
-    import signal
-    import sys
-
-    armed = False
-    if sys.platform.startswith("linux"):
-        try:
-            libc = ctypes.CDLL(None, use_errno=True)
-            armed = libc.prctl(_PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0) == 0
-        except (OSError, AttributeError):  # pragma: no cover - no prctl
-            armed = False
-    if os.getppid() != parent:  # the parent is gone already (we were re-parented)
-        os._exit(1)
-    if not armed:  # pragma: no cover - not Linux
-        import threading
-        import time
-
-        def watch() -> None:
-            while os.getppid() == parent:
-                time.sleep(_WATCH_SECONDS)
-            os._exit(1)
-
-        threading.Thread(target=watch, name="forcenet-parent-watch", daemon=True).start()
-
-
 def local_pool(workers: int, start_method: str = "spawn"):
     """A local :class:`~concurrent.futures.ProcessPoolExecutor` whose workers die with this process.
 
-    Every worker runs :func:`die_with_parent` first, so a parent killed by
-    SIGKILL, the OOM killer or a time limit leaves no worker computing.
+    Every worker runs :func:`~forcenet.core.lifetime.die_with_parent` first
+    (a module of the standard library alone, so a spawned worker arms it
+    within a fraction of a second, before the seconds of importing the
+    route's modules), and a parent killed by SIGKILL, the OOM killer or a
+    time limit leaves no worker computing.
 
     Parameters
     ----------

@@ -3,7 +3,7 @@
 A pooled run (the Pfaffian route's per-prime pool, the samplers' pool) is
 started as a subprocess, SIGKILLed once its workers exist, and every worker
 must be gone a few seconds later: each worker of a local pool arms the
-parent-death signal (:func:`forcenet.exact.execution.die_with_parent`).
+parent-death signal (:func:`forcenet.core.lifetime.die_with_parent`).
 Before: all three processes of ``table --N 56 --method pfaffian`` were alive
 10 s after the parent's SIGKILL.
 """
@@ -124,9 +124,9 @@ def test_every_local_pool_arms_the_parent_death_signal(method):
 
 def test_a_worker_whose_parent_is_already_gone_exits_at_once():
     # the race the check closes: the parent died before the worker armed its signal (then re-parented)
-    block = f"from forcenet.exact.execution import die_with_parent; die_with_parent({os.getpid()} + 10**7); print('ran')"
+    block = f"from forcenet.core.lifetime import die_with_parent; die_with_parent({os.getpid()} + 10**7); print('ran')"
     result = subprocess.run([sys.executable, "-c", block], capture_output=True, text=True, timeout=60, check=False)
     assert result.returncode == 1 and result.stdout == ""
-    block = "import os; from forcenet.exact.execution import die_with_parent; die_with_parent(os.getppid()); print('ran')"
+    block = "import os; from forcenet.core.lifetime import die_with_parent; die_with_parent(os.getppid()); print('ran')"
     result = subprocess.run([sys.executable, "-c", block], capture_output=True, text=True, timeout=60, check=False)
     assert result.returncode == 0 and result.stdout == "ran\n"  # the real parent: armed, and the work goes on

@@ -1,0 +1,68 @@
+"""Worker processes that never outlive their parent: the initializer of every local pool of the package.
+
+A module of the standard library alone: a spawned worker imports it (to run
+the initializer) within a fraction of a second, long before the seconds it
+takes to import a route's modules, so the window in which a parent's death
+goes unnoticed is as short as the interpreter's start.
+
+Examples
+--------
+>>> import os
+>>> from concurrent.futures import ProcessPoolExecutor
+>>> with ProcessPoolExecutor(1, initializer=die_with_parent, initargs=(os.getpid(),)) as pool:
+...     pool.submit(abs, -3).result()
+3
+"""
+
+from __future__ import annotations
+
+import ctypes
+import os
+import signal
+import sys
+import threading
+import time
+
+__all__ = ["die_with_parent"]
+
+_PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
+_WATCH_SECONDS = 0.5  # elsewhere: how often a worker's watchdog looks for its parent
+
+
+def die_with_parent(parent: int) -> None:
+    """End this worker process when its parent ``parent`` ends, however it ends (SIGKILL included).
+
+    Linux: the parent-death signal (``prctl(PR_SET_PDEATHSIG, SIGKILL)``),
+    then the parent's pid checked once more, for a parent that died between
+    this process's start and the ``prctl`` call (the kernel sends nothing
+    then; the worker has been re-parented and exits at once). Elsewhere: a
+    daemon thread that polls the parent's pid.
+
+    Parameters
+    ----------
+    parent : int
+        The pid of the process that started the pool.
+
+    Examples
+    --------
+    >>> import os, subprocess, sys
+    >>> code = f"from forcenet.core.lifetime import die_with_parent; die_with_parent({os.getpid()} + 10**7)"
+    >>> subprocess.run([sys.executable, "-c", code], check=False).returncode  # its parent is not that pid
+    1
+    """
+    armed = False
+    if sys.platform.startswith("linux"):
+        try:
+            armed = ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0) == 0
+        except (OSError, AttributeError):  # pragma: no cover - no prctl
+            armed = False
+    if os.getppid() != parent:  # the parent is gone already (this process was re-parented)
+        os._exit(1)
+    if not armed:  # pragma: no cover - not Linux
+
+        def watch() -> None:
+            while os.getppid() == parent:
+                time.sleep(_WATCH_SECONDS)
+            os._exit(1)
+
+        threading.Thread(target=watch, name="forcenet-parent-watch", daemon=True).start()

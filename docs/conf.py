@@ -62,11 +62,6 @@ NEEDS_WORK = [
     "forcenet.testing.DisagreementError", "forcenet.testing.CannotJudgeError",
     "forcenet.testing.TableAgreement", "forcenet.testing.TableAgreement.*", "forcenet.testing.compare",
     "forcenet.testing.strategies.*",
-    "forcenet.numeric.chicken_wire.isotropic.entropy", "forcenet.numeric.chicken_wire.isotropic.tiling_entropy",
-    "forcenet.numeric.triangle.ExactSampler.mean_W", "forcenet.numeric.triangle.ExactSampler.moment_sums",
-    "forcenet.numeric.triangle.ExactSampler.moments", "forcenet.numeric.triangle.ExactSampler.sample_W",
-    "forcenet.numeric.triangle.TriangleMetropolis.acceptance_rate", "forcenet.numeric.triangle.TriangleMetropolis.run",
-    "forcenet.numeric.triangle.TriangleMetropolis.sweep",
 ]
 numpydoc_validation_exclude = {
     r"\.__\w+__$",  # dunder methods

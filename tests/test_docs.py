@@ -15,9 +15,11 @@ from __future__ import annotations
 import asyncio
 import functools
 import http.server
+import fnmatch
 import json
 import os
 import re
+import runpy
 import shutil
 import subprocess
 import sys
@@ -106,7 +108,10 @@ def test_every_public_name_has_its_api_page_with_an_example(site):
         assert name in pages, name
     functions = [p for n, p in pages.items() if not n.split(".")[-1][0].isupper()]
     assert len(functions) > 40
-    missing = [p.stem for p in functions if "Examples" not in p.read_text()]
+    # docs/conf.py's NEEDS_WORK lists the docstrings excused from numpydoc's checks until they are fixed
+    needs_work = runpy.run_path(str(DOCS / "conf.py"))["NEEDS_WORK"]
+    missing = [p.stem for p in functions if "Examples" not in p.read_text()
+               and not any(fnmatch.fnmatchcase(p.stem, pattern) for pattern in needs_work)]
     assert not missing, f"API pages without an example: {missing}"
 
 
@@ -167,6 +172,13 @@ def chromium() -> str:
 class _QuietHandler(http.server.SimpleHTTPRequestHandler):
     def log_message(self, format, *args):
         pass
+
+    def do_GET(self):
+        if self.path == "/favicon.ico":  # the browser asks for it by itself; the site has none
+            self.send_response(204)
+            self.end_headers()
+            return
+        super().do_GET()
 
 
 @pytest.fixture(scope="module")
@@ -311,9 +323,10 @@ def test_a_page_renders_in_headless_chromium(page, site, server, chromium):
     finally:
         browser.close()
     math, figures = PAGES[page]
-    assert state["mathjax"], "MathJax did not load"
-    if math:
+    if math:  # Sphinx loads MathJax on the pages that have math
+        assert state["mathjax"], "MathJax did not load"
         assert state["math_nodes"] > 0 and state["typeset"] >= state["math_nodes"], state
+        assert any(u.endswith("mathjax/tex-chtml.js") for u in state["requests"])
     assert state["math_errors"] == 0, state
     assert not state["broken"], state["broken"]
     if figures:
@@ -321,4 +334,3 @@ def test_a_page_renders_in_headless_chromium(page, site, server, chromium):
     assert not state["errors"], state["errors"]
     foreign = [u for u in state["requests"] if not (u.startswith(server) or u.startswith("data:"))]
     assert not foreign, foreign
-    assert any(u.endswith("mathjax/tex-chtml.js") for u in state["requests"])

@@ -62,6 +62,9 @@ NEEDS_WORK = [
     "forcenet.testing.DisagreementError", "forcenet.testing.CannotJudgeError",
     "forcenet.testing.TableAgreement", "forcenet.testing.TableAgreement.*", "forcenet.testing.compare",
     "forcenet.testing.strategies.*",
+    "forcenet.numeric.packing.PackingMetropolis.*", "forcenet.numeric.packing.Scene.name",
+    "forcenet.numeric.packing.Scene.top_load",
+    "forcenet.numeric.triangle.force_distribution.*",
 ]
 numpydoc_validation_exclude = {
     r"\.__\w+__$",  # dunder methods

@@ -317,6 +317,11 @@ def entropy(*, phi: RealLike | None = None, Q: RealLike | None = None, dps: int 
     dps : int
         Decimal digits of the result (5..10000).
 
+    Returns
+    -------
+    mpmath.mpf
+        ``v`` per site, correct to ``dps`` relative digits.
+
     Examples
     --------
     >>> mpmath.nstr(entropy(Q="0.1", dps=20), 20)
@@ -380,6 +385,20 @@ def tiling_entropy(*, phi: RealLike | None = None, Q: RealLike | None = None, dp
 
     Its maximum, at the twelvefold point ``phi = 0``, is
     ``log 108 - 2 sqrt3 log(2 + sqrt3) = 0.1200552493...`` (Kalugin 1994).
+
+    Parameters
+    ----------
+    phi : number or str, optional
+        The parameter of (7.1)-(7.2), ``-pi/2 <= phi <= pi/2``.
+    Q : number, str or Fraction, optional
+        The bond density per direction, ``0 <= Q <= 1/3`` (give one of the two).
+    dps : int
+        Decimal digits of the result (5..10000).
+
+    Returns
+    -------
+    mpmath.mpf
+        ``s`` per tiling vertex (empty site), correct to ``dps`` relative digits.
 
     Examples
     --------

@@ -282,7 +282,24 @@ class ExactSampler:
                 progress(stop - start)
 
     def sample_W(self, size: int) -> np.ndarray:
-        """``size`` independent configurations, ``W`` of shape ``(size, N, N)``."""
+        """``size`` independent configurations, ``W`` of shape ``(size, N, N)``.
+
+        Parameters
+        ----------
+        size : int
+            Number of configurations, ``>= 0``.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``W[k, i-1, j-1] = W_{i,j}`` of configuration ``k`` (zero above the diagonal); each row sums to 1.
+
+        Examples
+        --------
+        >>> W = ExactSampler(4, seed=1).sample_W(3)
+        >>> W.shape, bool(np.allclose(W.sum(axis=2), 1))
+        ((3, 4, 4), True)
+        """
         size = check_int(size, "size", 0)
         if self.kernel == "compiled":
             W = np.empty((size, self.N, self.N))
@@ -296,6 +313,26 @@ class ExactSampler:
         """Raw sums over ``samples`` independent draws: ``{s: (sum W**s, sum W**(2s))}``, arrays ``(N, N)``.
 
         Sums from independent runs add (e.g. from several processes, ``forcenet sample --workers``).
+
+        Parameters
+        ----------
+        samples : int
+            Number of independent draws, ``>= 1``.
+        orders : sequence of int
+            The powers ``s >= 1``.
+        progress : callable, optional
+            Called with the number of draws done since its last call.
+
+        Returns
+        -------
+        dict of int to (numpy.ndarray, numpy.ndarray)
+            ``{s: (sum of W**s, sum of W**(2s))}``, arrays of shape ``(N, N)``.
+
+        Examples
+        --------
+        >>> sums = ExactSampler(3, seed=1).moment_sums(10, orders=(1,))
+        >>> float(sums[1][0][0, 0])  # W_11 = 1 in every draw
+        10.0
         """
         samples = check_int(samples, "samples", 1)
         orders = tuple(check_int(s, "orders", 1) for s in orders)
@@ -325,14 +362,52 @@ class ExactSampler:
                 progress: Callable[[int], object] | None = None) -> dict[int, tuple[np.ndarray, np.ndarray]]:
         """Sample means of ``W**s`` and their standard errors (independent draws).
 
-        Returns ``{s: (mean, stderr)}`` with arrays of shape ``(N, N)``.
+        Parameters
+        ----------
+        samples : int
+            Number of independent draws, ``>= 2`` (an error bar needs two).
+        orders : sequence of int
+            The powers ``s >= 1``.
+        progress : callable, optional
+            Called with the number of draws done since its last call.
+
+        Returns
+        -------
+        dict of int to (numpy.ndarray, numpy.ndarray)
+            ``{s: (mean, stderr)}`` with arrays of shape ``(N, N)``.
+
+        Examples
+        --------
+        >>> m = ExactSampler(3, seed=1).moments(2000, orders=(2,))
+        >>> mean, err = m[2]
+        >>> bool(abs(mean[2, 0] - 1 / 10) < 5 * err[2, 0])  # <W_31^2> = 1/10
+        True
         """
         samples = check_int(samples, "samples", 2)  # an error bar needs two
         return {s: mean_and_error(total, squares, samples)
                 for s, (total, squares) in self.moment_sums(samples, orders, progress).items()}
 
     def mean_W(self, samples: int, progress: Callable[[int], object] | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """Sample mean of ``W`` and its standard error, arrays ``(N, N)``."""
+        """Sample mean of ``W`` and its standard error, arrays ``(N, N)``.
+
+        Parameters
+        ----------
+        samples : int
+            Number of independent draws, ``>= 2``.
+        progress : callable, optional
+            Called with the number of draws done since its last call.
+
+        Returns
+        -------
+        (numpy.ndarray, numpy.ndarray)
+            The mean and its standard error, ``[i-1, j-1]`` for grain ``(i, j)``.
+
+        Examples
+        --------
+        >>> mean, err = ExactSampler(3, seed=1).mean_W(2000)
+        >>> bool(abs(mean[2, 1] - 1 / 2) < 5 * err[2, 1])  # <W_32> = 1/2
+        True
+        """
         return self.moments(samples, (1,), progress)[1]
 
 

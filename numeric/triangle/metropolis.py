@@ -164,6 +164,15 @@ class TriangleMetropolis:
 
     @property
     def acceptance_rate(self) -> float:
+        """Accepted over attempted single-grain moves so far (NaN before the first move).
+
+        Examples
+        --------
+        >>> chain = TriangleMetropolis(4, seed=1, kernel="python")
+        >>> chain.sweep(10)
+        >>> 0 < chain.acceptance_rate < 1
+        True
+        """
         return self.accepted / self.attempted if self.attempted else float("nan")
 
     def _propose(self, i: int, j: int, new: float) -> bool:
@@ -236,7 +245,25 @@ class TriangleMetropolis:
             raise RuntimeError("slice move: an interval shrank 200 times without a point under the density")
 
     def sweep(self, count: int = 1) -> None:
-        """``count`` sweeps; a sweep is ``N(N-1)/2`` single-grain updates."""
+        """``count`` sweeps; a sweep is ``N(N-1)/2`` single-grain updates.
+
+        Parameters
+        ----------
+        count : int
+            Number of sweeps, ``>= 0``.
+
+        Returns
+        -------
+        None
+            The chain's state (``q``, ``W``) moves on.
+
+        Examples
+        --------
+        >>> chain = TriangleMetropolis(4, seed=1)
+        >>> chain.sweep(5)
+        >>> bool(np.allclose(chain.W.sum(axis=1), 1))
+        True
+        """
         if self.kernel == "compiled":
             if count > 0:
                 self._compiled(count, np.empty((0, self.N, self.N)))
@@ -254,7 +281,27 @@ class TriangleMetropolis:
     def run(self, sweeps: int, burn_in: int = 0, progress: Callable[[int], object] | None = None, thin: int = 1) -> np.ndarray:
         """Burn in, then record ``W`` after every ``thin``-th of ``sweeps * thin`` sweeps.
 
-        Returns an array of shape ``(sweeps, N, N)``; ``progress`` ticks once per record.
+        Parameters
+        ----------
+        sweeps : int
+            Number of records, ``>= 1``.
+        burn_in : int
+            Sweeps discarded first, ``>= 0``.
+        progress : callable, optional
+            Called as ``progress(1)`` once per record.
+        thin : int
+            Sweeps between two records, ``>= 1``.
+
+        Returns
+        -------
+        numpy.ndarray
+            Shape ``(sweeps, N, N)``: ``W`` after each recorded sweep (a Markov chain: test it with ``chain=True``).
+
+        Examples
+        --------
+        >>> chain = TriangleMetropolis(4, seed=1).run(sweeps=50, burn_in=10)
+        >>> chain.shape
+        (50, 4, 4)
         """
         sweeps = check_int(sweeps, "sweeps", 1)
         burn_in = check_int(burn_in, "burn_in", 0)

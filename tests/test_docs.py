@@ -1,0 +1,336 @@
+"""The documentation site: built with warnings as errors and its notebooks executed, then read in headless Chromium.
+
+The build is the README's command (``python -m sphinx -W --keep-going -b html docs OUT``). A few rendered pages
+are then served on 127.0.0.1 and opened in Debian's Chromium through the DevTools protocol: the math is typeset
+by the local MathJax (no error nodes), every image has loaded, the console has no error, and no request goes to
+any address but the loopback server. Screenshots go to ``$FORCENET_DOCS_SCREENSHOTS`` when it is set.
+
+The static checks (no issue numbers on the user pages, no script, style or image from the network in the built
+HTML) need no browser. Without Chromium the browser test is skipped with the reason, except on CI
+(``CI=true``), where it fails.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import functools
+import http.server
+import fnmatch
+import json
+import os
+import re
+import runpy
+import shutil
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import urllib.request
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+DOCS = ROOT / "docs"
+
+# the user pages (not the API pages, which are generated from docstrings, nor notes/)
+USER_PAGES = sorted([*DOCS.rglob("*.md"), *DOCS.rglob("*.rst"), ROOT / "CHANGELOG.md"])
+USER_PAGES = [p for p in USER_PAGES if "_build" not in p.parts and "generated" not in p.parts]
+ISSUE = re.compile(r"\bissues?\s*#?\d+|(?<![\w&/])#\d+\b", re.IGNORECASE)
+
+
+def test_no_user_page_speaks_of_issue_numbers():
+    assert len(USER_PAGES) > 20
+    found = [f"{p.relative_to(ROOT)}: {m.group(0)!r}" for p in USER_PAGES for m in ISSUE.finditer(p.read_text())]
+    assert not found, found
+
+
+def test_the_issue_pattern_sees_issue_numbers():
+    """A control: the pattern finds what it must, and not an equation number or an HTML entity."""
+    assert ISSUE.search("as in issue 25") and ISSUE.search("see #42") and ISSUE.search("Issues 3, 4")
+    assert not ISSUE.search("Eq. (4.63)") and not ISSUE.search("&#39;") and not ISSUE.search("page.html#12")
+
+
+def test_the_readme_gives_the_documentation_command_and_ci_runs_the_docs_test():
+    command = "python -m pip install '.[docs]' && python -m sphinx -W --keep-going -b html docs docs/_build/html"
+    assert command in (ROOT / "README.md").read_text()
+    ci = (ROOT / ".ci" / "run").read_text()
+    assert "python -m pip install '.[test]' && python -m pytest" in ci
+    assert "tests/test_docs.py" in ci and "chromium" in ci
+
+
+# ------------------------------------------------------------------------------------------------ the build
+
+
+@pytest.fixture(scope="module")
+def site(tmp_path_factory) -> Path:
+    """The site built by the README's command into a temporary folder (warnings are errors)."""
+    out = tmp_path_factory.mktemp("site") / "html"
+    start = time.monotonic()
+    proc = subprocess.run([sys.executable, "-m", "sphinx", "-W", "--keep-going", "-b", "html", str(DOCS), str(out)],
+                          cwd=ROOT, capture_output=True, text=True, timeout=1200, check=False)
+    seconds = time.monotonic() - start
+    assert proc.returncode == 0, f"the build failed ({seconds:.0f} s):\n{proc.stderr[-6000:]}"
+    print(f"documentation built in {seconds:.0f} s")
+    return out
+
+
+TUTORIALS = ["exact_tables", "testing_monte_carlo", "symbolic_session", "force_distributions", "chicken_wire",
+             "distributed"]
+
+
+@pytest.mark.slow
+def test_the_tutorials_carry_executed_output_and_figures(site):
+    with_output, with_figures = [], []
+    for name in TUTORIALS:
+        html = (site / "tutorials" / f"{name}.html").read_text()
+        if html.count('class="cell_output') >= 3:
+            with_output.append(name)
+        if re.search(r'<img[^>]+src="\.\./_images/[^"]+\.png"', html):
+            with_figures.append(name)
+    assert len(with_output) >= 5, with_output
+    assert len(with_figures) >= 3, with_figures
+    for name in with_figures:  # the figures exist and are PNGs
+        html = (site / "tutorials" / f"{name}.html").read_text()
+        for src in re.findall(r'<img[^>]+src="\.\./(_images/[^"]+\.png)"', html):
+            assert (site / src).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.slow
+def test_every_public_name_has_its_api_page_with_an_example(site):
+    pages = {p.stem: p for p in (site / "api" / "generated").glob("*.html")}
+    for name in ["forcenet.exact.mean_W", "forcenet.exact.count", "forcenet.exact.triangle.density",
+                 "forcenet.exact.triangle.pfaffian.mean_W", "forcenet.numeric.triangle.ExactSampler",
+                 "forcenet.numeric.triangle.TriangleMetropolis", "forcenet.numeric.chicken_wire.isotropic.entropy",
+                 "forcenet.testing.assert_agrees", "forcenet.testing.compare", "forcenet.ForcenetError",
+                 "forcenet.ArgumentError"]:
+        assert name in pages, name
+    functions = [p for n, p in pages.items() if not n.split(".")[-1][0].isupper()]
+    assert len(functions) > 40
+    # docs/conf.py's NEEDS_WORK lists the docstrings excused from numpydoc's checks until they are fixed
+    needs_work = runpy.run_path(str(DOCS / "conf.py"))["NEEDS_WORK"]
+    missing = [p.stem for p in functions if "Examples" not in p.read_text()
+               and not any(fnmatch.fnmatchcase(p.stem, pattern) for pattern in needs_work)]
+    assert not missing, f"API pages without an example: {missing}"
+
+
+REMOTE = re.compile(r"""(?:src|href)\s*=\s*["']((?:https?:)?//[^"']+)["']""", re.IGNORECASE)
+
+
+@pytest.mark.slow
+def test_the_built_site_loads_nothing_from_the_network(site):
+    """No script, stylesheet, image or font is taken from another host (links to read are not loads)."""
+    offenders = []
+    for page in site.rglob("*.html"):
+        html = page.read_text(errors="replace")
+        for tag in re.findall(r"<(?:script|link|img|iframe|source|video|audio)\b[^>]*>", html, re.IGNORECASE):
+            if re.search(r'\brel\s*=\s*["\']?(?:canonical|author|next|prev|index|search|copyright)', tag):
+                continue
+            offenders += [f"{page.relative_to(site)}: {url}" for url in REMOTE.findall(tag)]
+    for sheet in site.rglob("*.css"):
+        offenders += [f"{sheet.relative_to(site)}: {url}" for url in
+                      re.findall(r"url\(\s*['\"]?((?:https?:)?//[^)'\"]+)", sheet.read_text(errors="replace"))]
+        offenders += [f"{sheet.relative_to(site)}: @import {url}" for url in
+                      re.findall(r"@import\s+['\"]((?:https?:)?//[^'\"]+)", sheet.read_text(errors="replace"))]
+    assert not offenders, offenders[:20]
+    assert (site / "_static" / "mathjax" / "tex-chtml.js").is_file()  # the local MathJax
+    assert "mathjax/tex-chtml.js" in (site / "index.html").read_text()
+
+
+@pytest.mark.slow
+def test_no_rendered_page_speaks_of_issue_numbers(site):
+    """The API pages too (they come from docstrings)."""
+    found = []
+    for page in site.rglob("*.html"):
+        text = re.sub(r"<[^>]+>", " ", page.read_text(errors="replace"))
+        found += [f"{page.relative_to(site)}: {m.group(0)!r}" for m in re.finditer(r"\bissues?\s+\d+", text, re.I)]
+    assert not found, found[:20]
+
+
+# ------------------------------------------------------------------------------------------------ the browser
+
+
+def _chromium() -> str | None:
+    for name in ("chromium", "chromium-browser"):
+        path = shutil.which(name)
+        if path:
+            return path
+    return None
+
+
+@pytest.fixture(scope="module")
+def chromium() -> str:
+    path = _chromium()
+    if path is None:
+        if os.environ.get("CI") == "true":
+            pytest.fail("Chromium is missing on CI: .ci/run installs Debian's chromium package")
+        pytest.skip("Chromium is not installed (Debian: apt-get install chromium); CI installs it and runs this test")
+    return path
+
+
+class _QuietHandler(http.server.SimpleHTTPRequestHandler):
+    def log_message(self, format, *args):
+        pass
+
+    def do_GET(self):
+        if self.path == "/favicon.ico":  # the browser asks for it by itself; the site has none
+            self.send_response(204)
+            self.end_headers()
+            return
+        super().do_GET()
+
+
+@pytest.fixture(scope="module")
+def server(site):
+    """The built site over HTTP on 127.0.0.1 (a free port), for the lifetime of the module."""
+    handler = functools.partial(_QuietHandler, directory=str(site))
+    httpd = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
+    thread = threading.Thread(target=httpd.serve_forever, daemon=True)
+    thread.start()
+    yield f"http://127.0.0.1:{httpd.server_address[1]}/"
+    httpd.shutdown()
+    httpd.server_close()
+
+
+class Browser:
+    """Headless Chromium on a fresh profile, driven through the DevTools protocol on 127.0.0.1."""
+
+    def __init__(self, binary: str):
+        self.profile = tempfile.mkdtemp(prefix="forcenet-chromium-")
+        self.proc = subprocess.Popen(
+            [binary, "--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+             "--disable-component-update", "--disable-sync", "--no-first-run", "--disable-extensions",
+             "--disable-default-apps", "--mute-audio", f"--user-data-dir={self.profile}",
+             "--remote-debugging-address=127.0.0.1", "--remote-debugging-port=0", "--window-size=1280,1600",
+             "about:blank"],
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        active = Path(self.profile) / "DevToolsActivePort"
+        deadline = time.monotonic() + 60
+        while not active.exists() or len(active.read_text().splitlines()) < 2:
+            if time.monotonic() > deadline or self.proc.poll() is not None:
+                self.close()
+                raise RuntimeError("Chromium did not open its DevTools port")
+            time.sleep(0.1)
+        self.port = int(active.read_text().splitlines()[0])
+
+    def page_socket(self) -> str:
+        with urllib.request.urlopen(f"http://127.0.0.1:{self.port}/json/list", timeout=10) as response:
+            targets = json.load(response)
+        return next(t["webSocketDebuggerUrl"] for t in targets if t["type"] == "page")
+
+    def close(self) -> None:
+        if self.proc.poll() is None:
+            self.proc.terminate()
+            try:
+                self.proc.wait(10)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()
+                self.proc.wait()
+        shutil.rmtree(self.profile, ignore_errors=True)
+
+
+async def _visit(socket_url: str, url: str, screenshot: Path | None) -> dict:
+    """Open ``url``, wait for the load and MathJax, and report requests, console errors, math and images."""
+    from tornado.websocket import websocket_connect
+
+    ws = await websocket_connect(socket_url, max_message_size=64 * 2**20)
+    ids = iter(range(1, 10**9))
+    pending: dict[int, asyncio.Future] = {}
+    requests: list[str] = []
+    errors: list[str] = []
+    loaded = asyncio.get_running_loop().create_future()
+
+    async def reader():
+        while True:
+            message = await ws.read_message()
+            if message is None:
+                return
+            data = json.loads(message)
+            if "id" in data and data["id"] in pending:
+                pending.pop(data["id"]).set_result(data)
+            method = data.get("method")
+            params = data.get("params", {})
+            if method == "Network.requestWillBeSent":
+                requests.append(params["request"]["url"])
+            elif method == "Runtime.consoleAPICalled" and params.get("type") in ("error", "assert"):
+                errors.append("console: " + " ".join(str(a.get("value", a.get("description"))) for a in params["args"]))
+            elif method == "Runtime.exceptionThrown":
+                errors.append("exception: " + json.dumps(params["exceptionDetails"])[:500])
+            elif method == "Log.entryAdded" and params["entry"]["level"] == "error":
+                errors.append("log: " + params["entry"]["text"] + " " + params["entry"].get("url", ""))
+            elif method == "Page.loadEventFired" and not loaded.done():
+                loaded.set_result(True)
+
+    async def call(method: str, **params):
+        key = next(ids)
+        pending[key] = asyncio.get_running_loop().create_future()
+        ws.write_message(json.dumps({"id": key, "method": method, "params": params}))
+        reply = await asyncio.wait_for(pending[key], 60)
+        assert "error" not in reply, reply
+        return reply.get("result", {})
+
+    task = asyncio.ensure_future(reader())
+    for domain in ("Page", "Network", "Runtime", "Log"):
+        await call(f"{domain}.enable")
+    await call("Page.navigate", url=url)
+    await asyncio.wait_for(loaded, 60)
+    state = await call("Runtime.evaluate", awaitPromise=True, returnByValue=True, expression="""
+        (async () => {
+          if (window.MathJax && MathJax.startup && MathJax.startup.promise) { await MathJax.startup.promise; }
+          await Promise.all([...document.images].map(i => i.complete ? null : new Promise(r => { i.onload = i.onerror = r; })));
+          await document.fonts.ready;
+          return {
+            mathjax: !!(window.MathJax && MathJax.version),
+            math_nodes: document.querySelectorAll('.math').length,
+            typeset: document.querySelectorAll('mjx-container').length,
+            math_errors: document.querySelectorAll('mjx-merror, .MathJax_Error').length,
+            images: document.images.length,
+            broken: [...document.images].filter(i => !(i.complete && i.naturalWidth > 0)).map(i => i.src),
+            title: document.title,
+          };
+        })()""")
+    if screenshot is not None:
+        shot = await call("Page.captureScreenshot", format="png", captureBeyondViewport=False)
+        import base64
+
+        screenshot.write_bytes(base64.b64decode(shot["data"]))
+    await asyncio.sleep(0.5)  # late console messages and requests
+    task.cancel()
+    ws.close()
+    return {**state["result"]["value"], "requests": requests, "errors": errors}
+
+
+PAGES = {  # page: (math expected, figures expected)
+    "index.html": (True, False),
+    "tutorials/exact_tables.html": (True, True),
+    "tutorials/symbolic_session.html": (True, True),
+    "explanations/order_polytope.html": (True, False),
+    "api/generated/forcenet.exact.mean_W.html": (False, False),
+}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("page", sorted(PAGES))
+def test_a_page_renders_in_headless_chromium(page, site, server, chromium):
+    shots = os.environ.get("FORCENET_DOCS_SCREENSHOTS")
+    screenshot = Path(shots) / (page.replace("/", "_") + ".png") if shots else None
+    if screenshot is not None:
+        screenshot.parent.mkdir(parents=True, exist_ok=True)
+    browser = Browser(chromium)
+    try:
+        state = asyncio.run(_visit(browser.page_socket(), server + page, screenshot))
+    finally:
+        browser.close()
+    math, figures = PAGES[page]
+    if math:  # Sphinx loads MathJax on the pages that have math
+        assert state["mathjax"], "MathJax did not load"
+        assert state["math_nodes"] > 0 and state["typeset"] >= state["math_nodes"], state
+        assert any(u.endswith("mathjax/tex-chtml.js") for u in state["requests"])
+    assert state["math_errors"] == 0, state
+    assert not state["broken"], state["broken"]
+    if figures:
+        assert state["images"] > 0
+    assert not state["errors"], state["errors"]
+    foreign = [u for u in state["requests"] if not (u.startswith(server) or u.startswith("data:"))]
+    assert not foreign, foreign

@@ -79,9 +79,9 @@ def _checkpoint(checkpoint: object) -> str | None:
 
 @dataclass(frozen=True)
 class TablePlan:
-    """A checked request for an exact table, with its cost: what :func:`plan` returns.
+    """A checked request for an exact table, with its cost: what :func:`plan` returns (make it with :func:`plan`).
 
-    Attributes
+    Parameters
     ----------
     N : int
         Number of layers.
@@ -91,8 +91,21 @@ class TablePlan:
         The route that runs it (``auto`` resolved to the fastest by the plans).
     why : str
         Why ``auto`` chose ``method`` (empty for an explicit method).
-    cost : Plan
+    cost : forcenet.core.plan.Plan
         Estimated seconds, peak bytes, progress ticks, or the refusal.
+    executor : concurrent.futures.Executor or Dask Client, optional
+        Runs the route's independent tasks.
+    checkpoint : CheckpointStore or str, optional
+        Where the route records finished tasks.
+    memory_bytes : int, optional
+        The memory the plan was checked against.
+
+    Examples
+    --------
+    >>> import forcenet
+    >>> p = forcenet.plan(12)
+    >>> p.method, p.runnable, p.refusal
+    ('fast', True, None)
     """
 
     N: int
@@ -339,7 +352,7 @@ class Table:
     every value a :class:`~fractions.Fraction`.  Returned by :func:`table`;
     the text renderings are byte for byte the command line's.
 
-    Attributes
+    Parameters
     ----------
     N : int
         Number of layers.
@@ -347,8 +360,8 @@ class Table:
         The route that computed it.
     why : str
         Why ``auto`` chose that route (empty for an explicit method).
-    moments : int
-        Highest moment held.
+    tables : dict of int to list of lists of Fraction
+        ``{s: <W^s> rows}``; the highest ``s`` is the table's ``moments``.
 
     Examples
     --------

@@ -22,7 +22,7 @@ Derived (``notes/scaling_limit.md`` Sec. 5): ``<W_(i,1)> = e(z) + a(z) N^(-2/3) 
 Usage::
 
     python benchmarks/edge_check.py --sampled /tmp/edge_sampled.json --exact-sd /tmp/lattice_fluctuations.json \
-        --figures notes/figures      # refresh the two summaries from raw runs, then check
+        --figures notes/figures      # refresh the two summaries from raw runs (several --sampled files pool), then check
     python benchmarks/edge_check.py --figures /tmp/fig   # from the summaries in notes/data alone
 """
 

@@ -22,7 +22,7 @@ Derived (``notes/scaling_limit.md`` Sec. 5): ``<W_(i,1)> = e(z) + a(z) N^(-2/3) 
 Usage::
 
     python benchmarks/edge_check.py --sampled /tmp/edge_sampled.json --exact-sd /tmp/lattice_fluctuations.json \
-        --figures notes/figures      # refresh the two summaries from raw runs, then check
+        --figures notes/figures      # refresh the two summaries from raw runs (several --sampled files pool), then check
     python benchmarks/edge_check.py --figures /tmp/fig   # from the summaries in notes/data alone
 """
 
@@ -204,7 +204,7 @@ def main(argv=None):
                 pts.append((int(n_text), float(rec[str(z)]["sd"]), 0.0, "exact"))
         for n_text, rec in sorted(sampled.items(), key=lambda t: int(t[0])):
             pts.append((int(n_text), rec[str(z)]["sd"], rec[str(z)]["sd_err"], "sampled"))
-        sd_rows[z] = (s, pts)
+        sd_rows[z] = (s, pts, None)
         # N^(2/3) sd = s + b t + c t^2 (+ d t^3), t = N^(-1/3), on N >= 32: the sampled points with their
         # errors, the exact ones with a floor of 1e-3 relative (the size of the orders left out); s free or fixed
         print(f"z = {z}: s(z) = {s:.6f}; N^(2/3) sd / s(z): "
@@ -222,6 +222,8 @@ def main(argv=None):
                 chi2 = float(np.sum((A @ free - y / e) ** 2))
                 fixed = np.linalg.lstsq(A[:, 1:], (y - s) / e, rcond=None)[0]
                 chi2_fixed = float(np.sum((A[:, 1:] @ fixed - (y - s) / e) ** 2))
+                if k == 3:
+                    sd_rows[z] = (s, pts, fixed)
                 print(f"  {k} correction orders: free intercept {free[0]:.4f} ± {err0:.4f} ({free[0] / s:.3f} s), "
                       f"chi2 {chi2:.1f} on {len(y) - k - 1}; s fixed: chi2 {chi2_fixed:.1f} on {len(y) - k}")
 
@@ -252,12 +254,15 @@ def draw(curves, sampled, sd_rows, folder):
                         yerr=r["mean_err"] * N ** (2 / 3), fmt="s", color=c, mfc="none", ms=5)
     ax.set_xlabel("N^(-1/3)")
     ax.set_ylabel("N^(2/3) (<W_(i,1)> - e(z))")
-    ax.set_title("mean: exact (o), sampled (squares), derived a(z) (*)")
+    ax.set_title("mean: exact (o), sampled (squares), derived a(z) (*)", fontsize=10)
     ax.set_xlim(left=0)
     ax.legend(fontsize=8)
     ax = axes[1]
-    for z, (s, pts) in sd_rows.items():
+    for z, (s, pts, fixed) in sd_rows.items():
         c = colours[z]
+        if fixed is not None:  # s(z) fixed, three orders fitted on N >= 32
+            tt = np.linspace(0, 32 ** (-1 / 3), 100)
+            ax.plot(tt, s + sum(f * tt ** (j + 1) for j, f in enumerate(fixed)), "--", color=c, lw=1)
         for N, v, err, kind in pts:
             if kind == "exact":
                 ax.plot(N ** (-1 / 3), v * N ** (2 / 3), "o", color=c, ms=4)
@@ -266,7 +271,7 @@ def draw(curves, sampled, sd_rows, folder):
         ax.plot([0], [s], "*", color=c, ms=12, label=f"z = {z}: sd(chi) c(z)")
     ax.set_xlabel("N^(-1/3)")
     ax.set_ylabel("N^(2/3) sd(W_(i,1))")
-    ax.set_title("standard deviation: exact (o), sampled (squares)")
+    ax.set_title("sd: exact (o), sampled (squares); dashed: s(z) fixed", fontsize=10)
     ax.set_xlim(left=0)
     ax.legend(fontsize=8)
     fig.tight_layout()

@@ -11,8 +11,8 @@ finished sizes; ``benchmarks/edge_check.py`` compares them with the derived edge
 
 Usage::
 
-    nice -n 10 python benchmarks/edge_sampled.py --N 200 500 1000 2000 --samples 8000 4000 2000 800 \
-        --out notes/data/edge_sampled.json
+    nice -n 10 python benchmarks/edge_sampled.py --N 200 500 1000 2000 --samples 8000 1600 800 320 \
+        --out /tmp/edge_sampled.json       # raw batch sums (megabytes); edge_check.py keeps a summary
 """
 
 from __future__ import annotations
@@ -63,7 +63,8 @@ def summary(record: dict, i: int) -> dict:
     var, var_err = float(var_b.mean()), float(var_b.std(ddof=1) / np.sqrt(B))
     sd = float(np.sqrt(var))
     return {"mean": float(mean_b.mean()), "mean_err": float(mean_b.std(ddof=1) / np.sqrt(B)),
-            "sd": sd, "sd_err": var_err / (2 * sd), "samples": 2 * n * B}
+            "sd": sd, "sd_err": var_err / (2 * sd),
+            "configurations": n * B, "loads": 2 * n * B}
 
 
 def main(argv=None):

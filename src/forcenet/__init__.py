@@ -8,7 +8,8 @@ The exception family (:mod:`forcenet.core.errors`) is exported here:
 :class:`ForcenetError`, the base of every expected failure, and the argument
 errors :class:`ArgumentError` (also a ``ValueError``) and
 :class:`ArgumentTypeError` (also a ``TypeError``), and :class:`ConvergenceError`
-(also a ``RuntimeError``).  They are loaded on first
+(also a ``RuntimeError``), and the warning :class:`PrecisionWarning` (a binary
+float accepted where an exact number was expected).  They are loaded on first
 use, so ``import forcenet`` stays cheap.
 
 The map of the package is ``notes/architecture.md``.
@@ -29,11 +30,11 @@ from importlib.metadata import PackageNotFoundError, version
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ loads them on first use
-    from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceError, ForcenetError
+    from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceError, ForcenetError, PrecisionWarning
 
-__all__ = ["ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError", "__version__"]
+__all__ = ["ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError", "PrecisionWarning", "__version__"]
 
-_ERRORS = frozenset({"ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError"})
+_ERRORS = frozenset({"ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError", "PrecisionWarning"})
 
 try:
     __version__: str = version("forcenet")  # one source: pyproject.toml, through the installed metadata
@@ -42,7 +43,7 @@ except PackageNotFoundError:  # imported from a tree that was never installed (n
 
 
 def __getattr__(name: str) -> type[Exception]:
-    """The exception family, imported on first use (``forcenet.exact`` costs about a second to import)."""
+    """The exception family (and PrecisionWarning), imported on first use (``forcenet.exact`` costs about a second to import)."""
     if name in _ERRORS:
         from forcenet.core import errors
 

@@ -73,7 +73,8 @@ import time
 
 import numpy as np
 
-__all__ = ["FORMAT_VERSION", "MAX_RECORD_BYTES", "default_directory", "CheckpointStore", "distrust_reused"]
+__all__ = ["FORMAT_VERSION", "MAX_RECORD_BYTES", "default_directory", "CheckpointStore", "distrust_reused",
+           "records_held", "resumed_plan"]
 
 FORMAT_VERSION = 1
 _MAGIC = b"forcenet-checkpoint\n"
@@ -375,6 +376,66 @@ def distrust_reused(run, directory, N: int, started: float, report=None):
                                "dropped and replaced by the recomputed record")
             shutil.rmtree(aside, ignore_errors=True)
         return result
+
+
+def records_held(directory, N: int, routes) -> int:
+    """How many record files (regular files, not yet verified) the requests of ``N`` of ``routes`` hold in
+    ``directory`` (a route's name, or the name and a layer ``i``: a run with one request per layer).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> d = tempfile.mkdtemp()
+    >>> CheckpointStore(d, "pfaffian-layer-grains3", N=5).save(101, 7)
+    >>> records_held(d, 5, ("pfaffian-layer-grains", "pfaffian-floor-grains")), records_held(d, 5, ("pfaffian-layer",))
+    (1, 0)
+    """
+    held = 0
+    try:
+        folders = os.listdir(directory)
+    except OSError:
+        return 0
+    mark = f"-N{int(N)}-m"
+    for folder in folders:
+        if mark not in folder or not folder.endswith(f"-v{FORMAT_VERSION}"):
+            continue
+        route = folder[:folder.index(mark)]
+        if route not in routes and route.rstrip("0123456789") not in routes:  # a layer's route: the name + i
+            continue
+        try:
+            entries = list(os.scandir(os.path.join(directory, folder)))
+        except OSError:
+            continue
+        held += sum(1 for e in entries if e.name.endswith(".rec") and not e.name.startswith(_TEMP_PREFIX)
+                    and e.is_file(follow_symlinks=False))
+    return held
+
+
+def resumed_plan(plan, directory, N: int, routes):
+    """``plan`` (one tick per prime) with the records already held in ``directory`` counted: its time without
+    the compilation scaled by the share still to compute, and the reuse stated in its description.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from forcenet.core.plan import Plan
+    >>> d = tempfile.mkdtemp()
+    >>> resumed_plan(Plan("x", 10.0, 0, 4, "prime"), d, 5, ("pfaffian-floor-grains",)).seconds
+    10.0
+    >>> CheckpointStore(d, "pfaffian-floor-grains", N=5).save(101, 7)
+    >>> p = resumed_plan(Plan("x", 10.0, 0, 4, "prime"), d, 5, ("pfaffian-floor-grains",))
+    >>> p.seconds, p.what.startswith("x; 1 of 4 primes recorded in ")
+    (7.5, True)
+    """
+    from dataclasses import replace
+
+    ticks = max(int(plan.ticks), 1)
+    held = min(records_held(directory, N, routes), ticks)
+    if not held:
+        return plan
+    compiling = sum(seconds for _, seconds in plan.compiling)
+    seconds = compiling + (plan.seconds - compiling) * (ticks - held) / ticks
+    return replace(plan, what=f"{plan.what}; {held} of {ticks} primes recorded in {os.fspath(directory)}", seconds=seconds)
 
 
 def _records_before(directory: str, N: int, started: float) -> list[str]:

@@ -218,6 +218,10 @@ def cmd_dist(args):
 
 
 def _dist(args, what, plans, options, store):
+    if isinstance(store, str):  # one request per layer (the ensemble): the records every layer holds count
+        from forcenet.exact.checkpoints import resumed_plan
+
+        plans = [resumed_plan(plans[0], store, args.N, ("pfaffian-layer", "pfaffian-floor")), *plans[1:]]
     if args.plot is not None:
         args.samples = 20000 if args.samples is None else args.samples
         args.sweeps = 3000 if args.sweeps is None else args.sweeps

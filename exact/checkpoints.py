@@ -105,6 +105,18 @@ def _default_anchor() -> str:
     return os.path.dirname(os.path.abspath(xdg)) if xdg else os.path.expanduser("~")
 
 
+_REPORTED: set[tuple[str, str]] = set()  # (directory, cause) already reported in this run: one line per cause
+
+
+def _once(report, directory: str, cause: str, message: str) -> None:
+    """``report(message)`` unless this cause in this directory was reported already in this run (every layer's
+    store of a run shares the directory: a full disk is one line, not one per layer)."""
+    key = (os.path.abspath(directory), cause)
+    if key not in _REPORTED:
+        _REPORTED.add(key)
+        report(message)
+
+
 def _stderr_line(message: str) -> None:
     print(f"forcenet: {message}", file=sys.stderr)
 
@@ -208,8 +220,8 @@ class CheckpointStore:
             self._usable = problem is None
             if problem is not None:
                 self.failed = problem
-                self.report(f"checkpoints disabled: {problem}; continuing without checkpoints "
-                            "(give --checkpoint DIR, or --no-checkpoint)")
+                _once(self.report, self.directory, problem, f"checkpoints disabled: {problem}; continuing without "
+                      "checkpoints (give --checkpoint DIR, or --no-checkpoint)")
         return self._usable
 
     def load(self, key: int):
@@ -284,7 +296,8 @@ class CheckpointStore:
         except OSError as exc:
             self.failed = exc.strerror or str(exc)
             kind = "the disk is full" if exc.errno in (errno.ENOSPC, errno.EDQUOT) else self.failed
-            self.report(f"checkpoint {self.path}: cannot write ({kind}); continuing without checkpoints")
+            _once(self.report, self.directory, kind,
+                  f"checkpoint {self.path}: cannot write ({kind}); continuing without checkpoints")
         finally:
             if tmp is not None:
                 try:
@@ -345,6 +358,7 @@ def distrust_reused(run, directory, N: int, started: float, report=None):
     >>> distrust_reused(lambda: 42, None, 12, 0.0)
     42
     """
+    _REPORTED.clear()  # a new run: each cause is reported again, once
     if directory is None:
         return run()
     report = report if report is not None else _stderr_line

@@ -328,6 +328,18 @@ from forcenet.exact import correlation, count, mean_W, mean_W_grain, moment, nor
 from forcenet.exact.triangle import density  # noqa: E402
 from forcenet.numeric.chicken_wire import isotropic as iso  # noqa: E402
 
+def _sampler():
+    from forcenet.numeric.triangle.exact_sampler import ExactSampler
+
+    return ExactSampler
+
+
+def _metropolis():
+    from forcenet.numeric.triangle.metropolis import TriangleMetropolis
+
+    return TriangleMetropolis
+
+
 API = [
     # (label, call, expected: an exception class, PrecisionWarning, or a callable checking the value; name in message)
     ("count(np.int64)", lambda: count(np.int64(6)), lambda v: v == 286, ""),
@@ -378,6 +390,18 @@ API = [
     ("entropy dps 4", lambda: iso.entropy(Q="1/6", dps=4), ArgumentError, "dps=4"),
     ("entropy dps huge", lambda: iso.entropy(Q="1/6", dps=10**6), ArgumentError, "dps=1000000"),
     ("per grain l=0.1 dps=30", lambda: iso.entropy_per_grain(0.1, dps=30), ArgumentTypeError, "l=0.1"),
+    ("density beyond the DP", lambda: density(45, (45, 3)), ArgumentError, "forcenet dist --N N --grain i,j"),
+    ("ExactSampler huge N", lambda: _sampler()(10**100, seed=1), ArgumentError, "N="),
+    ("ExactSampler seed -1", lambda: _sampler()(5, seed=-1), ArgumentError, "seed=-1"),
+    ("ExactSampler seed bool", lambda: _sampler()(5, seed=True), ArgumentTypeError, "seed=True"),
+    ("ExactSampler seed 1.5", lambda: _sampler()(5, seed=1.5), ArgumentTypeError, "seed=1.5"),
+    ("ExactSampler np seed", lambda: _sampler()(5, seed=np.uint64(3)).sample_W(np.int64(2)), lambda v: v.shape == (2, 5, 5), ""),
+    ("sample_W huge", lambda: _sampler()(5, seed=1).sample_W(10**100), ArgumentError, "sample_W(size="),
+    ("sample_W 2.0", lambda: _sampler()(5, seed=1).sample_W(2.0), ArgumentTypeError, "size=2.0"),
+    ("sample_W -1", lambda: _sampler()(5, seed=1).sample_W(-1), ArgumentError, "size=-1"),
+    ("Metropolis huge N", lambda: _metropolis()(10**100, seed=1), ArgumentError, "N="),
+    ("Metropolis run huge", lambda: _metropolis()(5, seed=1).run(10**100), ArgumentError, "run(sweeps="),
+    ("Metropolis seed -2", lambda: _metropolis()(5, seed=-2), ArgumentError, "seed=-2"),
     ("bethe density float", lambda: __import__("forcenet.numeric.chicken_wire.isotropic_bethe",
                                                fromlist=["x"]).isotropic_limit(1 / 6), ArgumentTypeError, "Q="),
 ]

@@ -55,6 +55,8 @@ __all__ = [
     "check_float_digits",
     "check_rational",
     "available_memory",
+    "check_fits_memory",
+    "check_seed",
 ]
 
 
@@ -432,3 +434,37 @@ def available_memory() -> int | None:
     except (OSError, ValueError, IndexError):
         return None
     return None
+
+
+def check_fits_memory(nbytes: int, what: str, fix: str) -> None:
+    """:class:`ArgumentError` before the work if ``what`` needs more than the memory available now; ``fix`` says
+    what would fit.
+
+    Examples
+    --------
+    >>> check_fits_memory(10**30, "an array of 1e29 floats", "ask for fewer")
+    Traceback (most recent call last):
+    ...
+    forcenet.core.errors.ArgumentError: an array of 1e29 floats needs ~9.31e+20 GiB of memory, more than is available: ask for fewer
+    """
+    memory = available_memory()
+    if nbytes > (memory if memory is not None else 2**50):
+        raise ArgumentError(f"{what} needs ~{nbytes / 2**30:.3g} GiB of memory, more than is available: {fix}")
+
+
+def check_seed(seed, name: str = "seed"):
+    """A seed for ``numpy.random.default_rng``: None, a ``numpy.random.Generator`` (or ``SeedSequence``), or an
+    integer ``>= 0`` (numpy types included; never ``bool`` or a float).
+
+    Examples
+    --------
+    >>> check_seed(7), check_seed(None)
+    (7, None)
+    >>> check_seed(-1)
+    Traceback (most recent call last):
+    ...
+    forcenet.core.errors.ArgumentError: seed=-1 is out of range: seed must be an integer >= 0
+    """
+    if seed is None or type(seed).__name__ in ("Generator", "SeedSequence", "BitGenerator") or hasattr(seed, "bit_generator"):
+        return seed
+    return check_int(seed, name, 0)

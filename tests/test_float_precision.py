@@ -152,3 +152,15 @@ def _factors(n):
             n //= k
         k += 1
     return out + ([n] if n > 1 else [])
+
+
+def test_to_mpf_applies_the_rule_when_told_the_digits():
+    from forcenet.core.precision import to_mpf
+
+    with mpmath.workdps(50):
+        with pytest.raises(forcenet.ArgumentTypeError, match=r"pass '1/3' or Fraction\(1, 3\)"):
+            to_mpf(1 / 3, "x", dps=40)
+        with pytest.warns(forcenet.PrecisionWarning):
+            to_mpf(1 / 3, "x", dps=10)
+        assert to_mpf(0.5, "x", dps=40) == mpmath.mpf(1) / 2
+        assert to_mpf(1 / 3, "x") == mpmath.mpf(1 / 3)  # without dps: the float's exact value, as before

@@ -26,7 +26,21 @@ the format version, and describes the payload (an integer numpy array:
   ten minutes;
 * **full disk** (or any write error): the temporary file is removed, the
   problem reported once in one line, and the run continues without further
-  checkpoints; records already written stay valid.
+  checkpoints; records already written stay valid;
+* **regular files only**: a FIFO, a device, a socket or a symbolic link
+  named like a record is never opened as one (``lstat`` first, then
+  ``O_NONBLOCK | O_NOFOLLOW`` and ``fstat`` on the handle, and at most
+  :data:`MAX_RECORD_BYTES` read): reported in one line and recomputed;
+* **one line per cause**: a directory that cannot be used (a file in its
+  place, no permission, a home directory that does not exist) is reported
+  once, and the run continues without checkpoints; no folder above the
+  checkpoint directory (above the home directory for the default) is ever
+  created;
+* **valid checksum, wrong content**: a record written by a faulty program
+  (or by hand) passes its checksum; when the run's own exact checks then
+  fail, :func:`distrust_reused` sets the reused records aside, the run is
+  repeated, and every record whose recomputation differs is named on
+  stderr and dropped (the others are kept).
 
 Atomic files rather than sqlite3: damage stays confined to one record (a
 flipped bit inside an SQLite page is not detected by SQLite, and a damaged
@@ -50,6 +64,8 @@ import errno
 import hashlib
 import json
 import os
+import shutil
+import stat
 import struct
 import sys
 import tempfile
@@ -57,7 +73,8 @@ import time
 
 import numpy as np
 
-__all__ = ["FORMAT_VERSION", "default_directory", "CheckpointStore"]
+__all__ = ["FORMAT_VERSION", "MAX_RECORD_BYTES", "default_directory", "CheckpointStore", "distrust_reused", "run_distrusting",
+           "records_held", "resumed_plan"]
 
 FORMAT_VERSION = 1
 _MAGIC = b"forcenet-checkpoint\n"
@@ -66,6 +83,7 @@ _DIGEST = 32
 _TEMP_PREFIX = ".tmp-"
 _STALE_SECONDS = 600  # a temporary file this old belongs to a killed writer
 _write = os.write  # one name for every byte written (the full-disk tests fault it)
+MAX_RECORD_BYTES = 2**31  # no record of any route is larger (N = 200's table: ~0.3 MiB per prime)
 
 
 def default_directory() -> str:
@@ -78,6 +96,25 @@ def default_directory() -> str:
     """
     base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
     return os.path.join(base, "forcenet")
+
+
+def _default_anchor() -> str:
+    """The folder the default checkpoint directory may be created under, which must exist already: the parent of
+    ``$XDG_CACHE_HOME``, else the home directory."""
+    xdg = os.environ.get("XDG_CACHE_HOME")
+    return os.path.dirname(os.path.abspath(xdg)) if xdg else os.path.expanduser("~")
+
+
+_REPORTED: set[tuple[str, str]] = set()  # (directory, cause) already reported in this run: one line per cause
+
+
+def _once(report, directory: str, cause: str, message: str) -> None:
+    """``report(message)`` unless this cause in this directory was reported already in this run (every layer's
+    store of a run shares the directory: a full disk is one line, not one per layer)."""
+    key = (os.path.abspath(directory), cause)
+    if key not in _REPORTED:
+        _REPORTED.add(key)
+        report(message)
 
 
 def _stderr_line(message: str) -> None:
@@ -117,6 +154,9 @@ class CheckpointStore:
         self.report = report if report is not None else _stderr_line
         self.reused = self.saved = self.damaged = self.ignored = 0
         self.failed: str | None = None
+        self._usable: bool | None = None  # decided on first use
+        default = os.path.abspath(self.directory) == os.path.abspath(default_directory())
+        self._anchor = _default_anchor() if default else os.path.dirname(os.path.abspath(self.directory))
 
     def __repr__(self) -> str:
         return f"CheckpointStore({self.path!r})"
@@ -151,15 +191,67 @@ class CheckpointStore:
             return None, "another request"
         return array.astype(np.int64), None
 
+    def _folder_problem(self) -> str | None:
+        """Why the request's folder cannot hold records (one reason for every record), or None."""
+        if not os.path.isdir(self._anchor):
+            return f"{self._anchor} does not exist (it is not created for checkpoints)"
+        path = self.path
+        while True:
+            try:
+                mode = os.stat(path).st_mode
+            except FileNotFoundError:
+                parent = os.path.dirname(path)
+                if parent == path:
+                    return None
+                path = parent
+                continue
+            except OSError as exc:
+                return f"{path}: {exc.strerror}"
+            if not stat.S_ISDIR(mode):
+                return f"{path} is not a directory"
+            if path == self.path and not os.access(path, os.R_OK | os.X_OK):
+                return f"{path}: permission denied"
+            return None
+
+    def usable(self) -> bool:
+        """Whether the folder can hold records; if not, reported once (one line) and the run goes on without."""
+        if self._usable is None:
+            problem = self._folder_problem()
+            self._usable = problem is None
+            if problem is not None:
+                self.failed = problem
+                _once(self.report, self.directory, problem, f"checkpoints disabled: {problem}; continuing without "
+                      "checkpoints (give --checkpoint DIR, or --no-checkpoint)")
+        return self._usable
+
     def load(self, key: int):
         """The recorded value of ``key`` (a numpy int64 array), or None (missing, damaged, another request)."""
+        if not self.usable():
+            return None
+        name = self._file(key)
         try:
-            with open(self._file(key), "rb") as handle:
-                data = handle.read()
+            info = os.lstat(name)
         except FileNotFoundError:
             return None
         except OSError as exc:
-            self.report(f"checkpoint {self._file(key)}: unreadable ({exc.strerror}); recomputing it")
+            self.report(f"checkpoint {name}: unreadable ({exc.strerror}); recomputing it")
+            return None
+        problem = _not_a_record(info)
+        if problem is None:
+            try:
+                fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_NOFOLLOW", 0))
+                try:
+                    info = os.fstat(fd)  # the file opened, not whatever the name pointed at before
+                    problem = _not_a_record(info)
+                    data = b"" if problem else _read_at_most(fd, info.st_size)
+                finally:
+                    os.close(fd)
+            except OSError as exc:
+                self.report(f"checkpoint {name}: unreadable ({exc.strerror}); recomputing it")
+                return None
+        if problem is not None:
+            self.damaged += 1
+            self.report(f"checkpoint {name}: {problem}, not a record; ignored and recomputed")
             return None
         value, reason = self.decode(key, data)
         if value is None:
@@ -167,18 +259,21 @@ class CheckpointStore:
                 self.ignored += 1
             else:
                 self.damaged += 1
-                self.report(f"checkpoint {self._file(key)}: {reason}; recomputing it")
+                self.report(f"checkpoint {name}: {reason}; recomputing it")
             return None
         self.reused += 1
         return value
 
     def holds(self, key: int) -> bool:
-        """Whether a record of ``key`` exists (not yet verified: :meth:`load` checks it)."""
-        return os.path.isfile(self._file(key))
+        """Whether a record of ``key`` exists (a regular file; not yet verified: :meth:`load` checks it)."""
+        try:
+            return stat.S_ISREG(os.lstat(self._file(key)).st_mode)
+        except OSError:
+            return False
 
     def save(self, key: int, value) -> None:
         """Record ``value`` under ``key`` atomically; on a write error report once and stop saving."""
-        if self.failed is not None:
+        if self.failed is not None or not self.usable():
             return
         data = self.encode(key, value)
         tmp = None
@@ -201,13 +296,216 @@ class CheckpointStore:
         except OSError as exc:
             self.failed = exc.strerror or str(exc)
             kind = "the disk is full" if exc.errno in (errno.ENOSPC, errno.EDQUOT) else self.failed
-            self.report(f"checkpoint {self.path}: cannot write ({kind}); continuing without checkpoints")
+            _once(self.report, self.directory, kind,
+                  f"checkpoint {self.path}: cannot write ({kind}); continuing without checkpoints")
         finally:
             if tmp is not None:
                 try:
                     os.unlink(tmp)
                 except OSError:
                     pass
+
+
+def _not_a_record(info: os.stat_result) -> str | None:
+    """Why a file of this kind and size cannot be a record, or None for a regular file of a possible size."""
+    mode = info.st_mode
+    if not stat.S_ISREG(mode):
+        kinds = ((stat.S_ISFIFO, "a FIFO"), (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+                 (stat.S_ISSOCK, "a socket"), (stat.S_ISLNK, "a symbolic link"), (stat.S_ISDIR, "a directory"))
+        return next((text for test, text in kinds if test(mode)), "not a regular file")
+    if info.st_size > MAX_RECORD_BYTES:
+        return f"{info.st_size} bytes, more than any record"
+    return None
+
+
+def _read_at_most(fd: int, size: int) -> bytes:
+    """The ``size`` bytes of a regular file (fewer if it shrank; never more than ``size + 1``)."""
+    chunks, left = [], size + 1
+    while left > 0:
+        chunk = os.read(fd, min(left, 2**24))
+        if not chunk:
+            break
+        chunks.append(chunk)
+        left -= len(chunk)
+    return b"".join(chunks)
+
+
+def distrust_reused(run, directory, N: int, started: float, report=None):
+    """``run()``; if it fails its exact checks (``ArithmeticError``) after reusing records, repeat it without them.
+
+    A record with a valid checksum but wrong content (a faulty program, a hand edit) is only caught by the
+    route's own exact checks, after the Chinese remaindering.  The records of ``N`` in ``directory`` older
+    than ``started`` (the ones this run reused, not the ones it wrote) are moved aside, ``run()`` is repeated
+    (recomputing them), and each record whose recomputation differs is named on stderr and dropped; records
+    set aside that the repeated run did not write again (another request's) are put back.  Without reused
+    records, or if the repeated run fails too, the error is a bug and propagates.
+
+    Parameters
+    ----------
+    run : callable
+        The whole run, no arguments.
+    directory : str or os.PathLike or None
+        The checkpoint directory (None: just ``run()``).
+    N : int
+        The request's size: the folders of ``N`` are examined.
+    started : float
+        ``time.time()`` when the run began.
+    report : callable, optional
+        Receives each one-line report (default: stderr).
+
+    Examples
+    --------
+    >>> distrust_reused(lambda: 42, None, 12, 0.0)
+    42
+    """
+    _REPORTED.clear()  # a new run: each cause is reported again, once
+    if directory is None:
+        return run()
+    report = report if report is not None else _stderr_line
+    try:
+        return run()
+    except ArithmeticError as failure:
+        directory = os.fspath(directory)
+        reused = _records_before(directory, N, started)
+        if not reused:
+            raise
+        aside = tempfile.mkdtemp(prefix=".suspect-", dir=directory)
+        report(f"the run's exact checks failed ({failure}) after reusing {len(reused)} checkpoint records of "
+               f"N={N} in {directory}: setting them aside and recomputing them once")
+        moved = {}
+        for k, path in enumerate(reused):
+            target = os.path.join(aside, f"{k}.rec")
+            os.replace(path, target)
+            moved[path] = target
+        try:
+            result = run()
+        finally:
+            for path, target in moved.items():
+                if not os.path.exists(path):  # not written again: another request's, or the run failed: put back
+                    os.replace(target, path)
+                    continue
+                with open(path, "rb") as new, open(target, "rb") as old:
+                    if new.read() != old.read():
+                        report(f"checkpoint {path}: valid checksum but wrong content (its recomputation differs); "
+                               "dropped and replaced by the recomputed record")
+            shutil.rmtree(aside, ignore_errors=True)
+        return result
+
+
+def records_held(directory, N: int, routes) -> int:
+    """How many record files (regular files, not yet verified) the requests of ``N`` of ``routes`` hold in
+    ``directory`` (a route's name, or the name and a layer ``i``: a run with one request per layer).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> d = tempfile.mkdtemp()
+    >>> CheckpointStore(d, "pfaffian-layer-grains3", N=5).save(101, 7)
+    >>> records_held(d, 5, ("pfaffian-layer-grains", "pfaffian-floor-grains")), records_held(d, 5, ("pfaffian-layer",))
+    (1, 0)
+    """
+    held = 0
+    try:
+        folders = os.listdir(directory)
+    except OSError:
+        return 0
+    mark = f"-N{int(N)}-m"
+    for folder in folders:
+        if mark not in folder or not folder.endswith(f"-v{FORMAT_VERSION}"):
+            continue
+        route = folder[:folder.index(mark)]
+        if route not in routes and route.rstrip("0123456789") not in routes:  # a layer's route: the name + i
+            continue
+        try:
+            entries = list(os.scandir(os.path.join(directory, folder)))
+        except OSError:
+            continue
+        held += sum(1 for e in entries if e.name.endswith(".rec") and not e.name.startswith(_TEMP_PREFIX)
+                    and e.is_file(follow_symlinks=False))
+    return held
+
+
+def run_distrusting(checkpoint, N: int, attempt):
+    """``attempt()``, repeated once without the reused records if the route's exact checks fail
+    (:func:`distrust_reused`: a record with a valid checksum but wrong content is named, dropped, recomputed).
+
+    Parameters
+    ----------
+    checkpoint : CheckpointStore, str, os.PathLike or None
+        The run's store, or its directory (one request per layer), or None.
+    N : int
+        The request's size.
+    attempt : callable
+        The whole run, no arguments.
+
+    Examples
+    --------
+    >>> run_distrusting(None, 12, lambda: 42)
+    42
+    """
+    import time
+
+    started = time.time()
+
+    def fresh():
+        if isinstance(checkpoint, CheckpointStore):
+            checkpoint.reused = checkpoint.saved = checkpoint.damaged = checkpoint.ignored = 0
+        return attempt()
+
+    directory = checkpoint.directory if isinstance(checkpoint, CheckpointStore) else checkpoint
+    return distrust_reused(fresh, directory, N, started)
+
+
+def resumed_plan(plan, directory, N: int, routes):
+    """``plan`` (one tick per prime) with the records already held in ``directory`` counted: its time without
+    the compilation scaled by the share still to compute, and the reuse stated in its description.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from forcenet.core.plan import Plan
+    >>> d = tempfile.mkdtemp()
+    >>> resumed_plan(Plan("x", 10.0, 0, 4, "prime"), d, 5, ("pfaffian-floor-grains",)).seconds
+    10.0
+    >>> CheckpointStore(d, "pfaffian-floor-grains", N=5).save(101, 7)
+    >>> p = resumed_plan(Plan("x", 10.0, 0, 4, "prime"), d, 5, ("pfaffian-floor-grains",))
+    >>> p.seconds, p.what.startswith("x; 1 of 4 primes recorded in ")
+    (7.5, True)
+    """
+    from dataclasses import replace
+
+    ticks = max(int(plan.ticks), 1)
+    held = min(records_held(directory, N, routes), ticks)
+    if not held:
+        return plan
+    compiling = sum(seconds for _, seconds in plan.compiling)
+    seconds = compiling + (plan.seconds - compiling) * (ticks - held) / ticks
+    return replace(plan, what=f"{plan.what}; {held} of {ticks} primes recorded in {os.fspath(directory)}", seconds=seconds)
+
+
+def _records_before(directory: str, N: int, started: float) -> list[str]:
+    """The regular record files of ``N``'s folders in ``directory`` last written before ``started``."""
+    found = []
+    try:
+        folders = [f for f in os.listdir(directory) if f"-N{int(N)}-m" in f and f.endswith(f"-v{FORMAT_VERSION}")]
+    except OSError:
+        return []
+    for folder in folders:
+        path = os.path.join(directory, folder)
+        try:
+            names = os.listdir(path)
+        except OSError:
+            continue
+        for name in names:
+            file = os.path.join(path, name)
+            if name.endswith(".rec") and not name.startswith(_TEMP_PREFIX):
+                try:
+                    info = os.lstat(file)
+                except OSError:
+                    continue
+                if stat.S_ISREG(info.st_mode) and info.st_mtime < started:
+                    found.append(file)
+    return sorted(found)
 
 
 def _sweep(path: str) -> None:

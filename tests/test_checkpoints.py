@@ -231,3 +231,108 @@ def test_checkpoint_options_refused_in_one_line(argv, message, capsys, tmp_path,
     assert main(["table", "--N", "12", "--format", "json", *argv]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and message in err and os.listdir(tmp_path) == []
+
+
+# ---------------------------------------------------------------- issue 46: hostile files, bad places, wrong content
+
+
+def _timed(call, seconds=5.0):
+    start = time.monotonic()
+    result = call()
+    assert time.monotonic() - start < seconds
+    return result
+
+
+def test_a_fifo_named_like_a_record_is_not_opened(tmp_path):
+    lines = []
+    store = _store(tmp_path, lines=lines)
+    store.save(5, np.arange(3))
+    os.mkfifo(store._file(7))
+    assert _timed(lambda: store.load(7)) is None  # no writer would ever come: opening it would hang
+    assert not store.holds(7) and store.holds(5)
+    assert len(lines) == 1 and "a FIFO" in lines[0] and store._file(7) in lines[0]
+    store.save(7, np.arange(4))  # the recomputed record replaces the FIFO
+    assert store.load(7).tolist() == [0, 1, 2, 3]
+
+
+def test_a_device_node_named_like_a_record_is_not_read(tmp_path):
+    lines = []
+    store = _store(tmp_path, lines=lines)
+    os.makedirs(store.path)
+    try:
+        os.mknod(store._file(7), 0o600 | __import__("stat").S_IFCHR, os.makedev(1, 5))  # /dev/zero's numbers
+    except PermissionError:
+        pytest.skip("creating a device node needs CAP_MKNOD")
+    assert _timed(lambda: store.load(7)) is None  # /dev/zero would be read until memory runs out
+    assert len(lines) == 1 and "a character device" in lines[0]
+
+
+def test_a_symbolic_link_named_like_a_record_is_not_followed(tmp_path):
+    lines = []
+    store = _store(tmp_path, lines=lines)
+    store.save(5, np.arange(3))
+    os.symlink(store._file(5), store._file(7))  # a valid record of another prime, through a link
+    assert store.load(7) is None and "a symbolic link" in lines[0] and not store.holds(7)
+
+
+@pytest.mark.parametrize("make", ["missing home", "cache is a file", "unreadable folder"])
+def test_an_unusable_checkpoint_place_is_one_line_and_creates_nothing(make, tmp_path, monkeypatch):
+    monkeypatch.delenv("XDG_CACHE_HOME", raising=False)
+    if make == "missing home":
+        monkeypatch.setenv("HOME", str(tmp_path / "nobody"))
+    elif make == "cache is a file":
+        (tmp_path / "cache").write_text("not a directory")
+        monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    lines = []
+    directory = default_directory() if make != "unreadable folder" else tmp_path / "ck"
+    store = CheckpointStore(directory, "pfaffian-table", 12, report=lines.append)
+    if make == "unreadable folder":
+        if os.geteuid() == 0:
+            pytest.skip("root reads any folder")
+        os.makedirs(store.path)
+        os.chmod(store.path, 0)
+    for p in range(481):  # one line, not one per prime
+        assert store.load(p) is None
+        store.save(p, np.arange(3))
+    assert len(lines) == 1 and "continuing without checkpoints" in lines[0], lines
+    assert store.saved == 0 and store.failed
+    assert not (tmp_path / "nobody").exists()
+
+
+def test_a_record_with_a_valid_checksum_but_wrong_content_is_named_dropped_and_recomputed(tmp_path):
+    from forcenet.exact.checkpoints import distrust_reused
+
+    expected = route.mean_W(8)
+    assert route.mean_W(8, checkpoint=tmp_path) == expected
+    store = CheckpointStore(tmp_path, "pfaffian-table", 8)
+    name = sorted(os.listdir(store.path))[0]
+    key = int(name[1:-4])
+    value = store.load(key).copy()
+    value.flat[value.size // 2 + 1] = (value.flat[value.size // 2 + 1] + 1) % key  # still a residue mod p
+    open(store._file(key), "wb").write(store.encode(key, value))  # a checksum that matches the wrong content
+    for entry in os.scandir(store.path):
+        os.utime(entry.path, (1e9, 1e9))  # written by an earlier run
+    with pytest.raises(ArithmeticError):  # the route's own exact checks catch it; alone, it is a failure
+        route.mean_W(8, checkpoint=tmp_path)
+    lines = []
+    started = time.time()
+    for entry in os.scandir(store.path):
+        os.utime(entry.path, (1e9, 1e9))
+    table = distrust_reused(lambda: route.mean_W(8, checkpoint=tmp_path), tmp_path, 8, started, lines.append)
+    assert table == expected
+    named = [line for line in lines if "valid checksum but wrong content" in line]
+    assert len(named) == 1 and store._file(key) in named[0]
+    assert all("\n" not in line for line in lines)
+    again = CheckpointStore(tmp_path, "pfaffian-table", 8)
+    assert route.mean_W(8, checkpoint=again) == expected and again.damaged == 0 and again.reused > 0
+    assert not [f for f in os.listdir(tmp_path) if f.startswith(".suspect-")]  # the set-aside folder is gone
+
+
+def test_without_reused_records_an_arithmetic_error_stays_a_bug(tmp_path):
+    from forcenet.exact.checkpoints import distrust_reused
+
+    def broken():
+        raise ArithmeticError("a bug")
+
+    with pytest.raises(ArithmeticError, match="a bug"):
+        distrust_reused(broken, tmp_path, 8, time.time())

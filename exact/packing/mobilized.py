@@ -20,17 +20,14 @@ from typing import Any
 
 import sympy
 
-from forcenet.core.validation import check_int
-from forcenet.core.errors import ArgumentError, ArgumentTypeError
+from forcenet.core.validation import check_int, check_rational
+from forcenet.core.errors import ArgumentError
 
 __all__ = ["mean_W_mobilized"]
 
 
 def _rational(name: str, value: Any) -> Fraction:
-    try:
-        r = Fraction(value)
-    except (TypeError, ValueError):
-        raise ArgumentTypeError(f"{name}={value!r}: expected an int, Fraction or decimal string") from None
+    r = check_rational(value, name)  # an int, Fraction or string; a binary float only when exactly its decimal
     if r < 0:
         raise ArgumentError(f"{name}={value} is out of range: {name} must be >= 0")
     return r

@@ -49,7 +49,7 @@ from math import comb
 import sympy
 
 from forcenet.core.plan import Plan
-from forcenet.core.validation import check_grain, check_int, check_layers
+from forcenet.core.validation import available_memory, check_grain, check_int, check_layers
 from .gaps import GapCounts, chain_pass, contact_gap_counts, contact_gap_law, gap_laws_plan
 from .joint_gaps import q_gap_counts
 from .pieces import Piece, as_pieces, bernstein_to_monomial, bin_probabilities, piecewise_cdf, sum_pieces
@@ -162,6 +162,11 @@ def _load_gaps(N: int, grain: tuple[int, int], progress: Callable[[int], object]
     if i == 1:
         raise ArgumentError(f"grain={grain!r}: W_{{1,1}} = 1 is the overload, it has no density; "
                          f"i must be an integer in 2..{N}")
+    plan = distribution_plan(N, "grain", available_memory())
+    if not plan.runnable:  # the pass over the 2^(N-1) order ideals cannot run here: refused before the work
+        raise ArgumentError(f"density(N={N}): {plan.refusal}; a lattice-direction load (i, 1) or (i, i) to N = 128, "
+                            "and every floor load, by Pfaffians: forcenet dist --N N --grain i,j "
+                            "(N = 64: ~1-2 min)")
     return chain_pass("layer", N, i, progress)[j - 1]
 
 

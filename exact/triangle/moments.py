@@ -100,7 +100,7 @@ def mean_W(N: int, progress: Progress | None = None, memory_bytes: int | None = 
     ----------
     Ostojic (2006), Eqs. (4.63)-(4.77); Fig. 4.3 compares N = 11.
     """
-    return _mean_table(check_layers(N), progress, memory_bytes)
+    return _mean_table(_dp_layers(N, "mean_W", memory_bytes), progress, memory_bytes)
 
 
 def _mean_table(N: int, progress: Progress | None = None, memory_bytes: int | None = None) -> Table:
@@ -138,7 +138,7 @@ def mean_W_grain(N: int, i: int, j: int) -> Fraction:
     >>> mean_W_grain(6, 6, 2)
     Fraction(413, 2288)
     """
-    N = check_layers(N)
+    N = _dp_layers(N, "mean_W_grain")
     i, j = check_grain(N, (i, j))
     C, total = _survival(N)
     d = trusted_dimension(N)
@@ -187,6 +187,21 @@ def _mean_plan(N: int, memory_bytes: int | None) -> Plan:
         return plan.refuse(f"N={N} is out of range for the exact table here: it needs ~{est.nbytes / 2**30:.1f} GiB "
                            f"but {budget / 2**30:.1f} GiB is available; N must be an integer in 2..{top} here")
     return plan
+
+
+_BEYOND_DP = ("beyond the order-ideal DP's wall, forcenet.exact.triangle.pfaffian reaches N = 200 in time polynomial "
+              "in N: mean_W(N) (N = 64 ~1.6 min, N = 100 ~36 min on 2 cores), moments_run(N, s) for <W^s> to N = 128 "
+              "(forcenet table --N N --method pfaffian [--moments s])")
+
+
+def _dp_layers(N, what: str, memory_bytes: int | None = None) -> int:
+    """``N`` checked, and refused where the order-ideal DP (``2^(N-1)`` ideals) cannot run: before any work,
+    naming the Pfaffian route that reaches that ``N`` and its cost."""
+    N = check_layers(N)
+    plan = _mean_plan(N, memory_bytes)
+    if not plan.runnable:
+        raise ArgumentError(f"{what}(N={N}): {plan.refusal} (the DP over the 2^(N-1) order ideals); {_BEYOND_DP}")
+    return N
 
 
 def _budget(memory_bytes: int | None, cap: int) -> int:
@@ -276,7 +291,7 @@ def moment_table(N: int, s: int = 2, *, memory_bytes: int | None = None, progres
     >>> [str(x) for x in moment_table(4, 2)[-1]]
     ['1/28', '9/56', '9/56', '1/28']
     """
-    return _moment_table(check_layers(N), check_int(s, "s", 1), memory_bytes, progress)
+    return _moment_table(_dp_layers(N, "moment_table", memory_bytes), check_int(s, "s", 1), memory_bytes, progress)
 
 
 def _moment_table(N: int, s: int, memory_bytes: int | None = None, progress: Progress | None = None) -> Table:
@@ -342,7 +357,7 @@ def moment(N: int, grain: tuple[int, int], s: int) -> Fraction:
     >>> moment(5, (5, 1), 2)
     Fraction(1, 66)
     """
-    N = check_layers(N)
+    N = _dp_layers(N, "moment")
     i, j = check_grain(N, grain)
     s = check_int(s, "s", 1)
     if s == 1:
@@ -397,7 +412,7 @@ def correlation(N: int, grain1: tuple[int, int], grain2: tuple[int, int]) -> Fra
     ----------
     Ostojic (2006), Sec. 4.5.2.
     """
-    N = check_layers(N)
+    N = _dp_layers(N, "correlation")
     g1 = check_grain(N, grain1, "grain1")
     g2 = check_grain(N, grain2, "grain2")
     return _correlation(N, *sorted([g1, g2]))
@@ -449,7 +464,7 @@ def covariance(N: int, grain1: tuple[int, int], grain2: tuple[int, int]) -> Frac
     >>> covariance(4, (4, 1), (4, 4))
     Fraction(-1, 392)
     """
-    N = check_layers(N)
+    N = _dp_layers(N, "covariance")
     g1 = check_grain(N, grain1, "grain1")
     g2 = check_grain(N, grain2, "grain2")
     return correlation(N, g1, g2) - mean_W_grain(N, *g1) * mean_W_grain(N, *g2)

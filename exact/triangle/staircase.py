@@ -340,9 +340,13 @@ def count_plan(N: int, memory_bytes: int | None = None) -> Plan:
     >>> count_plan(10**6, memory_bytes=24 * 2**30).runnable  # 2.7e12 digits
     False
     """
+    return _count_plan(check_layers(N), memory_bytes)
+
+
+def _count_plan(N: int, memory_bytes: int | None) -> Plan:
+    """:func:`count_plan` for ``N`` already checked."""
     from forcenet.core.plan import Plan
 
-    N = check_layers(N)
     if N > _COUNT_MAX_N:
         return Plan(f"count N={N}", 0, refusal=f"N={N} is out of range for count: N must be an integer in 2..{_COUNT_MAX_N} "
                                                 "(beyond, the integer has more than 10^12 digits)")
@@ -353,6 +357,20 @@ def count_plan(N: int, memory_bytes: int | None = None) -> Plan:
 
 
 _COUNT_MAX_N = 10**6
+
+
+def _within_memory(N, what: str) -> int:
+    """``N`` checked, and refused before any work where the integer cannot fit in the memory available now
+    (:func:`count_plan`; the denominator of :func:`normalization` has about twice the digits of the count)."""
+    from forcenet.core.validation import available_memory
+
+    N = check_layers(N)
+    memory = available_memory()
+    plan = _count_plan(N, None if memory is None else memory // (1 if what == "count" else 2))
+    if not plan.runnable:
+        raise ArgumentError(f"{what}(N={N}) is refused: {plan.refusal}; N = 8000 (1e8 digits) takes ~40 s and "
+                            "~1.2 GiB; count_digits(N) gives the size of any count at once")
+    return N
 
 
 @lru_cache(maxsize=64)
@@ -390,7 +408,7 @@ def count(N: int) -> int:
     ----------
     Ostojic (2006), Eq. (4.1); OEIS A003121.
     """
-    N = check_layers(N)
+    N = _within_memory(N, "count")
     return _prime_power_product(_prime_exponents_of_count(N))
 
 
@@ -424,7 +442,7 @@ def normalization(N: int) -> Fraction:
     >>> normalization(5)
     Fraction(1, 302400)
     """
-    N = check_layers(N)
+    N = _within_memory(N, "normalization")
     n = N - 1
     primes = _primes_upto(max(2 * n, 2))
     exps = _exponents_of_denominator(n, primes)

@@ -43,7 +43,7 @@ from functools import lru_cache
 import mpmath
 
 from forcenet.core.plan import Plan
-from forcenet.core.validation import check_dps, check_int
+from forcenet.core.validation import check_dps, check_float_digits, check_int, is_binary_float
 
 from forcenet.core.precision import GUARD, RealLike, converged, to_mpf
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
@@ -103,6 +103,12 @@ def closed_form_plan(dps: int, maximum: bool = False) -> Plan:
 
 
 # ----------------------------------------------------------------- conversions
+
+
+def _exact(value, name: str, dps: int):
+    """A binary float where digits matter meets the one rule (refused, or warned about when ``dps`` digits are
+    within its reach: :func:`forcenet.core.validation.check_float_digits`), once at a public boundary."""
+    return check_float_digits(value, name, dps, stacklevel=3) if is_binary_float(value) else value
 
 
 def _point(phi, Q):
@@ -220,6 +226,7 @@ def density_Q(phi: RealLike, dps: int = 50) -> mpmath.mpf:
     '0.09455495911710849789324424'
     """
     dps = check_dps(dps)
+    phi = _exact(phi, "phi", dps)
     return converged(lambda: _point(phi, None)[0], dps)
 
 
@@ -230,8 +237,10 @@ def density_Q_naive(phi: RealLike, dps: int = 50) -> mpmath.mpf:
     cancellation ``1 - sin(phi/3) -> 0`` (at ``phi -> 3 pi/2``, outside the
     physical range) shows in the tests.
     """
-    with mpmath.workdps(check_dps(dps)):
-        x = mpmath.mpf(phi)
+    dps = check_dps(dps)
+    phi = _exact(phi, "phi", dps)
+    with mpmath.workdps(dps):
+        x = to_mpf(phi, "phi")
         return mpmath.mpf(1) / 2 - mpmath.cos(x / 3) / (2 * mpmath.sqrt(3) * (1 - mpmath.sin(x / 3)))
 
 
@@ -246,6 +255,7 @@ def phi_of_density(Q: RealLike, dps: int = 50) -> mpmath.mpf:
     '0.430042706716096'
     """
     dps = check_dps(dps)
+    Q = _exact(Q, "Q", dps)
 
     def compute():
         q, _ = _point(None, Q)
@@ -295,6 +305,8 @@ def eps_of(*, phi: RealLike | None = None, Q: RealLike | None = None, dps: int =
     '5.19615242270663e-20'
     """
     dps = check_dps(dps)
+    phi = _exact(phi, "phi", dps)
+    Q = _exact(Q, "Q", dps)
 
     def compute():
         q, x = _point(phi, Q)
@@ -332,6 +344,8 @@ def entropy(*, phi: RealLike | None = None, Q: RealLike | None = None, dps: int 
     '2.048120999e-58'
     """
     dps = check_dps(dps)
+    phi = _exact(phi, "phi", dps)
+    Q = _exact(Q, "Q", dps)
 
     def compute():
         q, _ = _point(phi, Q)
@@ -353,6 +367,8 @@ def chemical_potential(*, phi: RealLike | None = None, Q: RealLike | None = None
     '-0.042985271999763969878'
     """
     dps = check_dps(dps)
+    phi = _exact(phi, "phi", dps)
+    Q = _exact(Q, "Q", dps)
 
     def compute():
         q, _ = _point(phi, Q)
@@ -372,6 +388,8 @@ def empty_density(*, phi: RealLike | None = None, Q: RealLike | None = None, dps
     mpf('0.5')
     """
     dps = check_dps(dps)
+    phi = _exact(phi, "phi", dps)
+    Q = _exact(Q, "Q", dps)
 
     def compute():
         q, _ = _point(phi, Q)
@@ -406,6 +424,8 @@ def tiling_entropy(*, phi: RealLike | None = None, Q: RealLike | None = None, dp
     '0.11294704937043980697'
     """
     dps = check_dps(dps)
+    phi = _exact(phi, "phi", dps)
+    Q = _exact(Q, "Q", dps)
 
     def compute():
         q, _ = _point(phi, Q)
@@ -430,6 +450,7 @@ def entropy_series_7_3(eps: RealLike, order: int = 2, dps: int = 50) -> mpmath.m
     '6.05137311061e-5'
     """
     dps = check_dps(dps)
+    eps = _exact(eps, "eps", dps)
     order = check_int(order, "order", 2, 8)
     f = _series_eps_function(order)
 
@@ -464,6 +485,7 @@ def entropy_per_grain(l: RealLike, dps: int = 50) -> mpmath.mpf:
     '0.29175946922805500081'
     """
     dps = check_dps(dps)
+    l = _exact(l, "l", dps)
 
     def compute():
         x = to_mpf(l, "l")

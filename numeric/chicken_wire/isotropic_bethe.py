@@ -27,7 +27,7 @@ import numpy as np
 
 from forcenet.core.errors import ArgumentError, ConvergenceError
 from forcenet.core.plan import Plan
-from forcenet.core.validation import check_int
+from forcenet.core.validation import check_int, check_rational
 
 __all__ = [
     "extrapolate",
@@ -83,7 +83,7 @@ def isotropic_limit(Q: Fraction | int | str | float, L_max: int = 240, L_min: in
     """
     from .bethe import isotropic_sequence
 
-    Q = Fraction(Q)
+    Q = check_rational(Q, "Q")  # a binary float is refused: the widths are multiples of Q's denominator
     if not (0 < Q < Fraction(1, 3)):
         raise ArgumentError(f"Q={Q}: the Bethe route needs 0 < Q < 1/3")
     a, c = Q.denominator, Q.numerator

@@ -28,7 +28,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from forcenet.exact.triangle.staircase import dimension
-from forcenet.core.validation import check_int, check_layers
+from forcenet.core.validation import check_fits_memory, check_int, check_layers, check_seed
 
 __all__ = ["ExactSampler", "mean_and_error", "q_from_W", "removal_probabilities", "sample_tableaux", "tableaux_to_W"]
 
@@ -253,7 +253,9 @@ class ExactSampler:
 
         self.kernel = kernel_choice(kernel)
         self.N = check_layers(N)
-        self.rng = np.random.default_rng(seed)
+        check_fits_memory(16 * self.N * (self.N + 1), f"one sample of N={self.N}", "N up to a few 10^4 fits "
+                          "(N = 1000: 0.08 s per sample)")
+        self.rng = np.random.default_rng(check_seed(seed))
         batch = check_int(batch, "batch", 1)
         # a batch holds B tableaux of N^2 int32 entries: keep it under ~1 GiB
         self.batch = max(1, min(batch, 2**28 // (self.N * self.N)))
@@ -301,6 +303,8 @@ class ExactSampler:
         ((3, 4, 4), True)
         """
         size = check_int(size, "size", 0)
+        check_fits_memory(8 * size * self.N * self.N, f"sample_W(size={size}) at N={self.N}",
+                          "draw fewer at a time, or use moment_sums (running sums, no array of samples)")
         if self.kernel == "compiled":
             W = np.empty((size, self.N, self.N))
             self._compiled(size, W_out=W)

@@ -36,7 +36,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from forcenet.exact.triangle.staircase import dimension
-from forcenet.core.validation import check_int, check_layers
+from forcenet.core.validation import check_fits_memory, check_int, check_layers, check_seed
 from forcenet.core.errors import ArgumentError
 
 __all__ = ["TriangleMetropolis", "forces_from_q", "lateral_forces", "q_model_samples"]
@@ -139,7 +139,8 @@ class TriangleMetropolis:
         self.move = move
         self.evaluations = 0
         self.N = check_layers(N)
-        self.rng = np.random.default_rng(seed)
+        check_fits_memory(64 * self.N * self.N, f"the chain's state at N={self.N}", "a smaller N")
+        self.rng = np.random.default_rng(check_seed(seed))
         if ph is not None and not (ph > 0 and math.isfinite(ph)):
             raise ArgumentError(f"ph={ph}: the side pressure must be a positive finite number (or None)")
         self.ph = ph
@@ -306,6 +307,8 @@ class TriangleMetropolis:
         sweeps = check_int(sweeps, "sweeps", 1)
         burn_in = check_int(burn_in, "burn_in", 0)
         thin = check_int(thin, "thin", 1)
+        check_fits_memory(8 * sweeps * self.N * self.N, f"run(sweeps={sweeps}) at N={self.N}",
+                          "record fewer sweeps (thin= keeps every thin-th)")
         self.sweep(burn_in)
         out = np.empty((sweeps, self.N, self.N))
         if self.kernel == "compiled":

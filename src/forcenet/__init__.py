@@ -11,7 +11,8 @@ The front door (one flat namespace, loaded on first use so ``import forcenet`` s
 * :mod:`forcenet.testing` — test your own sampler or formula against the exact ensemble;
 * the exception family (:mod:`forcenet.core.errors`): :class:`ForcenetError`, the base of every
   expected failure, :class:`ArgumentError` (also a ``ValueError``), :class:`ArgumentTypeError`
-  (also a ``TypeError``) and :class:`ConvergenceError` (also a ``RuntimeError``).
+  (also a ``TypeError``) and :class:`ConvergenceError` (also a ``RuntimeError``), and the warning
+  :class:`PrecisionWarning` (a binary float accepted where an exact number was expected).
 
 Behind it: :mod:`forcenet.exact` (exact results, one subpackage per model), :mod:`forcenet.numeric`
 (samplers, floating point), :mod:`forcenet.cli` (the command line, which calls these same functions).
@@ -35,7 +36,7 @@ from importlib.metadata import PackageNotFoundError, version
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ loads them on first use
-    from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceError, ForcenetError
+    from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceError, ForcenetError, PrecisionWarning
     from forcenet.exact.triangle.distribution import cdf, contact_density, density
     from forcenet.exact.triangle.staircase import count, normalization
     from forcenet.front_door import Table, TablePlan, plan, table
@@ -61,6 +62,7 @@ _FRONT_DOOR = {
     "ArgumentError": "forcenet.core.errors",
     "ArgumentTypeError": "forcenet.core.errors",
     "ConvergenceError": "forcenet.core.errors",
+    "PrecisionWarning": "forcenet.core.errors",
 }
 
 _SUBPACKAGES = frozenset({"exact", "numeric", "testing"})
@@ -68,7 +70,7 @@ _SUBPACKAGES = frozenset({"exact", "numeric", "testing"})
 __all__ = [  # the keys of _FRONT_DOOR (tests/test_front_door.py), written out for the linters
     "table", "plan", "Table", "TablePlan", "count", "normalization", "density", "cdf", "contact_density",
     "ExactSampler", "TriangleMetropolis", "entropy", "tiling_entropy",
-    "ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError", "__version__",
+    "ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError", "PrecisionWarning", "__version__",
 ]
 
 try:

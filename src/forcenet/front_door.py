@@ -189,6 +189,7 @@ class TablePlan:
         >>> forcenet.plan(4, method="thesis").run().mean_W[-1]
         [Fraction(1, 7), Fraction(5, 14), Fraction(5, 14), Fraction(1, 7)]
         """
+        from forcenet.exact.checkpoints import run_distrusting
         from forcenet.exact.routes import table_run
 
         self.check()
@@ -199,9 +200,9 @@ class TablePlan:
 
             bar = tqdm(total=self.cost.ticks or None, desc=f"table N={self.N}", unit=self.cost.unit)
             progress = bar.update
-        try:
-            tables = table_run(self.method, self.N, self.moments, progress=progress or None,
-                               memory_bytes=self.memory_bytes, **options)
+        try:  # a reused record that fails the route's exact checks is named, dropped and recomputed
+            tables = run_distrusting(self.checkpoint, self.N, lambda: table_run(
+                self.method, self.N, self.moments, progress=progress or None, memory_bytes=self.memory_bytes, **options))
         finally:
             if bar is not None:
                 bar.close()
@@ -257,6 +258,7 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
     """
     from dataclasses import replace
 
+    from forcenet.exact.checkpoints import resumed_plan
     from forcenet.exact.routes import ENGINES, checkpoint_for, choose, table_plan, takes
 
     N, moments, method = check_layers(N), check_moments(moments), _method(method)
@@ -272,6 +274,8 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
             return TablePlan(N, moments, method, why, choice.plan, executor, directory, memory)
     store = None if directory is None else checkpoint_for(method, directory, N, moments)
     cost = table_plan(method, N, moments, memory, **_engine_options(executor, store))
+    if isinstance(store, str):  # one request per layer: the records every layer already holds count
+        cost = resumed_plan(cost, store, N, ("pfaffian-layer-grains", "pfaffian-floor-grains"))
     if why:
         cost = replace(cost, what=f"{cost.what}; {why}")
     elif not cost.runnable:  # an explicit method out of reach: name the route that runs it

@@ -9,7 +9,9 @@ stderr naming the argument or path, exit code 2 (130 on Ctrl-C), and no file
 written or directory created.  Anything else is a bug, a plain ``ValueError``
 or ``TypeError`` included: exit code 1, ``forcenet: internal error: <type>:
 <message>``, and the traceback on stderr under ``--debug``, else in a file
-whose path is printed.
+whose path is printed.  The main job's cross-check has codes of its own: 3
+when it DISAGREES, 4 when it cannot judge (:data:`.output.EXIT_CODES`, also in
+``forcenet --help``).
 
 Examples (shell)::
 
@@ -35,7 +37,7 @@ from forcenet.core.plan import interruptible_compilation
 
 from . import chicken_wire, dist, limit, sample, table
 from .common import Parser, UsageError, given
-from .output import check_stdout, destination
+from .output import EXIT_CODES, check_stdout, destination
 
 __all__ = ["main", "build_parser"]
 
@@ -62,7 +64,9 @@ examples, one per command (each takes a few seconds at most):
 
 Results go to stdout (or to --out FILE, written atomically); costs, progress
 and errors go to stderr. Runs announced at over a minute need --force.
-More: the README (README.md of the source, or the package page)."""
+More: the README (README.md of the source, or the package page).
+
+""" + EXIT_CODES
 
 
 def build_parser() -> Parser:
@@ -133,10 +137,52 @@ def _release_quietly(exc: BaseException) -> None:
         sys.unraisablehook = hook
 
 
+def _valued_options(parser) -> tuple[set[str], set[str]]:
+    """(the option strings that take one value, every option string) of the parser and its subcommands."""
+    valued, every = set(), set()
+    parsers, seen = [parser], set()
+    while parsers:
+        current = parsers.pop()
+        if id(current) in seen:
+            continue
+        seen.add(id(current))
+        for action in current._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                parsers.extend(action.choices.values())
+            every.update(action.option_strings)
+            if action.option_strings and action.nargs is None:
+                valued.update(action.option_strings)
+    return valued, every
+
+
+def _join_negative_values(parser, argv: list[str]) -> list[str]:
+    """``--grain -1,1`` read as ``--grain=-1,1``: a value that starts with ``-`` (argparse would take it for an
+    option and answer "expected one argument") is joined to the option that takes it, unless it is an option
+    itself; the value then meets its own check, which names the range."""
+    valued, every = _valued_options(parser)
+    out: list[str] = []
+    k = 0
+    while k < len(argv):
+        token = argv[k]
+        if token == "--":
+            out += argv[k:]
+            break
+        following = argv[k + 1] if k + 1 < len(argv) else None
+        if (token in valued and following is not None and following.startswith("-") and following != "-"
+                and following.split("=", 1)[0] not in every):
+            out.append(f"{token}={following}")
+            k += 2
+            continue
+        out.append(token)
+        k += 1
+    return out
+
+
 def main(argv=None) -> int:
     """Run the command line; returns the exit code."""
     sys.set_int_max_str_digits(0)  # huge exact integers are printed whole (count --N 84 has 4300+ digits)
     parser = build_parser()
+    argv = _join_negative_values(parser, list(sys.argv[1:] if argv is None else argv))
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # argparse: --help (0) or a one-line usage error (2)

@@ -122,6 +122,12 @@ def _phi(text):
     return text
 
 
+def _side(text):
+    """--F: the hexagon side l of Eq. (7.4), a finite number > 0, kept as the string given (read at full precision)."""
+    real("F", 0, low_open=True)(text)
+    return text.strip()
+
+
 def _inside(args) -> bool:
     """Whether the point is strictly inside ``0 < Q < 1/3`` (``|phi| < pi/2``), decided exactly."""
     from fractions import Fraction
@@ -161,8 +167,9 @@ def _closed_form_rows(args, dps):
     if eps > 0:
         rows.append(("eps", "pi/2 - phi", eps))
         rows.append(_series_row(args, eps, rows[2][2], dps))
-    rows.append(("g_per_grain_7_4", f"entropy per grain in the continuum limit, Eq. (7.4) corrected: log(6 l) - 3/2 at l = {args.F}",
-                 iso.entropy_per_grain(args.F, dps)))
+    side = "1" if args.F is None else args.F
+    rows.append(("g_per_grain_7_4", f"entropy per grain in the continuum limit, Eq. (7.4) corrected: log(6 l) - 3/2 at l = {side}",
+                 iso.entropy_per_grain(side, dps)))
     return rows
 
 
@@ -286,8 +293,9 @@ def register(sub):
     mode.add_argument("--Q", type=_density, help="bond density per direction, a number or fraction in [0, 1/3]")
     mode.add_argument("--max", action="store_true", help="the maxima: per site (mu = 0) and per tiling vertex (phi = 0)")
     p.add_argument("--dps", type=integer("dps", 5, 10000), default=50, help="decimal digits (5..10000, default 50)")
-    p.add_argument("--F", type=real("F", 0, low_open=True), default=1.0,
-                   help="hexagon side l (force scale) of Eq. (7.4), a finite number > 0 (default 1)")
+    p.add_argument("--F", type=_side, default=None,
+                   help="hexagon side l (force scale) of Eq. (7.4), a finite number > 0 (default 1), read at full "
+                        "precision like --phi")
     p.add_argument("--bethe", action="store_true", help="also the independent Bethe-ansatz value of v (announces its cost)")
     p.add_argument("--L-max", type=integer("L-max", 60, 1200), default=240, help="largest Bethe-ansatz width (60..1200, default 240)")
     add_format(p)

@@ -218,6 +218,10 @@ def cmd_dist(args):
 
 
 def _dist(args, what, plans, options, store):
+    if isinstance(store, str):  # one request per layer (the ensemble): the records every layer holds count
+        from forcenet.exact.checkpoints import resumed_plan
+
+        plans = [resumed_plan(plans[0], store, args.N, ("pfaffian-layer", "pfaffian-floor")), *plans[1:]]
     if args.plot is not None:
         args.samples = 20000 if args.samples is None else args.samples
         args.sweeps = 3000 if args.sweeps is None else args.sweeps
@@ -236,7 +240,10 @@ def _dist(args, what, plans, options, store):
         png = _figure(args, what, pieces, tick) if args.plot is not None else None
         return title, var, pieces, cdf_pieces, extra, grid, png
 
-    title, var, pieces, cdf_pieces, extra, grid, png = run_planned(plan, run, force=args.force, quiet=args.quiet)
+    from forcenet.exact.checkpoints import run_distrusting  # one retry of a run whose reused records fail its checks
+
+    title, var, pieces, cdf_pieces, extra, grid, png = run_distrusting(
+        store, args.N, lambda: run_planned(plan, run, force=args.force, quiet=args.quiet))
     if store is not None and not args.quiet:
         report_checkpoints(store, plans[0].ticks)
     text = {"json": lambda: _json(args, title, var, pieces, cdf_pieces, extra, grid),

@@ -31,7 +31,15 @@ from dataclasses import dataclass
 from .common import UsageError
 
 __all__ = ["Destination", "destination", "check_output_path", "check_output_dir", "check_stdout", "emit",
-           "write_stdout", "write_files"]
+           "write_stdout", "write_files", "EXIT_DISAGREES", "EXIT_CANNOT_JUDGE", "EXIT_CODES"]
+
+# exit codes of every command (README "Command line", forcenet --help): one meaning each
+EXIT_DISAGREES = 3  # the main job's Monte Carlo cross-check found the table and the samples in disagreement
+EXIT_CANNOT_JUDGE = 4  # the cross-check's samples cannot support a verdict (too few to reveal a wrong mean)
+EXIT_CODES = """\
+exit codes: 0 done (the cross-check agrees); 1 internal error (a bug: please report it);
+2 bad input, a refused run or a file-system error (one line on stderr); 3 the main job's
+cross-check DISAGREES; 4 the cross-check cannot judge (too few samples); 130 interrupted."""
 
 STDOUT = "standard output"
 _MAX_LINKS = 40  # symbolic links followed, as the kernel does

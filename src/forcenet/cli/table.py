@@ -21,7 +21,7 @@ from .common import (
     run_planned,
 )
 from .cluster import add_engine_options, engine_options, report_checkpoints
-from .output import check_output_dir, emit, write_files, write_stdout
+from .output import EXIT_CANNOT_JUDGE, EXIT_DISAGREES, check_output_dir, emit, write_files, write_stdout
 
 __all__ = ["register"]
 
@@ -158,7 +158,9 @@ def _table(args, fmt, memory, request):
             lines.append(f"  RMS of (sampled - exact)/stderr = {check.rms_z:.2f} (about 1 expected)")
     # the summary is printed once the files are in place; if standard output fails, they are taken back
     write_files(files, name="--out-dir", make_dir=args.out_dir, then=lambda: write_stdout("\n".join(lines) + "\n"))
-    return 0 if check is None or check.passed else 1
+    if check is None or check.passed:
+        return 0
+    return EXIT_CANNOT_JUDGE if check.verdict == "cannot judge" else EXIT_DISAGREES
 
 
 def cmd_maps(args):
@@ -198,7 +200,8 @@ def register(sub):
                "  mean_W_N<N>.json, mean_W_N<N>.csv and mean_W_N<N>.tex, the same exact table in three formats,\n"
                "prints a summary (the count, the normalization, the bottom row) and checks the table against\n"
                "20000 independent exact-sampler samples (--samples; --seed 2006 fixes them): a Monte Carlo\n"
-               "cross-check with a stated false-alarm rate (exit code 1 if it disagrees). --seed affects only\n"
+               "cross-check with a stated false-alarm rate (exit code 3 if it disagrees, 4 if the samples are\n"
+               "too few to judge; 1 is only ever a bug). --seed affects only\n"
                "that cross-check, never the exact table.\n"
                "with --format or --out: one format of the exact table only, no files in ./forcenet-tables/,\n"
                "no cross-check.\n\n"

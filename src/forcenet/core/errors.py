@@ -15,6 +15,11 @@ bug: exit code 1, ``forcenet: internal error``, the traceback under
 * :class:`ConvergenceError` -- an iterative method did not converge for the
   arguments given (choose others); also a ``RuntimeError``.
 
+Beside the family, one warning: :class:`PrecisionWarning` (a ``UserWarning``),
+for a binary float accepted where an exact number was expected because its
+digits suffice for the precision asked
+(:func:`forcenet.core.validation.check_float_digits`, the one rule).
+
 The family is exported from the top of the package (``forcenet.ForcenetError``,
 ...).  This module imports nothing.
 
@@ -30,7 +35,7 @@ ArgumentError True N=1 is out of range: N must be an integer >= 2
 
 from __future__ import annotations
 
-__all__ = ["ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError"]
+__all__ = ["ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError", "PrecisionWarning"]
 
 
 class ForcenetError(Exception):
@@ -47,3 +52,23 @@ class ArgumentTypeError(ForcenetError, TypeError):
 
 class ConvergenceError(ForcenetError, RuntimeError):
     """An iterative method (Newton, a continuation) did not converge for these arguments; the message says where."""
+
+
+class PrecisionWarning(UserWarning):
+    """A binary float was accepted where an exact number was expected: its digits suffice for the precision asked,
+    but the result is the value at the float (pass a string or a ``Fraction`` for the number you mean).
+
+    Examples
+    --------
+    >>> import warnings
+    >>> import forcenet
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     value = forcenet.entropy(phi=0.3, dps=15)
+    >>> [w.category.__name__ for w in caught]
+    ['PrecisionWarning']
+    >>> forcenet.entropy(phi=0.3, dps=40)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    forcenet.core.errors.ArgumentTypeError: phi=0.3 is a binary float...
+    """

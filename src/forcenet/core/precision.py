@@ -28,7 +28,7 @@ from typing import TypeAlias
 
 import mpmath
 
-from forcenet.core.validation import check_not_bool
+from forcenet.core.validation import check_float_digits, check_not_bool, is_binary_float
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 
 __all__ = ["GUARD", "RealLike", "to_mpf", "guarded", "converged"]
@@ -39,16 +39,29 @@ GUARD = 10  # guard digits
 MAX_EXTRA = 5000  # digits beyond dps before giving up on convergence
 
 
-def to_mpf(value: RealLike, name: str) -> mpmath.mpf:
+def to_mpf(value: RealLike, name: str, dps: int | None = None) -> mpmath.mpf:
     """``value`` as an mpf at the current precision (call inside ``mpmath.workdps``).
+
+    With ``dps`` (the digits the caller's result promises), a binary float
+    meets the one rule of :func:`forcenet.core.validation.check_float_digits`:
+    refused naming the fix where its digits do not reach ``dps``, else accepted
+    with a ``PrecisionWarning`` (silent when it is exactly its decimal).  A
+    function converting at several working precisions applies the rule once,
+    at its boundary, instead (:mod:`forcenet.numeric.chicken_wire.isotropic`).
 
     Examples
     --------
     >>> with mpmath.workdps(30):
     ...     mpmath.nstr(to_mpf(Fraction(1, 3), "Q"), 30)
     '0.333333333333333333333333333333'
+    >>> to_mpf(1 / 3, "Q", dps=30)
+    Traceback (most recent call last):
+    ...
+    forcenet.core.errors.ArgumentTypeError: Q=0.3333333333333333 is a binary float, good to 15 significant digits, but dps=30 digits were asked: pass '1/3' or Fraction(1, 3) (a string or a Fraction keeps every digit)
     """
     check_not_bool(value, name)
+    if dps is not None and is_binary_float(value):
+        check_float_digits(value, name, dps, stacklevel=3)
     try:
         x = mpmath.mpf(value.numerator) / value.denominator if isinstance(value, Fraction) else mpmath.mpf(value)
     except (TypeError, ValueError):

@@ -25,14 +25,19 @@ Traceback (most recent call last):
 forcenet.core.errors.ArgumentTypeError: N=True is not an integer: N must be an integer >= 2
 >>> check_real("0.5", "z", low=0, high=1, low_open=True)
 0.5
+>>> check_float_digits(1 / 6, "Q", dps=40)
+Traceback (most recent call last):
+...
+forcenet.core.errors.ArgumentTypeError: Q=0.16666666666666666 is a binary float, good to 15 significant digits, but dps=40 digits were asked: pass '1/6' or Fraction(1, 6) (a string or a Fraction keeps every digit)
 """
 
 from __future__ import annotations
 
 import math
 import numbers
+import warnings
 from fractions import Fraction
-from .errors import ArgumentError, ArgumentTypeError
+from .errors import ArgumentError, ArgumentTypeError, PrecisionWarning
 
 __all__ = [
     "is_integer",
@@ -45,6 +50,13 @@ __all__ = [
     "check_dps",
     "check_not_bool",
     "int_range_text",
+    "is_binary_float",
+    "float_digits",
+    "check_float_digits",
+    "check_rational",
+    "available_memory",
+    "check_fits_memory",
+    "check_seed",
 ]
 
 
@@ -239,3 +251,220 @@ def check_dps(dps, name: str = "dps", minimum: int = 5, maximum: int = 10000) ->
     50
     """
     return check_int(dps, name, minimum, maximum)
+
+
+# ------------------------------------------------- binary floats where digits matter (one rule)
+
+
+def is_binary_float(value) -> bool:
+    """True for a binary floating-point number: ``float`` (``numpy.float64`` included) and every ``numpy.floating``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> is_binary_float(0.5), is_binary_float(np.float32(0.5)), is_binary_float("0.5"), is_binary_float(Fraction(1, 2))
+    (True, True, False, False)
+    """
+    if isinstance(value, float):
+        return True
+    kind = type(value)
+    return kind.__module__ == "numpy" and any(base.__name__ == "floating" for base in kind.__mro__)
+
+
+def float_digits(value) -> int:
+    """Significant decimal digits a binary float of ``value``'s type carries exactly: 15 for a double
+    (``sys.float_info.dig``), 6 for ``numpy.float32``, 3 for ``numpy.float16``, 18 for an x87 ``longdouble``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> float_digits(0.1), float_digits(np.float32(0.1)), float_digits(np.float16(0.1))
+    (15, 6, 3)
+    """
+    if isinstance(value, float):
+        return 15
+    # numpy's half, single, double; a longer numpy float is the x87 extended type (64-bit mantissa) at least
+    return {2: 3, 4: 6, 8: 15}.get(int(getattr(value, "itemsize", 8)), 18)
+
+
+def _shortest_text(value) -> str:
+    """The shortest decimal that reads back as ``value`` (``repr``; numpy's ``str`` for its own types)."""
+    return repr(float(value)) if isinstance(value, float) else str(value)
+
+
+def _exact_fix(value) -> str:
+    """What to pass instead of the float ``value``: the small fraction it rounds (as a decimal string when it is
+    one), else its shortest decimal as a string."""
+    exact = Fraction(float(value))
+    guess = exact.limit_denominator(10**4)
+    if guess != exact and type(value)(float(guess)) == value:
+        q = guess.denominator
+        while q % 2 == 0:
+            q //= 2
+        while q % 5 == 0:
+            q //= 5
+        text = _shortest_text(value) if q == 1 and not isinstance(value, float) else (
+            repr(float(guess)) if q == 1 else str(guess))
+        return f"'{text}' or Fraction({guess.numerator}, {guess.denominator})"
+    text = _shortest_text(value)
+    return f"'{text}' or Fraction('{text}')"
+
+
+def check_float_digits(value, name: str, dps: int | None = None, *, stacklevel: int = 2):
+    """The one rule for a binary float given where an exact (rational) number is expected.
+
+    A float is a binary fraction of 53 bits (about 17 significant digits, of
+    which 15 survive a round trip through decimal); ``1/6`` typed in Python
+    is ``0.1666666666666666574...``, wrong from the 17th digit on.
+
+    * not a binary float (int, ``Fraction``, a string, sympy, ``mpmath.mpf``):
+      returned unchanged, this rule does not apply;
+    * a float exactly equal to its shortest decimal (``0.5``, ``0.375``,
+      ``2.0``, ``1e20``: dyadic and short): returned unchanged, nothing is lost;
+    * otherwise, if ``dps`` digits are asked and the float's type carries
+      them (``dps <= 15`` for a double, :func:`float_digits`): accepted with a
+      :class:`~forcenet.core.errors.PrecisionWarning` naming the exact
+      alternative (the result is good to ``dps`` digits, but is the result at
+      the binary value, not at the number you meant);
+    * otherwise (more digits asked, or ``dps=None``: an exact result) refused
+      with :class:`~forcenet.core.errors.ArgumentTypeError` naming the fix
+      (``pass '1/6' or Fraction(1, 6)``).
+
+    Parameters
+    ----------
+    value : object
+        The argument as given.
+    name : str
+        Its name, used in the messages.
+    dps : int, optional
+        The decimal digits of the result asked for; None for an exact result.
+    stacklevel : int
+        Where the warning points, as for :func:`warnings.warn` called by the caller (2: the caller's caller).
+
+    Returns
+    -------
+    object
+        ``value`` itself (the caller converts it as before).
+
+    Raises
+    ------
+    ArgumentTypeError
+        For an inexact float where its digits do not suffice.
+
+    Examples
+    --------
+    >>> check_float_digits(0.375, "Q", dps=100)  # exactly 3/8: nothing lost
+    0.375
+    >>> check_float_digits("1/6", "Q", dps=100)
+    '1/6'
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     check_float_digits(0.3, "phi", dps=15)
+    ...     print(caught[0].category.__name__)
+    0.3
+    PrecisionWarning
+    >>> check_float_digits(0.1, "q", None)
+    Traceback (most recent call last):
+    ...
+    forcenet.core.errors.ArgumentTypeError: q=0.1 is a binary float (0.1000000000000000055511151231257827...), not the exact number, and the result is exact: pass '0.1' or Fraction(1, 10) (a string or a Fraction keeps every digit)
+    """
+    if not is_binary_float(value) or not math.isfinite(value):
+        return value  # not this rule's (nan and inf are refused by the range checks)
+    text = _shortest_text(value)
+    if Fraction(float(value)) == Fraction(text):
+        return value  # the float is exactly the decimal it prints as
+    digits = float_digits(value)
+    fix = _exact_fix(value)
+    if dps is not None and dps <= digits:
+        warnings.warn(PrecisionWarning(
+            f"{name}={text} is a binary float: the result is good to the dps={dps} digits asked, but it is "
+            f"the value at the float, not at the number you meant; for that pass {fix}"), stacklevel=stacklevel + 1)
+        return value
+    if dps is None:
+        binary = f"{Fraction(float(value)).numerator / Fraction(float(value)).denominator:.34g}"
+        raise ArgumentTypeError(f"{name}={text} is a binary float ({binary}...), not the exact number, and the result "
+                                f"is exact: pass {fix} (a string or a Fraction keeps every digit)")
+    raise ArgumentTypeError(f"{name}={text} is a binary float, good to {digits} significant digits, but dps={dps} digits "
+                            f"were asked: pass {fix} (a string or a Fraction keeps every digit)")
+
+
+def check_rational(value, name: str) -> Fraction:
+    """An exact rational argument as a ``Fraction``: an int, a ``Fraction``, a string such as ``'1/6'`` or
+    ``'0.3'``, a sympy Rational; a binary float only when it is exactly its decimal (:func:`check_float_digits`).
+
+    Examples
+    --------
+    >>> check_rational("1/6", "Q"), check_rational(0.25, "Q")
+    (Fraction(1, 6), Fraction(1, 4))
+    >>> check_rational(True, "Q")
+    Traceback (most recent call last):
+    ...
+    forcenet.core.errors.ArgumentTypeError: Q=True is not a number: Q must be an exact rational (an int, a Fraction or a string such as '1/6')
+    """
+    kind = "an exact rational (an int, a Fraction or a string such as '1/6')"
+    if isinstance(value, bool) or isinstance(value, complex):
+        raise ArgumentTypeError(f"{name}={value!r} is not a number: {name} must be {kind}")
+    check_float_digits(value, name, None)
+    if is_binary_float(value) and not math.isfinite(value):
+        raise ArgumentError(f"{name}={value} is out of range: {name} must be a finite number")
+    try:
+        if hasattr(value, "p") and hasattr(value, "q") and not isinstance(value, str):  # sympy Rational/Integer
+            return Fraction(int(value.p), int(value.q))
+        return Fraction(float(value)) if is_binary_float(value) else Fraction(value)
+    except (TypeError, ValueError, ZeroDivisionError):
+        raise ArgumentTypeError(f"{name}={value!r} is not a number: {name} must be {kind}") from None
+
+
+def available_memory() -> int | None:
+    """Bytes of memory available now (Linux ``MemAvailable``), None where unknown: the bound a Python function's
+    argument is checked against before work that could not fit (the command line's plans use the same figure).
+
+    Examples
+    --------
+    >>> memory = available_memory()
+    >>> memory is None or memory > 0
+    True
+    """
+    try:
+        with open("/proc/meminfo") as handle:
+            for line in handle:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        return None
+    return None
+
+
+def check_fits_memory(nbytes: int, what: str, fix: str) -> None:
+    """:class:`ArgumentError` before the work if ``what`` needs more than the memory available now; ``fix`` says
+    what would fit.
+
+    Examples
+    --------
+    >>> check_fits_memory(10**30, "an array of 1e29 floats", "ask for fewer")
+    Traceback (most recent call last):
+    ...
+    forcenet.core.errors.ArgumentError: an array of 1e29 floats needs ~9.31e+20 GiB of memory, more than is available: ask for fewer
+    """
+    memory = available_memory()
+    if nbytes > (memory if memory is not None else 2**50):
+        raise ArgumentError(f"{what} needs ~{nbytes / 2**30:.3g} GiB of memory, more than is available: {fix}")
+
+
+def check_seed(seed, name: str = "seed"):
+    """A seed for ``numpy.random.default_rng``: None, a ``numpy.random.Generator`` (or ``SeedSequence``), or an
+    integer ``>= 0`` (numpy types included; never ``bool`` or a float).
+
+    Examples
+    --------
+    >>> check_seed(7), check_seed(None)
+    (7, None)
+    >>> check_seed(-1)
+    Traceback (most recent call last):
+    ...
+    forcenet.core.errors.ArgumentError: seed=-1 is out of range: seed must be an integer >= 0
+    """
+    if seed is None or type(seed).__name__ in ("Generator", "SeedSequence", "BitGenerator") or hasattr(seed, "bit_generator"):
+        return seed
+    return check_int(seed, name, 0)

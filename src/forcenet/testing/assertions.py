@@ -108,7 +108,7 @@ def _to_float(value, name, none_ok=False) -> float:
         return math.nan
     what = ("a number (Fraction, sympy number, int or float), or None for a value not to test" if none_ok
             else "a number (Fraction, sympy number, int or float)")
-    if value is None or isinstance(value, (str, bytes, bool, np.bool_)):
+    if value is None or value is True or value is False or isinstance(value, (str, bytes, np.bool_)):
         raise ArgumentTypeError(f"{name}={value!r} is not a number: give {what}")
     try:
         x = float(value)
@@ -243,7 +243,7 @@ def _flag(value, name, none_ok=False):
     """``chain`` / ``hotelling``: True or False (``hotelling`` also None), never a string or a number."""
     if value is None and none_ok:
         return None
-    if isinstance(value, (bool, np.bool_)):
+    if value is True or value is False or isinstance(value, np.bool_):  # the two bools (numpy's too), not 0/1
         return bool(value)
     allowed = "True, False or None" if none_ok else "True or False"
     raise ArgumentTypeError(f"{name}={value!r} is not a bool: give {name}={allowed}")

@@ -300,7 +300,7 @@ def _report(keys, mean, mu, stderr, z, **fields) -> TableAgreement:
                           stderr=tuple(map(float, stderr)), z=tuple(map(float, z)), **fields)
 
 
-def _rows_test(rows, mu, keys, alpha, hotelling, fixed, reason=None, gamma=None, too_few=None,
+def _rows_test(rows, mu, keys, alpha, hotelling, fixed, reason=None, gamma=None, too_few=None, floor=False,
                **extra) -> TableAgreement:
     """The t route: t per value, Bonferroni maximum, Hotelling, on rows ``(K, G)``.
 
@@ -314,7 +314,7 @@ def _rows_test(rows, mu, keys, alpha, hotelling, fixed, reason=None, gamma=None,
     if hotelling and hot is None and G >= 2:
         raise ArgumentError(f"hotelling=True needs more rows: {K} rows for {G} values")
     level_max, level_chi2 = (alpha / 2, alpha / 2) if hot is not None else (alpha, 0.0)
-    judged, u, factor, worst = size_rule(gamma, K, level_max, G)
+    judged, u, factor, worst = size_rule(gamma, K, level_max, G, floor)
     if not judged and too_few is not None:
         reason = too_few(u, worst, level_max) + ("" if reason is None else f"; besides, {reason}")
     max_z = float(np.abs(z).max()) if G else 0.0
@@ -485,12 +485,13 @@ def compare_samples(samples: ArrayLike, exact: Any, keys: list[Any] | None = Non
         g = float(abs(skewness(rows[:, worst:worst + 1])[0]))
         return (f"{K} rows are too few for the t statistics without bounds: {_fmt_key(names[worst])} is skewed "
                 f"(sample skewness {g:.2g}) and at level {alpha:g} over {rows.shape[1]} values their tail is trusted "
-                f"from about {t_rows_needed(g, level, rows.shape[1])} rows on (skewness term {u:.2g} > {U_MAX:g}); "
+                f"from about {t_rows_needed(g, level, rows.shape[1])} rows on (skewness term {u:.2g}, trusted to "
+                f"{U_MAX:g}; Wang's error term (1 + s)/sqrt(K), trusted to 1/4); "
                 f"pass bounds=(lo, hi) (every sample of a value lies in [lo, hi]) for the bounded test, valid at "
                 f"any number of rows, or draw more")
 
     return _rows_test(rows, mu[vary], names, alpha, hotelling, fixed, reason=_t_reason(K, fixed),
-                      gamma=charged_skewness(rows), too_few=too_few, samples=K)
+                      gamma=charged_skewness(rows), too_few=too_few, floor=True, samples=K)
 
 
 def compare_chain(chain: ArrayLike, exact: Any, keys: list[Any] | None = None, alpha: float = 1e-3,

@@ -34,6 +34,9 @@ __all__ = ["U_MAX", "bonferroni", "charged_skewness", "hotelling", "size_rule", 
 
 # the skewness term u may reach U_MAX at the critical value; the level is charged cosh(u) <= cosh(U_MAX)
 U_MAX = 1.0
+# independent rows: Wang's relative error (1 + s)/sqrt(n) at most EPS, whatever the sample's skewness (a floor that
+# does not depend on the rows: the tables judged just above a data-dependent threshold are a biased selection)
+EPS = 0.25
 _SKEW_RULE = True  # False: the t route without its size rule (benchmarks/false_alarm_rates.py, the rows "t, old")
 
 
@@ -83,10 +86,11 @@ def _cubed(n: int, level: float, values: int) -> float:
     return (x * math.sqrt(n / (n - 1 + x * x))) ** 3
 
 
-def size_rule(gamma, n: int, level: float, G: int):
+def size_rule(gamma, n: int, level: float, G: int, floor: bool = False):
     """``(judged, u, factor, worst)``: the rule on the t statistics of ``n`` rows, ``G`` values of skewness ``gamma``.
 
-    ``u`` at the critical value of the most skewed value ``worst``, ``factor = cosh(min(u, U_MAX))``.
+    ``u`` at the critical value of the most skewed value ``worst``, ``factor = cosh(min(u, U_MAX))``;
+    ``floor`` (independent rows): besides, ``(1 + s) / sqrt(n) <= EPS``.
 
     Examples
     --------
@@ -97,28 +101,55 @@ def size_rule(gamma, n: int, level: float, G: int):
         return True, None, 1.0, None
     worst = int(np.argmax(gamma))
     u = skew_term(float(gamma[worst]), n, level, G)
-    return u <= U_MAX, u, math.cosh(min(u, U_MAX)), worst
+    judged = u <= U_MAX and (not floor or n >= floor_rows(level, G, n))
+    return judged, u, math.cosh(min(u, U_MAX)), worst
+
+
+def floor_rows(level: float, values: int, n: int) -> float:
+    """``((1 + s) / EPS)^2``, ``s`` at the critical value for ``n`` rows: the fewest rows Wang's error term allows.
+
+    Examples
+    --------
+    >>> round(floor_rows(1e-3, 1, 500))
+    309
+    """
+    return ((1 + _cubed(n, level, values) ** (1 / 3)) / EPS) ** 2
 
 
 def charged_skewness(rows: np.ndarray) -> np.ndarray:
-    """The skewness the size rule charges independent rows with: ``|g1| + 2 sqrt(6 / K)`` (two standard errors of
-    the sample skewness of normal rows: the rows that happen to look symmetric are not trusted more).
+    """The skewness the size rule charges independent rows with: ``|g1| + 2 se(g1)``.
+
+    ``se(g1)`` from the empirical influence function of ``g1`` on the
+    standardized rows, ``x^3 - g1 - 3 x - (3/2) g1 (x^2 - 1)`` (its mean
+    square over ``K``; 6/K for normal rows), and never below ``sqrt(6/K)``:
+    the rows that happen to look symmetric (a skewed sample that lacks its
+    large values, the samples whose t strays) are not trusted more.
 
     Examples
     --------
     >>> charged_skewness(np.zeros((6, 1)) + np.arange(6)[:, None]).round(2).tolist()
     [2.0]
     """
-    return np.abs(skewness(rows)) + 2.0 * math.sqrt(6.0 / rows.shape[0])
+    K = rows.shape[0]
+    g1 = skewness(rows)
+    centred = rows - rows.mean(axis=0)
+    sd = np.sqrt((centred**2).mean(axis=0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = np.where(sd > 0, centred / np.where(sd > 0, sd, 1.0), 0.0)
+    influence = x**3 - g1 - 3 * x - 1.5 * g1 * (x**2 - 1)
+    se = np.maximum(np.sqrt((influence**2).mean(axis=0) / K), math.sqrt(6.0 / K))
+    return np.abs(g1) + 2.0 * se
 
 
 def t_rows_needed(gamma: float, level: float, values: int, limit: int = 1 << 30) -> int:
-    """The fewest independent rows the t route judges a value of skewness ``gamma`` at (charged ``+ 2 sqrt(6/K)``).
+    """About the fewest independent rows the t route judges a value of skewness ``gamma`` at.
+
+    Charged ``+ 2 sqrt(6/K)`` (the rows' own influence-function error may ask more), and the floor.
 
     Examples
     --------
     >>> t_rows_needed(0.0, 1e-3, 1), t_rows_needed(1.7, 5e-4, 20)
-    (58, 2296)
+    (308, 2296)
     """
     return _t_rows_needed(math.ceil(abs(gamma) * 20) / 20, level, values, limit)  # up to a step of 0.05: cached
 
@@ -126,7 +157,8 @@ def t_rows_needed(gamma: float, level: float, values: int, limit: int = 1 << 30)
 @lru_cache(maxsize=1024)
 def _t_rows_needed(gamma: float, level: float, values: int, limit: int) -> int:
     def judged(n):
-        return skew_term(abs(gamma) + 2.0 * math.sqrt(6.0 / n), n, level, values) <= U_MAX
+        charged = abs(gamma) + 2.0 * math.sqrt(6.0 / n)
+        return skew_term(charged, n, level, values) <= U_MAX and n >= floor_rows(level, values, n)
 
     low, high = 2, 4
     while not judged(high):

@@ -35,7 +35,7 @@ import numpy as np
 from scipy.special import ndtr
 from scipy.stats import beta as beta_dist
 
-import forcenet.numeric.agreement as agreement
+import forcenet.numeric.size_rule as size_rule
 from forcenet.exact import mean_W
 from forcenet.numeric.autocorr import AutocorrError
 from forcenet.numeric.triangle.exact_sampler import ExactSampler
@@ -136,10 +136,10 @@ class Old:
     """The t route as before issue 45: no size rule (no refusal, no skewness charge)."""
 
     def __enter__(self):
-        self.saved, agreement._SKEW_RULE = agreement._SKEW_RULE, False
+        self.saved, size_rule._SKEW_RULE = size_rule._SKEW_RULE, False
 
     def __exit__(self, *exc):
-        agreement._SKEW_RULE = self.saved
+        size_rule._SKEW_RULE = self.saved
 
 
 def shifted(draw, N, grains, shift=0.05):
@@ -228,7 +228,7 @@ def main():
                 for alpha, runs in ((1e-3, 8000), (0.01, 4000)):
                     t0 = time.time()
                     row(f"{name} (skewness {skew:g}), one value", "t", K, alpha,
-                        rate(tables(lambda n: draw(rng, n), K, runs // k), exact, alpha), t0)
+                        rate(tables(lambda n, draw=draw, rng=rng: draw(rng, n), K, runs // k), exact, alpha), t0)
     if args.only in (None, "chains"):
         exact = beta_dist.mean(1.0, 8.0)
         for n_over_tau in (210, 1000):

@@ -27,25 +27,35 @@ Two routes, for the ``G`` values that vary
       F(r, K - r)``, ``r`` the rank, run when ``r >= 2`` and ``K >= max(5 r,
       r + 10)``); the maximum and Hotelling at ``alpha/2`` each (the maximum
       at ``alpha`` when Hotelling does not run). Exact for normal rows,
-      asymptotic otherwise: independent rows are judged from
-      ``T_MIN_ROWS`` rows on, where the measured rate on the project's
-      skewed observables is within its error of ``alpha``.
+      asymptotic otherwise; judged only under **the size rule** below.
+
+**The t route's level: the size rule** (:mod:`forcenet.numeric.size_rule`).
+The skewness term ``u = s^3 gamma / (3 sqrt n)`` of Student's t tail (Wang
+2005) must stay at most ``U_MAX = 1`` at the critical value of the most
+skewed value; the Bonferroni p-value is charged ``cosh(u)``. Independent
+rows are charged ``|g1| + 2 sqrt(6 / K)``, a chain's batch means of ``L``
+steps ``|g1 of the steps| sqrt(1.5 tau / L)`` (measured: 0.48 against 0.53
+on a Beta(1, 8) AR(1) chain, 0.29 against 0.37 on W_51 of the Metropolis
+chain, N = 5). Below the rule: ``cannot judge`` (``judged`` False), no t
+verdict, DISAGREES included; the reason gives the rows (or steps) needed.
 
 **Cannot judge.** A report whose statistics cannot support a verdict says
 ``verdict == "cannot judge"`` with its ``reason`` (``passed`` is False):
 fewer independent rows than the bounded test could ever fail on (every row
-at an end of the range would not reach ``alpha``), fewer than
-``T_MIN_ROWS`` on the t route, a value that never varies while its exact
+at an end of the range would not reach ``alpha``), rows or batch means
+below the t route's size rule, a value that never varies while its exact
 mean differs (zero variance: no t statistic). A chain too short for its
 guard, or for ``min_batches`` batches, is refused up front
-(:class:`forcenet.numeric.autocorr.AutocorrError`). A disagreement the
-statistics support is reported whatever else is said.
+(:class:`forcenet.numeric.autocorr.AutocorrError`). A disagreement a test
+valid at that size supports is reported whatever else is said.
 
 **What is guaranteed.** Independent rows with bounds: a correct sampler
 fails with probability at most ``alpha`` at every ``K`` (the union bound
 over the values, Ville's inequality per value). The t route: at most
-``alpha`` by the union bound, exactly so for normal rows, asymptotically as
-``K`` grows, and for a chain as the batch length over ``tau`` grows (fixed
+``alpha`` by the union bound, exactly so for normal rows, and to first order
+in the skewness wherever the size rule lets it judge (no test of a mean
+without bounds has a level guaranteed at finite ``K`` for every
+distribution: Bahadur and Savage 1956); for a chain, besides, as the batch length over ``tau`` grows (fixed
 number of batches; the gaps and the separate measurement of ``tau`` remove
 the finite-length excess measured without them, ``1.1-1.4 alpha``). The
 measured rates are in ``tests/test_testing.py`` and
@@ -75,15 +85,13 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .autocorr import batch_means
+from .size_rule import U_MAX, charged_skewness, size_rule, skewness, t_rows_needed
+from .size_rule import bonferroni as _bonferroni, hotelling as _hotelling
 from forcenet.core.errors import ArgumentError
 
 __all__ = ["TableAgreement", "batch_means", "compare_samples", "compare_chain", "compare_means", "varying_columns"]
 
 _FIXED_RTOL = 1e-12  # a column is "fixed" when it varies by less than this (relative)
-# The t route's size rule (the module docstring, "The t route's level"): the skewness term u = s^3 gamma / (3 sqrt n)
-# of the t statistic's tail (Wang 2005) may reach U_MAX at the critical value; the level is shrunk by cosh(u) <= cosh(1)
-U_MAX = 1.0
-_SKEW_RULE = True  # False: the t route without its size rule (benchmarks/false_alarm_rates.py, the rows "t, old")
 
 
 def _fmt_key(key) -> str:
@@ -276,37 +284,6 @@ def _split(x: np.ndarray, mu: np.ndarray, keys: list):
     return ~fixed, fixed_report
 
 
-def _bonferroni(max_z: float, values: int, df: int | None) -> float:
-    if values == 0:
-        return 1.0
-    if df is None:
-        tail = math.erfc(max_z / math.sqrt(2))  # 2 (1 - Phi(|z|))
-    else:
-        from scipy.special import stdtr
-
-        tail = 2.0 * float(stdtr(df, -max_z))  # Student t's two tails
-    return min(1.0, values * tail)
-
-
-def _hotelling(rows: np.ndarray, dev: np.ndarray):
-    """``(chi2, rank, p)`` on the nondegenerate subspace, or None when the rows are too few."""
-    from scipy.stats import f as f_dist
-
-    K, G = rows.shape
-    if G < 2:
-        return None
-    S = np.cov(rows, rowvar=False, ddof=1).reshape(G, G)
-    w, V = np.linalg.eigh(S)
-    keep = w > max(w.max(), 0.0) * 1e-10
-    r = int(keep.sum())
-    if r < 2 or K < max(5 * r, r + 10):
-        return None
-    proj = V[:, keep].T @ dev
-    chi2 = float(K * np.sum(proj**2 / w[keep]))
-    p = float(f_dist.sf(chi2 * (K - r) / (r * (K - 1)), r, K - r))
-    return chi2, r, p
-
-
 def _z_scores(rows, mu):
     """Means, ``(mean - exact) / stderr`` (infinite where a constant column differs) and the stderrs."""
     K = rows.shape[0]
@@ -323,62 +300,7 @@ def _report(keys, mean, mu, stderr, z, **fields) -> TableAgreement:
                           stderr=tuple(map(float, stderr)), z=tuple(map(float, z)), **fields)
 
 
-def skewness(rows: np.ndarray) -> np.ndarray:
-    """Sample skewness ``m3 / m2^(3/2)`` of each column of ``(n, G)`` (0 for a constant column).
-
-    Examples
-    --------
-    >>> skewness(np.array([[0.0, 1.0], [0.0, 2.0], [3.0, 3.0]])).round(3).tolist()
-    [0.707, 0.0]
-    """
-    centred = rows - rows.mean(axis=0)
-    m2 = (centred**2).mean(axis=0)
-    m3 = (centred**3).mean(axis=0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(m2 > 0, m3 / np.where(m2 > 0, m2, 1.0) ** 1.5, 0.0)
-
-
-def skew_term(gamma: float, n: int, level: float, values: int) -> float:
-    """``u = s^3 gamma / (3 sqrt n)`` at the critical value of the Bonferroni maximum (the t route's size rule).
-
-    ``s = x sqrt(n / (n - 1 + x^2))`` is the self-normalized sum ``S_n / V_n`` at
-    the Student ``t`` critical value ``x`` of one value's two-sided share
-    ``level / (values cosh(U_MAX))`` with ``n - 1`` degrees of freedom. Wang
-    (Electron. J. Probab. 10 (2005) 1260), for ``E X^4`` finite:
-    ``P(S_n/V_n >= s) = (1 - Phi(s)) exp(-s^3 E X^3 / (3 sqrt(n) sigma^3)) (1 + O((1 + s)/sqrt n))``,
-    so the two tails of ``|t|`` sum to the normal-theory tail times
-    ``cosh(u)`` (to first order). The route judges while ``u <= U_MAX``
-    and shrinks its level by ``cosh(u)``.
-
-    Examples
-    --------
-    >>> round(skew_term(1.7, 2500, 5e-4, 20), 2)   # the most skewed W of N = 6: judged from about 2300 rows
-    0.9
-    >>> skew_term(0.0, 50, 1e-3, 1)
-    0.0
-    """
-    return _cubed(n, level, values) * abs(gamma) / (3 * math.sqrt(n))
-
-
-@lru_cache(maxsize=4096)
-def _cubed(n: int, level: float, values: int) -> float:
-    """``s^3`` at the critical value (cached: the rule and its reason ask it often)."""
-    from scipy.special import stdtrit
-
-    x = -float(stdtrit(n - 1, level / (2 * values * math.cosh(U_MAX))))  # Student t's upper quantile
-    return (x * math.sqrt(n / (n - 1 + x * x))) ** 3
-
-
-def _size_rule(gamma, n, level, G):
-    """``(judged, u, factor, worst)``: the size rule on the t statistics of ``n`` rows with effective skewness ``gamma``."""
-    if gamma is None or not _SKEW_RULE or G == 0:
-        return True, None, 1.0, None
-    worst = int(np.argmax(gamma))
-    u = skew_term(float(gamma[worst]), n, level, G)
-    return u <= U_MAX, u, math.cosh(min(u, U_MAX)), worst
-
-
-def _rows_test(rows, mu, keys, alpha, hotelling, fixed, reason=None, gamma=None, too_few=None,
+def _rows_test(rows, mu, keys, alpha, hotelling, fixed, reason=None, gamma=None, too_few=None, floor=False,
                **extra) -> TableAgreement:
     """The t route: t per value, Bonferroni maximum, Hotelling, on rows ``(K, G)``.
 
@@ -392,7 +314,7 @@ def _rows_test(rows, mu, keys, alpha, hotelling, fixed, reason=None, gamma=None,
     if hotelling and hot is None and G >= 2:
         raise ArgumentError(f"hotelling=True needs more rows: {K} rows for {G} values")
     level_max, level_chi2 = (alpha / 2, alpha / 2) if hot is not None else (alpha, 0.0)
-    judged, u, factor, worst = _size_rule(gamma, K, level_max, G)
+    judged, u, factor, worst = size_rule(gamma, K, level_max, G, floor)
     if not judged and too_few is not None:
         reason = too_few(u, worst, level_max) + ("" if reason is None else f"; besides, {reason}")
     max_z = float(np.abs(z).max()) if G else 0.0
@@ -401,39 +323,6 @@ def _rows_test(rows, mu, keys, alpha, hotelling, fixed, reason=None, gamma=None,
                    level_max=level_max, chi2=None if hot is None else hot[0], dof=0 if hot is None else hot[1],
                    p_chi2=None if hot is None else hot[2], level_chi2=level_chi2, fixed=fixed, reason=reason,
                    judged=judged, skew_term=u, **extra)
-
-
-def _charged(rows: np.ndarray) -> np.ndarray:
-    """The skewness the size rule charges independent rows with: ``|g1| + 2 sqrt(6 / K)`` (two standard errors of
-    the sample skewness of normal rows: the rows that happen to look symmetric are not trusted more)."""
-    return np.abs(skewness(rows)) + 2.0 * math.sqrt(6.0 / rows.shape[0])
-
-
-def t_rows_needed(gamma: float, level: float, values: int, limit: int = 1 << 30) -> int:
-    """The fewest independent rows the t route judges a value of skewness ``gamma`` at (charged ``+ 2 sqrt(6/K)``).
-
-    Examples
-    --------
-    >>> t_rows_needed(0.0, 1e-3, 1), t_rows_needed(1.7, 5e-4, 20)
-    (58, 2296)
-    """
-    return _t_rows_needed(math.ceil(abs(gamma) * 20) / 20, level, values, limit)  # up to a step of 0.05: cached
-
-
-@lru_cache(maxsize=1024)
-def _t_rows_needed(gamma: float, level: float, values: int, limit: int) -> int:
-    def judged(n):
-        return skew_term(abs(gamma) + 2.0 * math.sqrt(6.0 / n), n, level, values) <= U_MAX
-
-    low, high = 2, 4
-    while not judged(high):
-        if high >= limit:
-            return limit
-        low, high = high, min(2 * high, limit)
-    while high - low > 1:
-        mid = (low + high) // 2
-        low, high = (low, mid) if judged(mid) else (mid, high)
-    return high
 
 
 def _bounds(bounds, G: int):
@@ -573,7 +462,7 @@ def compare_samples(samples: ArrayLike, exact: Any, keys: list[Any] | None = Non
         Run Hotelling's test (t route only): ``None`` when the rows suffice, ``False`` never, ``True`` always (or raise).
     bounds : (lo, hi), optional
         Every sample of a value lies in ``[lo, hi]`` (numbers, or arrays of one entry per value): the
-        bounded test, valid at any ``K``. Without bounds, the t route judges from ``T_MIN_ROWS`` rows on.
+        bounded test, valid at any ``K``. Without bounds, the t route judges under its size rule.
 
     Returns
     -------
@@ -596,12 +485,13 @@ def compare_samples(samples: ArrayLike, exact: Any, keys: list[Any] | None = Non
         g = float(abs(skewness(rows[:, worst:worst + 1])[0]))
         return (f"{K} rows are too few for the t statistics without bounds: {_fmt_key(names[worst])} is skewed "
                 f"(sample skewness {g:.2g}) and at level {alpha:g} over {rows.shape[1]} values their tail is trusted "
-                f"from about {t_rows_needed(g, level, rows.shape[1])} rows on (skewness term {u:.2g} > {U_MAX:g}); "
+                f"from about {t_rows_needed(g, level, rows.shape[1])} rows on (skewness term {u:.2g}, trusted to "
+                f"{U_MAX:g}; Wang's error term (1 + s)/sqrt(K), trusted to 1/4); "
                 f"pass bounds=(lo, hi) (every sample of a value lies in [lo, hi]) for the bounded test, valid at "
                 f"any number of rows, or draw more")
 
     return _rows_test(rows, mu[vary], names, alpha, hotelling, fixed, reason=_t_reason(K, fixed),
-                      gamma=_charged(rows), too_few=too_few, samples=K)
+                      gamma=charged_skewness(rows), too_few=too_few, floor=True, samples=K)
 
 
 def compare_chain(chain: ArrayLike, exact: Any, keys: list[Any] | None = None, alpha: float = 1e-3,
@@ -613,15 +503,10 @@ def compare_chain(chain: ArrayLike, exact: Any, keys: list[Any] | None = None, a
     ``max_batches``, ``min_batches``). Raises :class:`forcenet.numeric.autocorr.AutocorrError`
     on a chain too short to trust.
 
-    The batch means always go to the t route (Student t with ``B - 1``
-    degrees of freedom, Bonferroni maximum, Hotelling when the batches
-    suffice): batch means are not independent, so no test on them has a
-    level guaranteed at finite length, and the bounded test on 10-50 batch
-    means, whose spread is far below the range, loses most of its power
-    (measured: ``notes/testing_against_exact.md``). ``bounds``, when given,
-    are checked on every step, and a value whose exact mean is an end of its
-    range is compared exactly (a certain verdict). A value that never varies
-    along the chain while its exact mean differs cannot be judged.
+    The batch means go to the t route under its size rule (batch means are
+    not independent: no test on them has a level guaranteed at finite length;
+    ``notes/testing_against_exact.md``). ``bounds`` are checked on every
+    step; a mean at an end of its range is compared exactly.
 
     Examples
     --------

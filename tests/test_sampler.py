@@ -51,7 +51,7 @@ SAMPLERS = {
     "Metropolis, slice move": (_metropolis("slice"), True),
     "q-model": (lambda N, K, seed: q_model_samples(N, K, np.random.default_rng(seed)), False),
 }
-CASES = [(name, N, K) for name in SAMPLERS if name != "q-model" for N, K in ((4, 6000), (5, 20000))]
+CASES = [(name, N, K) for name in SAMPLERS if name != "q-model" for N, K in ((4, 6000), (5, 30000))]
 
 
 @pytest.mark.parametrize("sampler, N, K", CASES + [("q-model", 5, 20000)])

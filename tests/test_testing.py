@@ -309,7 +309,7 @@ def test_the_main_job_says_cannot_judge(tmp_path, capsys):
 
 
 def test_false_alarm_rate_of_one_value_is_alpha():
-    """Normal rows: the t route judges from 58 rows at 1e-3 (the charged skewness 2 sqrt(6/K)), exactly at alpha."""
+    """Normal rows: the t route judges from 308 rows at 1e-3 (Wang's error term), exactly at alpha."""
     alpha, runs = 0.1, 2000
     rate = rejection_rate(runs, lambda s: not compare(np.random.default_rng(s).normal(size=1000), 0.0,
                                                       alpha=alpha).passed)

@@ -10,17 +10,23 @@ of ``forcenet.exact.mean_W(N)``) and hold ``Fraction``, sympy numbers or
 ``bounds=(lo, hi)`` (numbers, or tables shaped like ``exact``) says where
 every sample lies: every ``W`` of the triangle in ``[0, 1]``, a packing's
 ``W`` in ``[0, the row's load]``, an observable in ``[min, max]`` over the
-configurations a chain can visit. With bounds, independent samples get the
+configurations a chain can visit. The project's tables carry theirs
+(:class:`forcenet.exact.protocol.BoundedTable`: ``mean_W``,
+``moment_table``, ``exact_mean_W``), used when no ``bounds`` are given
+(``bounds=False``: none). With bounds, independent samples get the
 bounded test (betting, :mod:`forcenet.numeric.betting`) whose level holds at
 every number of samples; without, the t route (Student t per value, the
-Bonferroni maximum, Hotelling's chi-square) judges from
-``T_MIN_ROWS = 1000`` rows on. A chain (``chain=True``) is cut into spaced
+Bonferroni maximum, Hotelling's chi-square) judges only where its size rule
+says the t tail keeps its level (:mod:`forcenet.numeric.agreement`; about
+2300 rows for the triangle's ``W`` at N = 6) and says ``cannot judge``
+below it, DISAGREES included. A chain (``chain=True``) is cut into spaced
 batch means tested by the t route (bounds, when given, are checked and a
 mean at an end of its range is compared exactly).
 
 **Guarantee.** A correct sampler fails with probability at most ``alpha``,
 whatever the correlations between the values: at every ``K`` with bounds;
-exact for normal rows and asymptotic otherwise on the t route; for a chain
+exact for normal rows and to first order in the skewness on the t route,
+at the sizes it judges; for a chain
 asymptotic in the batch length over the integrated time ``tau`` (``tau``
 measured on its first quarter, which must exceed ``50 tau``, then 10 to 50
 batches of at least ``10 tau`` steps, ``2 tau`` apart: chains shorter than
@@ -34,10 +40,10 @@ Examples
 >>> from forcenet.exact import mean_W
 >>> from forcenet.numeric.triangle.exact_sampler import ExactSampler
 >>> W = ExactSampler(5, seed=1).sample_W(4000)
->>> report = assert_agrees(W, mean_W(5), bounds=(0, 1))   # 14 varying grains; W_11 = 1 compared exactly
->>> report.values, report.passed
-(14, True)
->>> compare(W[:12], mean_W(5), bounds=(0, 1)).verdict
+>>> report = assert_agrees(W, mean_W(5))   # the table's bounds [0, 1]; 14 varying grains; W_11 = 1 exactly
+>>> report.values, report.passed, report.method
+(14, True, 'bounded')
+>>> compare(W[:12], mean_W(5)).verdict
 'cannot judge'
 """
 
@@ -102,7 +108,7 @@ def _to_float(value, name, none_ok=False) -> float:
         return math.nan
     what = ("a number (Fraction, sympy number, int or float), or None for a value not to test" if none_ok
             else "a number (Fraction, sympy number, int or float)")
-    if value is None or isinstance(value, (str, bytes, bool, np.bool_)):
+    if value is None or value is True or value is False or isinstance(value, (str, bytes, np.bool_)):
         raise ArgumentTypeError(f"{name}={value!r} is not a number: give {what}")
     try:
         x = float(value)
@@ -237,7 +243,7 @@ def _flag(value, name, none_ok=False):
     """``chain`` / ``hotelling``: True or False (``hotelling`` also None), never a string or a number."""
     if value is None and none_ok:
         return None
-    if isinstance(value, (bool, np.bool_)):
+    if value is True or value is False or isinstance(value, np.bool_):  # the two bools (numpy's too), not 0/1
         return bool(value)
     allowed = "True, False or None" if none_ok else "True or False"
     raise ArgumentTypeError(f"{name}={value!r} is not a bool: give {name}={allowed}")
@@ -377,9 +383,9 @@ def compare(samples: ArrayLike, exact: Any, *, chain: bool = False, alpha: float
     >>> rng = np.random.default_rng(0)
     >>> compare(rng.uniform(size=400), 0.5, bounds=(0, 1)).passed   # one value in [0, 1]
     True
-    >>> compare(rng.normal(0.5, 1, size=400), 0.5).reason           # doctest: +ELLIPSIS
-    '400 rows: without bounds the t statistics keep their level from 1000 rows on ...'
-    >>> compare(rng.normal(0.5, 1, size=1000), 0.5).passed
+    >>> print(compare(rng.exponential(size=400), 1.0).reason)       # doctest: +ELLIPSIS
+    400 rows are too few for the t statistics without bounds: value is skewed (sample skewness ...
+    >>> compare(rng.normal(0.5, 1, size=400), 0.5).passed
     True
     >>> compare(np.cumsum(rng.normal(size=4000)), 0.0)
     Traceback (most recent call last):

@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 
 import argparse
+from dataclasses import replace
 
 from forcenet.exact.routes import MAX_MOMENTS, METHODS
 
@@ -106,6 +107,8 @@ def cmd_table(args):
 
     _refuse_ignored(args)
     fmt = _output_format(args)
+    if args.row is not None:
+        return _table_row(args, fmt)
     if fmt is None and args.out is not None:  # pragma: no cover - _output_format infers it
         raise UsageError("--out needs --format")
     if fmt is None:
@@ -119,6 +122,42 @@ def cmd_table(args):
     finally:
         if client is not None:
             client.close()
+
+
+def _table_row(args, fmt):
+    """``--row i``: row ``i`` of ``<W^s>``, ``s <= --moments``, by the fastest exact route for that row, announced."""
+    from forcenet.exact.routes import ROW_PRIME_ROUTES, choose_row, row_run
+    from forcenet.exact.triangle.tables import exact_row, to_csv, to_json, to_latex
+
+    if fmt is None:
+        raise UsageError("--row gives one row in one format: give --format json|csv|latex or --out FILE "
+                         "(the main job's three files and cross-check are for the whole table)")
+    if args.row > args.N:
+        raise UsageError(f"--row={args.row} is out of range: row must be an integer in 1..{args.N} (a layer of --N)")
+    memory = available_memory()
+    choice = choose_row(args.method, args.N, args.row, args.moments, memory_bytes=memory)
+    if not choice.plan.runnable:
+        raise UsageError(choice.plan.refusal)
+    explicit = args.scheduler is not None or args.checkpoint is not None  # then only the routes that take them
+    applies = explicit or choice.route in ROW_PRIME_ROUTES
+    client, store = engine_options(args, applies, f"a row's routes over primes ({', '.join(ROW_PRIME_ROUTES[:3])})",
+                                   choice.plan.seconds, lambda directory: directory)
+    options = {k: v for k, v in (("executor", client), ("checkpoint", store)) if v is not None}
+    try:
+        if options:  # a cluster or a checkpoint store changes the plan (workers, reuse)
+            choice = choose_row(args.method, args.N, args.row, args.moments, memory_bytes=memory, **options)
+        plan = choice.plan if not choice.why else replace(choice.plan, what=f"{choice.plan.what}; {choice.why}")
+        rows = run_planned(plan, lambda tick: row_run(args.method, args.N, args.row, args.moments, tick, memory,
+                                                      route=choice.route, **options),
+                           force=args.force, quiet=args.quiet)
+    finally:
+        if client is not None:
+            client.close()
+    if store is not None and not args.quiet and choice.route in ("layers", "floor"):
+        report_checkpoints(store, plan.ticks)
+    render = {"json": to_json, "csv": to_csv, "latex": to_latex}
+    emit(render[fmt](exact_row(args.N, args.row, rows)), args.out)
+    return 0
 
 
 def _table(args, fmt, memory, client, store, why, local_plan):
@@ -224,7 +263,8 @@ def register(sub):
                "no cross-check.\n\n"
                "examples:\n"
                "  forcenet table --N 12                   # the main job (~2 s)\n"
-               "  forcenet table --N 9 --out table.csv    # one CSV file, the format from the extension")
+               "  forcenet table --N 9 --out table.csv    # one CSV file, the format from the extension\n"
+               "  forcenet table --N 40 --method pfaffian --moments 2 --row 39 --format json   # <W>, <W^2> of layer 39")
     add_layers(p)
     p.add_argument("--format", choices=["json", "csv", "latex"], help="print one format of the exact table instead of "
                                                                        "the main job (no files, no cross-check)")
@@ -232,6 +272,11 @@ def register(sub):
                                  "the format follows the extension .json/.csv/.tex if --format is not given")
     p.add_argument("--moments", type=integer("moments", 1, MAX_MOMENTS), default=1,
                    help=f"highest moment s of W^s (1..{MAX_MOMENTS}, default 1)")
+    p.add_argument("--row", type=integer("row", 1), default=None,
+                   help="only row (layer) i of <W> .. <W^s>, by the fastest exact route for that row, announced: "
+                        "for s = 2 the rows 2, 3 and N-1 are one-time (each cell uniform between its covers, the "
+                        "price of the mean; notes/fluctuations.md Sec. 3.1), other rows one layer's de Bruijn "
+                        "Pfaffians; needs --format or --out")
     p.add_argument("--out-dir", default="forcenet-tables",
                    help="directory of the main job's three files (default ./forcenet-tables, created if missing; "
                         "its parent must exist)")

@@ -15,7 +15,7 @@ against ``x`` for every N.
 
 Usage::
 
-    python benchmarks/layer_above_floor_variance.py --N 8 12 16 20 24 28 32 40 48 56 64 --out layer_above_floor_variance.json --checkpoint ckpt
+    python benchmarks/layer_above_floor_variance.py --N 8 12 16 20 24 28 32 40 48 56 --out layer_above_floor_variance.json --checkpoint ckpt
     python benchmarks/layer_above_floor_variance.py --out layer_above_floor_variance.json --figure layer_above_floor_variance.png
 """
 
@@ -84,13 +84,13 @@ def figure(data: dict, path: str) -> None:
     left.set_xlabel("1/N")
     left.set_ylabel("Var W / <W>^2")
     left.set_xlim(left=0)
-    left.legend(fontsize=8)
+    left.legend(fontsize=8, loc="center right")
     left.set_title("layer N-1: the relative variance, exact")
     for N in Ns:
         values = data[str(N)]
         variance = [N * N * (m2 - m1 * m1) for m1, m2 in zip(values["mean_W"], values["mean_W2"])]
-        right.plot([j / (N - 1) for j in range(1, N)], variance, lw=1, label=f"N = {N}")
-    right.set_xlabel("x = j/(N-1)")
+        right.plot([(j - 0.5) / (N - 1) for j in range(1, N)], variance, lw=1, label=f"N = {N}")
+    right.set_xlabel("x = (j - 1/2)/(N - 1)")
     right.set_ylabel("N^2 Var W_(N-1,j)")
     right.legend(fontsize=7, ncol=2)
     right.set_title("the profile across the layer")

@@ -1,15 +1,27 @@
-"""The <W^2> table's floor: the fewest Pfaffian evaluations any evaluate-and-combine route needs (issue 27).
+"""The <W^2> table against the evaluation bound of notes/fluctuations.md Sec. 6.1, priced two ways (issues 27, 43).
 
-notes/fluctuations.md Sec. 6.1 proves that a rule for the ``m + 1`` two-time
-functionals of a layer with ``m`` free points needs at least
-``(k+1)(k+2)/2 (floor(m/2)+1)`` evaluations, ``k = floor(d/2)``; the mirror
-symmetry halves that and the ``+-zeta`` pairing gives two values per
-elimination.  This script prices the bound, and the simplex Newton-Cotes rule
-(``(d+1)(d+2)/2`` nodes, ``m + 1`` values of ``zeta``), at the fastest
-bordered Pfaffian measured here (the floor's displacement kernel,
-``0.52 ns n^2 + 45 ns n`` on this machine, notes/benchmarks.md), over the
-built route's primes, beside the built route's plan (``moments_plan``,
-reference machine).  Two cores.
+What is proved, and in which model: a route that evaluates *one layer's
+two-time amplitude* ``F(s, t, zeta)`` (total degree ``<= d`` in ``(s, t)``,
+degree ``m`` in ``zeta``) at points -- chosen in advance or adaptively,
+derivatives (jets) counted one value each -- and combines the values
+linearly needs at least ``(k+1)(k+2)/2 (floor(m/2)+1)`` values for that
+layer, ``k = floor(d/2)``.  It is not a bound on computing ``<W^2>``: the
+cover identity (Sec. 3.1) gives layer ``N - 1`` with no two-time evaluation.
+
+The price of the whole table depends on what one evaluation serves:
+
+* *per layer*: every layer pays its own evaluations (the built route's
+  grids do; the bound summed over the layers ``m = 1..n``);
+* *shared*: one elimination at a node serves every layer, as one of the
+  mean route's eliminations serves every window (then the table needs only
+  the largest layer's count, ``m = n``).  No two-time kernel with that
+  property is known; the bound does not exclude one.
+
+Both at the fastest bordered Pfaffian measured here (the floor's displacement
+kernel, ``0.52 ns n^2 + 45 ns n``; notes/benchmarks.md), the mirror symmetry
+and the ``+-zeta`` pairing granted, over the built route's primes, on two
+cores; beside the simplex Newton-Cotes rule (``(d+1)(d+2)/2`` nodes,
+``m + 1`` values of ``zeta``) and the built route's plan (reference machine).
 
 Usage::
 
@@ -26,14 +38,20 @@ from forcenet.exact.triangle.pfaffian.moments import moments_plan
 ROW_SECONDS, PIVOT_SECONDS = 0.52e-9, 45e-9  # one bordered Pfaffian of order n: ROW n^2 + PIVOT n (measured)
 
 
-def eliminations(N: int) -> tuple[float, float]:
-    """(at the proved bound, by the simplex Newton-Cotes rule): eliminations per prime, every layer 2..N."""
+def per_layer_bound(d: int, m: int) -> float:
+    """Eliminations for one layer with ``m`` free points at the proved bound (mirror halved, two values per pair)."""
+    k = d // 2
+    return (k + 1) * (k + 2) / 2 * (m // 2 + 1) / 2 / 2
+
+
+def eliminations(N: int) -> dict[str, float]:
+    """Eliminations per prime for the whole table: the bound charged per layer or shared; the simplex rule both ways."""
     n = N - 1
     d = n * (n + 1) // 2
-    k = d // 2
-    bound = sum((k + 1) * (k + 2) / 2 * (m // 2 + 1) for m in range(1, n + 1)) / 2 / 2  # mirror; +-zeta pairs
-    simplex = sum((d + 1) * (d + 2) / 2 / 2 * (m + 2) / 2 for m in range(1, n + 1))
-    return bound, simplex
+    simplex = [(d + 1) * (d + 2) / 2 / 2 * (m + 2) / 2 for m in range(1, n + 1)]
+    bound = [per_layer_bound(d, m) for m in range(1, n + 1)]
+    return {"bound, per layer": sum(bound), "bound, shared": max(bound),
+            "simplex, per layer": sum(simplex), "simplex, shared": max(simplex)}
 
 
 def main() -> None:
@@ -41,15 +59,16 @@ def main() -> None:
     parser.add_argument("--N", type=int, nargs="+", default=[28, 40, 64])
     parser.add_argument("--workers", type=int, default=2)
     args = parser.parse_args()
-    print("| N | primes | bound: eliminations/prime | bound, min | simplex rule, min | built route (plan), min |")
-    print("| --- | --- | --- | --- | --- | --- |")
+    keys = list(eliminations(4))
+    print("| N | primes | " + " | ".join(f"{key}, min" for key in keys) + " | built route (plan), min |")
+    print("| --- | --- | " + " | ".join("---" for _ in keys) + " | --- |")
     for N in args.N:
         n, primes = N - 1, len(floor_primes(N))
         each = ROW_SECONDS * n * n + PIVOT_SECONDS * n
-        bound, simplex = eliminations(N)
-        minutes = [x * primes * each / args.workers / 60 for x in (bound, simplex)]
+        counts = eliminations(N)
+        minutes = [counts[key] * primes * each / args.workers / 60 for key in keys]
         built = moments_plan(N).seconds / 60
-        print(f"| {N} | {primes} | {bound:.3g} | {minutes[0]:.1f} | {minutes[1]:.1f} | {built:.0f} |")
+        print(f"| {N} | {primes} | " + " | ".join(f"{x:.3g}" for x in minutes) + f" | {built:.3g} |")
 
 
 if __name__ == "__main__":

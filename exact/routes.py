@@ -15,6 +15,13 @@ Every engine module has the same ``table_plan``/``table_run`` pair
 (:class:`forcenet.exact.protocol.TableEngine`) and owns its cost knowledge;
 this module only looks the method up, and for ``auto`` compares the plans.
 
+One row of the moment tables (``forcenet table --row i``, :func:`row_plan`,
+:func:`row_run`) has routes of its own (:func:`choose_row`): the one-time
+cover identity for the rows ``2``, ``3``, ``N - 1`` (``<W^2>`` for the price
+of the mean, :mod:`.triangle.pfaffian.covers`), the lattice route for row 2
+(every moment), de Bruijn Pfaffians for one layer (every load, every moment),
+or a whole table's row.
+
 May import: :mod:`forcenet.core.plan`, :mod:`forcenet.exact.protocol`,
 :mod:`forcenet.core.validation`, :mod:`forcenet.core.errors` and the five engine modules.
 
@@ -27,6 +34,10 @@ True
 ['1/11', '1/4', '7/22', '1/4', '1/11']
 >>> choose(28).method, choose(12, moments=2).method  # the Pfaffian route wins, compiled or not
 ('pfaffian', 'fast')
+>>> choose_row("pfaffian", 40, 39, 2).route  # layer N - 1: the cover identity
+'covers'
+>>> [str(x) for x in row_run("auto", 5, 4, 2)[2]]
+['1/22', '4/33', '4/33', '1/22']
 """
 
 from __future__ import annotations
@@ -34,6 +45,7 @@ from __future__ import annotations
 from concurrent.futures import Executor
 from dataclasses import replace
 from collections.abc import Sequence
+from fractions import Fraction
 from typing import Any, NamedTuple
 
 from forcenet.core.errors import ArgumentError
@@ -42,10 +54,10 @@ from .protocol import Progress, Table, TableEngine
 from .thesis import lambda_route, maps_route, nested_route
 from .triangle import moments as ideal_moments
 from .triangle.pfaffian import route as pfaffian_route
-from forcenet.core.validation import MAX_MOMENTS, check_layers, check_moments
+from forcenet.core.validation import MAX_MOMENTS, check_int, check_layers, check_moments
 
 __all__ = ["ENGINES", "METHODS", "MAX_MOMENTS", "Choice", "choose", "table_plan", "table_run", "takes",
-           "checkpoint_for"]
+           "checkpoint_for", "ROW_ROUTES", "ROW_PRIME_ROUTES", "RowChoice", "choose_row", "row_plan", "row_run"]
 
 ENGINES: dict[str, TableEngine] = {
     "fast": ideal_moments,
@@ -253,3 +265,192 @@ def table_run(method: str, N: int, moments: int = 1, progress: Progress | None =
     engine = _engine(method)  # the engine checks N and moments at its boundary
     return engine.table_run(N, moments, memory_bytes=memory_bytes, progress=progress, executor=executor,
                             **_options(method, options))
+
+
+# ------------------------------------------------------------------ one row: forcenet table --row i
+
+ROW_ROUTES = ("apex", "covers", "lattice", "layers", "floor")  # beside them, a table method's whole table
+ROW_PRIME_ROUTES = ("covers", "layers", "floor", "pfaffian")  # the row's routes over primes: executor=, checkpoint=
+
+
+class RowChoice(NamedTuple):
+    """The route to one row: a name of :data:`ROW_ROUTES` or a table method, its plan, and why (one line)."""
+
+    route: str
+    plan: Plan
+    why: str
+
+
+def _row_candidates(method: str, N: int, row: int, moments: int, memory_bytes: int | None,
+                    executor: Executor | None, options: dict[str, Any]) -> dict[str, Plan]:
+    """Every route's plan for row ``row`` under ``method`` (``auto``: the row routes and the other tables)."""
+    from .triangle.pfaffian.covers import cover_row_plan, one_time_rows
+    from .triangle.pfaffian.floor import MAX_FLOOR_N, floor_plan
+    from .triangle.pfaffian.fluctuations import lattice_gap_laws_plan
+    from .triangle.pfaffian.layers import layer_plan
+
+    if method not in ("auto", "pfaffian"):  # a table method: its whole table, one row kept
+        plan = table_plan(method, N, moments, memory_bytes, executor=executor, **options)
+        return {method: replace(plan, what=f"row {row} of the {plan.what}")}
+    what = f"row {row} of <W^s>, s <= {moments}, N={N}"
+    if row == 1:
+        return {"apex": Plan(f"{what} (the apex: W_11 = 1)", 0.0)}
+    plans: dict[str, Plan] = {}
+    workers, checkpoint = options.get("workers"), options.get("checkpoint")
+    if moments == 1:  # the mean: one row of the one-time mean table
+        plans["pfaffian"] = table_plan("pfaffian", N, 1, memory_bytes, executor=executor, **options)
+    elif moments == 2 and row in one_time_rows(N):
+        plans["covers"] = cover_row_plan(N, row, memory_bytes=memory_bytes, workers=workers, executor=executor,
+                                         checkpoint=checkpoint)
+    if row == 2 and executor is None and checkpoint is None:  # both loads are lattice directions: every moment
+        law = lattice_gap_laws_plan(N, memory_bytes, workers, layers=1)
+        plans["lattice"] = replace(law, what=f"{what} (one-time: the lattice directions' law, Pfaffians)")
+    name = "floor" if row == N else "layers"
+    if N <= MAX_FLOOR_N:
+        plan = floor_plan(N, True, memory_bytes, workers) if row == N else layer_plan(N, row, True, memory_bytes, workers)
+    else:
+        plan = Plan(what, 0, refusal=f"N={N} is out of range for one layer's de Bruijn Pfaffians: N must be an "
+                                     f"integer in 2..{MAX_FLOOR_N}")
+    plans[name] = replace(plan, what=f"{what} (two-time: layer {row}'s gap laws, de Bruijn Pfaffians)")
+    if method == "auto" and not options:  # the other methods' whole tables
+        others = [m for m in ENGINES if m != "pfaffian"]
+        choice = choose(N, moments, memory_bytes=memory_bytes, executor=executor, methods=others)
+        if choice.plan.runnable:
+            plans[choice.method] = replace(choice.plan, what=f"row {row} of the {choice.plan.what}")
+    return plans
+
+
+def choose_row(method: str, N: int, row: int, moments: int = 2, *, memory_bytes: int | None = None,
+               executor: Executor | None = None, **options: Any) -> RowChoice:
+    """The fastest exact route to row ``row`` of the ``<W^s>`` tables, ``s <= moments``, by the plans.
+
+    With ``method="pfaffian"`` (or ``"auto"``) the row's own routes compete:
+    ``covers`` (``moments = 2``, rows 2, 3, ``N - 1``: one-time, the price of
+    the mean; :mod:`.triangle.pfaffian.covers`), ``lattice`` (row 2, every
+    moment), ``layers`` / ``floor`` (every load of one layer by de Bruijn
+    Pfaffians, ``N <= 128``), for ``moments = 1`` the mean table by
+    Pfaffians; ``auto`` adds the fastest other method's whole table (the
+    order-ideal DP for small ``N``).  Any other method computes its whole
+    table and keeps the row.
+
+    Parameters
+    ----------
+    method : {"auto", "fast", "thesis", "lambda", "maps", "pfaffian"}
+        As for :func:`table_plan`.
+    N : int
+        Number of layers, ``>= 2``.
+    row : int
+        The row (layer) ``i``, ``1..N``.
+    moments : int
+        Highest moment ``s``, ``1..50``.
+    memory_bytes : int, optional
+        Memory available to the run.
+    executor : concurrent.futures.Executor, optional
+        Runs the route's independent tasks (the routes over primes take it).
+    **options
+        ``workers=``, ``checkpoint=`` (a directory: a layer's route keeps one request per layer).
+
+    Returns
+    -------
+    RowChoice
+        The route, its plan (refused with every route's reason when none can run) and the reason.
+
+    Raises
+    ------
+    ArgumentError
+        If ``method``, ``N``, ``row`` or ``moments`` is out of range.
+
+    Examples
+    --------
+    >>> choose_row("pfaffian", 40, 20, 2).route, choose_row("auto", 10, 5, 2).route
+    ('layers', 'fast')
+    >>> choose_row("pfaffian", 40, 39, 2).why  # doctest: +ELLIPSIS
+    'row 39: covers, the fastest by the plans (covers ~..., layers ~...)'
+    """
+    N, moments = check_layers(N), check_moments(moments)
+    row = check_int(row, "row", 1, N)
+    if method != "auto":
+        _engine(method)  # refuses an unknown name
+    given = {k: v for k, v in options.items() if v is not None}
+    if method not in ("auto", "pfaffian"):
+        given = _options(method, given)
+    plans = _row_candidates(method, N, row, moments, memory_bytes, executor, given)
+    runnable = {name: plan for name, plan in plans.items() if plan.runnable}
+    if not runnable:
+        first = next(iter(plans))
+        reasons = "; ".join(dict.fromkeys(p.refusal for p in plans.values() if p.refusal))
+        return RowChoice(first, replace(plans[first], refusal=f"no route can give row {row}: {reasons}"), "")
+    names = list(plans)
+    route = min(runnable, key=lambda name: (runnable[name].seconds, names.index(name)))
+    if len(plans) == 1:
+        return RowChoice(route, runnable[route], "")
+    costs = ", ".join(f"{name} ~{duration_text(plan.seconds)}" for name, plan in runnable.items())
+    refused = [name for name in plans if name not in runnable]
+    out = f"; {', '.join(refused)} out of range" if refused else ""
+    return RowChoice(route, runnable[route], f"row {row}: {route}, the fastest by the plans ({costs}{out})")
+
+
+def row_plan(method: str, N: int, row: int, moments: int = 2, memory_bytes: int | None = None, *,
+             executor: Executor | None = None, **options: Any) -> Plan:
+    """What ``forcenet table --N N --row ROW --moments MOMENTS --method METHOD`` will cost (:func:`choose_row`).
+
+    Examples
+    --------
+    >>> row_plan("pfaffian", 40, 39).what  # doctest: +ELLIPSIS
+    'row 39 of <W>, <W^2> N=40 (one-time: each cell uniform between its covers; ...); row 39: covers, ...'
+    """
+    choice = choose_row(method, N, row, moments, memory_bytes=memory_bytes, executor=executor, **options)
+    return replace(choice.plan, what=f"{choice.plan.what}; {choice.why}") if choice.why else choice.plan
+
+
+def row_run(method: str, N: int, row: int, moments: int = 2, progress: Progress | None = None,
+            memory_bytes: int | None = None, *, route: str | None = None, executor: Executor | None = None,
+            **options: Any) -> dict[int, list[Fraction]]:
+    """``{s: [<W_(row,j)^s>, j = 1..row]}`` for ``s = 1..moments``, exact, by the route :func:`choose_row` takes.
+
+    Parameters
+    ----------
+    method, N, row, moments, memory_bytes, executor, options
+        As in :func:`choose_row`.
+    progress : callable, optional
+        ``progress(k=1)`` with the plan's ticks.
+    route : str, optional
+        The route already chosen (:attr:`RowChoice.route`), else chosen here.
+
+    Returns
+    -------
+    dict of int to list of Fraction
+
+    Raises
+    ------
+    ArgumentError
+        As :func:`choose_row`, and if no route can run the request.
+
+    Examples
+    --------
+    >>> row_run("pfaffian", 7, 6, 2) == {s: t[5] for s, t in table_run("fast", 7, 2).items()}
+    True
+    """
+    from .triangle.distribution import moment_from_gaps
+    from .triangle.pfaffian.covers import cover_row_moments
+    from .triangle.pfaffian.fluctuations import grain_gap_law
+    from .triangle.pfaffian.moments import every_load_gap_law
+
+    choice = choose_row(method, N, row, moments, memory_bytes=memory_bytes, executor=executor, **options)
+    if route is None or memory_bytes is not None:
+        choice.plan.check()
+    route = choice.route if route is None else route
+    given = {k: v for k, v in options.items() if v is not None}
+    if route == "apex":
+        return {s: [Fraction(1)] for s in range(1, moments + 1)}
+    if route == "covers":
+        found = cover_row_moments(N, row, progress=progress, executor=executor, **given)
+        return {s: found[s] for s in range(1, moments + 1)}
+    if route == "lattice":
+        law = grain_gap_law(N, (row, 1), progress=progress, **given)
+        return {s: [moment_from_gaps(law, s)] * 2 for s in range(1, moments + 1)}
+    if route in ("layers", "floor"):
+        laws = every_load_gap_law(N, row, progress=progress, executor=executor, **given)
+        return {s: [moment_from_gaps(laws[j], s) for j in range(1, row + 1)] for s in range(1, moments + 1)}
+    tables = table_run(route, N, moments, progress, memory_bytes, executor=executor, **given)
+    return {s: table[row - 1] for s, table in tables.items()}

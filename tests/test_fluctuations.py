@@ -494,28 +494,69 @@ def _rank(rows):
     return matrix.rref()[1]
 
 
-@settings(max_examples=4, deadline=None)
-@given(seed=st.integers(0, 2**32 - 1))
-def test_no_rule_below_the_two_time_bound(seed):
-    """notes/fluctuations.md Sec. 6.1: any rule for a layer's functionals needs
-    ``(k+1)(k+2)/2 (floor(m/2)+1)`` nodes; one node fewer leaves no exact weights, the full grid has them."""
-    d, m = 4, 2
+def _exact_weights_exist(nodes, monomials, c):
+    """Whether weights ``w`` with ``sum_nu w_nu s^a t^b z^j = L(s^a t^b z^j)`` exist for every monomial (exact)."""
+    lhs = [[s**a * t**b * z**j for (s, t, z) in nodes] for (a, b, j) in monomials]
+    augmented = [row + [_two_time_functional(a, b, j, c)] for row, (a, b, j) in zip(lhs, monomials)]
+    return _rank(lhs) == _rank(augmented)
+
+
+def _monomials(d, m):
+    return [(a, b, j) for a in range(d + 1) for b in range(d + 1 - a) for j in range(m + 1)]
+
+
+def _bound(d, m):
     k, h = d // 2, m // 2
-    bound = (k + 1) * (k + 2) // 2 * (h + 1)
+    return (k + 1) * (k + 2) // 2 * (h + 1)
+
+
+@settings(max_examples=3, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_the_two_time_form_has_the_rank_of_the_bound(seed):
+    """notes/fluctuations.md Sec. 6.1: the form l(G H) on V_k (x) U_h is the Gram form (x) the Hankel form, of rank
+    ``(k+1)(k+2)/2 (floor(m/2)+1)``: any rule, whatever its nodes, needs that many (a rule with r nodes makes the
+    form ``sum_nu w_nu v(x_nu) v(x_nu)^T``, of rank <= r).  Here d = 8, m = 3: 30 against 180 monomials."""
+    d, m = 8, 3
+    k, h = d // 2, m // 2
     rng = np.random.default_rng(seed)
     c = [int(x) for x in rng.integers(1, 50, size=m + 1)]
-    monomials = [(a, b, j) for a in range(d + 1) for b in range(d + 1 - a) for j in range(m + 1)]
-
-    # the form l(G H) on V_k (x) U_h is the Gram form (x) the Hankel form: rank = the bound
     basis = [(a, b, j) for a in range(k + 1) for b in range(k + 1 - a) for j in range(h + 1)]
     form = [[_two_time_functional(p[0] + q[0], p[1] + q[1], p[2] + q[2], c) for q in basis] for p in basis]
-    assert _rank(form) == bound == len(basis)
+    assert _rank(form) == _bound(d, m) == len(basis) == 30
+    assert 6 * _bound(d, m) == len(_monomials(d, m))
 
-    def exact_weights_exist(r):
-        nodes = [tuple(Fraction(int(x), 97) for x in rng.integers(1, 97, size=3)) for _ in range(r)]
-        lhs = [[s**a * t**b * z**j for (s, t, z) in nodes] for (a, b, j) in monomials]
-        augmented = [row + [_two_time_functional(a, b, j, c)] for row, (a, b, j) in zip(lhs, monomials)]
-        return _rank(lhs) == _rank(augmented)
 
-    assert not exact_weights_exist(bound - 1)
-    assert exact_weights_exist(len(monomials))
+@settings(max_examples=4, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), m=st.sampled_from([3, 5]))
+def test_rules_below_the_two_time_bound_fail_and_at_it_exist(seed, m):
+    """The bound is attained where a rule with that many nodes is known, and nodes that reach it are special.
+
+    ``d = 2``: the edge midpoints of the triangle ``0 < s < t < 1`` (weights 1/6) integrate every quadratic, and
+    for a layer functional ``c_j = sum_nu omega_nu z_nu^j`` with ``floor(m/2) + 1`` atoms the ``zeta``-rule with
+    those atoms is exact: their product is a rule with exactly the bound's ``3 (floor(m/2) + 1)`` nodes (9 against
+    36 monomials at m = 5).  Dropping any one node leaves no exact weights, as the bound says for every set of
+    fewer nodes; random nodes fail at the bound itself (so a random failure below it shows nothing).
+    """
+    d = 2
+    rng = np.random.default_rng(seed)
+    h = m // 2
+    atoms = [Fraction(int(z), 7) for z in rng.choice(np.arange(-20, 21), size=h + 1, replace=False)]
+    masses = [Fraction(int(w), 5) for w in rng.integers(1, 20, size=h + 1)]
+    c = [sum(w * z**j for w, z in zip(masses, atoms)) for j in range(m + 1)]
+    monomials = _monomials(d, m)
+    bound = _bound(d, m)
+    half = Fraction(1, 2)
+    rule = [(s, t, z) for (s, t) in ((0, half), (half, 1), (half, half)) for z in atoms]
+    assert len(rule) == bound and 4 * bound <= len(monomials)
+    weights = [Fraction(1, 6) * w for _ in range(3) for w in masses]  # the product rule, checked monomial by monomial
+    for a, b, j in monomials:
+        assert sum(w * s**a * t**b * z**j for w, (s, t, z) in zip(weights, rule)) == _two_time_functional(a, b, j, c)
+    assert _exact_weights_exist(rule, monomials, c)
+    for drop in range(bound):
+        assert not _exact_weights_exist(rule[:drop] + rule[drop + 1:], monomials, c)
+
+    def random_nodes(r):
+        return [tuple(Fraction(int(x), 97) for x in rng.integers(1, 97, size=3)) for _ in range(r)]
+
+    assert not _exact_weights_exist(random_nodes(bound), monomials, c)
+    assert not _exact_weights_exist(random_nodes(bound - 1), monomials, c)

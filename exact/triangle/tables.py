@@ -21,7 +21,7 @@ from .moments import mean_W, moment_table
 from forcenet.core.validation import check_layers, check_moments
 from .staircase import count, normalization
 
-__all__ = ["exact_table", "to_json", "to_csv", "to_latex", "write_atomic", "fraction_str", "integer_text",
+__all__ = ["exact_table", "exact_row", "to_json", "to_csv", "to_latex", "write_atomic", "fraction_str", "integer_text",
            "fraction_from_text"]
 
 _RATIONAL = re.compile(r"([+-]?)([0-9]+)(?:/([0-9]+))?", re.ASCII)  # what fraction_str writes
@@ -141,6 +141,25 @@ def exact_table(N: int, moments: int = 1, mean_table=None, progress=None, moment
     return table
 
 
+def exact_row(N: int, row: int, moment_rows: dict) -> dict:
+    """One row ``i`` of the exact tables as a dict: ``N``, ``row``, ``count``, ``normalization``, ``mean_W``,
+    ``mean_W2``, ... (lists over ``j = 1..i``); rendered by :func:`to_json`, :func:`to_csv`, :func:`to_latex`.
+
+    Examples
+    --------
+    >>> from fractions import Fraction
+    >>> print(to_csv(exact_row(3, 2, {1: [Fraction(1, 2)] * 2, 2: [Fraction(3, 10)] * 2})), end="")
+    i,j,mean_W,mean_W2
+    2,1,1/2,3/10
+    2,2,1/2,3/10
+    """
+    N = check_layers(N)
+    out = {"N": N, "row": row, "count": count(N), "normalization": normalization(N)}
+    for s in sorted(moment_rows):
+        out["mean_W" if s == 1 else f"mean_W{s}"] = moment_rows[s]
+    return out
+
+
 def _moment_keys(table):
     return [k for k in table if k.startswith("mean_W")]
 
@@ -148,6 +167,10 @@ def _moment_keys(table):
 def to_json(table: dict) -> str:
     """JSON with exact values as strings (schema in the README)."""
     out = {"N": table["N"], "count": integer_text(table["count"]), "normalization": fraction_str(table["normalization"])}
+    if "row" in table:  # one row (exact_row)
+        out = {"N": table["N"], "row": table["row"], **{k: v for k, v in out.items() if k != "N"}}
+        out.update({key: [fraction_str(x) for x in table[key]] for key in _moment_keys(table)})
+        return json.dumps(out)
     for key in _moment_keys(table):
         out[key] = [[fraction_str(x) for x in row] for row in table[key]]
     return json.dumps(out)
@@ -157,6 +180,11 @@ def to_csv(table: dict) -> str:
     """One line per grain: ``i,j,mean_W[,mean_W2...]`` with exact values."""
     keys = _moment_keys(table)
     lines = ["i,j," + ",".join(keys)]
+    if "row" in table:  # one row (exact_row)
+        i = table["row"]
+        lines += [f"{i},{j}," + ",".join(fraction_str(table[k][j - 1]) for k in keys)
+                  for j in range(1, len(table["mean_W"]) + 1)]
+        return "\n".join(lines) + "\n"
     for i, row in enumerate(table["mean_W"], start=1):
         for j in range(1, len(row) + 1):
             lines.append(f"{i},{j}," + ",".join(fraction_str(table[k][i - 1][j - 1]) for k in keys))
@@ -171,7 +199,9 @@ def _latex_fraction(x) -> str:
 
 
 def to_latex(table: dict, key: str = "mean_W") -> str:
-    """A LaTeX ``tabular`` of one moment table, row ``i`` per line."""
+    """A LaTeX ``tabular`` of one moment table, row ``i`` per line (of one row: a line per moment ``s``)."""
+    if "row" in table:
+        return _row_latex(table)
     rows = table[key]
     N = len(rows)
     label = {"mean_W": r"\langle W_{i,j}\rangle"}.get(key, rf"\langle W_{{i,j}}^{{{key[6:]}}}\rangle")
@@ -183,6 +213,21 @@ def to_latex(table: dict, key: str = "mean_W") -> str:
     for i, row in enumerate(rows, start=1):
         cells = [f"${_latex_fraction(x)}$" for x in row] + [""] * (N - len(row))
         lines.append(f"{i} & " + " & ".join(cells) + r" \\")
+    lines.append(r"\end{tabular}")
+    return "\n".join(lines) + "\n"
+
+
+def _row_latex(table: dict) -> str:
+    """Row ``i`` of every moment table in ``table`` (:func:`exact_row`): ``<W_{i,j}^s>``, a line per ``s``."""
+    i, keys = table["row"], _moment_keys(table)
+    lines = [
+        rf"% \langle W_{{{i},j}}^s\rangle for the fully mobilized triangle, N = {table['N']} (forcenet)",
+        r"\begin{tabular}{r|" + "c" * i + "}",
+        r"$s \backslash j$ & " + " & ".join(str(j) for j in range(1, i + 1)) + r" \\ \hline",
+    ]
+    for key in keys:
+        cells = [f"${_latex_fraction(x)}$" for x in table[key]]
+        lines.append(f"{key[6:] or 1} & " + " & ".join(cells) + r" \\")
     lines.append(r"\end{tabular}")
     return "\n".join(lines) + "\n"
 

@@ -39,7 +39,7 @@ if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ lo
     from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceError, ForcenetError, PrecisionWarning
     from forcenet.exact.triangle.distribution import cdf, contact_density, density
     from forcenet.exact.triangle.staircase import count, normalization
-    from forcenet.front_door import Table, TablePlan, plan, table
+    from forcenet.front_door import Row, Table, TablePlan, plan, table
     from forcenet.numeric.chicken_wire.isotropic import entropy, tiling_entropy
     from forcenet.numeric.triangle import ExactSampler, TriangleMetropolis
 
@@ -49,6 +49,7 @@ _FRONT_DOOR = {
     "plan": "forcenet.front_door",
     "Table": "forcenet.front_door",
     "TablePlan": "forcenet.front_door",
+    "Row": "forcenet.front_door",
     "count": "forcenet.exact.triangle.staircase",
     "normalization": "forcenet.exact.triangle.staircase",
     "density": "forcenet.exact.triangle.distribution",
@@ -68,7 +69,7 @@ _FRONT_DOOR = {
 _SUBPACKAGES = frozenset({"exact", "numeric", "testing"})
 
 __all__ = [  # the keys of _FRONT_DOOR (tests/test_front_door.py), written out for the linters
-    "table", "plan", "Table", "TablePlan", "count", "normalization", "density", "cdf", "contact_density",
+    "table", "plan", "Table", "TablePlan", "Row", "count", "normalization", "density", "cdf", "contact_density",
     "ExactSampler", "TriangleMetropolis", "entropy", "tiling_entropy",
     "ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError", "PrecisionWarning", "__version__",
 ]

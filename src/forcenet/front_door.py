@@ -42,7 +42,7 @@ if TYPE_CHECKING:  # pragma: no cover - annotations only
     import numpy as np
     from matplotlib.axes import Axes
 
-__all__ = ["Table", "TablePlan", "plan", "table"]
+__all__ = ["Row", "Table", "TablePlan", "plan", "table"]
 
 Progress = Callable[..., Any]
 
@@ -99,6 +99,8 @@ class TablePlan:
         Where the route records finished tasks.
     memory_bytes : int, optional
         The memory the plan was checked against.
+    row : int, optional
+        One row (layer) ``i`` of the tables instead of the whole table; ``method`` then names the row's route.
 
     Examples
     --------
@@ -116,6 +118,7 @@ class TablePlan:
     executor: Executor | None = field(default=None, repr=False)
     checkpoint: Any = field(default=None, repr=False)
     memory_bytes: int | None = field(default=None, repr=False)
+    row: int | None = None
 
     @property
     def runnable(self) -> bool:
@@ -165,8 +168,8 @@ class TablePlan:
         self.cost.check()
         return self
 
-    def run(self, progress: Progress | bool | None = None) -> Table:
-        """Compute the table this plan describes (the plan is not made again).
+    def run(self, progress: Progress | bool | None = None) -> Table | Row:
+        """Compute the table (or the row) this plan describes (the plan is not made again).
 
         Parameters
         ----------
@@ -176,7 +179,8 @@ class TablePlan:
 
         Returns
         -------
-        Table
+        Table or Row
+            :class:`Row` when the plan was made with ``row=``.
 
         Raises
         ------
@@ -190,7 +194,7 @@ class TablePlan:
         [Fraction(1, 7), Fraction(5, 14), Fraction(5, 14), Fraction(1, 7)]
         """
         from forcenet.exact.checkpoints import run_distrusting
-        from forcenet.exact.routes import table_run
+        from forcenet.exact.routes import row_run, table_run
 
         self.check()
         options = _engine_options(self.executor, self.checkpoint)
@@ -201,6 +205,11 @@ class TablePlan:
             bar = tqdm(total=self.cost.ticks or None, desc=f"table N={self.N}", unit=self.cost.unit)
             progress = bar.update
         try:  # a reused record that fails the route's exact checks is named, dropped and recomputed
+            if self.row is not None:
+                rows = run_distrusting(self.checkpoint, self.N, lambda: row_run(
+                    self._row_method, self.N, self.row, self.moments, progress or None, self.memory_bytes,
+                    route=self.method, **options))
+                return Row(self.N, self.row, self.method, self.why, rows)
             tables = run_distrusting(self.checkpoint, self.N, lambda: table_run(
                 self.method, self.N, self.moments, progress=progress or None, memory_bytes=self.memory_bytes, **options))
         finally:
@@ -208,13 +217,21 @@ class TablePlan:
                 bar.close()
         return Table(self.N, self.method, self.why, tables)
 
+    @property
+    def _row_method(self) -> str:
+        """The table method a row's route belongs to (a row route is chosen under ``pfaffian`` or ``auto``)."""
+        from forcenet.exact.routes import ENGINES
+
+        return self.method if self.method in ENGINES else "pfaffian"
+
 
 def _engine_options(executor: Executor | None, checkpoint: object) -> dict[str, Any]:
     return {k: v for k, v in (("executor", executor), ("checkpoint", checkpoint)) if v is not None}
 
 
 def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor | None = None,
-         checkpoint: str | os.PathLike[str] | None = None, memory_bytes: int | None = None) -> TablePlan:
+         checkpoint: str | os.PathLike[str] | None = None, memory_bytes: int | None = None,
+         row: int | None = None) -> TablePlan:
     """What :func:`table` will cost for this request, or why it cannot run and what would; nothing is computed.
 
     Parameters
@@ -237,6 +254,11 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
         rerun recomputes only what is missing.
     memory_bytes : int, optional
         Memory the run may use; default: what the machine has available now.
+    row : int, optional
+        Only row (layer) ``i``, ``1..N``, by the fastest exact route for that row
+        (:func:`forcenet.exact.routes.choose_row`: for ``moments=2`` the one-time
+        cover identity on the rows 2, 3 and ``N - 1``, the lattice route, one
+        layer's de Bruijn Pfaffians, or a whole table's row).
 
     Returns
     -------
@@ -264,6 +286,8 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
     N, moments, method = check_layers(N), check_moments(moments), _method(method)
     directory = _checkpoint(checkpoint)
     memory = _available_memory() if memory_bytes is None else memory_bytes
+    if row is not None:
+        return _row_plan(N, check_int(row, "row", 1, N), moments, method, executor, directory, memory)
     why = ""
     if method == "auto":
         over_primes = executor is not None or directory is not None  # the routes over independent primes use them
@@ -287,6 +311,19 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
     return TablePlan(N, moments, method, why, cost, executor, store, memory)
 
 
+def _row_plan(N: int, row: int, moments: int, method: str, executor: Executor | None, directory: str | None,
+              memory: int) -> TablePlan:
+    """One row's plan: its route by :func:`forcenet.exact.routes.choose_row`, then planned with the options."""
+    from dataclasses import replace
+
+    from forcenet.exact.routes import choose_row
+
+    options = {k: v for k, v in (("executor", executor), ("checkpoint", directory)) if v is not None}
+    choice = choose_row(method, N, row, moments, memory_bytes=memory, **options)
+    cost = choice.plan if not choice.why else replace(choice.plan, what=f"{choice.plan.what}; {choice.why}")
+    return TablePlan(N, moments, choice.route, choice.why, cost, executor, directory, memory, row)
+
+
 def _duration(seconds: float) -> str:
     from forcenet.core.plan import duration_text
 
@@ -295,7 +332,7 @@ def _duration(seconds: float) -> str:
 
 def table(N: int, moments: int = 1, method: str = "auto", *, executor: Executor | None = None,
           checkpoint: str | os.PathLike[str] | None = None, progress: Progress | bool | None = None,
-          memory_bytes: int | None = None) -> Table:
+          memory_bytes: int | None = None, row: int | None = None) -> Table | Row:
     """The exact table of ``<W_ij>`` (and ``<W_ij^s>``) of the fully mobilized triangle, as ``forcenet table`` makes it.
 
     The vertical force ``W_ij`` on grain ``j`` of layer ``i`` (Sec. 4.2),
@@ -322,10 +359,12 @@ def table(N: int, moments: int = 1, method: str = "auto", *, executor: Executor 
         ``progress(k)`` with the plan's ticks; ``True``: a progress bar.
     memory_bytes : int, optional
         Memory the run may use; default: what the machine has available now.
+    row : int, optional
+        Only row (layer) ``i`` by the fastest route for that row (see :func:`plan`): a :class:`Row`.
 
     Returns
     -------
-    Table
+    Table or Row
         Exact :class:`~fractions.Fraction` rows, the method used and why.
 
     Raises
@@ -344,9 +383,12 @@ def table(N: int, moments: int = 1, method: str = "auto", *, executor: Executor 
     Traceback (most recent call last):
     ...
     forcenet.core.errors.ArgumentError: N=40 is out of range for the exact table here: ...; method='auto' runs it by pfaffian (~...)
+    >>> r = forcenet.table(7, moments=2, row=6, method="pfaffian")  # layer N - 1: the cover identity
+    >>> r.method, r.moment(2)[0]
+    ('covers', Fraction(3, 253))
     """
     return plan(N, moments, method, executor=executor, checkpoint=checkpoint,
-                memory_bytes=memory_bytes).check().run(progress)
+                memory_bytes=memory_bytes, row=row).check().run(progress)
 
 
 class Table:
@@ -552,3 +594,100 @@ class Table:
         ax.set_axis_off()
         ax.set_title(f"N = {self.N}")
         return ax
+
+
+class Row:
+    """One row (layer ``i``) of the exact tables: ``<W_ij^s>``, ``j = 1..i``, ``s = 1..moments``.
+
+    Returned by :func:`table` with ``row=i``; the renderings are byte for byte
+    those of ``forcenet table --row i``.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers.
+    row : int
+        The row (layer) ``i``.
+    method : str
+        The route that computed it (a row route, or a table method).
+    why : str
+        Why ``auto`` chose it (empty for an explicit method).
+    rows : dict of int to list of Fraction
+        ``{s: [<W_ij^s>, j = 1..i]}``.
+
+    Examples
+    --------
+    >>> import forcenet
+    >>> r = forcenet.table(5, moments=2, row=4)
+    >>> r.mean_W, r.moment(2) == forcenet.table(5, moments=2).moment(2)[3]
+    ([Fraction(2, 11), Fraction(7, 22), Fraction(7, 22), Fraction(2, 11)], True)
+    """
+
+    def __init__(self, N: int, row: int, method: str, why: str, rows: dict[int, list[Fraction]]):
+        from forcenet.exact.protocol import BoundedTable
+
+        self.N, self.row, self.method, self.why = N, row, method, why
+        self._rows = {s: BoundedTable(values, (0, 1), "every W^s of the triangle lies in [0, 1]")
+                      for s, values in rows.items()}
+        self.moments = max(rows)
+
+    def __repr__(self) -> str:
+        return f"Row(N={self.N}, row={self.row}, moments={self.moments}, method={self.method!r})"
+
+    @property
+    def mean_W(self) -> list[Fraction]:
+        """``<W_ij>``, ``j = 1..i``."""
+        return self._rows[1]
+
+    def moment(self, s: int = 2) -> list[Fraction]:
+        """``<W_ij^s>``, ``j = 1..i``, for ``1 <= s <= moments``.
+
+        Parameters
+        ----------
+        s : int
+            The moment.
+
+        Returns
+        -------
+        list of Fraction
+
+        Raises
+        ------
+        ArgumentError
+            If ``s`` was not computed.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.table(4, moments=2, row=3).moment(2)
+        [Fraction(3, 28), Fraction(3, 14), Fraction(3, 28)]
+        """
+        s = check_int(s, "s", 1)
+        if s not in self._rows:
+            raise ArgumentError(f"s={s} is out of range: this row holds s = 1..{self.moments} "
+                                f"(ask forcenet.table({self.N}, moments={s}, row={self.row}))")
+        return self._rows[s]
+
+    def to_dict(self) -> dict[str, Any]:
+        """``{"N", "row", "count", "normalization", "mean_W", "mean_W2", ...}`` with exact values."""
+        from forcenet.exact.triangle.tables import exact_row
+
+        return exact_row(self.N, self.row, self._rows)
+
+    def to_json(self) -> str:
+        """The JSON of ``forcenet table --row i --format json`` (without the final newline)."""
+        from forcenet.exact.triangle.tables import to_json
+
+        return to_json(self.to_dict())
+
+    def to_csv(self) -> str:
+        """The CSV of ``forcenet table --row i --format csv``."""
+        from forcenet.exact.triangle.tables import to_csv
+
+        return to_csv(self.to_dict())
+
+    def to_latex(self) -> str:
+        """The LaTeX of ``forcenet table --row i --format latex``."""
+        from forcenet.exact.triangle.tables import to_latex
+
+        return to_latex(self.to_dict())

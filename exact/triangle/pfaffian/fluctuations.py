@@ -19,9 +19,12 @@ same law.  Densities, CDFs and every moment follow from the Beta mixture
 (:mod:`forcenet.exact.triangle.distribution`).
 
 Interior grains ``1 < j < i`` are a different matter: their gap is the
-difference of two entries, a *two-time* quantity of the chain of ideals, and
-no single-level functional gives it (``notes/fluctuations.md`` Sec. 3-4,
-with the proof and the cost of the two-time route).
+difference of two entries, a *two-time* quantity of the chain of ideals,
+which the one-time marginals alone do not fix (for an arbitrary measure on
+chains; ``notes/fluctuations.md`` Sec. 3-4, with the proof and the cost of
+the two-time route).  Their law comes from one layer's de Bruijn grid
+(:mod:`.layers`); for layer ``N - 1`` the second moment is one-time after
+all, by a property of the uniform measure (Sec. 3.1, :mod:`.covers`).
 
 Cost: the lattice directions' Pfaffian work (``O(n^4)`` per prime) plus the
 interpolation, ``O(M^2 n)`` per prime with ``M ~ d``: ``O(n^5)``; primes
@@ -354,8 +357,8 @@ def grain_gap_law(N: int, grain: tuple[int, int], **kwargs: Any) -> GapCounts:
     The polynomial route of :func:`lattice_gap_laws` for one layer (the same
     Pfaffian evaluations, one window interpolated).  Interior grains
     ``1 < j < i`` are refused: their gap is the difference of two tableau
-    entries, which no functional of the one-time level polynomial gives
-    (``notes/fluctuations.md`` Sec. 3); the order-ideal DP
+    entries, which this interpolation of one window's level polynomial does
+    not give (``notes/fluctuations.md`` Sec. 3); the order-ideal DP
     (:func:`forcenet.exact.triangle.gaps.grain_gap_counts`) has them to N of about 22.
 
     Parameters

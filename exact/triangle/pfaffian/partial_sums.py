@@ -13,9 +13,13 @@ a *one-time* quantity, the mean's level sums weighted by ``l + 1``,
 the functional ``q^l -> (l+1)! (d-l)!`` on the same Pfaffian evaluations as
 ``S`` (:func:`~.engine.prime_residues` with ``second=True``): the variance of
 every partial sum for about the price of the mean table, to N = 100 and
-beyond, where the loads' own ``<W^2>`` is two-time (Sec. 3) and out of reach
-(Sec. 6.1).  The bound ``0 <= S2 <= (d+1)(d+2)/2 count`` makes the Chinese
-remainders exact.  Checked against the order-ideal DP's moments and
+beyond.  A load's ``<W^2>`` is not a single cell's, but three single cells
+give it for every load of layer ``N - 1`` and of rows 2 and 3: a cell is
+uniform between its covers (Sec. 3.1, :mod:`.covers`).  For the other
+interior loads no one-time formula is known (Sec. 3 proves only that the
+one-time marginals alone, valid for any measure on chains, do not fix it);
+their route is one layer's de Bruijn grid (Sec. 6).  The bound
+``0 <= S2 <= (d+1)(d+2)/2 count`` makes the Chinese remainders exact.  Checked against the order-ideal DP's moments and
 correlations and the linear extensions (tests/test_partial_sums.py).
 
 May import: :mod:`forcenet.core`, :mod:`forcenet.exact.modular`,

@@ -5,7 +5,6 @@ from __future__ import annotations
 import os
 
 import argparse
-
 from forcenet.exact.routes import MAX_MOMENTS, METHODS, takes
 
 from .common import (
@@ -91,6 +90,8 @@ def _request(args, memory, client=None, directory=None):
 def cmd_table(args):
     _refuse_ignored(args)
     fmt = _output_format(args)
+    if args.row is not None:
+        return _table_row(args, fmt)
     if fmt is None and args.out is not None:  # pragma: no cover - _output_format infers it
         raise UsageError("--out needs --format")
     if fmt is None:
@@ -107,6 +108,41 @@ def cmd_table(args):
     finally:
         if client is not None:
             client.close()
+
+
+def _table_row(args, fmt):
+    """``--row i``: row ``i`` of ``<W^s>``, ``s <= --moments``, by the fastest exact route for that row, announced
+    (:func:`forcenet.front_door.plan` with ``row=``)."""
+    from forcenet.exact.routes import ROW_PRIME_ROUTES
+    from forcenet.front_door import plan
+
+    if fmt is None:
+        raise UsageError("--row gives one row in one format: give --format json|csv|latex or --out FILE "
+                         "(the main job's three files and cross-check are for the whole table)")
+    if args.row > args.N:
+        raise UsageError(f"--row={args.row} is out of range: row must be an integer in 1..{args.N} (a layer of --N)")
+    memory = available_memory()
+    request = plan(args.N, args.moments, args.method, memory_bytes=memory, row=args.row)
+    if not request.runnable:
+        raise UsageError(request.refusal)
+    explicit = args.scheduler is not None or args.checkpoint is not None  # then only the routes that take them
+    applies = explicit or request.method in ROW_PRIME_ROUTES
+    client, directory = engine_options(args, applies, f"a row's routes over primes ({', '.join(ROW_PRIME_ROUTES[:3])})",
+                                       request.seconds, lambda directory: directory)
+    try:
+        if client is not None or directory is not None:  # a cluster or a checkpoint store changes the plan
+            request = plan(args.N, args.moments, args.method, executor=client, checkpoint=directory,
+                           memory_bytes=memory, row=args.row)
+            if not request.runnable:
+                raise UsageError(request.refusal)
+        row = run_planned(request.cost, lambda tick: request.run(progress=tick), force=args.force, quiet=args.quiet)
+    finally:
+        if client is not None:
+            client.close()
+    if directory is not None and not args.quiet and request.method in ("layers", "floor"):
+        report_checkpoints(directory, request.cost.ticks)
+    emit({"json": row.to_json, "csv": row.to_csv, "latex": row.to_latex}[fmt](), args.out)
+    return 0
 
 
 def _table(args, fmt, memory, request):
@@ -207,7 +243,8 @@ def register(sub):
                "no cross-check.\n\n"
                "examples:\n"
                "  forcenet table --N 12                   # the main job (~2 s)\n"
-               "  forcenet table --N 9 --out table.csv    # one CSV file, the format from the extension")
+               "  forcenet table --N 9 --out table.csv    # one CSV file, the format from the extension\n"
+               "  forcenet table --N 40 --method pfaffian --moments 2 --row 39 --format json   # <W>, <W^2> of layer 39")
     add_layers(p)
     p.add_argument("--format", choices=["json", "csv", "latex"], help="print one format of the exact table instead of "
                                                                        "the main job (no files, no cross-check)")
@@ -215,6 +252,11 @@ def register(sub):
                                  "the format follows the extension .json/.csv/.tex if --format is not given")
     p.add_argument("--moments", type=integer("moments", 1, MAX_MOMENTS), default=1,
                    help=f"highest moment s of W^s (1..{MAX_MOMENTS}, default 1)")
+    p.add_argument("--row", type=integer("row", 1), default=None,
+                   help="only row (layer) i of <W> .. <W^s>, by the fastest exact route for that row, announced: "
+                        "for s = 2 the rows 2, 3 and N-1 are one-time (each cell uniform between its covers, the "
+                        "price of the mean; notes/fluctuations.md Sec. 3.1), other rows one layer's de Bruijn "
+                        "Pfaffians; needs --format or --out")
     p.add_argument("--out-dir", default="forcenet-tables",
                    help="directory of the main job's three files (default ./forcenet-tables, created if missing; "
                         "its parent must exist)")

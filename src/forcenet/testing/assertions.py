@@ -18,7 +18,7 @@ bounded test (betting, :mod:`forcenet.numeric.betting`) whose level holds at
 every number of samples; without, the t route (Student t per value, the
 Bonferroni maximum, Hotelling's chi-square) judges only where its size rule
 says the t tail keeps its level (:mod:`forcenet.numeric.agreement`; about
-2300 rows for the triangle's ``W`` at N = 6) and says ``cannot judge``
+2300-4000 rows at 1e-3 for the triangle's ``W`` at N = 6) and says ``cannot judge``
 below it, DISAGREES included. A chain (``chain=True``) is cut into spaced
 batch means tested by the t route (bounds, when given, are checked and a
 mean at an end of its range is compared exactly).

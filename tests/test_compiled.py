@@ -235,3 +235,23 @@ def test_the_forcenet_command_prints_the_bytes_of_the_library(tmp_path, cli):
     run = subprocess.run([sys.executable, "-m", "forcenet", *argv], env=env, capture_output=True, text=True, check=True)
     code, out, _ = cli(argv)
     assert code == 0 and run.stdout == out
+
+
+def test_a_home_that_does_not_exist_is_never_created(tmp_path):
+    """The kernel cache's anchor missing (HOME gone, no XDG_CACHE_HOME): a private folder, removed at exit."""
+    import subprocess
+    import sys
+
+    home = tmp_path / "no" / "such" / "home"
+    env = {k: v for k, v in os.environ.items() if k not in ("XDG_CACHE_HOME", "NUMBA_CACHE_DIR")}
+    env["HOME"] = str(home)
+    code = ("from forcenet.core.compiled import njit\n"
+            "@njit\n"
+            "def twice(x):\n"
+            "    return 2 * x\n"
+            "print(twice(21), twice._cache._cache_path.startswith(__import__('tempfile').gettempdir()))\n")
+    script = tmp_path / "kernel.py"
+    script.write_text(code)
+    out = subprocess.run([sys.executable, str(script)], env=env, capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["42", "True"]
+    assert not (tmp_path / "no").exists()

@@ -62,6 +62,26 @@ def cache_directory() -> str:
     return os.path.join(base, "forcenet", "numba")
 
 
+_PRIVATE_CACHE: list[str] = []
+
+
+def _usable_cache_directory() -> str:
+    """:func:`cache_directory`, unless it would live in a home folder that does not exist (no
+    ``$XDG_CACHE_HOME``): then a private folder of this process (``mkdtemp``: mode 0700, a fresh name),
+    removed at exit. A missing home is never created, and nothing is cached where another user could plant
+    machine code."""
+    if os.environ.get("XDG_CACHE_HOME") or os.path.isdir(os.path.expanduser("~")):
+        return cache_directory()
+    if not _PRIVATE_CACHE:
+        import atexit
+        import shutil
+        import tempfile
+
+        _PRIVATE_CACHE.append(tempfile.mkdtemp(prefix="forcenet-numba-"))
+        atexit.register(shutil.rmtree, _PRIVATE_CACHE[0], True)
+    return _PRIVATE_CACHE[0]
+
+
 _FUNCTION_CACHE: Any = None
 
 
@@ -83,7 +103,7 @@ def _function_cache_class() -> Any:
 
             def __init__(self, py_func: Any, py_file: str) -> None:
                 super().__init__(py_func, py_file)
-                self._cache_path = os.path.join(cache_directory(), self.get_suitable_cache_subpath(py_file))
+                self._cache_path = os.path.join(_usable_cache_directory(), self.get_suitable_cache_subpath(py_file))
 
         class KernelCacheImpl(impl):  # type: ignore[misc, valid-type]
             _locator_classes = [user_provided, KernelCacheLocator,

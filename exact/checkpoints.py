@@ -47,8 +47,6 @@ flipped bit inside an SQLite page is not detected by SQLite, and a damaged
 page can make the whole database unreadable), and every guarantee above is a
 property of ``rename`` and a checksum that the tests can fault directly.
 
-May import: nothing of the package.
-
 Examples
 --------
 >>> import tempfile, numpy as np

@@ -24,8 +24,6 @@ cluster.  No scheduler is written here; this module only
   at once, so Ctrl-C ends the run within a second or two even while workers
   sit inside compiled kernels; the exception is then re-raised.
 
-May import: :mod:`forcenet.core.validation`.
-
 Examples
 --------
 >>> from operator import mul

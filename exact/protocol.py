@@ -20,8 +20,6 @@ process pool where the run pays for it (the Pfaffian route's primes),
 else this process.  Results never depend on it.  A method may take more
 keywords of its own (the Pfaffian route: ``workers``, ``checkpoint``).
 
-May import: :mod:`forcenet.core.plan`, :mod:`forcenet.exact.execution`.
-
 Examples
 --------
 >>> def twice(x, progress=None):

@@ -22,9 +22,6 @@ of the mean, :mod:`.triangle.pfaffian.covers`), the lattice route for row 2
 (every moment), de Bruijn Pfaffians for one layer (every load, every moment),
 or a whole table's row.
 
-May import: :mod:`forcenet.core.plan`, :mod:`forcenet.exact.protocol`,
-:mod:`forcenet.core.validation`, :mod:`forcenet.core.errors` and the five engine modules.
-
 Examples
 --------
 >>> table_plan("fast", 9).runnable

@@ -61,8 +61,6 @@ the finite-length excess measured without them, ``1.1-1.4 alpha``). The
 measured rates are in ``tests/test_testing.py`` and
 ``notes/testing_against_exact.md``.
 
-May import: numpy, scipy, :mod:`forcenet.numeric.autocorr`.
-
 Examples
 --------
 >>> rng = np.random.default_rng(0)

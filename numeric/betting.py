@@ -24,8 +24,6 @@ the running mean, started from the largest variance a mean ``m`` allows,
 ``c = 0.9`` and ``prior = 0.1`` were the most powerful of the variants
 measured (``notes/testing_against_exact.md``).
 
-May import: numpy.
-
 Examples
 --------
 >>> rng = np.random.default_rng(0)

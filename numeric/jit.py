@@ -21,8 +21,6 @@ the interrupt is then seen within a fraction of a second, and the state
 between two calls is the state the one long call would have passed through
 (the chains go on bit for bit).
 
-May import: :mod:`forcenet.core.plan`, :mod:`forcenet.core.compiled`.
-
 Examples
 --------
 >>> kernel_choice(None) in ("compiled", "python")

@@ -13,8 +13,6 @@ at the critical value of its most skewed value, and charges its Bonferroni
 p-value with ``cosh(u)`` (at most ``cosh(1) = 1.54``): a conservative rule,
 measured in ``notes/testing_against_exact.md``.
 
-May import: numpy, scipy.
-
 Examples
 --------
 >>> rows = np.random.default_rng(0).exponential(size=(200, 2))   # skewness 2

@@ -14,8 +14,6 @@ existed, so the chains are bit for bit the ones they were.
 Statist. 31, 705) of ``t`` on an interval that contains 0 for the
 log-concave density ``prod_c (1 + t r_c)``.
 
-May import: numpy, :mod:`forcenet.numeric.jit`.
-
 Examples
 --------
 >>> import math

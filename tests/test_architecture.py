@@ -19,24 +19,8 @@ from installed import ROOT, installed_modules
 
 MAP = ROOT / "notes" / "architecture.md"
 
-# ------------------------------------------------------------------ the neutral package, before and after the move
-# The integrator moves four shared modules into forcenet.core at the end of issue 25 (by script). Until then they
-# are read under their target names, so that the map (written for the target layout) is checked today;
-# test_the_neutral_core_is_in_place fails until the move is done. After it this table matches nothing.
-_MOVING = {"errors": "exact", "validation": "exact", "plan": "exact", "precision": "numeric"}
-
-
-def canonical(name: str) -> str:
-    """The module's name in the target layout (the four moving modules under ``forcenet.core``)."""
-    for short, side in _MOVING.items():
-        old = f"forcenet.{side}.{short}"
-        if name == old or name.startswith(old + "."):
-            return "forcenet.core." + short + name[len(old):]
-    return name
-
-
 INSTALLED = installed_modules()
-MODULES = sorted((canonical(name), path) for name, path in INSTALLED)
+MODULES = sorted(INSTALLED)
 NAMES = {name for name, _ in MODULES}
 IS_PACKAGE = {name: path.name == "__init__.py" for name, path in MODULES}
 # the packages: those installed, and forcenet.core (its modules exist before the folder does)
@@ -168,8 +152,7 @@ def _resolve_relative_base(path: Path, name: str) -> str:
 def module_imports(path: Path, name: str) -> list[str]:
     """Every module or package imported anywhere in the file (any scope), relative imports resolved.
 
-    Relative imports resolve against the module's installed location, then every name is read in the target
-    layout (:func:`canonical`). ``from P import a`` counts as importing ``P.a`` when that is a module of
+    Relative imports resolve against the module's installed location. ``from P import a`` counts as importing ``P.a`` when that is a module of
     forcenet, else ``P``; libraries count by their top-level name. The package ``P`` itself, run first by any
     ``from P import ...``, does not count.
     """
@@ -181,16 +164,15 @@ def module_imports(path: Path, name: str) -> list[str]:
 def _resolve(node: ast.Import | ast.ImportFrom, path: Path, name: str) -> list[str]:
     """The names one import statement of the module imports (as :func:`module_imports` counts them)."""
     if isinstance(node, ast.Import):
-        return [canonical(alias.name) for alias in node.names]
+        return [alias.name for alias in node.names]
     if node.level:
         base = _resolve_relative_base(path, name).split(".")
         target = ".".join(base[: len(base) - node.level + 1] + ([node.module] if node.module else []))
     else:
         target = node.module or ""
-    target = canonical(target)
     out = []
     for alias in node.names:
-        sub = canonical(f"{target}.{alias.name}")
+        sub = f"{target}.{alias.name}"
         out.append(sub if sub in PACKAGES_AND_MODULES else target)
     return out
 
@@ -281,11 +263,17 @@ def test_every_module_named_in_the_equation_table_exists():
 
 
 def test_the_neutral_core_is_in_place():
-    """Red until the integrator's move: forcenet.core installed, the four modules gone from exact/ and numeric/."""
+    """forcenet.core is installed and holds the shared modules (errors, validation, plans, precision)."""
     real = {name for name, _ in INSTALLED}
-    assert "forcenet.core" in real, "forcenet.core is not installed yet (src/forcenet/core/, pyproject.toml)"
-    left = sorted(f"forcenet.{side}.{short}" for short, side in _MOVING.items() if f"forcenet.{side}.{short}" in real)
-    assert not left, f"still outside forcenet.core: {left}"
+    assert {f"forcenet.core.{m}" for m in ("errors", "validation", "plan", "precision")} <= real
+
+
+@pytest.mark.parametrize("name, path", MODULES, ids=lambda x: str(x))
+def test_the_map_is_the_only_statement_of_the_import_rules(name, path):
+    """No module docstring restates an import rule: the map (notes/architecture.md) is the one statement."""
+    doc = ast.get_docstring(ast.parse(path.read_text())) or ""
+    stated = [line for line in doc.splitlines() if re.match(r"\s*(May import:|May also import:|Imports only:)", line)]
+    assert not stated, f"{name} states import rules in its docstring ({stated[0].strip()!r}); they live in the map only"
 
 
 # ----------------------------------------------------------------------------------------------- import rules

@@ -3,8 +3,6 @@
 * :mod:`.model`: the six vertices, the row transfer matrix, counts on tori;
 * :mod:`.sectors`: exact characteristic polynomials per particle sector;
 * :mod:`.closed_form`: the entropy on the isotropic line, Eqs. (7.1)-(7.4), as sympy expressions.
-
-May import: :mod:`forcenet.core.validation`.
 """
 
 from .model import VERTICES, count_torus, count_torus_by_enumeration, row_transitions, transfer_matrix, vertex_counts_torus

@@ -28,8 +28,6 @@ and checked against the Bethe ansatz (tests/test_isotropic.py):
 Everything here is exact (sympy); evaluation at any precision is
 :mod:`forcenet.numeric.chicken_wire.isotropic`.
 
-May import: sympy only.
-
 Examples
 --------
 >>> import sympy

@@ -8,8 +8,6 @@ it is isolated from these factors by
 :func:`forcenet.numeric.chicken_wire.transfer.perron_root` (``exact`` returns
 no floats).
 
-May import: :mod:`forcenet.core.validation`, :mod:`.model`.
-
 Examples
 --------
 >>> [-2, 0, 0, 1] in [c for c, _ in sector_polynomial_factors(6, particles=3)]  # x^3 - 2: Perron root 2^(1/3)

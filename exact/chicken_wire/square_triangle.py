@@ -13,8 +13,6 @@ area); :func:`canonical_form` identifies it up to translation.
 ``F: Z[zeta] -> Z^2`` sends ``z^k`` to the lattice vector of direction ``30 k``
 and length 1 (``k`` even) or ``sqrt3`` (``k`` odd): the linear map behind the
 correspondence with the chicken-wire model (:mod:`.tiling`).
-
-May import: nothing of the package.
 """
 
 from __future__ import annotations

@@ -5,8 +5,6 @@
 with what the independent enumerator (:mod:`.tiler`, which knows nothing of
 the chicken-wire model) finds on that lattice: translation classes, labelled
 counts, and the round trip of every tiling (notes/chicken_wire.md, Sec. 7).
-
-May import: :mod:`.square_triangle`, :mod:`.tiling`, :mod:`.tiler`, :mod:`..validation`.
 """
 
 from __future__ import annotations

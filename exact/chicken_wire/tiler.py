@@ -8,8 +8,6 @@ count both sides of the correspondence independently.  Exponential; tori
 with up to ~40 vertices.  :func:`scan_lifts` runs it on every period lattice
 over a torus of the chicken-wire lattice; the comparison with the
 correspondence, torus by torus, is :mod:`.survey`.
-
-May import: :mod:`.square_triangle` only.
 """
 
 from __future__ import annotations

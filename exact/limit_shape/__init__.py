@@ -1,6 +1,4 @@
 """Closed forms of the scaling limit of the response, as exact sympy expressions.
-
-May import: nothing of the package.
 """
 
 from .closed_forms import (

@@ -1,6 +1,4 @@
 """The N x P packing of Secs. 3.2-3.3, exactly, when every q is allowed.
-
-May import: :mod:`forcenet.core.validation`.
 """
 
 from .mobilized import mean_W_mobilized

@@ -6,9 +6,6 @@
 * :mod:`.map_counting`: the maps of Sec. 4.6 (4.86)-(4.91) and their bijection with tableaux;
 * :mod:`.nested`: the layer-by-layer nested-matrix integration (4.14)-(4.46);
 * :mod:`.symbolic`: the same layers as sympy matrices, step by step, for small N (``notes/symbolic_session.md``).
-
-May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.modular`,
-:mod:`forcenet.exact.triangle` (staircase, spacings).
 """
 
 from .coefficients import gamma_coefficient

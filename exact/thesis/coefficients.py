@@ -8,8 +8,6 @@
   defect line.
 * :func:`defect_line`: the line of raised bounds of the modified maps
   (4.73)/(4.90).
-
-May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.modular`.
 """
 
 from __future__ import annotations

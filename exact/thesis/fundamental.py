@@ -7,8 +7,6 @@
 
 The literal route, for small N (N = 7 in seconds); the layer-by-layer
 engine is :mod:`.nested`.  Derivations: ``notes/chapter4.md``.
-
-May import: :mod:`forcenet.core.validation`, :mod:`.coefficients`.
 """
 
 from __future__ import annotations

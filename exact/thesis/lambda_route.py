@@ -1,8 +1,6 @@
 """The ``lambda`` engine of ``forcenet table`` (:mod:`forcenet.exact.protocol`): the integer recursions Lambda (4.50) and Gamma (4.73)-(4.77).
 
 Its plan (measured costs) and its run, over the functions of :mod:`.recursions`.
-
-May import: as the package (notes/architecture.md), and :mod:`.recursions`.
 """
 
 from __future__ import annotations

@@ -11,10 +11,6 @@
   correlation by averaging the Dirichlet spacings over all maps.
 
 Enumerates maps one by one: ``Z_{N-2}`` of them (N = 8: 2.3e7).
-
-May import: :mod:`forcenet.core.validation`, :mod:`forcenet.core.plan`, :mod:`forcenet.exact.protocol`,
-:mod:`forcenet.exact.triangle.staircase`, :mod:`forcenet.exact.triangle.spacings`,
-:mod:`.coefficients`, :mod:`.recursions`.
 """
 
 from __future__ import annotations

@@ -1,8 +1,6 @@
 """The ``maps`` engine of ``forcenet table`` (:mod:`forcenet.exact.protocol`): the map counting of Sec. 4.6, (4.67), (4.90)-(4.91).
 
 Its plan (measured costs) and its run, over the functions of :mod:`.map_counting`.
-
-May import: as the package (notes/architecture.md), and :mod:`.map_counting`.
 """
 
 from __future__ import annotations

@@ -1,8 +1,6 @@
 """The ``thesis`` engine of ``forcenet table`` (:mod:`forcenet.exact.protocol`): the nested-matrix integration of Secs. 4.3-4.5.
 
 Its plan (measured costs) and its run, over the functions of :mod:`.nested`.
-
-May import: as the package (notes/architecture.md), and :mod:`.nested`.
 """
 
 from __future__ import annotations

@@ -11,11 +11,6 @@ row of a map (Sec. 4.6): the nested sum of (4.50) is a dominance prefix sum
 (:func:`_transfer`), and the last row is never built (:func:`_last_row_chain`).
 Multi-modular (int64 residues, CRT) beyond a few layers: N = 12 reaches.
 Derivations: ``notes/chapter4.md``.
-
-May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.modular`,
-:mod:`forcenet.core.plan`, :mod:`forcenet.exact.protocol`,
-:mod:`forcenet.exact.triangle.staircase`, :mod:`.coefficients` (never
-:mod:`.map_counting`, which imports this module).
 """
 
 from __future__ import annotations

@@ -34,8 +34,6 @@ Examples
 W_2_1*W_2_2
 >>> layers[2].normalization()
 1/6
-
-May import: :mod:`forcenet.core.validation`, :mod:`.nested`.
 """
 
 from __future__ import annotations

@@ -8,8 +8,6 @@
 * :mod:`.gaps`, :mod:`.joint_gaps`: exact laws of rank gaps (the spacings W, F1, F2, F5, F6; q);
 * :mod:`.distribution`: exact densities, CDFs and pooled P(f) (sympy polynomials);
 * :mod:`.tables`: JSON / CSV / LaTeX tables, atomic writes.
-
-May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.modular`, :mod:`forcenet.core.plan`.
 """
 
 from .configuration import W_from_q, contact_forces, in_ensemble, partial_sums, q_from_W

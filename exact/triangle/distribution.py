@@ -35,9 +35,6 @@ References
 ----------
 S. Ostojic, PhD thesis (2006), Eqs. (3.2)-(3.4), (3.8), (4.5)-(4.9); the
 thesis's ``P(f)``: Figs. 2.4, 3.8, 7.3.
-
-May import: :mod:`forcenet.core.validation`, :mod:`forcenet.core.plan`,
-:mod:`.staircase`, :mod:`.spacings`, :mod:`.moments`, :mod:`.gaps`, :mod:`.joint_gaps`, :mod:`.pieces`.
 """
 
 from __future__ import annotations

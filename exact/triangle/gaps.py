@@ -35,9 +35,6 @@ Examples
 References
 ----------
 S. Ostojic, PhD thesis (2006), Eqs. (3.2)-(3.4), (3.8), (4.5)-(4.9).
-
-May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.modular`,
-:mod:`forcenet.core.plan`, :mod:`.staircase`, :mod:`.ideal_dp`, :mod:`.runs`.
 """
 
 from __future__ import annotations

@@ -16,9 +16,6 @@ Examples
 >>> counts, total = q_gap_counts(3, (2, 1))
 >>> [(a, b, c) for a, row in enumerate(counts) for b, c in enumerate(row) if c], total
 ([(1, 1, 1)], 1)
-
-May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.modular`,
-:mod:`.staircase`, :mod:`.ideal_dp`, :mod:`.runs`.
 """
 
 from __future__ import annotations

@@ -4,8 +4,6 @@ The pooled densities of :mod:`.distribution` (a layer's ``P_i(f)``, the
 ensemble ``P(f)``, a contact pool) are polynomials on intervals; here they are
 held as :class:`Piece` lists, summed, integrated and binned with exact
 rationals (``notes/force_distribution.md``).
-
-May import: :mod:`forcenet.core.errors`.
 """
 
 from __future__ import annotations

@@ -8,8 +8,6 @@ the chain checked (:func:`check_chain`), the ideals grouped by level and by
 the number of chain cells they contain (:func:`run_layout`), the carrying of
 states along the moves (:func:`transport`) and the overflow-free modular
 products (:func:`mulmod_sum`).  Arithmetic modulo word-size primes (numpy).
-
-May import: :mod:`forcenet.core.validation`, :mod:`forcenet.core.errors`, :mod:`.staircase`, :mod:`.ideal_dp`.
 """
 
 from __future__ import annotations

@@ -12,7 +12,6 @@ and ``S_{i,j}`` (rank gap ``g``), so
 Used by the exact core (:mod:`.moments`) and by the thesis's map route
 (:mod:`forcenet.exact.thesis.map_counting`); the reference routes
 (:mod:`forcenet.exact.reference`) have their own code for independence.
-May import: :mod:`forcenet.core.validation`, :mod:`.staircase`.
 """
 
 from __future__ import annotations

@@ -14,8 +14,6 @@ References
    thesis, Amsterdam (2006), Eqs. (4.1), (4.5)-(4.13), (4.51).
 .. [2] OEIS A003121: number of standard shifted Young tableaux of staircase
    shape, 1, 1, 1, 2, 12, 286, 33592, 23178480, ...
-
-May import: :mod:`forcenet.core.validation`.
 """
 
 from __future__ import annotations

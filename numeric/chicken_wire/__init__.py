@@ -4,6 +4,4 @@
 * :mod:`.monte_carlo`: the hexagon shrink/expand Monte Carlo of Fig. 7.8;
 * :mod:`.bethe`: the nested Bethe ansatz (to L ~ 1000), with a photon fugacity;
 * :mod:`.isotropic`: the entropy on the isotropic line, (7.1)-(7.4).
-
-May import: :mod:`forcenet.exact`, :mod:`forcenet.numeric.autocorr`.
 """

@@ -4,8 +4,6 @@
 the work; :func:`ground_state` solves by random starts
 (:func:`.bethe.solve_ground_state`) or, for ``(L, n, m) = k (6, 2, 1)`` beyond
 ``L = 24``, by the continuation in ``k`` (:func:`.bethe.ground_state_sequence`).
-
-May import: :mod:`forcenet.exact` (plan, validation, errors), :mod:`.bethe`.
 """
 
 from __future__ import annotations

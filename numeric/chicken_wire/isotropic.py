@@ -20,8 +20,6 @@ from the closed form where it is cheaper (both agree on their overlap; tests).
 The Bethe-ansatz route, which knows nothing of these formulas, is
 :mod:`.isotropic_bethe`.
 
-May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.chicken_wire.closed_form`.
-
 Examples
 --------
 >>> mpmath.nstr(entropy(Q=Fraction(1, 6), dps=30), 30)

@@ -8,8 +8,6 @@ the entropy per site ``v`` and the log-fugacity ``mu`` are extrapolated to
 with its exact slope ``dv/dQ = -3 mu`` (Legendre).  This route knows nothing
 of the closed form (7.1) (:mod:`.isotropic`), which the tests check against it.
 
-May import: :mod:`forcenet.core.validation`, :mod:`.bethe`.
-
 Examples
 --------
 >>> lim = isotropic_limit(Fraction(1, 6), L_max=120, L_min=48)

@@ -21,8 +21,6 @@ Examples
 2.0
 >>> round(largest_eigenvalue(7, particles=2), 12)  # 2 cos(pi/7)
 1.801937735805
-
-May import: :mod:`forcenet.exact` (vertex rules, exact sector polynomials).
 """
 
 from __future__ import annotations

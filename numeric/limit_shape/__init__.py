@@ -1,6 +1,4 @@
 """The scaling limit of the response at any precision (mpmath).
-
-May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.limit_shape`, flint (``edge.py``).
 """
 
 from .edge import (

@@ -17,8 +17,6 @@ Fredholm determinant ``F_2(s) = det(I - K_Airy)`` on ``L^2(s, infinity)``
 (python-flint ball arithmetic, precision a parameter; the quadrature sizes grow
 with the digits asked for, checked in ``tests/test_edge.py``).
 
-May import: :mod:`forcenet.core`, mpmath, flint.
-
 Examples
 --------
 >>> mpmath.nstr(edge_amplitude("0.5", dps=15), 15)

@@ -3,8 +3,6 @@
 * :mod:`.scene`: boundary conditions and forces from q or from the lateral forces;
 * :mod:`.metropolis`: the sampler and the response G(i, j);
 * :mod:`.networks`: the independent rejection route and the maximin network.
-
-May import: :mod:`forcenet.exact`, :mod:`forcenet.numeric.autocorr`.
 """
 
 from .metropolis import PackingMetropolis, response

@@ -14,8 +14,6 @@ changes.  These running sums are kept between moves and extended exactly as
 ``numpy.cumsum`` computes them, so the constraint test is bitwise the
 reference's; only the log-weight ratio is summed in a different order (over
 the cone instead of whole rows).
-
-May import: numpy, :mod:`forcenet.numeric.jit`, :mod:`forcenet.numeric.slice_sampling`, :mod:`.scene`.
 """
 
 from __future__ import annotations

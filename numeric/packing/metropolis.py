@@ -1,8 +1,5 @@
 """The Metropolis sampler of Sec. 3.2.4 on the N x P packing, and the response G(i, j) (Sec. 3.3).
 
-May import: :mod:`forcenet.core.validation`, :mod:`forcenet.numeric.autocorr`,
-:mod:`.scene`, :mod:`.networks`.
-
 Examples
 --------
 >>> from forcenet.numeric.packing.scene import Scene

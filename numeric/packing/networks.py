@@ -5,8 +5,6 @@ bounding box and keeps the repulsive networks: independent uniform samples
 that check the q-coordinates and the measure (3.10) of the Metropolis
 sampler.  :func:`maximin_network` is the linear program that maximizes the
 smallest contact force (a feasible start, or a proof that none exists).
-
-May import: :mod:`forcenet.core.validation`, :mod:`.scene`.
 """
 
 from __future__ import annotations

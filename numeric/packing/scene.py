@@ -32,8 +32,6 @@ isotropic ``ph = pv = p, mg = 0``.  The fully mobilized scene without gravity
 The sampler is :mod:`.metropolis`, the independent rejection route and the
 maximin network :mod:`.networks`.
 
-May import: :mod:`forcenet.core.validation`.
-
 Examples
 --------
 >>> scene = Scene(N=4, P=5, F=10.0, mg=1.0, j0=3)

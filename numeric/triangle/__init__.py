@@ -3,8 +3,6 @@
 * :mod:`.exact_sampler`: independent uniform samples (random tableaux, no Markov chain);
 * :mod:`.metropolis`: the Metropolis sampler in q of Sec. 3.2.4 and the q-model contrast;
 * :mod:`.force_distribution`: exact densities in floating point, sampled P(f) histograms with error bars.
-
-May import: :mod:`forcenet.exact`, :mod:`forcenet.numeric.autocorr`.
 """
 
 from .exact_sampler import ExactSampler, sample_tableaux

@@ -12,8 +12,6 @@ are extended exactly as ``numpy.cumsum`` computes them in
 :func:`forcenet.numeric.triangle.metropolis.lateral_forces`, so the
 constraint test is bitwise the reference kernel's.
 
-May import: numpy, :mod:`forcenet.numeric.jit`.
-
 Examples
 --------
 >>> import numpy as np

@@ -17,8 +17,6 @@
 Pools (as in :mod:`forcenet.exact.triangle.distribution`): ``"ensemble"`` is
 every grain of layers ``2..N`` with ``f = i W_{i,j}``; an integer ``i`` is
 layer ``i`` alone.
-
-May import: :mod:`forcenet.exact`, :mod:`forcenet.numeric.autocorr`, :mod:`.exact_sampler`, :mod:`.metropolis`.
 """
 
 from __future__ import annotations

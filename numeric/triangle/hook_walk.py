@@ -13,8 +13,6 @@ from Schur's formula in ``O(n)`` per removal; the walk needs no weights at
 all.  Checked in exact rational arithmetic for every strict partition of
 size <= 22 (``tests/test_kernels.py`` repeats it to size 14).
 
-May import: numpy, :mod:`forcenet.numeric.jit`, :mod:`forcenet.exact.triangle.staircase`.
-
 Examples
 --------
 >>> import numpy as np

@@ -13,8 +13,6 @@ The only floating-point difference from the reference is the order in which
 the log-weight ratio is summed (the reference sums whole rows); it can flip
 an acceptance only when a uniform falls within ~1e-15 of the acceptance
 probability.
-
-May import: numpy, :mod:`forcenet.numeric.jit`, :mod:`forcenet.numeric.slice_sampling`, :mod:`.cone`.
 """
 
 from __future__ import annotations

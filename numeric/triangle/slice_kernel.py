@@ -9,8 +9,6 @@ lateral forces ``F4`` (finite ``p_h``) are affine too: the allowed q form an
 interval, found from the derivatives ``dW/dq`` on the cone (Eq. 4.5
 differentiated), on which :func:`forcenet.numeric.slice_sampling.slice_shrink`
 draws the new q.  The state is then committed with :mod:`.cone`.
-
-May import: numpy, :mod:`forcenet.numeric.jit`, :mod:`forcenet.numeric.slice_sampling`, :mod:`.cone`.
 """
 
 from __future__ import annotations

@@ -39,7 +39,8 @@ if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ lo
     from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceError, ForcenetError, PrecisionWarning
     from forcenet.exact.triangle.distribution import cdf, contact_density, density
     from forcenet.exact.triangle.staircase import count, normalization
-    from forcenet.front_door import Row, Table, TablePlan, plan, table
+    from forcenet.front_door import TablePlan, plan, table
+    from forcenet.results import Row, Table
     from forcenet.numeric.chicken_wire.isotropic import entropy, tiling_entropy
     from forcenet.numeric.triangle import ExactSampler, TriangleMetropolis
 
@@ -47,9 +48,9 @@ if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ lo
 _FRONT_DOOR = {
     "table": "forcenet.front_door",
     "plan": "forcenet.front_door",
-    "Table": "forcenet.front_door",
+    "Table": "forcenet.results",
     "TablePlan": "forcenet.front_door",
-    "Row": "forcenet.front_door",
+    "Row": "forcenet.results",
     "count": "forcenet.exact.triangle.staircase",
     "normalization": "forcenet.exact.triangle.staircase",
     "density": "forcenet.exact.triangle.distribution",

@@ -16,9 +16,6 @@ The route behind ``forcenet table --method pfaffian`` (derivation and proofs in
 * :mod:`.partial_sums`: ``<S_ij^2>`` of every partial sum and ``E[T^2]`` of
   every tableau entry, from the same evaluations with a second level functional.
 
-May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.modular`,
-:mod:`forcenet.core.plan`, :mod:`forcenet.exact.triangle.staircase`.
-
 Examples
 --------
 >>> from forcenet.exact.triangle.pfaffian import mean_W, count

@@ -7,10 +7,6 @@ displacement elimination each), the lattice directions two eliminations per
 level point; the client's Chinese remaindering is quadratic in the number of
 primes.
 
-May import: :mod:`forcenet.core.plan`, :mod:`forcenet.exact.execution`,
-:mod:`forcenet.exact.checkpoints`, :mod:`forcenet.exact.triangle.staircase`,
-:mod:`.engine`, :mod:`.tasks`.
-
 Examples
 --------
 >>> prime_seconds(40) > edge_seconds(40) > 0

@@ -23,8 +23,6 @@ the only other such cell is ``S_(2,1)``, between ``S_(3,1)`` and ``S_(3,2)``
 ``2``, ``3`` and ``N - 1`` are one-time in full (:func:`one_time_rows`).
 Checked exactly against the order-ideal DP (tests/test_covers.py).
 
-May import: :mod:`forcenet.core`, :mod:`forcenet.exact.checkpoints` and its own package.
-
 Examples
 --------
 >>> rows = cover_row_moments(6, 5)  # layer N - 1 of N = 6

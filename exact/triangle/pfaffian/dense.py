@@ -20,8 +20,6 @@ its pivot is taken.
 
 It also carries the whole kernel interface of :mod:`.kernels` with
 ``point_values`` = :func:`point_values_dense` (the engine's ``backend="dense"``).
-
-May import: :mod:`.kernels`, :mod:`.residues`.
 """
 
 from __future__ import annotations

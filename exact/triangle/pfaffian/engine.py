@@ -28,9 +28,6 @@ word operations per prime.
 Residues travel to the kernels as ``float64`` arrays of exact integers in
 ``[0, p)`` (their representation, :mod:`.kernels`; nothing is rounded) and
 come back as ``int64``.
-
-May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.modular`,
-:mod:`forcenet.core.plan` and its own package.
 """
 
 from __future__ import annotations

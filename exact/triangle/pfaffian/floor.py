@@ -42,11 +42,6 @@ two-dimensional grid is the price of a two-time quantity
 (``notes/fluctuations.md`` Sec. 4: no evaluate-and-combine route needs fewer
 than ``~ d^2/8`` nodes).
 
-May import: :mod:`forcenet.core.validation`, :mod:`forcenet.core.plan`,
-:mod:`forcenet.core.errors`, :mod:`forcenet.exact.modular`,
-:mod:`forcenet.exact.triangle.gaps`,
-:mod:`forcenet.exact.checkpoints`, :mod:`forcenet.exact.triangle.staircase` and its own package.
-
 Examples
 --------
 >>> law = floor_pooled_gap_law(4)  # the four floor loads of N = 4, pooled

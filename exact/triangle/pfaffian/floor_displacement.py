@@ -34,8 +34,6 @@ Measured (``notes/benchmarks.md``): against the lazy elimination of
 :mod:`.floor_kernels`, 4.3-5.8x per bordered Pfaffian at N = 36-48 and
 3.3-4.7x per prime of the floor route at N = 20-44, in the same run
 (``benchmarks/floor_displacement.py``).
-
-May import: :mod:`.residues`.
 """
 
 from __future__ import annotations

@@ -6,8 +6,6 @@ grids evaluate their Pfaffians by the displacement kernel of
 :mod:`.floor_displacement` (the default), or by the lazy elimination of the
 explicit matrices here (:func:`pfaffian_lazy` has the bound; the baseline of
 the benchmarks and a second route in the tests).
-
-May import: :mod:`.residues`, :mod:`.kernels` (``pfaffian_mod``, the pivoting fallback), :mod:`.floor_displacement`.
 """
 
 from __future__ import annotations

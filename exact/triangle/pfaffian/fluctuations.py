@@ -31,9 +31,6 @@ interpolation, ``O(M^2 n)`` per prime with ``M ~ d``: ``O(n^5)``; primes
 ``~ log2(count) / 25``.  Memory ``O(M^2)`` (the Lagrange matrix: 0.2 GB at
 N = 100).
 
-May import: :mod:`forcenet.core.validation`, :mod:`forcenet.core.plan`,
-:mod:`forcenet.exact.triangle.gaps` (``GapCounts``) and its own package.
-
 Examples
 --------
 >>> law = lattice_gap_laws(5)[3]  # W_{3,1} for N = 5: g = T(1, 3) is 3 or 4

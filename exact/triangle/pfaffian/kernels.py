@@ -31,8 +31,6 @@ twin :mod:`.kernels_python` has the same functions and is the reference of
 the tests.  The ``O(M^2)`` weights of the level functional (:func:`dual_weights`,
 :func:`weighted_sum`: seconds at N = 200) run as compiled calls of ~0.15 s
 from Python, so Ctrl-C is seen between them.
-
-May import: :mod:`forcenet.core.plan`, :mod:`forcenet.core.errors`, :mod:`.residues`.
 """
 
 from __future__ import annotations

@@ -4,8 +4,6 @@ Same functions, same arguments (residues may be given as floats or ints),
 same results; written for clarity (textbook pair elimination, full
 reduction after every operation), so the tests can check the compiled,
 lazily reduced kernels against it on small ``N``.
-
-May import: nothing of the package.
 """
 
 from __future__ import annotations

@@ -22,8 +22,6 @@ in one small matrix product (exact in ``float64``: at most ``2k + 2`` products
 of residues per sum) and ``O(n^3)`` for its Pfaffian.
 
 Residues are ``float64`` integers as in :mod:`.residues`, ``p < 2^22``.
-
-May import: :mod:`.residues`, :mod:`.kernels` (``pfaffian_mod``), :mod:`.floor_kernels` (the grid's helpers).
 """
 
 from __future__ import annotations

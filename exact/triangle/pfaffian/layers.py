@@ -30,10 +30,6 @@ Cost per prime: the floor's ``(d/2 + 1)(d + 3)`` nodes, one Pfaffian of order
 ``n + n % 2`` per node and fugacity (one for the pooled law, ``m + 1`` for
 every load of the layer), ``O(n^3 + m^2 k)`` each: ``O(n^7)`` pooled.
 
-May import: :mod:`forcenet.core`, :mod:`forcenet.exact.modular`, :mod:`forcenet.exact.checkpoints`,
-:mod:`forcenet.exact.triangle.gaps`, :mod:`forcenet.exact.triangle.distribution`,
-:mod:`forcenet.exact.triangle.pieces`, :mod:`forcenet.exact.triangle.staircase` and its own package.
-
 Examples
 --------
 >>> law = layer_pooled_gap_law(5, 3)  # the three loads of layer 3, N = 5, pooled

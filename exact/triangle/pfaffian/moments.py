@@ -14,10 +14,6 @@ for ``s >= 2`` (the mean alone has the much cheaper one-time route,
 order-ideal DP stops near N = 24-28; ``notes/fluctuations.md`` Sec. 4 proves
 that no evaluate-and-combine route needs fewer than ``~d^2/8`` nodes per layer.
 
-May import: :mod:`forcenet.core`, :mod:`forcenet.exact.protocol`, :mod:`forcenet.exact.checkpoints`,
-:mod:`forcenet.exact.triangle.gaps`, :mod:`forcenet.exact.triangle.distribution` (``moment_from_gaps``),
-:mod:`forcenet.exact.triangle.staircase` and its own package.
-
 Examples
 --------
 >>> tables = moments_run(4, 2)

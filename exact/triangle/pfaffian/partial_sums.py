@@ -22,10 +22,6 @@ their route is one layer's de Bruijn grid (Sec. 6).  The bound
 ``0 <= S2 <= (d+1)(d+2)/2 count`` makes the Chinese remainders exact.  Checked against the order-ideal DP's moments and
 correlations and the linear extensions (tests/test_partial_sums.py).
 
-May import: :mod:`forcenet.core`, :mod:`forcenet.exact.modular`,
-:mod:`forcenet.exact.execution`, :mod:`forcenet.exact.checkpoints`,
-:mod:`forcenet.exact.triangle.staircase` and its own package.
-
 Examples
 --------
 >>> second = partial_sum_moments(4)[2]

@@ -11,8 +11,6 @@ every value is an exact integer, so the results are exact residues.
 :func:`solve` is the modular Gaussian elimination of the Pfaffian route:
 the displacement kernels (:mod:`.kernels`, four right-hand sides) and the
 dense baseline (:mod:`.dense`, the identity: the inverse) both call it.
-
-May import: nothing of the package.
 """
 
 from __future__ import annotations

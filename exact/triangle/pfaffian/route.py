@@ -21,10 +21,6 @@ order-ideal DP (``2^(N-1)`` ideals) near ``N = 20`` (``notes/benchmarks.md``).
 
 The cost model is :mod:`.cost`.
 
-May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.modular`,
-:mod:`forcenet.core.plan`, :mod:`forcenet.exact.execution`,
-:mod:`forcenet.exact.checkpoints`, :mod:`forcenet.exact.triangle.staircase` and its own package.
-
 Examples
 --------
 >>> count(7), count(10)  # d! * normalization, Eq. (4.1)

@@ -22,8 +22,6 @@ is a :class:`fractions.Fraction`, so it is meant for small ``n``.  The
 multi-modular engine in :mod:`.engine` does the same arithmetic modulo
 word-size primes.
 
-May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.triangle.staircase` (``dimension``).
-
 Examples
 --------
 >>> labels(3), labels(4)

@@ -8,9 +8,6 @@ executor by :func:`forcenet.exact.execution.run_tasks`: any
 :class:`concurrent.futures.Executor`, else a local process pool when the run
 pays for starting it (:data:`PARALLEL_MIN_SECONDS`), else this process.
 
-May import: :mod:`forcenet.core.validation`, :mod:`forcenet.exact.modular`,
-:mod:`forcenet.exact.execution`, :mod:`forcenet.exact.checkpoints`, :mod:`.engine`.
-
 Examples
 --------
 >>> route_primes(32, 10**15)

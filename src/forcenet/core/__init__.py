@@ -5,6 +5,4 @@
 * :mod:`.plan`: the cost of a computation announced before it runs (:class:`~.plan.Plan`), and work chunks
   short enough for Ctrl-C;
 * :mod:`.precision`: the precision policy (inputs converted inside ``mpmath.workdps`` with guard digits).
-
-May import: nothing of forcenet outside this package (exact/ and numeric/ import it, never the reverse).
 """

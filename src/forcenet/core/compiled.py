@@ -16,9 +16,6 @@ set, still wins (numba's rule); when neither place is writable, numba's own
 choice applies.  The cache is checked against the source's content hash, so
 a changed kernel is compiled again, and the code is the same wherever it is cached.
 
-Imports only: the standard library and, when a kernel is defined, ``numba`` (``llvmlite``, numba's
-compiler, to read the machine's features in :func:`prefer_wide_vectors`).
-
 Examples
 --------
 >>> import os

@@ -8,8 +8,6 @@ memory than the caller has).  The engines own their cost knowledge (measured
 constants live next to the code they describe); the command line only asks,
 announces, refuses or runs.
 
-May import: :mod:`forcenet.core.errors` (nothing else of the package).
-
 Examples
 --------
 >>> plan = Plan("exact table N=20", seconds=3.2, nbytes=2**28, ticks=4, unit="pass")

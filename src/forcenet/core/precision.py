@@ -10,8 +10,6 @@
   cancellations depend on the point (so they cost precision, never digits);
 * no global precision is ever set.
 
-May import: :mod:`forcenet.core.validation`, mpmath.
-
 Examples
 --------
 >>> mpmath.nstr(guarded(lambda: to_mpf("0.1", "x") * 3, 30), 30)

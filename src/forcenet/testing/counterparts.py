@@ -1,7 +1,5 @@
 """Exact counterparts of what the samplers estimate, in the shape ``assert_agrees`` takes.
 
-May import: :mod:`forcenet.exact`, :mod:`forcenet.numeric.packing` (the Scene).
-
 Examples
 --------
 >>> [str(w) for w in exact_mean_W(3)[-1]]

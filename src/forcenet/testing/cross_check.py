@@ -6,9 +6,6 @@ table; the comparison is :func:`forcenet.testing.compare` with the bounds
 ``0 <= W <= 1``, so its false-alarm rate is bounded at every number of
 samples.  The cost model sits here, next to the computation it describes.
 
-May import: :mod:`forcenet.exact` (plan, staircase), :mod:`forcenet.numeric.triangle.exact_sampler`,
-:mod:`.assertions`.
-
 Examples
 --------
 >>> from forcenet.exact.triangle.moments import mean_W

@@ -1,0 +1,330 @@
+"""What the front door returns: an exact table (:class:`Table`) or one row of it (:class:`Row`).
+
+Exact :class:`~fractions.Fraction` values that carry their bounds (every ``W``
+lies in ``[0, 1]``, so :func:`forcenet.testing.compare` takes the bounded test
+by default), ``count`` and ``normalization`` of Eq. (4.1), and the renderings
+the command line writes, byte for byte.  Made by :func:`forcenet.table`.
+
+Examples
+--------
+>>> import forcenet
+>>> t = forcenet.table(4)
+>>> t.mean_W[-1], t.mean_W.bounds
+([Fraction(1, 7), Fraction(5, 14), Fraction(5, 14), Fraction(1, 7)], (0, 1))
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from typing import TYPE_CHECKING, Any
+
+from forcenet.core.errors import ArgumentError
+from forcenet.core.validation import check_int
+
+if TYPE_CHECKING:  # pragma: no cover - annotations only
+    import numpy as np
+    from matplotlib.axes import Axes
+
+__all__ = ["Row", "Table"]
+
+
+class Table:
+    """An exact table of the fully mobilized triangle: ``<W_ij^s>`` for ``s = 1..moments``.
+
+    Rows ``i = 1..N`` (layer ``i`` holds ``i`` grains), entries ``j = 1..i``,
+    every value a :class:`~fractions.Fraction`.  Returned by :func:`table`;
+    the text renderings are byte for byte the command line's.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers.
+    method : str
+        The route that computed it.
+    why : str
+        Why ``auto`` chose that route (empty for an explicit method).
+    tables : dict of int to list of lists of Fraction
+        ``{s: <W^s> rows}``; the highest ``s`` is the table's ``moments``.
+
+    Examples
+    --------
+    >>> import forcenet
+    >>> t = forcenet.table(4)
+    >>> t
+    Table(N=4, moments=1, method='fast')
+    >>> t.to_numpy().round(4)[-1]
+    array([0.1429, 0.3571, 0.3571, 0.1429])
+    """
+
+    def __init__(self, N: int, method: str, why: str, tables: dict[int, list[list[Fraction]]]):
+        from forcenet.exact.protocol import BoundedTable
+
+        self.N, self.method, self.why = N, method, why
+        # every W_ij lies in [0, 1], so W^s too: forcenet.testing.compare then uses the bounded test by default
+        self._tables = {s: BoundedTable(rows, (0, 1), "every W^s of the triangle lies in [0, 1]" if s > 1
+                                      else "every W of the triangle lies in [0, 1]")
+                        for s, rows in tables.items()}
+        self.moments = max(tables)
+
+    def __repr__(self) -> str:
+        return f"Table(N={self.N}, moments={self.moments}, method={self.method!r})"
+
+    @property
+    def mean_W(self) -> list[list[Fraction]]:
+        """``<W_ij>``: row ``i - 1`` holds ``j = 1..i`` (a list that carries its bounds, ``[0, 1]``, for
+        :func:`forcenet.testing.compare`)."""
+        return self._tables[1]
+
+    def moment(self, s: int = 1) -> list[list[Fraction]]:
+        """``<W_ij^s>`` for ``1 <= s <= moments``.
+
+        Parameters
+        ----------
+        s : int
+            The moment.
+
+        Returns
+        -------
+        list of lists of Fraction
+
+        Raises
+        ------
+        ArgumentError
+            If ``s`` was not computed.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.table(3, moments=2).moment(2)[-1]
+        [Fraction(1, 10), Fraction(3, 10), Fraction(1, 10)]
+        """
+        s = check_int(s, "s", 1)
+        if s not in self._tables:
+            raise ArgumentError(f"s={s} is out of range: this table holds s = 1..{self.moments} "
+                                f"(ask forcenet.table({self.N}, moments={s}))")
+        return self._tables[s]
+
+    @property
+    def count(self) -> int:
+        """Standard shifted staircase tableaux: ``d! * normalization``, Eq. (4.1)."""
+        from forcenet.exact.triangle.staircase import count
+
+        return count(self.N)
+
+    @property
+    def normalization(self) -> Fraction:
+        """The volume of the space of force networks, Eq. (4.1)."""
+        from forcenet.exact.triangle.staircase import normalization
+
+        return normalization(self.N)
+
+    def to_dict(self) -> dict[str, Any]:
+        """``{"N", "count", "normalization", "mean_W", "mean_W2", ...}`` with exact values (the renderers' input).
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> sorted(forcenet.table(4, moments=2).to_dict())
+        ['N', 'count', 'mean_W', 'mean_W2', 'normalization']
+        """
+        out: dict[str, Any] = {"N": self.N, "count": self.count, "normalization": self.normalization}
+        out.update({"mean_W" if s == 1 else f"mean_W{s}": rows for s, rows in sorted(self._tables.items())})
+        return out
+
+    def to_json(self) -> str:
+        """The JSON of ``forcenet table`` (the main job's ``.json`` file; ``--format json`` prints it and a newline).
+
+        Exact values are ``"p/q"`` strings.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.table(3).to_json()
+        '{"N": 3, "count": "1", "normalization": "1/6", "mean_W": [["1"], ["1/2", "1/2"], ["1/4", "1/2", "1/4"]]}'
+        """
+        from forcenet.exact.triangle.tables import to_json
+
+        return to_json(self.to_dict())
+
+    def to_csv(self) -> str:
+        """The CSV of ``forcenet table --format csv``: ``i,j,mean_W[,mean_W2...]``."""
+        from forcenet.exact.triangle.tables import to_csv
+
+        return to_csv(self.to_dict())
+
+    def to_latex(self) -> str:
+        """The LaTeX ``tabular`` of ``forcenet table --format latex``."""
+        from forcenet.exact.triangle.tables import to_latex
+
+        return to_latex(self.to_dict())
+
+    def to_numpy(self, s: int = 1) -> np.ndarray:
+        """``<W_ij^s>`` as an ``(N, N)`` float array (correctly rounded), NaN where ``j > i``.
+
+        Parameters
+        ----------
+        s : int
+            The moment.
+
+        Returns
+        -------
+        numpy.ndarray
+        """
+        import numpy as np
+
+        out = np.full((self.N, self.N), np.nan)
+        for i, row in enumerate(self.moment(s)):
+            out[i, :len(row)] = [float(x) for x in row]  # float(Fraction) rounds correctly
+        return out
+
+    def _repr_latex_(self) -> str | None:
+        if self.N > 10:
+            return None
+        from forcenet.exact.triangle.tables import _latex_fraction
+
+        rows = [" & ".join(_latex_fraction(x) for x in row) + " & " * (self.N - len(row)) for row in self.mean_W]
+        body = r" \\ ".join(rows)
+        return rf"$\langle W_{{ij}}\rangle,\ N={self.N}:\ \left(\begin{{array}}{{{'c' * self.N}}}{body}\end{{array}}\right)$"
+
+    def _repr_html_(self) -> str:
+        from html import escape
+
+        from forcenet.exact.triangle.tables import fraction_str
+
+        rows = range(1, self.N + 1) if self.N <= 12 else [*range(1, 7), *range(self.N - 2, self.N + 1)]
+        cells = []
+        for i in rows:
+            texts = [fraction_str(x) for x in self.mean_W[i - 1]]
+            shown = [escape(t) if len(t) < 16 else f"{float(x):.6g}" for t, x in zip(texts, self.mean_W[i - 1])]
+            cells.append(f"<tr><th>{i}</th>" + "".join(f"<td>{t}</td>" for t in shown) + "</tr>")
+        head = f"<p>&lt;W<sub>ij</sub>&gt;, N = {self.N} ({escape(self.method)})</p>"
+        return head + "<table>" + "".join(cells) + "</table>"
+
+    def plot(self, s: int = 1, ax: Axes | None = None) -> Axes:
+        """The triangle drawn as it stands: grain ``(i, j)`` at ``(j - (i + 1)/2, -i)``, coloured by ``<W_ij^s>``.
+
+        Parameters
+        ----------
+        s : int
+            The moment.
+        ax : matplotlib.axes.Axes, optional
+            Where to draw (default: a new figure).
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+        """
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(5, 4.5))
+        xs, ys, cs = [], [], []
+        for i, row in enumerate(self.moment(s), start=1):
+            for j, value in enumerate(row, start=1):
+                xs.append(j - (i + 1) / 2)
+                ys.append(-i)
+                cs.append(float(value))
+        size = max(4.0, 2400 / self.N**2)
+        points = ax.scatter(xs, ys, c=cs, s=size, cmap="viridis")
+        ax.figure.colorbar(points, ax=ax, label=r"$\langle W_{ij}\rangle$" if s == 1 else rf"$\langle W_{{ij}}^{s}\rangle$")
+        ax.set_aspect("equal")
+        ax.set_axis_off()
+        ax.set_title(f"N = {self.N}")
+        return ax
+
+
+class Row:
+    """One row (layer ``i``) of the exact tables: ``<W_ij^s>``, ``j = 1..i``, ``s = 1..moments``.
+
+    Returned by :func:`table` with ``row=i``; the renderings are byte for byte
+    those of ``forcenet table --row i``.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers.
+    row : int
+        The row (layer) ``i``.
+    method : str
+        The route that computed it (a row route, or a table method).
+    why : str
+        Why ``auto`` chose it (empty for an explicit method).
+    rows : dict of int to list of Fraction
+        ``{s: [<W_ij^s>, j = 1..i]}``.
+
+    Examples
+    --------
+    >>> import forcenet
+    >>> r = forcenet.table(5, moments=2, row=4)
+    >>> r.mean_W, r.moment(2) == forcenet.table(5, moments=2).moment(2)[3]
+    ([Fraction(2, 11), Fraction(7, 22), Fraction(7, 22), Fraction(2, 11)], True)
+    """
+
+    def __init__(self, N: int, row: int, method: str, why: str, rows: dict[int, list[Fraction]]):
+        from forcenet.exact.protocol import BoundedTable
+
+        self.N, self.row, self.method, self.why = N, row, method, why
+        self._rows = {s: BoundedTable(values, (0, 1), "every W^s of the triangle lies in [0, 1]")
+                      for s, values in rows.items()}
+        self.moments = max(rows)
+
+    def __repr__(self) -> str:
+        return f"Row(N={self.N}, row={self.row}, moments={self.moments}, method={self.method!r})"
+
+    @property
+    def mean_W(self) -> list[Fraction]:
+        """``<W_ij>``, ``j = 1..i``."""
+        return self._rows[1]
+
+    def moment(self, s: int = 2) -> list[Fraction]:
+        """``<W_ij^s>``, ``j = 1..i``, for ``1 <= s <= moments``.
+
+        Parameters
+        ----------
+        s : int
+            The moment.
+
+        Returns
+        -------
+        list of Fraction
+
+        Raises
+        ------
+        ArgumentError
+            If ``s`` was not computed.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.table(4, moments=2, row=3).moment(2)
+        [Fraction(3, 28), Fraction(3, 14), Fraction(3, 28)]
+        """
+        s = check_int(s, "s", 1)
+        if s not in self._rows:
+            raise ArgumentError(f"s={s} is out of range: this row holds s = 1..{self.moments} "
+                                f"(ask forcenet.table({self.N}, moments={s}, row={self.row}))")
+        return self._rows[s]
+
+    def to_dict(self) -> dict[str, Any]:
+        """``{"N", "row", "count", "normalization", "mean_W", "mean_W2", ...}`` with exact values."""
+        from forcenet.exact.triangle.tables import exact_row
+
+        return exact_row(self.N, self.row, self._rows)
+
+    def to_json(self) -> str:
+        """The JSON of ``forcenet table --row i --format json`` (without the final newline)."""
+        from forcenet.exact.triangle.tables import to_json
+
+        return to_json(self.to_dict())
+
+    def to_csv(self) -> str:
+        """The CSV of ``forcenet table --row i --format csv``."""
+        from forcenet.exact.triangle.tables import to_csv
+
+        return to_csv(self.to_dict())
+
+    def to_latex(self) -> str:
+        """The LaTeX of ``forcenet table --row i --format latex``."""
+        from forcenet.exact.triangle.tables import to_latex
+
+        return to_latex(self.to_dict())

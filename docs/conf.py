@@ -85,7 +85,7 @@ nb_render_image_options = {"width": "100%"}
 # ------------------------------------------------------------------ HTML
 html_theme = "furo"
 html_title = f"forcenet {release}"
-html_static_path = ["_static"]
+
 html_show_sourcelink = False
 html_copy_source = False
 html_last_updated_fmt = None

@@ -119,26 +119,58 @@ class TablePlan:
 
     @property
     def runnable(self) -> bool:
-        """True when the request can run (in range, within memory)."""
+        """True when the request can run (in range, within memory).
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.plan(40).runnable, forcenet.plan(40, method="lambda").runnable
+        (True, False)
+        """
         return self.cost.runnable
 
     @property
     def refusal(self) -> str | None:
-        """Why it cannot run, and what would; None when it can."""
+        """Why it cannot run, and what would; None when it can.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> print(forcenet.plan(13, method="lambda").refusal)  # doctest: +ELLIPSIS
+        N=13 is out of range for --method lambda: ...; method='auto' runs it by fast (~0 s)
+        """
         return self.cost.refusal
 
     @property
     def seconds(self) -> float:
-        """Estimated wall time on the 2-core reference machine."""
+        """Estimated wall time on the 2-core reference machine.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.plan(5).seconds < 1
+        True
+        """
         return self.cost.seconds
 
     @property
     def nbytes(self) -> int:
-        """Estimated peak memory in bytes."""
+        """Estimated peak memory in bytes.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.plan(64).nbytes < 2**31
+        True
+        """
         return self.cost.nbytes
 
     def describe(self) -> str:
         """The cost in words: ``'~1 min, ~0.25 GiB'``.
+
+        Returns
+        -------
+        str
 
         Examples
         --------
@@ -150,6 +182,11 @@ class TablePlan:
 
     def check(self) -> TablePlan:
         """The plan itself when it can run; else :class:`~forcenet.ArgumentError` with its refusal.
+
+        Returns
+        -------
+        TablePlan
+            This plan.
 
         Raises
         ------

@@ -72,7 +72,14 @@ class Table:
     @property
     def mean_W(self) -> list[list[Fraction]]:
         """``<W_ij>``: row ``i - 1`` holds ``j = 1..i`` (a list that carries its bounds, ``[0, 1]``, for
-        :func:`forcenet.testing.compare`)."""
+        :func:`forcenet.testing.compare`).
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.table(3).mean_W
+        [[Fraction(1, 1)], [Fraction(1, 2), Fraction(1, 2)], [Fraction(1, 4), Fraction(1, 2), Fraction(1, 4)]]
+        """
         return self._tables[1]
 
     def moment(self, s: int = 1) -> list[list[Fraction]]:
@@ -106,20 +113,38 @@ class Table:
 
     @property
     def count(self) -> int:
-        """Standard shifted staircase tableaux: ``d! * normalization``, Eq. (4.1)."""
+        """Standard shifted staircase tableaux: ``d! * normalization``, Eq. (4.1).
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.table(6).count
+        286
+        """
         from forcenet.exact.triangle.staircase import count
 
         return count(self.N)
 
     @property
     def normalization(self) -> Fraction:
-        """The volume of the space of force networks, Eq. (4.1)."""
+        """The volume of the space of force networks, Eq. (4.1).
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.table(4).normalization
+        Fraction(1, 360)
+        """
         from forcenet.exact.triangle.staircase import normalization
 
         return normalization(self.N)
 
     def to_dict(self) -> dict[str, Any]:
         """``{"N", "count", "normalization", "mean_W", "mean_W2", ...}`` with exact values (the renderers' input).
+
+        Returns
+        -------
+        dict
 
         Examples
         --------
@@ -136,6 +161,10 @@ class Table:
 
         Exact values are ``"p/q"`` strings.
 
+        Returns
+        -------
+        str
+
         Examples
         --------
         >>> import forcenet
@@ -147,13 +176,38 @@ class Table:
         return to_json(self.to_dict())
 
     def to_csv(self) -> str:
-        """The CSV of ``forcenet table --format csv``: ``i,j,mean_W[,mean_W2...]``."""
+        """The CSV of ``forcenet table --format csv``: ``i,j,mean_W[,mean_W2...]``.
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> print(forcenet.table(2).to_csv(), end="")
+        i,j,mean_W
+        1,1,1
+        2,1,1/2
+        2,2,1/2
+        """
         from forcenet.exact.triangle.tables import to_csv
 
         return to_csv(self.to_dict())
 
     def to_latex(self) -> str:
-        """The LaTeX ``tabular`` of ``forcenet table --format latex``."""
+        """The LaTeX ``tabular`` of ``forcenet table --format latex``.
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> print(forcenet.table(3).to_latex().splitlines()[-2])
+        3 & $\\frac{1}{4}$ & $\\frac{1}{2}$ & $\\frac{1}{4}$ \\\\
+        """
         from forcenet.exact.triangle.tables import to_latex
 
         return to_latex(self.to_dict())
@@ -169,6 +223,12 @@ class Table:
         Returns
         -------
         numpy.ndarray
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.table(3).to_numpy()[2]
+        array([0.25, 0.5 , 0.25])
         """
         import numpy as np
 
@@ -213,6 +273,14 @@ class Table:
         Returns
         -------
         matplotlib.axes.Axes
+
+        Examples
+        --------
+        >>> import matplotlib
+        >>> matplotlib.use("Agg")
+        >>> import forcenet
+        >>> forcenet.table(8).plot().get_title()
+        'N = 8'
         """
         import matplotlib.pyplot as plt
 
@@ -273,7 +341,14 @@ class Row:
 
     @property
     def mean_W(self) -> list[Fraction]:
-        """``<W_ij>``, ``j = 1..i``."""
+        """``<W_ij>``, ``j = 1..i``.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.table(4, row=4).mean_W
+        [Fraction(1, 7), Fraction(5, 14), Fraction(5, 14), Fraction(1, 7)]
+        """
         return self._rows[1]
 
     def moment(self, s: int = 2) -> list[Fraction]:
@@ -306,25 +381,72 @@ class Row:
         return self._rows[s]
 
     def to_dict(self) -> dict[str, Any]:
-        """``{"N", "row", "count", "normalization", "mean_W", "mean_W2", ...}`` with exact values."""
+        """``{"N", "row", "count", "normalization", "mean_W", "mean_W2", ...}`` with exact values.
+
+        Returns
+        -------
+        dict
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.table(4, row=2).to_dict()["mean_W"]
+        [Fraction(1, 2), Fraction(1, 2)]
+        """
         from forcenet.exact.triangle.tables import exact_row
 
         return exact_row(self.N, self.row, self._rows)
 
     def to_json(self) -> str:
-        """The JSON of ``forcenet table --row i --format json`` (without the final newline)."""
+        """The JSON of ``forcenet table --row i --format json`` (without the final newline).
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.table(3, row=2).to_json()
+        '{"N": 3, "row": 2, "count": "1", "normalization": "1/6", "mean_W": ["1/2", "1/2"]}'
+        """
         from forcenet.exact.triangle.tables import to_json
 
         return to_json(self.to_dict())
 
     def to_csv(self) -> str:
-        """The CSV of ``forcenet table --row i --format csv``."""
+        """The CSV of ``forcenet table --row i --format csv``.
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> print(forcenet.table(3, row=3).to_csv(), end="")
+        i,j,mean_W
+        3,1,1/4
+        3,2,1/2
+        3,3,1/4
+        """
         from forcenet.exact.triangle.tables import to_csv
 
         return to_csv(self.to_dict())
 
     def to_latex(self) -> str:
-        """The LaTeX of ``forcenet table --row i --format latex``."""
+        """The LaTeX of ``forcenet table --row i --format latex``.
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.table(3, row=3).to_latex().count("frac")
+        3
+        """
         from forcenet.exact.triangle.tables import to_latex
 
         return to_latex(self.to_dict())

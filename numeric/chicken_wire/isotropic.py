@@ -332,6 +332,14 @@ def entropy(*, phi: RealLike | None = None, Q: RealLike | None = None, dps: int 
     mpmath.mpf
         ``v`` per site, correct to ``dps`` relative digits.
 
+    Raises
+    ------
+    ArgumentError
+        If ``phi`` or ``Q`` is out of range, both or neither is given, or ``dps`` is out of range.
+    ArgumentTypeError
+        If ``phi`` or ``Q`` is a binary float whose digits do not reach ``dps`` (pass ``'1/6'`` or
+        ``Fraction(1, 6)``); within its digits it is accepted with a :class:`~forcenet.PrecisionWarning`.
+
     Examples
     --------
     >>> mpmath.nstr(entropy(Q="0.1", dps=20), 20)
@@ -415,6 +423,13 @@ def tiling_entropy(*, phi: RealLike | None = None, Q: RealLike | None = None, dp
     -------
     mpmath.mpf
         ``s`` per tiling vertex (empty site), correct to ``dps`` relative digits.
+
+    Raises
+    ------
+    ArgumentError
+        As :func:`entropy`.
+    ArgumentTypeError
+        As :func:`entropy` (a binary float short of ``dps`` digits).
 
     Examples
     --------

@@ -233,19 +233,20 @@ class TablePlan:
         self.check()
         options = _engine_options(self.executor, self.checkpoint)
         bar = None
+        tick: Progress | None = progress if callable(progress) else None
         if progress is True:
             from tqdm.auto import tqdm
 
             bar = tqdm(total=self.cost.ticks or None, desc=f"table N={self.N}", unit=self.cost.unit)
-            progress = bar.update
+            tick = bar.update
         try:  # a reused record that fails the route's exact checks is named, dropped and recomputed
             if self.row is not None:
                 rows = run_distrusting(self.checkpoint, self.N, lambda: row_run(
-                    self._row_method, self.N, self.row, self.moments, progress or None, self.memory_bytes,
+                    self._row_method, self.N, self.row, self.moments, tick, self.memory_bytes,
                     route=self.method, **options))
                 return Row(self.N, self.row, self.method, self.why, rows)
             tables = run_distrusting(self.checkpoint, self.N, lambda: table_run(
-                self.method, self.N, self.moments, progress=progress or None, memory_bytes=self.memory_bytes, **options))
+                self.method, self.N, self.moments, progress=tick, memory_bytes=self.memory_bytes, **options))
         finally:
             if bar is not None:
                 bar.close()
@@ -352,8 +353,8 @@ def _row_plan(N: int, row: int, moments: int, method: str, executor: Executor | 
 
     from forcenet.exact.routes import choose_row
 
-    options = {k: v for k, v in (("executor", executor), ("checkpoint", directory)) if v is not None}
-    choice = choose_row(method, N, row, moments, memory_bytes=memory, **options)
+    options: dict[str, Any] = {} if directory is None else {"checkpoint": directory}
+    choice = choose_row(method, N, row, moments, memory_bytes=memory, executor=executor, **options)
     cost = choice.plan if not choice.why else replace(choice.plan, what=f"{choice.plan.what}; {choice.why}")
     return TablePlan(N, moments, choice.route, choice.why, cost, executor, directory, memory, row)
 

@@ -70,7 +70,10 @@ MIN_PLAN_SECONDS = STARTUP_SECONDS  # every plan of the route pays the start-up 
 OPTIONS = ("workers", "checkpoint")  # keywords beyond the engine protocol's (read by forcenet.exact.routes)
 
 
-def checkpoint_for(directory: str | PathLike, N: int, moments: int = 1) -> CheckpointStore | str | PathLike:
+Checkpoint = str | PathLike | CheckpointStore | None
+
+
+def checkpoint_for(directory: str | PathLike, N: int, moments: int = 1) -> Checkpoint:
     """The checkpoint of a table request in ``directory``: the mean's store (it counts what it reused), or for
     ``moments >= 2`` the directory itself (every layer keeps a request of its own).
 
@@ -81,7 +84,6 @@ def checkpoint_for(directory: str | PathLike, N: int, moments: int = 1) -> Check
     'pfaffian-table'
     """
     return checkpoint_store(directory, "table", N) if moments == 1 else directory
-Checkpoint = str | PathLike | CheckpointStore | None
 
 
 def count(N: int, backend: str = "numba", *, checkpoint: Checkpoint = None) -> int:

@@ -35,7 +35,7 @@ from typing import Any
 
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan
-from forcenet.core.validation import check_int, check_layers, check_moments
+from forcenet.core.validation import available_memory, check_int, check_layers, check_moments
 
 from forcenet.results import Row, Table
 
@@ -45,15 +45,8 @@ Progress = Callable[..., Any]
 
 
 def _available_memory() -> int:
-    """Bytes of memory available now (``MemAvailable``), 16 GiB if unknown."""
-    try:
-        with open("/proc/meminfo") as handle:
-            for line in handle:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
-    except OSError:
-        pass
-    return 16 * 2**30
+    """Bytes of memory available now, 16 GiB if unknown (the command line's figure)."""
+    return available_memory() or 16 * 2**30
 
 
 def _method(method: object) -> str:

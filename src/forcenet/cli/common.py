@@ -177,15 +177,10 @@ def add_seed(p, default: int = 0):
 
 
 def available_memory() -> int:
-    """Bytes of memory available now (``MemAvailable``), 16 GiB if unknown."""
-    try:
-        with open("/proc/meminfo") as handle:
-            for line in handle:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
-    except OSError:
-        pass
-    return 16 * 2**30
+    """Bytes of memory available now (:func:`forcenet.core.validation.available_memory`), 16 GiB if unknown."""
+    from forcenet.core.validation import available_memory as memory_now
+
+    return memory_now() or 16 * 2**30
 
 
 PLAIN_PROGRESS_SECONDS = 60  # off a terminal, a run announced at over a minute reports every ~10 %

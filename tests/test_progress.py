@@ -139,3 +139,18 @@ def test_the_real_command_shows_a_percentage_at_80_columns(tmp_path):
     assert process.returncode == 0, "".join(output)
     bars = [f for f in _frames("".join(output)) if f.startswith("exact table N=40:")]
     assert bars and all(len(f) <= 80 and re.search(r"\b\d{1,3}%", f) for f in bars), bars
+
+
+@pytest.mark.parametrize("compiling, restated", [((), True), ((("kernels", 5.0),), False)])
+def test_the_estimate_is_not_restated_from_a_rate_that_includes_compiling(monkeypatch, capsys, compiling, restated):
+    """A run that compiles its kernels (first use on a machine) is slow at first for that reason alone: the
+    measured rate would overstate the rest (the main job's N = 12 once said ~58 s for a 12 s run)."""
+    from forcenet.cli import common
+    from forcenet.core.plan import Plan
+
+    clock = iter(float(t) for t in range(0, 1000, 10))
+    monkeypatch.setattr(common.time, "perf_counter", lambda: next(clock))
+    reviser = common._Reviser(Plan("exact table N=12", 12.0, ticks=10, compiling=compiling), "exact table N=12", None)
+    for _ in range(5):
+        reviser(1)
+    assert ("at the measured rate" in capsys.readouterr().err) is restated

@@ -253,7 +253,8 @@ class _Reviser:
             self.first = (now, self.done)
             return
         t1, n1 = self.first
-        if self.revised or now - t1 < REVISE_SECONDS or self.done <= n1 or self.done >= self.plan.ticks:
+        if (self.revised or self.plan.compiling or now - t1 < REVISE_SECONDS or self.done <= n1
+                or self.done >= self.plan.ticks):  # compiling (a later phase's kernels too) is no rate of the run
             return
         total = (t1 - self.t0) + (now - t1) * (self.plan.ticks - n1) / (self.done - n1)
         if not 1 / REVISE_FACTOR <= total / max(self.plan.seconds, 1e-9) <= REVISE_FACTOR:

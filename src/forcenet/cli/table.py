@@ -158,7 +158,8 @@ def _table(args, fmt, memory, request):
     if len(plans) == 1:
         plan = plans[0]
     else:  # primes or ideals, then samples: one bar in estimated seconds
-        plan = combine_by_time(f"{plans[0].what} and its Monte Carlo cross-check", plans)
+        what, _, why = plans[0].what.partition("; ")  # the reason stays last: the announcement's second line
+        plan = combine_by_time(f"{what} and its Monte Carlo cross-check" + (f"; {why}" if why else ""), plans)
 
     def run(tick):
         phase = [tick] * len(plans) if len(plans) == 1 else [phase_progress(tick, p) for p in plans]

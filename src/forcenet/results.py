@@ -16,6 +16,7 @@ Examples
 from __future__ import annotations
 
 from fractions import Fraction
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from forcenet.core.errors import ArgumentError
@@ -28,7 +29,76 @@ if TYPE_CHECKING:  # pragma: no cover - annotations only
 __all__ = ["Row", "Table"]
 
 
-class Table:
+class _Rendered:
+    """The command line's three renderings of an exact table or row, from its :meth:`to_dict`."""
+
+    to_dict: Callable[[], dict[str, Any]]  # each subclass's exact values, keyed as the renderers read them
+
+    def to_json(self) -> str:
+        """The JSON ``forcenet table`` writes (``--format json`` prints it and a newline); exact values as ``"p/q"``.
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.table(3).to_json()
+        '{"N": 3, "count": "1", "normalization": "1/6", "mean_W": [["1"], ["1/2", "1/2"], ["1/4", "1/2", "1/4"]]}'
+        >>> forcenet.table(3, row=2).to_json()
+        '{"N": 3, "row": 2, "count": "1", "normalization": "1/6", "mean_W": ["1/2", "1/2"]}'
+        """
+        from forcenet.exact.triangle.tables import to_json
+
+        return to_json(self.to_dict())
+
+    def to_csv(self) -> str:
+        """The CSV of ``forcenet table --format csv``: ``i,j,mean_W[,mean_W2...]``, one line per grain.
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> print(forcenet.table(2).to_csv(), end="")
+        i,j,mean_W
+        1,1,1
+        2,1,1/2
+        2,2,1/2
+        >>> print(forcenet.table(3, row=3).to_csv(), end="")
+        i,j,mean_W
+        3,1,1/4
+        3,2,1/2
+        3,3,1/4
+        """
+        from forcenet.exact.triangle.tables import to_csv
+
+        return to_csv(self.to_dict())
+
+    def to_latex(self) -> str:
+        """The LaTeX ``tabular`` of ``forcenet table --format latex``.
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> print(forcenet.table(3).to_latex().splitlines()[-2])
+        3 & $\\frac{1}{4}$ & $\\frac{1}{2}$ & $\\frac{1}{4}$ \\\\
+        >>> forcenet.table(3, row=3).to_latex().count("frac")
+        3
+        """
+        from forcenet.exact.triangle.tables import to_latex
+
+        return to_latex(self.to_dict())
+
+
+class Table(_Rendered):
     """An exact table of the fully mobilized triangle: ``<W_ij^s>`` for ``s = 1..moments``.
 
     Rows ``i = 1..N`` (layer ``i`` holds ``i`` grains), entries ``j = 1..i``,
@@ -156,62 +226,6 @@ class Table:
         out.update({"mean_W" if s == 1 else f"mean_W{s}": rows for s, rows in sorted(self._tables.items())})
         return out
 
-    def to_json(self) -> str:
-        """The JSON of ``forcenet table`` (the main job's ``.json`` file; ``--format json`` prints it and a newline).
-
-        Exact values are ``"p/q"`` strings.
-
-        Returns
-        -------
-        str
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> forcenet.table(3).to_json()
-        '{"N": 3, "count": "1", "normalization": "1/6", "mean_W": [["1"], ["1/2", "1/2"], ["1/4", "1/2", "1/4"]]}'
-        """
-        from forcenet.exact.triangle.tables import to_json
-
-        return to_json(self.to_dict())
-
-    def to_csv(self) -> str:
-        """The CSV of ``forcenet table --format csv``: ``i,j,mean_W[,mean_W2...]``.
-
-        Returns
-        -------
-        str
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> print(forcenet.table(2).to_csv(), end="")
-        i,j,mean_W
-        1,1,1
-        2,1,1/2
-        2,2,1/2
-        """
-        from forcenet.exact.triangle.tables import to_csv
-
-        return to_csv(self.to_dict())
-
-    def to_latex(self) -> str:
-        """The LaTeX ``tabular`` of ``forcenet table --format latex``.
-
-        Returns
-        -------
-        str
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> print(forcenet.table(3).to_latex().splitlines()[-2])
-        3 & $\\frac{1}{4}$ & $\\frac{1}{2}$ & $\\frac{1}{4}$ \\\\
-        """
-        from forcenet.exact.triangle.tables import to_latex
-
-        return to_latex(self.to_dict())
-
     def to_numpy(self, s: int = 1) -> np.ndarray:
         """``<W_ij^s>`` as an ``(N, N)`` float array (correctly rounded), NaN where ``j > i``.
 
@@ -301,7 +315,7 @@ class Table:
         return ax
 
 
-class Row:
+class Row(_Rendered):
     """One row (layer ``i``) of the exact tables: ``<W_ij^s>``, ``j = 1..i``, ``s = 1..moments``.
 
     Returned by :func:`table` with ``row=i``; the renderings are byte for byte
@@ -396,57 +410,3 @@ class Row:
         from forcenet.exact.triangle.tables import exact_row
 
         return exact_row(self.N, self.row, self._rows)
-
-    def to_json(self) -> str:
-        """The JSON of ``forcenet table --row i --format json`` (without the final newline).
-
-        Returns
-        -------
-        str
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> forcenet.table(3, row=2).to_json()
-        '{"N": 3, "row": 2, "count": "1", "normalization": "1/6", "mean_W": ["1/2", "1/2"]}'
-        """
-        from forcenet.exact.triangle.tables import to_json
-
-        return to_json(self.to_dict())
-
-    def to_csv(self) -> str:
-        """The CSV of ``forcenet table --row i --format csv``.
-
-        Returns
-        -------
-        str
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> print(forcenet.table(3, row=3).to_csv(), end="")
-        i,j,mean_W
-        3,1,1/4
-        3,2,1/2
-        3,3,1/4
-        """
-        from forcenet.exact.triangle.tables import to_csv
-
-        return to_csv(self.to_dict())
-
-    def to_latex(self) -> str:
-        """The LaTeX of ``forcenet table --row i --format latex``.
-
-        Returns
-        -------
-        str
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> forcenet.table(3, row=3).to_latex().count("frac")
-        3
-        """
-        from forcenet.exact.triangle.tables import to_latex
-
-        return to_latex(self.to_dict())

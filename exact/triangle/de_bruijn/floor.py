@@ -66,13 +66,12 @@ from forcenet.core.plan import Plan, with_compilation
 from forcenet.core.validation import check_layers
 from ...checkpoints import CheckpointStore
 from ...modular import crt_many, primes_for_bound
-from ..gaps import GapCounts
+from ..gap_counts import GapCounts
+from ..prime_tasks import WORKER_BASE_BYTES, checkpoint_store, primes_plan, run_primes, workers_for
+from ..residues import dual_weights, lagrange_matrix, pfaffian_mod
 from ..staircase import count, dimension
-from .cost import STARTUP_SECONDS, WORKER_BASE_BYTES
-from .kernels import dual_weights, lagrange_matrix, pfaffian_mod
 from .floor_displacement import bordered_pfaffians, inverse_table
 from .floor_kernels import fill, gap_residues, grid, grid_pairs, monomials
-from .tasks import checkpoint_store, run_primes, workers_for
 
 __all__ = ["MAX_FLOOR_N", "floor_primes", "floor_prime_residues", "floor_pooled_gap_law", "floor_gap_laws",
            "floor_plan", "floor_prime_seconds", "de_bruijn_constants", "quadrature_weights", "zeta_coefficients",
@@ -340,8 +339,13 @@ def floor_prime_seconds(N: int, grains: bool = False) -> float:
     return nodes * lanes * (_SECONDS_PER_ROW * n * n + _SECONDS_PER_PIVOT * n)
 
 
-def floor_plan(N: int, grains: bool = False, memory_bytes: int | None = None, workers: int | None = None) -> Plan:
+def floor_plan(N: int, grains: bool = False, memory_bytes: int | None = None, workers: int | None = None, *,
+               executor: Executor | None = None) -> Plan:
     """The cost of :func:`floor_pooled_gap_law` (or :func:`floor_gap_laws`), one tick per prime.
+
+    On ``executor`` (a Dask cluster's included) the plan counts its workers
+    (:func:`forcenet.exact.triangle.prime_tasks.primes_plan`), else ``workers``
+    local processes.
 
     Examples
     --------
@@ -355,13 +359,10 @@ def floor_plan(N: int, grains: bool = False, memory_bytes: int | None = None, wo
     what = f"the floor's {'gap laws' if grains else 'pooled gap law'} N={N} (de Bruijn Pfaffians)"
     if N > MAX_FLOOR_N:
         return Plan(what, 0, refusal=f"N={N} is out of range for the floor route: N must be an integer in 2..{MAX_FLOOR_N}")
-    nprimes = len(floor_primes(N))
-    cpu = floor_prime_seconds(N, grains) * nprimes
-    nworkers = workers_for(workers, nprimes, cpu)
     d = dimension(N)
     per_worker = 8 * (d + 3) * (N + 1) * 4 + WORKER_BASE_BYTES
-    plan = Plan(what, STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers, nworkers * per_worker, nprimes,
-                "prime").within_memory(memory_bytes)
     kernels = [grid_pairs if grains else grid, bordered_pfaffians, monomials, gap_residues, pfaffian_mod]
     name = "floor-grains" if grains else "floor"
-    return with_compilation(plan, f"Pfaffian {name}", COMPILE_SECONDS[name], kernels)
+    return primes_plan(what, floor_prime_seconds(N, grains), len(floor_primes(N)), per_worker, workers=workers,
+                       executor=executor, memory_bytes=memory_bytes,
+                       compile=lambda plan: with_compilation(plan, f"Pfaffian {name}", COMPILE_SECONDS[name], kernels))

@@ -15,8 +15,7 @@ import numpy as np
 from forcenet.core.compiled import njit
 
 from .floor_displacement import STREAMS, STRIDE, bordered_pfaffians
-from .kernels import pfaffian_mod
-from .residues import JIT, inv_mod, lred, red
+from ..residues import JIT, inv_mod, lred, pfaffian_mod, red
 
 __all__ = ["pfaffian_lazy", "eliminate", "fill", "grid", "fill_pair", "pfaffian_pair", "grid_pairs",
            "monomials", "gap_residues", "GRID_LANES", "grid_node", "grid_outputs", "add_node", "scale_row"]

@@ -31,8 +31,7 @@ import numpy as np
 from forcenet.core.compiled import njit
 
 from .floor_kernels import add_node, grid_node, grid_outputs, pfaffian_lazy, scale_row
-from .kernels import pfaffian_mod
-from .residues import JIT, inv_mod, red
+from ..residues import JIT, inv_mod, pfaffian_mod, red
 
 __all__ = ["layer_fill", "layer_grid"]
 

@@ -19,7 +19,7 @@ import pytest
 from forcenet.cli import main
 from forcenet.exact.execution import executor_workers, run_tasks
 from forcenet.exact.triangle.free_fermion import route
-from forcenet.exact.triangle.free_fermion.engine import prime_residues
+from forcenet.exact.triangle.free_fermion.engine import count_residue, prime_residues
 
 distributed = pytest.importorskip("distributed")  # the `test` extra includes `distributed`
 

@@ -80,7 +80,7 @@ __all__ = ["MAX_FLOOR_N", "floor_primes", "floor_prime_residues", "floor_pooled_
 MAX_FLOOR_N = 128  # the lazy Pfaffian's bound below needs order <= 128
 FLOOR_PRIME_LIMIT = 2**22  # lazy elimination: p + 64 * 2 p^2 < 2^53 for every p below it, order <= 128
 # Compiling the kernels on a first run (numba's cache empty): 54 s (pooled) and 75 s (every load) measured on
-# 2026-11-26 on this machine at load 7, against 19 s for the table's kernels (engine.COMPILE_SECONDS) on the
+# 2026-11-26 on this machine at load 7, against 19 s for the table's kernels (free_fermion.engine.COMPILE_SECONDS) on the
 # reference machine, which this session's machine ran 2-3.5x slower: about 25 s and 35 s there.
 COMPILE_SECONDS = {"floor": 25.0, "floor-grains": 35.0}
 # CPU seconds per bordered Pfaffian by the displacement kernel: per n^2 (the rows of the n/2 pivots) and per n

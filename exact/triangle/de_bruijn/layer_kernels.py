@@ -21,7 +21,7 @@ from the moments of ``chi`` in ``X = 1 - x`` (thresholds ``S' = 1 - t < T' = 1 -
 in one small matrix product (exact in ``float64``: at most ``2k + 2`` products
 of residues per sum) and ``O(n^3)`` for its Pfaffian.
 
-Residues are ``float64`` integers as in :mod:`.residues`, ``p < 2^22``.
+Residues are ``float64`` integers as in :mod:`forcenet.exact.triangle.residues`, ``p < 2^22``.
 """
 
 from __future__ import annotations

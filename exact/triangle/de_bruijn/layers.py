@@ -160,7 +160,7 @@ def layer_prime_residues(N: int, i: int, p: int, grains: bool = False) -> np.nda
 
 
 def _prime_task(N: int, p: int, i: int, grains: bool) -> np.ndarray:
-    """:func:`layer_prime_residues` with the prime second: the tasks' checkpoint key (:func:`.tasks.run_primes`)."""
+    """:func:`layer_prime_residues` with the prime second: the tasks' checkpoint key (:func:`forcenet.exact.triangle.prime_tasks.run_primes`)."""
     return layer_prime_residues(N, i, p, grains)
 
 

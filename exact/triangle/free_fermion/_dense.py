@@ -288,5 +288,5 @@ def displacement_generators(Wt, n, p, F):
 
 
 # The kernel interface of :mod:`.kernels` with the dense elimination in place of the displacement one
-# (engine backend "dense"): every other kernel is shared.
+# (the engine with these kernels in place of the compiled ones): every other kernel is shared.
 point_values = point_values_dense

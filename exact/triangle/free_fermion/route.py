@@ -1,9 +1,9 @@
 """The free-fermion route: exact ``<W>`` tables and the normalization in time polynomial in ``N``.
 
-The mean of ``--method pfaffian`` of ``forcenet table`` (the engine protocol
-of :mod:`forcenet.exact.protocol`: :func:`table_plan`, :func:`table_run`, for
-``moments = 1``; :mod:`forcenet.exact.triangle.pfaffian_table` adds the higher
-moments), and the public functions of the route.  Residues from :mod:`.engine` for enough
+The mean of ``forcenet table --method pfaffian`` (its plan :func:`mean_plan`
+and :func:`survival_tables`; the method's table engine, higher moments
+included, is :mod:`forcenet.exact.triangle.pfaffian_table`), and the public
+functions of the route.  Residues from :mod:`.engine` for enough
 word-size primes (:func:`.cost.route_primes`), rebuilt exactly by
 :func:`forcenet.exact.modular.crt_many` (the bound ``0 <= S[m][k] <= (d+1)
 count`` is proven, so the reconstruction is exact).  The primes are

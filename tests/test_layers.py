@@ -229,7 +229,7 @@ def test_cli_ensemble_by_the_pfaffians_is_the_dps_output(cli, tmp_path, monkeypa
     """``dist --ensemble`` on the Pfaffians' route (chosen here by hand at N = 8, where the plans pick the DP) prints
     the DP's bytes; checkpoints: one request per layer; the DP refuses --checkpoint."""
     from forcenet.core.plan import Plan
-    from forcenet.exact.triangle.de_bruijn import layers
+    from forcenet.exact.triangle import law_routes as layers
 
     code, dp, _ = cli(["dist", "--N", "8", "--ensemble", "--format", "json"])
     assert code == 0 and layers.ensemble_route(8)[0] == "ideals"

@@ -17,13 +17,9 @@ The choice between these and the order-ideal DP is
 
 Examples
 --------
->>> from forcenet.exact.triangle.de_bruijn import floor_gap_laws
+>>> from forcenet.exact.triangle.de_bruijn.floor import floor_gap_laws
 >>> floor_gap_laws(4)[2].counts  # W_(4,2): the rank gap is 2 or 3
 (0, 0, 1, 1, 0, 0, 0, 0)
 """
 
-from .floor import floor_gap_laws, floor_plan, floor_pooled_gap_law
-from .layers import layer_gap_laws, layer_plan, layer_pooled_gap_law
-
-__all__ = ["floor_pooled_gap_law", "floor_gap_laws", "floor_plan", "layer_pooled_gap_law", "layer_gap_laws",
-           "layer_plan"]
+__all__: list[str] = []  # the routes are in the modules; the package exports nothing of its own

@@ -75,7 +75,7 @@ from .floor_kernels import fill, gap_residues, grid, grid_pairs, monomials
 
 __all__ = ["MAX_FLOOR_N", "floor_primes", "floor_prime_residues", "floor_pooled_gap_law", "floor_gap_laws",
            "floor_plan", "floor_prime_seconds", "de_bruijn_constants", "quadrature_weights", "zeta_coefficients",
-           "FLOOR_PRIME_LIMIT", "COMPILE_SECONDS", "grid_gap_residues", "exact_gap_laws"]
+           "FLOOR_PRIME_LIMIT", "COMPILE_SECONDS", "grid_gap_residues", "exact_gap_laws", "grid_worker_bytes"]
 
 MAX_FLOOR_N = 128  # the lazy Pfaffian's bound below needs order <= 128
 FLOOR_PRIME_LIMIT = 2**22  # lazy elimination: p + 64 * 2 p^2 < 2^53 for every p below it, order <= 128
@@ -339,6 +339,18 @@ def floor_prime_seconds(N: int, grains: bool = False) -> float:
     return nodes * lanes * (_SECONDS_PER_ROW * n * n + _SECONDS_PER_PIVOT * n)
 
 
+def grid_worker_bytes(N: int) -> int:
+    """Peak bytes of one worker of the de Bruijn grids (the floor's and a layer's): four rows of ``N + 1`` per node
+    of a ``d + 3`` column, beside the worker process itself.
+
+    Examples
+    --------
+    >>> grid_worker_bytes(40) - WORKER_BASE_BYTES  # d = 780
+    1027296
+    """
+    return 8 * (dimension(N) + 3) * (N + 1) * 4 + WORKER_BASE_BYTES
+
+
 def floor_plan(N: int, grains: bool = False, memory_bytes: int | None = None, workers: int | None = None, *,
                executor: Executor | None = None) -> Plan:
     """The cost of :func:`floor_pooled_gap_law` (or :func:`floor_gap_laws`), one tick per prime.
@@ -359,8 +371,7 @@ def floor_plan(N: int, grains: bool = False, memory_bytes: int | None = None, wo
     what = f"the floor's {'gap laws' if grains else 'pooled gap law'} N={N} (de Bruijn Pfaffians)"
     if N > MAX_FLOOR_N:
         return Plan(what, 0, refusal=f"N={N} is out of range for the floor route: N must be an integer in 2..{MAX_FLOOR_N}")
-    d = dimension(N)
-    per_worker = 8 * (d + 3) * (N + 1) * 4 + WORKER_BASE_BYTES
+    per_worker = grid_worker_bytes(N)
     kernels = [grid_pairs if grains else grid, bordered_pfaffians, monomials, gap_residues, pfaffian_mod]
     name = "floor-grains" if grains else "floor"
     return primes_plan(what, floor_prime_seconds(N, grains), len(floor_primes(N)), per_worker, workers=workers,

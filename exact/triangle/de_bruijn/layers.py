@@ -55,11 +55,11 @@ from forcenet.core.plan import Plan, with_compilation
 from forcenet.core.validation import check_int, check_layers
 from ...checkpoints import CheckpointStore
 from ..gap_counts import GapCounts
-from ..prime_tasks import WORKER_BASE_BYTES, checkpoint_store, primes_plan, run_primes, workers_for
+from ..prime_tasks import checkpoint_store, primes_plan, run_primes, workers_for
 from ..residues import lagrange_matrix, pfaffian_mod
 from ..staircase import count, dimension
-from .floor import (COMPILE_SECONDS, MAX_FLOOR_N, exact_gap_laws, floor_primes, grid_gap_residues, quadrature_weights,
-                    zeta_coefficients)
+from .floor import (COMPILE_SECONDS, MAX_FLOOR_N, exact_gap_laws, floor_primes, grid_gap_residues, grid_worker_bytes,
+                    quadrature_weights, zeta_coefficients)
 from .floor_kernels import gap_residues, monomials, pfaffian_lazy
 from .layer_kernels import layer_fill, layer_grid
 
@@ -270,7 +270,7 @@ def layer_plan(N: int, i: int, grains: bool = False, memory_bytes: int | None = 
     N = check_layers(N, maximum=MAX_FLOOR_N)
     i = check_int(i, "i", 2, N - 1)
     what = f"layer {i}'s {'gap laws' if grains else 'pooled gap law'} N={N} (de Bruijn Pfaffians)"
-    per_worker = 8 * (dimension(N) + 3) * (N + 1) * 4 + WORKER_BASE_BYTES
+    per_worker = grid_worker_bytes(N)
     kernels = [layer_grid, layer_fill, pfaffian_lazy, monomials, gap_residues, pfaffian_mod]
     return primes_plan(what, layer_prime_seconds(N, i, grains), len(floor_primes(N)), per_worker, workers=workers,
                        executor=executor, memory_bytes=memory_bytes,

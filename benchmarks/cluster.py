@@ -21,10 +21,10 @@ import time
 
 def _primes(N: int) -> tuple[int, ...]:
     """The Pfaffian table's primes for ``N`` (their product exceeds ``(d + 1) count``)."""
-    from forcenet.exact.triangle.pfaffian import tasks
+    from forcenet.exact.triangle.free_fermion import cost
     from forcenet.exact.triangle.staircase import count, dimension
 
-    return tasks.route_primes(N, (dimension(N) + 1) * count(N))
+    return cost.route_primes(N, (dimension(N) + 1) * count(N))
 
 
 def _load() -> str:
@@ -33,8 +33,8 @@ def _load() -> str:
 
 def model(sizes):
     """CPU seconds of one prime (process time, insensitive to other processes' load) against ``cost.prime_seconds``."""
-    from forcenet.exact.triangle.pfaffian import cost
-    from forcenet.exact.triangle.pfaffian.engine import edge_residues, prime_residues
+    from forcenet.exact.triangle.free_fermion import cost
+    from forcenet.exact.triangle.free_fermion.engine import edge_residues, prime_residues
 
     for N in sizes:
         primes = _primes(N)[:4]
@@ -85,14 +85,14 @@ def overhead(tasks: int):
 
 
 def _warm():
-    from forcenet.exact.triangle.pfaffian.engine import count_residue
+    from forcenet.exact.triangle.free_fermion.engine import count_residue
 
     return count_residue(12, 33554393)
 
 
 def _prime_cpu(N: int, primes):
     """CPU seconds per prime of ``prime_residues`` in this process (kernels loaded first)."""
-    from forcenet.exact.triangle.pfaffian.engine import prime_residues
+    from forcenet.exact.triangle.free_fermion.engine import prime_residues
 
     _warm()
     t0 = time.process_time()
@@ -107,7 +107,7 @@ def scaling(N: int):
     stream), whose largest share is the run's critical path."""
     from distributed import Client, LocalCluster, get_task_stream
 
-    from forcenet.exact.triangle.pfaffian import cost, route
+    from forcenet.exact.triangle.free_fermion import cost, route
 
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
@@ -177,7 +177,7 @@ def acceptance(port: int = 8799):
     import subprocess
     import tempfile
 
-    from forcenet.exact.triangle.pfaffian import route
+    from forcenet.exact.triangle.free_fermion import route
 
     address = f"tcp://127.0.0.1:{port}"
     procs = [subprocess.Popen(["dask", "scheduler", "--host", "127.0.0.1", "--port", str(port),
@@ -200,7 +200,7 @@ def acceptance(port: int = 8799):
         run = subprocess.Popen([sys.executable, "-m", "forcenet", "table", "--method", "pfaffian", "--format", "json",
                                 "--force", "--N", "44", "--scheduler", address, "--checkpoint", directory],
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        total = route.table_plan(44).ticks
+        total = route.mean_plan(44).ticks
         while run.poll() is None and _records(directory, 44) < 0.3 * total:
             time.sleep(0.02)
         import psutil  # installed with distributed
@@ -218,7 +218,7 @@ def acceptance(port: int = 8799):
         full = _cli("--N", "48", "--no-checkpoint", "--scheduler", address)
         t_full = time.perf_counter() - t0
         directory = tempfile.mkdtemp()
-        total = route.table_plan(48).ticks
+        total = route.mean_plan(48).ticks
         run = subprocess.Popen([sys.executable, "-m", "forcenet", "table", "--method", "pfaffian", "--format", "json",
                                 "--force", "--N", "48", "--scheduler", address, "--checkpoint", directory],
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE)
@@ -262,13 +262,13 @@ def predict(sizes):
     from math import factorial
 
     from forcenet.exact.execution import wall_seconds
-    from forcenet.exact.triangle.pfaffian import cost, route, tasks
-    from forcenet.exact.triangle.pfaffian.engine import count_residue
+    from forcenet.exact.triangle.free_fermion import cost, route
+    from forcenet.exact.triangle.free_fermion.engine import count_residue
 
     for N in sizes:
-        nprimes = route.table_plan(N).ticks
+        nprimes = route.mean_plan(N).ticks
         edge = route.lattice_direction_plan(N).ticks
-        counts = tasks.route_primes(N, factorial(N * (N - 1) // 2))
+        counts = cost.route_primes(N, factorial(N * (N - 1) // 2))
         count_residue(N, counts[0])
         t0 = time.process_time()
         for p in counts[1:6]:

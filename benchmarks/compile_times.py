@@ -25,8 +25,8 @@ GROUPS = {
                            "P(Scene(N=3, P=4, F=1.0, pv=1.0, ph=1.0), seed=0).sweep(1)"),
     "packing slice": ("from forcenet.numeric.packing import PackingMetropolis as P, Scene; "
                       "P(Scene(N=3, P=4, F=1.0, pv=1.0, ph=1.0), seed=0, move='slice').sweep(1)"),
-    "Pfaffian table": "from forcenet.exact.triangle.pfaffian.route import mean_W; mean_W(6, workers=1)",
-    "Pfaffian lattice direction": ("from forcenet.exact.triangle.pfaffian.route import lattice_direction; "
+    "Pfaffian table": "from forcenet.exact.triangle.free_fermion.route import mean_W; mean_W(6, workers=1)",
+    "Pfaffian lattice direction": ("from forcenet.exact.triangle.free_fermion.route import lattice_direction; "
                                    "lattice_direction(6, workers=1)"),
 }
 

@@ -34,7 +34,7 @@ from fractions import Fraction
 import numpy as np
 
 from forcenet.exact.triangle.gaps import GapCounts
-from forcenet.exact.triangle.pfaffian.layers import floor_contact_gap_law, layer_gap_law, layer_route
+from forcenet.exact.triangle.law_routes import floor_contact_gap_law, layer_gap_law, layer_route
 from forcenet.exact.triangle.staircase import dimension
 
 F_VALUES = (0.0, 0.05, 0.1, 0.25, 0.5, 1.0, 2.0, 3.0)

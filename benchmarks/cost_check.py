@@ -20,10 +20,9 @@ import time
 
 
 def main(argv: list[str]) -> None:
-    from forcenet.exact.triangle.pfaffian import fluctuations
-    from forcenet.exact.triangle.pfaffian.cost import edge_seconds, prime_seconds
-    from forcenet.exact.triangle.pfaffian.engine import edge_residues, prime_residues
-    from forcenet.exact.triangle.pfaffian.tasks import route_primes
+    from forcenet.exact.triangle.free_fermion import fluctuations
+    from forcenet.exact.triangle.free_fermion.cost import edge_seconds, prime_seconds, route_primes
+    from forcenet.exact.triangle.free_fermion.engine import edge_residues, prime_residues
 
     print("| N | table prime (model) | lattice prime (model) | one-layer law prime (model) |")
     print("| --- | --- | --- | --- |")

@@ -17,7 +17,7 @@ from __future__ import annotations
 import argparse
 import time
 
-from forcenet.exact.triangle.pfaffian.floor import floor_prime_residues, floor_prime_seconds, floor_primes
+from forcenet.exact.triangle.de_bruijn.floor import floor_prime_residues, floor_prime_seconds, floor_primes
 
 
 def cpu(N: int, p: int, grains: bool, kernel: str):

@@ -28,7 +28,7 @@ import os
 import time
 from fractions import Fraction
 
-from forcenet.exact.triangle.pfaffian.floor import floor_gap_laws
+from forcenet.exact.triangle.de_bruijn.floor import floor_gap_laws
 from forcenet.exact.triangle.staircase import dimension
 
 GOE_NORMALIZED_VARIANCE = 0.2855306557  # E_GOE[s^2] - 1, benchmarks/goe_spacing.py (Bornemann's determinant)

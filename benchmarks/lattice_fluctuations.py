@@ -20,7 +20,7 @@ import time
 
 from forcenet.exact.triangle.distribution import moment_from_gaps
 from forcenet.exact.triangle.tables import fraction_from_text, fraction_str
-from forcenet.exact.triangle.pfaffian.fluctuations import lattice_gap_laws
+from forcenet.exact.triangle.free_fermion.fluctuations import lattice_gap_laws
 
 
 def main(argv=None):

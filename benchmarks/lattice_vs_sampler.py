@@ -40,7 +40,7 @@ def main(argv=None):
         with open(path) as handle:
             column = [fraction_from_text(x) for x in json.load(handle)["W_i1"]]
     else:
-        from forcenet.exact.triangle.pfaffian.route import lattice_direction
+        from forcenet.exact.triangle.free_fermion.route import lattice_direction
 
         column = lattice_direction(args.N)
     N = args.N

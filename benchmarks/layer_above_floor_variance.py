@@ -29,7 +29,7 @@ import tempfile
 import time
 from fractions import Fraction
 
-from forcenet.exact.triangle.pfaffian.covers import cover_row_moments
+from forcenet.exact.triangle.free_fermion.covers import cover_row_moments
 
 GOE, GUE = 0.2855, 0.1800  # Var s of the unfolded spacing (notes/force_distribution.md Sec. 6.8)
 

@@ -31,8 +31,8 @@ from fractions import Fraction
 
 import numpy as np
 
-from forcenet.exact.triangle.pfaffian.floor import floor_gap_laws
-from forcenet.exact.triangle.pfaffian.layers import layer_gap_laws
+from forcenet.exact.triangle.de_bruijn.floor import floor_gap_laws
+from forcenet.exact.triangle.de_bruijn.layers import layer_gap_laws
 from forcenet.exact.triangle.staircase import dimension
 
 GOE = {"normalized_var": 0.2855306557, "mean_inverse": 1.59161}  # benchmarks/goe_spacing.py

@@ -29,7 +29,7 @@ import tempfile
 import time
 from fractions import Fraction
 
-from forcenet.exact.triangle.pfaffian.partial_sums import partial_sum_moments
+from forcenet.exact.triangle.free_fermion.partial_sums import partial_sum_moments
 
 DEPTHS = (Fraction(1, 4), Fraction(1, 2), Fraction(3, 4), Fraction(1))
 ACROSS = (Fraction(1, 4), Fraction(1, 2))

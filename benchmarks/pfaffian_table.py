@@ -8,7 +8,7 @@ largest worker).  Modes:
   (``fast``) where ``N <= --dp-max``; ratios are DP / Pfaffian;
 * ``prime``: one prime of the Pfaffian route (the work is the same for every
   prime), the number of primes needed, and the extrapolated full table; the
-  same for the dense elimination of every ``(q, y)`` (``backend='dense'``,
+  same for the dense elimination of every ``(q, y)`` (the private ``_dense`` kernels in place of the compiled ones,
   the route before the displacement elimination, at its own largest prime),
   with the ratio of the extrapolated tables;
 * ``compile``: the first call of the numba kernels with an empty cache
@@ -46,26 +46,27 @@ print(json.dumps({{"seconds": seconds, "cpu": self_ru.ru_utime + self_ru.ru_stim
 """
 
 SNIPPETS = {
-    "pfaffian": "from forcenet.exact.triangle.pfaffian.route import mean_W, table_plan\n"
-                "plan = table_plan({N}, workers={workers})\n"
+    "pfaffian": "from forcenet.exact.triangle.free_fermion.route import mean_W, mean_plan\n"
+                "plan = mean_plan({N}, workers={workers})\n"
                 "t = mean_W({N}, workers={workers}); extra = {{'plan': plan.seconds, 'primes': plan.ticks}}\n"
                 "if {save!r}:\n"
                 "    import os; from forcenet.exact.triangle.tables import exact_table, to_json, write_atomic\n"
                 "    write_atomic(os.path.join({save!r}, 'mean_W_N{N}.json'), to_json(exact_table({N}, mean_table=t)) + '\\n')",
     "fast": "from forcenet.exact.triangle.moments import mean_W; t = mean_W({N}); extra = {{}}",
-    "prime": "from forcenet.exact.triangle.pfaffian import engine, route, tasks\n"
-             "p = tasks.route_primes({N}, 2)[0]; engine.prime_residues(3, p) if {N} > 3 else None\n"
+    "prime": "from forcenet.exact.triangle.free_fermion import cost, engine, route\n"
+             "p = cost.route_primes({N}, 2)[0]; engine.prime_residues(3, p) if {N} > 3 else None\n"
              "c0 = time.process_time(); t0 = time.perf_counter(); engine.prime_residues({N}, p)\n"
-             "extra = {{'prime_cpu': time.process_time() - c0, 'primes': route.table_plan({N}).ticks}}",
+             "extra = {{'prime_cpu': time.process_time() - c0, 'primes': route.mean_plan({N}).ticks}}",
     # the baseline: the same prime's work by the dense elimination, at the largest prime its bound allows
     "prime_dense": "import math\nfrom forcenet.exact.modular import is_prime\nfrom forcenet.exact.triangle.staircase import count\n"
-                   "from forcenet.exact.triangle.pfaffian import engine, route\n"
-                   "p = engine.dense_prime_limit({N} - 1) - 1\nwhile not is_prime(p): p -= 1\n"
-                   "engine.prime_residues(3, p, backend='dense') if {N} > 3 else None\n"
-                   "c0 = time.process_time(); engine.prime_residues({N}, p, backend='dense')\n"
+                   "from forcenet.exact.triangle.free_fermion import _dense, cost, engine\n"
+                   "p = cost.dense_prime_limit({N} - 1) - 1\nwhile not is_prime(p): p -= 1\n"
+                   "oracle = engine._oracle_kernels(_dense); oracle.__enter__()\n"
+                   "engine.prime_residues(3, p) if {N} > 3 else None\n"
+                   "c0 = time.process_time(); engine.prime_residues({N}, p)\n"
                    "bits = ({N} * ({N} - 1) // 2 + 1) * count({N})\n"
                    "extra = {{'prime_cpu': time.process_time() - c0, 'primes': math.ceil(bits.bit_length() / math.log2(p))}}",
-    "compile": "from forcenet.exact.triangle.pfaffian import engine\nimport numba\nt1 = time.perf_counter()\n"
+    "compile": "from forcenet.exact.triangle.free_fermion import engine\nimport numba\nt1 = time.perf_counter()\n"
                "engine.prime_residues(3, 8388593); engine.count_residue(5, 8388593)\n"
                "extra = {{'first_call': time.perf_counter() - t1}}",
 }

@@ -187,10 +187,10 @@ def load_rows(N: int, directory: str, digest: dict | None = None) -> dict[int, l
 
 
 def write_lattice(N: int, directory: str, checkpoint: str | None = None):
-    """Exact ``<W_{i,1}>`` by :func:`forcenet.exact.triangle.pfaffian.route.lattice_direction` into ``lattice_N{N}.json``."""
+    """Exact ``<W_{i,1}>`` by :func:`forcenet.exact.triangle.free_fermion.route.lattice_direction` into ``lattice_N{N}.json``."""
     import time
 
-    from forcenet.exact.triangle.pfaffian.route import lattice_direction, lattice_direction_plan
+    from forcenet.exact.triangle.free_fermion.route import lattice_direction, lattice_direction_plan
     from forcenet.exact.triangle.tables import integer_text, write_atomic
 
     import resource
@@ -217,7 +217,7 @@ def load_table(N: int, directory: str):
     if not os.path.exists(path):
         if N > 40:
             raise SystemExit(f"{path} is missing: run forcenet table --method pfaffian --N {N} --format json --out {path} --force")
-        from forcenet.exact.triangle.pfaffian.route import mean_W
+        from forcenet.exact.triangle.free_fermion.route import mean_W
         from forcenet.exact.triangle.tables import exact_table, to_json, write_atomic
 
         write_atomic(path, to_json(exact_table(N, mean_table=mean_W(N))) + "\n")

@@ -32,8 +32,8 @@ from __future__ import annotations
 
 import argparse
 
-from forcenet.exact.triangle.pfaffian.floor import floor_primes
-from forcenet.exact.triangle.pfaffian.moments import moments_plan
+from forcenet.exact.triangle.de_bruijn.floor import floor_primes
+from forcenet.exact.triangle.pfaffian_table import moments_plan
 
 ROW_SECONDS, PIVOT_SECONDS = 0.52e-9, 45e-9  # one bordered Pfaffian of order n: ROW n^2 + PIVOT n (measured)
 

@@ -7,7 +7,7 @@ fast       order-ideal path sums (:mod:`.triangle.moments`)            N ~ 28-30
 thesis     nested-matrix integration (:mod:`.thesis.nested_route`)     N <= 9
 lambda     Lambda/Gamma recursions (:mod:`.thesis.lambda_route`)       N <= 12
 maps       map counting of Sec. 4.6 (:mod:`.thesis.maps_route`)        N <= 9
-pfaffian   Schur Pfaffians, minor summation (:mod:`.triangle.pfaffian.route`)  N ~ 64-100
+pfaffian   Schur Pfaffians, minor summation (:mod:`.triangle.pfaffian_table`)  N ~ 64-100
 auto       the fastest runnable of the five, by their plans (the default)
 =========  ==========================================================  ==========
 
@@ -18,7 +18,7 @@ this module only looks the method up, and for ``auto`` compares the plans.
 One row of the moment tables (``forcenet table --row i``, :func:`row_plan`,
 :func:`row_run`) has routes of its own (:func:`choose_row`): the one-time
 cover identity for the rows ``2``, ``3``, ``N - 1`` (``<W^2>`` for the price
-of the mean, :mod:`.triangle.pfaffian.covers`), the lattice route for row 2
+of the mean, :mod:`.triangle.free_fermion.covers`), the lattice route for row 2
 (every moment), de Bruijn Pfaffians for one layer (every load, every moment),
 or a whole table's row.
 
@@ -50,7 +50,7 @@ from forcenet.core.plan import Plan, duration_text
 from .protocol import Progress, Table, TableEngine
 from .thesis import lambda_route, maps_route, nested_route
 from .triangle import moments as ideal_moments
-from .triangle.pfaffian import route as pfaffian_route
+from .triangle import pfaffian_table as pfaffian_route
 from forcenet.core.validation import MAX_MOMENTS, check_int, check_layers, check_moments
 
 __all__ = ["ENGINES", "METHODS", "MAX_MOMENTS", "Choice", "choose", "table_plan", "table_run", "takes",
@@ -281,10 +281,10 @@ class RowChoice(NamedTuple):
 def _row_candidates(method: str, N: int, row: int, moments: int, memory_bytes: int | None,
                     executor: Executor | None, options: dict[str, Any]) -> dict[str, Plan]:
     """Every route's plan for row ``row`` under ``method`` (``auto``: the row routes and the other tables)."""
-    from .triangle.pfaffian.covers import cover_row_plan, one_time_rows
-    from .triangle.pfaffian.floor import MAX_FLOOR_N, floor_plan
-    from .triangle.pfaffian.fluctuations import lattice_gap_laws_plan
-    from .triangle.pfaffian.layers import layer_plan
+    from .triangle.free_fermion.covers import cover_row_plan, one_time_rows
+    from .triangle.de_bruijn.floor import MAX_FLOOR_N, floor_plan
+    from .triangle.free_fermion.fluctuations import lattice_gap_laws_plan
+    from .triangle.de_bruijn.layers import layer_plan
 
     if method not in ("auto", "pfaffian"):  # a table method: its whole table, one row kept
         plan = table_plan(method, N, moments, memory_bytes, executor=executor, **options)
@@ -323,7 +323,7 @@ def choose_row(method: str, N: int, row: int, moments: int = 2, *, memory_bytes:
 
     With ``method="pfaffian"`` (or ``"auto"``) the row's own routes compete:
     ``covers`` (``moments = 2``, rows 2, 3, ``N - 1``: one-time, the price of
-    the mean; :mod:`.triangle.pfaffian.covers`), ``lattice`` (row 2, every
+    the mean; :mod:`.triangle.free_fermion.covers`), ``lattice`` (row 2, every
     moment), ``layers`` / ``floor`` (every load of one layer by de Bruijn
     Pfaffians, ``N <= 128``), for ``moments = 1`` the mean table by
     Pfaffians; ``auto`` adds the fastest other method's whole table (the
@@ -429,9 +429,9 @@ def row_run(method: str, N: int, row: int, moments: int = 2, progress: Progress 
     True
     """
     from .triangle.distribution import moment_from_gaps
-    from .triangle.pfaffian.covers import cover_row_moments
-    from .triangle.pfaffian.fluctuations import grain_gap_law
-    from .triangle.pfaffian.moments import every_load_gap_law
+    from .triangle.free_fermion.covers import cover_row_moments
+    from .triangle.free_fermion.fluctuations import grain_gap_law
+    from .triangle.pfaffian_table import every_load_gap_law
 
     choice = choose_row(method, N, row, moments, memory_bytes=memory_bytes, executor=executor, **options)
     if route is None or memory_bytes is not None:

@@ -365,6 +365,42 @@ def test_no_import_cycles():
     assert not cycles, f"import cycles: {cycles}"
 
 
+MAX_IMPORT_DEPTH = 6  # issue 44: no import chain inside exact/triangle deeper than 6 modules
+
+
+def longest_import_chain(inside: str, graph: dict[str, set[str]] | None = None) -> list[str]:
+    """The longest chain ``a -> b -> ...`` of imports (any scope) between the modules in ``inside``, as a list of
+    modules (a package's ``__init__`` is a module; a module importing its own package does not count).
+
+    ``graph`` (module -> modules it imports) defaults to the installed package's; the graph has no cycle
+    (:func:`test_no_import_cycles`), so the longest path is well defined.
+    """
+    if graph is None:
+        graph = {name: {t for t in module_imports(path, name) if t in NAMES and t != name and not (
+            IS_PACKAGE.get(t) and _within(name, t))} for name, path in MODULES}
+    nodes = {name for name in graph if _within(name, inside)}
+
+    @functools.cache
+    def chain(v: str) -> tuple[str, ...]:
+        return (v,) + max((chain(w) for w in sorted(graph[v] & nodes)), key=len, default=())
+
+    return list(max((chain(v) for v in sorted(nodes)), key=len, default=()))
+
+
+def test_the_chain_measure_sees_chains():
+    graph = {"p.a": {"p.b", "q.x"}, "p.b": {"p.c"}, "p.c": set(), "p.d": {"p.c"}, "q.x": {"p.a"}}
+    assert longest_import_chain("p", graph) == ["p.a", "p.b", "p.c"]
+    assert longest_import_chain("q", graph) == ["q.x"]
+
+
+def test_import_chains_inside_the_triangle_are_short():
+    """No import chain between the modules of ``forcenet.exact.triangle`` (its subpackages included) is longer
+    than six modules: the algorithms' packages import what they use, nothing incidental."""
+    chain = longest_import_chain("forcenet.exact.triangle")
+    assert len(chain) >= 3  # the measure sees the package (a chain of one would mean an empty graph)
+    assert len(chain) <= MAX_IMPORT_DEPTH, f"{len(chain)} modules deep: {' -> '.join(chain)}"
+
+
 _COMPUTING = ("numpy", "scipy", "sympy", "mpmath", "flint", "math", "numba")
 
 

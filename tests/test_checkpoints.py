@@ -20,7 +20,7 @@ import pytest
 
 from forcenet.cli import main
 from forcenet.exact.checkpoints import FORMAT_VERSION, CheckpointStore, default_directory
-from forcenet.exact.triangle.pfaffian import route
+from forcenet.exact.triangle.free_fermion import route
 
 
 def _store(tmp_path, N=12, route_name="pfaffian-table", lines=None):
@@ -178,7 +178,7 @@ def test_sigkill_at_random_points_resumes_to_the_same_bytes(tmp_path, capsys):
     expected = capsys.readouterr().out
     directory = tmp_path / "ck"
     table = CheckpointStore(directory, "pfaffian-table", N)
-    total = route.table_plan(N).ticks
+    total = route.mean_plan(N).ticks
     rng = random.Random(2606)
     kills = [rng.randrange(3, total - 3)]
     for target in kills:  # kill -9 when `target` primes are recorded (a random point), then finish

@@ -173,7 +173,7 @@ def test_a_regular_install_then_an_editable_one_imports(tmp_path):
     from forcenet.exact.triangle.staircase import count_by_hooks
 
     expected = str(count_by_hooks(9))  # the hook-length formula: a second route to the Pfaffian count
-    probe = "from forcenet.exact.triangle.pfaffian.route import count; print(count(9))"
+    probe = "from forcenet.exact.triangle.free_fermion.route import count; print(count(9))"
     first = run("-c", probe)
     assert first.returncode == 0 and first.stdout.strip() == expected, first.stderr
     site = Path(run("-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])").stdout.strip())
@@ -203,7 +203,7 @@ _WIDTH_PROBE = '''
 import sys
 from forcenet.core.compiled import prefer_wide_vectors
 chosen = prefer_wide_vectors()
-from forcenet.exact.triangle.pfaffian import engine, kernels
+from forcenet.exact.triangle.free_fermion import engine, kernels
 residues = engine.prime_residues(9, 8388593).tolist()
 [asm] = kernels._gko_sites.inspect_asm().values()
 print(repr((chosen, asm.count("zmm"), residues)))
@@ -219,7 +219,7 @@ def test_the_command_lines_processes_compile_the_route_with_512_bit_vectors_and_
     env.pop("NUMBA_CPU_NAME", None)
     out = subprocess.run([sys.executable, "-c", _WIDTH_PROBE], env=env, capture_output=True, text=True, check=True)
     chosen, zmm, residues = ast.literal_eval(out.stdout.strip().splitlines()[-1])
-    from forcenet.exact.triangle.pfaffian import engine
+    from forcenet.exact.triangle.free_fermion import engine
 
     assert residues == engine.prime_residues(9, 8388593).tolist()  # this process: numba's own choice
     if _has_avx512():

@@ -23,8 +23,8 @@ from forcenet.exact.reference.linear_extensions import partial_sum_poset
 from forcenet.exact.routes import choose_row, row_plan, row_run, table_run
 from forcenet.exact.triangle.distribution import moment_from_gaps
 from forcenet.exact.triangle.moments import mean_W_grain, moment
-from forcenet.exact.triangle.pfaffian import covers as cv
-from forcenet.exact.triangle.pfaffian.layers import layer_gap_laws
+from forcenet.exact.triangle.free_fermion import covers as cv
+from forcenet.exact.triangle.de_bruijn.layers import layer_gap_laws
 
 
 def _rank_moments(N):
@@ -111,7 +111,7 @@ def test_rows_2_and_3_equal_the_dp(N, row):
 
 def test_two_cells_spanning_one_load_agree():
     """At N = 4 both S_(2,1) and the floor's S_(4,2) lie between S_(3,1) and S_(3,2): (C) twice, one value."""
-    from forcenet.exact.triangle.pfaffian.partial_sums import partial_sum_moments
+    from forcenet.exact.triangle.free_fermion.partial_sums import partial_sum_moments
 
     second = partial_sum_moments(4)[2]
     assert cv.cover_spans(4)[(3, 2)] == ((2, 1), (4, 2))

@@ -18,8 +18,8 @@ import pytest
 
 from forcenet.cli import main
 from forcenet.exact.execution import executor_workers, run_tasks
-from forcenet.exact.triangle.pfaffian import route
-from forcenet.exact.triangle.pfaffian.engine import count_residue
+from forcenet.exact.triangle.free_fermion import route
+from forcenet.exact.triangle.free_fermion.engine import count_residue, prime_residues
 
 distributed = pytest.importorskip("distributed")  # the `test` extra includes `distributed`
 
@@ -64,9 +64,9 @@ def test_cluster_gives_the_local_bytes_through_the_command_line(client, capsys, 
 
 
 def test_plan_announces_the_cluster_and_its_time(client):
-    plan = route.table_plan(64, executor=client)
+    plan = route.mean_plan(64, executor=client)
     assert f"on 2 workers of Dask scheduler {client.scheduler.address}" in plan.what
-    local = route.table_plan(64, workers=1)
+    local = route.mean_plan(64, workers=1)
     assert plan.seconds < local.seconds  # two workers, the scheduler's overhead included
     assert executor_workers(client) == 2
 
@@ -83,12 +83,12 @@ def test_a_worker_killed_mid_run_changes_nothing(client):
             os.kill(next(iter(pids.values())), signal.SIGKILL)
 
     assert route.mean_W(N, executor=client, progress=progress) == expected
-    assert len(done) == route.table_plan(N).ticks
+    assert len(done) == route.mean_plan(N).ticks
 
 
 def test_a_failing_task_fails_the_run_with_its_message(client):
-    with pytest.raises(ValueError, match="backend"):
-        run_tasks(count_residue, [(12, 33554393, "no-such-backend")] * 2, executor=client.get_executor())
+    with pytest.raises(ValueError, match="p=33554392 is out of range"):
+        run_tasks(prime_residues, [(12, 33554392)] * 2, executor=client.get_executor())
 
 
 def _worker_state(megabytes: int = 1, rounds: int = 20):
@@ -191,7 +191,7 @@ def test_ctrl_c_ends_a_multi_worker_run_within_seconds(tmp_path):
 
 def test_the_floor_route_on_the_cluster_gives_the_local_law(client):
     """The floor's de Bruijn Pfaffians hand their primes to the cluster like the table does."""
-    from forcenet.exact.triangle.pfaffian.floor import floor_gap_laws, floor_pooled_gap_law
+    from forcenet.exact.triangle.de_bruijn.floor import floor_gap_laws, floor_pooled_gap_law
 
     assert floor_pooled_gap_law(16, executor=client) == floor_pooled_gap_law(16, workers=1)
     assert floor_gap_laws(9, executor=client) == floor_gap_laws(9, workers=1)

@@ -101,7 +101,7 @@ def test_the_tutorials_carry_executed_output_and_figures(site):
 def test_every_public_name_has_its_api_page_with_an_example(site):
     pages = {p.stem: p for p in (site / "api" / "generated").glob("*.html")}
     for name in ["forcenet.exact.mean_W", "forcenet.exact.count", "forcenet.exact.triangle.density",
-                 "forcenet.exact.triangle.pfaffian.mean_W", "forcenet.numeric.triangle.ExactSampler",
+                 "forcenet.exact.triangle.free_fermion.mean_W", "forcenet.numeric.triangle.ExactSampler",
                  "forcenet.numeric.triangle.TriangleMetropolis", "forcenet.numeric.chicken_wire.isotropic.entropy",
                  "forcenet.testing.assert_agrees", "forcenet.testing.compare", "forcenet.ForcenetError",
                  "forcenet.ArgumentError"]:

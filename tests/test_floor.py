@@ -1,4 +1,4 @@
-"""The floor's load laws by de Bruijn Pfaffians (exact/triangle/pfaffian/floor.py) against the order-ideal DP.
+"""The floor's load laws by de Bruijn Pfaffians (exact/triangle/de_bruijn/floor.py) against the order-ideal DP.
 
 Two routes: the DP counts tableaux level by level over the order ideals; the
 Pfaffian route integrates the Legendre ensemble's gap probability over a grid
@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from forcenet.core.errors import ArgumentError
 from forcenet.exact.triangle.distribution import layer_pieces, layer_pieces_from_gaps, moment_from_gaps, pool_gaps
 from forcenet.exact.triangle.gaps import layer_gap_counts
-from forcenet.exact.triangle.pfaffian.floor import (
+from forcenet.exact.triangle.de_bruijn.floor import (
     MAX_FLOOR_N,
     floor_gap_laws,
     floor_plan,
@@ -25,8 +25,7 @@ from forcenet.exact.triangle.pfaffian.floor import (
     floor_prime_seconds,
     floor_primes,
 )
-from forcenet.exact.triangle.pfaffian.layers import layer_gap_law, layer_route
-from forcenet.exact.triangle.pfaffian.fluctuations import single_grain_gap_law, single_grain_route
+from forcenet.exact.triangle.law_routes import layer_gap_law, layer_route, single_grain_gap_law, single_grain_route
 from forcenet.exact.triangle.staircase import count, dimension
 
 
@@ -126,9 +125,9 @@ def test_one_bordered_elimination_gives_both_fugacities(n, s, t, zeta):
     """Pf X(+-zeta) = Pf Y (1 -+ zeta S) (the pair kernel) against two direct Pfaffians with pivoting."""
     import numpy as np
 
-    from forcenet.exact.triangle.pfaffian.floor import de_bruijn_constants
-    from forcenet.exact.triangle.pfaffian.floor_kernels import fill, fill_pair, pfaffian_pair
-    from forcenet.exact.triangle.pfaffian.kernels import pfaffian_mod
+    from forcenet.exact.triangle.de_bruijn.floor import de_bruijn_constants
+    from forcenet.exact.triangle.de_bruijn.floor_kernels import fill, fill_pair, pfaffian_pair
+    from forcenet.exact.triangle.residues import pfaffian_mod
 
     p = 4194301
     C, iota = de_bruijn_constants(n, p)

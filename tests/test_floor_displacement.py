@@ -11,16 +11,16 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from forcenet.core.errors import ArgumentError
-from forcenet.exact.triangle.pfaffian.floor import (
+from forcenet.exact.triangle.de_bruijn.floor import (
     de_bruijn_constants,
     floor_gap_laws,
     floor_pooled_gap_law,
     floor_prime_residues,
     floor_primes,
 )
-from forcenet.exact.triangle.pfaffian.floor_displacement import bordered_pfaffians, inverse_table, lane_buffer
-from forcenet.exact.triangle.pfaffian.floor_kernels import fill_pair, grid, grid_pairs, pfaffian_pair
-from forcenet.exact.triangle.pfaffian.kernels import dual_weights
+from forcenet.exact.triangle.de_bruijn.floor_displacement import bordered_pfaffians, inverse_table, lane_buffer
+from forcenet.exact.triangle.de_bruijn.floor_kernels import fill_pair, grid, grid_pairs, pfaffian_pair
+from forcenet.exact.triangle.residues import dual_weights
 
 P = 4194301
 

@@ -138,7 +138,7 @@ def test_predictions_ahead_recover_a_series_and_separate_it_from_three_terms(ref
 def test_a_full_table_is_recorded_by_its_bulk_rows_and_must_meet_the_lattice_route(refit, tmp_path):
     """The digest of a full table keeps the rows z N and its first column; the first column must equal the
     lattice route's column of the same N digit for digit (two exact routes), and a changed table is refused."""
-    from forcenet.exact.triangle.pfaffian.route import mean_W
+    from forcenet.exact.triangle.free_fermion.route import mean_W
 
     out, digest_path = tmp_path / "out", tmp_path / "digest.json"
     out.mkdir()

@@ -384,14 +384,15 @@ def test_exact_sampler_does_not_depend_on_the_calls(monkeypatch):
 
 
 def test_pfaffian_level_weights_do_not_depend_on_the_calls(monkeypatch):
-    from forcenet.exact.triangle.pfaffian import kernels, kernels_python
+    from forcenet.exact.triangle import residues
+    from forcenet.exact.triangle.free_fermion import _kernels_python as kernels_python, kernels
 
     p = 8388593.0
     points = np.arange(2.0, 42.0)
     g = np.arange(7.0, 47.0)
     R = np.random.default_rng(0).integers(0, int(p), size=(40, 3, 5)).astype(np.float64)
     whole = kernels.dual_weights(points, g, p), kernels.weighted_sum(g, R, p)
-    monkeypatch.setattr(kernels, "chunks", _one_unit_at_a_time)
+    monkeypatch.setattr(residues, "chunks", _one_unit_at_a_time)  # the interpolation's calls, shared by both routes
     cut = kernels.dual_weights(points, g, p), kernels.weighted_sum(g, R, p)
     twin = kernels_python.dual_weights(points, g, p), kernels_python.weighted_sum(g, R, p)
     for a, b, c in zip(whole, cut, twin):
@@ -467,7 +468,7 @@ def test_compilation_is_counted_once_per_kernel_group():
 
 def test_the_plans_name_their_kernels(monkeypatch):
     """Every sampler plan and the Pfaffian engine add their group's time when the cache lacks the kernel."""
-    from forcenet.exact.triangle.pfaffian.engine import COMPILE_SECONDS as PFAFFIAN, with_kernels_compiled
+    from forcenet.exact.triangle.free_fermion.engine import COMPILE_SECONDS as PFAFFIAN, with_kernels_compiled
     from forcenet.numeric.packing.metropolis import COMPILE_SECONDS as PACKING, packing_plan
     from forcenet.numeric.packing.scene import Scene
     from forcenet.numeric.triangle.exact_sampler import COMPILE_SECONDS as EXACT, sample_plan

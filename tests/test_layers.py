@@ -1,4 +1,4 @@
-"""Every layer's load laws by de Bruijn Pfaffians (exact/triangle/pfaffian/layers.py) against the order-ideal DP.
+"""Every layer's load laws by de Bruijn Pfaffians (exact/triangle/de_bruijn/layers.py) against the order-ideal DP.
 
 Two routes: the DP counts tableaux level by level over the order ideals; the
 layers' route integrates the floor out twice (a Gelfand-Tsetlin volume as a
@@ -18,18 +18,21 @@ from hypothesis import strategies as st
 from forcenet.core.errors import ArgumentError
 from forcenet.exact.triangle.distribution import pool_gaps
 from forcenet.exact.triangle.gaps import contact_gap_counts, grain_gap_counts, layer_gap_counts
-from forcenet.exact.triangle.pfaffian.floor import floor_primes
-from forcenet.exact.triangle.pfaffian.fluctuations import single_grain_gap_law, single_grain_route
-from forcenet.exact.triangle.pfaffian.layers import (
-    floor_contact_gap_law,
-    layer_gap_law,
+from forcenet.exact.triangle.de_bruijn.floor import floor_primes
+from forcenet.exact.triangle.de_bruijn.layers import (
     layer_gap_laws,
     layer_plan,
     layer_pooled_gap_law,
     layer_prime_residues,
     layer_prime_seconds,
-    layer_route,
     layer_tables,
+)
+from forcenet.exact.triangle.law_routes import (
+    floor_contact_gap_law,
+    layer_gap_law,
+    layer_route,
+    single_grain_gap_law,
+    single_grain_route,
 )
 from forcenet.exact.triangle.staircase import count, dimension
 
@@ -204,7 +207,7 @@ def test_cli_table_second_moments_by_pfaffians(cli, tmp_path):
 @settings(max_examples=5, deadline=None)
 @given(N=st.integers(2, 9))
 def test_the_ensemble_by_pfaffians_is_the_dps(N):
-    from forcenet.exact.triangle.pfaffian.layers import ensemble_pieces
+    from forcenet.exact.triangle.law_routes import ensemble_pieces
 
     assert ensemble_pieces(N, "pfaffians") == ensemble_pieces(N, "ideals")
 
@@ -226,7 +229,7 @@ def test_cli_ensemble_by_the_pfaffians_is_the_dps_output(cli, tmp_path, monkeypa
     """``dist --ensemble`` on the Pfaffians' route (chosen here by hand at N = 8, where the plans pick the DP) prints
     the DP's bytes; checkpoints: one request per layer; the DP refuses --checkpoint."""
     from forcenet.core.plan import Plan
-    from forcenet.exact.triangle.pfaffian import layers
+    from forcenet.exact.triangle import law_routes as layers
 
     code, dp, _ = cli(["dist", "--N", "8", "--ensemble", "--format", "json"])
     assert code == 0 and layers.ensemble_route(8)[0] == "ideals"
@@ -244,7 +247,7 @@ def test_cli_ensemble_by_the_pfaffians_is_the_dps_output(cli, tmp_path, monkeypa
 def test_cli_ensemble_beyond_the_dps_reach_takes_the_pfaffians(cli, tmp_path):
     """``dist --N 19 --ensemble``: the plans choose every layer's Pfaffians (the DP's 18 passes are slower); the
     density integrates to 1, its mean is 1 (f = i W has mean 1 in every layer)."""
-    from forcenet.exact.triangle.pfaffian.layers import ensemble_route
+    from forcenet.exact.triangle.law_routes import ensemble_route
 
     assert ensemble_route(19)[0] == "pfaffians"
     code, out, err = cli(["dist", "--N", "19", "--ensemble", "--format", "json", "--quiet"])

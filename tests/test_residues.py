@@ -1,12 +1,12 @@
-"""The one modular Gaussian elimination of the Pfaffian route (exact/triangle/pfaffian/residues.py) against Python integers."""
+"""The one modular Gaussian elimination of the Pfaffian route (exact/triangle/residues.py) against Python integers."""
 
 import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from sympy import prevprime
 
-from forcenet.exact.triangle.pfaffian.engine import prime_limit
-from forcenet.exact.triangle.pfaffian.residues import SOLVE_SLACK, inv_mod, lazy_rounds, red, skew_solve, solve
+from forcenet.exact.triangle.free_fermion.cost import prime_limit
+from forcenet.exact.triangle.residues import SOLVE_SLACK, inv_mod, lazy_rounds, red, skew_solve, solve
 
 TOP = prime_limit(1)  # the route's primes are below 2^25
 
@@ -108,7 +108,7 @@ def test_skew_solve_reads_only_the_upper_triangle_and_sees_odd_sizes_singular():
 
 def test_skew_solve_solves_the_routes_kernels_as_the_general_elimination_does():
     """The kernel K(c) = B + Q X1 Q of the Pfaffian route (skew-symmetric), at several N, c and primes."""
-    from forcenet.exact.triangle.pfaffian.engine import setup_matrices
+    from forcenet.exact.triangle.free_fermion.engine import setup_matrices
 
     for N, p in ((5, 8388593), (12, prevprime(TOP)), (31, 1000003)):
         n = N - 1

@@ -8,6 +8,10 @@
 * :mod:`.gaps`, :mod:`.joint_gaps`: exact laws of rank gaps (the spacings W, F1, F2, F5, F6; q);
 * :mod:`.distribution`: exact densities, CDFs and pooled P(f) (sympy polynomials);
 * :mod:`.tables`: JSON / CSV / LaTeX tables, atomic writes.
+* :mod:`.free_fermion`: the mean in polynomial time (free fermions, Schur Pfaffians);
+  :mod:`.de_bruijn`: the floor's and every layer's load laws (de Bruijn's Pfaffians);
+  :mod:`.pfaffian_table`: ``--method pfaffian``; :mod:`.law_routes`: the DP against the Pfaffians for a law;
+  below both, :mod:`.residues`, :mod:`.prime_tasks` (the per-prime tasks, the one plan over primes), :mod:`.gap_counts`.
 """
 
 from .configuration import W_from_q, contact_forces, in_ensemble, partial_sums, q_from_W

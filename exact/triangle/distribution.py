@@ -47,7 +47,8 @@ import sympy
 
 from forcenet.core.plan import Plan
 from forcenet.core.validation import available_memory, check_grain, check_int, check_layers
-from .gaps import GapCounts, chain_pass, contact_gap_counts, contact_gap_law, gap_laws_plan
+from .gap_counts import GapCounts, moment_from_gaps, pool_gaps
+from .gaps import chain_pass, contact_gap_counts, contact_gap_law, gap_laws_plan
 from .joint_gaps import q_gap_counts
 from .pieces import Piece, as_pieces, bernstein_to_monomial, bin_probabilities, piecewise_cdf, sum_pieces
 from .moments import mean_W_grain
@@ -137,20 +138,6 @@ def cdf_from_gaps(gaps: GapCounts, var: sympy.Symbol = W_SYMBOL) -> sympy.Poly:
         G += c[k]
         coeffs.append(G * comb(d, k))
     return _poly([Fraction(x, gaps.total) for x in bernstein_to_monomial(coeffs)], var)
-
-
-def moment_from_gaps(gaps: GapCounts, s: int) -> Fraction:
-    """``E[X^s] = E[g (g+1) ... (g+s-1)] / ((d+1) ... (d+s))``, exact.
-
-    Examples
-    --------
-    >>> from forcenet.exact.triangle.gaps import grain_gap_counts
-    >>> moment_from_gaps(grain_gap_counts(5, (5, 1)), 2)
-    Fraction(1, 66)
-    """
-    s = check_int(s, "s", 0)
-    num = sum(c * rising(g, s) for g, c in enumerate(gaps.counts) if c)
-    return Fraction(num, gaps.total * rising(gaps.d + 1, s))
 
 
 def _load_gaps(N: int, grain: tuple[int, int], progress: Callable[[int], object] | None = None) -> GapCounts:
@@ -284,25 +271,6 @@ def contact_cdf(N: int, grain: tuple[int, int], kind: str, var: sympy.Symbol = W
 
 
 # ------------------------------------------------------------------ pooled P(f)
-
-
-def pool_gaps(laws: Iterable[GapCounts]) -> GapCounts:
-    """Mixture of gap laws with equal weights (same ``d`` and ``total``).
-
-    Examples
-    --------
-    >>> from forcenet.exact.triangle.gaps import layer_gap_counts
-    >>> pool_gaps(layer_gap_counts(3, 3)).counts
-    (0, 2, 1, 0, 0)
-    """
-    laws = list(laws)
-    if not laws:
-        raise ArgumentError("pool_gaps: need at least one gap law")
-    d, total = laws[0].d, laws[0].total
-    if any(g.d != d or g.total != total for g in laws):
-        raise ArgumentError("pool_gaps: all laws must have the same d and total")
-    counts = tuple(sum(col) for col in zip(*(g.counts for g in laws)))
-    return GapCounts(counts, total * len(laws), d)
 
 
 def _scaled(p: sympy.Poly, scale: Fraction, var) -> sympy.Poly:

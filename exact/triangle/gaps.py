@@ -41,13 +41,13 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Sequence
 from fractions import Fraction
-from typing import NamedTuple
 
 import numpy as np
 
 from ..modular import crt, primes_for_bound
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_grain, check_int, check_layers
+from .gap_counts import GapCounts
 from .ideal_dp import predecessor_moves
 from .runs import check_chain, mulmod_sum, run_layout, transport
 from .staircase import count, dimension
@@ -70,39 +70,6 @@ __all__ = [
     "gap_laws_plan",
     "chain_pass",
 ]
-
-
-class GapCounts(NamedTuple):
-    """Integer law of a rank gap: ``P(gap = g) = counts[g] / total``.
-
-    ``counts`` has length ``d + 2`` (``g = 0 .. d + 1``); ``total`` is the number
-    of tableaux ``count(N)`` (or a multiple of it for pooled laws); ``d`` is the
-    dimension ``N (N - 1) / 2``.
-    """
-
-    counts: tuple
-    total: int
-    d: int
-
-    def probabilities(self) -> list[Fraction]:
-        """``[P(gap = g) for g in 0..d+1]`` as Fractions.
-
-        Examples
-        --------
-        >>> [str(p) for p in grain_gap_counts(3, (3, 2)).probabilities()]
-        ['0', '0', '1', '0', '0']
-        """
-        return [Fraction(c, self.total) for c in self.counts]
-
-    def mean(self) -> Fraction:
-        """``E[gap]``.
-
-        Examples
-        --------
-        >>> grain_gap_counts(4, (4, 2)).mean()
-        Fraction(5, 2)
-        """
-        return Fraction(sum(g * c for g, c in enumerate(self.counts)), self.total)
 
 
 # ---------------------------------------------------------------- chains of cells

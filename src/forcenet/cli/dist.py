@@ -67,7 +67,7 @@ def _what(args):
 
 def _floor_options(args, what, plan_seconds):
     """``--scheduler``/``--checkpoint`` for the floor's route (the one over primes here): (client, store)."""
-    from forcenet.exact.triangle.pfaffian.tasks import checkpoint_store
+    from forcenet.exact.triangle.prime_tasks import checkpoint_store
 
     route = what[-1] if len(what) > 1 else None
     key = {"floor": "floor", "layers": "layer", "pfaffians": "ensemble"}.get(route)
@@ -86,8 +86,7 @@ def _compute(args, what, tick=None, options=None):
     """Exact objects: (title, variable, pieces of the density, pieces of the CDF, extra fields)."""
     from forcenet.exact.triangle import distribution as D
     from forcenet.exact.triangle.gaps import contact_gap_law
-    from forcenet.exact.triangle.pfaffian.layers import ensemble_pieces, layer_gap_law
-    from forcenet.exact.triangle.pfaffian.fluctuations import single_grain_gap_law
+    from forcenet.exact.triangle.law_routes import ensemble_pieces, layer_gap_law, single_grain_gap_law
 
     N = args.N
     if what[0] == "grain":
@@ -178,8 +177,7 @@ def _plot_plan(args):
 
 def cmd_dist(args):
     from forcenet.exact.triangle.distribution import distribution_plan
-    from forcenet.exact.triangle.pfaffian.layers import ensemble_route, layer_route
-    from forcenet.exact.triangle.pfaffian.fluctuations import single_grain_route
+    from forcenet.exact.triangle.law_routes import ensemble_route, layer_route, single_grain_route
 
     N = args.N
     what = _what(args)

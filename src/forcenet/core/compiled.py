@@ -21,7 +21,7 @@ Examples
 >>> import os
 >>> cache_directory().endswith(os.path.join("forcenet", "numba"))
 True
->>> from forcenet.exact.triangle.pfaffian.residues import inv_mod
+>>> from forcenet.exact.triangle.residues import inv_mod
 >>> inv_mod._cache._cache_path.startswith(cache_directory()) or bool(os.environ.get("NUMBA_CACHE_DIR"))
 True
 """

@@ -23,7 +23,7 @@ difference of two entries, a *two-time* quantity of the chain of ideals,
 which the one-time marginals alone do not fix (for an arbitrary measure on
 chains; ``notes/fluctuations.md`` Sec. 3-4, with the proof and the cost of
 the two-time route).  Their law comes from one layer's de Bruijn grid
-(:mod:`.layers`); for layer ``N - 1`` the second moment is one-time after
+(:mod:`forcenet.exact.triangle.de_bruijn.layers`); for layer ``N - 1`` the second moment is one-time after
 all, by a property of the uniform measure (Sec. 3.1, :mod:`.covers`).
 
 Cost: the lattice directions' Pfaffian work (``O(n^4)`` per prime) plus the
@@ -36,7 +36,7 @@ Examples
 >>> law = lattice_gap_laws(5)[3]  # W_{3,1} for N = 5: g = T(1, 3) is 3 or 4
 >>> law.counts, law.total
 ((0, 0, 0, 7, 5, 0, 0, 0, 0, 0, 0, 0), 12)
->>> from forcenet.exact.triangle.distribution import moment_from_gaps
+>>> from forcenet.exact.triangle.gap_counts import moment_from_gaps
 >>> moment_from_gaps(law, 2)  # <W_{3,1}^2>
 Fraction(23, 198)
 """
@@ -44,30 +44,27 @@ Fraction(23, 198)
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import replace
+from concurrent.futures import Executor
 from fractions import Fraction
 from math import ceil, log2
 from typing import Any
 
 import numpy as np
 
+from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_grain, check_int, check_layers
-from ..gaps import GapCounts
-from ..staircase import dimension
-from .engine import (MAX_POINT_FAILURES, PointFailureError, check_prime, constants, kernel_module, pair_points, level_points,
-                     prime_limit, setup_matrices)
 from ...modular import crt_many
+from ..gap_counts import GapCounts
+from ..prime_tasks import WORKER_BASE_BYTES, primes_plan, run_primes, workers_for
 from ..staircase import count as product_count
-from .cost import STARTUP_SECONDS, WORKER_BASE_BYTES, edge_seconds
+from ..staircase import dimension
+from .cost import edge_seconds, level_points, prime_limit, route_primes
+from .engine import MAX_POINT_FAILURES, PointFailureError, kernel_module, check_prime, constants, pair_points, setup_matrices
 from .route import count
-from .floor import floor_gap_laws, floor_plan
-from .layers import layer_gap_laws, layer_plan
-from .tasks import route_primes, run_primes, workers_for
-from forcenet.core.errors import ArgumentError
 
-__all__ = ["edge_level_residues", "lattice_level_sums", "lattice_gap_laws", "lattice_mean_W2", "grain_gap_law",
-           "lattice_gap_laws_plan", "single_grain_route", "single_grain_gap_law", "law_prime_seconds"]
+__all__ = ["MAX_LAW_N", "edge_level_residues", "lattice_level_sums", "lattice_gap_laws", "lattice_mean_W2",
+           "grain_gap_law", "lattice_gap_laws_plan", "law_prime_seconds"]
 
 MAX_LAW_N = 128  # the interpolation's exact float64 products need M < 2^13
 # CPU seconds on the reference machine.  Measured on 2026-11-25 on the loaded 2-core machine at N = 40 and scaled by
@@ -98,7 +95,7 @@ def _matmul_mod(A: np.ndarray, B: np.ndarray, p: int) -> np.ndarray:
     return (high * 8192 + low) % p
 
 
-def edge_level_residues(N: int, p: int, backend: str = "numba", windows: Sequence[int] | None = None) -> np.ndarray:
+def edge_level_residues(N: int, p: int, windows: Sequence[int] | None = None) -> np.ndarray:
     """``E[m][l] = sum_{|A| = l} w(A) [N_m(A) = 0] mod p``, ``m = 1..n`` (row 0 unused), ``l = 0..d``.
 
     ``F_m(q) = Z(q) P_q(no part >= m) = sum_l q^l E[m][l] / (l! (d - l)!)`` is
@@ -113,9 +110,7 @@ def edge_level_residues(N: int, p: int, backend: str = "numba", windows: Sequenc
     N : int
         Number of layers, ``N >= 2``.
     p : int
-        A prime of the route (:func:`~.route.route_primes`).
-    backend : {"numba", "python"}
-        The compiled kernels or their pure-Python twins.
+        A prime of the route (:func:`.cost.route_primes`).
     windows : sequence of int, optional
         The ``m`` to interpolate (default: all of ``1..n``); the other rows stay 0.
 
@@ -137,13 +132,13 @@ def edge_level_residues(N: int, p: int, backend: str = "numba", windows: Sequenc
     p = check_prime(N, p)
     n = N - 1
     windows = range(1, n + 1) if windows is None else [check_int(m, "m", 1, n) for m in windows]
-    return _edge_level_residues(N, p, backend, windows)
+    return _edge_level_residues(N, p, windows)
 
 
-def _edge_level_residues(N: int, p: int, backend: str, windows: Sequence[int]) -> np.ndarray:
+def _edge_level_residues(N: int, p: int, windows: Sequence[int]) -> np.ndarray:
     """:func:`edge_level_residues` for arguments already checked (the workers of :func:`_level_sums`)."""
     n, d = N - 1, dimension(N)
-    K = kernel_module(backend)
+    K = kernel_module()
     out = np.zeros((n + 1, d + 1), dtype=np.int64)
     if n == 0:
         return out
@@ -194,8 +189,7 @@ def _check_layer_list(N: int, layers: Iterable[int] | None) -> list[int]:
 
 
 def lattice_level_sums(N: int, *, layers: Iterable[int] | None = None, workers: int | None = None,
-                       progress: Callable[[int], object] | None = None,
-                       backend: str = "numba") -> tuple[list[list[int] | None], int]:
+                       progress: Callable[[int], object] | None = None) -> tuple[list[list[int] | None], int]:
     """Exact ``E[m][l] = sum_{|A| = l} w(A) [N_m(A) = 0]`` for every ``m`` and level ``l``, and ``count(N)``.
 
     ``E[m][l] / count = P(T(1, m) > l)``: the law of the tableau entry of the
@@ -216,8 +210,6 @@ def lattice_level_sums(N: int, *, layers: Iterable[int] | None = None, workers: 
         enough); results do not depend on it.
     progress : callable, optional
         ``progress(1)`` after each prime.
-    backend : {"numba", "python"}
-        Compiled kernels or their pure-Python twins.
 
     Returns
     -------
@@ -237,21 +229,21 @@ def lattice_level_sums(N: int, *, layers: Iterable[int] | None = None, workers: 
     (2, [2, 2, 2, 1, 0, 0, 0])
     """
     N = check_layers(N, maximum=MAX_LAW_N)
-    return _level_sums(N, _check_layer_list(N, layers), workers, progress, backend)
+    return _level_sums(N, _check_layer_list(N, layers), workers, progress)
 
 
-def _level_sums(N: int, layers: list[int], workers: int | None, progress: Callable[[int], object] | None,
-                backend: str) -> tuple[list[list[int] | None], int]:
+def _level_sums(N: int, layers: list[int], workers: int | None,
+                progress: Callable[[int], object] | None) -> tuple[list[list[int] | None], int]:
     """:func:`lattice_level_sums` for ``N`` and ``layers`` already checked."""
     n, d = N - 1, dimension(N)
     windows = [N - i + 1 for i in layers]
-    total = count(N, backend)
+    total = count(N)
     E: list[list[int] | None] = [None] * (n + 1)
     if n == 0:
         return E, total
     primes = route_primes(N, total)
     nworkers = workers_for(workers, len(primes), law_prime_seconds(N, len(windows)) * len(primes))
-    residues = run_primes(_edge_level_residues, [(N, p, backend, windows) for p in primes], None, nworkers,
+    residues = run_primes(_edge_level_residues, [(N, p, windows) for p in primes], None, nworkers,
                           progress, None)  # in the order of the primes
     for m in windows:
         row = crt_many([[r[m, l] for r in residues] for l in range(d + 1)], primes)
@@ -275,7 +267,7 @@ def lattice_gap_laws(N: int, layers: Iterable[int] | None = None, **kwargs: Any)
     layers : sequence of int, optional
         The layers ``i`` wanted (default all of ``2..N``).
     **kwargs
-        ``workers``, ``progress``, ``backend`` of :func:`lattice_level_sums`.
+        ``workers``, ``progress`` of :func:`lattice_level_sums`.
 
     Returns
     -------
@@ -291,10 +283,10 @@ def lattice_gap_laws(N: int, layers: Iterable[int] | None = None, **kwargs: Any)
     return _gap_laws(N, _check_layer_list(N, layers), **kwargs)
 
 
-def _gap_laws(N: int, layers: list[int], workers: int | None = None, progress: Callable[[int], object] | None = None,
-              backend: str = "numba") -> dict[int, GapCounts]:
+def _gap_laws(N: int, layers: list[int], workers: int | None = None,
+              progress: Callable[[int], object] | None = None) -> dict[int, GapCounts]:
     """:func:`lattice_gap_laws` for ``N`` and ``layers`` already checked."""
-    E, total = _level_sums(N, layers, workers, progress, backend)
+    E, total = _level_sums(N, layers, workers, progress)
     laws = {}
     for i in layers:
         row = E[N - i + 1]
@@ -365,7 +357,7 @@ def grain_gap_law(N: int, grain: tuple[int, int], **kwargs: Any) -> GapCounts:
     grain : (int, int)
         ``(i, j)`` with ``j = 1`` or ``j = i``, ``2 <= i <= N``.
     **kwargs
-        ``workers``, ``progress``, ``backend`` of :func:`lattice_level_sums`.
+        ``workers``, ``progress`` of :func:`lattice_level_sums`.
 
     Returns
     -------
@@ -391,7 +383,7 @@ def grain_gap_law(N: int, grain: tuple[int, int], **kwargs: Any) -> GapCounts:
 
 
 def lattice_gap_laws_plan(N: int, memory_bytes: int | None = None, workers: int | None = None,
-                          layers: int | None = None) -> Plan:
+                          layers: int | None = None, *, executor: Executor | None = None) -> Plan:
     """The cost of :func:`lattice_gap_laws`, :func:`lattice_mean_W2` and :func:`grain_gap_law`, one tick per prime.
 
     Parameters
@@ -404,6 +396,9 @@ def lattice_gap_laws_plan(N: int, memory_bytes: int | None = None, workers: int 
         Worker processes, as for the run.
     layers : int, optional
         How many layers are interpolated (default all ``N - 1``; 1 for :func:`grain_gap_law`).
+    executor : concurrent.futures.Executor or Dask Client, optional
+        Where the per-prime tasks would run: the plan counts its workers
+        (:func:`forcenet.exact.triangle.prime_tasks.primes_plan`).
 
     Returns
     -------
@@ -425,124 +420,8 @@ def lattice_gap_laws_plan(N: int, memory_bytes: int | None = None, workers: int 
     n, d = N - 1, dimension(N)
     nprimes = ceil(product_count(N).bit_length() / log2(prime_limit(max(n, 1)) * 0.999))
     windows = n if layers is None else check_int(layers, "layers", 1, n)
-    cpu = law_prime_seconds(N, windows) * nprimes
-    nworkers = workers_for(workers, nprimes, cpu)
     M = level_points(d)
     per_worker = 8 * (3 * M * M + 2 * M * n) + WORKER_BASE_BYTES
     crt = _SECONDS_PER_CRT * windows * (d + 1) * nprimes
-    return Plan(what, STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers + crt, nworkers * per_worker, nprimes,
-                "prime").within_memory(memory_bytes)
-
-
-def single_grain_route(N: int, grain: tuple[int, int], memory_bytes: int | None = None) -> tuple[str, Plan]:
-    """The faster exact route to one grain's gap law, and its plan: ``"pfaffian"``, ``"floor"``, ``"layers"`` or
-    ``"ideals"``.
-
-    Every grain has the order-ideal DP
-    (:func:`forcenet.exact.triangle.gaps.grain_gap_counts`, ``N <= 30``) and a
-    polynomial route, ``N <= 128``: the Pfaffian one of the lattice
-    directions ``(i, 1)``, ``(i, i)`` (:func:`grain_gap_law`, one-time), de
-    Bruijn Pfaffians with a fugacity for the floor loads ``(N, j)``
-    (:func:`.floor.floor_gap_laws`) and for the other interior loads
-    (:func:`.layers.layer_gap_laws`, every load of the layer at once; the gap
-    is a two-time quantity, ``notes/fluctuations.md`` Sec. 3, so these are
-    two-dimensional grids).  The faster runnable plan wins (the laws are
-    equal, tested).
-
-    Parameters
-    ----------
-    N : int
-        Number of layers, ``2..128``.
-    grain : (int, int)
-        ``(i, j)``, ``2 <= i <= N``, ``1 <= j <= i``.
-    memory_bytes : int, optional
-        Memory available to the run.
-
-    Returns
-    -------
-    (str, Plan)
-        The route's name and its plan (refused, with the reason of every
-        route, when none can run).
-
-    Raises
-    ------
-    ArgumentError
-        If ``N`` or the grain is out of range.
-
-    Examples
-    --------
-    >>> single_grain_route(64, (64, 1))[0], single_grain_route(12, (12, 6))[0]
-    ('pfaffian', 'ideals')
-    >>> single_grain_route(40, (39, 20))[0]
-    'layers'
-    """
-    from ..gaps import gap_laws_plan
-
-    N = check_layers(N, maximum=MAX_LAW_N)
-    i, j = check_grain(N, grain)
-    what = f"exact density of W_({i},{j}) N={N}"
-    ideals = gap_laws_plan(N, 1, memory_bytes, what=f"{what} (order ideals)")
-    if i == N and 1 < j < N:  # a floor load: the DP or de Bruijn Pfaffians with a fugacity (every floor load at once)
-        floor = replace(floor_plan(N, True, memory_bytes), what=f"{what} (de Bruijn Pfaffians, every floor load)")
-        if ideals.runnable and (not floor.runnable or ideals.seconds <= floor.seconds):
-            return "ideals", ideals
-        return "floor", floor
-    if i == 1:  # W_11 = 1
-        return "ideals", ideals
-    if j not in (1, i):  # an interior load above the floor: the DP or the layer's de Bruijn Pfaffians
-        layers = replace(layer_plan(N, i, True, memory_bytes), what=f"{what} (de Bruijn Pfaffians, every load of layer {i})")
-        if ideals.runnable and (not layers.runnable or ideals.seconds <= layers.seconds):
-            return "ideals", ideals
-        return "layers", layers
-    pfaffian = replace(lattice_gap_laws_plan(N, memory_bytes, layers=1), what=f"{what} (Pfaffians)")
-    if ideals.runnable and (not pfaffian.runnable or ideals.seconds <= pfaffian.seconds):
-        return "ideals", ideals
-    return "pfaffian", pfaffian
-
-
-def single_grain_gap_law(N: int, grain: tuple[int, int], route: str, progress: Callable[[int], object] | None = None,
-                         **options: Any) -> GapCounts:
-    """One grain's gap law by the route :func:`single_grain_route` chose.
-
-    Parameters
-    ----------
-    N : int
-        Number of layers.
-    grain : (int, int)
-        The grain ``(i, j)``.
-    route : {"pfaffian", "floor", "layers", "ideals"}
-        The route.
-    progress : callable, optional
-        ``progress(k)`` with the route's plan's ticks.
-    **options
-        ``executor``, ``checkpoint`` of :func:`.floor.floor_gap_laws` (the de Bruijn routes only).
-
-    Returns
-    -------
-    GapCounts
-
-    Raises
-    ------
-    ArgumentError
-        If the route does not reach the grain.
-
-    Examples
-    --------
-    >>> single_grain_gap_law(6, (6, 1), "pfaffian") == single_grain_gap_law(6, (6, 1), "ideals")
-    True
-    """
-    if route == "floor" and grain[0] == N:
-        return floor_gap_laws(N, progress=progress, **options)[grain[1]]
-    if route == "layers" and grain[0] < N:
-        return layer_gap_laws(N, grain[0], progress=progress, **options)[grain[1]]
-    if options:
-        raise ArgumentError(f"{', '.join(sorted(options))}: only the de Bruijn routes (route='floor', 'layers') take "
-                            f"them")
-    if route == "ideals":
-        from ..gaps import grain_gap_counts
-
-        return grain_gap_counts(N, grain, progress)
-    if route == "pfaffian":
-        return grain_gap_law(N, grain, progress=progress)
-    raise ArgumentError(f"route={route!r} is not a route to grain {tuple(grain)!r}: it must be 'pfaffian', 'ideals', "
-                        f"'floor' for a floor load (N, j) or 'layers' for a load above the floor")
+    return primes_plan(what, law_prime_seconds(N, windows), nprimes, per_worker, workers=workers, executor=executor,
+                       crt_seconds=crt, memory_bytes=memory_bytes)

@@ -1,7 +1,7 @@
 """The compiled kernels of the floor's route (:mod:`.floor`): de Bruijn Pfaffians on the grid, modulo ``p < 2^22``.
 
 The derivation and the route are in :mod:`.floor` and ``notes/fluctuations.md``
-Sec. 5.1.  Residues are ``float64`` integers as in :mod:`.residues`.  The
+Sec. 5.1.  Residues are ``float64`` integers as in :mod:`forcenet.exact.triangle.residues`.  The
 grids evaluate their Pfaffians by the displacement kernel of
 :mod:`.floor_displacement` (the default), or by the lazy elimination of the
 explicit matrices here (:func:`pfaffian_lazy` has the bound; the baseline of
@@ -15,8 +15,7 @@ import numpy as np
 from forcenet.core.compiled import njit
 
 from .floor_displacement import STREAMS, STRIDE, bordered_pfaffians
-from .kernels import pfaffian_mod
-from .residues import JIT, inv_mod, lred, red
+from ..residues import JIT, inv_mod, lred, pfaffian_mod, red
 
 __all__ = ["pfaffian_lazy", "eliminate", "fill", "grid", "fill_pair", "pfaffian_pair", "grid_pairs",
            "monomials", "gap_residues", "GRID_LANES", "grid_node", "grid_outputs", "add_node", "scale_row"]

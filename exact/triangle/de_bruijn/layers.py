@@ -35,6 +35,8 @@ Examples
 >>> law = layer_pooled_gap_law(5, 3)  # the three loads of layer 3, N = 5, pooled
 >>> law.total, sum(g * c for g, c in enumerate(law.counts)) == (law.d + 1) * law.total // 3
 (36, True)
+>>> from forcenet.exact.triangle.gap_counts import pool_gaps
+>>> from forcenet.exact.triangle.gaps import layer_gap_counts
 >>> law == pool_gaps(layer_gap_counts(5, 3))  # the order-ideal DP
 True
 """
@@ -43,33 +45,26 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from concurrent.futures import Executor
-from dataclasses import replace
-from fractions import Fraction
 from math import comb
 from os import PathLike
 from typing import Any
 
 import numpy as np
 
-from forcenet.core.errors import ArgumentError
-from forcenet.core.plan import Plan, combine, with_compilation
+from forcenet.core.plan import Plan, with_compilation
 from forcenet.core.validation import check_int, check_layers
 from ...checkpoints import CheckpointStore
-from ..distribution import distribution_plan, layer_pieces_from_gaps, pool_gaps, triangle_force_density
-from ..gaps import GapCounts, gap_laws_plan, layer_gap_counts
-from ..pieces import Piece, sum_pieces
+from ..gap_counts import GapCounts
+from ..prime_tasks import checkpoint_store, primes_plan, run_primes, workers_for
+from ..residues import lagrange_matrix, pfaffian_mod
 from ..staircase import count, dimension
-from .cost import STARTUP_SECONDS, WORKER_BASE_BYTES
-from .floor import (COMPILE_SECONDS, MAX_FLOOR_N, exact_gap_laws, floor_plan, floor_pooled_gap_law, floor_primes,
-                    grid_gap_residues, quadrature_weights, zeta_coefficients)
+from .floor import (COMPILE_SECONDS, MAX_FLOOR_N, exact_gap_laws, floor_primes, grid_gap_residues, grid_worker_bytes,
+                    quadrature_weights, zeta_coefficients)
 from .floor_kernels import gap_residues, monomials, pfaffian_lazy
-from .kernels import lagrange_matrix, pfaffian_mod
 from .layer_kernels import layer_fill, layer_grid
-from .tasks import checkpoint_store, run_primes, workers_for
 
 __all__ = ["layer_tables", "layer_prime_residues", "layer_pooled_gap_law", "layer_gap_laws", "layer_plan",
-           "layer_prime_seconds", "layer_route", "layer_gap_law", "floor_contact_gap_law", "ensemble_route",
-           "ensemble_pieces"]
+           "layer_prime_seconds"]
 
 # CPU seconds of the grid, on the floor's reference machine: per node (the fill: powers, moments, two small matrix
 # products), per fugacity (a combination of the three parts) and per cube of the order (the lazy elimination).
@@ -165,7 +160,7 @@ def layer_prime_residues(N: int, i: int, p: int, grains: bool = False) -> np.nda
 
 
 def _prime_task(N: int, p: int, i: int, grains: bool) -> np.ndarray:
-    """:func:`layer_prime_residues` with the prime second: the tasks' checkpoint key (:func:`.tasks.run_primes`)."""
+    """:func:`layer_prime_residues` with the prime second: the tasks' checkpoint key (:func:`forcenet.exact.triangle.prime_tasks.run_primes`)."""
     return layer_prime_residues(N, i, p, grains)
 
 
@@ -213,7 +208,7 @@ def layer_pooled_gap_law(N: int, i: int, *, workers: int | None = None,
 
     Examples
     --------
-    >>> from forcenet.exact.triangle.distribution import moment_from_gaps
+    >>> from forcenet.exact.triangle.gap_counts import moment_from_gaps
     >>> moment_from_gaps(layer_pooled_gap_law(5, 4), 2)  # <W^2> over layer 4 of N = 5
     Fraction(1, 12)
     """
@@ -259,8 +254,12 @@ def layer_prime_seconds(N: int, i: int, grains: bool = False) -> float:
 
 
 def layer_plan(N: int, i: int, grains: bool = False, memory_bytes: int | None = None,
-               workers: int | None = None) -> Plan:
+               workers: int | None = None, *, executor: Executor | None = None) -> Plan:
     """The cost of :func:`layer_pooled_gap_law` (or :func:`layer_gap_laws`), one tick per prime.
+
+    On ``executor`` the plan counts its workers
+    (:func:`forcenet.exact.triangle.prime_tasks.primes_plan`), else ``workers``
+    local processes.
 
     Examples
     --------
@@ -271,187 +270,8 @@ def layer_plan(N: int, i: int, grains: bool = False, memory_bytes: int | None = 
     N = check_layers(N, maximum=MAX_FLOOR_N)
     i = check_int(i, "i", 2, N - 1)
     what = f"layer {i}'s {'gap laws' if grains else 'pooled gap law'} N={N} (de Bruijn Pfaffians)"
-    nprimes = len(floor_primes(N))
-    cpu = layer_prime_seconds(N, i, grains) * nprimes
-    nworkers = workers_for(workers, nprimes, cpu)
-    per_worker = 8 * (dimension(N) + 3) * (N + 1) * 4 + WORKER_BASE_BYTES
-    plan = Plan(what, STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers, nworkers * per_worker, nprimes,
-                "prime").within_memory(memory_bytes)
+    per_worker = grid_worker_bytes(N)
     kernels = [layer_grid, layer_fill, pfaffian_lazy, monomials, gap_residues, pfaffian_mod]
-    return with_compilation(plan, "Pfaffian layers", COMPILE_SECONDS["floor"], kernels)
-
-
-# ------------------------------------------------------------------ route choice
-
-
-def layer_route(N: int, i: int, memory_bytes: int | None = None) -> tuple[str, Plan]:
-    """The faster exact route to layer ``i``'s pooled gap law, and its plan: ``"floor"``, ``"layers"`` or ``"ideals"``.
-
-    The order-ideal DP (``N <= 30``, memory permitting) against de Bruijn
-    Pfaffians: :func:`.floor.floor_pooled_gap_law` for the floor (``i = N``),
-    :func:`layer_pooled_gap_law` above it (``N <= 128``).  The faster
-    runnable plan wins (the laws are equal, tested).
-
-    Parameters
-    ----------
-    N, i : int
-        Number of layers ``2..128`` and the layer ``2..N``.
-    memory_bytes : int, optional
-        Memory available to the run.
-
-    Returns
-    -------
-    (str, Plan)
-        The route's name and its plan.
-
-    Examples
-    --------
-    >>> layer_route(40, 40)[0], layer_route(40, 20)[0], layer_route(12, 12)[0]
-    ('floor', 'layers', 'ideals')
-    """
-    N = check_layers(N, maximum=MAX_FLOOR_N)
-    i = check_int(i, "i", 2, N)
-    what = f"exact P(f) of layer {i} N={N}"
-    ideals = gap_laws_plan(N, 1, memory_bytes, what=f"{what} (order ideals)")
-    name = "floor" if i == N else "layers"
-    pfaffians = floor_plan(N, False, memory_bytes) if i == N else layer_plan(N, i, False, memory_bytes)
-    pfaffians = replace(pfaffians, what=f"{what} (de Bruijn Pfaffians)")
-    if ideals.runnable and (not pfaffians.runnable or ideals.seconds <= pfaffians.seconds):
-        return "ideals", ideals
-    return name, pfaffians
-
-
-def layer_gap_law(N: int, i: int, route: str, progress: Callable[..., Any] | None = None, *,
-                  executor: Executor | None = None,
-                  checkpoint: str | PathLike | CheckpointStore | None = None) -> GapCounts:
-    """Layer ``i``'s pooled gap law by the route :func:`layer_route` chose.
-
-    ``executor`` and ``checkpoint`` (as for :func:`layer_pooled_gap_law`)
-    belong to the Pfaffian routes, the ones over primes; the DP refuses them.
-
-    Examples
-    --------
-    >>> layer_gap_law(7, 7, "floor") == layer_gap_law(7, 7, "ideals")
-    True
-    >>> layer_gap_law(7, 4, "layers") == layer_gap_law(7, 4, "ideals")
-    True
-    """
-    N = check_layers(N, maximum=MAX_FLOOR_N)
-    i = check_int(i, "i", 2, N)
-    if route == "ideals":
-        if executor is not None or checkpoint is not None:
-            raise ArgumentError("executor= and checkpoint= belong to the Pfaffian routes over primes, not to the DP")
-        return pool_gaps(layer_gap_counts(N, i, progress))
-    if route == "floor" and i == N:
-        return floor_pooled_gap_law(N, progress=progress, executor=executor, checkpoint=checkpoint)
-    if route == "layers" and i < N:
-        return layer_pooled_gap_law(N, i, progress=progress, executor=executor, checkpoint=checkpoint)
-    raise ArgumentError(f"route={route!r} is out of range for layer {i}: it must be 'ideals', 'floor' for the "
-                        f"floor (layer {N}) or 'layers' for a layer above it")
-
-
-def floor_contact_gap_law(N: int, layer: GapCounts | None = None, **options: Any) -> GapCounts:
-    """Exact pooled rank-gap law of the ``2(N - 1)`` contact forces between layer ``N - 1`` and the floor.
-
-    These contacts (``F5``, ``F6`` of the grains of layer ``N - 1``, (3.4))
-    are the spacings between a floor partial sum ``v_j`` and its two
-    neighbours ``u_(j-1) < v_j < u_j`` of layer ``N - 1``.  ``v_j`` is
-    covered by those two cells only, so given the rest of the tableau its
-    rank is uniform among the ``g - 1`` ranks strictly between theirs (``g``
-    the rank gap of ``W_(N-1,j) = u_j - u_(j-1)``): the contact gap is uniform
-    on ``1..g-1`` (continuously, ``F = q W`` with ``q`` uniform and
-    independent).  Hence ``counts[g'] = 2 sum_(g > g') x_g/(g - 1)`` from
-    layer ``N - 1``'s pooled law ``x``, exact integers (checked).  Equal to
-    the DP's contact laws pooled (tested).
-
-    Parameters
-    ----------
-    N : int
-        Number of layers, ``3..128``.
-    layer : GapCounts, optional
-        Layer ``N - 1``'s pooled gap law, if already computed; else by :func:`layer_route`'s route.
-    **options
-        ``executor``, ``checkpoint``, ``progress`` for :func:`layer_gap_law` (the Pfaffian route).
-
-    Returns
-    -------
-    GapCounts
-        ``total = 2 (N - 1) count(N)``.
-
-    Examples
-    --------
-    >>> law = floor_contact_gap_law(8)
-    >>> from fractions import Fraction  # P(0) of f = F/<F>: d P(gap 1) <F>, <F> = 1/(2(N - 1))
-    >>> Fraction(law.d * law.counts[1], law.total) / (2 * 7)
-    Fraction(4143, 4199)
-    """
-    N = check_layers(N, maximum=MAX_FLOOR_N)
-    if N < 3:
-        raise ArgumentError(f"N={N} is out of range: the contacts above the floor need N >= 3 (N in 3..{MAX_FLOOR_N})")
-    d = dimension(N)
-    if layer is None:
-        route, _plan = layer_route(N, N - 1)
-        layer = layer_gap_law(N, N - 1, route, **options)
-    if layer.d != d or layer.total != (N - 1) * count(N) or len(layer.counts) != d + 2:
-        raise ArgumentError(f"layer is not layer N-1's pooled gap law for N={N} (d={d}, total (N-1) count(N))")
-    counts = [0] * (d + 2)
-    acc = 0
-    for g in range(d + 1, 1, -1):
-        q, r = divmod(layer.counts[g], g - 1)
-        if r:
-            raise ArithmeticError(f"layer N-1's gap count at g={g} is not divisible by g - 1: not a layer law")
-        acc += q
-        counts[g - 1] = 2 * acc
-    return GapCounts(tuple(counts), 2 * layer.total, d)
-
-
-def ensemble_route(N: int, memory_bytes: int | None = None) -> tuple[str, Plan]:
-    """The faster exact route to the ensemble ``P(f)`` (every grain of layers ``2..N``): ``"pfaffians"`` or ``"ideals"``.
-
-    The order-ideal DP (``N - 1`` passes, ``N <= 30``) against every layer's
-    pooled law by de Bruijn Pfaffians (:func:`layer_pooled_gap_law` and the
-    floor's, ``N <= 128``); the faster runnable plan wins.
-
-    Examples
-    --------
-    >>> ensemble_route(12)[0], ensemble_route(40)[0]
-    ('ideals', 'pfaffians')
-    """
-    N = check_layers(N, maximum=MAX_FLOOR_N)
-    ideals = distribution_plan(N, "ensemble", memory_bytes)
-    plans = [layer_plan(N, i, False, memory_bytes) for i in range(2, N)] + [floor_plan(N, False, memory_bytes)]
-    pfaffians = combine(f"exact ensemble P(f) N={N} (de Bruijn Pfaffians, every layer's pooled law)", plans, "prime")
-    pfaffians = replace(pfaffians, seconds=pfaffians.seconds - (len(plans) - 1) * STARTUP_SECONDS)  # one process
-    if ideals.runnable and (not pfaffians.runnable or ideals.seconds <= pfaffians.seconds):
-        return "ideals", ideals
-    return "pfaffians", pfaffians
-
-
-def ensemble_pieces(N: int, route: str, progress: Callable[..., Any] | None = None, *,
-                    executor: Executor | None = None, checkpoint: str | PathLike | None = None) -> list[Piece]:
-    """The exact ensemble ``P(f)``, ``f = i W_ij`` over every grain of layers ``2..N``, by :func:`ensemble_route`'s route.
-
-    As :func:`forcenet.exact.triangle.distribution.triangle_force_density`
-    (equal, tested), which is the ``"ideals"`` route; ``"pfaffians"`` takes
-    every layer's pooled gap law from de Bruijn Pfaffians instead
-    (``executor``, ``checkpoint``: a directory, one request per layer).
-
-    Examples
-    --------
-    >>> ensemble_pieces(5, "pfaffians") == ensemble_pieces(5, "ideals")
-    True
-    """
-    N = check_layers(N, maximum=MAX_FLOOR_N)
-    if route == "ideals":
-        if executor is not None or checkpoint is not None:
-            raise ArgumentError("executor= and checkpoint= belong to the Pfaffian routes over primes, not to the DP")
-        return triangle_force_density(N, progress=progress)
-    if route != "pfaffians":
-        raise ArgumentError(f"route={route!r} is out of range for the ensemble: it must be 'ideals' or 'pfaffians'")
-    grains = N * (N + 1) // 2 - 1
-    terms = []
-    for i in range(2, N + 1):
-        gaps = layer_gap_law(N, i, "floor" if i == N else "layers", progress, executor=executor, checkpoint=checkpoint)
-        (piece,), _cdf = layer_pieces_from_gaps(gaps, i)
-        terms.append((piece.hi, piece.poly * Fraction(i, grains)))
-    return sum_pieces(terms, piece.poly.gens[0])
+    return primes_plan(what, layer_prime_seconds(N, i, grains), len(floor_primes(N)), per_worker, workers=workers,
+                       executor=executor, memory_bytes=memory_bytes,
+                       compile=lambda plan: with_compilation(plan, "Pfaffian layers", COMPILE_SECONDS["floor"], kernels))

@@ -1,12 +1,13 @@
-"""The Pfaffian route: exact ``<W>`` tables and the normalization in time polynomial in ``N``.
+"""The free-fermion route: exact ``<W>`` tables and the normalization in time polynomial in ``N``.
 
-``--method pfaffian`` of ``forcenet table`` (the engine protocol of
-:mod:`forcenet.exact.protocol`: :func:`table_plan`, :func:`table_run`), and
-the public functions of the route.  Residues from :mod:`.engine` for enough
-word-size primes (:func:`.tasks.route_primes`), rebuilt exactly by
+The mean of ``forcenet table --method pfaffian`` (its plan :func:`mean_plan`
+and :func:`survival_tables`; the method's table engine, higher moments
+included, is :mod:`forcenet.exact.triangle.pfaffian_table`), and the public
+functions of the route.  Residues from :mod:`.engine` for enough
+word-size primes (:func:`.cost.route_primes`), rebuilt exactly by
 :func:`forcenet.exact.modular.crt_many` (the bound ``0 <= S[m][k] <= (d+1)
 count`` is proven, so the reconstruction is exact).  The primes are
-independent tasks (:mod:`.tasks`) run on an executor: a local process
+independent tasks (:mod:`forcenet.exact.triangle.prime_tasks`) run on an executor: a local process
 pool by default, or any :class:`concurrent.futures.Executor` given as
 ``executor=`` (a Dask cluster: ``client.get_executor()``, or the client
 itself); ``checkpoint=`` (a directory or a
@@ -33,7 +34,7 @@ from __future__ import annotations
 
 from concurrent.futures import Executor
 from fractions import Fraction
-from math import comb, factorial
+from math import ceil, comb, factorial, log2
 from typing import Any
 from os import PathLike
 
@@ -42,51 +43,35 @@ from ...execution import as_executor
 from ...modular import crt_many
 from forcenet.core.plan import Plan, table_range
 from ...protocol import Progress, Table
-from forcenet.core.validation import check_layers, check_moments
+from forcenet.core.validation import check_layers
 from ..staircase import dimension
-from .cost import STARTUP_SECONDS, edge_seconds, prime_seconds, primes_plan, worker_bytes
-from .engine import count_residue, edge_residues, prime_residues
-from .moments import moments_plan, moments_run
-from .tasks import checkpoint_store, route_primes, run_primes, workers_for
+from ..prime_tasks import checkpoint_store, primes_plan, run_primes, workers_for
+from ..staircase import count as product_count
+from .cost import CRT_SECONDS, edge_seconds, prime_limit, prime_seconds, route_primes, worker_bytes
+from .engine import count_residue, edge_residues, prime_residues, with_kernels_compiled
 
 __all__ = [
     "MAX_N",
-    "MIN_PLAN_SECONDS",
-    "OPTIONS",
-    "checkpoint_for",
     "count",
     "normalization",
     "survival_table",
+    "survival_tables",
+    "table_from_survival",
     "mean_W",
     "expected_entries",
     "lattice_direction",
     "lattice_direction_plan",
-    "table_plan",
-    "table_run",
+    "mean_plan",
+    "route_plan",
 ]
 
 MAX_N = 200
-MIN_PLAN_SECONDS = STARTUP_SECONDS  # every plan of the route pays the start-up (read by forcenet.exact.routes.choose)
-OPTIONS = ("workers", "checkpoint")  # keywords beyond the engine protocol's (read by forcenet.exact.routes)
 
 
 Checkpoint = str | PathLike | CheckpointStore | None
 
 
-def checkpoint_for(directory: str | PathLike, N: int, moments: int = 1) -> Checkpoint:
-    """The checkpoint of a table request in ``directory``: the mean's store (it counts what it reused), or for
-    ``moments >= 2`` the directory itself (every layer keeps a request of its own).
-
-    Examples
-    --------
-    >>> import tempfile
-    >>> checkpoint_for(tempfile.gettempdir(), 12).request["route"]
-    'pfaffian-table'
-    """
-    return checkpoint_store(directory, "table", N) if moments == 1 else directory
-
-
-def count(N: int, backend: str = "numba", *, checkpoint: Checkpoint = None) -> int:
+def count(N: int, *, checkpoint: Checkpoint = None) -> int:
     """The number of tableaux, ``count = d! Pf(B)`` (the normalization (4.1) times ``d!``), by this route.
 
     Multi-modular, with the proven bound ``count <= d!`` (linear extensions
@@ -100,8 +85,6 @@ def count(N: int, backend: str = "numba", *, checkpoint: Checkpoint = None) -> i
     ----------
     N : int
         Number of layers, ``2..200``.
-    backend : {"numba", "python"}
-        Compiled kernels or their pure-Python twins (results do not depend on it).
     checkpoint : str, os.PathLike or CheckpointStore, optional
         Directory of the checkpoint records (as in :func:`survival_table`).
 
@@ -124,20 +107,18 @@ def count(N: int, backend: str = "numba", *, checkpoint: Checkpoint = None) -> i
     """
     N = check_layers(N, maximum=MAX_N)
     primes = route_primes(N, factorial(dimension(N)))
-    residues = run_primes(count_residue, [(N, p, backend) for p in primes], None, 1, None,
+    residues = run_primes(count_residue, [(N, p) for p in primes], None, 1, None,
                           checkpoint_store(checkpoint, "count", N))
     return crt_many([residues], primes)[0]
 
 
-def normalization(N: int, backend: str = "numba") -> Fraction:
+def normalization(N: int) -> Fraction:
     """The normalization (4.1), the volume of the triangle's force space: ``count / d! = Pf(B)``.
 
     Parameters
     ----------
     N : int
         Number of layers, ``2..200``.
-    backend : {"numba", "python"}
-        Compiled kernels or their pure-Python twins (results do not depend on it).
 
     Returns
     -------
@@ -157,10 +138,10 @@ def normalization(N: int, backend: str = "numba") -> Fraction:
     Fraction(1, 360)
     """
     N = check_layers(N, maximum=MAX_N)
-    return Fraction(count(N, backend), factorial(dimension(N)))
+    return Fraction(count(N), factorial(dimension(N)))
 
 
-def survival_table(N: int, *, workers: int | None = None, progress: Progress | None = None, backend: str = "numba",
+def survival_table(N: int, *, workers: int | None = None, progress: Progress | None = None,
                    executor: Executor | None = None, checkpoint: Checkpoint = None) -> tuple[list[list[int]], int]:
     """Exact ``S[m][k] = sum_A w(A) [N_m(A) = k]`` and ``count(N)``, by Pfaffians.
 
@@ -178,8 +159,6 @@ def survival_table(N: int, *, workers: int | None = None, progress: Progress | N
     progress : callable, optional
         Called as ``progress(1)`` after each prime (at once for a prime
         taken from the checkpoint).
-    backend : {"numba", "python"}
-        Compiled kernels or their pure-Python twins (tests, small ``N``).
     executor : concurrent.futures.Executor or dask.distributed.Client, optional
         Runs the per-prime tasks instead of local processes (e.g. a Dask
         cluster's ``client.get_executor()``; its workers need forcenet
@@ -209,20 +188,28 @@ def survival_table(N: int, *, workers: int | None = None, progress: Progress | N
     (2, [2, 5, 5, 2], [7, 7, 0, 0])
     """
     N = check_layers(N, maximum=MAX_N)
-    (S,), total = _survival_table(N, workers, progress, backend, as_executor(executor), checkpoint)
+    (S,), total = survival_tables(N, workers, progress, as_executor(executor), checkpoint)
     return S, total
 
 
-def _survival_table(N: int, workers: int | None, progress: Progress | None, backend: str, executor: Executor | None,
+def survival_tables(N: int, workers: int | None, progress: Progress | None, executor: Executor | None,
                     checkpoint: Checkpoint, second: bool = False) -> tuple[list[list[list[int]]], int]:
-    """``[S]`` (``[S, S2]`` with ``second``) and ``count(N)``: every prime's residues, combined by CRT."""
+    """``[S]`` (``[S, S2]`` with ``second``, :func:`.engine.prime_residues`) and ``count(N)``: every prime's
+    residues, combined by CRT; ``N`` checked by the caller, ``executor`` resolved (:func:`survival_table`).
+
+    Examples
+    --------
+    >>> tables, total = survival_tables(4, 1, None, None, None, second=True)
+    >>> total, tables[1][3]
+    (2, [16, 40, 0, 0])
+    """
     n, d = N - 1, dimension(N)
     levels = 2 if second else 1
-    total = count(N, backend, checkpoint=checkpoint)
+    total = count(N, checkpoint=checkpoint)
     if n == 0:
         return [[[0]]] * levels, total
     primes = route_primes(N, comb(d + levels, levels) * total)  # |S2| <= (d + 1)(d + 2)/2 count
-    tasks = [(N, p, backend, total % p, True) if second else (N, p, backend, total % p) for p in primes]
+    tasks = [(N, p, total % p, True) if second else (N, p, total % p) for p in primes]
     nworkers = workers_for(workers, len(tasks), prime_seconds(N) * len(primes), executor)
     residues = run_primes(prime_residues, tasks, executor, nworkers, progress,
                           checkpoint_store(checkpoint, "table2" if second else "table", N))
@@ -251,7 +238,7 @@ def mean_W(N: int, **kwargs: Any) -> Table:
     N : int
         Number of layers, ``2..200``.
     **kwargs
-        ``workers``, ``progress``, ``backend``, ``executor``, ``checkpoint`` of
+        ``workers``, ``progress``, ``executor``, ``checkpoint`` of
         :func:`survival_table` (results do not depend on them).
 
     Returns
@@ -273,11 +260,18 @@ def mean_W(N: int, **kwargs: Any) -> Table:
     """
     N = check_layers(N, maximum=MAX_N)
     S, total = survival_table(N, **kwargs)
-    return _table_from_survival(N, S, total)
+    return table_from_survival(N, S, total)
 
 
-def _table_from_survival(N: int, S: list[list[int]], total: int) -> Table:
-    """``<W_ij> = S[N - i + 1][j - 1] / ((d + 1) count)``, row ``i = 1`` the apex."""
+def table_from_survival(N: int, S: list[list[int]], total: int) -> Table:
+    """``<W_ij> = S[N - i + 1][j - 1] / ((d + 1) count)``, row ``i = 1`` the apex.
+
+    Examples
+    --------
+    >>> S, total = survival_table(3)
+    >>> table_from_survival(3, S, total)[-1]
+    [Fraction(1, 4), Fraction(1, 2), Fraction(1, 4)]
+    """
     den = total * (dimension(N) + 1)
     table = [[Fraction(1)]]
     for i in range(2, N + 1):
@@ -297,7 +291,7 @@ def expected_entries(N: int, **kwargs: Any) -> dict[tuple[int, int], Fraction]:
     N : int
         Number of layers, ``2..200``.
     **kwargs
-        ``workers``, ``progress``, ``backend``, ``executor``, ``checkpoint`` of
+        ``workers``, ``progress``, ``executor``, ``checkpoint`` of
         :func:`survival_table` (results do not depend on them).
 
     Returns
@@ -324,7 +318,7 @@ def expected_entries(N: int, **kwargs: Any) -> dict[tuple[int, int], Fraction]:
     return {(r, c): Fraction(sum(S[c - r + 1][:r]), total) for r in range(1, n + 1) for c in range(r, n + 1)}
 
 
-def lattice_direction(N: int, *, workers: int | None = None, progress: Progress | None = None, backend: str = "numba",
+def lattice_direction(N: int, *, workers: int | None = None, progress: Progress | None = None,
                       executor: Executor | None = None, checkpoint: Checkpoint = None) -> list[Fraction]:
     """Exact ``<W_{i,1}> = <W_{i,i}>``, ``i = 1..N``: the lattice directions (Eqs. (4.63)-(4.77), Fig. 3.5).
 
@@ -342,8 +336,6 @@ def lattice_direction(N: int, *, workers: int | None = None, progress: Progress 
         Worker processes, as in :func:`survival_table`.
     progress : callable, optional
         Called as ``progress(1)`` after each prime.
-    backend : {"numba", "python"}
-        Compiled kernels or their pure-Python twins (results do not depend on it).
     executor : concurrent.futures.Executor or dask.distributed.Client, optional
         Runs the per-prime tasks, as in :func:`survival_table`.
     checkpoint : str, os.PathLike or CheckpointStore, optional
@@ -371,12 +363,12 @@ def lattice_direction(N: int, *, workers: int | None = None, progress: Progress 
     N = check_layers(N, maximum=MAX_N)
     n, d = N - 1, dimension(N)
     executor = as_executor(executor)
-    total = count(N, backend, checkpoint=checkpoint)
+    total = count(N, checkpoint=checkpoint)
     if n == 0:
         return [Fraction(1)]
     primes = route_primes(N, (d + 1) * total)
     nworkers = workers_for(workers, len(primes), edge_seconds(N) * len(primes), executor)
-    residues = run_primes(edge_residues, [(N, p, backend) for p in primes], executor, nworkers, progress,
+    residues = run_primes(edge_residues, [(N, p) for p in primes], executor, nworkers, progress,
                           checkpoint_store(checkpoint, "lattice", N))
     den = (d + 1) * total
     column = dict(zip(range(1, n + 1), crt_many([[r[m] for r in residues] for m in range(1, n + 1)], primes)))
@@ -429,20 +421,18 @@ def lattice_direction_plan(N: int, memory_bytes: int | None = None, workers: int
         return Plan(what, 0, refusal=f"N={N} is out of range for the Pfaffian route: N must be an integer in 2..{MAX_N}")
     n = N - 1
     per_worker = worker_bytes(N, 2)
-    return primes_plan(what, N, edge_seconds(N), per_worker, workers, executor, checkpoint_store(checkpoint, "lattice", N),
-                       memory_bytes, entries=n, lattice=True)
+    return route_plan(what, N, edge_seconds(N), per_worker, workers, executor, checkpoint_store(checkpoint, "lattice", N),
+                      memory_bytes, entries=n, lattice=True)
 
 
-def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, executor: Executor | None = None,
-               workers: int | None = None, checkpoint: Checkpoint = None) -> Plan:
-    """The cost of :func:`table_run` (``forcenet table --method pfaffian``), the engine protocol's plan.
+def mean_plan(N: int, *, memory_bytes: int | None = None, executor: Executor | None = None,
+              workers: int | None = None, checkpoint: Checkpoint = None) -> Plan:
+    """The cost of :func:`mean_W` (the mean of ``forcenet table --method pfaffian``), one tick per prime.
 
     Parameters
     ----------
     N : int
         Number of layers, ``>= 2`` (the route reaches ``N <= 200``).
-    moments : int
-        Highest moment, ``>= 1`` (``>= 2``: every load's gap law by :mod:`.moments`, ``N <= 128``).
     memory_bytes : int, optional
         Memory available to the run (None: not checked).
     executor : concurrent.futures.Executor or Dask Client, optional
@@ -461,78 +451,52 @@ def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, exe
     Raises
     ------
     ArgumentError
-        If ``N`` or ``moments`` is not an integer ``>= 2`` or ``>= 1``.
+        If ``N`` is not an integer ``>= 2``.
 
     Examples
     --------
-    >>> plan = table_plan(32)
+    >>> plan = mean_plan(32)
     >>> plan.runnable, plan.ticks, plan.unit
     (True, 55, 'prime')
-    >>> table_plan(8, moments=2).what  # higher moments: every load's gap law (:mod:`.moments`)
-    "exact <W^s> tables s <= 2 N=8 (de Bruijn Pfaffians, every layer's gap laws)"
-    >>> table_plan(201).refusal
+    >>> mean_plan(201).refusal
     'N=201 is out of range for --method pfaffian: N must be an integer in 2..200'
     """
-    N, moments = check_layers(N), check_moments(moments)
-    if moments > 1:  # every load's gap law, layer by layer (de Bruijn Pfaffians)
-        return moments_plan(N, moments, memory_bytes=memory_bytes, workers=workers)
+    N = check_layers(N)
     what = f"exact table N={N} (Pfaffians)"
-    refusal = table_range(what, "pfaffian", N, moments, MAX_N)
+    refusal = table_range(what, "pfaffian", N, 1, MAX_N)
     if refusal is not None:
         return refusal
     n = N - 1
     per_worker = worker_bytes(N, n + 2)
-    return primes_plan(what, N, prime_seconds(N), per_worker, workers, executor, checkpoint_store(checkpoint, "table", N),
-                       memory_bytes, entries=n * n, lattice=False)
+    return route_plan(what, N, prime_seconds(N), per_worker, workers, executor, checkpoint_store(checkpoint, "table", N),
+                      memory_bytes, entries=n * n, lattice=False)
 
 
-def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, progress: Progress | None = None,
-              executor: Executor | None = None, workers: int | None = None,
-              checkpoint: Checkpoint = None) -> dict[int, Table]:
-    """``{1: <W> table}`` by Pfaffians (``{s: <W^s> table}`` for ``moments >= 2``), the engine protocol's run;
-    ``progress(1)`` per prime.
+def route_plan(what: str, N: int, per_prime: float, per_worker: int, workers: int | None, executor: Executor | None,
+               store: CheckpointStore | None, memory_bytes: int | None, entries: int, lattice: bool,
+               bound_factor: int = 1) -> Plan:
+    """The plan of a run over the route's primes: :func:`forcenet.exact.triangle.prime_tasks.primes_plan` with this
+    route's primes, Chinese remaindering and kernels.
 
-    The arguments are those of :func:`table_plan`; a request the plan refuses
-    (out of range, or more memory than ``memory_bytes``) raises before any
-    prime starts.
-
-    Parameters
-    ----------
-    N : int
-        Number of layers, ``2..200``.
-    moments : int
-        Highest moment; ``>= 2`` runs :func:`.moments.moments_run`.
-    memory_bytes : int, optional
-        Memory available to the run (None: not checked).
-    progress : callable, optional
-        Called as ``progress(1)`` after each prime.
-    executor : concurrent.futures.Executor or Dask Client, optional
-        Runs the per-prime tasks (default: a local process pool when it pays).
-    workers : int, optional
-        Local worker processes (default: the cores when the run pays for them).
-    checkpoint : str, os.PathLike or CheckpointStore, optional
-        Finished primes are recorded there and not recomputed.
-
-    Returns
-    -------
-    dict of int to list of lists of Fraction
-
-    Raises
-    ------
-    ArgumentError
-        If the plan is refused.
+    The primes are those of :func:`.cost.route_primes` for the bound
+    ``bound_factor (d + 1) count`` (the survival sums'), those recorded in
+    ``store`` not counted; the client's Chinese remaindering of ``entries``
+    integers is quadratic in the number of primes; a local run compiles the
+    kernels of :func:`.engine.prime_residues` (``lattice``: of
+    :func:`.engine.edge_residues`) when this machine's cache lacks them.
 
     Examples
     --------
-    >>> [str(x) for x in table_run(5)[1][-1]]
-    ['1/11', '1/4', '7/22', '1/4', '1/11']
+    >>> route_plan("x", 12, 0.01, 2**20, 1, None, None, None, 121, False).unit
+    'prime'
     """
-    N, moments = check_layers(N), check_moments(moments)
-    if moments > 1:
-        return moments_run(N, moments, memory_bytes=memory_bytes, progress=progress, executor=executor,
-                           workers=workers, checkpoint=checkpoint)
-    if N > MAX_N or memory_bytes is not None:
-        table_plan(N, moments, memory_bytes=memory_bytes, executor=executor, workers=workers,
-                   checkpoint=checkpoint).check()
-    (S,), total = _survival_table(N, workers, progress, "numba", as_executor(executor), checkpoint)
-    return {1: _table_from_survival(N, S, total)}
+    n, d = N - 1, dimension(N)
+    bound = (d + 1) * product_count(N) * bound_factor  # what the primes' product must exceed
+    nprimes = ceil(bound.bit_length() / log2(prime_limit(max(n, 1)) * 0.999))
+    reused = 0
+    if store is not None:
+        primes = route_primes(N, bound)
+        nprimes, reused = len(primes), sum(store.holds(p) for p in primes)
+    return primes_plan(what, per_prime, nprimes, per_worker, workers=workers, executor=executor, store=store,
+                       reused=reused, crt_seconds=CRT_SECONDS * entries * nprimes**2, memory_bytes=memory_bytes,
+                       compile=lambda plan: with_kernels_compiled(plan, lattice))

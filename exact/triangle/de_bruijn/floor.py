@@ -66,22 +66,21 @@ from forcenet.core.plan import Plan, with_compilation
 from forcenet.core.validation import check_layers
 from ...checkpoints import CheckpointStore
 from ...modular import crt_many, primes_for_bound
-from ..gaps import GapCounts
+from ..gap_counts import GapCounts
+from ..prime_tasks import WORKER_BASE_BYTES, checkpoint_store, primes_plan, run_primes, workers_for
+from ..residues import dual_weights, lagrange_matrix, pfaffian_mod
 from ..staircase import count, dimension
-from .cost import STARTUP_SECONDS, WORKER_BASE_BYTES
-from .kernels import dual_weights, lagrange_matrix, pfaffian_mod
 from .floor_displacement import bordered_pfaffians, inverse_table
 from .floor_kernels import fill, gap_residues, grid, grid_pairs, monomials
-from .tasks import checkpoint_store, run_primes, workers_for
 
 __all__ = ["MAX_FLOOR_N", "floor_primes", "floor_prime_residues", "floor_pooled_gap_law", "floor_gap_laws",
            "floor_plan", "floor_prime_seconds", "de_bruijn_constants", "quadrature_weights", "zeta_coefficients",
-           "FLOOR_PRIME_LIMIT", "COMPILE_SECONDS", "grid_gap_residues", "exact_gap_laws"]
+           "FLOOR_PRIME_LIMIT", "COMPILE_SECONDS", "grid_gap_residues", "exact_gap_laws", "grid_worker_bytes"]
 
 MAX_FLOOR_N = 128  # the lazy Pfaffian's bound below needs order <= 128
 FLOOR_PRIME_LIMIT = 2**22  # lazy elimination: p + 64 * 2 p^2 < 2^53 for every p below it, order <= 128
 # Compiling the kernels on a first run (numba's cache empty): 54 s (pooled) and 75 s (every load) measured on
-# 2026-11-26 on this machine at load 7, against 19 s for the table's kernels (engine.COMPILE_SECONDS) on the
+# 2026-11-26 on this machine at load 7, against 19 s for the table's kernels (free_fermion.engine.COMPILE_SECONDS) on the
 # reference machine, which this session's machine ran 2-3.5x slower: about 25 s and 35 s there.
 COMPILE_SECONDS = {"floor": 25.0, "floor-grains": 35.0}
 # CPU seconds per bordered Pfaffian by the displacement kernel: per n^2 (the rows of the n/2 pivots) and per n
@@ -340,8 +339,25 @@ def floor_prime_seconds(N: int, grains: bool = False) -> float:
     return nodes * lanes * (_SECONDS_PER_ROW * n * n + _SECONDS_PER_PIVOT * n)
 
 
-def floor_plan(N: int, grains: bool = False, memory_bytes: int | None = None, workers: int | None = None) -> Plan:
+def grid_worker_bytes(N: int) -> int:
+    """Peak bytes of one worker of the de Bruijn grids (the floor's and a layer's): four rows of ``N + 1`` per node
+    of a ``d + 3`` column, beside the worker process itself.
+
+    Examples
+    --------
+    >>> grid_worker_bytes(40) - WORKER_BASE_BYTES  # d = 780
+    1027296
+    """
+    return 8 * (dimension(N) + 3) * (N + 1) * 4 + WORKER_BASE_BYTES
+
+
+def floor_plan(N: int, grains: bool = False, memory_bytes: int | None = None, workers: int | None = None, *,
+               executor: Executor | None = None) -> Plan:
     """The cost of :func:`floor_pooled_gap_law` (or :func:`floor_gap_laws`), one tick per prime.
+
+    On ``executor`` (a Dask cluster's included) the plan counts its workers
+    (:func:`forcenet.exact.triangle.prime_tasks.primes_plan`), else ``workers``
+    local processes.
 
     Examples
     --------
@@ -355,13 +371,9 @@ def floor_plan(N: int, grains: bool = False, memory_bytes: int | None = None, wo
     what = f"the floor's {'gap laws' if grains else 'pooled gap law'} N={N} (de Bruijn Pfaffians)"
     if N > MAX_FLOOR_N:
         return Plan(what, 0, refusal=f"N={N} is out of range for the floor route: N must be an integer in 2..{MAX_FLOOR_N}")
-    nprimes = len(floor_primes(N))
-    cpu = floor_prime_seconds(N, grains) * nprimes
-    nworkers = workers_for(workers, nprimes, cpu)
-    d = dimension(N)
-    per_worker = 8 * (d + 3) * (N + 1) * 4 + WORKER_BASE_BYTES
-    plan = Plan(what, STARTUP_SECONDS * (1 + (nworkers > 1)) + cpu / nworkers, nworkers * per_worker, nprimes,
-                "prime").within_memory(memory_bytes)
+    per_worker = grid_worker_bytes(N)
     kernels = [grid_pairs if grains else grid, bordered_pfaffians, monomials, gap_residues, pfaffian_mod]
     name = "floor-grains" if grains else "floor"
-    return with_compilation(plan, f"Pfaffian {name}", COMPILE_SECONDS[name], kernels)
+    return primes_plan(what, floor_prime_seconds(N, grains), len(floor_primes(N)), per_worker, workers=workers,
+                       executor=executor, memory_bytes=memory_bytes,
+                       compile=lambda plan: with_compilation(plan, f"Pfaffian {name}", COMPILE_SECONDS[name], kernels))

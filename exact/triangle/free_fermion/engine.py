@@ -34,20 +34,21 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Iterator
-from math import isqrt
+from contextlib import contextmanager
 from types import ModuleType
 
 import numpy as np
 
 from ...modular import is_prime
 from forcenet.core.plan import Plan, with_compilation
+from forcenet.core.errors import ArgumentError
 from forcenet.core.validation import check_int, check_layers
+from .cost import level_points, prime_limit
 from .schur import labels
 from ..staircase import dimension
-from forcenet.core.errors import ArgumentError
 
-__all__ = ["prime_limit", "dense_prime_limit", "level_points", "setup_matrices", "prime_residues", "edge_residues", "count_residue",
-           "PointFailureError", "with_kernels_compiled", "kernel_module", "constants", "pair_points", "check_prime"]
+__all__ = ["setup_matrices", "prime_residues", "edge_residues", "count_residue", "PointFailureError",
+           "with_kernels_compiled", "kernel_module", "constants", "pair_points", "check_prime"]
 
 MAX_POINT_FAILURES = 64
 # compiling the kernels on a first run (empty numba cache), CPU seconds: benchmarks/compile_times.py
@@ -56,39 +57,6 @@ COMPILE_SECONDS = {"table": 19.4, "lattice": 18.8}
 
 class PointFailureError(ArithmeticError):
     """Too many evaluation points failed modulo one prime (never seen; a structural zero would show here)."""
-
-
-def prime_limit(n: int) -> int:
-    """Bound on the primes of the route: ``p < 2^25``, so ``8 p^2 < 2^53`` (the displacement kernels' bound).
-
-    ``n`` is accepted for the interface; the bound of the displacement
-    elimination does not depend on it (that of the dense baseline does:
-    :func:`dense_prime_limit`).
-
-    Examples
-    --------
-    >>> prime_limit(31), prime_limit(99)
-    (33554432, 33554432)
-    """
-    check_int(n, "n", 1)
-    return 2**25
-
-
-def dense_prime_limit(n: int) -> int:
-    """Bound of the dense lazy elimination (:func:`~.dense.point_values_dense`): ``p + 2 (n-1) p^2 < 2^53``, ``p < 2^23``.
-
-    Examples
-    --------
-    >>> dense_prime_limit(31), dense_prime_limit(99)
-    (8388608, 6744694)
-    """
-    n = check_int(n, "n", 1)
-    return min(2**23, isqrt((2**53 - 2**24) // (2 * max(n, 1))))
-
-
-def level_points(d: int) -> int:
-    """Number ``M`` of level-fugacity points: the even one of ``d + 1`` and ``d + 2``."""
-    return d + 1 if (d + 1) % 2 == 0 else d + 2
 
 
 def setup_matrices(n: int, p: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -127,43 +95,44 @@ def constants(K: ModuleType, B: np.ndarray, expo: np.ndarray, n: int, p: int) ->
     Examples
     --------
     >>> B, X1, expo = setup_matrices(4, 101)
-    >>> constants(kernel_module("numba"), B, expo, 4, 101).shape, constants(kernel_module("python"), B, expo, 4, 101)
+    >>> from types import SimpleNamespace
+    >>> constants(kernel_module(), B, expo, 4, 101).shape, constants(SimpleNamespace(), B, expo, 4, 101)
     ((4, 6), None)
     """
     make = getattr(K, "kernel_constants", None)
     return None if make is None else make(B, expo, n, float(p))
 
 
-def kernel_module(backend: str) -> ModuleType:
-    """The kernel module of ``backend``: :mod:`.kernels` ("numba"), :mod:`.kernels_python` ("python") or :mod:`.dense` ("dense").
-
-    Examples
-    --------
-    >>> kernel_module("python").__name__.rsplit(".", 1)[-1]
-    'kernels_python'
-    """
-    if backend == "numba":
-        from . import kernels
-
-        return kernels
-    if backend == "python":
-        from . import kernels_python
-
-        return kernels_python
-    if backend == "dense":  # the dense elimination of every (q, y): the benchmarks' baseline (p < dense_prime_limit)
-        from . import dense
-
-        return dense
-    raise ArgumentError(f"backend={backend!r} is out of range: backend must be 'numba', 'python' or 'dense'")
+_ORACLES: list[ModuleType] = []  # kernel modules standing in for the compiled kernels in this process (tests)
 
 
-def count_residue(N: int, p: int, backend: str = "numba") -> int:
+def kernel_module() -> ModuleType:
+    """The kernel module of the per-prime functions: :mod:`.kernels`, or a test's stand-in (:func:`_oracle_kernels`)."""
+    if _ORACLES:
+        return _ORACLES[-1]
+    from . import kernels
+
+    return kernels
+
+
+@contextmanager
+def _oracle_kernels(module: ModuleType) -> Iterator[None]:
+    """Within the block, this process's per-prime functions call ``module`` (a test oracle with the kernels'
+    interface) in place of the compiled kernels; tasks sent to other processes do not see it."""
+    _ORACLES.append(module)
+    try:
+        yield
+    finally:
+        _ORACLES.pop()
+
+
+def count_residue(N: int, p: int) -> int:
     """``count(N) mod p = d! Pf(B) mod p`` (the normalization (4.1) at ``q = 0``)."""
     n, d = N - 1, dimension(N)
     if n == 0:
         return 1
     B, _, _ = setup_matrices(n, p)
-    pf = int(kernel_module(backend).pfaffian_mod(B.copy(), float(p)))
+    pf = int(kernel_module().pfaffian_mod(B.copy(), float(p)))
     fact = 1
     for k in range(2, d + 1):
         fact = fact * k % p
@@ -299,8 +268,7 @@ def _level_sums(N: int, p: int, K, values, shape, shifts: tuple[int, ...] = (0,)
     return sums
 
 
-def prime_residues(N: int, p: int, backend: str = "numba", total_mod_p: int | None = None,
-                   second: bool = False) -> np.ndarray:
+def prime_residues(N: int, p: int, total_mod_p: int | None = None, second: bool = False) -> np.ndarray:
     """``S[m][k] mod p`` (``m = 1..n`` rows, ``k = 0..n`` columns; row 0 unused) for ``N`` layers.
 
     With ``second``, also ``S2[m][k] = sum_A (|A| + 1) w(A) [N_m(A) = k]``, the
@@ -314,10 +282,6 @@ def prime_residues(N: int, p: int, backend: str = "numba", total_mod_p: int | No
         Number of layers, ``N >= 2``.
     p : int
         A prime below :func:`prime_limit` ``(N - 1)``, above ``2 N + 2`` and ``d + 1``.
-    backend : {"numba", "python", "dense"}
-        The compiled kernels, their pure-Python twins (small ``N`` only), or
-        the compiled dense elimination of :mod:`.dense` (the benchmarks'
-        baseline; needs ``p <`` :func:`dense_prime_limit`).
     total_mod_p : int, optional
         ``count(N) mod p``; when given, every row is checked to sum to
         ``(d + 1) count`` modulo ``p`` (``S2``: ``(d + 1)(d + 2)/2 count``).
@@ -339,7 +303,7 @@ def prime_residues(N: int, p: int, backend: str = "numba", total_mod_p: int | No
     N = check_layers(N)
     n, d = N - 1, dimension(N)
     p = check_prime(N, p)
-    K = kernel_module(backend)
+    K = kernel_module()
     shifts = (0, 1) if second else (0,)
     if n == 0:
         S = np.zeros((len(shifts), 1, 1), dtype=np.int64)
@@ -378,7 +342,7 @@ def prime_residues(N: int, p: int, backend: str = "numba", total_mod_p: int | No
     return out if second else out[0]
 
 
-def edge_residues(N: int, p: int, backend: str = "numba") -> np.ndarray:
+def edge_residues(N: int, p: int) -> np.ndarray:
     """``S[m][0] mod p`` for ``m = 1..n`` (entry 0 unused): the lattice-direction column alone.
 
     ``S[m][0] = sum_A w(A) [N_m(A) = 0]`` is the top coefficient in ``y`` of
@@ -397,7 +361,7 @@ def edge_residues(N: int, p: int, backend: str = "numba") -> np.ndarray:
     N = check_layers(N)
     n = N - 1
     p = check_prime(N, p)
-    K = kernel_module(backend)
+    K = kernel_module()
     out = np.zeros(n + 1, dtype=np.int64)
     if n == 0:
         return out

@@ -1,4 +1,8 @@
-"""The kernels of :mod:`.kernels` in pure Python integers: the reference of the compiled path.
+"""Private: the kernels of :mod:`.kernels` in pure Python integers, the tests' reference of the compiled path.
+
+A test oracle, not part of the library's interface: no function of the
+package imports it; the tests put it in place of the compiled kernels with
+``engine._oracle_kernels``.
 
 Same functions, same arguments (residues may be given as floats or ints),
 same results; written for clarity (textbook pair elimination, full

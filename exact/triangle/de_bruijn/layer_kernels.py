@@ -21,7 +21,7 @@ from the moments of ``chi`` in ``X = 1 - x`` (thresholds ``S' = 1 - t < T' = 1 -
 in one small matrix product (exact in ``float64``: at most ``2k + 2`` products
 of residues per sum) and ``O(n^3)`` for its Pfaffian.
 
-Residues are ``float64`` integers as in :mod:`.residues`, ``p < 2^22``.
+Residues are ``float64`` integers as in :mod:`forcenet.exact.triangle.residues`, ``p < 2^22``.
 """
 
 from __future__ import annotations
@@ -31,8 +31,7 @@ import numpy as np
 from forcenet.core.compiled import njit
 
 from .floor_kernels import add_node, grid_node, grid_outputs, pfaffian_lazy, scale_row
-from .kernels import pfaffian_mod
-from .residues import JIT, inv_mod, red
+from ..residues import JIT, inv_mod, pfaffian_mod, red
 
 __all__ = ["layer_fill", "layer_grid"]
 

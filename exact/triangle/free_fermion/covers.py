@@ -199,7 +199,7 @@ def cover_row_moments(N: int, i: int, **kwargs: Any) -> dict[int, list[Fraction]
     i : int
         A row of :func:`one_time_rows`: ``1``, ``2``, ``3`` or ``N - 1``.
     **kwargs
-        ``workers``, ``progress``, ``backend``, ``executor``, ``checkpoint`` of
+        ``workers``, ``progress``, ``executor``, ``checkpoint`` of
         :func:`~.partial_sums.partial_sum_moments` (results do not depend on them).
 
     Returns

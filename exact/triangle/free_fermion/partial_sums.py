@@ -41,9 +41,9 @@ from ...execution import as_executor
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_layers
 from ..staircase import dimension
-from .cost import primes_plan, prime_seconds, worker_bytes
-from .route import MAX_N, _survival_table
-from .tasks import checkpoint_store
+from ..prime_tasks import checkpoint_store
+from .cost import prime_seconds, worker_bytes
+from .route import MAX_N, route_plan, survival_tables
 
 __all__ = ["second_survival_tables", "entry_moments", "partial_sum_moments", "partial_sum_moments_plan"]
 
@@ -81,21 +81,21 @@ def partial_sum_moments_plan(N: int, *, memory_bytes: int | None = None, workers
 
     Examples
     --------
-    >>> from forcenet.exact.triangle.pfaffian.route import table_plan
+    >>> from forcenet.exact.triangle.free_fermion.route import mean_plan
     >>> plan = partial_sum_moments_plan(40)
-    >>> plan.runnable, plan.unit, plan.ticks > table_plan(40).ticks
+    >>> plan.runnable, plan.unit, plan.ticks > mean_plan(40).ticks
     (True, 'prime', True)
     """
     N = check_layers(N, maximum=MAX_N)
     n, d = N - 1, dimension(N)
     what = f"exact <S_ij^2> N={N} (Pfaffians: the mean's evaluations, a second level functional)"
     per_worker = worker_bytes(N, n + 2)
-    return primes_plan(what, N, prime_seconds(N), per_worker, workers, as_executor(executor),
-                       checkpoint_store(checkpoint, "table2", N), memory_bytes, entries=2 * n * n, lattice=False,
-                       bound_factor=(d + 2) // 2 + 1)
+    return route_plan(what, N, prime_seconds(N), per_worker, workers, as_executor(executor),
+                      checkpoint_store(checkpoint, "table2", N), memory_bytes, entries=2 * n * n, lattice=False,
+                      bound_factor=(d + 2) // 2 + 1)
 
 
-def second_survival_tables(N: int, *, workers: int | None = None, progress=None, backend: str = "numba",
+def second_survival_tables(N: int, *, workers: int | None = None, progress=None,
                            executor: Executor | None = None,
                            checkpoint: str | PathLike | CheckpointStore | None = None
                            ) -> tuple[list[list[int]], list[list[int]], int]:
@@ -105,8 +105,8 @@ def second_survival_tables(N: int, *, workers: int | None = None, progress=None,
     ----------
     N : int
         Number of layers, ``2..200``.
-    workers, progress, backend, executor, checkpoint
-        As in :func:`forcenet.exact.triangle.pfaffian.route.survival_table` (results do not depend on them).
+    workers, progress, executor, checkpoint
+        As in :func:`forcenet.exact.triangle.free_fermion.route.survival_table` (results do not depend on them).
 
     Returns
     -------
@@ -126,7 +126,7 @@ def second_survival_tables(N: int, *, workers: int | None = None, progress=None,
     (2, [7, 7, 0, 0], [16, 40, 0, 0])
     """
     N = check_layers(N, maximum=MAX_N)
-    (S, S2), total = _survival_table(N, workers, progress, backend, as_executor(executor), checkpoint, second=True)
+    (S, S2), total = survival_tables(N, workers, progress, as_executor(executor), checkpoint, second=True)
     return S, S2, total
 
 
@@ -140,7 +140,7 @@ def entry_moments(N: int, **kwargs: Any) -> dict[tuple[int, int], tuple[Fraction
     N : int
         Number of layers, ``2..200``.
     **kwargs
-        ``workers``, ``progress``, ``backend``, ``executor``, ``checkpoint`` of :func:`second_survival_tables`.
+        ``workers``, ``progress``, ``executor``, ``checkpoint`` of :func:`second_survival_tables`.
 
     Returns
     -------
@@ -181,7 +181,7 @@ def partial_sum_moments(N: int, **kwargs: Any) -> dict[int, Table]:
     N : int
         Number of layers, ``2..200``.
     **kwargs
-        ``workers``, ``progress``, ``backend``, ``executor``, ``checkpoint`` of :func:`second_survival_tables`.
+        ``workers``, ``progress``, ``executor``, ``checkpoint`` of :func:`second_survival_tables`.
 
     Returns
     -------

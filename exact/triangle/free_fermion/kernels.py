@@ -1,9 +1,9 @@
-"""Compiled kernels of the Pfaffian route: linear algebra modulo a prime ``p < 2^25`` (numba).
+"""Compiled kernels of the free-fermion route: linear algebra modulo a prime ``p < 2^25`` (numba).
 
-Residues are ``float64`` integers, reduced by the arithmetic of :mod:`.residues`
-(:func:`~.residues.red`, :func:`~.residues.lred`, :func:`~.residues.inv_mod`; the
-skew-symmetric elimination :func:`~.residues.skew_solve` for the kernel ``K(c)``,
-half the work of the general :func:`~.residues.solve` that :mod:`.dense` keeps).  Nothing here
+Residues are ``float64`` integers, reduced by the shared arithmetic of
+:mod:`forcenet.exact.triangle.residues` (``red``, ``lred``, ``inv_mod``; the
+skew-symmetric elimination ``skew_solve`` for the kernel ``K(c)``, half the
+work of the general ``solve`` that the dense test baseline keeps).  Nothing here
 rounds: every value is an exact integer, so the results are exact residues.
 
 The hot loop is :func:`point_values`: for every ``y`` the leading
@@ -23,14 +23,12 @@ rows never overlap and the vector loop runs without run-time alias checks
 ``notes/benchmarks.md``).  Bounds: loose residues are below ``2p`` in size,
 so every sum formed is below ``8 p^2 < 2^53``.
 
-The dense pair elimination that this replaced lives in :mod:`.dense` (the
-baseline of the benchmarks and a second route in the tests).
-
-Compiled on first use and cached on disk (:mod:`forcenet.core.compiled`); the pure-Python
-twin :mod:`.kernels_python` has the same functions and is the reference of
-the tests.  The ``O(M^2)`` weights of the level functional (:func:`dual_weights`,
-:func:`weighted_sum`: seconds at N = 200) run as compiled calls of ~0.15 s
-from Python, so Ctrl-C is seen between them.
+The dense pair elimination that this replaced is a private test and
+benchmark baseline of the package, beside a pure-Python twin of these
+functions (the reference of the tests).  A kernel module's interface
+(what :mod:`.engine` calls) includes the shared ``pfaffian_mod``,
+``dual_weights`` and ``weighted_sum`` of :mod:`forcenet.exact.triangle.residues`,
+named here.  Compiled on first use and cached on disk (:mod:`forcenet.core.compiled`).
 """
 
 from __future__ import annotations
@@ -40,47 +38,14 @@ from numba import uint64
 
 from forcenet.core.compiled import njit
 
-from forcenet.core.plan import chunks, first_chunk
 from forcenet.core.errors import ArgumentError
-from .residues import JIT, inv_mod, lred, red, skew_solve
+from ..residues import (JIT, dual_block, dual_weights, inv_mod, lagrange_matrix, lred, master_factors, pfaffian_mod, red,
+                        skew_solve, weighted_rows, weighted_sum)
 
 __all__ = ["pfaffian_mod", "point_values", "edge_values", "kernel_constants", "dual_weights", "lagrange_matrix", "weighted_sum", "LANES",
            "node_value", "master_factors", "dual_block", "weighted_rows"]
 
 LANES = 8  # values of y eliminated side by side
-
-
-@njit(**JIT)
-def pfaffian_mod(A, p):
-    """Pfaffian of the skew matrix ``A`` (residues, float64) modulo ``p``; ``A`` is overwritten."""
-    pinv = 1.0 / p
-    size = A.shape[0]
-    if size % 2:
-        return 0.0
-    result = 1.0
-    for k in range(0, size, 2):
-        piv = -1
-        for j in range(k + 1, size):
-            if A[k, j] != 0.0:
-                piv = j
-                break
-        if piv < 0:
-            return 0.0
-        if piv != k + 1:  # swap rows and columns k+1 <-> piv
-            for j in range(size):
-                A[k + 1, j], A[piv, j] = A[piv, j], A[k + 1, j]
-            for i in range(size):
-                A[i, k + 1], A[i, piv] = A[i, piv], A[i, k + 1]
-            result = red(-result, p, pinv)
-        a = A[k, k + 1]
-        result = red(result * a, p, pinv)
-        ainv = inv_mod(a, p, pinv)
-        for i in range(k + 2, size):
-            f1 = red(A[i, k + 1] * ainv, p, pinv)
-            f0 = red(A[i, k] * ainv, p, pinv)
-            for j in range(k + 2, size):
-                A[i, j] = red(A[i, j] + f0 * A[k + 1, j] - f1 * A[k, j], p, pinv)
-    return result
 
 
 @njit(inline="always", **JIT)
@@ -429,130 +394,3 @@ def edge_values(B, X1, expo, c, n, p, R, BC=None):
         for k in range(n):
             R[r, k] = out[r, k]
     return True
-
-
-@njit(**JIT)
-def _quotient_at(P, x, p, pinv, q):
-    """Synthetic division of the monic ``P`` (coefficients low to high) by ``(X - x)`` into ``q``."""
-    deg = P.shape[0] - 1
-    q[deg - 1] = 1.0
-    for k in range(deg - 1, 0, -1):
-        q[k - 1] = red(P[k] + x * q[k], p, pinv)
-
-
-@njit(**JIT)
-def master_factors(P, points, lo, hi, p, pinv):
-    """Multiply ``P`` (the product over ``points[:lo]``, low to high, length ``M + 1``) by ``X - points_i``, ``lo <= i < hi``."""
-    for i in range(lo, hi):
-        x = p - points[i]
-        for k in range(i + 1, 0, -1):
-            P[k] = red(P[k - 1] + x * P[k], p, pinv)
-        P[0] = red(x * P[0], p, pinv)
-
-
-@njit(**JIT)
-def _master(points, p, pinv):
-    """Coefficients (low to high) of ``prod_i (X - points_i)`` modulo ``p``."""
-    P = np.zeros(points.shape[0] + 1)
-    P[0] = 1.0
-    master_factors(P, points, 0, points.shape[0], p, pinv)
-    return P
-
-
-@njit(fastmath={"contract"}, **JIT)
-def dual_block(points, g, P, p, lo, hi, lam):
-    """``lam[lo:hi]`` of :func:`dual_weights` (``lo`` a multiple of 8), given the master polynomial ``P``."""
-    pinv = 1.0 / p
-    M = points.shape[0]
-    W = 8
-    x = np.empty(W)
-    q = np.empty(W)
-    num = np.empty(W)
-    den = np.empty(W)
-    for i0 in range(lo, hi, W):
-        for l in range(W):
-            x[l] = points[min(i0 + l, M - 1)]
-            q[l] = 1.0  # [X^(M-1)] Q_i
-            num[l] = 0.0
-            den[l] = 0.0
-        for k in range(M - 1, -1, -1):
-            gk = g[k]
-            Pk = P[k]
-            for l in range(W):
-                qk = q[l]
-                num[l] = lred(num[l] + gk * qk, p, pinv)
-                den[l] = lred(den[l] * x[l] + qk, p, pinv)
-                q[l] = lred(Pk + x[l] * qk, p, pinv)  # [X^(k-1)] Q_i
-        for l in range(min(W, hi - i0)):
-            lam[i0 + l] = red(red(num[l], p, pinv) * inv_mod(red(den[l], p, pinv), p, pinv), p, pinv)
-
-
-def dual_weights(points, g, p):
-    """``lam`` with ``sum_i lam_i points_i^l = g_l`` for ``l < M`` (transposed Vandermonde, O(M^2)).
-
-    ``lam_i = phi(L_i)`` for the Lagrange basis ``L_i`` and the functional
-    ``phi(X^l) = g_l``: with ``Q_i = P / (X - x_i)`` (``P`` the master
-    polynomial), ``lam_i = sum_k g_k [X^k] Q_i / Q_i(x_i)``.  The synthetic
-    division, the dot product and the Horner value run in one sweep over
-    ``k``, eight points side by side (independent recurrences, loose residues).
-    The master polynomial and the weights are computed in compiled calls of
-    ~0.15 s (:func:`forcenet.core.plan.chunks`: Ctrl-C is seen between them;
-    exact residues, so the cuts change nothing).
-    """
-    M = points.shape[0]
-    P = np.zeros(M + 1)
-    P[0] = 1.0
-    for lo, hi in chunks(M, first_chunk(2e-9 * M / 2)):
-        master_factors(P, points, lo, hi, p, 1.0 / p)
-    lam = np.empty(M)
-    for lo, hi in chunks((M + 7) // 8, first_chunk(2e-9 * 8 * M)):  # blocks of eight points
-        dual_block(points, g, P, p, 8 * lo, min(M, 8 * hi), lam)
-    return lam
-
-
-@njit(**JIT)
-def lagrange_matrix(points, p):
-    """``L[k, j]``: coefficient of ``X^k`` in the Lagrange basis polynomial of ``points_j`` (the inverse Vandermonde)."""
-    pinv = 1.0 / p
-    M = points.shape[0]
-    P = _master(points, p, pinv)
-    q = np.empty(M)
-    L = np.empty((M, M))
-    for j in range(M):
-        _quotient_at(P, points[j], p, pinv, q)
-        den = 0.0
-        for k in range(M - 1, -1, -1):
-            den = red(den * points[j] + q[k], p, pinv)
-        f = inv_mod(den, p, pinv)
-        for k in range(M):
-            L[k, j] = red(q[k] * f, p, pinv)
-    return L
-
-
-@njit(**JIT)
-def weighted_rows(w, R, p, lo, hi, out):
-    """``out += sum_(lo <= i < hi) w_i R[i]`` modulo ``p`` (``out`` reduced on entry and on return)."""
-    pinv = 1.0 / p
-    m, a, b = R.shape
-    chunk = max(1, min(64, int((2.0**53 - p) / (p * p))))  # lazy: p + chunk p^2 < 2^53
-    for i in range(lo, hi):
-        wi = w[i]
-        for x in range(a):
-            for y in range(b):
-                out[x, y] += wi * R[i, x, y]
-        if (i - lo) % chunk == chunk - 1:
-            for x in range(a):
-                for y in range(b):
-                    out[x, y] = red(out[x, y], p, pinv)
-    for x in range(a):
-        for y in range(b):
-            out[x, y] = red(out[x, y], p, pinv)
-
-
-def weighted_sum(w, R, p):
-    """``sum_i w_i R[i]`` modulo ``p`` for a stack ``R`` of shape ``(m, a, b)``, in compiled calls of ~0.15 s."""
-    m, a, b = R.shape
-    out = np.zeros((a, b))
-    for lo, hi in chunks(m, first_chunk(1e-9 * a * b)):
-        weighted_rows(w, R, p, lo, hi, out)
-    return out

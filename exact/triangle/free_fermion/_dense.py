@@ -1,4 +1,8 @@
-"""The dense baseline of the Pfaffian route: kernel matrices and pair eliminations in ``O(n^3)`` per ``y`` (numba).
+"""Private: the dense baseline of the free-fermion route, kernel matrices and pair eliminations in ``O(n^3)`` per ``y``.
+
+A test oracle and benchmark baseline, not part of the library's interface:
+no function of the package imports it; the tests and benchmarks put it in
+place of the compiled kernels with ``engine._oracle_kernels``.
 
 Before the displacement elimination of :mod:`.kernels`, every ``(q, y)`` cost
 one dense pair elimination of the ``2n``-square matrix ``J + D_u W D_u``
@@ -13,13 +17,13 @@ one dense pair elimination of the ``2n``-square matrix ``J + D_u W D_u``
 
 Entries of rows that are not yet pivot rows are *not* reduced: each
 elimination step adds less than ``2 p^2`` to an entry, so
-``p + 2 (n-1) p^2 < 2^53`` (:func:`forcenet.exact.triangle.pfaffian.engine.dense_prime_limit`)
+``p + 2 (n-1) p^2 < 2^53`` (:func:`forcenet.exact.triangle.free_fermion.cost.dense_prime_limit`)
 keeps every entry exact for the whole elimination, and the update is two
 multiply-adds on doubles (vectorised by LLVM).  A pivot row is reduced when
 its pivot is taken.
 
 It also carries the whole kernel interface of :mod:`.kernels` with
-``point_values`` = :func:`point_values_dense` (the engine's ``backend="dense"``).
+``point_values`` = :func:`point_values_dense`.
 """
 
 from __future__ import annotations
@@ -30,7 +34,7 @@ from numba import uint64
 from forcenet.core.compiled import njit
 
 from .kernels import dual_weights, edge_values, lagrange_matrix, node_value, pfaffian_mod, weighted_sum
-from .residues import JIT, inv_mod, red, solve
+from ..residues import JIT, inv_mod, red, solve
 
 __all__ = ["point_values_dense", "displacement_generators", "pfaffian_mod", "point_values", "edge_values", "dual_weights",
            "lagrange_matrix", "weighted_sum"]
@@ -284,5 +288,5 @@ def displacement_generators(Wt, n, p, F):
 
 
 # The kernel interface of :mod:`.kernels` with the dense elimination in place of the displacement one
-# (engine backend "dense"): every other kernel is shared.
+# (the engine with these kernels in place of the compiled ones): every other kernel is shared.
 point_values = point_values_dense

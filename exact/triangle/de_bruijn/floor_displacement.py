@@ -43,7 +43,7 @@ from numba import uint64
 
 from forcenet.core.compiled import njit
 
-from .residues import JIT, inv_mod, lred, red
+from ..residues import JIT, inv_mod, lred, red
 
 __all__ = ["STRIDE", "STREAMS", "bordered_pfaffians", "inverse_table", "lane_buffer"]
 

@@ -1,0 +1,176 @@
+"""Per-prime tasks, shared by the free-fermion and the de Bruijn routes: where they run, their checkpoint records,
+and the one plan of a run over primes with its constants.
+
+Both Pfaffian routes compute modulo word-size primes, one independent task
+per prime, and rebuild the exact integers by Chinese remaindering
+(:func:`forcenet.exact.modular.crt_many`).  The tasks run on an executor by
+:func:`forcenet.exact.execution.run_tasks`: any
+:class:`concurrent.futures.Executor` (a Dask cluster's included), else a
+local process pool when the run pays for starting it
+(:data:`PARALLEL_MIN_SECONDS`), else this process.  :func:`primes_plan` is
+the plan of such a run, the executor's workers counted; each route supplies
+its CPU seconds per prime, its bytes per worker and its compiled kernels.
+
+Examples
+--------
+>>> plan = primes_plan("x", 2.0, 10, 2**20, workers=2)
+>>> plan.ticks, plan.unit, plan.seconds == 2 * STARTUP_SECONDS + 5 * 2.0
+(10, 'prime', True)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from concurrent.futures import Executor
+from os import PathLike
+from typing import Any
+
+from forcenet.core.plan import Plan
+from forcenet.core.validation import check_int
+from ..checkpoints import CheckpointStore
+from ..execution import as_executor, available_cores, executor_label, executor_workers, run_tasks, wall_seconds
+
+__all__ = ["STARTUP_SECONDS", "WORKER_BASE_BYTES", "WORKER_TASK_SECONDS", "CLIENT_TASK_SECONDS",
+           "PARALLEL_MIN_SECONDS", "ROUTES", "checkpoint_store", "run_primes", "workers_for", "primes_plan"]
+
+STARTUP_SECONDS = 1.5  # numba import and loading the cached kernels (first compilation ever: ~10 s more)
+WORKER_BASE_BYTES = 160 * 2**20  # a worker process: the interpreter, numpy and the loaded kernels
+# a Dask cluster's cost per task on loopback (notes/benchmarks.md, `python benchmarks/cluster.py overhead 200`):
+WORKER_TASK_SECONDS = 0.0102  # on the worker, in parallel with the other workers
+CLIENT_TASK_SECONDS = 0.0075  # in the client, the scheduler and the nanny, one task after the other
+PARALLEL_MIN_SECONDS = 20.0  # below this, starting workers (numba import, ~3 s each) costs more than it saves
+ROUTES = {"count": "pfaffian-count", "table": "pfaffian-table", "table2": "pfaffian-table-second",
+          "lattice": "pfaffian-lattice",
+          "floor": "pfaffian-floor", "floor-grains": "pfaffian-floor-grains",
+          "layer": "pfaffian-layer", "layer-grains": "pfaffian-layer-grains"}  # checkpoint names (a layer's: + i)
+
+
+def checkpoint_store(checkpoint: str | PathLike | CheckpointStore | None, route: str, N: int,
+                     layer: int | None = None) -> CheckpointStore | None:
+    """The checkpoint store of one request of ``route`` (a key of :data:`ROUTES`, with the ``layer`` of a layer's
+    route): None, from a directory, or a given store (reused when it is this request's, else its directory and
+    report).
+
+    Examples
+    --------
+    >>> checkpoint_store(None, "table", 12) is None
+    True
+    """
+    if checkpoint is None:
+        return None
+    name = ROUTES[route] + ("" if layer is None else f"{int(layer)}")
+    if isinstance(checkpoint, CheckpointStore):
+        if checkpoint.request["route"] == name and checkpoint.request["N"] == N:
+            return checkpoint
+        return CheckpointStore(checkpoint.directory, name, N, report=checkpoint.report)
+    return CheckpointStore(checkpoint, name, N)
+
+
+def run_primes(function: Callable[..., Any], tasks: Sequence[tuple], executor: Executor | None, nworkers: int,
+               progress: Callable[..., Any] | None, store: CheckpointStore | None) -> list:
+    """``[function(*task)]`` over the tasks (``task[1]`` is the prime, the checkpoint key), in task order.
+
+    On ``executor``, else in ``nworkers`` local processes (spawn: the parent
+    may hold threads, the children load the cached kernels).
+
+    Examples
+    --------
+    >>> from operator import mul
+    >>> run_primes(mul, [(2, 3), (2, 5)], None, 1, None, None)
+    [6, 10]
+    """
+    return run_tasks(function, tasks, executor=executor, workers=nworkers, progress=progress, store=store,
+                     keys=[task[1] for task in tasks])
+
+
+def workers_for(workers: int | None, tasks: int, seconds: float, executor: Executor | None = None) -> int:
+    """Tasks run at once: the executor's workers, else ``workers`` local processes (default: the available cores
+    when ``seconds`` of CPU pay for starting them, else 1), never more than ``tasks``.
+
+    Examples
+    --------
+    >>> workers_for(None, 40, 1.0)
+    1
+    >>> workers_for(3, 2, 100.0)
+    2
+    """
+    if executor is not None:
+        return max(1, executor_workers(as_executor(executor)) or 1)
+    if workers is None:
+        workers = available_cores() if seconds >= PARALLEL_MIN_SECONDS else 1
+    workers = check_int(workers, "workers", 1)
+    return max(1, min(workers, tasks))
+
+
+def primes_plan(what: str, per_prime: float, nprimes: int, per_worker: int, *, workers: int | None = None,
+                executor: Executor | None = None, store: CheckpointStore | None = None, reused: int = 0,
+                crt_seconds: float = 0.0, memory_bytes: int | None = None,
+                compile: Callable[[Plan], Plan] | None = None) -> Plan:
+    """The plan of a run over ``nprimes`` primes, one tick per prime: the one formula of every route over primes.
+
+    ``per_prime`` CPU seconds each, the ``reused`` primes (recorded in
+    ``store``) not counted, spread over the workers (:func:`workers_for`:
+    those of ``executor``, else local processes) in rounds
+    (:func:`~forcenet.exact.execution.wall_seconds`, with the scheduler's
+    cost per task on an executor, whose serial share in the client bounds
+    the run from below); the start-up of this process and of the workers;
+    then ``crt_seconds`` in the client (the Chinese remaindering).  Memory:
+    ``per_worker`` bytes per local worker (a cluster's workers hold their
+    share on their own machines); ``compile`` adds compiling the kernels when
+    the run is local (a cluster's workers compile on their own machines);
+    refused beyond ``memory_bytes``.
+
+    Parameters
+    ----------
+    what : str
+        What the plan computes (its announcement).
+    per_prime : float
+        CPU seconds of one prime on the reference machine.
+    nprimes : int
+        Primes of the run.
+    per_worker : int
+        Peak bytes of one worker.
+    workers : int, optional
+        Local worker processes (default: the cores when the run pays for them).
+    executor : concurrent.futures.Executor or Dask Client, optional
+        Runs the tasks; the plan counts its workers.
+    store : CheckpointStore, optional
+        The run's checkpoints (named in the announcement).
+    reused : int
+        Primes already recorded in ``store``.
+    crt_seconds : float
+        The client's seconds after the primes.
+    memory_bytes : int, optional
+        Memory available to the run (None: not checked).
+    compile : callable, optional
+        ``compile(plan)``: the plan plus compiling the route's kernels (a local run only).
+
+    Returns
+    -------
+    Plan
+
+    Examples
+    --------
+    >>> from concurrent.futures import ThreadPoolExecutor
+    >>> with ThreadPoolExecutor(max_workers=4) as pool:
+    ...     on_four = primes_plan("x", 10.0, 8, 2**20, executor=pool)
+    >>> primes_plan("x", 10.0, 8, 2**20, workers=1).seconds > on_four.seconds
+    True
+    """
+    todo = nprimes - reused
+    executor = as_executor(executor)
+    nworkers = workers_for(workers, max(1, todo), per_prime * todo, executor)
+    overhead = WORKER_TASK_SECONDS if executor is not None else 0.0
+    work = wall_seconds(per_prime, todo, nworkers, overhead)
+    if executor is not None:  # the scheduler's serial share bounds the run from below
+        work = max(work, CLIENT_TASK_SECONDS * todo)
+    seconds = STARTUP_SECONDS * (1 + (nworkers > 1)) + work + crt_seconds
+    if executor is not None:
+        what += f" on {nworkers} worker{'s' if nworkers > 1 else ''} of {executor_label(executor)}"
+    if store is not None:
+        what += f"; checkpoints in {store.path}: {reused} of {nprimes} primes recorded"
+    local = 1 if executor is not None else nworkers  # a cluster's workers hold their share on their own machines
+    plan = Plan(what, seconds, local * per_worker, nprimes, "prime").within_memory(memory_bytes)
+    if executor is None and compile is not None:  # the workers compile (or load) the kernels on their own machines
+        plan = compile(plan)
+    return plan

@@ -473,7 +473,13 @@ def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, exe
     >>> table_plan(201).refusal
     'N=201 is out of range for --method pfaffian: N must be an integer in 2..200'
     """
-    N, moments = check_layers(N), check_moments(moments)
+    return trusted_plan(check_layers(N), check_moments(moments), memory_bytes=memory_bytes, executor=executor,
+                        workers=workers, checkpoint=checkpoint)
+
+
+def trusted_plan(N: int, moments: int, *, memory_bytes: int | None = None, executor: Executor | None = None,
+                 workers: int | None = None, checkpoint: Checkpoint = None) -> Plan:
+    """:func:`table_plan` for arguments its caller checked (the registry, :mod:`forcenet.exact.routes`)."""
     if moments > 1:  # every load's gap law, layer by layer (de Bruijn Pfaffians)
         return moments_plan(N, moments, memory_bytes=memory_bytes, workers=workers)
     what = f"exact table N={N} (Pfaffians)"
@@ -528,11 +534,17 @@ def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, prog
     ['1/11', '1/4', '7/22', '1/4', '1/11']
     """
     N, moments = check_layers(N), check_moments(moments)
+    if N > MAX_N or memory_bytes is not None:  # else planned by moments_run (moments > 1), or nothing to refuse
+        trusted_plan(N, moments, memory_bytes=memory_bytes, executor=executor, workers=workers,
+                     checkpoint=checkpoint).check()
+    return trusted_run(N, moments, None, progress=progress, executor=executor, workers=workers, checkpoint=checkpoint)
+
+
+def trusted_run(N: int, moments: int, plan: Plan | None, *, memory_bytes: int | None = None,
+                progress: Progress | None = None, executor: Executor | None = None, workers: int | None = None,
+                checkpoint: Checkpoint = None) -> dict[int, Table]:
+    """:func:`table_run` for arguments its caller checked, after its plan (:func:`trusted_plan`) was checked."""
     if moments > 1:
-        return moments_run(N, moments, memory_bytes=memory_bytes, progress=progress, executor=executor,
-                           workers=workers, checkpoint=checkpoint)
-    if N > MAX_N or memory_bytes is not None:
-        table_plan(N, moments, memory_bytes=memory_bytes, executor=executor, workers=workers,
-                   checkpoint=checkpoint).check()
+        return moments_run(N, moments, progress=progress, executor=executor, workers=workers, checkpoint=checkpoint)
     (S,), total = _survival_table(N, workers, progress, "numba", as_executor(executor), checkpoint)
     return {1: _table_from_survival(N, S, total)}

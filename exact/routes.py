@@ -224,7 +224,7 @@ def _engine_options(method: str, request: Request) -> dict[str, Any]:
 
 def _plan(method: str, request: Request) -> Plan:
     """The engine's plan of a checked request (its trusted face: nothing is checked again)."""
-    return ENGINES[method].trusted_plan(request.N, request.moments, memory_bytes=request.memory_bytes,  # type: ignore[call-arg]
+    return ENGINES[method].trusted_plan(request.N, request.moments, memory_bytes=request.memory_bytes,
                                         executor=request.executor, **_engine_options(method, request))
 
 
@@ -345,7 +345,7 @@ def run_request(request: Request, choice: Choice, progress: Progress | None = No
     ['1/11', '1/4', '7/22', '1/4', '1/11']
     """
     choice.plan.check()
-    return ENGINES[choice.method].trusted_run(  # type: ignore[call-arg]
+    return ENGINES[choice.method].trusted_run(
         request.N, request.moments, choice.plan, memory_bytes=request.memory_bytes, progress=progress,
         executor=request.executor, **_engine_options(choice.method, request))
 

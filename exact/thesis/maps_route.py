@@ -13,7 +13,7 @@ from forcenet.core.plan import Plan, combine, table_range
 from ..protocol import Progress, Table, run_independent
 from .map_counting import mean_W_thesis_maps, moments_by_maps
 
-__all__ = ["table_plan", "table_run"]
+__all__ = ["table_plan", "table_run", "trusted_plan", "trusted_run"]
 
 # ------------------------------------------------------ the table route: plan and run
 

@@ -11,7 +11,7 @@ from forcenet.core.plan import Plan, table_range
 from ..protocol import Progress, Table, run_independent
 from .nested import integrate_layers, moment_table_nested
 
-__all__ = ["table_plan", "table_run"]
+__all__ = ["table_plan", "table_run", "trusted_plan", "trusted_run"]
 
 # ------------------------------------------------------ the table route: plan and run
 

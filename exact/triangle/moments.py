@@ -51,6 +51,8 @@ __all__ = [
     "moment_table_plan",
     "table_plan",
     "table_run",
+    "trusted_plan",
+    "trusted_run",
 ]
 
 

@@ -63,6 +63,8 @@ __all__ = [
     "lattice_direction_plan",
     "table_plan",
     "table_run",
+    "trusted_plan",
+    "trusted_run",
 ]
 
 MAX_N = 200

@@ -90,10 +90,24 @@ class Request:
 
 def check_request(N: int, moments: int = 1, method: str = "auto", *, row: int | None = None,
                   memory_bytes: int | None = None, executor: Executor | None = None, **options: Any) -> Request:
-    """The one check of a table request (arguments of :func:`table_plan`; ``row``, of :func:`choose_row`).
+    """The one check of a table request: each argument once, at the entry; behind it everything trusts it.
 
-    Raises ArgumentError (ArgumentTypeError) naming an argument out of range (of the wrong type).
+    Parameters
+    ----------
+    N, moments, method, memory_bytes, executor, options
+        As in :func:`table_plan`; ``row``, as in :func:`choose_row` (None: the whole table).
 
+    Returns
+    -------
+    Request
+
+    Raises
+    ------
+    ArgumentError, ArgumentTypeError
+        Naming the argument out of range, or of the wrong type, and its range.
+
+    Examples
+    --------
     >>> check_request(12, 2, "fast").moments
     2
     >>> check_request(12, method="fastest")  # doctest: +ELLIPSIS
@@ -104,8 +118,8 @@ def check_request(N: int, moments: int = 1, method: str = "auto", *, row: int | 
     N, moments = check_layers(N), check_moments(moments)
     if not isinstance(method, str):
         raise ArgumentTypeError(f"method={method!r} is not a string: method must be one of {', '.join(METHODS)}")
-    if method not in METHODS:
-        raise ArgumentError(f"method={method!r} is out of range: method must be one of {', '.join(METHODS)}")
+    if method != "auto":
+        _engine(method)  # refuses an unknown name
     row = None if row is None else check_int(row, "row", 1, N)
     memory_bytes = None if memory_bytes is None else check_int(memory_bytes, "memory_bytes", 0)
     given = {k: v for k, v in options.items() if v is not None}

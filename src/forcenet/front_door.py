@@ -242,7 +242,6 @@ class TablePlan:
         return Table(self.N, self.method, self.why, tables)
 
 
-
 def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor | None = None,
          checkpoint: str | os.PathLike[str] | None = None, memory_bytes: int | None = None,
          row: int | None = None) -> TablePlan:

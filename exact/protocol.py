@@ -13,6 +13,21 @@ the same two functions and the same arguments (:class:`TableEngine`):
     ticks; a run whose plan ``memory_bytes`` refuses raises
     :class:`~forcenet.core.errors.ArgumentError` before it starts.
 
+Behind them, the trusted pair the registry (:mod:`forcenet.exact.routes`)
+calls, once it has checked the request (:func:`~forcenet.exact.routes.check_request`)
+and the plan:
+
+``trusted_plan(N, moments, *, memory_bytes=None, executor=None) -> Plan``
+    :func:`table_plan` without the argument checks.
+``trusted_run(N, moments, plan, *, memory_bytes=None, progress=None, executor=None) -> {s: table}``
+    :func:`table_run` without the argument checks, the plan made and
+    checked by the caller (its ticks weigh the tasks).
+
+The public pair is a thin validating face over the trusted one: it checks
+``N`` and ``moments``, plans, checks the plan, and runs (so a user calling
+an engine alone is refused as before), while a request through the registry
+is checked and planned once.
+
 ``executor`` runs the method's independent tasks (:func:`run_independent`):
 any :class:`concurrent.futures.Executor` (a Dask client's
 ``get_executor()`` plugs in), or None for the method's default: the local
@@ -96,6 +111,12 @@ class TableEngine(Protocol):
 
     def table_run(self, N: int, moments: int = 1, *, memory_bytes: int | None = None, progress: Progress | None = None,
                   executor: Executor | None = None) -> dict[int, Table]: ...
+
+    def trusted_plan(self, N: int, moments: int, *, memory_bytes: int | None = None,
+                     executor: Executor | None = None) -> Plan: ...
+
+    def trusted_run(self, N: int, moments: int, plan: Plan, *, memory_bytes: int | None = None,
+                    progress: Progress | None = None, executor: Executor | None = None) -> dict[int, Table]: ...
 
 
 def _call(function: Callable[..., Any], args: tuple, kwargs: dict) -> Any:

@@ -14,6 +14,11 @@ auto       the fastest runnable of the five, by their plans (the default)
 Every engine module has the same ``table_plan``/``table_run`` pair
 (:class:`forcenet.exact.protocol.TableEngine`) and owns its cost knowledge;
 this module only looks the method up, and for ``auto`` compares the plans.
+It alone checks a request (:func:`check_request`: ``N``, ``moments``,
+``method``, ``row``, ``memory_bytes``, once), plans it once
+(:func:`plan_request`) and checks the plan before the run
+(:func:`run_request`); the engines' trusted pair (``trusted_plan``,
+``trusted_run``) receives the checked arguments.
 
 One row of the moment tables (``forcenet table --row i``, :func:`row_plan`,
 :func:`row_run`) has routes of its own (:func:`choose_row`): the one-time
@@ -40,12 +45,12 @@ True
 from __future__ import annotations
 
 from concurrent.futures import Executor
-from dataclasses import replace
+from dataclasses import dataclass, field, replace
 from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any, NamedTuple
 
-from forcenet.core.errors import ArgumentError
+from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan, duration_text
 from .protocol import Progress, Table, TableEngine
 from .thesis import lambda_route, maps_route, nested_route
@@ -53,8 +58,9 @@ from .triangle import moments as ideal_moments
 from .triangle import pfaffian_table as pfaffian_route
 from forcenet.core.validation import MAX_MOMENTS, check_int, check_layers, check_moments
 
-__all__ = ["ENGINES", "METHODS", "MAX_MOMENTS", "Choice", "choose", "table_plan", "table_run", "takes",
-           "checkpoint_for", "ROW_ROUTES", "ROW_PRIME_ROUTES", "RowChoice", "choose_row", "row_plan", "row_run"]
+__all__ = ["ENGINES", "METHODS", "MAX_MOMENTS", "Choice", "Request", "check_request", "plan_request", "run_request",
+           "choose", "table_plan", "table_run", "takes", "checkpoint_for", "ROW_ROUTES", "ROW_PRIME_ROUTES", "RowChoice",
+           "plan_row", "run_row", "choose_row", "row_plan", "row_run"]
 
 ENGINES: dict[str, TableEngine] = {
     "fast": ideal_moments,
@@ -64,6 +70,60 @@ ENGINES: dict[str, TableEngine] = {
     "pfaffian": pfaffian_route,
 }
 METHODS = (*ENGINES, "auto")
+
+
+@dataclass(frozen=True)
+class Request:
+    """A checked table request (:func:`check_request` makes it), planned and run trusted: ``options``, the engine
+    options given; ``directory``, where each engine keeping checkpoints makes its store, once (``stores``)."""
+
+    N: int
+    moments: int = 1
+    method: str = "auto"
+    memory_bytes: int | None = None
+    executor: Executor | None = None
+    options: dict[str, Any] = field(default_factory=dict)
+    row: int | None = None
+    directory: str | None = None
+    stores: dict[str, Any] = field(default_factory=dict, compare=False, repr=False)
+
+
+def check_request(N: int, moments: int = 1, method: str = "auto", *, row: int | None = None,
+                  memory_bytes: int | None = None, executor: Executor | None = None, **options: Any) -> Request:
+    """The one check of a table request: each argument once, at the entry; behind it everything trusts it.
+
+    Parameters
+    ----------
+    N, moments, method, memory_bytes, executor, options
+        As in :func:`table_plan`; ``row``, as in :func:`choose_row` (None: the whole table).
+
+    Returns
+    -------
+    Request
+
+    Raises
+    ------
+    ArgumentError, ArgumentTypeError
+        Naming the argument out of range, or of the wrong type, and its range.
+
+    Examples
+    --------
+    >>> check_request(12, 2, "fast").moments
+    2
+    >>> check_request(12, method="fastest")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    forcenet.core.errors.ArgumentError: method='fastest' is out of range: method must be one of fast, ...
+    """
+    N, moments = check_layers(N), check_moments(moments)
+    if not isinstance(method, str):
+        raise ArgumentTypeError(f"method={method!r} is not a string: method must be one of {', '.join(METHODS)}")
+    if method != "auto":
+        _engine(method)  # refuses an unknown name
+    row = None if row is None else check_int(row, "row", 1, N)
+    memory_bytes = None if memory_bytes is None else check_int(memory_bytes, "memory_bytes", 0)
+    given = {k: v for k, v in options.items() if v is not None}
+    return Request(N, moments, method, memory_bytes, executor, given, row)
 
 
 def _engine(method: str) -> TableEngine:
@@ -163,8 +223,28 @@ def choose(N: int, moments: int = 1, *, memory_bytes: int | None = None, executo
     >>> choose(8, moments=2).method
     'fast'
     """
-    N, moments = check_layers(N), check_moments(moments)  # once for the candidates (each checks again when called alone)
-    given = {k: v for k, v in options.items() if v is not None}
+    return _choose(check_request(N, moments, memory_bytes=memory_bytes, executor=executor, **options), methods)
+
+
+def _engine_options(method: str, request: Request) -> dict[str, Any]:
+    """The options ``method``'s engine is given: the request's, with its checkpoint store made once from
+    ``request.directory``."""
+    if request.directory is None:
+        return request.options
+    if method not in request.stores:
+        request.stores[method] = checkpoint_for(method, request.directory, request.N, request.moments)
+    return {**request.options, "checkpoint": request.stores[method]}
+
+
+def _plan(method: str, request: Request) -> Plan:
+    """The engine's plan of a checked request (its trusted face: nothing is checked again)."""
+    return ENGINES[method].trusted_plan(request.N, request.moments, memory_bytes=request.memory_bytes,
+                                        executor=request.executor, **_engine_options(method, request))
+
+
+def _choose(request: Request, methods: Sequence[str] | None = None) -> Choice:
+    """:func:`choose` for a checked request."""
+    given = request.options
     candidates = [m for m in (ENGINES if methods is None else methods)
                   if all(takes(m, k) for k in given)]
     if not candidates:
@@ -177,7 +257,7 @@ def choose(N: int, moments: int = 1, *, memory_bytes: int | None = None, executo
         if floor and any(p.runnable and p.seconds <= floor for p in plans.values()):
             slower.append(f"{m} >= {duration_text(floor)}")
             continue
-        plans[m] = ENGINES[m].table_plan(N, moments, memory_bytes=memory_bytes, executor=executor, **given)
+        plans[m] = _plan(m, request)
     runnable = {m: p for m, p in plans.items() if p.runnable}
     if not runnable:  # every refusal, so the user sees each route's reach
         reasons = "; ".join(dict.fromkeys(p.refusal for p in plans.values() if p.refusal))
@@ -224,11 +304,8 @@ def table_plan(method: str, N: int, moments: int = 1, memory_bytes: int | None =
     >>> table_plan("lambda", 13).refusal
     'N=13 is out of range for --method lambda: N must be an integer in 2..12 (the index boxes of (4.32) outgrow memory)'
     """
-    if method == "auto":
-        choice = choose(N, moments, memory_bytes=memory_bytes, executor=executor, **options)
-        return replace(choice.plan, what=f"{choice.plan.what}; {choice.why}") if choice.why else choice.plan
-    engine = _engine(method)  # the engine checks N and moments at its boundary
-    return engine.table_plan(N, moments, memory_bytes=memory_bytes, executor=executor, **_options(method, options))
+    choice = plan_request(check_request(N, moments, method, memory_bytes=memory_bytes, executor=executor, **options))
+    return replace(choice.plan, what=f"{choice.plan.what}; {choice.why}") if choice.why else choice.plan
 
 
 def table_run(method: str, N: int, moments: int = 1, progress: Progress | None = None,
@@ -257,11 +334,34 @@ def table_run(method: str, N: int, moments: int = 1, progress: Progress | None =
     >>> table_run("auto", 4, 2)[2][-1] == table_run("thesis", 4, 2)[2][-1]
     True
     """
-    if method == "auto":
-        method = choose(N, moments, memory_bytes=memory_bytes, executor=executor, **options).method
-    engine = _engine(method)  # the engine checks N and moments at its boundary
-    return engine.table_run(N, moments, memory_bytes=memory_bytes, progress=progress, executor=executor,
-                            **_options(method, options))
+    request = check_request(N, moments, method, memory_bytes=memory_bytes, executor=executor, **options)
+    return run_request(request, plan_request(request), progress)
+
+
+def plan_request(request: Request, methods: Sequence[str] | None = None) -> Choice:
+    """The plan of a checked request, made once: ``auto``'s choice among ``methods`` (default: all), or the method's.
+
+    >>> plan_request(check_request(9, method="fast")).plan.runnable
+    True
+    """
+    if request.method == "auto":
+        return _choose(request, methods)
+    _options(request.method, request.options)  # refuses an option the method does not take
+    return Choice(request.method, _plan(request.method, request), "")
+
+
+def run_request(request: Request, choice: Choice, progress: Progress | None = None) -> dict[int, Table]:
+    """Run the plan :func:`plan_request` made (not made again); the one place a run checks its plan: a refused
+    plan raises ArgumentError before any work.
+
+    >>> request = check_request(5, method="lambda")
+    >>> [str(x) for x in run_request(request, plan_request(request))[1][-1]]
+    ['1/11', '1/4', '7/22', '1/4', '1/11']
+    """
+    choice.plan.check()
+    return ENGINES[choice.method].trusted_run(
+        request.N, request.moments, choice.plan, memory_bytes=request.memory_bytes, progress=progress,
+        executor=request.executor, **_engine_options(choice.method, request))
 
 
 # ------------------------------------------------------------------ one row: forcenet table --row i
@@ -278,16 +378,18 @@ class RowChoice(NamedTuple):
     why: str
 
 
-def _row_candidates(method: str, N: int, row: int, moments: int, memory_bytes: int | None,
-                    executor: Executor | None, options: dict[str, Any]) -> dict[str, Plan]:
-    """Every route's plan for row ``row`` under ``method`` (``auto``: the row routes and the other tables)."""
+def _row_candidates(request: Request) -> dict[str, Plan]:
+    """Every route's plan for the checked request's row (``auto``: the row routes and the other tables)."""
     from .triangle.free_fermion.covers import cover_row_plan, one_time_rows
     from .triangle.de_bruijn.floor import MAX_FLOOR_N, floor_plan
     from .triangle.free_fermion.fluctuations import lattice_gap_laws_plan
     from .triangle.de_bruijn.layers import layer_plan
 
+    method, N, moments, memory_bytes, executor = (request.method, request.N, request.moments, request.memory_bytes,
+                                                  request.executor)
+    row, options = request.row or 1, request.options  # a row's request has its row (check_request)
     if method not in ("auto", "pfaffian"):  # a table method: its whole table, one row kept
-        plan = table_plan(method, N, moments, memory_bytes, executor=executor, **options)
+        plan = _plan(method, request)
         return {method: replace(plan, what=f"row {row} of the {plan.what}")}
     what = f"row {row} of <W^s>, s <= {moments}, N={N}"
     if row == 1:
@@ -295,7 +397,7 @@ def _row_candidates(method: str, N: int, row: int, moments: int, memory_bytes: i
     plans: dict[str, Plan] = {}
     workers, checkpoint = options.get("workers"), options.get("checkpoint")
     if moments == 1:  # the mean: one row of the one-time mean table
-        plans["pfaffian"] = table_plan("pfaffian", N, 1, memory_bytes, executor=executor, **options)
+        plans["pfaffian"] = _plan("pfaffian", request)
     elif moments == 2 and row in one_time_rows(N):
         plans["covers"] = cover_row_plan(N, row, memory_bytes=memory_bytes, workers=workers, executor=executor,
                                          checkpoint=checkpoint)
@@ -311,7 +413,7 @@ def _row_candidates(method: str, N: int, row: int, moments: int, memory_bytes: i
     plans[name] = replace(plan, what=f"{what} (two-time: layer {row}'s gap laws, de Bruijn Pfaffians)")
     if method == "auto" and not options:  # the other methods' whole tables
         others = [m for m in ENGINES if m != "pfaffian"]
-        choice = choose(N, moments, memory_bytes=memory_bytes, executor=executor, methods=others)
+        choice = _choose(request, others)
         if choice.plan.runnable:
             plans[choice.method] = replace(choice.plan, what=f"row {row} of the {choice.plan.what}")
     return plans
@@ -364,14 +466,19 @@ def choose_row(method: str, N: int, row: int, moments: int = 2, *, memory_bytes:
     >>> choose_row("pfaffian", 40, 39, 2).why  # doctest: +ELLIPSIS
     'row 39: covers, the fastest by the plans (covers ~..., layers ~...)'
     """
-    N, moments = check_layers(N), check_moments(moments)
-    row = check_int(row, "row", 1, N)
-    if method != "auto":
-        _engine(method)  # refuses an unknown name
-    given = {k: v for k, v in options.items() if v is not None}
-    if method not in ("auto", "pfaffian"):
-        given = _options(method, given)
-    plans = _row_candidates(method, N, row, moments, memory_bytes, executor, given)
+    return plan_row(check_request(N, moments, method, row=row, memory_bytes=memory_bytes, executor=executor, **options))
+
+
+def plan_row(request: Request) -> RowChoice:
+    """:func:`choose_row` for a checked request with its ``row`` (:func:`check_request`): nothing checked again.
+
+    >>> plan_row(check_request(40, 2, "pfaffian", row=39)).route
+    'covers'
+    """
+    if request.method not in ("auto", "pfaffian"):
+        _options(request.method, request.options)  # refuses an option the method does not take
+    plans = _row_candidates(request)
+    row = request.row
     runnable = {name: plan for name, plan in plans.items() if plan.runnable}
     if not runnable:
         first = next(iter(plans))
@@ -428,16 +535,27 @@ def row_run(method: str, N: int, row: int, moments: int = 2, progress: Progress 
     >>> row_run("pfaffian", 7, 6, 2) == {s: t[5] for s, t in table_run("fast", 7, 2).items()}
     True
     """
+    request = check_request(N, moments, method, row=row, memory_bytes=memory_bytes, executor=executor, **options)
+    choice = plan_row(request)
+    return run_row(request, choice if route is None else choice._replace(route=route), progress)
+
+
+def run_row(request: Request, choice: RowChoice, progress: Progress | None = None) -> dict[int, list[Fraction]]:
+    """Run the row route :func:`plan_row` chose for a checked request (not chosen again); its plan is checked here,
+    as in :func:`run_request`.
+
+    >>> request = check_request(5, 2, "auto", row=4)
+    >>> [str(x) for x in run_row(request, choose_row("auto", 5, 4, 2))[2]]
+    ['1/22', '4/33', '4/33', '1/22']
+    """
     from .triangle.distribution import moment_from_gaps
     from .triangle.free_fermion.covers import cover_row_moments
     from .triangle.free_fermion.fluctuations import grain_gap_law
     from .triangle.pfaffian_table import every_load_gap_law
 
-    choice = choose_row(method, N, row, moments, memory_bytes=memory_bytes, executor=executor, **options)
-    if route is None or memory_bytes is not None:
-        choice.plan.check()
-    route = choice.route if route is None else route
-    given = {k: v for k, v in options.items() if v is not None}
+    choice.plan.check()
+    N, row, moments, route, executor = request.N, request.row or 1, request.moments, choice.route, request.executor
+    given = request.options
     if route == "apex":
         return {s: [Fraction(1)] for s in range(1, moments + 1)}
     if route == "covers":
@@ -449,5 +567,5 @@ def row_run(method: str, N: int, row: int, moments: int = 2, progress: Progress 
     if route in ("layers", "floor"):
         laws = every_load_gap_law(N, row, progress=progress, executor=executor, **given)
         return {s: [moment_from_gaps(laws[j], s) for j in range(1, row + 1)] for s in range(1, moments + 1)}
-    tables = table_run(route, N, moments, progress, memory_bytes, executor=executor, **given)
+    tables = run_request(replace(request, method=route), Choice(route, choice.plan, ""), progress)
     return {s: table[row - 1] for s, table in tables.items()}

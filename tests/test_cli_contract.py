@@ -351,14 +351,14 @@ def test_14_the_cross_check_has_a_stated_false_alarm_rate(sandbox, capsys, monke
 
     from forcenet.exact import routes
 
-    real_run = routes.table_run
+    real_run = routes.run_request
 
-    def biased(method, N, moments=1, progress=None, memory_bytes=None, **options):
-        tables = real_run(method, N, moments, progress, memory_bytes, **options)
-        tables[1][N - 1][0] += Fraction(1, 50)
-        tables[1][N - 1][1] -= Fraction(1, 50)
+    def biased(request, choice, progress=None):
+        tables = real_run(request, choice, progress)
+        tables[1][request.N - 1][0] += Fraction(1, 50)
+        tables[1][request.N - 1][1] -= Fraction(1, 50)
         return tables
 
-    monkeypatch.setattr(routes, "table_run", biased)
+    monkeypatch.setattr(routes, "run_request", biased)
     code, out, _ = run(["table", "--N", "6", "--samples", "4000", "--seed", "2006", "--out-dir", "t2"], capsys)
     assert code == 3 and "DISAGREES" in out  # 3: DISAGREES, never confused with a bug (1)

@@ -96,14 +96,17 @@ def test_bad_requests_are_refused_by_the_family(kwargs, error):
 def test_a_plan_computes_nothing_and_runs_as_planned(monkeypatch):
     from forcenet.exact import routes
 
-    calls = []
-    real = routes.table_run
-    monkeypatch.setattr(routes, "table_run", lambda *a, **k: calls.append(a) or real(*a, **k))
+    calls, plans = [], []
+    real, real_plan = routes.run_request, routes.ENGINES["thesis"].trusted_plan
+    monkeypatch.setattr(routes, "run_request", lambda *a, **k: calls.append(a) or real(*a, **k))
+    monkeypatch.setattr(routes.ENGINES["thesis"], "trusted_plan", lambda *a, **k: plans.append(a) or real_plan(*a, **k))
     request = forcenet.plan(6, method="thesis")
-    assert calls == []
+    assert calls == [] and len(plans) == 1
     ticks: list[int] = []
     table = request.run(progress=lambda k=1: ticks.append(k))
-    assert calls and calls[0][:3] == ("thesis", 6, 1)
+    checked, choice = calls[0][:2]
+    assert (checked.N, checked.moments, choice.method) == (6, 1, "thesis") and choice.plan is request.cost
+    assert len(plans) == 1  # run as planned: not planned again
     assert table.mean_W == mean_W_dictionary(6) and table.method == "thesis"
 
 

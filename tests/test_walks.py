@@ -1,10 +1,10 @@
-"""Validate once (issue 25): how many argument checks a command's arguments meet on their way to the engines.
+"""Validate once, plan once (issues 25, 44): the checks and plans a command's arguments meet on their way.
 
-The map (notes/architecture.md, "How far an argument travels") states the rule: an argument is checked
-at each public boundary it crosses, and trusted inside.  ``benchmarks/walks.py`` counts the checks of a
-command run in this process; these tests hold the two walks of issue 25 to their measured lengths, so a
-check added inside an engine (a public function calling another public function, a route re-checking
-what its engine checks) fails here instead of lengthening the walk unnoticed.
+The map (notes/architecture.md, "How far an argument travels") states the rule: the command line's parser
+checks the text it reads, the registry (``forcenet.exact.routes.check_request``) checks the request once,
+and everything behind it (the engines' ``trusted_plan``/``trusted_run``) trusts it.  ``benchmarks/walks.py``
+counts the checks of a command run in this process; these tests hold the walks to one check of ``N``
+besides the request's, so a check added inside an engine fails here instead of lengthening the walk.
 """
 
 import importlib.util
@@ -23,15 +23,50 @@ def walk():
     return module.walk
 
 
-def test_the_table_walk_checks_each_argument_once_per_public_boundary(walk):
-    result = walk(["table", "--N", "12", "--format", "json", "--method", "fast"])
+@pytest.mark.parametrize("method", [[], ["--method", "fast"]], ids=["auto", "fast"])
+def test_the_table_walk_checks_the_request_once(walk, method):
+    result = walk(["table", "--N", "12", "--format", "json", *method])
     assert result["exit"] == 0
     checks = result["checks"]
-    # N: the parser (check_int), the engine's table_plan and table_run, exact_table, and the first calls of
-    # the cached count and normalization; moments: the engine's table_plan and table_run, exact_table
-    assert checks.get("check_layers", 0) <= 5, checks
-    assert checks.get("check_moments", 0) <= 3, checks
-    assert result["check_calls"] <= 11, checks  # 24 before the renovation (commit 3ee584c)
+    # N: the parser's check of the text (check_int) and nothing behind it but the registry's one request check
+    assert checks.get("check_layers", 0) + checks.get("check_int", 0) == 1, checks
+    assert checks.get("check_request", 0) == 1, checks  # N, moments, method, memory once (delegations not counted)
+    assert checks.get("check_moments", 0) == 0, checks  # moments: checked in the request only
+    assert result["check_calls"] == 4, checks  # and the two destination checks of standard output; 21 (auto) before
+
+
+@pytest.fixture
+def plan_calls(monkeypatch):
+    """Calls of each engine's plan (the trusted one behind the public ``table_plan``), counted by method."""
+    from forcenet.exact import routes
+
+    calls: dict[str, int] = {}
+    for method, engine in routes.ENGINES.items():
+        for name in ("table_plan", "trusted_plan"):
+            real = getattr(engine, name)
+
+            def counted(*args, _real=real, _method=method, **kwargs):
+                calls[_method] = calls.get(_method, 0) + 1
+                return _real(*args, **kwargs)
+
+            monkeypatch.setattr(engine, name, counted)
+    return calls
+
+
+def test_the_chosen_engine_is_planned_once_per_run(plan_calls, capsys):
+    import forcenet
+    from forcenet.cli import main
+
+    table = forcenet.table(12)
+    assert plan_calls[table.method] == 1, plan_calls  # auto compared the plans; the chosen one runs as planned
+    assert all(n == 1 for n in plan_calls.values()), plan_calls  # every candidate planned at most once
+    plan_calls.clear()
+    assert main(["table", "--N", "12", "--format", "json"]) == 0
+    assert capsys.readouterr().out.startswith("{")
+    assert plan_calls[table.method] == 1 and all(n == 1 for n in plan_calls.values()), plan_calls
+    plan_calls.clear()
+    assert main(["table", "--N", "12", "--format", "json", "--method", "fast"]) == 0
+    assert plan_calls == {"fast": 1}
 
 
 def test_the_entropy_walk_checks_dps_once_per_public_function(walk):

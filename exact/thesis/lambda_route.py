@@ -11,7 +11,7 @@ from forcenet.core.plan import Plan, table_range
 from ..protocol import Progress, Table, run_independent
 from .recursions import mean_W_gamma
 
-__all__ = ["table_plan", "table_run"]
+__all__ = ["table_plan", "table_run", "trusted_plan", "trusted_run"]
 
 # ------------------------------------------------------ the table route: plan and run
 
@@ -56,7 +56,11 @@ def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, exe
     >>> table_plan(9, moments=2).refusal
     'moments=2 is out of range for --method lambda: moments must be 1 (higher moments use --method fast, thesis or maps)'
     """
-    N, moments = check_layers(N), check_moments(moments)
+    return trusted_plan(check_layers(N), check_moments(moments), memory_bytes=memory_bytes)
+
+
+def trusted_plan(N: int, moments: int, *, memory_bytes: int | None = None, executor: Executor | None = None) -> Plan:
+    """:func:`table_plan` for arguments its caller checked (the registry, :mod:`forcenet.exact.routes`)."""
     what = f"--method lambda N={N}, Gamma recursions"
     refusal = table_range(what, "lambda", N, moments, _MAX_N, why_N="the index boxes of (4.32) outgrow memory")
     if refusal is not None:
@@ -87,6 +91,13 @@ def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, prog
     >>> [str(x) for x in table_run(5)[1][-1]]
     ['1/11', '1/4', '7/22', '1/4', '1/11']
     """
-    plan = table_plan(N, moments, memory_bytes=memory_bytes).check()
+    N, moments = check_layers(N), check_moments(moments)
+    plan = trusted_plan(N, moments, memory_bytes=memory_bytes).check()
+    return trusted_run(N, moments, plan, progress=progress, executor=executor)
+
+
+def trusted_run(N: int, moments: int, plan: Plan, *, memory_bytes: int | None = None, progress: Progress | None = None,
+                executor: Executor | None = None) -> dict[int, Table]:
+    """:func:`table_run` for arguments its caller checked and the runnable ``plan`` of :func:`trusted_plan`."""
     (table,) = run_independent([(mean_W_gamma, (N,), {})], executor=executor, progress=progress, weights=[plan.ticks])
     return {1: table}

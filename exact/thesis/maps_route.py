@@ -7,13 +7,13 @@ from __future__ import annotations
 
 from concurrent.futures import Executor
 from decimal import Decimal
-from ..triangle.staircase import count, dimension
+from ..triangle.staircase import trusted_count, trusted_dimension
 from forcenet.core.validation import check_layers, check_moments
 from forcenet.core.plan import Plan, combine, table_range
 from ..protocol import Progress, Table, run_independent
 from .map_counting import mean_W_thesis_maps, moments_by_maps
 
-__all__ = ["table_plan", "table_run"]
+__all__ = ["table_plan", "table_run", "trusted_plan", "trusted_run"]
 
 # ------------------------------------------------------ the table route: plan and run
 
@@ -59,7 +59,11 @@ def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, exe
     >>> table_plan(10).refusal
     'N=10 is out of range for --method maps: N must be an integer in 2..9 (N = 10 would enumerate 3.97e+15 maps per grain)'
     """
-    N, moments = check_layers(N), check_moments(moments)
+    return trusted_plan(check_layers(N), check_moments(moments), memory_bytes=memory_bytes)
+
+
+def trusted_plan(N: int, moments: int, *, memory_bytes: int | None = None, executor: Executor | None = None) -> Plan:
+    """:func:`table_plan` for arguments its caller checked (the registry, :mod:`forcenet.exact.routes`)."""
     what = f"--method maps N={N}"
     refusal = table_range(what, "maps", N, moments, _MAX_N, max_moments=None, why_N=_too_many(N))
     if refusal is not None:
@@ -75,18 +79,18 @@ def _too_many(N: int) -> str:
     if N <= _MAX_N:
         return ""
     if N <= _COUNTED_N:
-        return f"N = {N} would enumerate {Decimal(count(N)):.3g} maps per grain"
-    return f"N = {N} would enumerate more than {Decimal(count(_COUNTED_N)):.3g} maps per grain"
+        return f"N = {N} would enumerate {Decimal(trusted_count(N)):.3g} maps per grain"
+    return f"N = {N} would enumerate more than {Decimal(trusted_count(_COUNTED_N)):.3g} maps per grain"
 
 
 def _pass_plans(N: int, moments: int) -> list[Plan]:
     what = f"--method maps N={N}"
     grains = (N - 1) * (N - 2) // 2
-    d = dimension(N)
-    plans = [Plan(f"{what}, map sums per grain ({count(N)} maps each)", count(N) * d * _SECONDS_PER_MAP_GRAIN,
+    d, maps = trusted_dimension(N), trusted_count(N)
+    plans = [Plan(f"{what}, map sums per grain ({maps} maps each)", maps * d * _SECONDS_PER_MAP_GRAIN,
                   0, grains, "grain")]
     if moments >= 2:
-        plans.append(Plan(f"{what}, every map's tableau for <W^s>", count(N) * d * d * _SECONDS_PER_MAP_CELL2,
+        plans.append(Plan(f"{what}, every map's tableau for <W^s>", maps * d * d * _SECONDS_PER_MAP_CELL2,
                           0, 1, "grain"))
     return plans
 
@@ -121,7 +125,15 @@ def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, prog
     >>> [str(x) for x in tables[2][-1]]
     ['1/66', '65/792', '25/198', '65/792', '1/66']
     """
-    table_plan(N, moments, memory_bytes=memory_bytes).check()
+    N, moments = check_layers(N), check_moments(moments)
+    plan = trusted_plan(N, moments, memory_bytes=memory_bytes).check()
+    return trusted_run(N, moments, plan, progress=progress, executor=executor)
+
+
+def trusted_run(N: int, moments: int, plan: Plan, *, memory_bytes: int | None = None, progress: Progress | None = None,
+                executor: Executor | None = None) -> dict[int, Table]:
+    """:func:`table_run` for arguments its caller checked and the runnable ``plan`` of :func:`trusted_plan`
+    (its passes' ticks weigh the tasks on an executor)."""
     calls: list = [(mean_W_thesis_maps, (N,), {})]
     if moments >= 2:
         calls.append((_higher_moment_tables, (N, moments), {}))

@@ -11,7 +11,7 @@ from forcenet.core.plan import Plan, table_range
 from ..protocol import Progress, Table, run_independent
 from .nested import integrate_layers, moment_table_nested
 
-__all__ = ["table_plan", "table_run"]
+__all__ = ["table_plan", "table_run", "trusted_plan", "trusted_run"]
 
 # ------------------------------------------------------ the table route: plan and run
 
@@ -61,7 +61,11 @@ def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, exe
     >>> table_plan(10).refusal
     'N=10 is out of range for --method thesis: N must be an integer in 2..9 (the nested bonds outgrow memory at N = 10)'
     """
-    N, moments = check_layers(N), check_moments(moments)
+    return trusted_plan(check_layers(N), check_moments(moments), memory_bytes=memory_bytes)
+
+
+def trusted_plan(N: int, moments: int, *, memory_bytes: int | None = None, executor: Executor | None = None) -> Plan:
+    """:func:`table_plan` for arguments its caller checked (the registry, :mod:`forcenet.exact.routes`)."""
     what = f"--method thesis N={N}, nested integrations"
     refusal = table_range(what, "thesis", N, moments, max(_TABLE_COST), max_moments=_MAX_ORDER,
                           why_N="the nested bonds outgrow memory at N = 10",
@@ -98,7 +102,14 @@ def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, prog
     >>> [str(x) for x in tables[2][-1]]
     ['1/28', '9/56', '9/56', '1/28']
     """
-    plan = table_plan(N, moments, memory_bytes=memory_bytes).check()
+    N, moments = check_layers(N), check_moments(moments)
+    plan = trusted_plan(N, moments, memory_bytes=memory_bytes).check()
+    return trusted_run(N, moments, plan, progress=progress, executor=executor)
+
+
+def trusted_run(N: int, moments: int, plan: Plan, *, memory_bytes: int | None = None, progress: Progress | None = None,
+                executor: Executor | None = None) -> dict[int, Table]:
+    """:func:`table_run` for arguments its caller checked and the runnable ``plan`` of :func:`trusted_plan`."""
     volume = integrate_layers(N)  # once for every s
     calls = [(moment_table_nested, (N, s), {"volume": volume}) for s in range(1, moments + 1)]
     tables = run_independent(calls, executor=executor, progress=progress, weights=[plan.ticks / moments] * moments)

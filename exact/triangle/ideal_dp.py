@@ -36,7 +36,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..modular import crt, primes_for_bound
-from .staircase import count, trusted_dimension
+from .staircase import trusted_count, trusted_dimension
 from forcenet.core.errors import ArgumentError
 
 __all__ = [
@@ -146,7 +146,7 @@ def _prime_chunks(n: int, primes, memory_bytes: int):
 
 def survival_primes(N: int):
     """Primes whose product bounds every survival sum for ``N`` layers."""
-    return primes_for_bound((trusted_dimension(N) + 1) * count(N))
+    return primes_for_bound((trusted_dimension(N) + 1) * trusted_count(N))
 
 
 def estimate_survival_cost(N: int, memory_bytes: int = 12 * 2**30) -> MemoryEstimate:
@@ -258,7 +258,7 @@ def survival_counts(N: int, progress=None, memory_bytes: int = 12 * 2**30):
             f"N={N} is out of range for the exact table: one prime's residues over the 2^{n} ideals "
             f"need {one_prime / 2**30:.0f} GiB, more than memory_bytes={memory_bytes}; N must be at most about 30"
         )
-    total = count(N)
+    total = trusted_count(N)
     primes = survival_primes(N)
     A = np.concatenate(
         [_survival_residues(n, chunk, progress) for chunk in _prime_chunks(n, primes, memory_bytes)],

@@ -36,7 +36,7 @@ from ..protocol import Progress, Table, bounded_result, run_independent
 from forcenet.core.validation import check_grain, check_int, check_layers, check_moments
 from .ideal_dp import estimate_survival_cost, marked_chain_sums, parts_table, survival_counts
 from .spacings import rising
-from .staircase import count, trusted_dimension
+from .staircase import trusted_count, trusted_dimension
 from forcenet.core.errors import ArgumentError
 
 __all__ = [
@@ -51,6 +51,8 @@ __all__ = [
     "moment_table_plan",
     "table_plan",
     "table_run",
+    "trusted_plan",
+    "trusted_run",
 ]
 
 
@@ -230,7 +232,7 @@ def _moment_plan(N: int, s: int, memory_bytes: int | None) -> Plan:
     what = f"<W^{s}> table N={N}"
     if N > 24:
         return Plan(what, 0, refusal=f"N={N} is out of range for --moments {s}: N must be an integer in 2..24")
-    primes = len(primes_for_bound(count(N) * comb(d + s, s)))
+    primes = len(primes_for_bound(trusted_count(N) * comb(d + s, s)))
     per_grain = (1 << n) * (s + 1) * primes * 8 * 3
     batch = max(1, min(grains, _budget(memory_bytes, _MOMENT_BATCH_BYTES) // per_grain))
     passes = -(-grains // batch)
@@ -297,7 +299,7 @@ def moment_table(N: int, s: int = 2, *, memory_bytes: int | None = None, progres
 def _moment_table(N: int, s: int, memory_bytes: int | None = None, progress: Progress | None = None) -> Table:
     """:func:`moment_table` for ``N`` and ``s`` already checked (the engine's inside, :func:`table_run`)."""
     n, d = N - 1, trusted_dimension(N)
-    total = count(N)
+    total = trusted_count(N)
     grains = [(i, j) for i in range(1, N + 1) for j in range(1, i + 1)]
     if n == 0:
         return [[Fraction(1)]]
@@ -368,7 +370,7 @@ def moment(N: int, grain: tuple[int, int], s: int) -> Fraction:
 @lru_cache(maxsize=256)
 def _single_moment(N: int, i: int, j: int, s: int) -> Fraction:
     n, d = N - 1, trusted_dimension(N)
-    total = count(N)
+    total = trusted_count(N)
     primes = primes_for_bound(total * comb(d + s, s))
     _check_state_memory(N, s + 1, len(primes))
     lam = parts_table(n)
@@ -421,7 +423,7 @@ def correlation(N: int, grain1: tuple[int, int], grain2: tuple[int, int]) -> Fra
 @lru_cache(maxsize=256)
 def _correlation(N: int, g1, g2) -> Fraction:
     n, d = N - 1, trusted_dimension(N)
-    total = count(N)
+    total = trusted_count(N)
     primes = primes_for_bound(total * (d + 1) * (d + 2))
     _check_state_memory(N, 4, len(primes))
     lam = parts_table(n)
@@ -530,7 +532,11 @@ def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, exe
     >>> table_plan(20, memory_bytes=2**20).runnable
     False
     """
-    N, moments = check_layers(N), check_moments(moments)
+    return trusted_plan(check_layers(N), check_moments(moments), memory_bytes=memory_bytes)
+
+
+def trusted_plan(N: int, moments: int, *, memory_bytes: int | None = None, executor: Executor | None = None) -> Plan:
+    """:func:`table_plan` for arguments its caller checked (the registry, :mod:`forcenet.exact.routes`)."""
     plans = _pass_plans(N, moments, memory_bytes)
     what = plans[0].what if moments == 1 else f"exact tables N={N}, <W^s> for s = 1..{moments} (order ideals)"
     return combine(what, plans, "ideal")
@@ -567,11 +573,15 @@ def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, prog
     ['1/66', '65/792', '25/198', '65/792', '1/66']
     """
     N, moments = check_layers(N), check_moments(moments)
-    weights = None
-    if memory_bytes is not None or executor is not None:
-        plans = _pass_plans(N, moments, memory_bytes)
-        combine(f"exact tables N={N}", plans).check()
-        weights = [plan.ticks for plan in plans]
+    plan = trusted_plan(N, moments, memory_bytes=memory_bytes).check()
+    return trusted_run(N, moments, plan, memory_bytes=memory_bytes, progress=progress, executor=executor)
+
+
+def trusted_run(N: int, moments: int, plan: Plan, *, memory_bytes: int | None = None, progress: Progress | None = None,
+                executor: Executor | None = None) -> dict[int, Table]:
+    """:func:`table_run` for arguments its caller checked and the runnable ``plan`` of :func:`trusted_plan`
+    (on an executor its passes' ticks weigh the tasks)."""
+    weights = None if executor is None else [p.ticks for p in _pass_plans(N, moments, memory_bytes)]
     calls: list[tuple[Callable[..., Any], tuple, dict]] = [(_mean_table, (N,), {"memory_bytes": _budget(memory_bytes, _RESIDUE_CAP)})]
     calls += [(_moment_table, (N, s), {"memory_bytes": memory_bytes}) for s in range(2, moments + 1)]
     tables = run_independent(calls, executor=executor, progress=progress, weights=weights)

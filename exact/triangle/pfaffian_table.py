@@ -50,7 +50,7 @@ from .gap_counts import GapCounts, moment_from_gaps
 from .prime_tasks import STARTUP_SECONDS, checkpoint_store
 
 __all__ = ["MAX_N", "MAX_MOMENTS_N", "MIN_PLAN_SECONDS", "OPTIONS", "checkpoint_for", "table_plan", "table_run",
-           "moments_plan", "moments_run", "every_load_gap_law"]
+           "trusted_plan", "trusted_run", "moments_plan", "moments_run", "every_load_gap_law"]
 
 MAX_MOMENTS_N = MAX_FLOOR_N
 MIN_PLAN_SECONDS = STARTUP_SECONDS  # every plan of the route pays the start-up (read by forcenet.exact.routes.choose)
@@ -112,7 +112,13 @@ def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, exe
     >>> table_plan(201).refusal
     'N=201 is out of range for --method pfaffian: N must be an integer in 2..200'
     """
-    N, moments = check_layers(N), check_moments(moments)
+    return trusted_plan(check_layers(N), check_moments(moments), memory_bytes=memory_bytes, executor=executor,
+                        workers=workers, checkpoint=checkpoint)
+
+
+def trusted_plan(N: int, moments: int, *, memory_bytes: int | None = None, executor: Executor | None = None,
+                 workers: int | None = None, checkpoint: Checkpoint = None) -> Plan:
+    """:func:`table_plan` for arguments its caller checked (the registry, :mod:`forcenet.exact.routes`)."""
     if moments > 1:  # every load's gap law, layer by layer (de Bruijn Pfaffians)
         return moments_plan(N, moments, memory_bytes=memory_bytes, workers=workers, executor=executor)
     return mean_plan(N, memory_bytes=memory_bytes, executor=executor, workers=workers, checkpoint=checkpoint)
@@ -164,8 +170,17 @@ def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, prog
         return moments_run(N, moments, memory_bytes=memory_bytes, progress=progress, executor=executor,
                            workers=workers, checkpoint=checkpoint)
     if N > MAX_N or memory_bytes is not None:
-        table_plan(N, moments, memory_bytes=memory_bytes, executor=executor, workers=workers,
-                   checkpoint=checkpoint).check()
+        trusted_plan(N, moments, memory_bytes=memory_bytes, executor=executor, workers=workers,
+                     checkpoint=checkpoint).check()
+    return trusted_run(N, moments, None, progress=progress, executor=executor, workers=workers, checkpoint=checkpoint)
+
+
+def trusted_run(N: int, moments: int, plan: Plan | None, *, memory_bytes: int | None = None,
+                progress: Progress | None = None, executor: Executor | None = None, workers: int | None = None,
+                checkpoint: Checkpoint = None) -> dict[int, Table]:
+    """:func:`table_run` for arguments its caller checked, after its plan (:func:`trusted_plan`) was checked."""
+    if moments > 1:
+        return _moments_run(N, moments, progress=progress, executor=executor, workers=workers, checkpoint=checkpoint)
     (S,), total = survival_tables(N, workers, progress, as_executor(executor), checkpoint)
     return {1: table_from_survival(N, S, total)}
 
@@ -242,6 +257,12 @@ def moments_run(N: int, moments: int = 2, *, memory_bytes: int | None = None,
     N, moments = check_layers(N), check_moments(moments)
     if N > MAX_MOMENTS_N or memory_bytes is not None:
         moments_plan(N, moments, memory_bytes=memory_bytes, workers=workers, executor=executor).check()
+    return _moments_run(N, moments, progress=progress, executor=executor, workers=workers, checkpoint=checkpoint)
+
+
+def _moments_run(N: int, moments: int, *, progress: Callable[..., Any] | None, executor: Executor | None,
+                 workers: int | None, checkpoint: str | PathLike | CheckpointStore | None) -> dict[int, Table]:
+    """:func:`moments_run` for checked arguments whose plan was checked."""
     options: dict[str, Any] = {"workers": workers, "progress": progress, "executor": executor,
                                "checkpoint": checkpoint}
     tables: dict[int, Table] = {s: [[Fraction(1)]] for s in range(1, moments + 1)}

@@ -38,10 +38,12 @@ __all__ = [
     "cell_to_grain",
     "staircase_cells",
     "count",
+    "trusted_count",
     "count_digits",
     "count_plan",
     "count_by_hooks",
     "normalization",
+    "trusted_normalization",
     "shifted_hook_lengths",
     "shifted_tableaux_count",
 ]
@@ -406,7 +408,18 @@ def count(N: int) -> int:
     ----------
     Ostojic (2006), Eq. (4.1); OEIS A003121.
     """
-    N = _within_memory(N, "count")
+    return trusted_count(_within_memory(N, "count"))
+
+
+@lru_cache(maxsize=64)
+def trusted_count(N: int) -> int:
+    """:func:`count` for an ``N`` its caller checked (a table's ``N``, checked once by the registry).
+
+    Examples
+    --------
+    >>> trusted_count(5)
+    12
+    """
     return _prime_power_product(_prime_exponents_of_count(N))
 
 
@@ -440,7 +453,18 @@ def normalization(N: int) -> Fraction:
     >>> normalization(5)
     Fraction(1, 302400)
     """
-    N = _within_memory(N, "normalization")
+    return trusted_normalization(_within_memory(N, "normalization"))
+
+
+@lru_cache(maxsize=64)
+def trusted_normalization(N: int) -> Fraction:
+    """:func:`normalization` for an ``N`` its caller checked (a table's ``N``, checked once by the registry).
+
+    Examples
+    --------
+    >>> trusted_normalization(4)
+    Fraction(1, 360)
+    """
     n = N - 1
     primes = _primes_upto(max(2 * n, 2))
     exps = _exponents_of_denominator(n, primes)

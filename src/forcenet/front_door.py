@@ -6,7 +6,9 @@ fully mobilized triangle of Sec. 4.2, as :class:`fractions.Fraction`.
 ``forcenet.plan(N)`` answers what that will cost (or why it cannot run, and
 what would) without doing the work.  Both take the same request; a plan runs
 as it was checked (:meth:`TablePlan.run`), so a request is validated and
-planned once.
+planned once: the registry checks it (:func:`forcenet.exact.routes.check_request`),
+plans it (:func:`~forcenet.exact.routes.plan_request`) and, when it runs,
+checks the plan (:func:`~forcenet.exact.routes.run_request`).
 
 The routes themselves live in :mod:`forcenet.exact.routes` (the registry of
 table engines); this module only names the request, keeps what a user needs
@@ -31,13 +33,16 @@ import os
 from collections.abc import Callable
 from concurrent.futures import Executor
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan
-from forcenet.core.validation import available_memory, check_int, check_layers, check_moments
+from forcenet.core.validation import available_memory
 
 from forcenet.results import Row, Table
+
+if TYPE_CHECKING:
+    from forcenet.exact.routes import Request
 
 __all__ = ["Row", "Table", "TablePlan", "plan", "table"]  # Row and Table: forcenet.results
 
@@ -47,16 +52,6 @@ Progress = Callable[..., Any]
 def _available_memory() -> int:
     """Bytes of memory available now, 16 GiB if unknown (the command line's figure)."""
     return available_memory() or 16 * 2**30
-
-
-def _method(method: object) -> str:
-    from forcenet.exact.routes import METHODS
-
-    if not isinstance(method, str):
-        raise ArgumentTypeError(f"method={method!r} is not a string: method must be one of {', '.join(METHODS)}")
-    if method not in METHODS:
-        raise ArgumentError(f"method={method!r} is out of range: method must be one of {', '.join(METHODS)}")
-    return method
 
 
 def _checkpoint(checkpoint: object) -> str | None:
@@ -109,6 +104,7 @@ class TablePlan:
     checkpoint: Any = field(default=None, repr=False)
     memory_bytes: int | None = field(default=None, repr=False)
     row: int | None = None
+    request: Request | None = field(default=None, repr=False)  # the checked request it was planned for
 
     @property
     def runnable(self) -> bool:
@@ -221,40 +217,29 @@ class TablePlan:
         [Fraction(1, 7), Fraction(5, 14), Fraction(5, 14), Fraction(1, 7)]
         """
         from forcenet.exact.checkpoints import run_distrusting
-        from forcenet.exact.routes import row_run, table_run
+        from forcenet.exact.routes import Choice, RowChoice, run_request, run_row
 
-        self.check()
-        options = _engine_options(self.executor, self.checkpoint)
+        request = self.request  # checked once by plan(); the registry checks the plan before the run
+        if request is None:
+            raise ArgumentError("this TablePlan was not made by forcenet.plan: make it with forcenet.plan(N, ...)")
         bar = None
         tick: Progress | None = progress if callable(progress) else None
-        if progress is True:
+        if progress is True and self.runnable:  # a refused plan starts no bar (run_request refuses it)
             from tqdm.auto import tqdm
 
             bar = tqdm(total=self.cost.ticks or None, desc=f"table N={self.N}", unit=self.cost.unit)
             tick = bar.update
         try:  # a reused record that fails the route's exact checks is named, dropped and recomputed
             if self.row is not None:
-                rows = run_distrusting(self.checkpoint, self.N, lambda: row_run(
-                    self._row_method, self.N, self.row, self.moments, tick, self.memory_bytes,
-                    route=self.method, **options))
+                rows = run_distrusting(self.checkpoint, self.N, lambda: run_row(
+                    request, RowChoice(self.method, self.cost, self.why), tick))
                 return Row(self.N, self.row, self.method, self.why, rows)
-            tables = run_distrusting(self.checkpoint, self.N, lambda: table_run(
-                self.method, self.N, self.moments, progress=tick, memory_bytes=self.memory_bytes, **options))
+            tables = run_distrusting(self.checkpoint, self.N, lambda: run_request(
+                request, Choice(self.method, self.cost, self.why), tick))
         finally:
             if bar is not None:
                 bar.close()
         return Table(self.N, self.method, self.why, tables)
-
-    @property
-    def _row_method(self) -> str:
-        """The table method a row's route belongs to (a row route is chosen under ``pfaffian`` or ``auto``)."""
-        from forcenet.exact.routes import ENGINES
-
-        return self.method if self.method in ENGINES else "pfaffian"
-
-
-def _engine_options(executor: Executor | None, checkpoint: object) -> dict[str, Any]:
-    return {k: v for k, v in (("executor", executor), ("checkpoint", checkpoint)) if v is not None}
 
 
 def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor | None = None,
@@ -309,47 +294,42 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
     from dataclasses import replace
 
     from forcenet.exact.checkpoints import resumed_plan
-    from forcenet.exact.routes import ENGINES, checkpoint_for, choose, table_plan, takes
+    from forcenet.exact.routes import ENGINES, check_request, plan_request, takes
 
-    N, moments, method = check_layers(N), check_moments(moments), _method(method)
+    request = check_request(N, moments, method, row=row, memory_bytes=memory_bytes, executor=executor)  # the check
     directory = _checkpoint(checkpoint)
-    memory = _available_memory() if memory_bytes is None else memory_bytes
+    if request.memory_bytes is None:
+        request = replace(request, memory_bytes=_available_memory())
     if row is not None:
-        return _row_plan(N, check_int(row, "row", 1, N), moments, method, executor, directory, memory)
-    why = ""
-    if method == "auto":
-        over_primes = executor is not None or directory is not None  # the routes over independent primes use them
-        choice = choose(N, moments, memory_bytes=memory,
-                        methods=[m for m in ENGINES if takes(m, "checkpoint")] if over_primes else None)
-        method, why = choice.method, choice.why
-        if not choice.plan.runnable:
-            return TablePlan(N, moments, method, why, choice.plan, executor, directory, memory)
-    store = None if directory is None else checkpoint_for(method, directory, N, moments)
-    cost = table_plan(method, N, moments, memory, **_engine_options(executor, store))
+        return _row_plan(replace(request, options={} if directory is None else {"checkpoint": directory}))
+    request = replace(request, directory=directory)
+    over_primes = executor is not None or directory is not None  # the routes over independent primes use them
+    choice = plan_request(request, [m for m in ENGINES if takes(m, "checkpoint")] if over_primes else None)
+    cost, why, store = choice.plan, choice.why, request.stores.get(choice.method)
     if isinstance(store, str):  # one request per layer: the records every layer already holds count
-        cost = resumed_plan(cost, store, N, ("pfaffian-layer-grains", "pfaffian-floor-grains"))
+        cost = resumed_plan(cost, store, request.N, ("pfaffian-layer-grains", "pfaffian-floor-grains"))
     if why:
         cost = replace(cost, what=f"{cost.what}; {why}")
-    elif not cost.runnable:  # an explicit method out of reach: name the route that runs it
-        others = [m for m in ENGINES if m != method]
-        choice = choose(N, moments, memory_bytes=memory, methods=others)
-        if choice.plan.runnable:
-            cost = replace(cost, refusal=f"{cost.refusal}; method='auto' runs it by {choice.method} "
-                                         f"(~{_duration(choice.plan.seconds)})")
-    return TablePlan(N, moments, method, why, cost, executor, store, memory)
+    elif not cost.runnable and request.method != "auto":  # an explicit method out of reach: name what runs it
+        others = [m for m in ENGINES if m != request.method]
+        other = plan_request(replace(request, method="auto", executor=None, directory=None), others)
+        if other.plan.runnable:
+            cost = replace(cost, refusal=f"{cost.refusal}; method='auto' runs it by {other.method} "
+                                         f"(~{_duration(other.plan.seconds)})")
+    return TablePlan(request.N, request.moments, choice.method, why, cost, executor, store, request.memory_bytes,
+                     request=request)
 
 
-def _row_plan(N: int, row: int, moments: int, method: str, executor: Executor | None, directory: str | None,
-              memory: int) -> TablePlan:
-    """One row's plan: its route by :func:`forcenet.exact.routes.choose_row`, then planned with the options."""
+def _row_plan(request: Request) -> TablePlan:
+    """One row's plan: its route by :func:`forcenet.exact.routes.choose_row`, planned once with the options."""
     from dataclasses import replace
 
-    from forcenet.exact.routes import choose_row
+    from forcenet.exact.routes import plan_row
 
-    options: dict[str, Any] = {} if directory is None else {"checkpoint": directory}
-    choice = choose_row(method, N, row, moments, memory_bytes=memory, executor=executor, **options)
+    choice = plan_row(request)
     cost = choice.plan if not choice.why else replace(choice.plan, what=f"{choice.plan.what}; {choice.why}")
-    return TablePlan(N, moments, choice.route, choice.why, cost, executor, directory, memory, row)
+    return TablePlan(request.N, request.moments, choice.route, choice.why, cost, request.executor,
+                     request.options.get("checkpoint"), request.memory_bytes, request.row, request)
 
 
 def _duration(seconds: float) -> str:
@@ -416,4 +396,4 @@ def table(N: int, moments: int = 1, method: str = "auto", *, executor: Executor 
     ('covers', Fraction(3, 253))
     """
     return plan(N, moments, method, executor=executor, checkpoint=checkpoint,
-                memory_bytes=memory_bytes, row=row).check().run(progress)
+                memory_bytes=memory_bytes, row=row).run(progress)

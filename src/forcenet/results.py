@@ -191,9 +191,9 @@ class Table(_Rendered):
         >>> forcenet.table(6).count
         286
         """
-        from forcenet.exact.triangle.staircase import count
+        from forcenet.exact.triangle.staircase import trusted_count
 
-        return count(self.N)
+        return trusted_count(self.N)  # N checked once, by the request (forcenet.exact.routes.check_request)
 
     @property
     def normalization(self) -> Fraction:
@@ -205,9 +205,9 @@ class Table(_Rendered):
         >>> forcenet.table(4).normalization
         Fraction(1, 360)
         """
-        from forcenet.exact.triangle.staircase import normalization
+        from forcenet.exact.triangle.staircase import trusted_normalization
 
-        return normalization(self.N)
+        return trusted_normalization(self.N)
 
     def to_dict(self) -> dict[str, Any]:
         """``{"N", "count", "normalization", "mean_W", "mean_W2", ...}`` with exact values (the renderers' input).

@@ -81,10 +81,7 @@ def _request(args, memory, client=None, directory=None):
     method = args.method
     if method == "auto" and client is None and directory is None and (args.scheduler or args.checkpoint):
         method = "pfaffian"  # not yet connected: the only route that takes the options
-    request = plan(args.N, args.moments, method, executor=client, checkpoint=directory, memory_bytes=memory)
-    if not request.runnable:
-        raise UsageError(request.refusal)
-    return request
+    return plan(args.N, args.moments, method, executor=client, checkpoint=directory, memory_bytes=memory).check()
 
 
 def cmd_table(args):
@@ -122,9 +119,7 @@ def _table_row(args, fmt):
     if args.row > args.N:
         raise UsageError(f"--row={args.row} is out of range: row must be an integer in 1..{args.N} (a layer of --N)")
     memory = available_memory()
-    request = plan(args.N, args.moments, args.method, memory_bytes=memory, row=args.row)
-    if not request.runnable:
-        raise UsageError(request.refusal)
+    request = plan(args.N, args.moments, args.method, memory_bytes=memory, row=args.row).check()
     explicit = args.scheduler is not None or args.checkpoint is not None  # then only the routes that take them
     applies = explicit or request.method in ROW_PRIME_ROUTES
     client, directory = engine_options(args, applies, f"a row's routes over primes ({', '.join(ROW_PRIME_ROUTES[:3])})",
@@ -132,9 +127,7 @@ def _table_row(args, fmt):
     try:
         if client is not None or directory is not None:  # a cluster or a checkpoint store changes the plan
             request = plan(args.N, args.moments, args.method, executor=client, checkpoint=directory,
-                           memory_bytes=memory, row=args.row)
-            if not request.runnable:
-                raise UsageError(request.refusal)
+                           memory_bytes=memory, row=args.row).check()
         row = run_planned(request.cost, lambda tick: request.run(progress=tick), force=args.force, quiet=args.quiet)
     finally:
         if client is not None:

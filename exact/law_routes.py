@@ -151,14 +151,14 @@ def choose_law(request: LawRequest, method: str = "auto", memory_bytes: int | No
         raise ArgumentError(f"method={method!r} is out of range: method must be one of {', '.join(LAW_METHODS)}")
     N, kind = request.N, request.kind
     options: dict[str, Any] = {}  # {"executor": executor} once the route functions count a cluster's workers
-    if kind == "grain":
-        route, plan = single_grain_route(N, request.grain, memory_bytes, **options)
-    elif kind == "layer":
-        route, plan = layer_route(N, request.layer, memory_bytes, **options)
-    elif kind == "ensemble":
-        route, plan = ensemble_route(N, memory_bytes, **options)
-    else:  # a contact force: the DP over the ideals of its row or column
+    if request.contact is not None:  # a contact force: the DP over the ideals of its row or column
         route, plan = "ideals", distribution_plan(N, "contact", memory_bytes)
+    elif request.grain is not None:
+        route, plan = single_grain_route(N, request.grain, memory_bytes, **options)
+    elif request.layer is not None:
+        route, plan = layer_route(N, request.layer, memory_bytes, **options)
+    else:
+        route, plan = ensemble_route(N, memory_bytes, **options)
     auto = f"method='auto' runs it by {route} (~{duration_text(plan.seconds)})" if plan.runnable else ""
     if method == "auto":
         if not plan.runnable and kind == "contact" and N > LAW_DP_MAX_N:
@@ -256,12 +256,13 @@ def law_run(request: LawRequest, route: str, progress: Progress | None = None, *
     from .triangle.pfaffian.fluctuations import single_grain_gap_law
     from .triangle.pfaffian.layers import ensemble_pieces, layer_gap_law
 
-    N, kind = request.N, request.kind
+    N = request.N
     if request.grain is not None:
         i, j = request.grain
-        gaps = (contact_gap_law(N, (i, j), request.contact, progress) if kind == "contact"
-                else single_grain_gap_law(N, (i, j), route, progress, **options))
-        name = f"W_{{{i},{j}}}" if kind == "grain" else f"(sqrt3/2) {request.contact}^{{({i},{j})}}"
+        contact = request.contact
+        gaps = (single_grain_gap_law(N, (i, j), route, progress, **options) if contact is None
+                else contact_gap_law(N, (i, j), contact, progress))
+        name = f"W_{{{i},{j}}}" if contact is None else f"(sqrt3/2) {contact}^{{({i},{j})}}"
         extra = {"mean": D.moment_from_gaps(gaps, 1), "second_moment": D.moment_from_gaps(gaps, 2)}
         return LawPieces(name, "w", *D.grain_pieces(gaps), extra)
     if request.layer is not None:

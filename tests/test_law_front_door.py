@@ -121,6 +121,10 @@ def test_options_of_the_routes_over_primes_are_refused_elsewhere_naming_the_rout
     assert list(tmp_path.iterdir()) == []
     with pytest.raises(forcenet.ArgumentError, match="not to route='ideals'"):
         routes.law_checkpoint(routes.law_request(8, layer=8), "ideals", tmp_path)
+    kept = forcenet.law_plan(40, layer=40, checkpoint=tmp_path / "ck")  # the floor's route over primes
+    assert kept.checkpoint.request["route"] == "pfaffian-floor" and kept.seconds == forcenet.law_plan(40, layer=40).seconds
+    with pytest.raises(forcenet.ArgumentError, match="keeps its checkpoint already"):
+        kept.with_options(checkpoint=tmp_path)
 
 
 @pytest.mark.parametrize("kwargs, error", [
@@ -220,7 +224,8 @@ def test_the_ensemble_by_every_layers_pfaffians_is_the_dps_and_checkpoints(monke
     from forcenet.core.plan import Plan
 
     dp = forcenet.law(8)
-    monkeypatch.setattr(layers, "ensemble_route", lambda N, memory=None: ("pfaffians", Plan("every layer", 1.0)))
+    chosen = ("pfaffians", Plan("every layer", 1.0))
+    monkeypatch.setattr(layers, "ensemble_route", lambda N, memory=None, **_: chosen)
     by_pfaffians = forcenet.law(8, checkpoint=tmp_path)
     assert by_pfaffians.method == "pfaffians" and by_pfaffians.to_json() == dp.to_json()
     assert len(list(tmp_path.iterdir())) == 7

@@ -34,7 +34,7 @@ from concurrent.futures import Executor
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
-from forcenet.core.errors import ArgumentTypeError
+from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan
 from forcenet.core.validation import available_memory, check_int
 
@@ -131,6 +131,18 @@ class LawPlan:
         return self.cost.seconds
 
     @property
+    def nbytes(self) -> int:
+        """Estimated peak memory in bytes.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.law_plan(40, layer=40).nbytes < 2**31
+        True
+        """
+        return self.cost.nbytes
+
+    @property
     def over_primes(self) -> bool:
         """True when the route runs over independent primes (it takes ``executor=`` and ``checkpoint=``).
 
@@ -171,6 +183,18 @@ class LawPlan:
                      checkpoint: str | os.PathLike[str] | None = None) -> LawPlan:
         """This plan with a cluster's workers and a checkpoint directory; the route is not chosen again.
 
+        Parameters
+        ----------
+        executor : concurrent.futures.Executor or Dask Client, optional
+            Runs the route's independent primes.
+        checkpoint : str or os.PathLike, optional
+            A directory where the route records every finished prime (the ensemble: one request per layer).
+
+        Returns
+        -------
+        LawPlan
+            This plan, or a copy with the options (its cost counting the records a directory already holds).
+
         Raises
         ------
         ArgumentError
@@ -183,7 +207,6 @@ class LawPlan:
         >>> p.checkpoint.request["route"]
         'pfaffian-floor'
         """
-        from forcenet.core.errors import ArgumentError
         from forcenet.exact.routes import LAW_PRIME_ROUTES, law_checkpoint, law_resumed
 
         if executor is None and checkpoint is None:
@@ -195,6 +218,9 @@ class LawPlan:
         store = self.checkpoint
         cost = self.cost
         if checkpoint is not None:
+            if self.checkpoint is not None:
+                raise ArgumentError(f"checkpoint={checkpoint!r}: this plan keeps its checkpoint already; make the "
+                                    "request again with forcenet.law_plan(..., checkpoint=...)")
             if not isinstance(checkpoint, (str, os.PathLike)):
                 raise ArgumentTypeError(f"checkpoint={checkpoint!r} is not a directory path: give a str or "
                                         "os.PathLike")

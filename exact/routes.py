@@ -569,3 +569,32 @@ def run_row(request: Request, choice: RowChoice, progress: Progress | None = Non
         return {s: [moment_from_gaps(laws[j], s) for j in range(1, row + 1)] for s in range(1, moments + 1)}
     tables = run_request(replace(request, method=route), Choice(route, choice.plan, ""), progress)
     return {s: table[row - 1] for s, table in tables.items()}
+
+
+# ================================================================================================================
+# laws: one load's law (forcenet.law, forcenet.law_plan, forcenet dist)
+#
+# Which engine answers a grain's W_ij, a contact force, a layer's or the ensemble's P(f), for which N; the checkpoint
+# each route keeps; the limits the command line shows.  Defined in .law_registry (this module stays under 600 lines),
+# part of this registry: the front door and the command line import them from here.  The table functions above are
+# not used by them.
+
+from .law_registry import (  # noqa: E402 - the laws' section of the registry, after the tables'
+    LAW_CONTACTS,
+    LAW_DP_MAX_N,
+    LAW_MAX_N,
+    LAW_METHODS,
+    LAW_PRIME_ROUTES,
+    LAW_ROUTES,
+    LawChoice,
+    LawPieces,
+    LawRequest,
+    choose_law,
+    law_checkpoint,
+    law_request,
+    law_resumed,
+    law_run,
+)
+
+__all__ += ["LAW_METHODS", "LAW_MAX_N", "LAW_DP_MAX_N", "LAW_CONTACTS", "LAW_PRIME_ROUTES", "LAW_ROUTES", "LawRequest",
+            "law_request", "LawChoice", "choose_law", "law_checkpoint", "law_resumed", "LawPieces", "law_run"]

@@ -4,6 +4,9 @@ The front door (one flat namespace, loaded on first use so ``import forcenet`` s
 
 * :func:`table` / :func:`plan` — the exact ``<W_ij>`` (and ``<W_ij^s>``) table of the fully
   mobilized triangle and its cost, by the fastest route (:mod:`forcenet.front_door`);
+* :func:`law` / :func:`law_plan` — one load's exact law (a grain's ``W_ij``, a contact force, a layer's or
+  the ensemble's pooled ``P(f)``): density, CDF and moments as exact polynomials, and its cost
+  (:mod:`forcenet.laws`);
 * :func:`count`, :func:`normalization` — the tableaux count and the volume, Eq. (4.1);
 * :func:`density`, :func:`cdf`, :func:`contact_density` — one load's exact law (Beta mixtures);
 * :class:`ExactSampler`, :class:`TriangleMetropolis` — the exact sampler and the thesis's Metropolis chain;
@@ -40,6 +43,8 @@ if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ lo
     from forcenet.exact.triangle.distribution import cdf, contact_density, density
     from forcenet.exact.triangle.staircase import count, normalization
     from forcenet.front_door import TablePlan, plan, table
+    from forcenet.law_results import Law
+    from forcenet.laws import LawPlan, law, law_plan
     from forcenet.results import Row, Table
     from forcenet.numeric.chicken_wire.isotropic import entropy, tiling_entropy
     from forcenet.numeric.triangle import ExactSampler, TriangleMetropolis
@@ -51,6 +56,10 @@ _FRONT_DOOR = {
     "Table": "forcenet.results",
     "TablePlan": "forcenet.front_door",
     "Row": "forcenet.results",
+    "law": "forcenet.laws",
+    "law_plan": "forcenet.laws",
+    "Law": "forcenet.law_results",
+    "LawPlan": "forcenet.laws",
     "count": "forcenet.exact.triangle.staircase",
     "normalization": "forcenet.exact.triangle.staircase",
     "density": "forcenet.exact.triangle.distribution",
@@ -70,7 +79,8 @@ _FRONT_DOOR = {
 _SUBPACKAGES = frozenset({"exact", "numeric", "testing"})
 
 __all__ = [  # the keys of _FRONT_DOOR (tests/test_front_door.py), written out for the linters
-    "table", "plan", "Table", "TablePlan", "Row", "count", "normalization", "density", "cdf", "contact_density",
+    "table", "plan", "Table", "TablePlan", "Row", "law", "law_plan", "Law", "LawPlan",
+    "count", "normalization", "density", "cdf", "contact_density",
     "ExactSampler", "TriangleMetropolis", "entropy", "tiling_entropy",
     "ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError", "PrecisionWarning", "__version__",
 ]

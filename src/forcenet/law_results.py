@@ -1,0 +1,321 @@
+"""What :func:`forcenet.law` returns: one load's exact law (:class:`Law`), rendered as ``forcenet dist`` renders it.
+
+The density and the distribution function as pieces (sympy ``Poly`` over
+``QQ`` on rational intervals), exact moments and values at a point, and the
+renderings the command line writes, byte for byte.  It shares the renderings'
+interface with :class:`forcenet.results.Table` (``_Rendered``).
+
+Examples
+--------
+>>> import forcenet
+>>> law = forcenet.law(3, (3, 2))
+>>> law.density[0].poly.as_expr(), law.cdf_at("1/2")
+(-6*w**2 + 6*w, Fraction(1, 2))
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from typing import TYPE_CHECKING, Any
+
+from forcenet.core.validation import check_int
+
+from forcenet.results import _Rendered
+
+if TYPE_CHECKING:  # pragma: no cover - annotations only
+    import numpy as np
+    from matplotlib.axes import Axes
+
+__all__ = ["Law"]
+
+
+def _fraction(x: Any) -> Fraction:
+    """A sympy Rational (or int) as a Fraction."""
+    return Fraction(int(x.p), int(x.q)) if hasattr(x, "q") else Fraction(x)
+
+
+class Law(_Rendered):
+    """One load's exact law: a piecewise-polynomial density and its distribution function, exact rationals.
+
+    Returned by :func:`forcenet.law`; the renderings are byte for byte those of ``forcenet dist`` (``grid=K``:
+    its ``--grid K``).  A grain's ``W_ij`` (variable ``w`` on ``[0, 1]``, Eqs. (4.5)-(4.9)), a contact force in
+    units of ``2/sqrt3`` (Eq. (3.8)), a layer's pooled ``P(f)``, ``f = i W_ij``, or the ensemble's.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers.
+    quantity, variable : str
+        What the law is of (as ``forcenet dist`` titles it) and its variable (``"w"`` or ``"f"``).
+    density, cdf : list of Piece
+        The density and its distribution function on the same intervals (sympy ``Poly`` over ``QQ``).
+    method, why : str
+        The route that computed it, and why ``auto`` chose it (empty for an explicit method).
+    extra : dict, optional
+        Exact fields ``forcenet dist`` prints besides (a grain's ``mean`` and ``second_moment``).
+
+    Examples
+    --------
+    >>> import forcenet
+    >>> law = forcenet.law(4, (4, 2))
+    >>> law
+    Law(N=4, quantity='W_{4,2}', method='ideals')
+    >>> law.density[0].poly.as_expr(), law.mean
+    (-15*w**5 + 30*w**4 - 30*w**2 + 15*w, Fraction(5, 14))
+    """
+
+    def __init__(self, N: int, quantity: str, variable: str, density: list[Any], cdf: list[Any], method: str,
+                 why: str = "", extra: dict[str, Any] | None = None):
+        self.N, self.quantity, self.variable, self.method, self.why = N, quantity, variable, method, why
+        self.density, self.cdf, self.extra = density, cdf, dict(extra or {})
+
+    def __repr__(self) -> str:
+        return f"Law(N={self.N}, quantity={self.quantity!r}, method={self.method!r})"
+
+    @property
+    def support(self) -> tuple[Fraction, Fraction]:
+        """``(lo, hi)``: the density vanishes outside.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.law(5, layer=4).support
+        (Fraction(0, 1), Fraction(4, 1))
+        """
+        return _fraction(self.density[0].lo), _fraction(self.density[-1].hi)
+
+    def moment(self, s: int = 1) -> Fraction:
+        """``E[x^s]``, exactly: ``sum over pieces of int_lo^hi x^s p(x) dx``.
+
+        Parameters
+        ----------
+        s : int
+            The moment, ``s >= 0`` (``s = 0``: the total mass, 1).
+
+        Returns
+        -------
+        Fraction
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> law = forcenet.law(6, (6, 2))
+        >>> law.moment(2) == forcenet.table(6, moments=2).moment(2)[5][1]
+        True
+        >>> forcenet.law(6, layer=5).moment(0)
+        Fraction(1, 1)
+        """
+        s = check_int(s, "s", 0)
+        total = Fraction(0)
+        for piece in self.density:
+            lo, hi = _fraction(piece.lo), _fraction(piece.hi)
+            for m, c in enumerate(reversed(piece.poly.all_coeffs())):
+                k = m + s + 1
+                total += _fraction(c) * (hi**k - lo**k) / k
+        return total
+
+    @property
+    def mean(self) -> Fraction:
+        """``E[x]`` (:meth:`moment` with ``s = 1``).
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.law(5, layer=5).mean  # f = i W over a layer: mean 1
+        Fraction(1, 1)
+        """
+        return self.moment(1)
+
+    def _at(self, pieces: list[Any], x: Any, below: int, above: int) -> Fraction | float:
+        if isinstance(x, float):  # a binary float: its exact value, the answer rounded once
+            return float(self._at(pieces, Fraction(x), below, above))
+        x = Fraction(x)
+        lo, hi = self.support
+        if x < lo or x > hi:
+            return Fraction(below if x < lo else above)
+        piece = next(p for p in pieces if x < _fraction(p.hi) or p is pieces[-1])
+        return sum((_fraction(c) * x**m for m, c in enumerate(reversed(piece.poly.all_coeffs()))), Fraction(0))
+
+    def density_at(self, x: Any) -> Fraction | float:
+        """The density at ``x``: exact for an int, a Fraction or a ``"p/q"`` string; a float gets the exact value at
+        that float, rounded once.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> law = forcenet.law(3, (3, 2))
+        >>> law.density_at("1/3"), law.density_at(0.5), law.density_at(2)
+        (Fraction(4, 3), 1.5, Fraction(0, 1))
+        """
+        return self._at(self.density, x, 0, 0)
+
+    def cdf_at(self, x: Any) -> Fraction | float:
+        """``P(<= x)``, exact as :meth:`density_at`.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.law(3, (3, 2)).cdf_at("1/2")
+        Fraction(1, 2)
+        """
+        return self._at(self.cdf, x, 0, 1)
+
+    def grid(self, K: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(x, density, cdf)`` at ``K + 1`` equally spaced points of the support, exact values rounded once.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.law(3, layer=3).grid(3)[2].tolist()
+        [0.0, 0.5555555555555556, 0.8888888888888888, 1.0]
+        """
+        from forcenet.numeric.triangle.force_distribution import density_grid
+
+        return density_grid(self.density, self.cdf, K)
+
+    def to_dict(self, grid: int | None = None) -> dict[str, Any]:
+        """What ``forcenet dist --format json`` writes, exact values as ``"p/q"`` strings (``grid``: ``--grid``).
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.law(3, (3, 2)).to_dict()["pieces"]
+        [{'lo': '0', 'hi': '1', 'degree': 2, 'density': ['0', '6', '-6'], 'cdf': ['0', '0', '3', '-2']}]
+        """
+        from forcenet.exact.triangle.distribution import poly_strings
+
+        out: dict[str, Any] = {
+            "N": self.N, "quantity": self.quantity, "variable": self.variable,
+            "pieces": [{"lo": str(p.lo), "hi": str(p.hi), "degree": p.poly.degree(), "density": poly_strings(p.poly),
+                        "cdf": poly_strings(F.poly)} for p, F in zip(self.density, self.cdf)],
+            "coefficients": "constant term first, exact rationals"}
+        out.update({k: str(v) for k, v in self.extra.items()})
+        if grid is not None:
+            x, p, F = self.grid(grid)
+            out["grid"] = [{self.variable: float(a), "density": float(b), "cdf": float(c)} for a, b, c in zip(x, p, F)]
+        return out
+
+    def to_json(self, grid: int | None = None) -> str:
+        """``forcenet dist --format json`` (without its newline).
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.law(2, (2, 1)).to_json()  # doctest: +ELLIPSIS
+        '{"N": 2, "quantity": "W_{2,1}", "variable": "w", "pieces": [{"lo": "0", "hi": "1", "degree": 0, ...}'
+        """
+        import json
+
+        return json.dumps(self.to_dict(grid), allow_nan=False)
+
+    def to_csv(self, grid: int | None = None) -> str:
+        """``forcenet dist --format csv``: ``lo,hi,power,density,cdf`` coefficient rows, or with ``grid`` the values.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> print(forcenet.law(3, (3, 2)).to_csv())
+        lo,hi,power,density,cdf
+        0,1,0,0,0
+        0,1,1,6,0
+        0,1,2,-6,3
+        0,1,3,0,-2
+        """
+        from forcenet.exact.triangle.distribution import poly_strings
+
+        var = self.variable
+        if grid is not None:
+            x, p, F = self.grid(grid)
+            return "\n".join([f"{var},density,cdf"] + [f"{a!r},{b!r},{c!r}" for a, b, c in
+                                                         zip(x.tolist(), p.tolist(), F.tolist())])
+        lines = ["lo,hi,power,density,cdf"]
+        for piece, F in zip(self.density, self.cdf):
+            dens, cum = poly_strings(piece.poly), poly_strings(F.poly)
+            dens += ["0"] * (len(cum) - len(dens))
+            lines += [f"{piece.lo},{piece.hi},{m},{a},{b}" for m, (a, b) in enumerate(zip(dens, cum))]
+        return "\n".join(lines)
+
+    def _cases(self, pieces: list[Any]) -> str:
+        import sympy
+
+        var = self.variable
+        if len(pieces) == 1:
+            return sympy.latex(pieces[0].poly.as_expr()) + rf" \qquad ({pieces[0].lo} \le {var} \le {pieces[0].hi})"
+        rows = [rf"{sympy.latex(p.poly.as_expr())} & {p.lo} \le {var} < {p.hi}" for p in pieces]
+        return r"\begin{cases} " + r" \\ ".join(rows) + r" \end{cases}"
+
+    def to_latex(self, grid: int | None = None) -> str:
+        """``forcenet dist --format latex``: the density and the CDF as cases, and the ``grid`` as a tabular.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> print(forcenet.law(3, (3, 2)).to_latex().splitlines()[2])
+        p(w) &= - 6 w^{2} + 6 w \\qquad (0 \\le w \\le 1) \\\\
+        """
+        var = self.variable
+        lines = [f"% {self.quantity}", r"\begin{align*}", rf"p({var}) &= {self._cases(self.density)} \\",
+                 rf"P(\le {var}) &= {self._cases(self.cdf)}", r"\end{align*}"]
+        if grid is not None:
+            x, p, F = self.grid(grid)
+            lines += [r"\begin{tabular}{rrr}", rf"${var}$ & density & CDF \\ \hline"]
+            lines += [rf"{a:.6g} & {b:.10g} & {c:.10g} \\" for a, b, c in zip(x, p, F)]
+            lines += [r"\end{tabular}"]
+        return "\n".join(lines)
+
+    def to_text(self, grid: int | None = None) -> str:
+        """``forcenet dist``'s text: each piece's degree and lowest coefficients, the extra fields, the ``grid``.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> print(forcenet.law(3, (3, 2)).to_text().splitlines()[1])
+          on [0, 1]: polynomial of degree 2 in w; lowest coefficients 0, 6, -6, ...
+        """
+        var = self.variable
+        lines = [f"N = {self.N}: exact density of {self.quantity} (exact rationals; --format json for all "
+                 "coefficients)"]
+        for p in self.density:
+            lead = ", ".join(str(c) for c in list(reversed(p.poly.all_coeffs()))[:3])
+            lines.append(f"  on [{p.lo}, {p.hi}]: polynomial of degree {p.poly.degree()} in {var}; lowest "
+                         f"coefficients {lead}, ...")
+        lines += [f"  {k} = {v}" for k, v in self.extra.items()]
+        lines.append(f"  density at {var} = 0: {self.density[0].poly.eval(0)}")
+        if grid is not None:
+            lines.append(f"  {var:>10}  {'density':>14}  {'cdf':>14}")
+            lines += [f"  {a:10.6g}  {b:14.8g}  {c:14.8g}" for a, b, c in zip(*self.grid(grid))]
+        return "\n".join(lines)
+
+    def _repr_latex_(self) -> str | None:
+        if sum(p.poly.degree() + 1 for p in self.density) > 60:
+            return None
+        return rf"$p({self.variable}) = {self._cases(self.density)}$"
+
+    def _repr_html_(self) -> str:
+        from html import escape
+
+        head = f"<p>{escape(self.quantity)}, N = {self.N} ({escape(self.method)}): mean {self.mean}</p>"
+        rows = "".join(f"<tr><td>[{p.lo}, {p.hi}]</td><td>{p.poly.degree()}</td></tr>" for p in self.density)
+        return head + "<table><tr><th>piece</th><th>degree</th></tr>" + rows + "</table>"
+
+    def plot(self, ax: Axes | None = None, points: int = 400) -> Axes:
+        """The density over its support (exact values rounded once, ``points + 1`` points).
+
+        Examples
+        --------
+        >>> import matplotlib
+        >>> matplotlib.use("Agg")
+        >>> import forcenet
+        >>> forcenet.law(8, layer=8).plot().get_xlabel()
+        'f'
+        """
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(5, 3.5))
+        x, p, _ = self.grid(points)
+        ax.plot(x, p)
+        ax.set_xlabel(self.variable)
+        ax.set_ylabel(f"p({self.variable})")
+        ax.set_title(f"N = {self.N}: {self.quantity}")
+        return ax

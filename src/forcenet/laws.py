@@ -1,0 +1,389 @@
+"""The front door for one load's law: its exact density, CDF and moments (:func:`law`), and its plan (:func:`law_plan`).
+
+``forcenet.law(N, (i, j))`` is what ``forcenet dist --N N --grain i,j``
+computes, by the same route and to the same bytes: the exact
+piecewise-polynomial density and distribution function of the vertical force
+``W_ij`` on one grain (Eqs. (4.5)-(4.9)), of a contact force (``contact=``,
+Eq. (3.8)), of layer ``i``'s pooled ``P(f)``, ``f = i W_ij`` (``layer=i``),
+or of the ensemble's (neither: every grain of layers ``2..N``).
+``forcenet.law_plan(...)`` takes the same request and answers what it will
+cost, or why it cannot run and what would, without doing the work; a plan
+runs as it was checked (:meth:`LawPlan.run`), so a request is validated and
+planned once.
+
+The routes and their limits live in the registry :mod:`forcenet.exact.routes`
+(its laws section); this module names the request and keeps the answer
+together (:class:`Law`), rendered as the command line renders it.
+
+Examples
+--------
+>>> import forcenet
+>>> law = forcenet.law(6, (6, 2))
+>>> law.mean, law.method
+(Fraction(413, 2288), 'ideals')
+>>> p = forcenet.law_plan(40, layer=40)
+>>> p.method, p.runnable
+('floor', True)
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from concurrent.futures import Executor
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING, Any
+
+from forcenet.core.errors import ArgumentError, ArgumentTypeError
+from forcenet.core.plan import Plan
+from forcenet.core.validation import available_memory, check_int
+
+from forcenet.law_results import Law
+
+if TYPE_CHECKING:  # pragma: no cover - annotations only
+    from forcenet.exact.routes import LawRequest
+
+__all__ = ["Law", "LawPlan", "law", "law_plan"]  # Law: forcenet.law_results
+
+Progress = Callable[..., Any]
+
+
+@dataclass(frozen=True)
+class LawPlan:
+    """A checked request for one load's law, with its route and cost: what :func:`law_plan` returns.
+
+    Parameters
+    ----------
+    request : forcenet.exact.routes.LawRequest
+        The validated target: ``N``, ``grain``, ``layer``, ``contact``.
+    method : str
+        The route that runs it (``"ideals"``, ``"pfaffian"``, ``"floor"``, ``"layers"``, ``"pfaffians"``).
+    why : str
+        Why ``auto`` chose it (empty for an explicit method).
+    cost : forcenet.core.plan.Plan
+        Estimated seconds, peak bytes, progress ticks, or the refusal.
+    executor : concurrent.futures.Executor or Dask Client, optional
+        Runs the route's independent primes.
+    checkpoint : CheckpointStore or str, optional
+        Where the route records finished primes (a directory for the ensemble: one request per layer).
+
+    Examples
+    --------
+    >>> import forcenet
+    >>> p = forcenet.law_plan(12, (12, 6))
+    >>> p.method, p.runnable, p.refusal
+    ('ideals', True, None)
+    """
+
+    request: LawRequest
+    method: str
+    why: str
+    cost: Plan
+    executor: Executor | None = field(default=None, repr=False)
+    checkpoint: Any = field(default=None, repr=False)
+
+    @property
+    def N(self) -> int:
+        """Number of layers.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.law_plan(9, layer=4).N
+        9
+        """
+        return self.request.N
+
+    @property
+    def runnable(self) -> bool:
+        """True when the request can run (in range, within memory).
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.law_plan(40, layer=40).runnable, forcenet.law_plan(40, layer=40, method="ideals").runnable
+        (True, False)
+        """
+        return self.cost.runnable
+
+    @property
+    def refusal(self) -> str | None:
+        """Why it cannot run, and what would; None when it can.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> print(forcenet.law_plan(40, layer=40, method="ideals").refusal)  # doctest: +ELLIPSIS
+        N=40 is out of range for exact gap laws: ...; method='auto' runs it by floor (~...)
+        """
+        return self.cost.refusal
+
+    @property
+    def seconds(self) -> float:
+        """Estimated wall time on the 2-core reference machine.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.law_plan(6).seconds < 5
+        True
+        """
+        return self.cost.seconds
+
+    @property
+    def nbytes(self) -> int:
+        """Estimated peak memory in bytes.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.law_plan(40, layer=40).nbytes < 2**31
+        True
+        """
+        return self.cost.nbytes
+
+    @property
+    def over_primes(self) -> bool:
+        """True when the route runs over independent primes (it takes ``executor=`` and ``checkpoint=``).
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.law_plan(40, layer=40).over_primes, forcenet.law_plan(8, layer=8).over_primes
+        (True, False)
+        """
+        from forcenet.exact.routes import LAW_PRIME_ROUTES
+
+        return self.method in LAW_PRIME_ROUTES
+
+    def describe(self) -> str:
+        """The cost in words: ``'~1 min, ~0.25 GiB'``.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.law_plan(5, (5, 3)).describe()  # doctest: +ELLIPSIS
+        '~0 s, ~...GiB'
+        """
+        return self.cost.describe()
+
+    def check(self) -> LawPlan:
+        """The plan itself when it can run; else :class:`~forcenet.ArgumentError` with its refusal.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.law_plan(7, layer=7).check().method
+        'ideals'
+        """
+        self.cost.check()
+        return self
+
+    def with_options(self, *, executor: Executor | None = None,
+                     checkpoint: str | os.PathLike[str] | None = None) -> LawPlan:
+        """This plan with a cluster's workers and a checkpoint directory; the route is not chosen again.
+
+        Parameters
+        ----------
+        executor : concurrent.futures.Executor or Dask Client, optional
+            Runs the route's independent primes.
+        checkpoint : str or os.PathLike, optional
+            A directory where the route records every finished prime (the ensemble: one request per layer).
+
+        Returns
+        -------
+        LawPlan
+            This plan, or a copy with the options (its cost counting the records a directory already holds).
+
+        Raises
+        ------
+        ArgumentError
+            If the route does not run over primes (the order-ideal DP, a lattice direction's Pfaffians).
+
+        Examples
+        --------
+        >>> import forcenet, tempfile
+        >>> p = forcenet.law_plan(40, layer=40).with_options(checkpoint=tempfile.mkdtemp())
+        >>> p.checkpoint.request["route"]
+        'pfaffian-floor'
+        """
+        from forcenet.exact.routes import LAW_PRIME_ROUTES, law_checkpoint, law_resumed
+
+        if executor is None and checkpoint is None:
+            return self
+        if not self.over_primes:
+            given = " and ".join(n for n, v in (("executor=", executor), ("checkpoint=", checkpoint)) if v is not None)
+            raise ArgumentError(f"{given} applies to the law routes over primes ({', '.join(LAW_PRIME_ROUTES)}); "
+                                f"this law runs by {self.method} (~{self.describe()}): run it without")
+        store = self.checkpoint
+        cost = self.cost
+        if checkpoint is not None:
+            if self.checkpoint is not None:
+                raise ArgumentError(f"checkpoint={checkpoint!r}: this plan keeps its checkpoint already; make the "
+                                    "request again with forcenet.law_plan(..., checkpoint=...)")
+            if not isinstance(checkpoint, (str, os.PathLike)):
+                raise ArgumentTypeError(f"checkpoint={checkpoint!r} is not a directory path: give a str or "
+                                        "os.PathLike")
+            store = law_checkpoint(self.request, self.method, checkpoint)
+            cost = law_resumed(cost, self.request, store)
+        return replace(self, cost=cost, executor=executor if executor is not None else self.executor,
+                       checkpoint=store)
+
+    def run(self, progress: Progress | bool | None = None) -> Law:
+        """Compute the law this plan describes (the plan is not made again).
+
+        Parameters
+        ----------
+        progress : callable, bool or None
+            ``progress(k)`` with the plan's ticks as the run goes; ``True``: a progress bar (tqdm).
+
+        Returns
+        -------
+        Law
+
+        Raises
+        ------
+        ArgumentError
+            If the plan is refused.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.law_plan(4, (4, 2)).run().mean
+        Fraction(5, 14)
+        """
+        from forcenet.exact.checkpoints import run_distrusting
+        from forcenet.exact.routes import law_run
+
+        self.check()
+        options = {k: v for k, v in (("executor", self.executor), ("checkpoint", self.checkpoint)) if v is not None}
+        bar = None
+        tick: Progress | None = progress if callable(progress) else None
+        if progress is True:
+            from tqdm.auto import tqdm
+
+            bar = tqdm(total=self.cost.ticks or None, desc=f"law N={self.N}", unit=self.cost.unit)
+            tick = bar.update
+        try:  # a reused record that fails the route's exact checks is named, dropped and recomputed
+            found = run_distrusting(self.checkpoint, self.N,
+                                    lambda: law_run(self.request, self.method, tick, **options))
+        finally:
+            if bar is not None:
+                bar.close()
+        return Law(self.N, found.quantity, found.variable, found.density, found.cdf, self.method, self.why,
+                   found.extra)
+
+
+def law_plan(N: int, grain: tuple[int, int] | None = None, *, layer: int | None = None, contact: str | None = None,
+             method: str = "auto", executor: Executor | None = None,
+             checkpoint: str | os.PathLike[str] | None = None, memory_bytes: int | None = None) -> LawPlan:
+    """What :func:`law` will cost for this request, or why it cannot run and what would; nothing is computed.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers of the triangle, ``2..128`` (a contact force: ``2..30``).
+    grain : (int, int), optional
+        ``(i, j)``, ``2 <= i <= N``, ``1 <= j <= i``: the law of ``W_ij`` (or of its contact force).
+    layer : int, optional
+        ``i`` in ``2..N``: layer ``i``'s pooled ``P(f)``, ``f = i W_ij``.  Neither ``grain`` nor ``layer``:
+        the ensemble's ``P(f)``, every grain of layers ``2..N``.
+    contact : {"F1", "F2", "F5", "F6"}, optional
+        With ``grain``: that contact force, in units of ``2/sqrt3`` (Eq. (3.8)).
+    method : {"auto", "ideals", "pfaffians"}
+        ``"auto"`` (the faster runnable route by the plans, the default), ``"ideals"`` (the order-ideal DP,
+        ``N <= 30``) or ``"pfaffians"`` (the Pfaffian route: a lattice direction's Pfaffians, de Bruijn
+        Pfaffians of the floor, of a layer, of every layer; planned where it is the faster).
+    executor : concurrent.futures.Executor or Dask Client, optional
+        Runs the de Bruijn routes' independent primes.
+    checkpoint : str or os.PathLike, optional
+        A directory where those routes record every finished prime; a rerun recomputes only what is missing.
+    memory_bytes : int, optional
+        Memory the run may use; default: what the machine has available now.
+
+    Returns
+    -------
+    LawPlan
+        The route, its estimated cost, or its refusal naming what would work.
+
+    Raises
+    ------
+    ArgumentError
+        If the request is out of range, or ``executor``/``checkpoint`` is given to a route without primes.
+
+    Examples
+    --------
+    >>> import forcenet
+    >>> forcenet.law_plan(64, (64, 1)).method  # a lattice direction: one-time Pfaffians
+    'pfaffian'
+    >>> print(forcenet.law_plan(12, (6, 3), contact="F5", method="pfaffians").refusal)  # doctest: +ELLIPSIS
+    method='pfaffians' for this law at N=12: no Pfaffian route reaches a contact force; method='auto' runs it by ideals (~...)
+    """
+    from forcenet.exact.routes import choose_law, law_request
+
+    request = law_request(N, grain, layer, contact)
+    memory = (available_memory() or 16 * 2**30) if memory_bytes is None else check_int(memory_bytes, "memory_bytes", 1)
+    choice = choose_law(request, method, memory, executor=executor)
+    plan = LawPlan(request, choice.route, choice.why, choice.plan)
+    return plan.with_options(executor=executor, checkpoint=checkpoint) if plan.runnable else plan
+
+
+def law(N: int, grain: tuple[int, int] | None = None, *, layer: int | None = None, contact: str | None = None,
+        method: str = "auto", executor: Executor | None = None, checkpoint: str | os.PathLike[str] | None = None,
+        progress: Progress | bool | None = None, memory_bytes: int | None = None) -> Law:
+    """One load's exact law, as ``forcenet dist`` computes it: density, CDF and moments as exact polynomials.
+
+    The force network ensemble of the fully mobilized triangle (Sec. 4.2) makes
+    every force a spacing of sorted uniforms: a grain's ``W_ij`` has a Beta
+    mixture density on ``[0, 1]`` (Eqs. (4.5)-(4.9)), a pooled ``P(f)`` a
+    piecewise polynomial.  ``method="auto"`` runs the faster route by the
+    plans (:func:`law_plan`), the same choice and bytes as the command line.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``2..128`` (a contact force: ``2..30``).
+    grain : (int, int), optional
+        ``(i, j)``: the law of ``W_ij``, ``i >= 2`` (or, with ``contact``, of its contact force).
+    layer : int, optional
+        Layer ``i``'s pooled ``P(f)``, ``f = i W_ij``; neither ``grain`` nor ``layer``: the ensemble's.
+    contact : {"F1", "F2", "F5", "F6"}, optional
+        With ``grain``: that contact force, in units of ``2/sqrt3``.
+    method : {"auto", "ideals", "pfaffians"}
+        As in :func:`law_plan`.
+    executor : concurrent.futures.Executor or Dask Client, optional
+        Runs the de Bruijn routes' independent primes.
+    checkpoint : str or os.PathLike, optional
+        A directory recording every finished prime (resumable runs).
+    progress : callable, bool or None
+        ``progress(k)`` with the plan's ticks; ``True``: a progress bar.
+    memory_bytes : int, optional
+        Memory the run may use; default: what the machine has available now.
+
+    Returns
+    -------
+    Law
+        Exact pieces of the density and the CDF, the route used and why.
+
+    Raises
+    ------
+    ArgumentError
+        If the request is out of range, or its plan is refused (the message names the route that would run it).
+
+    Examples
+    --------
+    >>> import forcenet
+    >>> w = forcenet.law(5, (5, 3))
+    >>> w.moment(2) == forcenet.table(5, moments=2).moment(2)[4][2]
+    True
+    >>> forcenet.law(7, layer=7).cdf_at(7)
+    Fraction(1, 1)
+    >>> forcenet.law(5).quantity
+    'P(f), f = i W_{i,j} over layers 2..N (ensemble)'
+    >>> forcenet.law(40, layer=40, method="ideals")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    forcenet.core.errors.ArgumentError: N=40 is out of range for exact gap laws: ...; method='auto' runs it by floor (~...)
+    """
+    return law_plan(N, grain, layer=layer, contact=contact, method=method, executor=executor, checkpoint=checkpoint,
+                    memory_bytes=memory_bytes).check().run(progress)

@@ -7,7 +7,7 @@ arithmetic of ``Z[zeta_12]`` and the tile geometry), so that the tests can
 count both sides of the correspondence independently.  Exponential; tori
 with up to ~40 vertices.  :func:`scan_lifts` runs it on every period lattice
 over a torus of the chicken-wire lattice; the comparison with the
-correspondence, torus by torus, is :mod:`.survey`.
+correspondence, torus by torus, is ``benchmarks/tiling_survey.py`` (not installed).
 """
 
 from __future__ import annotations

@@ -223,7 +223,7 @@ class PackingMetropolis:
             self.attempted, self.accepted, self.rejected_by_constraint = (int(x) for x in counters[:3])
             self.evaluations = int(counters[3])
         if counters[4]:  # pragma: no cover - never observed
-            raise RuntimeError("slice move: an interval shrank 200 times without a point under the density")
+            raise ArithmeticError("slice move: an interval shrank 200 times without a point under the density")
 
     def sweep(self, count: int = 1) -> None:
         """``count`` sweeps of ``(N-1)(P-1)`` single-grain updates."""

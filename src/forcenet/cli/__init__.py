@@ -4,10 +4,13 @@ A small parser; one module per command family (:mod:`.table`, :mod:`.sample`,
 :mod:`.limit`, :mod:`.chicken_wire`), the shared arguments and the policy in
 :mod:`.common`.  :func:`main` is the one error boundary: every expected
 failure -- the exception family :class:`forcenet.ForcenetError` (bad argument,
-refused plan), the file system, memory, interruption -- ends in one line on
+refused plan, a file or stream that cannot be written: the writers of
+:mod:`.output` turn the ``OSError`` of their own operations into the family,
+naming the argument), memory, interruption -- ends in one line on
 stderr naming the argument or path, exit code 2 (130 on Ctrl-C), and no file
 written or directory created.  Anything else is a bug, a plain ``ValueError``
-or ``TypeError`` included: exit code 1, ``forcenet: internal error: <type>:
+or ``TypeError`` and an ``OSError`` that no file or stream operation of the
+command line raised included: exit code 1, ``forcenet: internal error: <type>:
 <message>``, and the traceback on stderr under ``--debug``, else in a file
 whose path is printed.  The main job's cross-check has codes of its own: 3
 when it DISAGREES, 4 when it cannot judge (:data:`.output.EXIT_CODES`, also in
@@ -203,10 +206,7 @@ def main(argv=None) -> int:
     except BrokenPipeError:  # e.g. `forcenet maps --N 9 | head`
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
-    except OSError as exc:  # the file system (the writers name the argument; this is the last resort)
-        where = f" ({exc.filename})" if exc.filename else ""
-        return _error(f"{exc.strerror or exc}{where}")
-    except Exception as exc:  # anything else is a bug, a plain ValueError or TypeError included
+    except Exception as exc:  # anything else is a bug: a plain ValueError or TypeError, an OSError no writer named
         return _internal_error(exc, getattr(args, "debug", False))
 
 

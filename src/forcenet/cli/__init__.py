@@ -33,6 +33,7 @@ import os
 import sys
 import tempfile
 import traceback
+from collections.abc import Sequence
 from importlib.metadata import version
 
 from forcenet.core.errors import ForcenetError
@@ -87,7 +88,7 @@ def build_parser() -> Parser:
 _EXTENSION_FORMATS = {".json": "json", ".csv": "csv", ".tex": "latex"}
 
 
-def _check_destinations(args) -> None:
+def _check_destinations(args: argparse.Namespace) -> None:
     """Every destination of the result, before any work: the files named, else standard output."""
     for name in ("out", "plot"):
         if getattr(args, name, None) is not None:
@@ -140,9 +141,9 @@ def _release_quietly(exc: BaseException) -> None:
         sys.unraisablehook = hook
 
 
-def _valued_options(parser) -> tuple[set[str], set[str]]:
+def _valued_options(parser: argparse.ArgumentParser) -> tuple[set[str], set[str]]:
     """(the option strings that take one value, every option string) of the parser and its subcommands."""
-    valued, every = set(), set()
+    valued, every = set(), set()  # type: set[str], set[str]
     parsers, seen = [parser], set()
     while parsers:
         current = parsers.pop()
@@ -158,7 +159,7 @@ def _valued_options(parser) -> tuple[set[str], set[str]]:
     return valued, every
 
 
-def _join_negative_values(parser, argv: list[str]) -> list[str]:
+def _join_negative_values(parser: argparse.ArgumentParser, argv: list[str]) -> list[str]:
     """``--grain -1,1`` read as ``--grain=-1,1``: a value that starts with ``-`` (argparse would take it for an
     option and answer "expected one argument") is joined to the option that takes it, unless it is an option
     itself; the value then meets its own check, which names the range."""
@@ -181,7 +182,7 @@ def _join_negative_values(parser, argv: list[str]) -> list[str]:
     return out
 
 
-def main(argv=None) -> int:
+def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit code."""
     sys.set_int_max_str_digits(0)  # huge exact integers are printed whole (count --N 84 has 4300+ digits)
     parser = build_parser()

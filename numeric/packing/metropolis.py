@@ -148,7 +148,7 @@ class PackingMetropolis:
         q[:, :-1] = F5 / (F5 + F6)
         return q
 
-    def _feasible(self, q, W) -> bool:
+    def _feasible(self, q: np.ndarray, W: np.ndarray) -> bool:
         if (W[:-1, :-1] <= 0).any():
             return False
         if self.scene.ph is None:
@@ -187,7 +187,8 @@ class PackingMetropolis:
         self.q[i, j] = old
         return False
 
-    def _compiled(self, units: int, out: np.ndarray, qs: np.ndarray, thin: int = 1, progress=None) -> None:
+    def _compiled(self, units: int, out: np.ndarray, qs: np.ndarray, thin: int = 1,
+                  progress: Callable[[int], object] | None = None) -> None:
         """``units`` records of ``thin`` sweeps into ``out`` (and ``qs`` if non-empty), or (``out`` empty) ``units``
         sweeps, compiled, in calls of ~0.15 s cut between sweeps (:func:`forcenet.numeric.jit.chunks`): Ctrl-C
         is seen between two calls, and the chain is the one a single call gives; ``progress(k)`` per call."""

@@ -17,6 +17,7 @@ Examples
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from functools import cache
 from forcenet.core.errors import ArgumentError
 
@@ -129,7 +130,7 @@ def primes_for_bound(bound: int, limit: int = 2**31, smallest: int = 2) -> tuple
     return tuple(out)
 
 
-def crt(residues, primes) -> int:
+def crt(residues: Iterable[int], primes: Iterable[int]) -> int:
     """The least non-negative integer with the given residues (Garner's algorithm).
 
     Examples
@@ -147,7 +148,7 @@ def crt(residues, primes) -> int:
     return x
 
 
-def crt_many(residue_rows, primes) -> list[int]:
+def crt_many(residue_rows: Iterable[Iterable[int]], primes: Iterable[int]) -> list[int]:
     """:func:`crt` applied to each row of a 2-D array of residues (row ``i``: one integer's residues).
 
     The basis ``e_k = (P / p_k) ((P / p_k)^-1 mod p_k)`` is computed once,

@@ -75,6 +75,7 @@ False
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
@@ -92,7 +93,7 @@ __all__ = ["TableAgreement", "batch_means", "compare_samples", "compare_chain", 
 _FIXED_RTOL = 1e-12  # a column is "fixed" when it varies by less than this (relative)
 
 
-def _fmt_key(key) -> str:
+def _fmt_key(key: object) -> str:
     return str(key)
 
 
@@ -275,14 +276,14 @@ def varying_columns(x: np.ndarray) -> np.ndarray:
     return spread > _FIXED_RTOL * np.maximum(1.0, np.abs(x).max(axis=0))
 
 
-def _split(x: np.ndarray, mu: np.ndarray, keys: list):
+def _split(x: np.ndarray, mu: np.ndarray, keys: list) -> tuple[np.ndarray, tuple[tuple[Any, float, float], ...]]:
     """Separate the columns that never vary (compared exactly) from the others."""
     fixed = ~varying_columns(x)
     fixed_report = tuple((keys[g], float(x[0, g]), float(mu[g])) for g in np.flatnonzero(fixed))
     return ~fixed, fixed_report
 
 
-def _z_scores(rows, mu):
+def _z_scores(rows: np.ndarray, mu: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Means, ``(mean - exact) / stderr`` (infinite where a constant column differs) and the stderrs."""
     K = rows.shape[0]
     mean = rows.mean(axis=0)
@@ -293,13 +294,16 @@ def _z_scores(rows, mu):
     return mean, dev, stderr, z
 
 
-def _report(keys, mean, mu, stderr, z, **fields) -> TableAgreement:
+def _report(keys: Sequence[Any], mean: np.ndarray, mu: np.ndarray, stderr: np.ndarray, z: np.ndarray,
+            **fields: Any) -> TableAgreement:
     return TableAgreement(keys=tuple(keys), mean=tuple(map(float, mean)), exact=tuple(map(float, mu)),
                           stderr=tuple(map(float, stderr)), z=tuple(map(float, z)), **fields)
 
 
-def _rows_test(rows, mu, keys, alpha, hotelling, fixed, reason=None, gamma=None, too_few=None, floor=False,
-               **extra) -> TableAgreement:
+def _rows_test(rows: np.ndarray, mu: np.ndarray, keys: Sequence[Any], alpha: float, hotelling: bool | None, fixed: Any,
+               reason: str | None = None, gamma: np.ndarray | None = None,
+               too_few: Callable[[Any, Any, float], str] | None = None, floor: bool = False,
+               **extra: Any) -> TableAgreement:
     """The t route: t per value, Bonferroni maximum, Hotelling, on rows ``(K, G)``.
 
     ``gamma`` (one per value): the skewness the size rule charges the rows' t statistics with; below the size
@@ -323,7 +327,7 @@ def _rows_test(rows, mu, keys, alpha, hotelling, fixed, reason=None, gamma=None,
                    judged=judged, skew_term=u, **extra)
 
 
-def _bounds(bounds, G: int):
+def _bounds(bounds: Any, G: int) -> list[np.ndarray]:
     """``(lo, hi)`` as two float arrays of length ``G`` (scalars or one entry per value)."""
     try:
         lo, hi = bounds
@@ -338,7 +342,7 @@ def _bounds(bounds, G: int):
     return out
 
 
-def _inside(rows, mu, keys, bounds):
+def _inside(rows: np.ndarray, mu: np.ndarray, keys: Sequence[Any], bounds: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The bounds as arrays and their rounding tolerance; raises if a bound, exact value or sample is off."""
     G = rows.shape[1]
     lo, hi = _bounds(bounds, G)
@@ -361,7 +365,7 @@ def _inside(rows, mu, keys, bounds):
 
 
 @lru_cache(maxsize=64)
-def _blind(K, mu, lo, hi, share) -> np.ndarray:
+def _blind(K: int, mu: tuple[float, ...], lo: tuple[float, ...], hi: tuple[float, ...], share: float) -> np.ndarray:
     """The values no sample of ``K`` rows could fail (cached: tests and benchmarks repeat one table)."""
     from .betting import extreme_pvalues
 
@@ -369,13 +373,14 @@ def _blind(K, mu, lo, hi, share) -> np.ndarray:
 
 
 @lru_cache(maxsize=64)
-def _rows_needed(mu, lo, hi, share) -> int:
+def _rows_needed(mu: tuple[float, ...], lo: tuple[float, ...], hi: tuple[float, ...], share: float) -> int:
     from .betting import rows_needed
 
     return rows_needed(np.array(mu), np.array(lo), np.array(hi), share)
 
 
-def _bounded_test(rows, mu, keys, alpha, bounds, fixed=(), **extra) -> TableAgreement:
+def _bounded_test(rows: np.ndarray, mu: np.ndarray, keys: Any, alpha: float, bounds: Any,
+                  fixed: Any = (), **extra: Any) -> TableAgreement:
     """The bounded route: a betting p-value per value (:mod:`.betting`), Bonferroni over the values.
 
     A value whose exact mean is an end of its range is that end almost surely: compared exactly.
@@ -409,7 +414,8 @@ def _bounded_test(rows, mu, keys, alpha, bounds, fixed=(), **extra) -> TableAgre
                    method="bounded", reason=reason, fixed_certain=True, **extra)
 
 
-def _prepare(samples, exact, keys, name="samples"):
+def _prepare(samples: ArrayLike, exact: ArrayLike, keys: Sequence[Any] | None,
+             name: str = "samples") -> tuple[np.ndarray, np.ndarray, list[Any]]:
     x = np.asarray(samples, dtype=float)
     if x.ndim == 1:
         x = x[:, None]
@@ -427,13 +433,13 @@ def _prepare(samples, exact, keys, name="samples"):
     return x, mu, keys
 
 
-def _check_alpha(alpha) -> float:
+def _check_alpha(alpha: Any) -> float:
     from forcenet.core.validation import check_real
 
     return check_real(alpha, "alpha", 0, 1, low_open=True, high_open=True)
 
 
-def _t_reason(K: int | None, fixed) -> str | None:
+def _t_reason(K: int | None, fixed: Any) -> str | None:
     """Why the t route cannot judge a constant value off its exact mean (``K`` rows, or a chain: None)."""
     for key, sampled, exact in fixed:
         if not _same(sampled, exact):
@@ -479,7 +485,7 @@ def compare_samples(samples: ArrayLike, exact: Any, keys: list[Any] | None = Non
     rows, K = x[:, vary], x.shape[0]
     names = [k for k, v in zip(keys, vary) if v]
 
-    def too_few(u, worst, level):
+    def too_few(u: Any, worst: Any, level: float) -> str:
         g = float(abs(skewness(rows[:, worst:worst + 1])[0]))
         return (f"{K} rows are too few for the t statistics without bounds: {_fmt_key(names[worst])} is skewed "
                 f"(sample skewness {g:.2g}) and at level {alpha:g} over {rows.shape[1]} values their tail is trusted "
@@ -541,7 +547,7 @@ def compare_chain(chain: ArrayLike, exact: Any, keys: list[Any] | None = None, a
     steps = np.abs(skewness(x[:, vary]))
     gamma = steps * np.sqrt(1.5 * np.asarray(tau, dtype=float) / layout["length"])  # a batch: length / (1.5 tau) rows
 
-    def too_few(u, worst, level):
+    def too_few(u: Any, worst: Any, level: float) -> str:
         return (f"the chain's {means.shape[0]} batch means of {layout['length']} steps are too few for the t "
                 f"statistics: {_fmt_key(names[worst])} is skewed (steps: {steps[worst]:.2g}, batch means: about "
                 f"{gamma[worst]:.2g}) and at level {alpha:g} over {len(names)} values their tail is trusted from "

@@ -128,7 +128,7 @@ def rows_needed(mean: ArrayLike, lo: ArrayLike, hi: ArrayLike, level: float, lim
     >>> rows_needed(np.array([0.3, 0.5]), 0, 1, 1e-3)
     12
     """
-    def enough(K):
+    def enough(K: int) -> bool:
         return bool((extreme_pvalues(K, mean, lo, hi, level) <= level).all())
 
     low, high = 1, 2

@@ -84,7 +84,8 @@ def _cubed(n: int, level: float, values: int) -> float:
     return (x * math.sqrt(n / (n - 1 + x * x))) ** 3
 
 
-def size_rule(gamma, n: int, level: float, G: int, floor: bool = False):
+def size_rule(gamma: np.ndarray | None, n: int, level: float, G: int,
+              floor: bool = False) -> tuple[bool, float | None, float, int | None]:
     """``(judged, u, factor, worst)``: the rule on the t statistics of ``n`` rows, ``G`` values of skewness ``gamma``.
 
     ``u`` at the critical value of the most skewed value ``worst``, ``factor = cosh(min(u, U_MAX))``;
@@ -154,7 +155,7 @@ def t_rows_needed(gamma: float, level: float, values: int, limit: int = 1 << 30)
 
 @lru_cache(maxsize=1024)
 def _t_rows_needed(gamma: float, level: float, values: int, limit: int) -> int:
-    def judged(n):
+    def judged(n: int) -> bool:
         charged = abs(gamma) + 2.0 * math.sqrt(6.0 / n)
         return skew_term(charged, n, level, values) <= U_MAX and n >= floor_rows(level, values, n)
 
@@ -188,7 +189,7 @@ def bonferroni(max_z: float, values: int, df: int | None) -> float:
     return min(1.0, values * tail)
 
 
-def hotelling(rows: np.ndarray, dev: np.ndarray):
+def hotelling(rows: np.ndarray, dev: np.ndarray) -> tuple[float, int, float] | None:
     """``(chi2, rank, p)`` of Hotelling's test on the nondegenerate subspace, or None when the rows are too few.
 
     Examples

@@ -101,6 +101,37 @@ def test_the_family_is_one_line_exit_2(kind, monkeypatch, capsys):
     assert err == "forcenet: error: a bug: 3 is not 4\n"
 
 
+def test_a_destination_that_is_a_directory_is_a_user_error_exit_2(tmp_path, capsys):
+    """A file operation's failure names the argument: one line, exit code 2 (the writers raise the family)."""
+    code = main(["count", "--N", "5", "--out", str(tmp_path)])
+    out, err = capsys.readouterr()
+    assert code == 2 and out == ""
+    assert err == f"forcenet: error: --out={tmp_path}: is a directory; give a file name\n"
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_an_os_error_inside_an_engine_is_a_bug_exit_1(monkeypatch, capsys, tmp_path):
+    """An OSError that no file or stream operation of the command line raised is an internal error, not exit 2."""
+    import errno
+
+    from forcenet.exact.triangle import staircase
+
+    def engine(N):
+        raise OSError(errno.EBADF, "Bad file descriptor")
+
+    monkeypatch.setattr(staircase, "count", engine)
+    monkeypatch.setenv("TMPDIR", str(tmp_path))
+    monkeypatch.setattr("tempfile.tempdir", None)
+    code = main(["count", "--N", "5"])
+    out, err = capsys.readouterr()
+    assert code == 1 and out == ""
+    assert err.splitlines()[0] == "forcenet: internal error: OSError: [Errno 9] Bad file descriptor"
+    assert "the traceback is in" in err and "please report it" in err
+    code = main(["--debug", "count", "--N", "5"])
+    _, err = capsys.readouterr()
+    assert code == 1 and "Traceback (most recent call last):" in err and "in engine" in err
+
+
 _CHECK_UNDER_O = """
 import copy
 from forcenet.exact.chicken_wire.tiling import (Lattice2in2, TilingError, check_tiling, chicken_wire_configs,

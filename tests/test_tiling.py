@@ -1,13 +1,13 @@
 """The chicken-wire <-> square-triangle correspondence (notes/chicken_wire.md, Sec. 7), both sides counted independently."""
 
 import copy
-
+import importlib.util
 from collections import Counter
+from pathlib import Path
 
 
 import pytest
 
-from forcenet.exact.chicken_wire.survey import call_with_timeout, survey
 from forcenet.exact.chicken_wire.tiler import enumerate_tilings, scan_lifts
 from forcenet.core.errors import ArgumentError
 from forcenet.exact.chicken_wire.tiling import (
@@ -15,6 +15,12 @@ from forcenet.exact.chicken_wire.tiling import (
     check_tiling, chicken_wire_configs, config_canonical, config_to_tiling, config_vertex_counts,
     TilingError, predicted_failures, tiling_tiles, tiling_to_config, zmul,
 )
+
+SURVEY = Path(__file__).resolve().parent.parent / "benchmarks" / "tiling_survey.py"  # a test helper, not installed
+_spec = importlib.util.spec_from_file_location("forcenet_tiling_survey", SURVEY)
+_survey_module = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(_survey_module)
+call_with_timeout, survey = _survey_module.call_with_timeout, _survey_module.survey
 
 SMALL_TORI = [(2, 2), (2, 3), (3, 2), (3, 3), (3, 4), (4, 3), (4, 4), (2, 6), (5, 5)]
 

@@ -106,7 +106,7 @@ def entropy_phi(phi: sympy.Expr = PHI) -> sympy.Expr:
     return (sympy.log(6 * _sqrt3 / sympy.cos(phi)) + plus + minus) / (1 - sympy.sin(phi / 3))
 
 
-def _xlog(x):
+def _xlog(x: sympy.Expr) -> sympy.Expr:
     return x**2 * sympy.log(x)
 
 
@@ -198,7 +198,7 @@ def series_coefficients(order: int) -> tuple[sympy.Expr, ...]:
     ``-2 c^k / (k (k-1) (k-2))`` for ``k >= 3``, and ``log e = log(1 - Q/r) + log(1 - Q/rbar)``
     with ``1/r = sqrt3 exp(-i pi/6)``, so ``[Q^n] log e = -2 * 3^(n/2) cos(n pi/6) / n``.
     """
-    def square_log(c, k):  # [Q^k] (1 - cQ)^2 log(1 - cQ)
+    def square_log(c: sympy.Expr | int, k: int) -> sympy.Expr:  # [Q^k] (1 - cQ)^2 log(1 - cQ)
         c = sympy.sympify(c)
         if k == 0:
             return sympy.Integer(0)
@@ -208,7 +208,7 @@ def series_coefficients(order: int) -> tuple[sympy.Expr, ...]:
             return sympy.Rational(3, 2) * c**2
         return -2 * c**k / (k * (k - 1) * (k - 2))
 
-    def log_e(n):  # [Q^n] log(1 - 3Q + 3Q^2)
+    def log_e(n: int) -> sympy.Expr:  # [Q^n] log(1 - 3Q + 3Q^2)
         if n == 0:
             return sympy.Integer(0)
         return sympy.Rational(-2, n) * sympy.expand(sympy.sqrt(3) ** n * sympy.cos(n * _pi / 6))  # a rational

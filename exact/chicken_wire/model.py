@@ -347,7 +347,7 @@ def torus_configurations(L: int, M: int) -> Iterator[dict[tuple[int, int], froze
     vertices = list(VERTICES.values())
     assign: dict[tuple[int, int], frozenset[int]] = {}
 
-    def consistent(site):
+    def consistent(site: tuple[int, int]) -> bool:
         x, y = site
         v = assign[site]
         for d, (dx, dy) in BOND_STEPS.items():
@@ -356,7 +356,7 @@ def torus_configurations(L: int, M: int) -> Iterator[dict[tuple[int, int], froze
                 return False
         return True
 
-    def place(k):
+    def place(k: int) -> Iterator[dict[tuple[int, int], frozenset[int]]]:
         if k == len(sites):
             yield dict(assign)
             return

@@ -18,6 +18,7 @@ correspondence with the chicken-wire model (:mod:`.tiling`).
 from __future__ import annotations
 
 from collections import Counter
+from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
 from forcenet.core.errors import ArgumentError, ForcenetError
@@ -44,8 +45,8 @@ def zmul(p: Vec4) -> Vec4:
     return (-a3, a0, a1 + a3, a2)
 
 
-def _units():
-    out, p = [], (1, 0, 0, 0)
+def _units() -> tuple[Vec4, ...]:
+    out, p = [], (1, 0, 0, 0)  # type: list[Vec4], Vec4
     for _ in range(12):
         out.append(p)
         p = zmul(p)
@@ -86,7 +87,7 @@ def phys(p: Vec4) -> tuple[tuple[Fraction, Fraction], tuple[Fraction, Fraction]]
     return ((a0 + a2 / 2, a1 / 2), (a1 / 2 + a3, a2 / 2))
 
 
-def _qmul(u, v):
+def _qmul(u: tuple[Fraction, Fraction], v: tuple[Fraction, Fraction]) -> tuple[Fraction, Fraction]:
     return (u[0] * v[0] + 3 * u[1] * v[1], u[0] * v[1] + u[1] * v[0])
 
 
@@ -97,7 +98,7 @@ def area(p: Vec4, q: Vec4) -> tuple[Fraction, Fraction]:
     return (a[0] - b[0], a[1] - b[1])
 
 
-def _qsign(u):
+def _qsign(u: tuple[Fraction, Fraction]) -> int:
     """Sign of ``u[0] + u[1] sqrt 3`` (exact)."""
     r, s = u
     if s == 0:
@@ -114,14 +115,14 @@ def _qsign(u):
 # ----------------------------------------------------------------------------------------------
 
 
-def _xgcd(a, b):
+def _xgcd(a: int, b: int) -> tuple[int, int, int]:
     if b == 0:
         return (abs(a), 1 if a >= 0 else -1, 0)
     g, x, y = _xgcd(b, a % b)
     return (g, y, x - (a // b) * y)
 
 
-def _hnf2(r1, r2):
+def _hnf2(r1: Sequence[int], r2: Sequence[int]) -> tuple[tuple[Vec, Vec], tuple[int, int]]:
     """Hermite normal form of two integer row vectors (rank 2 required): ``(rows, pivots)``."""
     r1, r2 = list(r1), list(r2)
     n = len(r1)
@@ -145,49 +146,49 @@ def _hnf2(r1, r2):
 class _Lattice:
     """A rank-2 sublattice of ``Z^n`` (n = 2 or 4) with a canonical reduction of ``Z^n`` modulo it."""
 
-    def __init__(self, p1, p2):
+    def __init__(self, p1: Vec, p2: Vec) -> None:
         (self.b1, self.b2), (self.c1, self.c2) = _hnf2(p1, p2)
         self.gens = (tuple(p1), tuple(p2))
 
-    def reduce(self, p):
+    def reduce(self, p: Vec) -> Any:
         """The canonical representative of ``p`` modulo the lattice."""
         q = p[self.c1] // self.b1[self.c1]
         p = tuple(u - q * v for u, v in zip(p, self.b1))
         q = p[self.c2] // self.b2[self.c2]
         return tuple(u - q * v for u, v in zip(p, self.b2))
 
-    def contains(self, p):
+    def contains(self, p: Vec) -> bool:
         return not any(self.reduce(p))
 
-    def key(self):
+    def key(self) -> tuple[Vec, Vec]:
         return (self.b1, self.b2)
 
-    def __eq__(self, other):
+    def __eq__(self, other: object) -> bool:
         return isinstance(other, _Lattice) and self.key() == other.key()
 
-    def __hash__(self):
+    def __hash__(self) -> int:
         return hash(self.key())
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"{type(self).__name__}{self.key()}"
 
 
 class Lattice2in4(_Lattice):
     """A period lattice ``Lambda`` of a tiling: rank 2 in ``Z[zeta] = Z^4``."""
 
-    def area(self):
+    def area(self) -> tuple[Fraction, Fraction]:
         """Physical area ``(r, s)``, ``r + s sqrt3 > 0``."""
         a = area(self.b1, self.b2)
         return a if _qsign(a) > 0 else (-a[0], -a[1])
 
-    def tile_numbers(self):
+    def tile_numbers(self) -> tuple[int, int] | None:
         """``(N_squares, N_triangles)`` forced by the area ``N_s + N_t sqrt3 / 4`` (None if impossible)."""
         r, s = self.area()
         if r.denominator != 1 or (4 * s).denominator != 1 or r < 0 or s < 0:
             return None
         return int(r), int(4 * s)
 
-    def image(self):
+    def image(self) -> Lattice2in2:
         """``F(Lambda)``: the chicken-wire torus of every tiling of this torus."""
         return Lattice2in2(F(self.gens[0]), F(self.gens[1]))
 
@@ -195,15 +196,15 @@ class Lattice2in4(_Lattice):
 class Lattice2in2(_Lattice):
     """A chicken-wire torus ``Z^2 / Gamma``."""
 
-    def sites(self):
+    def sites(self) -> list[tuple[int, int]]:
         """Canonical representatives of ``Z^2 / Gamma`` (``|det|`` of them)."""
         return [(x, y) for x in range(self.b1[0]) for y in range(self.b2[1])]
 
-    def det(self):
+    def det(self) -> int:
         return abs(self.b1[0] * self.b2[1])
 
     @classmethod
-    def rect(cls, L, M):
+    def rect(cls, L: int, M: int) -> Lattice2in2:
         return cls((L, 0), (0, M))
 
 
@@ -241,7 +242,7 @@ def corner_sectors(kind: str, d: int) -> list[int]:
     return out
 
 
-def _canonical_start(kind, d):
+def _canonical_start(kind: str, d: int) -> int:
     """Index of the corner used as the tile's reference (its outgoing direction is < 4 or < 3)."""
     edges = tile_edges(kind, d)
     bound = 4 if kind == "T" else 3

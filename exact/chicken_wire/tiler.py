@@ -7,12 +7,13 @@ arithmetic of ``Z[zeta_12]`` and the tile geometry), so that the tests can
 count both sides of the correspondence independently.  Exponential; tori
 with up to ~40 vertices.  :func:`scan_lifts` runs it on every period lattice
 over a torus of the chicken-wire lattice; the comparison with the
-correspondence, torus by torus, is :mod:`.survey`.
+correspondence, torus by torus, is ``benchmarks/tiling_survey.py`` (not installed).
 """
 
 from __future__ import annotations
 
 from itertools import product
+from typing import Any
 
 from .square_triangle import KERNEL, Lattice2in2, Lattice2in4, Tile, canonical_form, corner_sectors, f_preimage, tile_corners, vadd
 
@@ -49,7 +50,7 @@ def enumerate_tilings(lam: Lattice2in4, limit: int | None = None) -> tuple[int, 
     FULL = 4095
     limits = {"T": NT, "S": NS}
 
-    def first_gap(m):
+    def first_gap(m: int) -> tuple[int, int] | None:
         """(start, length) of the first free run that follows an occupied sector; None if full."""
         if m == FULL:
             return None
@@ -61,14 +62,14 @@ def enumerate_tilings(lam: Lattice2in4, limit: int | None = None) -> tuple[int, 
                 return j, length
         return 0, 12  # empty mask
 
-    def place(kind, d, p):
+    def place(kind: str, d: int, p: tuple[int, ...]) -> Any:
         """Try to place a tile; return the undo record or None."""
         if counts[kind] >= limits[kind]:
             return None
         corners = [lam.reduce(c) for c in tile_corners(kind, d, p)]
         secs = corner_sectors(kind, d)
-        added = {}
-        new = []
+        added: dict[tuple[int, ...], int] = {}
+        new: list[tuple[int, ...]] = []
         for c, m in zip(corners, secs):
             cur = masks.get(c, 0) | added.get(c, 0)
             if c not in masks and c not in added and len(masks) + len(new) + 1 > NV:
@@ -87,7 +88,7 @@ def enumerate_tilings(lam: Lattice2in4, limit: int | None = None) -> tuple[int, 
         tiles.append((kind, d, corners[0]))
         return added, new
 
-    def undo(rec, kind):
+    def undo(rec: Any, kind: str) -> None:
         added, new = rec
         tiles.pop()
         counts[kind] -= 1
@@ -97,7 +98,7 @@ def enumerate_tilings(lam: Lattice2in4, limit: int | None = None) -> tuple[int, 
             del masks[c]
             order.pop()
 
-    def rec():
+    def rec() -> None:
         if limit is not None and result["raw"] >= limit:
             return
         best = None

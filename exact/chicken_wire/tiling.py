@@ -52,7 +52,7 @@ it fills angular gaps at vertices of ``Z[zeta] / Lambda``.
 from __future__ import annotations
 
 from collections import Counter, deque
-from collections.abc import Iterator
+from collections.abc import Collection, Iterator
 from fractions import Fraction
 from math import gcd
 from typing import Any
@@ -113,12 +113,12 @@ class MapError(ArgumentError):
     """The configuration has no image tiling (with the reason)."""
 
 
-def _site_faces(torus, config):
+def _site_faces(torus: Lattice2in2, config: Config) -> list[tuple[str, int, Site]]:
     """All faces of the image: list of ``(kind, d, first corner site)``; raise MapError on a non-empty corner."""
     faces = []
     empty = {s for s, v in config.items() if not v}
 
-    def add(kind, d, s0, why):
+    def add(kind: str, d: int, s0: Site, why: str) -> None:
         s = s0
         for e in tile_edges(kind, d):
             if s not in empty:
@@ -210,7 +210,7 @@ def config_to_tiling(config: Config, torus: Lattice2in2) -> dict[str, Any]:
     }
 
 
-def _solve_periods(records):
+def _solve_periods(records: list[tuple[int, int, tuple[int, ...]]]) -> tuple[Any, Any]:
     """Solve ``D = w1 P1 + w2 P2`` for integer ``P1, P2`` from all cycle records and verify every record."""
     pairs = [(r, s) for r in records for s in records if r[0] * s[1] - r[1] * s[0] != 0]
     # find two records whose windings are a basis of Z^2 if possible, else any independent pair
@@ -225,8 +225,8 @@ def _solve_periods(records):
     if best is None:
         raise MapError("cycles do not span the torus homology")
     r, s, dt = best
-    P1 = tuple(Fraction(s[1] * a - r[1] * b, dt) for a, b in zip(r[2], s[2]))
-    P2 = tuple(Fraction(r[0] * b - s[0] * a, dt) for a, b in zip(r[2], s[2]))
+    P1: tuple[Any, ...] = tuple(Fraction(s[1] * a - r[1] * b, dt) for a, b in zip(r[2], s[2]))
+    P2: tuple[Any, ...] = tuple(Fraction(r[0] * b - s[0] * a, dt) for a, b in zip(r[2], s[2]))
     if any(c.denominator != 1 for c in P1 + P2):
         raise TilingError("non-integral period")
     P1, P2 = tuple(int(c) for c in P1), tuple(int(c) for c in P2)
@@ -246,7 +246,7 @@ def tiling_to_config(tiles: list[Tile], lam: Lattice2in4) -> tuple[Config, Latti
     gamma = lam.image()
     config = {}
 
-    def put(s, v):
+    def put(s: Any, v: frozenset[int]) -> None:
         s = gamma.reduce(s)
         if s in config:
             raise TilingError(f"site {s} hit twice")
@@ -297,19 +297,19 @@ def failure_kind(config: Config) -> str:
     return "lines with spacing 1"
 
 
-def _bounds(points):
+def _bounds(points: Collection[Site]) -> tuple[int, int, int, int, int, int]:
     xs = [p[0] for p in points]
     ys = [p[1] for p in points]
     ss = [p[0] + p[1] for p in points]
     return min(xs), max(xs), min(ys), max(ys), min(ss), max(ss)
 
 
-def _hexagon_points(b):
+def _hexagon_points(b: tuple[int, int, int, int, int, int]) -> set[Site]:
     x0, x1, y0, y1, s0, s1 = b
     return {(x, y) for x in range(x0, x1 + 1) for y in range(y0, y1 + 1) if s0 <= x + y <= s1}
 
 
-def _hexagon_sides(b):
+def _hexagon_sides(b: tuple[int, int, int, int, int, int]) -> tuple[int, ...]:
     """Side lengths (lattice steps) of the hexagon ``x0<=x<=x1, y0<=y<=y1, s0<=x+y<=s1``, ccw from y = y0."""
     x0, x1, y0, y1, s0, s1 = b
     return (

@@ -94,7 +94,7 @@ def mean_W_mobilized(N: int, P: int, F: int | Fraction | str = 1, j0: int | None
         W.append(row)
     weight = reduce(lambda a, b: a * b, (W[i][j] for i in range(N - 1) for j in range(P - 1)), one)
 
-    def integrate(poly):  # over the unit cube: x^e -> 1/(e+1)
+    def integrate(poly: Any) -> Fraction:  # over the unit cube: x^e -> 1/(e+1)
         total = Fraction(0)
         for exps, c in poly.terms():
             den = 1

@@ -84,7 +84,7 @@ def mean_W_dictionary(N: int) -> list[list[Fraction]]:
         for new, cell in addable_cells(shape, n):
             rank_sum[cell] = rank_sum.get(cell, 0) + (size + 1) * f * backward[new]
 
-    def mean_rank(i, j):  # rank of S_ij; S_i0 = 0 and S_ii = 1 are ranks 0, d+1
+    def mean_rank(i: int, j: int) -> Fraction:  # rank of S_ij; S_i0 = 0 and S_ii = 1 are ranks 0, d+1
         if j == 0:
             return Fraction(0)
         if j == i:

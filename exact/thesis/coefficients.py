@@ -12,7 +12,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from fractions import Fraction
+from typing import Any
 from math import factorial
 
 import numpy as np
@@ -66,7 +68,7 @@ def gamma_coefficient(m: int, n: int, k: int) -> Fraction:
     return gamma(m - k, m, n)
 
 
-def gamma_residues(size: int, primes) -> np.ndarray:
+def gamma_residues(size: int, primes: Sequence[int]) -> np.ndarray:
     """``gamma^f_{s,e} mod p`` of :func:`gamma` for ``s, e, f < size``: shape ``(size, size, size, len(primes))``.
 
     Examples
@@ -88,7 +90,7 @@ def gamma_residues(size: int, primes) -> np.ndarray:
     return table
 
 
-def upper_bound(k: int, previous, raise_by=0):
+def upper_bound(k: int, previous: Any, raise_by: Any = 0) -> Any:
     """Largest value of the ``k``-th index given the ``(k-1)``-th: the range (4.32)/(4.86).
 
     ``j_1 <= 2`` and ``j_k <= k + j_{k-1}``; ``raise_by`` adds the raised bound

@@ -71,7 +71,7 @@ def index_tuples(p: int) -> Iterator[tuple[int, ...]]:
     [(1, 1), (1, 2), (1, 3), (2, 1), (2, 2), (2, 3), (2, 4)]
     """
 
-    def extend(prefix):
+    def extend(prefix: tuple[int, ...]) -> Iterator[tuple[int, ...]]:
         l = len(prefix) + 1
         if l > p:
             yield prefix

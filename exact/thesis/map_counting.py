@@ -105,7 +105,7 @@ def maps(N: int, relaxed: dict | None = None) -> Iterator[dict[int, tuple[int, .
             raise_by = {k: 1 for k in raise_by}
         rows[l] = _map_rows(l, tuple(sorted(raise_by.items())))
 
-    def extend(h, l):
+    def extend(h: dict[int, tuple[int, ...]], l: int) -> Iterator[dict[int, tuple[int, ...]]]:
         if l > p:
             yield dict(h)
             return
@@ -122,7 +122,7 @@ def _map_rows(l: int, raise_by: tuple) -> list[tuple[int, ...]]:
     """Row ``l`` of a map: (4.86) with bounds raised by ``amount`` at each ``(k, amount)``, last entry 1."""
     raised = dict(raise_by)
 
-    def extend(prefix):
+    def extend(prefix: tuple[int, ...]) -> Iterator[tuple[int, ...]]:
         k = len(prefix) + 1
         if k > l:
             yield prefix
@@ -133,7 +133,7 @@ def _map_rows(l: int, raise_by: tuple) -> list[tuple[int, ...]]:
 
     return [row for row in extend(()) if row[-1] == 1]  # h(l,l) = 1 (4.87), also h(1,1) = 1
 
-def _entry(h, l: int, k: int) -> int:
+def _entry(h: dict[int, tuple[int, ...]], l: int, k: int) -> int:
     """``h(l, k)`` with the conventions ``h(l, 0) = h(0, k) = 1`` of (4.67) and (4.91)."""
     return 1 if (l == 0 or k == 0) else h[l][k - 1]
 
@@ -178,7 +178,7 @@ def mean_W_thesis_maps(N: int, progress: Progress | None = None) -> list[list[Fr
     """
     N = check_layers(N)
 
-    def bulk(q, r):
+    def bulk(q: int, r: int) -> int:
         line = defect_line(N, q, r)
         value = sum(q + 1 + _entry(h, N - r, q - 1) - _entry(h, N - r - 1, q - 1) for h in maps(N, line))
         if progress is not None:
@@ -397,7 +397,7 @@ def tableau_from_map(N: int, h: dict[int, tuple[int, ...]]) -> dict[tuple[int, i
         order = merged
     return {cell: k + 1 for k, cell in enumerate(order)}
 
-def _map_rankings(N: int):
+def _map_rankings(N: int) -> Iterator[dict[tuple[int, int], int]]:
     """Ranks of the partial sums ``S_{i,j}`` for every map, through its tableau.
 
     Tableau cell ``(r, c)`` holds the rank of ``S_{N-c+r, r}``.

@@ -46,6 +46,7 @@ Fraction(1, 11)
 from __future__ import annotations
 
 from collections import defaultdict
+from collections.abc import Sequence
 from typing import Any
 from fractions import Fraction
 from functools import lru_cache
@@ -335,23 +336,23 @@ class _Site:
 
     __slots__ = ("row", "col", "pw", "val")
 
-    def __init__(self, row, col, pw, val):
+    def __init__(self, row: np.ndarray, col: np.ndarray, pw: np.ndarray, val: np.ndarray) -> None:
         self.row, self.col, self.pw, self.val = row, col, pw, val
 
 
 class _GammaTable:
     """``gamma^f_{s,e}`` of (4.15) modulo each prime, tabulated for ``s, e, f < size``."""
 
-    def __init__(self, primes):
+    def __init__(self, primes: Sequence[int]) -> None:
         self.primes = np.array(primes, dtype=np.int64)
         self.size = 0
         self._grow(16)
 
-    def _grow(self, size):
+    def _grow(self, size: int) -> None:
         table = gamma_residues(size, self.primes.tolist())
         self.table, self.size = table.reshape(size**3, len(self.primes)), size
 
-    def __call__(self, s, e, f):
+    def __call__(self, s: np.ndarray, e: np.ndarray, f: np.ndarray) -> np.ndarray:
         """``s! e! / ((e + s - f + 1)! f!)`` mod each prime, shape ``(len(s), n_primes)``."""
         top = max(int(s.max(initial=0)), int(e.max(initial=0))) + 1
         if top > self.size:
@@ -366,7 +367,7 @@ def _gamma_table(primes: tuple) -> _GammaTable:
     return _GammaTable(primes)
 
 
-def _expand(counts):
+def _expand(counts: Any) -> tuple[np.ndarray, np.ndarray]:
     """For groups of sizes ``counts``: (group of each item, rank of the item in its group)."""
     counts = np.asarray(counts, dtype=np.int64)
     owner = np.repeat(np.arange(len(counts), dtype=np.int64), counts)
@@ -375,7 +376,7 @@ def _expand(counts):
     return owner, rank
 
 
-def _group_sum(keys, vals, primes):
+def _group_sum(keys: np.ndarray, vals: np.ndarray, primes: np.ndarray) -> tuple[Any, Any]:
     """Sum ``vals`` (mod primes) over equal ``keys``: (sorted unique keys, sums)."""
     order = np.argsort(keys, kind="stable")
     keys, vals = keys[order], vals[order]
@@ -385,7 +386,8 @@ def _group_sum(keys, vals, primes):
     return keys[first], np.add.reduceat(vals, first, axis=0) % primes  # each term < 2**31
 
 
-def _integrate_site(site, bond_old, bond_exp, gamma, lo=0, hi=None):
+def _integrate_site(site: _Site, bond_old: np.ndarray, bond_exp: np.ndarray, gamma: _GammaTable, lo: int = 0,
+                    hi: int | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Integrate ``X_k`` in the entries ``lo:hi`` of one site against the exponents on its column bond (4.14).
 
     The column bond of the new site is given as the sorted pairs (old column
@@ -411,7 +413,8 @@ def _integrate_site(site, bond_old, bond_exp, gamma, lo=0, hi=None):
 _ABSORB_CHUNK = 1 << 22  # integrated entries per chunk (~0.5 GB of temporaries with 5 primes)
 
 
-def _absorb_last_site(site, right, gamma, power):
+def _absorb_last_site(site: _Site, right: tuple[np.ndarray, np.ndarray, np.ndarray], gamma: _GammaTable,
+                      power: int) -> tuple[Any, Any]:
     """Integrate the last site of a layer straight into the next right vector.
 
     The last force of a layer is ``X_m = u_{m-1}`` (4.20)-(4.21), so the last
@@ -445,7 +448,8 @@ def _absorb_last_site(site, right, gamma, power):
     return (row_keys // width, row_keys % width), (bond.astype(np.int64), exps, sums)
 
 
-def _integrate_layer_mod(left, sites, right, gamma, last_power):
+def _integrate_layer_mod(left: tuple[np.ndarray, np.ndarray], sites: list[_Site], right: Any, gamma: _GammaTable,
+                         last_power: int) -> tuple[Any, list[_Site], Any]:
     """Integrate one layer, modular version of :func:`integrate_layer` (same recursion).
 
     ``sites`` are the sites ``1..m-1`` of layer ``m``; the last site is already
@@ -455,7 +459,7 @@ def _integrate_layer_mod(left, sites, right, gamma, last_power):
     """
     m = len(sites) + 1
     (bond_old, bond_exp), new_right = _absorb_last_site(sites[m - 2], right, gamma, last_power)
-    new_sites = [None] * (m - 2)
+    new_sites: list[Any] = [None] * (m - 2)
     for k in range(m - 3, -1, -1):  # integrate X_k, sweeping right to left (4.14)
         row, f, col, pw, val = _integrate_site(sites[k], bond_old, bond_exp, gamma)
         width = int(f.max(initial=0)) + 1
@@ -470,7 +474,7 @@ def _integrate_layer_mod(left, sites, right, gamma, last_power):
     return _prune_mod(new_left, new_sites, new_right)
 
 
-def _prune_mod(left, sites, right):
+def _prune_mod(left: tuple[np.ndarray, np.ndarray], sites: list[Any], right: Any) -> tuple[Any, list[_Site], Any]:
     """Keep the entries on a path from ``L`` to ``R`` and renumber the bonds 0..D-1.
 
     Built right to left, every column already leads to ``R``; one forward sweep
@@ -498,7 +502,7 @@ def _prune_mod(left, sites, right):
     return new_left, kept, (table[bond[keep]], exps[keep], vals[keep])
 
 
-def _integral_residues(N: int, powers: dict, primes) -> np.ndarray:
+def _integral_residues(N: int, powers: dict, primes: Sequence[int]) -> np.ndarray:
     """``int prod W^powers`` modulo each prime (the layer recursion in modular arithmetic)."""
     gamma = _gamma_table(tuple(primes))
     P = len(primes)

@@ -29,10 +29,12 @@ from forcenet.core.validation import check_int, check_layers
 from .coefficients import defect_line, upper_bound
 from ..protocol import Progress
 
+Reduce = Callable[..., np.ndarray]  # an array to canonical values (% prime, or the identity)
+
 __all__ = ["lambda_table", "count_lambda", "count_lambda_chain", "normalization_lambda", "boundary_mean_W", "gamma_sums", "gamma_bulk_integer", "mean_W_gamma", "table_from_bulk"]
 
 
-def _lambda_boxes(p: int, dtype, reduce):
+def _lambda_boxes(p: int, dtype: Any, reduce: Reduce) -> np.ndarray:
     """``Lambda^(p)`` on the box of its first ``p - 1`` indices (the last is 1).
 
     ``reduce`` maps an array to canonical values (``% prime`` or identity).
@@ -83,7 +85,7 @@ def lambda_table(p: int) -> dict[tuple[int, ...], int]:
     return {tuple(int(x) + 1 for x in idx) + (1,): int(L[idx]) for idx in zip(*np.nonzero(L))}
 
 @lru_cache(maxsize=16)
-def _lambda_weighted_sums(N: int):
+def _lambda_weighted_sums(N: int) -> list[int]:
     """Exact ``sum_j Lambda^(N-2)_j`` and ``sum_j j_a Lambda^(N-2)_j`` for every axis ``a``.
 
     Multi-modular with CRT, through the chain of :func:`_lambda_sum_mod`
@@ -102,7 +104,7 @@ def _lambda_weighted_sums(N: int):
         del box
     return [crt(col, primes) for col in zip(*rows)]
 
-def _lambda_weighted_sums_box(N: int):
+def _lambda_weighted_sums_box(N: int) -> list[int]:
     """The same sums from the whole last table (dense box): the reference for the chain."""
     p = N - 2
     d = dimension(N)
@@ -258,7 +260,7 @@ def _row_mask(l: int, relaxed: frozenset) -> np.ndarray:
         mask &= b <= upper_bound(k, a, k in relaxed)
     return mask
 
-def _transfer(box: np.ndarray, l: int, relaxed_next: frozenset, reduce) -> np.ndarray:
+def _transfer(box: np.ndarray, l: int, relaxed_next: frozenset, reduce: Reduce) -> np.ndarray:
     """Row ``l`` -> row ``l + 1`` of the map recursion (4.87): a dominance prefix sum (4.89)."""
     D = _dominance(box, reduce)
     target = _row_maxima(l + 1, relaxed_next)
@@ -271,7 +273,7 @@ def _transfer(box: np.ndarray, l: int, relaxed_next: frozenset, reduce) -> np.nd
     np.multiply(out, _row_mask(l + 1, relaxed_next), out=out)
     return out
 
-def _dominance(box: np.ndarray, reduce) -> np.ndarray:
+def _dominance(box: np.ndarray, reduce: Reduce) -> np.ndarray:
     """Cumulative sums along every axis (a new array; ``box`` is left alone)."""
     D = np.array(box, copy=True)
     for axis in range(D.ndim):
@@ -279,12 +281,12 @@ def _dominance(box: np.ndarray, reduce) -> np.ndarray:
         D = _reduce_inplace(D, reduce)
     return D
 
-def _times_index(box: np.ndarray, axis: int, reduce) -> np.ndarray:
+def _times_index(box: np.ndarray, axis: int, reduce: Reduce) -> np.ndarray:
     """Multiply ``box`` by the 1-based value of its index along ``axis`` (a map entry ``h``)."""
     values = np.arange(1, box.shape[axis] + 1, dtype=np.int64)
     return reduce(box * values.reshape([-1 if ax == axis % box.ndim else 1 for ax in range(box.ndim)]))
 
-def _reduce_inplace(a: np.ndarray, reduce) -> np.ndarray:
+def _reduce_inplace(a: np.ndarray, reduce: Reduce) -> np.ndarray:
     modulus = getattr(reduce, "modulus", None)
     if modulus is not None and a.dtype != object:
         np.remainder(a, modulus, out=a)
@@ -333,7 +335,7 @@ def gamma_sums(
     p = N - 2
     relaxed = {l: frozenset(ks) for l, ks in defect_line(N, q, r).items()}
 
-    def weighted(row_l: int | None):
+    def weighted(row_l: int | None) -> Any:
         box = np.ones((), dtype=dtype)  # row 1: h(1,1) = 1
         for l in range(1, p + 1):
             if l > 1:
@@ -380,7 +382,7 @@ def mean_W_gamma(N: int, progress: Progress | None = None) -> list[list[Fraction
     """
     N = check_layers(N)
 
-    def bulk(q, r):
+    def bulk(q: int, r: int) -> int:
         if N >= 4:
             value = gamma_bulk_integer(N, q, r)
         else:  # N = 3, one bulk grain: the exact sums themselves (the chain needs a row below the grain's)
@@ -434,7 +436,7 @@ def count_lambda_chain(N: int) -> int:
     primes = primes_for_bound(count(N) * N * N)
     return crt([_lambda_sum_mod(N, p) for p in primes], primes)
 
-def _last_row_chain(box: np.ndarray, p: int, relaxed: frozenset, reduce, weight_index: int | None = None) -> int:
+def _last_row_chain(box: np.ndarray, p: int, relaxed: frozenset, reduce: Reduce, weight_index: int | None = None) -> int:
     """``sum`` over row ``p`` of the map recursion without building it (the chain of (4.50)).
 
     ``box`` is row ``p - 1`` (axes ``h(p-1, 1..p-2)``).  Row ``p`` at
@@ -453,7 +455,7 @@ def _last_row_chain(box: np.ndarray, p: int, relaxed: frozenset, reduce, weight_
         return int(reduce(w * D).sum())
     shape = D.shape  # axis a <-> clip(h_{a+2}), a = 0..p-3
 
-    def weigh(G, k):  # G's last axis is h_k, unclipped
+    def weigh(G: np.ndarray, k: int) -> np.ndarray:  # G's last axis is h_k, unclipped
         return _times_index(G, -1, reduce) if weight_index == k else G
 
     # innermost coordinate h_{p-1}: extend D's last axis by saturation to M_{p-1}
@@ -485,10 +487,10 @@ def _last_row_chain(box: np.ndarray, p: int, relaxed: frozenset, reduce, weight_
 class _ModReducer:
     """``a % prime`` (numpy arrays or ints), with the prime at hand as ``modulus``."""
 
-    def __init__(self, prime: int):
+    def __init__(self, prime: int) -> None:
         self.modulus = prime
 
-    def __call__(self, a):
+    def __call__(self, a: np.ndarray) -> np.ndarray:
         return a % self.modulus
 
 
@@ -509,7 +511,7 @@ def _gamma_combined_mod(N: int, q: int, r: int, prime: int) -> int:
     relaxed = {l: frozenset(ks) for l, ks in defect_line(N, q, r).items()}
     k = q - 1  # the weight h(row, q-1); h(l, 0) = h(0, k) = 1
 
-    def weight(box, row):
+    def weight(box: np.ndarray, row: int) -> np.ndarray:
         return _times_index(box, k - 1, reduce) if 1 <= k < row else box
 
     plus_row, minus_row = N - r, N - r - 1

@@ -39,7 +39,7 @@ W_2_1*W_2_2
 from __future__ import annotations
 
 from fractions import Fraction
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import sympy
 
@@ -99,7 +99,7 @@ class NestedLayer(NamedTuple):
         return tuple(len(b) for b in self.bonds)
 
 
-def _to_sympy(m: int, state) -> NestedLayer:
+def _to_sympy(m: int, state: Any) -> NestedLayer:
     left, sites, right = state
     bonds = [sorted(left, key=repr)]
     for site in sites:

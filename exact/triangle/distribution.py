@@ -89,7 +89,7 @@ F_SYMBOL = sympy.Symbol("f")
 Q_SYMBOL = sympy.Symbol("q")
 
 
-def _poly(coeffs, var) -> sympy.Poly:
+def _poly(coeffs: Sequence[Fraction | int], var: sympy.Symbol) -> sympy.Poly:
     """``sum coeffs[m] var^m`` (Fractions or ints) as a Poly over QQ."""
     return sympy.Poly.from_list([sympy.Rational(x.numerator, x.denominator) for x in reversed(coeffs)], var, domain="QQ")
 
@@ -273,7 +273,7 @@ def contact_cdf(N: int, grain: tuple[int, int], kind: str, var: sympy.Symbol = W
 # ------------------------------------------------------------------ pooled P(f)
 
 
-def _scaled(p: sympy.Poly, scale: Fraction, var) -> sympy.Poly:
+def _scaled(p: sympy.Poly, scale: Fraction, var: sympy.Symbol) -> sympy.Poly:
     """The density of ``f = X / scale``: ``scale * p(scale * f)`` (coefficients ``c_m scale^(m+1)``)."""
     coeffs = [Fraction(int(c.p), int(c.q)) for c in reversed(p.all_coeffs())]
     return _poly([c * scale ** (m + 1) for m, c in enumerate(coeffs)], var)

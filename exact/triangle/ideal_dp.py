@@ -29,15 +29,17 @@ here (issue 25: validate at the boundary, trust inside).
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator, Sequence
 from functools import lru_cache, cache
-from typing import NamedTuple
+from typing import NamedTuple, TypeAlias
 
 import numpy as np
 
 from ..modular import crt, primes_for_bound
 from .staircase import trusted_count, trusted_dimension
 from forcenet.core.errors import ArgumentError
+
+Progress: TypeAlias = Callable[..., object] | None  # progress(k): k more ticks done
 
 __all__ = [
     "ideal_levels",
@@ -64,7 +66,7 @@ class MemoryEstimate(NamedTuple):
 
 
 @lru_cache(maxsize=4)
-def ideal_levels(n: int):
+def ideal_levels(n: int) -> tuple[np.ndarray, np.ndarray]:
     """Masks sorted by level (sum of parts) and the level boundaries.
 
     Returns ``(order, bounds)`` with ``order[bounds[k]:bounds[k+1]]`` the masks
@@ -105,7 +107,7 @@ def predecessor_moves(masks: np.ndarray, n: int) -> Iterator[tuple[np.ndarray, n
             yield sel, masks[sel] - (1 << (q - 1))
 
 
-def forward_counts_mod(n: int, primes, progress=None) -> np.ndarray:
+def forward_counts_mod(n: int, primes: Sequence[int], progress: Progress = None) -> np.ndarray:
     """``f(mask) mod p`` for all ``2**n`` masks and each prime, shape ``(2**n, P)``.
 
     Residues are stored as ``uint32`` (primes are below ``2**31``).
@@ -138,13 +140,13 @@ _BYTES_PER_MASK = 16  # level order (uint32) and its argsort transient
 _SECONDS_PER_RESIDUE = 8.5e-8  # measured on the 2-core machine, N = 24
 
 
-def _prime_chunks(n: int, primes, memory_bytes: int):
+def _prime_chunks(n: int, primes: Sequence[int], memory_bytes: int) -> list[Sequence[int]]:
     masks = 1 << n
     size = max(1, int((memory_bytes - masks * _BYTES_PER_MASK) // (masks * _BYTES_PER_RESIDUE)))
     return [primes[k : k + size] for k in range(0, len(primes), size)]
 
 
-def survival_primes(N: int):
+def survival_primes(N: int) -> tuple[int, ...]:
     """Primes whose product bounds every survival sum for ``N`` layers."""
     return primes_for_bound((trusted_dimension(N) + 1) * trusted_count(N))
 
@@ -176,7 +178,7 @@ _BLOCK_BITS = 18
 
 
 @cache
-def _popcount_groups(bits: int):
+def _popcount_groups(bits: int) -> tuple[np.ndarray, np.ndarray]:
     """Integers ``0..2**bits-1`` sorted by popcount, and the group starts."""
     pc = np.bitwise_count(np.arange(1 << bits, dtype=np.uint64)).astype(np.int64)
     order = np.argsort(pc, kind="stable")
@@ -184,7 +186,7 @@ def _popcount_groups(bits: int):
     return order, starts
 
 
-def _survival_residues(n: int, primes, progress=None) -> np.ndarray:
+def _survival_residues(n: int, primes: Sequence[int], progress: Progress = None) -> np.ndarray:
     """``A[r, m] = sum_mask w(mask) [lambda_r == m]`` modulo each prime.
 
     Memory: the ``uint32`` residue table of :func:`forward_counts_mod` is
@@ -221,7 +223,7 @@ def _survival_residues(n: int, primes, progress=None) -> np.ndarray:
     return A
 
 
-def survival_counts(N: int, progress=None, memory_bytes: int = 12 * 2**30):
+def survival_counts(N: int, progress: Progress = None, memory_bytes: int = 12 * 2**30) -> tuple[list[list[int]], int]:
     """Exact ``C[r][m] = sum_mask w(mask) [lambda_r >= m]`` for the triangle.
 
     ``lambda_r`` is the ``r``-th largest part of the ideal (0 if absent),
@@ -297,7 +299,8 @@ def parts_table(n: int) -> np.ndarray:
     return lam
 
 
-def marked_chain_sums(n: int, primes, initial, update, progress=None) -> np.ndarray:
+def marked_chain_sums(n: int, primes: Sequence[int], initial: Sequence[int] | np.ndarray,
+                      update: Callable[[np.ndarray, np.ndarray], np.ndarray], progress: Progress = None) -> np.ndarray:
     """Forward DP over chains with a per-ideal linear update of a state vector.
 
     ``F[mask]`` (shape ``(K, P)`` residues) is first the sum of ``F`` over the

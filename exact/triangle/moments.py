@@ -57,11 +57,11 @@ __all__ = [
 
 
 @lru_cache(maxsize=8)
-def _survival(N: int):
+def _survival(N: int) -> tuple[list[list[int]], int]:
     return survival_counts(N)
 
 
-def _mean_numerator(N: int, i: int, j: int, C) -> int:
+def _mean_numerator(N: int, i: int, j: int, C: list[list[int]]) -> int:
     """``total (d+1) E[W_ij]`` = survival weight of ideals between the bounds."""
     m = N - i + 1  # diagonal of row i
     upper = C[j - 1][m]
@@ -196,7 +196,7 @@ _BEYOND_DP = ("beyond the order-ideal DP's wall, forcenet.exact.triangle.pfaffia
               "(forcenet table --N N --method pfaffian [--moments s])")
 
 
-def _dp_layers(N, what: str, memory_bytes: int | None = None) -> int:
+def _dp_layers(N: Any, what: str, memory_bytes: int | None = None) -> int:
     """``N`` checked, and refused where the order-ideal DP (``2^(N-1)`` ideals) cannot run: before any work,
     naming the Pfaffian route that reaches that ``N`` and its cost."""
     N = check_layers(N)
@@ -315,7 +315,7 @@ def _moment_table(N: int, s: int, memory_bytes: int | None = None, progress: Pro
 
         size = len(chunk)
 
-        def update(masks, acc, elig=elig, B=size):
+        def update(masks: np.ndarray, acc: np.ndarray, elig: np.ndarray = elig, B: int = size) -> np.ndarray:
             acc = acc.reshape(acc.shape[0], B, s + 1, -1)
             cum = np.cumsum(acc, axis=2)
             out = np.where(elig[masks][:, :, None, None], cum, acc)
@@ -376,7 +376,7 @@ def _single_moment(N: int, i: int, j: int, s: int) -> Fraction:
     lam = parts_table(n)
     elig = _eligible(lam, N, i, j)
 
-    def update(masks, acc):
+    def update(masks: np.ndarray, acc: np.ndarray) -> np.ndarray:
         return np.where(elig[masks][:, None, None], np.cumsum(acc, axis=1), acc)
 
     final = marked_chain_sums(n, primes, [1] + [0] * s, update)
@@ -421,7 +421,7 @@ def correlation(N: int, grain1: tuple[int, int], grain2: tuple[int, int]) -> Fra
 
 
 @lru_cache(maxsize=256)
-def _correlation(N: int, g1, g2) -> Fraction:
+def _correlation(N: int, g1: tuple[int, int], g2: tuple[int, int]) -> Fraction:
     n, d = N - 1, trusted_dimension(N)
     total = trusted_count(N)
     primes = primes_for_bound(total * (d + 1) * (d + 2))
@@ -430,7 +430,7 @@ def _correlation(N: int, g1, g2) -> Fraction:
     e1 = _eligible(lam, N, *g1)
     e2 = _eligible(lam, N, *g2)
 
-    def update(masks, acc):
+    def update(masks: np.ndarray, acc: np.ndarray) -> np.ndarray:
         a, b = e1[masks][:, None], e2[masks][:, None]
         s00, s10, s01, s11 = acc[:, 0], acc[:, 1], acc[:, 2], acc[:, 3]
         return np.stack(

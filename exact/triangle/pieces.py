@@ -115,7 +115,7 @@ def bin_probabilities(pieces: sympy.Poly | Sequence[Piece], edges: Iterable[Any]
         raise ArgumentError("edges must increase strictly")
     prims = [(Fraction(int(p.lo.p), int(p.lo.q)), Fraction(int(p.hi.p), int(p.hi.q)), p.poly.integrate()) for p in pieces]
 
-    def mass(a, b):
+    def mass(a: Fraction, b: Fraction) -> Fraction:
         total = Fraction(0)
         for lo, hi, F in prims:
             x, y = max(a, lo), min(b, hi)

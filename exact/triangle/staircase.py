@@ -234,7 +234,7 @@ def count_by_hooks(N: int) -> int:
     return shifted_tableaux_count(tuple(range(N - 1, 0, -1)))
 
 
-def _primes_upto(top: int):
+def _primes_upto(top: int) -> Any:
     import numpy as np
 
     sieve = np.ones(top + 1, dtype=bool)
@@ -245,7 +245,7 @@ def _primes_upto(top: int):
     return np.flatnonzero(sieve).astype(np.int64)
 
 
-def _exponents_of_denominator(n: int, primes):
+def _exponents_of_denominator(n: int, primes: Any) -> Any:
     """``v_p`` of ``D = prod_{k<n} (2k+1)!/k!`` for each prime (``normalization = 1/D``)."""
     import numpy as np
 
@@ -278,7 +278,7 @@ def _prime_exponents_of_count(N: int) -> list[tuple[int, int]]:
     return list(zip(primes[keep].tolist(), exps[keep].tolist()))
 
 
-def _product_tree(factors):
+def _product_tree(factors: Iterable[Any]) -> Any:
     factors = list(factors) or [1]
     while len(factors) > 1:
         nxt = [factors[k] * factors[k + 1] for k in range(0, len(factors) - 1, 2)]
@@ -288,7 +288,7 @@ def _product_tree(factors):
     return factors[0]
 
 
-def _prime_power_product(factorisation) -> int:
+def _prime_power_product(factorisation: Any) -> int:
     """``prod p**e`` by binary splitting of the exponents (python-flint if installed)."""
     make: Callable[[int], Any]
     try:
@@ -359,7 +359,7 @@ def _count_plan(N: int, memory_bytes: int | None) -> Plan:
 _COUNT_MAX_N = 10**6
 
 
-def _within_memory(N, what: str) -> int:
+def _within_memory(N: Any, what: str) -> int:
     """``N`` checked, and refused before any work where the integer cannot fit in the memory available now
     (:func:`count_plan`; the denominator of :func:`normalization` has about twice the digits of the count)."""
     from forcenet.core.validation import available_memory

@@ -18,6 +18,7 @@ from fractions import Fraction
 
 from forcenet.core.errors import ArgumentError
 from .moments import mean_W, moment_table
+from ..protocol import Progress
 from forcenet.core.validation import check_layers, check_moments
 from .staircase import count, normalization
 
@@ -108,7 +109,7 @@ def fraction_from_text(text: str) -> Fraction:
     return Fraction(-p if sign == "-" else p, q)
 
 
-def fraction_str(x) -> str:
+def fraction_str(x: Fraction | int | str) -> str:
     """``"p/q"`` or ``"p"`` for an exact rational, however long (:func:`integer_text`).
 
     Examples
@@ -122,7 +123,8 @@ def fraction_str(x) -> str:
     return f"{integer_text(x.numerator)}/{integer_text(x.denominator)}"
 
 
-def exact_table(N: int, moments: int = 1, mean_table=None, progress=None, moment_tables=None) -> dict:
+def exact_table(N: int, moments: int = 1, mean_table: list[list[Fraction]] | None = None, progress: Progress | None = None,
+                moment_tables: dict[int, list[list[Fraction]]] | None = None) -> dict:
     """The exact table as a dict of exact values (Fractions and ints).
 
     Keys: ``N``, ``count``, ``normalization``, ``mean_W`` and, for
@@ -160,7 +162,7 @@ def exact_row(N: int, row: int, moment_rows: dict) -> dict:
     return out
 
 
-def _moment_keys(table):
+def _moment_keys(table: dict) -> list[str]:
     return [k for k in table if k.startswith("mean_W")]
 
 
@@ -191,7 +193,7 @@ def to_csv(table: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _latex_fraction(x) -> str:
+def _latex_fraction(x: Fraction | int | str) -> str:
     x = Fraction(x)
     if x.denominator == 1:
         return integer_text(x.numerator)
@@ -232,7 +234,7 @@ def _row_latex(table: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-def write_atomic(path, text: str) -> None:
+def write_atomic(path: str | os.PathLike[str], text: str) -> None:
     """Write ``text`` to ``path`` atomically (temporary file + rename).
 
     An interrupted run (Ctrl-C included) leaves either the old file or none,

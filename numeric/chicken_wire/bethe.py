@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
+from typing import Any, TypeVar
 
 import functools
 
@@ -35,6 +36,8 @@ from threadpoolctl import threadpool_limits
 
 from forcenet.core.errors import ArgumentError, ConvergenceError
 from forcenet.core.validation import check_int
+
+T = TypeVar("T")
 
 Progress = Callable[..., object] | None  # called with one tick (or a count of them)
 
@@ -81,12 +84,12 @@ class BetheSolution:
         return complex(np.prod(self.w))
 
 
-def _one_blas_thread(function):
+def _one_blas_thread(function: Callable[..., T]) -> Callable[..., T]:
     """Run with single-threaded BLAS: the Newton systems are small (n + m <= ~1000), and
     threaded BLAS on them is several times slower than one thread (75 s against 11 s at L = 240)."""
 
     @functools.wraps(function)
-    def wrapper(*args, **kwargs):
+    def wrapper(*args: Any, **kwargs: Any) -> T:
         with threadpool_limits(1):
             return function(*args, **kwargs)
 
@@ -134,7 +137,7 @@ def first_level_roots(u: np.ndarray, L: int, n: int, w0: np.ndarray | None = Non
     return w
 
 
-def _second_level(u, L, n, w0=None):
+def _second_level(u: np.ndarray, L: int, n: int, w0: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     w = first_level_roots(u, L, n, w0)
     m = len(u)
     lhs = np.log(u[:, None] - w[None, :]).sum(axis=1)
@@ -142,12 +145,12 @@ def _second_level(u, L, n, w0=None):
     return np.expm1(lhs - rhs), w
 
 
-def _solve_u(L, n, m, u0, tol):
+def _solve_u(L: int, n: int, m: int, u0: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray, float]:
     from scipy.optimize import root
 
     state = {"w": None}
 
-    def f(x):
+    def f(x: np.ndarray) -> np.ndarray:
         u = x[:m] + 1j * x[m:]
         r, w = _second_level(u, L, n, state["w"])
         return np.concatenate([r.real, r.imag])
@@ -163,7 +166,7 @@ def _distinct(roots: np.ndarray) -> bool:
     return len(roots) < 2 or bool(np.min(np.abs(roots[:, None] - roots[None, :]) + np.eye(len(roots))) >= 1e-6)
 
 
-def _is_ground_state(w, u, tol=1e-8) -> bool:
+def _is_ground_state(w: np.ndarray, u: np.ndarray, tol: float = 1e-8) -> bool:
     if abs(np.prod(w) - 1) > tol:
         return False
     if not (_distinct(u) and _distinct(w)):
@@ -171,7 +174,7 @@ def _is_ground_state(w, u, tol=1e-8) -> bool:
     return abs(np.prod(u).imag) < 1e-8 * max(1.0, abs(np.prod(u)))
 
 
-def _random_u(m, rng):
+def _random_u(m: int, rng: np.random.Generator) -> np.ndarray:
     r, r2, th = rng.uniform(0.3, 2.5), rng.uniform(0.3, 2.5), rng.uniform(0, 1.5)
     pairs = [r * np.exp(1j * th * (k + 1) / max(1, m // 2)) for k in range(m // 2)]
     u = pairs + [np.conj(p) for p in pairs] + ([r2] if m % 2 else [])
@@ -275,7 +278,7 @@ def newton_polish(L: int, w0: np.ndarray, u0: np.ndarray, iterations: int = 50, 
     D = L - n + m
     twist1, twist2 = _twists(L, n, m, log_fugacity, log_hop)
 
-    def F(w, u):
+    def F(w: np.ndarray, u: np.ndarray) -> np.ndarray:
         lw, lu = np.log(w), np.log(u)
         f1 = np.log(u[None, :] - w[:, None]).sum(axis=1) - lw.sum() - D * lw - twist1
         f2 = np.log(u[:, None] - w[None, :]).sum(axis=1) - lw.sum() - m * lu + lu.sum() - twist2
@@ -358,7 +361,7 @@ def photon_density(L: int, w: np.ndarray, u: np.ndarray) -> float:
     return float((du / u).sum().real) / L
 
 
-def _twists(L: int, n: int, m: int, log_fugacity: float, log_hop: float):
+def _twists(L: int, n: int, m: int, log_fugacity: float, log_hop: float) -> tuple[float, float]:
     """Logs of the twists of the two sets of equations: ``(L mu + m log t, L mu + n log t)``."""
     return L * float(log_fugacity) + m * float(log_hop), L * float(log_fugacity) + n * float(log_hop)
 

@@ -34,7 +34,9 @@ Examples
 from __future__ import annotations
 
 import functools
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 from fractions import Fraction
 from functools import lru_cache
 
@@ -103,13 +105,13 @@ def closed_form_plan(dps: int, maximum: bool = False) -> Plan:
 # ----------------------------------------------------------------- conversions
 
 
-def _exact(value, name: str, dps: int):
+def _exact(value: Any, name: str, dps: int) -> Any:
     """A binary float where digits matter meets the one rule (refused, or warned about when ``dps`` digits are
     within its reach: :func:`forcenet.core.validation.check_float_digits`), once at a public boundary."""
     return check_float_digits(value, name, dps, stacklevel=3) if is_binary_float(value) else value
 
 
-def _point(phi, Q):
+def _point(phi: Any, Q: Any) -> tuple[mpmath.mpf, mpmath.mpf | None]:
     """``(Q, phi)`` at the current precision from exactly one of them (in range)."""
     if (phi is None) == (Q is None):
         raise ArgumentTypeError("give exactly one of phi= and Q=")
@@ -124,7 +126,7 @@ def _point(phi, Q):
     return _Q_of_phi(x), x
 
 
-def _Q_of_phi(x):
+def _Q_of_phi(x: mpmath.mpf) -> mpmath.mpf:
     """(7.2) without cancellation at either end: ``Q = 2 tan t / (sqrt3 (1 + sqrt3 tan t))``, ``t = (pi/2 - phi)/6``."""
     t = mpmath.tan((mpmath.pi / 2 - x) / 6)
     return 2 * t / (mpmath.sqrt(3) * (1 + mpmath.sqrt(3) * t))
@@ -134,7 +136,7 @@ def _Q_of_phi(x):
 
 
 @lru_cache(maxsize=4)
-def _series_rationals(order: int):
+def _series_rationals(order: int) -> tuple[Fraction, ...]:
     """``[a_3, ..., a_order]`` of :func:`forcenet.exact.chicken_wire.closed_form.entropy_series_Q` (rationals)."""
     from forcenet.exact.chicken_wire.closed_form import series_coefficients
 
@@ -142,7 +144,7 @@ def _series_rationals(order: int):
     return tuple(Fraction(int(c.p), int(c.q)) for c in coeffs[3:])
 
 
-def _series_terms(q, dps):
+def _series_terms(q: mpmath.mpf, dps: int) -> int | None:
     """Number of series terms for ``dps`` digits at ``q``, or None if the closed form is cheaper."""
     if q == 0:
         return 3
@@ -154,7 +156,7 @@ def _series_terms(q, dps):
     return terms if terms < 60 and cancellation_digits > 20 else None
 
 
-def _v_series(q, terms):
+def _v_series(q: mpmath.mpf, terms: int) -> mpmath.mpf:
     """``-3 q^2 log q + (3 log 2 - 9/2) q^2 + sum_{k>=3} a_k q^k`` (exact coefficients)."""
     if q == 0:
         return mpmath.mpf(0)
@@ -167,7 +169,7 @@ def _v_series(q, terms):
 
 
 @lru_cache(maxsize=3)
-def _closed_form(derivative: int):
+def _closed_form(derivative: int) -> Callable[[mpmath.mpf], mpmath.mpf]:
     """``v``, ``mu = -(1/3) v'`` or ``dmu/dQ`` (``derivative`` 0, 1, 2) of the exact ``v(Q)`` as an mpmath function.
 
     Derived from the sympy expression of :func:`forcenet.exact.chicken_wire.closed_form.entropy_Q`
@@ -189,19 +191,19 @@ def _closed_form(derivative: int):
     return sympy.lambdify(q, expr, "mpmath")
 
 
-def _v(q):
+def _v(q: mpmath.mpf) -> mpmath.mpf:
     """The closed form ``v(Q)`` at the working precision (0 at both ends, where ``x^2 log x -> 0``)."""
     if q == 0 or q == mpmath.mpf(1) / 3:
         return mpmath.mpf(0)
     return _closed_form(0)(q)
 
 
-def _mu(q):
+def _mu(q: mpmath.mpf) -> mpmath.mpf:
     """``mu = -(1/3) dv/dQ`` at the working precision (``0 < Q < 1/3``)."""
     return _closed_form(1)(q)
 
 
-def _dmu(q):
+def _dmu(q: mpmath.mpf) -> mpmath.mpf:
     """``d mu / dQ = -(1/3) v''(Q)`` (for Newton's method at the maximum)."""
     return _closed_form(2)(q)
 
@@ -255,7 +257,7 @@ def phi_of_density(Q: RealLike, dps: int = 50) -> mpmath.mpf:
     dps = check_dps(dps)
     Q = _exact(Q, "Q", dps)
 
-    def compute():
+    def compute() -> mpmath.mpf:
         q, _ = _point(None, Q)
         return 6 * (mpmath.atan(mpmath.sqrt(3) * (1 - 2 * q)) - mpmath.pi / 4)
 
@@ -306,7 +308,7 @@ def eps_of(*, phi: RealLike | None = None, Q: RealLike | None = None, dps: int =
     phi = _exact(phi, "phi", dps)
     Q = _exact(Q, "Q", dps)
 
-    def compute():
+    def compute() -> mpmath.mpf:
         q, x = _point(phi, Q)
         if x is not None:
             return mpmath.pi / 2 - x
@@ -353,7 +355,7 @@ def entropy(*, phi: RealLike | None = None, Q: RealLike | None = None, dps: int 
     phi = _exact(phi, "phi", dps)
     Q = _exact(Q, "Q", dps)
 
-    def compute():
+    def compute() -> mpmath.mpf:
         q, _ = _point(phi, Q)
         terms = _series_terms(q, mpmath.mp.dps)
         return _v_series(q, terms) if terms else _v(q)
@@ -376,7 +378,7 @@ def chemical_potential(*, phi: RealLike | None = None, Q: RealLike | None = None
     phi = _exact(phi, "phi", dps)
     Q = _exact(Q, "Q", dps)
 
-    def compute():
+    def compute() -> mpmath.mpf:
         q, _ = _point(phi, Q)
         if not 0 < q < mpmath.mpf(1) / 3:
             raise ArgumentError(f"Q={mpmath.nstr(q, 15)} is out of range: mu needs 0 < Q < 1/3 (it diverges at the ends)")
@@ -397,7 +399,7 @@ def empty_density(*, phi: RealLike | None = None, Q: RealLike | None = None, dps
     phi = _exact(phi, "phi", dps)
     Q = _exact(Q, "Q", dps)
 
-    def compute():
+    def compute() -> mpmath.mpf:
         q, _ = _point(phi, Q)
         return 1 - 3 * q + 3 * q * q
 
@@ -440,7 +442,7 @@ def tiling_entropy(*, phi: RealLike | None = None, Q: RealLike | None = None, dp
     phi = _exact(phi, "phi", dps)
     Q = _exact(Q, "Q", dps)
 
-    def compute():
+    def compute() -> mpmath.mpf:
         q, _ = _point(phi, Q)
         terms = _series_terms(q, mpmath.mp.dps)
         v = _v_series(q, terms) if terms else _v(q)
@@ -467,7 +469,7 @@ def entropy_series_7_3(eps: RealLike, order: int = 2, dps: int = 50) -> mpmath.m
     order = check_int(order, "order", 2, 8)
     f = _series_eps_function(order)
 
-    def compute():
+    def compute() -> mpmath.mpf:
         e = to_mpf(eps, "eps")
         if not 0 < e <= mpmath.pi:
             raise ArgumentError(f"eps={eps} is out of range: eps = pi/2 - phi must lie in (0, pi]")
@@ -477,7 +479,7 @@ def entropy_series_7_3(eps: RealLike, order: int = 2, dps: int = 50) -> mpmath.m
 
 
 @lru_cache(maxsize=8)
-def _series_eps_function(order: int):
+def _series_eps_function(order: int) -> Callable[[mpmath.mpf], mpmath.mpf]:
     """The exact series (7.3) to ``eps^order`` as an mpmath function (sympy, once per order)."""
     import sympy
 
@@ -500,7 +502,7 @@ def entropy_per_grain(l: RealLike, dps: int = 50) -> mpmath.mpf:
     dps = check_dps(dps)
     l = _exact(l, "l", dps)
 
-    def compute():
+    def compute() -> mpmath.mpf:
         x = to_mpf(l, "l")
         if not x > 0:
             raise ArgumentError(f"l={l} is out of range: the hexagon side (force scale) must be a finite number > 0")
@@ -546,7 +548,7 @@ def maximum(dps: int = 50) -> Maximum:
     """
     dps = check_dps(dps)
 
-    def q_star():
+    def q_star() -> mpmath.mpf:
         q = mpmath.mpf("0.1845564976")
         for _ in range(200):
             step = _mu(q) / _dmu(q)
@@ -560,7 +562,7 @@ def maximum(dps: int = 50) -> Maximum:
         Q_str = mpmath.nstr(Q_max, dps + GUARD)
     v_max = converged(lambda: _v(q_star()), dps)
 
-    def composition():
+    def composition() -> tuple[mpmath.mpf, ...]:
         q0 = (3 - mpmath.sqrt(3)) / 6
         e0 = 1 - 3 * q0 + 3 * q0 * q0
         y0 = 3 * q0 * q0

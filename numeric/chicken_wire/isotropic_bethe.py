@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
+from typing import Any
 from fractions import Fraction
 
 import numpy as np
@@ -95,7 +96,7 @@ def isotropic_limit(Q: Fraction | int | str | float, L_max: int = 240, L_min: in
     return IsotropicLimit(Q, v, v_err, mu, mu_err, Ls)
 
 
-def _hermite(q0, q1, v0, v1, d0, d1, q):
+def _hermite(q0: float, q1: float, v0: float, v1: float, d0: float, d1: float, q: float) -> float:
     """Cubic Hermite interpolation of ``v`` with slopes ``d`` on ``[q0, q1]``."""
     h = q1 - q0
     t = (q - q0) / h
@@ -136,7 +137,7 @@ def bethe_entropy(Q: float, L_max: int = 240, L_min: int = 60, max_denominator: 
     return v, err, (a, b)
 
 
-def _interpolate(a: IsotropicLimit, b: IsotropicLimit, Q: float):
+def _interpolate(a: IsotropicLimit, b: IsotropicLimit, Q: float) -> tuple[float, float]:
     q0, q1 = float(a.Q), float(b.Q)
     v = _hermite(q0, q1, a.v, b.v, -3 * a.mu, -3 * b.mu, Q)
     # quadratic through v0, v1 with the slope at q0 only: a bound on the interpolation error
@@ -183,7 +184,7 @@ def bethe_entropy_maximum(densities: Iterable[Fraction] = (Fraction(1, 7), Fract
     q_lin = -lin[1] / lin[0]
     last = pts[-1]
 
-    def v_at(poly, q):
+    def v_at(poly: np.ndarray, q: float) -> Any:
         integral = np.polyval(np.polyint(poly), q) - np.polyval(np.polyint(poly), qs[-1])
         return last.v - 3 * integral
 

@@ -26,6 +26,8 @@ from __future__ import annotations
 import numpy as np
 from forcenet.core.errors import ArgumentError
 
+Site = tuple[int, int]  # (x, y) on the L x M torus
+
 __all__ = ["ChickenWire", "HexagonMonteCarlo", "component"]
 
 STEP = {0: (1, 0), 60: (0, 1), 120: (-1, 1), 180: (-1, 0), 240: (0, -1), 300: (1, -1)}
@@ -45,36 +47,36 @@ class ChickenWire:
     ``occ[(x, y)]`` is the frozenset of occupied bond directions at the site.
     """
 
-    def __init__(self, L: int, M: int, occ: dict):
+    def __init__(self, L: int, M: int, occ: dict) -> None:
         self.L, self.M = L, M
         self.occ = {(x, y): frozenset(occ.get((x, y), ())) for x in range(L) for y in range(M)}
         bad = self.invalid_sites()
         if bad:
             raise ArgumentError(f"not a chicken-wire configuration: sites {sorted(bad)[:4]} have forbidden vertices")
 
-    def shift(self, s, d, k=1):
+    def shift(self, s: Site, d: int, k: int = 1) -> Site:
         dx, dy = STEP[d]
         return ((s[0] + k * dx) % self.L, (s[1] + k * dy) % self.M)
 
-    def invalid_sites(self):
+    def invalid_sites(self) -> list[Site]:
         bad = []
         for s, v in self.occ.items():
             if v not in ALLOWED or any((d + 180) % 360 not in self.occ[self.shift(s, d)] for d in v):
                 bad.append(s)
         return bad
 
-    def key(self):
+    def key(self) -> tuple[tuple[Site, tuple[int, ...]], ...]:
         return tuple(sorted((s, tuple(sorted(v))) for s, v in self.occ.items() if v))
 
     @classmethod
-    def honeycomb(cls, L: int, M: int, side: int = 1):
+    def honeycomb(cls, L: int, M: int, side: int = 1) -> ChickenWire:
         """The regular foam of hexagons of the given side (needs ``3 side | L, M``)."""
         period = 3 * side
         if L % period or M % period:
             raise ArgumentError(f"L={L}, M={M}: a honeycomb of side {side} needs L and M divisible by {period}")
         occ: dict[tuple[int, int], set[int]] = {}
 
-        def add(s, d):
+        def add(s: Site, d: int) -> None:
             occ.setdefault(s, set()).add(d)
             dx, dy = STEP[d]
             t = ((s[0] + dx) % L, (s[1] + dy) % M)
@@ -92,7 +94,7 @@ class ChickenWire:
                             s = ((s[0] + dx) % L, (s[1] + dy) % M)
         return cls(L, M, occ)
 
-    def cells(self):
+    def cells(self) -> list[frozenset[Site]]:
         """Interiors of the cells: connected components of empty sites."""
         seen, out = set(), []
         for s, v in self.occ.items():
@@ -111,7 +113,7 @@ class ChickenWire:
             out.append(frozenset(comp))
         return out
 
-    def _corners(self, interior):
+    def _corners(self, interior: frozenset[Site]) -> list[tuple[Site, int]] | None:
         """The six corners of a hexagonal cell in order, with the side direction leaving each; None if not a hexagon."""
         boundary = {self.shift(s, d) for s in interior for d in STEP} - set(interior)
         corners = [c for c in boundary if len(self.occ[c]) == 3]
@@ -137,17 +139,17 @@ class ChickenWire:
             return None
         return order
 
-    def hexagons(self):
+    def hexagons(self) -> list[list[tuple[Site, int]]]:
         """The hexagonal cells (computed once: a configuration is immutable)."""
         if getattr(self, "_hexagons", None) is None:
             self._hexagons = [h for h in (self._corners(i) for i in self.cells()) if h is not None]
         return self._hexagons
 
-    def moved(self, hexagon, grow: bool):
+    def moved(self, hexagon: list[tuple[Site, int]], grow: bool) -> ChickenWire | None:
         """The configuration with one hexagon expanded (``grow``) or shrunk; None if not allowed."""
         occ = {s: set(v) for s, v in self.occ.items()}
 
-        def toggle(s, d, on):
+        def toggle(s: Site, d: int, on: bool) -> None:
             t = self.shift(s, d)
             (occ[s].add if on else occ[s].discard)(d)
             (occ[t].add if on else occ[t].discard)((d + 180) % 360)
@@ -193,7 +195,7 @@ class ChickenWire:
             return None
         return new
 
-    def observables(self):
+    def observables(self) -> np.ndarray:
         """``(sum of squared cell interiors, number of minimal hexagons)``."""
         cells = self.cells()
         minimal = sum(1 for c in cells if len(c) == 1)
@@ -203,12 +205,12 @@ class ChickenWire:
 class HexagonMonteCarlo:
     """Metropolis chain of shrink/expand moves (all configurations weigh the same)."""
 
-    def __init__(self, config: ChickenWire, seed=None):
+    def __init__(self, config: ChickenWire, seed: int | np.random.Generator | None = None) -> None:
         self.state = config
         self.rng = np.random.default_rng(seed)
         self.accepted = self.attempted = 0
 
-    def step(self):
+    def step(self) -> None:
         hexes = self.state.hexagons()
         if not hexes:
             raise ArgumentError("the configuration has no hexagonal cell to move")
@@ -219,7 +221,7 @@ class HexagonMonteCarlo:
             self.state = new
             self.accepted += 1
 
-    def run(self, sweeps: int, burn_in: int = 0):
+    def run(self, sweeps: int, burn_in: int = 0) -> np.ndarray:
         """Record :meth:`ChickenWire.observables` after each sweep (one move per hexagon)."""
         n = len(self.state.hexagons())
         for _ in range(burn_in * n):

@@ -106,7 +106,7 @@ def transfer_plan(L: int, particles: int | None = None) -> Plan:
     return Plan(f"transfer matrix L={L}, {sectors} sector(s) of up to 3^{L} states", seconds, 60 * 3**L, sectors, "sector")
 
 
-def _local_tensor(weights) -> np.ndarray:
+def _local_tensor(weights: dict[str, float] | None) -> np.ndarray:
     """``a[d, u, h_left, h_right]``: weight of a site with incoming ``d`` and outgoing ``u``."""
     w = {name: 1.0 for name in VERTICES}
     if weights is not None:
@@ -141,7 +141,7 @@ def _shift_index(L: int) -> np.ndarray:
 
 
 class _Operator:
-    def __init__(self, L: int, weights):
+    def __init__(self, L: int, weights: dict[str, float] | None) -> None:
         self.L = L
         self.a = _local_tensor(weights)
         self.entries = [tuple(int(c) for c in idx) for idx in zip(*np.nonzero(self.a))]
@@ -196,7 +196,7 @@ def largest_eigenvalue(L: int, weights: dict[str, float] | None = None, particle
         keep = (np.indices((3,) * L).reshape(L, -1) > 0).sum(axis=0) == particles
     sel = np.flatnonzero(keep)
 
-    def matvec(v):  # the transfer matrix restricted to the kept states
+    def matvec(v: np.ndarray) -> np.ndarray:  # the transfer matrix restricted to the kept states
         full = np.zeros(n)
         full[sel] = np.asarray(v).reshape(-1)
         return op.matvec(full)[sel]

@@ -55,7 +55,7 @@ def _gauss_legendre(n: int) -> tuple[list, list]:
     return [x for x, _ in pairs], [w for _, w in pairs]
 
 
-def _fredholm_f2(s, nodes, weights, upper):
+def _fredholm_f2(s: flint.arb, nodes: list[flint.arb], weights: list[flint.arb], upper: flint.arb) -> flint.arb:
     """``F_2(s) = det(I - K_Airy)`` on ``(s, upper)`` by Gauss-Legendre (Bornemann 2010), as an arb."""
     half, mid = (upper - s) / 2, (upper + s) / 2
     x = [half * t + mid for t in nodes]
@@ -279,7 +279,7 @@ def bulk_edge_coefficient(z: RealLike, dps: int = 20) -> mpmath.mpf:
     """
     dps = check_dps(dps)
 
-    def compute():
+    def compute() -> mpmath.mpf:
         depth = _open_depth(z)
         q, r = (1 - depth) ** 2 / 4, mpmath.sqrt(depth * (2 - depth))
         return 2 * mpmath.pi * q / mpmath.cbrt(6 * mpmath.pi * r * q)

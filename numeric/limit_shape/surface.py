@@ -40,6 +40,8 @@ Examples
 
 from __future__ import annotations
 
+from typing import Any
+
 import mpmath
 
 from forcenet.core.validation import check_dps
@@ -51,7 +53,8 @@ __all__ = ["level_curve", "level_curve_slope", "limit_surface", "bulk_response",
 
 
 
-def _in_interval(x, name: str, low, high, low_open: bool = False, high_open: bool = False):
+def _in_interval(x: mpmath.mpf, name: str, low: float, high: float, low_open: bool = False,
+                 high_open: bool = False) -> mpmath.mpf:
     bad = (x <= low if low_open else x < low) or (x >= high if high_open else x > high)
     if bad:
         lb, hb = "(" if low_open else "[", ")" if high_open else "]"
@@ -59,7 +62,7 @@ def _in_interval(x, name: str, low, high, low_open: bool = False, high_open: boo
     return x
 
 
-def _level_curve(a, u):
+def _level_curve(a: mpmath.mpf, u: mpmath.mpf) -> mpmath.mpf:
     """``h_a(u)`` at the working precision (a, u already mpf and in range)."""
     b = 1 - 2 * a
     if b == 0:
@@ -71,12 +74,12 @@ def _level_curve(a, u):
     return 2 * u / mpmath.pi * inner + 2 / mpmath.pi * mpmath.atan(k / b)
 
 
-def _slope(a, u):
+def _slope(a: mpmath.mpf, u: mpmath.mpf) -> mpmath.mpf:
     """``dh_a/da = k / (pi a (1 - a))`` at the working precision."""
     return mpmath.sqrt(4 * a * (1 - a) - u * u) / (mpmath.pi * a * (1 - a))
 
 
-def _checked_level_point(a, u):
+def _checked_level_point(a: Any, u: Any) -> tuple[mpmath.mpf, mpmath.mpf]:
     a = _in_interval(to_mpf(a, "a"), "a", 0, 1, True, True)
     u = to_mpf(u, "u")
     if 4 * a * (1 - a) - u * u < 0:
@@ -155,7 +158,7 @@ def level_curve_slope(a: RealLike, u: RealLike, dps: int = 30) -> mpmath.mpf:
     return guarded(lambda: _slope(*_checked_level_point(a, u)), dps)
 
 
-def _limit_surface(u, v, dps):
+def _limit_surface(u: mpmath.mpf, v: mpmath.mpf, dps: int) -> mpmath.mpf:
     """``L(u, v)`` at the working precision (u, v in the square)."""
     lo = (1 - mpmath.sqrt(1 - u * u)) / 2  # the level curve of lo ends on the edge at u
     hi = 1 - lo
@@ -164,7 +167,7 @@ def _limit_surface(u, v, dps):
     if v >= 2 - abs(u):
         return hi
     eps = (hi - lo) * mpmath.mpf(10) ** (-(dps + GUARD // 2))  # relative to the bracket (narrow at small depth)
-    def f(a):  # increasing in a
+    def f(a: mpmath.mpf) -> mpmath.mpf:  # increasing in a
         return _level_curve(a, u) - v
 
     a = mpmath.findroot(f, (lo + eps, hi - eps), solver="anderson", tol=eps)
@@ -204,7 +207,7 @@ def limit_surface(u: RealLike, v: RealLike, dps: int = 30) -> mpmath.mpf:
     """
     dps = check_dps(dps)
 
-    def compute():
+    def compute() -> mpmath.mpf:
         x, y = to_mpf(u, "u"), to_mpf(v, "v")
         if abs(x) + abs(y - 1) > 1:
             raise ArgumentError(f"(u, v)=({mpmath.nstr(x, 15)}, {mpmath.nstr(y, 15)}) is out of range: "
@@ -214,7 +217,7 @@ def limit_surface(u: RealLike, v: RealLike, dps: int = 30) -> mpmath.mpf:
     return guarded(compute, dps)
 
 
-def _depth_digits(depth) -> int:
+def _depth_digits(depth: mpmath.mpf) -> int:
     """Extra working digits at a small depth ``z``: ``u = z - 1`` and ``v = 1 + x`` keep every digit of ``z`` and ``x``."""
     return max(0, -int(mpmath.floor(mpmath.log10(depth))))
 
@@ -245,7 +248,7 @@ def lattice_response(z: RealLike, dps: int = 30) -> mpmath.mpf:
     """
     dps = check_dps(dps)
 
-    def compute():
+    def compute() -> mpmath.mpf:
         depth = _in_interval(to_mpf(z, "z"), "z", 0, 1)
         if depth == 0:
             return mpmath.mpf(1)
@@ -293,7 +296,7 @@ def bulk_response(x: RealLike, z: RealLike, dps: int = 30) -> mpmath.mpf:
     """
     dps = check_dps(dps)
 
-    def compute():
+    def compute() -> mpmath.mpf:
         depth, h = _in_interval(to_mpf(z, "z"), "z", 0, 1, low_open=True), to_mpf(x, "x")
         if abs(h) > depth or (abs(h) == depth and depth < 1):  # at the bottom corners (|x| = z = 1) it vanishes
             raise ArgumentError(f"x={mpmath.nstr(h, 15)} is out of range: the bulk response needs |x| < z = "

@@ -39,7 +39,8 @@ def packing_state(q: np.ndarray, W: np.ndarray, scene: Scene) -> tuple[np.ndarra
 
 
 @njit
-def _increment(q, W, S, i, j, k, c, top_load, mg, N):
+def _increment(q: np.ndarray, W: np.ndarray, S: np.ndarray, i: int, j: int, k: int, c: int, top_load: np.ndarray, mg: float,
+               N: int) -> float:
     """``F4 - F3`` at grain (k, c) with the proposed state (rows > i inside the cone read from ``S``)."""
     C = 2.0 / math.sqrt(3.0)
     S3 = math.sqrt(3.0)
@@ -57,7 +58,7 @@ def _increment(q, W, S, i, j, k, c, top_load, mg, N):
 
 
 @njit
-def _w(W, S, i, j, k, c):
+def _w(W: np.ndarray, S: np.ndarray, i: int, j: int, k: int, c: int) -> float:
     P = W.shape[1]
     if k > i and c >= j and c < min(P, j + 1 + k - i):
         return S[k, c]
@@ -65,7 +66,7 @@ def _w(W, S, i, j, k, c):
 
 
 @njit
-def _light_cone(q, W, S, i, j, mg):
+def _light_cone(q: np.ndarray, W: np.ndarray, S: np.ndarray, i: int, j: int, mg: float) -> None:
     """``S`` = the loads ``W`` after ``q[i, j]`` changed, on the light cone below it (Eq. 3.9)."""
     N, P = W.shape
     for c in range(max(j - 1, 0), min(j + 2, P)):
@@ -86,7 +87,8 @@ def _light_cone(q, W, S, i, j, mg):
 
 
 @njit
-def _lateral_sums(q, W, S, cs, dd, Cn, Dn, i, j, top_load, mg, ph, tol, check):
+def _lateral_sums(q: np.ndarray, W: np.ndarray, S: np.ndarray, cs: np.ndarray, dd: np.ndarray, Cn: np.ndarray, Dn: np.ndarray,
+                  i: int, j: int, top_load: np.ndarray, mg: float, ph: float, tol: float, check: bool) -> bool:
     """The new increments ``Dn`` (on the cone) and running sums ``Cn`` (``F4 = p_h + Cn``) of layers ``i..N-1``,
     columns ``j..P-1``, with the proposed cone ``S``; extended exactly as ``numpy.cumsum`` does.  With ``check``
     returns False at the first force below ``tol`` (the move is rejected), else True."""
@@ -108,7 +110,8 @@ def _lateral_sums(q, W, S, cs, dd, Cn, Dn, i, j, top_load, mg, ph, tol, check):
 
 
 @njit
-def _store(W, S, cs, dd, Cn, Dn, i, j, has_ph):
+def _store(W: np.ndarray, S: np.ndarray, cs: np.ndarray, dd: np.ndarray, Cn: np.ndarray, Dn: np.ndarray, i: int, j: int,
+           has_ph: bool) -> None:
     """Accept a new ``q[i, j]``: copy the light cone ``S`` into ``W`` and the new running sums."""
     N, P = W.shape
     hi = j + 1
@@ -126,7 +129,9 @@ def _store(W, S, cs, dd, Cn, Dn, i, j, has_ph):
 
 
 @njit
-def _packing_move(q, W, cs, dd, i, j, new, rng, ph, has_ph, tol, top_load, mg, counters, S, Cn, Dn):
+def _packing_move(q: np.ndarray, W: np.ndarray, cs: np.ndarray, dd: np.ndarray, i: int, j: int, new: float,
+                  rng: np.random.Generator, ph: float, has_ph: bool, tol: float, top_load: np.ndarray, mg: float,
+                  counters: np.ndarray, S: np.ndarray, Cn: np.ndarray, Dn: np.ndarray) -> bool:
     N, P = W.shape
     old = q[i, j]
     q[i, j] = new
@@ -208,7 +213,9 @@ def packing_sweeps(q: np.ndarray, W: np.ndarray, cs: np.ndarray, dd: np.ndarray,
 
 
 @njit
-def _packing_commit(q, W, cs, dd, i, j, new, top_load, mg, ph, tol, has_ph, S, Cn, Dn):
+def _packing_commit(q: np.ndarray, W: np.ndarray, cs: np.ndarray, dd: np.ndarray, i: int, j: int, new: float,
+                    top_load: np.ndarray, mg: float, ph: float, tol: float, has_ph: bool, S: np.ndarray, Cn: np.ndarray,
+                    Dn: np.ndarray) -> None:
     """Set ``q[i, j] = new`` and bring ``W`` (the cone) and the running sums up to date, as the Metropolis kernel does."""
     q[i, j] = new
     _light_cone(q, W, S, i, j, mg)

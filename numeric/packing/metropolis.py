@@ -148,7 +148,7 @@ class PackingMetropolis:
         q[:, :-1] = F5 / (F5 + F6)
         return q
 
-    def _feasible(self, q, W) -> bool:
+    def _feasible(self, q: np.ndarray, W: np.ndarray) -> bool:
         if (W[:-1, :-1] <= 0).any():
             return False
         if self.scene.ph is None:
@@ -187,7 +187,8 @@ class PackingMetropolis:
         self.q[i, j] = old
         return False
 
-    def _compiled(self, units: int, out: np.ndarray, qs: np.ndarray, thin: int = 1, progress=None) -> None:
+    def _compiled(self, units: int, out: np.ndarray, qs: np.ndarray, thin: int = 1,
+                  progress: Callable[[int], object] | None = None) -> None:
         """``units`` records of ``thin`` sweeps into ``out`` (and ``qs`` if non-empty), or (``out`` empty) ``units``
         sweeps, compiled, in calls of ~0.15 s cut between sweeps (:func:`forcenet.numeric.jit.chunks`): Ctrl-C
         is seen between two calls, and the chain is the one a single call gives; ``progress(k)`` per call."""
@@ -223,7 +224,7 @@ class PackingMetropolis:
             self.attempted, self.accepted, self.rejected_by_constraint = (int(x) for x in counters[:3])
             self.evaluations = int(counters[3])
         if counters[4]:  # pragma: no cover - never observed
-            raise RuntimeError("slice move: an interval shrank 200 times without a point under the density")
+            raise ArithmeticError("slice move: an interval shrank 200 times without a point under the density")
 
     def sweep(self, count: int = 1) -> None:
         """``count`` sweeps of ``(N-1)(P-1)`` single-grain updates."""

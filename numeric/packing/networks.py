@@ -17,7 +17,7 @@ from forcenet.core.errors import ArgumentError, ConvergenceError
 __all__ = ["uniform_networks", "maximin_network"]
 
 
-def _affine_constraints(scene: Scene):
+def _affine_constraints(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
     """``(A, b)`` with the constrained forces ``= x @ A + b`` (flattened ``x``).
 
     Constrained: ``F5``/``F6`` of every existing contact, and with a finite

@@ -99,7 +99,7 @@ class Scene:
     mg: float = 0.0
     ph: float | None = None
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         object.__setattr__(self, "N", check_int(self.N, "N", 2))
         object.__setattr__(self, "P", check_int(self.P, "P", 2))
         for name in ("F", "pv", "mg"):

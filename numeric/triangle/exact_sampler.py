@@ -24,11 +24,15 @@ from __future__ import annotations
 import math
 
 from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from forcenet.exact.triangle.staircase import dimension
 from forcenet.core.validation import check_fits_memory, check_int, check_layers, check_seed
+
+if TYPE_CHECKING:
+    from forcenet.core.plan import Plan
 
 __all__ = ["ExactSampler", "mean_and_error", "q_from_W", "removal_probabilities", "sample_tableaux", "tableaux_to_W"]
 
@@ -61,7 +65,7 @@ def removal_probabilities(parts: np.ndarray) -> np.ndarray:
     return prob
 
 
-def _pair_terms(a, b, logtab):
+def _pair_terms(a: np.ndarray, b: np.ndarray, logtab: np.ndarray) -> np.ndarray:
     """``log F(a, b)``: the factor of row ``b`` in the removal weight of row ``a``.
 
     ``F(a, b) = |a-1-b| (a+b) / (|a-b| (a-1+b))`` (Schur's formula); callers
@@ -72,7 +76,7 @@ def _pair_terms(a, b, logtab):
     )
 
 
-def _full_phi(parts, logtab):
+def _full_phi(parts: np.ndarray, logtab: np.ndarray) -> np.ndarray:
     """``Phi_r = sum_{j != r} log F(lambda_r, lambda_j)`` over present, non-adjacent rows."""
     a = parts[:, :, None]
     b = parts[:, None, :]
@@ -260,7 +264,9 @@ class ExactSampler:
         # a batch holds B tableaux of N^2 int32 entries: keep it under ~1 GiB
         self.batch = max(1, min(batch, 2**28 // (self.N * self.N)))
 
-    def _compiled(self, size: int, W_out=None, sums=None, squares=None, orders=None, progress=None) -> None:
+    def _compiled(self, size: int, W_out: np.ndarray | None = None, sums: np.ndarray | None = None,
+                  squares: np.ndarray | None = None, orders: np.ndarray | None = None,
+                  progress: Callable[[int], object] | None = None) -> None:
         """``size`` hook-walk samples into ``W_out`` or added to ``sums``/``squares``, in calls of ~0.15 s.
 
         Each sample consumes its own stretch of the stream, so the calls
@@ -420,7 +426,7 @@ _SECONDS_PER_SQUARE_LOG = 1.25e-8  # hook walk: seconds per sample and N^2 ln N,
 COMPILE_SECONDS = 9.6  # compiling the hook walk on a first run (empty numba cache): benchmarks/compile_times.py
 
 
-def sample_plan(N: int, samples: int, memory_bytes: int | None = None, kernel: str | None = None):
+def sample_plan(N: int, samples: int, memory_bytes: int | None = None, kernel: str | None = None) -> Plan:
     """The cost of drawing ``samples`` exact samples of the ``N``-layer triangle.
 
     Examples

@@ -51,7 +51,7 @@ __all__ = [
 ]
 
 
-def _gap_probabilities(gaps):
+def _gap_probabilities(gaps: Any) -> tuple[int, np.ndarray, np.ndarray]:
     d = gaps.d
     prob = np.array([c / gaps.total for c in gaps.counts[1 : d + 1]], dtype=np.float64)
     g = np.arange(1, d + 1)
@@ -94,14 +94,14 @@ def cdf_values(gaps: GapCounts, w: ArrayLike) -> np.ndarray:
     return (prob @ vals).reshape(w.shape)
 
 
-def _integer_poly(poly):
+def _integer_poly(poly: Any) -> tuple[list[int], int]:
     """``(numerators from the constant term up, common denominator)`` of a Poly over QQ."""
     coeffs = [Fraction(int(c.p), int(c.q)) for c in reversed(poly.all_coeffs())]
     den = math.lcm(*(c.denominator for c in coeffs))
     return [c.numerator * (den // c.denominator) for c in coeffs], den
 
 
-def _exact_eval(nums, den, x: float) -> float:
+def _exact_eval(nums: Sequence[int], den: int, x: float) -> float:
     """``sum nums[m] x^m / den`` at the float ``x``, exactly, rounded once."""
     fx = Fraction(x)
     p, q = fx.numerator, fx.denominator
@@ -238,7 +238,7 @@ class Histogram(NamedTuple):
     reliable: bool
 
 
-def _per_configuration(W, pool, edges) -> np.ndarray:
+def _per_configuration(W: np.ndarray, pool: Any, edges: np.ndarray) -> np.ndarray:
     """Histogram density of each configuration, shape ``(K, bins)`` (mean over grains).
 
     Counted by ``numpy.bincount`` over blocks of configurations of about a
@@ -267,7 +267,7 @@ def _per_configuration(W, pool, edges) -> np.ndarray:
     return out
 
 
-def _check_edges(edges) -> np.ndarray:
+def _check_edges(edges: Any) -> np.ndarray:
     edges = np.asarray(edges, dtype=np.float64)
     if edges.ndim != 1 or edges.size < 2 or not np.all(np.diff(edges) > 0) or not np.all(np.isfinite(edges)):
         raise ArgumentError("edges: need at least two finite, strictly increasing bin edges")

@@ -32,7 +32,7 @@ __all__ = ["hook_walk_W", "hook_walk_tableaux"]
 
 
 @njit
-def _fenwick_add(tree, r, delta):
+def _fenwick_add(tree: np.ndarray, r: int, delta: int) -> None:
     k = r + 1
     n = tree.shape[0] - 1
     while k <= n:
@@ -41,7 +41,7 @@ def _fenwick_add(tree, r, delta):
 
 
 @njit
-def _fenwick_find(tree, target, top):
+def _fenwick_find(tree: np.ndarray, target: int, top: int) -> tuple[int, int]:
     """Smallest 0-based row r with prefix(r + 1) > target; also returns prefix(r)."""
     pos = 0
     acc = 0
@@ -57,7 +57,7 @@ def _fenwick_find(tree, target, top):
 
 
 @njit
-def _below(rng, m):
+def _below(rng: np.random.Generator, m: int) -> int:
     """A uniform integer in ``0..m-1`` as ``floor(m U)``: one double per draw, 6 times cheaper than
     ``Generator.integers``; its bias, at most ``m / 2**53`` relative (< 1e-9 for ``m < 2**23``), is far below
     any statistical error reachable here."""
@@ -66,7 +66,8 @@ def _below(rng, m):
 
 
 @njit
-def _hook_walk_one(rng, n, lam, colh, tree, T, stats):
+def _hook_walk_one(rng: np.random.Generator, n: int, lam: np.ndarray, colh: np.ndarray, tree: np.ndarray, T: np.ndarray,
+                   stats: np.ndarray) -> None:
     """Fill ``T`` (shape ``(n+1, n+1)``) with a uniform shifted staircase tableau; ``stats[0] +=`` walk steps."""
     d = n * (n + 1) // 2  # dimension(n + 1), Eq. 4.3 (compiled code cannot call it)
     for r in range(n):
@@ -109,7 +110,7 @@ def _hook_walk_one(rng, n, lam, colh, tree, T, stats):
 
 
 @njit
-def _hook_walk_fill(rng, n, T, stats):
+def _hook_walk_fill(rng: np.random.Generator, n: int, T: np.ndarray, stats: np.ndarray) -> None:
     lam = np.empty(n, np.int64)
     colh = np.empty(n, np.int64)
     tree = np.zeros(n + 1, np.int64)
@@ -151,7 +152,7 @@ def hook_walk_tableaux(rng: np.random.Generator, n: int, size: int, stats: np.nd
 
 
 @njit
-def _W_from_tableau(rng, T, N, spacing, W):
+def _W_from_tableau(rng: np.random.Generator, T: np.ndarray, N: int, spacing: np.ndarray, W: np.ndarray) -> None:
     """``W`` (``N x N``) from a tableau: sorted uniforms ``U_(k)`` (normalized exponential spacings) placed by rank."""
     n = N - 1
     d = n * (n + 1) // 2  # dimension(n + 1), Eq. 4.3 (compiled code cannot call it)

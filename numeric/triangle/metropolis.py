@@ -31,6 +31,7 @@ from __future__ import annotations
 import math
 
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -38,6 +39,9 @@ from numpy.typing import ArrayLike
 from forcenet.exact.triangle.staircase import dimension
 from forcenet.core.validation import check_fits_memory, check_int, check_layers, check_seed
 from forcenet.core.errors import ArgumentError
+
+if TYPE_CHECKING:
+    from forcenet.core.plan import Plan
 
 __all__ = ["TriangleMetropolis", "forces_from_q", "lateral_forces", "q_model_samples"]
 
@@ -209,7 +213,8 @@ class TriangleMetropolis:
         self.q[i, j] = old
         return False
 
-    def _compiled(self, units: int, out: np.ndarray, thin: int = 1, progress=None) -> None:
+    def _compiled(self, units: int, out: np.ndarray, thin: int = 1,
+                  progress: Callable[[int], object] | None = None) -> None:
         """``units`` records of ``thin`` sweeps into ``out`` (or, ``out`` empty, ``units`` sweeps), compiled.
 
         The sweeps run in calls of ~0.15 s (:func:`forcenet.numeric.jit.chunks`),
@@ -243,7 +248,7 @@ class TriangleMetropolis:
             self.attempted, self.accepted, self.rejected_by_constraint = (int(x) for x in counters[:3])
             self.evaluations = int(counters[3])
         if counters[4]:  # pragma: no cover - never observed
-            raise RuntimeError("slice move: an interval shrank 200 times without a point under the density")
+            raise ArithmeticError("slice move: an interval shrank 200 times without a point under the density")
 
     def sweep(self, count: int = 1) -> None:
         """``count`` sweeps; a sweep is ``N(N-1)/2`` single-grain updates.
@@ -377,7 +382,7 @@ def _compiled_seconds_per_move(N: int, ph: bool) -> float:
 
 
 def metropolis_plan(N: int, sweeps: int, burn_in: int = 0, memory_bytes: int | None = None, ph: bool = False,
-                    kernel: str | None = None, move: str = "metropolis"):
+                    kernel: str | None = None, move: str = "metropolis") -> Plan:
     """The cost of :meth:`TriangleMetropolis.run` (time per move measured; the chain is stored).
 
     With the compiled kernel and numba's cache lacking it (a first run), the

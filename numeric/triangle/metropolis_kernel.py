@@ -29,7 +29,9 @@ __all__ = ["triangle_sweeps"]
 
 
 @njit
-def _triangle_move(q, W, flux, zeros, i, j, new, rng, ph, has_ph, counters, S, Fn):
+def _triangle_move(q: np.ndarray, W: np.ndarray, flux: np.ndarray, zeros: np.ndarray, i: int, j: int, new: float,
+                   rng: np.random.Generator, ph: float, has_ph: bool, counters: np.ndarray, S: np.ndarray,
+                   Fn: np.ndarray) -> bool:
     """One single-q move at 0-based grain (i, j); returns True if accepted."""
     N = W.shape[0]
     C = 2.0 / math.sqrt(3.0)

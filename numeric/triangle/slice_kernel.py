@@ -25,7 +25,8 @@ __all__ = ["triangle_slice_sweeps"]
 
 
 @njit
-def _triangle_commit(q, W, flux, zeros, i, j, new, has_ph, S, Fn):
+def _triangle_commit(q: np.ndarray, W: np.ndarray, flux: np.ndarray, zeros: np.ndarray, i: int, j: int, new: float,
+                     has_ph: bool, S: np.ndarray, Fn: np.ndarray) -> None:
     """Set ``q[i, j] = new``; bring the light cone of ``W``, the zero counts and the running sums up to date."""
     N = W.shape[0]
     q[i, j] = new

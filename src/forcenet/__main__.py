@@ -12,6 +12,7 @@ cannot be caught: the workers then end by their parent-death signal
 
 import signal
 import sys
+from types import FrameType
 
 
 def run() -> int:
@@ -24,7 +25,7 @@ def run() -> int:
 
     terminated = []
 
-    def on_terminate(signum, frame):  # the path of Ctrl-C: the pool's workers terminated, no partial output
+    def on_terminate(signum: int, frame: FrameType | None) -> None:  # the path of Ctrl-C: the pool's workers terminated, no partial output
         terminated.append(signum)
         handler = signal.getsignal(signal.SIGINT)
         if callable(handler):  # Python's, or the one that defers an interrupt out of numba's callbacks

@@ -4,10 +4,13 @@ A small parser; one module per command family (:mod:`.table`, :mod:`.sample`,
 :mod:`.limit`, :mod:`.chicken_wire`), the shared arguments and the policy in
 :mod:`.common`.  :func:`main` is the one error boundary: every expected
 failure -- the exception family :class:`forcenet.ForcenetError` (bad argument,
-refused plan), the file system, memory, interruption -- ends in one line on
+refused plan, a file or stream that cannot be written: the writers of
+:mod:`.output` turn the ``OSError`` of their own operations into the family,
+naming the argument), memory, interruption -- ends in one line on
 stderr naming the argument or path, exit code 2 (130 on Ctrl-C), and no file
 written or directory created.  Anything else is a bug, a plain ``ValueError``
-or ``TypeError`` included: exit code 1, ``forcenet: internal error: <type>:
+or ``TypeError`` and an ``OSError`` that no file or stream operation of the
+command line raised included: exit code 1, ``forcenet: internal error: <type>:
 <message>``, and the traceback on stderr under ``--debug``, else in a file
 whose path is printed.  The main job's cross-check has codes of its own: 3
 when it DISAGREES, 4 when it cannot judge (:data:`.output.EXIT_CODES`, also in
@@ -30,6 +33,7 @@ import os
 import sys
 import tempfile
 import traceback
+from collections.abc import Sequence
 from importlib.metadata import version
 
 from forcenet.core.errors import ForcenetError
@@ -84,7 +88,7 @@ def build_parser() -> Parser:
 _EXTENSION_FORMATS = {".json": "json", ".csv": "csv", ".tex": "latex"}
 
 
-def _check_destinations(args) -> None:
+def _check_destinations(args: argparse.Namespace) -> None:
     """Every destination of the result, before any work: the files named, else standard output."""
     for name in ("out", "plot"):
         if getattr(args, name, None) is not None:
@@ -137,9 +141,9 @@ def _release_quietly(exc: BaseException) -> None:
         sys.unraisablehook = hook
 
 
-def _valued_options(parser) -> tuple[set[str], set[str]]:
+def _valued_options(parser: argparse.ArgumentParser) -> tuple[set[str], set[str]]:
     """(the option strings that take one value, every option string) of the parser and its subcommands."""
-    valued, every = set(), set()
+    valued, every = set(), set()  # type: set[str], set[str]
     parsers, seen = [parser], set()
     while parsers:
         current = parsers.pop()
@@ -155,7 +159,7 @@ def _valued_options(parser) -> tuple[set[str], set[str]]:
     return valued, every
 
 
-def _join_negative_values(parser, argv: list[str]) -> list[str]:
+def _join_negative_values(parser: argparse.ArgumentParser, argv: list[str]) -> list[str]:
     """``--grain -1,1`` read as ``--grain=-1,1``: a value that starts with ``-`` (argparse would take it for an
     option and answer "expected one argument") is joined to the option that takes it, unless it is an option
     itself; the value then meets its own check, which names the range."""
@@ -178,7 +182,7 @@ def _join_negative_values(parser, argv: list[str]) -> list[str]:
     return out
 
 
-def main(argv=None) -> int:
+def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit code."""
     sys.set_int_max_str_digits(0)  # huge exact integers are printed whole (count --N 84 has 4300+ digits)
     parser = build_parser()
@@ -203,10 +207,7 @@ def main(argv=None) -> int:
     except BrokenPipeError:  # e.g. `forcenet maps --N 9 | head`
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
-    except OSError as exc:  # the file system (the writers name the argument; this is the last resort)
-        where = f" ({exc.filename})" if exc.filename else ""
-        return _error(f"{exc.strerror or exc}{where}")
-    except Exception as exc:  # anything else is a bug, a plain ValueError or TypeError included
+    except Exception as exc:  # anything else is a bug: a plain ValueError or TypeError, an OSError no writer named
         return _internal_error(exc, getattr(args, "debug", False))
 
 

@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import argparse
+from collections.abc import Callable
+from fractions import Fraction
+from typing import Any
 
 from .common import (
     UsageError,
@@ -27,14 +31,14 @@ def _r(x: float) -> float:
     return round(float(x), 12) + 0.0  # + 0.0: no negative zero
 
 
-def cmd_transfer(args):
+def cmd_transfer(args: argparse.Namespace) -> int:
     from forcenet.numeric.chicken_wire.transfer import sector_entropy, transfer_plan
 
     L = args.L
     plan = transfer_plan(L, args.particles)
     sectors = [args.particles] if args.particles is not None else list(range(L + 1))
 
-    def run(tick):
+    def run(tick: Callable[..., None] | None) -> list[dict[str, Any]]:
         rows = []
         for n in sectors:
             lam, per_site = sector_entropy(L, particles=n)
@@ -60,7 +64,7 @@ def cmd_transfer(args):
     return 0
 
 
-def cmd_bethe(args):
+def cmd_bethe(args: argparse.Namespace) -> int:
     from forcenet.core.errors import ConvergenceError
     from forcenet.numeric.chicken_wire.bethe_sector import default_sector, ground_state, ground_state_plan
 
@@ -68,7 +72,7 @@ def cmd_bethe(args):
     n, m = default_sector(L, args.n, args.m)
     plan = ground_state_plan(L, n, m)
 
-    def run(tick):
+    def run(tick: Callable[..., None] | None) -> Any:
         try:
             return ground_state(L, n, m, progress=tick)
         except ConvergenceError as exc:
@@ -92,7 +96,7 @@ def cmd_bethe(args):
     return 0
 
 
-def _density(text):
+def _density(text: str) -> Fraction:
     """--Q: a number or a fraction c/a in [0, 1/3], kept exact."""
     import argparse
     from fractions import Fraction
@@ -108,7 +112,7 @@ def _density(text):
     return q
 
 
-def _phi(text):
+def _phi(text: str) -> str:
     """--phi: a finite number in [-pi/2, pi/2] (compared with pi/2 at the digits given), kept as the string given."""
     import argparse
 
@@ -122,13 +126,13 @@ def _phi(text):
     return text
 
 
-def _side(text):
+def _side(text: str) -> str:
     """--F: the hexagon side l of Eq. (7.4), a finite number > 0, kept as the string given (read at full precision)."""
     real("F", 0, low_open=True)(text)
     return text.strip()
 
 
-def _inside(args) -> bool:
+def _inside(args: argparse.Namespace) -> bool:
     """Whether the point is strictly inside ``0 < Q < 1/3`` (``|phi| < pi/2``), decided exactly."""
     from fractions import Fraction
 
@@ -139,7 +143,7 @@ def _inside(args) -> bool:
     return iso.phi_within_range(args.phi, strict=True)
 
 
-def _closed_form_rows(args, dps):
+def _closed_form_rows(args: argparse.Namespace, dps: int) -> list[tuple[str, str, Any]]:
     """Every quantity at the point, named by what it is (mpmath values)."""
     import mpmath
 
@@ -177,7 +181,7 @@ def _closed_form_rows(args, dps):
 _SERIES_TOLERANCE = 0.01
 
 
-def _series_row(args, eps, v, dps):
+def _series_row(args: argparse.Namespace, eps: Any, v: Any, dps: int) -> tuple[str, str, Any]:
     """The leading term of (7.3) at ``eps``, described with its deviation from ``v`` where it is no approximation."""
     import mpmath
 
@@ -191,7 +195,7 @@ def _series_row(args, eps, v, dps):
     return ("v_series_7_3", what, series)
 
 
-def _maximum_rows(dps):
+def _maximum_rows(dps: int) -> list[tuple[str, str, Any]]:
     from forcenet.numeric.chicken_wire import isotropic as iso
 
     m = iso.maximum(dps)
@@ -210,7 +214,7 @@ def _maximum_rows(dps):
     ]
 
 
-def cmd_entropy(args):
+def cmd_entropy(args: argparse.Namespace) -> int:
     import mpmath
 
     from forcenet.core.plan import combine
@@ -230,7 +234,7 @@ def cmd_entropy(args):
         plans.append(isotropic_entropy_plan(args.Q, args.L_max))
     plan = combine(plans[-1].what if args.bethe else closed.what, plans, plans[-1].unit)
 
-    def run(tick):
+    def run(tick: Callable[..., None] | None) -> tuple[list[tuple[str, str, Any]], dict[str, Any] | None]:
         rows = _maximum_rows(dps) if args.max else _closed_form_rows(args, dps)
         bethe = _bethe(args, rows) if args.bethe else None
         if tick:
@@ -255,7 +259,7 @@ def cmd_entropy(args):
     return 0
 
 
-def _bethe(args, rows):
+def _bethe(args: argparse.Namespace, rows: list[tuple[str, str, Any]]) -> dict[str, Any]:
     """The independent Bethe-ansatz value of v at the point (float, with its error)."""
     from forcenet.core.errors import ConvergenceError
     from forcenet.numeric.chicken_wire.isotropic_bethe import isotropic_entropy
@@ -268,7 +272,7 @@ def _bethe(args, rows):
     return {"v_bethe": v, "v_bethe_error": err, "bethe_densities": [str(f) for f in densities]}
 
 
-def register(sub):
+def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p = sub.add_parser("transfer", help="chicken-wire model (Sec. 7.4): largest transfer-matrix eigenvalue per particle sector")
     p.add_argument("--L", type=integer("L", 2, 13), required=True, help="cylinder width (2..13)")
     p.add_argument("--particles", type=integer("particles", 0), default=None, help="only this particle sector, 0..L (default: all)")

@@ -20,6 +20,8 @@ import json
 import math
 import sys
 import time
+from collections.abc import Callable, Sequence
+from typing import Any, NoReturn, TypeVar
 
 from forcenet.core.plan import Plan, duration_text
 from forcenet.core.validation import check_int, check_real
@@ -46,6 +48,8 @@ __all__ = [
 FORCE_SECONDS = 60  # a run announced at over a minute needs --force
 ANNOUNCE_SECONDS = 2  # shorter runs are not announced
 
+T = TypeVar("T")  # what an argument type or a planned run returns
+
 
 class UsageError(ForcenetError):
     """Bad input or a refused run, detected after parsing; one line on stderr, exit code 2."""
@@ -58,22 +62,23 @@ class Parser(argparse.ArgumentParser):
     (their ``dest``): :func:`given` tells an explicit value from a default.
     """
 
-    def error(self, message):
+    def error(self, message: str) -> NoReturn:
         self.exit(2, f"{self.prog}: error: {message}\n")
 
-    def _add_action(self, action):  # every option of this parser and of its mutually exclusive groups
+    def _add_action(self, action: Any) -> Any:  # every option of this parser and of its mutually exclusive groups
         action = super()._add_action(action)
         if action.option_strings and not isinstance(action, (argparse._HelpAction, argparse._VersionAction)):
-            action.__class__ = _once(type(action))
+            action.__class__ = _once(type(action))  # type: ignore[arg-type]  # a class is hashable
         return action
 
 
 @functools.cache
-def _once(cls):
+def _once(cls: Any) -> Any:
     """The action class ``cls`` refusing a second occurrence of its option ("--N given twice")."""
 
     class Once(cls):
-        def __call__(self, parser, namespace, values, option_string=None):
+        def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace, values: Any,
+                     option_string: str | None = None) -> None:
             seen = vars(namespace).setdefault("_given", set())
             if self.dest in seen:
                 parser.error(f"{'/'.join(self.option_strings)} given twice; give it once")
@@ -84,12 +89,12 @@ def _once(cls):
     return Once
 
 
-def given(args, dest: str) -> bool:
+def given(args: argparse.Namespace, dest: str) -> bool:
     """Whether the option ``dest`` was given on the command line (not its default)."""
     return dest in vars(args).get("_given", ())
 
 
-def refuse_together(args, first: str, second: str, why: str) -> None:
+def refuse_together(args: argparse.Namespace, first: str, second: str, why: str) -> None:
     """A contradiction: ``first`` and ``second`` (dests, both given) refused in one line naming both."""
     if given(args, first) and given(args, second):
         raise UsageError(f"--{first.replace('_', '-')} and --{second.replace('_', '-')} contradict each other: {why}")
@@ -98,7 +103,7 @@ def refuse_together(args, first: str, second: str, why: str) -> None:
 # ----------------------------------------------------------------- argument types
 
 
-def integer(name: str, minimum: int | None = None, maximum: int | None = None):
+def integer(name: str, minimum: int | None = None, maximum: int | None = None) -> Callable[[str], int]:
     """argparse type: an integer in range, with the validation module's message.
 
     Examples
@@ -107,7 +112,7 @@ def integer(name: str, minimum: int | None = None, maximum: int | None = None):
     12
     """
 
-    def parse(text):
+    def parse(text: str) -> int:
         if not text.isascii():
             raise ArgumentError(f"{name}={text!r} is not an integer: use the ASCII digits 0-9")
         try:
@@ -119,7 +124,8 @@ def integer(name: str, minimum: int | None = None, maximum: int | None = None):
     return _argparse_type(parse)
 
 
-def real(name: str, low=None, high=None, *, low_open: bool = False, high_open: bool = False):
+def real(name: str, low: float | None = None, high: float | None = None, *, low_open: bool = False,
+         high_open: bool = False) -> Callable[[str], float]:
     """argparse type: a finite real number in range (``nan``, ``inf`` and non-numbers are refused).
 
     Examples
@@ -128,7 +134,7 @@ def real(name: str, low=None, high=None, *, low_open: bool = False, high_open: b
     2.5
     """
 
-    def parse(text):
+    def parse(text: str) -> float:
         if not text.isascii():
             raise ArgumentError(f"{name}={text!r} is not a number: use the ASCII digits 0-9")
         return check_real(text, name, low, high, low_open=low_open, high_open=high_open)
@@ -136,8 +142,8 @@ def real(name: str, low=None, high=None, *, low_open: bool = False, high_open: b
     return _argparse_type(parse)
 
 
-def _argparse_type(parse):
-    def wrapped(text):
+def _argparse_type(parse: Callable[[str], T]) -> Callable[[str], T]:
+    def wrapped(text: str) -> T:
         try:
             return parse(text)
         except ForcenetError as exc:  # the checks' one-line message; anything else is a bug and propagates
@@ -150,26 +156,28 @@ def _argparse_type(parse):
 # ---------------------------------------------------------------- argument groups
 
 
-def add_layers(p, maximum: int | None = None, minimum: int = 2, help_text: str | None = None):
+def add_layers(p: argparse.ArgumentParser, maximum: int | None = None, minimum: int = 2,
+               help_text: str | None = None) -> None:
     allowed = f"{minimum}..{maximum}" if maximum else f">= {minimum}"
     p.add_argument("--N", type=integer("N", minimum, maximum), required=True, help=help_text or f"number of layers ({allowed})")
 
 
-def add_format(p, choices=("text", "json"), default="text", out: bool = True):
+def add_format(p: argparse.ArgumentParser, choices: Sequence[str] = ("text", "json"), default: str | None = "text",
+               out: bool = True) -> None:
     p.add_argument("--format", choices=list(choices), default=default, help=f"output format (default {default})")
     if out:
         p.add_argument("--out", help="write the output to this file instead of stdout (atomically; its directory must exist)")
 
 
-def add_quiet(p):
+def add_quiet(p: argparse.ArgumentParser) -> None:
     p.add_argument("--quiet", action="store_true", help="no cost announcement, no progress bar (stderr)")
 
 
-def add_force(p):
+def add_force(p: argparse.ArgumentParser) -> None:
     p.add_argument("--force", action="store_true", help=f"run even if announced at over {FORCE_SECONDS} s")
 
 
-def add_seed(p, default: int = 0):
+def add_seed(p: argparse.ArgumentParser, default: int = 0) -> None:
     p.add_argument("--seed", type=integer("seed", 0, 2**63 - 1), default=default, help=f"random seed, an integer >= 0 (default {default})")
 
 
@@ -189,7 +197,7 @@ PLAIN_PROGRESS_SECONDS = 60  # off a terminal, a run announced at over a minute 
 class _PlainProgress:
     """Progress off a terminal (a log file, a pipe): a plain line per ~10 %, no carriage return, no animation."""
 
-    def __init__(self, total: float, desc: str, unit: str):
+    def __init__(self, total: float, desc: str, unit: str) -> None:
         self.total, self.desc, self.unit = total, desc, unit
         self.n, self.next_tenth, self.t0 = 0.0, 1, time.perf_counter()
 
@@ -223,7 +231,7 @@ def progress_label(what: str) -> str:
     return label if len(label) <= LABEL_CHARACTERS else label[:LABEL_CHARACTERS - 3].rstrip() + "..."
 
 
-def _progress_bar(total: int, desc: str, unit: str, seconds: float = 0.0):
+def _progress_bar(total: int, desc: str, unit: str, seconds: float = 0.0) -> Any:
     """An animated bar on a terminal; elsewhere plain lines (over a minute) or nothing."""
     if not (sys.stderr is not None and sys.stderr.isatty()):
         return _PlainProgress(total, desc, unit) if seconds > PLAIN_PROGRESS_SECONDS else None
@@ -239,7 +247,7 @@ class _Reviser:
     """``progress(k)`` that also restates the estimate once, from the measured rate, when it is off by
     :data:`REVISE_FACTOR` (a loaded machine, a cluster): one line, one time, never two times on one line."""
 
-    def __init__(self, plan: Plan, label: str, bar):
+    def __init__(self, plan: Plan, label: str, bar: Any) -> None:
         self.plan, self.label, self.bar = plan, label, bar
         self.t0, self.done, self.revised = time.perf_counter(), 0.0, False
         self.first: tuple[float, float] | None = None  # (time, ticks) at the first finished tick
@@ -267,7 +275,8 @@ class _Reviser:
                 print(line, file=sys.stderr, flush=True)
 
 
-def run_planned(plan: Plan, run, *, force: bool = False, quiet: bool = False):
+def run_planned(plan: Plan, run: Callable[[Callable[..., None] | None], T], *, force: bool = False,
+                quiet: bool = False) -> T:
     """Refuse, announce, or run ``run(progress)`` under a progress bar, as the plan says.
 
     ``run`` receives ``progress(k=1)`` (or None when nothing is shown).  The
@@ -301,11 +310,11 @@ def run_planned(plan: Plan, run, *, force: bool = False, quiet: bool = False):
 # --------------------------------------------------------------------------- output
 
 
-def json_dumps(obj) -> str:
+def json_dumps(obj: object) -> str:
     """JSON without NaN/Infinity (refused: they are not JSON)."""
     return json.dumps(obj, allow_nan=False)
 
 
-def finite_or_none(x: float):
+def finite_or_none(x: float) -> float | None:
     """A float for JSON, None for inf/nan (JSON has neither)."""
     return x if math.isfinite(x) else None

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import argparse
+from collections.abc import Callable
+
 from .common import (
     UsageError,
     add_format,
@@ -14,7 +17,7 @@ from .output import emit
 __all__ = ["register"]
 
 
-def cmd_limit(args):
+def cmd_limit(args: argparse.Namespace) -> int:
     import mpmath
 
     from forcenet.numeric.limit_shape.edge import EDGE_EXPONENT, edge_amplitude, edge_sd_amplitude
@@ -50,7 +53,7 @@ def cmd_limit(args):
     return 0
 
 
-def register(sub):
+def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p = sub.add_parser("limit", help="scaling limit of the response at reduced coordinates (x, z)")
     # the coordinates stay strings: they are converted inside mpmath.workdps, so every digit given counts
     p.add_argument("--x", type=_decimal("x", -1, 1), required=True, help="horizontal coordinate (2j - i - 1)/N, |x| <= z; "
@@ -63,11 +66,11 @@ def register(sub):
     p.set_defaults(func=cmd_limit)
 
 
-def _decimal(name, low, high, low_open=False):
+def _decimal(name: str, low: float | None, high: float | None, low_open: bool = False) -> Callable[[str], str]:
     """A finite number in range, kept as the string given (full precision later)."""
     check = real(name, low, high, low_open=low_open)
 
-    def parse(text):
+    def parse(text: str) -> str:
         check(text)
         return text.strip()
 

@@ -27,7 +27,7 @@ from typing import TypeAlias
 import mpmath
 
 from forcenet.core.validation import check_float_digits, check_not_bool, is_binary_float
-from forcenet.core.errors import ArgumentError, ArgumentTypeError
+from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceError
 
 __all__ = ["GUARD", "RealLike", "to_mpf", "guarded", "converged"]
 
@@ -85,6 +85,11 @@ def converged(compute: Callable[[], mpmath.mpf], dps: int) -> mpmath.mpf:
     """``compute()`` at increasing precision until two evaluations agree to ``dps + 3`` relative digits.
 
     ``dps`` is trusted, as in :func:`guarded`.
+
+    Raises
+    ------
+    forcenet.core.errors.ConvergenceError
+        If the evaluations still differ at ``dps + MAX_EXTRA`` digits (also a ``RuntimeError``).
     """
     prec = dps + GUARD
     with mpmath.workdps(prec):
@@ -96,7 +101,7 @@ def converged(compute: Callable[[], mpmath.mpf], dps: int) -> mpmath.mpf:
             if current == 0 or abs(current - previous) <= abs(current) * mpmath.mpf(10) ** (-(dps + 3)):
                 break
         if prec > dps + MAX_EXTRA:
-            raise ArithmeticError(f"no convergence to {dps} digits within {MAX_EXTRA} extra digits")
+            raise ConvergenceError(f"no convergence to {dps} digits within {MAX_EXTRA} extra digits")
         previous = current
     with mpmath.workdps(dps):
         return +current

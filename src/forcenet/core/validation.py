@@ -37,6 +37,8 @@ import math
 import numbers
 import warnings
 from fractions import Fraction
+from typing import Any, TypeVar
+
 from .errors import ArgumentError, ArgumentTypeError, PrecisionWarning
 
 __all__ = [
@@ -59,8 +61,10 @@ __all__ = [
     "check_seed",
 ]
 
+T = TypeVar("T")  # a value returned unchanged by its check
 
-def is_integer(value) -> bool:
+
+def is_integer(value: object) -> bool:
     """True for ``int``-like values (anything with ``__index__``), False for ``bool``.
 
     Examples
@@ -72,7 +76,7 @@ def is_integer(value) -> bool:
     return not isinstance(value, bool) and hasattr(type(value), "__index__")
 
 
-def int_range_text(minimum=None, maximum=None) -> str:
+def int_range_text(minimum: int | None = None, maximum: int | None = None) -> str:
     """``'>= 2'``, ``'in 2..9'``, ``'<= 5'`` or ``'any integer'``."""
     if minimum is not None and maximum is not None:
         return f"in {minimum}..{maximum}"
@@ -83,7 +87,7 @@ def int_range_text(minimum=None, maximum=None) -> str:
     return "any integer"
 
 
-def check_int(value, name: str, minimum: int | None = None, maximum: int | None = None) -> int:
+def check_int(value: Any, name: str, minimum: int | None = None, maximum: int | None = None) -> int:
     """Validate an integer argument; returns it as a Python ``int``.
 
     Parameters
@@ -119,7 +123,7 @@ def check_int(value, name: str, minimum: int | None = None, maximum: int | None 
     return value
 
 
-def check_layers(N, *, name: str = "N", minimum: int = 2, maximum: int | None = None) -> int:
+def check_layers(N: Any, *, name: str = "N", minimum: int = 2, maximum: int | None = None) -> int:
     """Validate a number of layers (an integer ``>= 2`` unless told otherwise).
 
     Examples
@@ -137,7 +141,7 @@ def check_layers(N, *, name: str = "N", minimum: int = 2, maximum: int | None = 
 MAX_MOMENTS = 50  # the highest moment s of W^s a table route takes (forcenet table --moments)
 
 
-def check_moments(moments) -> int:
+def check_moments(moments: Any) -> int:
     """Validate the highest moment ``s`` of ``W^s`` of a table, an integer in ``1..MAX_MOMENTS``.
 
     Examples
@@ -152,7 +156,7 @@ def check_moments(moments) -> int:
     return check_int(moments, "moments", 1, MAX_MOMENTS)
 
 
-def check_grain(N: int, grain, name: str = "grain") -> tuple[int, int]:
+def check_grain(N: int, grain: Any, name: str = "grain") -> tuple[int, int]:
     """Validate a grain ``(i, j)`` of the ``N``-layer triangle, ``1 <= j <= i <= N``.
 
     Examples
@@ -176,7 +180,7 @@ def check_grain(N: int, grain, name: str = "grain") -> tuple[int, int]:
     return i, j
 
 
-def _interval_text(low, high, low_open, high_open) -> str:
+def _interval_text(low: float | None, high: float | None, low_open: bool, high_open: bool) -> str:
     if low is not None and high is not None:
         return f"in {'(' if low_open else '['}{low}, {high}{')' if high_open else ']'}"
     if low is not None:
@@ -186,7 +190,7 @@ def _interval_text(low, high, low_open, high_open) -> str:
     return "finite"
 
 
-def check_real(value, name: str, low=None, high=None, *, low_open: bool = False, high_open: bool = False) -> float:
+def check_real(value: Any, name: str, low: float | None = None, high: float | None = None, *, low_open: bool = False, high_open: bool = False) -> float:
     """Validate a real argument (a finite number, or a string of one); returns a float.
 
     For exact or high-precision work convert the original value yourself
@@ -229,7 +233,7 @@ def check_real(value, name: str, low=None, high=None, *, low_open: bool = False,
     return x
 
 
-def check_not_bool(value, name: str):
+def check_not_bool(value: T, name: str) -> T:
     """:class:`ArgumentTypeError` for ``True``/``False`` where a number is due (they would pass as 1 and 0).
 
     Examples
@@ -242,7 +246,7 @@ def check_not_bool(value, name: str):
     return value
 
 
-def check_dps(dps, name: str = "dps", minimum: int = 5, maximum: int = 10000) -> int:
+def check_dps(dps: Any, name: str = "dps", minimum: int = 5, maximum: int = 10000) -> int:
     """Validate a number of decimal digits.
 
     Examples
@@ -256,7 +260,7 @@ def check_dps(dps, name: str = "dps", minimum: int = 5, maximum: int = 10000) ->
 # ------------------------------------------------- binary floats where digits matter (one rule)
 
 
-def is_binary_float(value) -> bool:
+def is_binary_float(value: object) -> bool:
     """True for a binary floating-point number: ``float`` (``numpy.float64`` included) and every ``numpy.floating``.
 
     Examples
@@ -271,7 +275,7 @@ def is_binary_float(value) -> bool:
     return kind.__module__ == "numpy" and any(base.__name__ == "floating" for base in kind.__mro__)
 
 
-def float_digits(value) -> int:
+def float_digits(value: float) -> int:
     """Significant decimal digits a binary float of ``value``'s type carries exactly: 15 for a double
     (``sys.float_info.dig``), 6 for ``numpy.float32``, 3 for ``numpy.float16``, 18 for an x87 ``longdouble``.
 
@@ -287,12 +291,12 @@ def float_digits(value) -> int:
     return {2: 3, 4: 6, 8: 15}.get(int(getattr(value, "itemsize", 8)), 18)
 
 
-def _shortest_text(value) -> str:
+def _shortest_text(value: float) -> str:
     """The shortest decimal that reads back as ``value`` (``repr``; numpy's ``str`` for its own types)."""
     return repr(float(value)) if isinstance(value, float) else str(value)
 
 
-def _exact_fix(value) -> str:
+def _exact_fix(value: float) -> str:
     """What to pass instead of the float ``value``: the small fraction it rounds (as a decimal string when it is
     one), else its shortest decimal as a string."""
     exact = Fraction(float(value))
@@ -310,7 +314,7 @@ def _exact_fix(value) -> str:
     return f"'{text}' or Fraction('{text}')"
 
 
-def check_float_digits(value, name: str, dps: int | None = None, *, stacklevel: int = 2):
+def check_float_digits(value: Any, name: str, dps: int | None = None, *, stacklevel: int = 2) -> Any:
     """The one rule for a binary float given where an exact (rational) number is expected.
 
     A float is a binary fraction of 53 bits (about 17 significant digits, of
@@ -389,7 +393,7 @@ def check_float_digits(value, name: str, dps: int | None = None, *, stacklevel: 
                             f"were asked: pass {fix} (a string or a Fraction keeps every digit)")
 
 
-def check_rational(value, name: str) -> Fraction:
+def check_rational(value: Any, name: str) -> Fraction:
     """An exact rational argument as a ``Fraction``: an int, a ``Fraction``, a string such as ``'1/6'`` or
     ``'0.3'``, a sympy Rational; a binary float only when it is exactly its decimal (:func:`check_float_digits`).
 
@@ -452,7 +456,7 @@ def check_fits_memory(nbytes: int, what: str, fix: str) -> None:
         raise ArgumentError(f"{what} needs ~{nbytes / 2**30:.3g} GiB of memory, more than is available: {fix}")
 
 
-def check_seed(seed, name: str = "seed"):
+def check_seed(seed: T, name: str = "seed") -> T | int:
     """A seed for ``numpy.random.default_rng``: None, a ``numpy.random.Generator`` (or ``SeedSequence``), or an
     integer ``>= 0`` (numpy types included; never ``bool`` or a float).
 

@@ -30,6 +30,8 @@ Examples
 True
 """
 
+from types import ModuleType
+
 from .assertions import CannotJudgeError, DisagreementError, TableAgreement, assert_agrees, assert_means_agree, compare, exact_array
 from .counterparts import exact_mean_W
 from .cross_check import cross_check, cross_check_plan
@@ -49,7 +51,7 @@ __all__ = [
 ]
 
 
-def __getattr__(name):
+def __getattr__(name: str) -> ModuleType:
     if name == "strategies":  # imported on first use: it needs hypothesis
         import importlib
 

@@ -68,7 +68,7 @@ __all__ = ["CannotJudgeError", "DisagreementError", "TableAgreement", "assert_ag
 class DisagreementError(ForcenetError, AssertionError):
     """Sampled values disagree with their exact counterparts; ``report`` holds the details."""
 
-    def __init__(self, report: TableAgreement):
+    def __init__(self, report: TableAgreement) -> None:
         super().__init__(report.message())
         self.report = report
 
@@ -76,12 +76,12 @@ class DisagreementError(ForcenetError, AssertionError):
 class CannotJudgeError(ForcenetError, AssertionError):
     """The samples cannot support a verdict (too few rows, a constant value); ``report.reason`` says why."""
 
-    def __init__(self, report: TableAgreement):
+    def __init__(self, report: TableAgreement) -> None:
         super().__init__(report.message())
         self.report = report
 
 
-def _bounds_array(bounds, shape, tested):
+def _bounds_array(bounds: Any, shape: tuple[int, ...], tested: np.ndarray) -> tuple[np.ndarray, ...]:
     """``bounds=(lo, hi)``: each a number or a table shaped like ``exact``; as arrays over the tested values."""
     try:
         ends = list(bounds) if not isinstance(bounds, (str, bytes)) else []
@@ -102,7 +102,7 @@ def _bounds_array(bounds, shape, tested):
     return tuple(out)
 
 
-def _to_float(value, name, none_ok=False) -> float:
+def _to_float(value: Any, name: str, none_ok: bool = False) -> float:
     """One entry of an exact table or of its bounds as a float (``None``: NaN, untested, where allowed)."""
     if value is None and none_ok:
         return math.nan
@@ -167,7 +167,7 @@ def exact_array(exact: Any, shape: Sequence[int], *, name: str = "exact") -> np.
     shape = tuple(shape)
     out = np.full(shape, np.nan)
 
-    def fill(value, index):
+    def fill(value: Any, index: tuple[int, ...]) -> None:
         where = name + "".join(f"[{k}]" for k in index)
         if len(index) == len(shape):
             out[index] = _to_float(value, where, none_ok=True)
@@ -202,7 +202,7 @@ def exact_array(exact: Any, shape: Sequence[int], *, name: str = "exact") -> np.
     return out
 
 
-def _default_keys(shape, positions):
+def _default_keys(shape: tuple[int, ...], positions: Any) -> list[Any]:
     if len(shape) == 0:
         return ["value"]
     if len(shape) == 1:
@@ -210,7 +210,7 @@ def _default_keys(shape, positions):
     return [tuple(int(k) + 1 for k in p) for p in positions]
 
 
-def _autocorrelated(flat: np.ndarray):
+def _autocorrelated(flat: np.ndarray) -> float | None:
     """The largest integrated time over a few columns, if the rows look like a chain (else None).
 
     The threshold ``max(3.5, 1 + 80 / sqrt(n))`` sits far above the estimate's
@@ -239,7 +239,7 @@ _BATCHING = frozenset({"batch_factor", "gap_factor", "pilot", "max_batches", "mi
 _SAMPLES = "give one row per sample: a rectangular array of numbers of shape (K, ...), K >= 2, a row shaped like exact"
 
 
-def _flag(value, name, none_ok=False):
+def _flag(value: object, name: str, none_ok: bool = False) -> Any:
     """``chain`` / ``hotelling``: True or False (``hotelling`` also None), never a string or a number."""
     if value is None and none_ok:
         return None
@@ -249,7 +249,7 @@ def _flag(value, name, none_ok=False):
     raise ArgumentTypeError(f"{name}={value!r} is not a bool: give {name}={allowed}")
 
 
-def _alpha(alpha) -> float:
+def _alpha(alpha: Any) -> float:
     """The level: a number strictly between 0 and 1, never a string."""
     from forcenet.core.validation import check_real
 

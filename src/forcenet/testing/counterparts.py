@@ -22,7 +22,7 @@ __all__ = ["exact_mean_W"]
 
 
 @lru_cache(maxsize=128)
-def _packing(N, P, F, j0, pv, mg):
+def _packing(N: int, P: int, F: Fraction, j0: int | None, pv: Fraction, mg: Fraction) -> list[list[Fraction]]:
     from forcenet.exact.packing.mobilized import mean_W_mobilized
 
     return mean_W_mobilized(N, P, F=F, j0=j0, pv=pv, mg=mg)

@@ -29,6 +29,7 @@ Examples
 from __future__ import annotations
 
 from functools import lru_cache
+from typing import Any
 from forcenet.core.errors import ArgumentError
 
 try:
@@ -51,7 +52,8 @@ __all__ = [
 ]
 
 
-def _strategy(value, name, default):
+def _strategy(value: int | st.SearchStrategy[int] | None, name: str,
+              default: st.SearchStrategy[int]) -> st.SearchStrategy[int]:
     """An int, a strategy or None (the default strategy)."""
     if value is None:
         return default
@@ -60,7 +62,7 @@ def _strategy(value, name, default):
     return st.just(check_int(value, name, 2))
 
 
-def layers(min_value: int = 2, max_value: int = 10):
+def layers(min_value: int = 2, max_value: int = 10) -> st.SearchStrategy[int]:
     """Numbers of layers ``N`` of the triangle, ``min_value..max_value`` (shrinks to ``min_value``).
 
     Examples
@@ -74,7 +76,7 @@ def layers(min_value: int = 2, max_value: int = 10):
     return st.integers(lo, check_int(max_value, "max_value", lo))
 
 
-def grains(N: int):
+def grains(N: int) -> st.SearchStrategy[tuple[int, int]]:
     """Grains ``(i, j)``, ``1 <= j <= i <= N``, of the ``N``-layer triangle (shrinks to ``(1, 1)``).
 
     Examples
@@ -87,17 +89,17 @@ def grains(N: int):
     return st.integers(1, N).flatmap(lambda i: st.tuples(st.just(i), st.integers(1, i)))
 
 
-def layers_and_grains(min_layers: int = 2, max_layers: int = 10):
+def layers_and_grains(min_layers: int = 2, max_layers: int = 10) -> st.SearchStrategy[tuple[int, tuple[int, int]]]:
     """``(N, (i, j))``: a triangle and one of its grains."""
     return layers(min_layers, max_layers).flatmap(lambda N: st.tuples(st.just(N), grains(N)))
 
 
-def seeds():
+def seeds() -> st.SearchStrategy[int]:
     """Seeds for numpy generators, drawn by hypothesis (so that failures reproduce and shrink)."""
     return st.integers(0, 2**32 - 1)
 
 
-def force_networks(N=None, size: int | None = None):
+def force_networks(N: int | st.SearchStrategy[int] | None = None, size: int | None = None) -> st.SearchStrategy[Any]:
     """Exact uniform force networks of the fully mobilized triangle.
 
     Parameters
@@ -122,7 +124,7 @@ def force_networks(N=None, size: int | None = None):
 
     count = None if size is None else check_int(size, "size", 1)
 
-    def draw(pair):
+    def draw(pair: tuple[int, int]) -> Any:
         n, seed = pair
         W = ExactSampler(n, seed=seed).sample_W(1 if count is None else count)
         return W[0] if count is None else W
@@ -138,7 +140,8 @@ _LOADS = {
 
 
 def packing_scenes(*, min_layers: int = 2, max_layers: int = 5, min_width: int = 2, max_width: int = 7,
-                   side_pressure: bool | None = None, exact_means: bool = False, min_slack: float = 1e-3):
+                   side_pressure: bool | None = None, exact_means: bool = False,
+                   min_slack: float = 1e-3) -> st.SearchStrategy[Any]:
     """Scenes of the N x P packing (Sec. 3.3) that have a force network, every force positive.
 
     Loads are multiples of 1/4 (exact in binary): ``F`` in ``0..20``, ``pv``
@@ -188,7 +191,7 @@ def packing_scenes(*, min_layers: int = 2, max_layers: int = 5, min_width: int =
     quarter = st.integers(1, 20).map(lambda k: k / 4)
 
     @st.composite
-    def scene(draw):
+    def scene(draw: st.DrawFn) -> Any:
         N = draw(st.integers(lo_n, hi_n))
         top = hi_p if not exact_means else min(hi_p, 8 // (N - 1) + 1)
         P = draw(st.integers(lo_p, top))
@@ -209,7 +212,7 @@ def packing_scenes(*, min_layers: int = 2, max_layers: int = 5, min_width: int =
     return scene()
 
 
-def torus_sizes(max_sites: int = 12, min_L: int = 2, max_L: int | None = None):
+def torus_sizes(max_sites: int = 12, min_L: int = 2, max_L: int | None = None) -> st.SearchStrategy[tuple[int, int]]:
     """``(L, M)`` with ``min_L <= L <= max_L``, ``M >= 1``, ``L M <= max_sites`` (at most 20: enumeration).
 
     Examples
@@ -231,7 +234,8 @@ def _configurations(L: int, M: int) -> tuple:
     return tuple(torus_configurations(L, M))
 
 
-def chicken_wire_configurations(L=None, M=None, *, max_sites: int = 12, max_L: int | None = None):
+def chicken_wire_configurations(L: int | None = None, M: int | None = None, *, max_sites: int = 12,
+                                max_L: int | None = None) -> st.SearchStrategy[Any]:
     """Chicken-wire configurations on small tori, any of them (Sec. 7.4.1).
 
     Parameters
@@ -263,7 +267,7 @@ def chicken_wire_configurations(L=None, M=None, *, max_sites: int = 12, max_L: i
         if L * M > 20:
             raise ArgumentError(f"L*M={L * M} is out of range: enumeration is for at most 20 sites")
 
-    def pick(size):
+    def pick(size: tuple[int, int]) -> st.SearchStrategy[Any]:
         configs = _configurations(*size)
         return st.integers(0, len(configs) - 1).map(lambda k: ChickenWire(size[0], size[1], configs[k]))
 

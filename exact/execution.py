@@ -38,6 +38,7 @@ from __future__ import annotations
 import ctypes
 import ctypes.util
 import os
+import sys
 import time
 import weakref
 from concurrent.futures import FIRST_COMPLETED, CancelledError, Executor, as_completed, wait
@@ -195,23 +196,21 @@ def executor_label(executor) -> str:
     return f"Dask scheduler {address}" if address else type(executor).__name__
 
 
-def _forcenet_version() -> str:
-    """The probe task: run on a worker (unpickling it there imports forcenet) it returns forcenet's version."""
-    from importlib.metadata import PackageNotFoundError, version
-
-    try:
-        return version("forcenet")
-    except PackageNotFoundError:  # importable from a folder, not installed: no version to compare
-        return "unknown"
+# The probe: a builtin (``eval``, unpickled by any Python) evaluating an import of forcenet on the worker. A task
+# of forcenet's own code cannot be the probe: a worker without forcenet fails to unpickle it while reading the
+# scheduler's message and leaves the cluster (Dask 2026.8), so the client would only see its workers vanish.
+_PROBE = "__import__('forcenet').__version__"
 
 
 def check_cluster(client, seconds: float | None = None) -> str:
     """Run one tiny task on the cluster of ``client`` that imports forcenet; the workers' forcenet version.
 
-    A worker that cannot import forcenet fails the task at once (unpickling
-    it imports this module), so the run is refused in seconds, naming the
-    cause, instead of waiting for workers that never run a task.  Done once
-    per client (the route's tasks probe on their first run).
+    The task is Python's ``eval`` of an import of forcenet (nothing of
+    forcenet to unpickle), so a worker without forcenet fails it at once
+    with the import's error, and the run is refused in seconds, naming the
+    cause, instead of waiting for workers that leave the cluster when a
+    task of forcenet's code cannot be unpickled.  Done once per client (a
+    run over a client probes on its first tasks).
 
     Parameters
     ----------
@@ -234,14 +233,15 @@ def check_cluster(client, seconds: float | None = None) -> str:
     Examples
     --------
     >>> class Inline:  # a stand-in for a client: runs the task here
-    ...     def submit(self, f, pure=True):
+    ...     def submit(self, f, *args, pure=True):
     ...         from concurrent.futures import Future
-    ...         future = Future(); future.set_result(f()); return future
-    >>> check_cluster(Inline()) == _forcenet_version()
+    ...         future = Future(); future.set_result(f(*args)); return future
+    >>> import forcenet
+    >>> check_cluster(Inline()) == forcenet.__version__
     True
     """
     seconds = PROBE_SECONDS if seconds is None else seconds
-    future = client.submit(_forcenet_version, pure=False)
+    future = client.submit(eval, _PROBE, {}, pure=False)
     try:
         version = future.result(timeout=seconds)
     except ImportError as exc:  # unpickling the probe on the worker imported forcenet, and failed
@@ -262,8 +262,8 @@ def check_cluster(client, seconds: float | None = None) -> str:
             future.cancel()
         except Exception:  # the scheduler gone: the failure being raised is the one to report
             pass
-    ours = _forcenet_version()
-    if "unknown" not in (version, ours) and version != ours:
+    ours = sys.modules["forcenet"].__version__  # imported with this module (its package's parent)
+    if version != ours:
         raise ClusterError(f"the cluster's workers run forcenet {version}, this process {ours}: "
                            "install the same version on every worker")
     _PROBED.add(client)

@@ -14,7 +14,9 @@ taken); then a plain TCP connection (refused at once, or no answer within
 (``--tls-ca-file``, ``--tls-cert``, ``--tls-key``, else Dask's own
 configuration ``distributed.comm.tls.*``), and Dask's ``identity`` request
 (a server that is not a Dask scheduler does not answer it); only then the
-client, and the wait for a first worker, announced.  A Dask scheduler runs
+client, the wait for a first worker, announced, and one tiny task that
+imports forcenet on a worker (a cluster whose workers cannot is refused in
+seconds, by name).  A Dask scheduler runs
 whatever its clients send (pickled functions): a cluster is for one user's
 machines, bound to loopback or a private interface, with TLS.
 """
@@ -262,6 +264,13 @@ def connect_scheduler(text: str, security=None):
             client.close()
             raise _refuse(text, f"the cluster has no workers after {WORKER_SECONDS:g} s "
                                 f"(start `dask worker {address}` with forcenet installed)") from None
+    from forcenet.exact.execution import check_cluster
+
+    try:  # one tiny task: workers that cannot import forcenet are named now, not after the run's long wait
+        check_cluster(client)
+    except BaseException:
+        client.close()
+        raise
     return client
 
 

@@ -7,7 +7,7 @@ worker), and the results pooled: exact samples by their raw sums of ``W`` and
 ``W^2``, Markov chains by :func:`forcenet.numeric.autocorr.pool_chains` (each
 chain's error bar from its integrated autocorrelation time).  The result is
 a function of the arguments, the seed and ``K`` alone: the tasks run through
-:func:`forcenet.exact.execution.run_tasks`, which returns them in task order
+:func:`forcenet.core.execution.run_tasks`, which returns them in task order
 whatever the completion order, and whose Ctrl-C terminates the workers at
 once (every worker dies with its parent).
 
@@ -179,7 +179,7 @@ def _run(func: Callable[..., Any], tasks: list[tuple[Any, ...]], workers: int, w
         return [func(*tasks[0], progress=progress)]
     import multiprocessing
 
-    from forcenet.exact.execution import run_tasks
+    from forcenet.core.execution import run_tasks
 
     method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
     return run_tasks(func, tasks, workers=workers, progress=progress, weights=weights, start_method=method)

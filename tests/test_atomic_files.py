@@ -93,7 +93,7 @@ def test_a_failed_write_leaves_nothing(tmp_path):
 
 def test_the_three_writers_are_this_one(tmp_path, monkeypatch):
     from forcenet.cli.output import write_files
-    from forcenet.exact.checkpoints import CheckpointStore
+    from forcenet.core.checkpoints import CheckpointStore
     from forcenet.exact.triangle.tables import write_atomic as table_writer
 
     calls = []

@@ -220,7 +220,7 @@ class TablePlan:
         >>> forcenet.plan(4, method="thesis").run().mean_W[-1]
         [Fraction(1, 7), Fraction(5, 14), Fraction(5, 14), Fraction(1, 7)]
         """
-        from forcenet.exact.checkpoints import run_distrusting
+        from forcenet.core.checkpoints import run_distrusting
         from forcenet.exact.routes import row_run, table_run
 
         self.check()
@@ -308,7 +308,7 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
     """
     from dataclasses import replace
 
-    from forcenet.exact.checkpoints import resumed_plan
+    from forcenet.core.checkpoints import resumed_plan
     from forcenet.exact.routes import ENGINES, checkpoint_for, choose, table_plan, takes
 
     N, moments, method = check_layers(N), check_moments(moments), _method(method)

@@ -18,8 +18,8 @@ from __future__ import annotations
 from concurrent.futures import Executor
 from math import ceil, log2
 
-from ...checkpoints import CheckpointStore
-from ...execution import as_executor, executor_label, wall_seconds
+from forcenet.core.checkpoints import CheckpointStore
+from forcenet.core.execution import as_executor, executor_label, wall_seconds
 from forcenet.core.plan import Plan
 from ..staircase import count, dimension
 from .engine import level_points, prime_limit, with_kernels_compiled

@@ -54,7 +54,7 @@ import numpy as np
 from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan, combine, with_compilation
 from forcenet.core.validation import check_int, check_layers
-from ...checkpoints import CheckpointStore
+from forcenet.core.checkpoints import CheckpointStore
 from ..distribution import distribution_plan, layer_pieces_from_gaps, pool_gaps, triangle_force_density
 from ..gaps import GapCounts, gap_laws_plan, layer_gap_counts
 from ..pieces import Piece, sum_pieces

@@ -32,7 +32,7 @@ from typing import Any
 
 from forcenet.core.plan import Plan, combine
 from forcenet.core.validation import check_int, check_layers, check_moments
-from ...checkpoints import CheckpointStore
+from forcenet.core.checkpoints import CheckpointStore
 from ...protocol import Table
 from ..distribution import moment_from_gaps
 from ..gaps import GapCounts

@@ -10,7 +10,7 @@ independent tasks (:mod:`.tasks`) run on an executor: a local process
 pool by default, or any :class:`concurrent.futures.Executor` given as
 ``executor=`` (a Dask cluster: ``client.get_executor()``, or the client
 itself); ``checkpoint=`` (a directory or a
-:class:`~forcenet.exact.checkpoints.CheckpointStore`) records every finished
+:class:`~forcenet.core.checkpoints.CheckpointStore`) records every finished
 prime, so a rerun recomputes only the missing ones.  The result never depends
 on either.
 
@@ -37,8 +37,8 @@ from math import comb, factorial
 from typing import Any
 from os import PathLike
 
-from ...checkpoints import CheckpointStore
-from ...execution import as_executor
+from forcenet.core.checkpoints import CheckpointStore
+from forcenet.core.execution import as_executor
 from ...modular import crt_many
 from forcenet.core.plan import Plan, table_range
 from ...protocol import Progress, Table

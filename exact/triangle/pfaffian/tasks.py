@@ -4,7 +4,7 @@ One task per word-size prime (:func:`forcenet.exact.triangle.pfaffian.engine.pri
 and its siblings); the primes come from :func:`forcenet.exact.modular.primes_for_bound`
 below the kernels' :func:`~.engine.prime_limit`, and the residues go back
 through :func:`forcenet.exact.modular.crt_many`.  The tasks run on an
-executor by :func:`forcenet.exact.execution.run_tasks`: any
+executor by :func:`forcenet.core.execution.run_tasks`: any
 :class:`concurrent.futures.Executor`, else a local process pool when the run
 pays for starting it (:data:`PARALLEL_MIN_SECONDS`), else this process.
 
@@ -21,8 +21,8 @@ from concurrent.futures import Executor
 from os import PathLike
 from typing import Any
 
-from ...checkpoints import CheckpointStore
-from ...execution import as_executor, available_cores, executor_workers, run_tasks
+from forcenet.core.checkpoints import CheckpointStore
+from forcenet.core.execution import as_executor, available_cores, executor_workers, run_tasks
 from ...modular import primes_for_bound
 from forcenet.core.validation import check_int
 from ..staircase import dimension

@@ -1,7 +1,7 @@
 """Options of the routes over independent primes: ``--scheduler`` (a Dask cluster), its TLS, ``--checkpoint``.
 
 ``forcenet table --method pfaffian`` and the floor's route of ``forcenet dist``
-hand their per-prime tasks to an executor (:func:`forcenet.exact.execution.run_tasks`);
+hand their per-prime tasks to an executor (:func:`forcenet.core.execution.run_tasks`);
 this module turns the options into that executor (a Dask client) and a
 checkpoint store, refusing them for a route that does not run over primes.
 
@@ -264,7 +264,7 @@ def connect_scheduler(text: str, security=None):
             client.close()
             raise _refuse(text, f"the cluster has no workers after {WORKER_SECONDS:g} s "
                                 f"(start `dask worker {address}` with forcenet installed)") from None
-    from forcenet.exact.execution import check_cluster
+    from forcenet.core.execution import check_cluster
 
     try:  # one tiny task: workers that cannot import forcenet are named now, not after the run's long wait
         check_cluster(client)
@@ -300,7 +300,7 @@ def engine_options(args, applies: bool, what: str, plan_seconds: float, store_fo
     announced at over a minute checkpoint by default in the user's cache directory; ``store_for(directory)``
     makes the request's store.
     """
-    from forcenet.exact.checkpoints import default_directory
+    from forcenet.core.checkpoints import default_directory
 
     from .output import check_output_dir
 

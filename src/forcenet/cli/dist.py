@@ -219,7 +219,7 @@ def cmd_dist(args):
 
 def _dist(args, what, plans, options, store):
     if isinstance(store, str):  # one request per layer (the ensemble): the records every layer holds count
-        from forcenet.exact.checkpoints import resumed_plan
+        from forcenet.core.checkpoints import resumed_plan
 
         plans = [resumed_plan(plans[0], store, args.N, ("pfaffian-layer", "pfaffian-floor")), *plans[1:]]
     if args.plot is not None:
@@ -240,7 +240,7 @@ def _dist(args, what, plans, options, store):
         png = _figure(args, what, pieces, tick) if args.plot is not None else None
         return title, var, pieces, cdf_pieces, extra, grid, png
 
-    from forcenet.exact.checkpoints import run_distrusting  # one retry of a run whose reused records fail its checks
+    from forcenet.core.checkpoints import run_distrusting  # one retry of a run whose reused records fail its checks
 
     title, var, pieces, cdf_pieces, extra, grid, png = run_distrusting(
         store, args.N, lambda: run_planned(plan, run, force=args.force, quiet=args.quiet))

@@ -101,7 +101,7 @@ def _use_cache_directory() -> None:
     if "numba" in sys.modules:
         import numba
 
-        numba.config.CACHE_DIR = directory
+        numba.config.CACHE_DIR = directory  # type: ignore[attr-defined]  # numba sets its settings at run time
 
 
 def njit(function: Callable[..., Any] | None = None, **options: Any) -> Any:

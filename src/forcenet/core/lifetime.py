@@ -45,7 +45,7 @@ def die_with_parent(parent: int, started: Any = None) -> None:
         The pid of the process that started the pool.
     started : multiprocessing queue, optional
         Receives this worker's pid once armed: the pool's owner stops its
-        workers by that list (``forcenet.exact.execution``), not by a
+        workers by that list (``forcenet.core.execution``), not by a
         private attribute of the pool.
 
     Examples

@@ -10,7 +10,7 @@ cluster.  No scheduler is written here; this module only
 * collects the results in the order of the tasks (the same result, hence
   the same bytes, for any number of workers and any completion order),
 * reports progress per finished task and records each result in the store
-  (:mod:`forcenet.exact.checkpoints`) as it arrives,
+  (:mod:`forcenet.core.checkpoints`) as it arrives,
 * runs every task through :func:`_worker_call`, which readies the process
   it lands in once: glibc's allocator back to its steady state when the
   environment fixed it (a Dask nanny starts its workers with
@@ -46,7 +46,7 @@ from math import ceil
 from typing import Any
 
 from forcenet.core.lifetime import die_with_parent
-from forcenet.core.validation import check_int, is_integer
+from forcenet.core.validation import check_int
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ForcenetError
 
 __all__ = ["ClusterError", "WORKERLESS_SECONDS", "PROBE_SECONDS", "available_cores", "local_pool", "as_executor",
@@ -464,7 +464,7 @@ def run_tasks(function, tasks, *, executor=None, workers: int = 1, progress=None
     weights : sequence, optional
         The progress weight of each task (default 1 each).
     store : object with ``load(key)`` and ``save(key, value)``, optional
-        A checkpoint store (:class:`forcenet.exact.checkpoints.CheckpointStore`):
+        A checkpoint store (:class:`forcenet.core.checkpoints.CheckpointStore`):
         results it holds are not recomputed, new ones are saved as they arrive.
     keys : sequence, optional
         The store's key of each task (required with ``store``).

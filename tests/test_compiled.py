@@ -254,3 +254,25 @@ def test_a_home_that_does_not_exist_is_never_created(tmp_path):
     out = subprocess.run([sys.executable, str(script)], env=env, capture_output=True, text=True, check=True)
     assert out.stdout.split() == ["42", "True"]
     assert not (tmp_path / "no").exists()
+
+
+def test_a_kernel_of_a_subpackage_is_seen_cached_by_a_second_process(tmp_path):
+    """numba names a kernel's cache index by its file's stem, not its dotted module: a second process's plan
+    counts no compilation for a kernel of a package (as every kernel of forcenet is)."""
+    package = tmp_path / "probe_pkg" / "inner"
+    package.mkdir(parents=True)
+    (tmp_path / "probe_pkg" / "__init__.py").write_text("")
+    (package / "__init__.py").write_text("")
+    (package / "kernels.py").write_text(PROBE)
+    code = ("import sys; sys.path.insert(0, sys.argv[1])\n"
+            "from probe_pkg.inner.kernels import twice\n"
+            "from forcenet.core.plan import kernels_cached\n"
+            "print(kernels_cached([twice]), twice(4))\n")
+    env = {**{k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}, "XDG_CACHE_HOME": str(tmp_path / "xdg")}
+
+    def run():
+        return subprocess.run([sys.executable, "-c", code, str(tmp_path)], env=env, capture_output=True, text=True,
+                              check=True, timeout=120).stdout.split()
+
+    assert run() == ["False", "8"]  # compiled (and cached) here
+    assert run() == ["True", "8"]  # found in the cache by the next process

@@ -318,7 +318,7 @@ def _cache_index_is_fresh(kernel) -> bool:
 
     numba has no public "is it cached" query: its cache folder is public
     (``dispatcher.stats.cache_path``), the index's name is numba's file
-    convention (``<module>.<qualname>-<first line>.py<major><minor><abiflags>.nbi``,
+    convention (``<file's stem>.<qualname>-<first line>.py<major><minor><abiflags>.nbi``,
     numba's ``_CacheImpl.get_filename_base``, the same from 0.4x to the
     versions pinned in pyproject.toml), and numba itself judges freshness by
     the source's modification time and size.  Isolated here, read-only, so a
@@ -327,12 +327,14 @@ def _cache_index_is_fresh(kernel) -> bool:
     try:
         folder = kernel.stats.cache_path
         function = kernel.py_func
-        fullname = f"{function.__module__}.{function.__qualname__}".replace("<", "").replace(">", "")
+        source_file = function.__code__.co_filename
+        stem = os.path.splitext(os.path.basename(source_file))[0]  # numba names by the file, not the module path
+        fullname = f"{stem}.{function.__qualname__}".replace("<", "").replace(">", "")
         name = "{}-{}.py{}{}{}.nbi".format(fullname,
                                            function.__code__.co_firstlineno, sys.version_info[0], sys.version_info[1],
                                            getattr(sys, "abiflags", ""))
         index = os.stat(os.path.join(folder, name))
-        source = os.stat(function.__code__.co_filename)
+        source = os.stat(source_file)
     except (AttributeError, OSError, TypeError):  # no cache, or unreadable: count the compilation
         return False
     return index.st_mtime >= source.st_mtime

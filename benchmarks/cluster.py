@@ -66,7 +66,7 @@ def overhead(tasks: int):
     import numpy as np
     from distributed import Client, LocalCluster
 
-    from forcenet.exact.execution import run_tasks
+    from forcenet.core.execution import run_tasks
 
     payload = np.zeros((64, 64), dtype=np.int64)
     for workers in (1, 2):
@@ -261,7 +261,7 @@ def predict(sizes):
     per-task cost), plus the scheduler's serial cost per task (no overlap assumed), plus the client's CRT."""
     from math import factorial
 
-    from forcenet.exact.execution import wall_seconds
+    from forcenet.core.execution import wall_seconds
     from forcenet.exact.triangle.free_fermion import cost, route
     from forcenet.exact.triangle.free_fermion.engine import count_residue
 

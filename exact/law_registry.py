@@ -224,7 +224,7 @@ def law_resumed(plan: Plan, request: LawRequest, checkpoint: Any) -> Plan:
     """
     if not isinstance(checkpoint, str):
         return plan
-    from .checkpoints import resumed_plan
+    from forcenet.core.checkpoints import resumed_plan
 
     return resumed_plan(plan, checkpoint, request.N, ("pfaffian-layer", "pfaffian-floor"))
 

@@ -51,7 +51,7 @@ from concurrent.futures import Executor
 from fractions import Fraction
 from typing import Any, ParamSpec, Protocol
 
-from .execution import run_tasks
+from forcenet.core.execution import run_tasks
 from forcenet.core.plan import Plan
 
 __all__ = ["BoundedTable", "Progress", "Table", "TableEngine", "bounded_result", "run_independent"]

@@ -727,3 +727,66 @@ def test_the_command_line_boundary_catches_only_the_family():
     assert caught[-1] == "Exception", "the last handler of main() is the bug handler (exit 1, internal error)"
     allowed_here = {"SystemExit", "ForcenetError", "MemoryError", "KeyboardInterrupt", "BrokenPipeError", "Exception"}
     assert set(caught) <= allowed_here, f"main() catches {sorted(set(caught) - allowed_here)}: a bug would pass as a usage error"
+
+
+# ------------------------------------------------------ other libraries (notes/architecture.md, "Other libraries")
+
+def _allowed_private_names() -> set[str]:
+    """The backquoted names after "The allowed names" in the map's "Other libraries" section."""
+    text = MAP.read_text()
+    section = text[text.index("## Other libraries"):]
+    section = " ".join(section[:section.index("\n## ", 1)].split())
+    allowed = section[section.index("The allowed names"):]
+    return {name.split(".")[-1].rstrip(")") for name in re.findall(r"`([A-Za-z_.]+)`", allowed)
+            if name.split(".")[-1].startswith("_")}
+
+
+@functools.cache
+def _names_defined_by_forcenet() -> frozenset[str]:
+    defined: set[str] = set()
+    for _, path in MODULES:
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+                defined.add(node.name)
+            elif isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store):
+                defined.add(node.attr)
+            elif isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store):
+                defined.add(node.id)
+            elif isinstance(node, ast.arg):
+                defined.add(node.arg)
+            elif isinstance(node, ast.alias):
+                defined.add(node.asname or node.name.split(".")[-1])
+    return frozenset(defined)
+
+
+def _foreign_private_reads(tree: ast.AST, defined, allowed) -> list[str]:
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Attribute) and node.attr.startswith("_") and not node.attr.startswith("__") \
+                and node.attr not in defined and node.attr not in allowed:
+            found.append(f"line {node.lineno}: {ast.unparse(node)}")
+        elif isinstance(node, (ast.Import, ast.ImportFrom)):
+            names = [a.name for a in node.names] if isinstance(node, ast.Import) else [node.module or ""]
+            found += [f"line {node.lineno}: import {n}" for n in names if n == "numba.core" or
+                      n.startswith("numba.core.")]
+    return found
+
+
+def test_the_private_attribute_check_sees_them():
+    """A control: the reads issue 44 found, in a module that defines none of those names, are all seen."""
+    source = ("def f(executor, pool, dispatcher):\n"
+              "    from numba.core import caching\n"
+              "    return executor._max_workers, pool._processes, executor._client, dispatcher._cache, os._exit\n")
+    found = _foreign_private_reads(ast.parse(source), {"f", "executor", "pool", "dispatcher", "caching"}, {"_exit"})
+    assert sorted(f.split(": ", 1)[1] for f in found) == ["dispatcher._cache", "executor._client",
+                                                          "executor._max_workers", "import numba.core",
+                                                          "pool._processes"], found
+    assert _allowed_private_names() == {"_exit", "_actions", "_SubParsersAction", "_HelpAction", "_VersionAction",
+                                       "_replace", "_asdict", "_fields"}
+
+
+@pytest.mark.parametrize("name, path", MODULES, ids=lambda x: str(x))
+def test_no_private_attribute_of_another_library(name, path):
+    found = _foreign_private_reads(ast.parse(path.read_text()), _names_defined_by_forcenet(), _allowed_private_names())
+    assert not found, (f"{name} reads private attributes of other libraries ({found}): use their public interface, "
+                       "or keep the fact yourself (notes/architecture.md, \"Other libraries\")")

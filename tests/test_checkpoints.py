@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 from forcenet.cli import main
-from forcenet.exact.checkpoints import FORMAT_VERSION, CheckpointStore, default_directory
+from forcenet.core.checkpoints import FORMAT_VERSION, CheckpointStore, default_directory
 from forcenet.exact.triangle.free_fermion import route
 
 
@@ -108,7 +108,7 @@ def test_damaged_records_of_a_run_are_recomputed_to_the_same_table(tmp_path):
 
 
 def test_full_disk_stops_checkpoints_not_the_run(tmp_path, monkeypatch):
-    from forcenet.exact import checkpoints
+    from forcenet.core import checkpoints
 
     route.count(16, checkpoint=tmp_path)  # the count's records first: below, only the table's records are written
     lines = []
@@ -300,7 +300,7 @@ def test_an_unusable_checkpoint_place_is_one_line_and_creates_nothing(make, tmp_
 
 
 def test_a_record_with_a_valid_checksum_but_wrong_content_is_named_dropped_and_recomputed(tmp_path):
-    from forcenet.exact.checkpoints import distrust_reused
+    from forcenet.core.checkpoints import distrust_reused
 
     expected = route.mean_W(8)
     assert route.mean_W(8, checkpoint=tmp_path) == expected
@@ -329,7 +329,7 @@ def test_a_record_with_a_valid_checksum_but_wrong_content_is_named_dropped_and_r
 
 
 def test_without_reused_records_an_arithmetic_error_stays_a_bug(tmp_path):
-    from forcenet.exact.checkpoints import distrust_reused
+    from forcenet.core.checkpoints import distrust_reused
 
     def broken():
         raise ArithmeticError("a bug")

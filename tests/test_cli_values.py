@@ -112,15 +112,15 @@ def test_6_loads_that_overflow_are_refused_before_the_run(argv, needle, capsys):
 
 
 def test_6_a_nan_result_is_refused(capsys, monkeypatch):
-    from forcenet.cli import sample
+    from forcenet.numeric import parallel_chains
 
-    real = sample._combine_chains
+    real = parallel_chains._combine_chains
 
     def overflowing(parts):
         mean, stderr, extra = real(parts)
         return mean, stderr * math.nan, extra
 
-    monkeypatch.setattr(sample, "_combine_chains", overflowing)
+    monkeypatch.setattr(parallel_chains, "_combine_chains", overflowing)
     code, out, err = run(["sample", "--N", "4", "--sampler", "metropolis", "--samples", "600", "--quiet"], capsys)
     assert code == 2 and "non-finite" in err and out == ""
 

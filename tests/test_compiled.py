@@ -58,8 +58,7 @@ def test_no_kernel_caches_inside_the_package(monkeypatch):
     roots = _package_roots()
     inside = []
     for name, kernel in kernels.items():
-        cache = getattr(kernel, "_cache", None)
-        path = getattr(cache, "_cache_path", None)
+        path = kernel.stats.cache_path  # numba's public statistics (None: no cache)
         if path is None:  # not cached at all: only allowed for kernels declared cache=False
             inside.append((name, "no cache"))
             continue
@@ -76,7 +75,7 @@ def test_the_cache_follows_xdg_cache_home_and_numba_cache_dir_still_wins(tmp_pat
         sys.path.insert(0, sys.argv[1])
         import probe_kernel
         assert probe_kernel.twice(21) == 42
-        print(probe_kernel.twice._cache._cache_path)
+        print(probe_kernel.twice.stats.cache_path)
     """)
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
 
@@ -107,7 +106,7 @@ def test_a_second_process_loads_the_cached_code(tmp_path, monkeypatch):
         sys.modules.pop("probe_kernel")
         fresh = importlib.import_module("probe_kernel")  # a new dispatcher: only the cache on disk can say
         assert not fresh.twice.overloads and kernels_cached([fresh.twice])
-        assert fresh.twice(5) == 10 and fresh.twice._cache_hits  # loaded, not compiled
+        assert fresh.twice(5) == 10 and fresh.twice.stats.cache_hits  # loaded, not compiled
     finally:
         sys.modules.pop("probe_kernel", None)
 
@@ -122,7 +121,7 @@ def test_an_unwritable_cache_home_falls_back_to_numbas_choice(tmp_path, monkeypa
     try:
         module = importlib.import_module("probe_kernel")
         assert module.twice(3) == 6
-        assert not Path(module.twice._cache._cache_path).is_relative_to(blocker)
+        assert not Path(module.twice.stats.cache_path).is_relative_to(blocker)
     finally:
         sys.modules.pop("probe_kernel", None)
 
@@ -133,7 +132,7 @@ def test_njit_keeps_numbas_options_and_cache_false():
         return a * b + c
 
     assert fma(2.0, 3.0, 1.0) == 7.0
-    assert isinstance(fma._cache, numba.core.caching.NullCache)
+    assert fma.stats.cache_path is None  # numba's NullCache: nothing cached
     assert fma.targetoptions.get("fastmath")
     assert cache_directory().endswith(os.path.join("forcenet", "numba"))
 
@@ -149,7 +148,7 @@ def test_njit_as_bare_and_configured_decorator(options, tmp_path, monkeypatch):
     try:
         module = importlib.import_module("probe_options")
         assert module.add(2, 3) == 5
-        assert Path(module.add._cache._cache_path).is_relative_to(tmp_path / "forcenet" / "numba")
+        assert Path(module.add.stats.cache_path).is_relative_to(tmp_path / "forcenet" / "numba")
         for key, value in options.items():
             assert module.add.targetoptions[key] == value
     finally:
@@ -249,9 +248,31 @@ def test_a_home_that_does_not_exist_is_never_created(tmp_path):
             "@njit\n"
             "def twice(x):\n"
             "    return 2 * x\n"
-            "print(twice(21), twice._cache._cache_path.startswith(__import__('tempfile').gettempdir()))\n")
+            "print(twice(21), twice.stats.cache_path.startswith(__import__('tempfile').gettempdir()))\n")
     script = tmp_path / "kernel.py"
     script.write_text(code)
     out = subprocess.run([sys.executable, str(script)], env=env, capture_output=True, text=True, check=True)
     assert out.stdout.split() == ["42", "True"]
     assert not (tmp_path / "no").exists()
+
+
+def test_a_kernel_of_a_subpackage_is_seen_cached_by_a_second_process(tmp_path):
+    """numba names a kernel's cache index by its file's stem, not its dotted module: a second process's plan
+    counts no compilation for a kernel of a package (as every kernel of forcenet is)."""
+    package = tmp_path / "probe_pkg" / "inner"
+    package.mkdir(parents=True)
+    (tmp_path / "probe_pkg" / "__init__.py").write_text("")
+    (package / "__init__.py").write_text("")
+    (package / "kernels.py").write_text(PROBE)
+    code = ("import sys; sys.path.insert(0, sys.argv[1])\n"
+            "from probe_pkg.inner.kernels import twice\n"
+            "from forcenet.core.plan import kernels_cached\n"
+            "print(kernels_cached([twice]), twice(4))\n")
+    env = {**{k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}, "XDG_CACHE_HOME": str(tmp_path / "xdg")}
+
+    def run():
+        return subprocess.run([sys.executable, "-c", code, str(tmp_path)], env=env, capture_output=True, text=True,
+                              check=True, timeout=120).stdout.split()
+
+    assert run() == ["False", "8"]  # compiled (and cached) here
+    assert run() == ["True", "8"]  # found in the cache by the next process

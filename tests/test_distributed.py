@@ -17,7 +17,7 @@ import time
 import pytest
 
 from forcenet.cli import main
-from forcenet.exact.execution import executor_workers, run_tasks
+from forcenet.core.execution import executor_workers, run_tasks
 from forcenet.exact.triangle.free_fermion import route
 from forcenet.exact.triangle.free_fermion.engine import count_residue, prime_residues
 

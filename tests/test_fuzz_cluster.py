@@ -426,10 +426,20 @@ def test_workers_that_cannot_import_forcenet(tmp_path):
         result = subprocess.run([PY, "-c", ENTRY, *TABLE, "--scheduler", c.address], capture_output=True, text=True,
                                 timeout=120, check=False)
         seconds = time.monotonic() - t0
+        import forcenet
+
+        with distributed.Client(c.address, timeout=30, set_as_default=False) as client:  # the same in Python
+            t0 = time.monotonic()
+            with pytest.raises(forcenet.ForcenetError, match="workers cannot import forcenet") as raised:
+                forcenet.table(12, method="pfaffian", executor=client)
+            assert time.monotonic() - t0 < 20 and type(raised.value).__name__ == "ClusterError"
+        print(f"refused in {seconds:.1f} s (command line)")
     finally:
         c.close()
-    assert result.returncode == 2 and seconds < 60, result.stderr
-    _one_error(result.stderr.splitlines(), "Dask scheduler")  # the worker fails its task, or leaves the cluster
+    # before (issue 46): "has had no worker for 10 s" after ~35 s; now the probe task names the cause
+    assert result.returncode == 2 and seconds < 20, (seconds, result.stderr)
+    _one_error(result.stderr.splitlines(), "the cluster's workers cannot import forcenet (ModuleNotFoundError")
+    assert "install forcenet on every worker" in result.stderr
 
 
 @pytest.mark.slow

@@ -204,7 +204,7 @@ def _prepare(kind, root, capsys):
             handle.truncate(20)
         return str(ck), "truncated"
     if kind == "plausible but wrong record":
-        from forcenet.exact.checkpoints import CheckpointStore
+        from forcenet.core.checkpoints import CheckpointStore
 
         store = CheckpointStore(ck, "pfaffian-table", 6)
         key = int(os.path.basename(first)[1:-4])
@@ -266,7 +266,7 @@ def test_checkpoint_read_only_directory(sandbox, capsys):
 
 def test_checkpoint_on_a_full_file_system(sandbox, capsys, monkeypatch):
     """Simulated: every byte the checkpoint writer writes fails with ENOSPC (no mount needed)."""
-    from forcenet.exact import checkpoints
+    from forcenet.core import checkpoints
 
     def full(fd, data):
         raise OSError(errno.ENOSPC, "No space left on device")
@@ -296,7 +296,7 @@ def test_two_runs_on_one_checkpoint_directory(sandbox):
     results = [run.communicate(timeout=120) for run in runs]
     assert [run.returncode for run in runs] == [0, 0], results
     assert results[0][0] == results[1][0] and all("Traceback" not in err for _, err in results)
-    from forcenet.exact.checkpoints import CheckpointStore
+    from forcenet.core.checkpoints import CheckpointStore
 
     store = CheckpointStore(sandbox / "ck", "pfaffian-table", 6, report=lambda line: pytest.fail(line))
     assert all(store.load(int(os.path.basename(r)[1:-4])) is not None for r in _records(store.path))

@@ -439,6 +439,11 @@ def test_kernels_cached_reads_numbas_cache_index(tmp_path, monkeypatch):
     (tmp_path / "probe_kernel.py").write_text(KERNEL_SOURCE)
     monkeypatch.syspath_prepend(str(tmp_path))
     monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    import numba
+
+    # numba reads its settings again only when it compiles: the setting forcenet's kernels gave it goes with the
+    # variable now, so this kernel and its fresh copy below are cached in the same place (beside the module)
+    monkeypatch.setattr(numba.config, "CACHE_DIR", "")
     module = importlib.import_module("probe_kernel")
     assert not kernels_cached([module.twice])  # never compiled
     plan = with_compilation(Plan("x", 2.0), "probe", 5.0, [module.twice])

@@ -16,7 +16,7 @@ import time
 
 import pytest
 
-from forcenet.exact.execution import local_pool
+from forcenet.core.execution import local_pool
 
 pytestmark = pytest.mark.skipif(not os.path.isdir("/proc/self/task"), reason="reads child processes from /proc")
 

@@ -191,7 +191,7 @@ def _mean_plan(N: int, memory_bytes: int | None) -> Plan:
     return plan
 
 
-_BEYOND_DP = ("beyond the order-ideal DP's wall, forcenet.exact.triangle.pfaffian reaches N = 200 in time polynomial "
+_BEYOND_DP = ("beyond the order-ideal DP's wall, forcenet.exact.triangle.pfaffian_table reaches N = 200 in time polynomial "
               "in N: mean_W(N) (N = 64 ~1.6 min, N = 100 ~36 min on 2 cores), moments_run(N, s) for <W^s> to N = 128 "
               "(forcenet table --N N --method pfaffian [--moments s])")
 

@@ -40,8 +40,8 @@ from typing import Any
 
 from forcenet.core.plan import Plan, combine
 from forcenet.core.validation import check_int, check_layers, check_moments
-from ..checkpoints import CheckpointStore
-from ..execution import as_executor
+from forcenet.core.checkpoints import CheckpointStore
+from forcenet.core.execution import as_executor
 from ..protocol import Progress, Table
 from .de_bruijn.floor import MAX_FLOOR_N, floor_gap_laws, floor_plan
 from .de_bruijn.layers import layer_gap_laws, layer_plan

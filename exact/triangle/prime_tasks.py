@@ -4,7 +4,7 @@ and the one plan of a run over primes with its constants.
 Both Pfaffian routes compute modulo word-size primes, one independent task
 per prime, and rebuild the exact integers by Chinese remaindering
 (:func:`forcenet.exact.modular.crt_many`).  The tasks run on an executor by
-:func:`forcenet.exact.execution.run_tasks`: any
+:func:`forcenet.core.execution.run_tasks`: any
 :class:`concurrent.futures.Executor` (a Dask cluster's included), else a
 local process pool when the run pays for starting it
 (:data:`PARALLEL_MIN_SECONDS`), else this process.  :func:`primes_plan` is
@@ -27,8 +27,8 @@ from typing import Any
 
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_int
-from ..checkpoints import CheckpointStore
-from ..execution import as_executor, available_cores, executor_label, executor_workers, run_tasks, wall_seconds
+from forcenet.core.checkpoints import CheckpointStore
+from forcenet.core.execution import as_executor, available_cores, executor_label, executor_workers, run_tasks, wall_seconds
 
 __all__ = ["STARTUP_SECONDS", "WORKER_BASE_BYTES", "WORKER_TASK_SECONDS", "CLIENT_TASK_SECONDS",
            "PARALLEL_MIN_SECONDS", "ROUTES", "checkpoint_store", "run_primes", "workers_for", "primes_plan"]
@@ -111,7 +111,7 @@ def primes_plan(what: str, per_prime: float, nprimes: int, per_worker: int, *, w
     ``per_prime`` CPU seconds each, the ``reused`` primes (recorded in
     ``store``) not counted, spread over the workers (:func:`workers_for`:
     those of ``executor``, else local processes) in rounds
-    (:func:`~forcenet.exact.execution.wall_seconds`, with the scheduler's
+    (:func:`~forcenet.core.execution.wall_seconds`, with the scheduler's
     cost per task on an executor, whose serial share in the client bounds
     the run from below); the start-up of this process and of the workers;
     then ``crt_seconds`` in the client (the Chinese remaindering).  Memory:

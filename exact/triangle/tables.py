@@ -13,9 +13,9 @@ import json
 import os
 import re
 import sys
-import tempfile
 from fractions import Fraction
 
+from forcenet.core import atomic_files
 from forcenet.core.errors import ArgumentError
 from .moments import mean_W, moment_table
 from ..protocol import Progress
@@ -235,25 +235,21 @@ def _row_latex(table: dict) -> str:
 
 
 def write_atomic(path: str | os.PathLike[str], text: str) -> None:
-    """Write ``text`` to ``path`` atomically (temporary file + rename).
+    """Write ``text`` to ``path`` atomically, its folder created if missing (:mod:`forcenet.core.atomic_files`).
 
     An interrupted run (Ctrl-C included) leaves either the old file or none,
-    never a truncated one.
+    never a truncated one; an existing file keeps its mode, a link its
+    target replaced, a device is written in place, a read-only file refused
+    (:class:`~forcenet.core.atomic_files.DestinationError`).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> path = os.path.join(tempfile.mkdtemp(), "tables", "N2.json")
+    >>> write_atomic(path, to_json(exact_table(2)))
+    >>> open(path).read()[:7]
+    '{"N": 2'
     """
     path = os.fspath(path)
-    directory = os.path.dirname(os.path.abspath(path))
-    os.makedirs(directory, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=directory, prefix=".tmp-", suffix=os.path.basename(path))
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600; give the usual permissions
-    try:
-        with os.fdopen(fd, "w") as handle:
-            handle.write(text)
-            handle.flush()
-            os.fsync(handle.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    atomic_files.write_atomic(path, text)

@@ -7,7 +7,7 @@ command line.  It also makes SIGTERM (``kill PID``) and SIGHUP (the
 terminal closed) end a run as Ctrl-C does: the worker processes stopped,
 nothing half-written, exit code 143 or 129 (``128 + signal``).  A SIGKILL
 cannot be caught: the workers then end by their parent-death signal
-(:func:`forcenet.exact.execution.die_with_parent`).
+(:func:`forcenet.core.execution.die_with_parent`).
 """
 
 import signal

@@ -216,7 +216,7 @@ class TablePlan:
         >>> forcenet.plan(4, method="thesis").run().mean_W[-1]
         [Fraction(1, 7), Fraction(5, 14), Fraction(5, 14), Fraction(1, 7)]
         """
-        from forcenet.exact.checkpoints import run_distrusting
+        from forcenet.core.checkpoints import run_distrusting
         from forcenet.exact.routes import Choice, RowChoice, run_request, run_row
 
         request = self.request  # checked once by plan(); the registry checks the plan before the run
@@ -293,7 +293,7 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
     """
     from dataclasses import replace
 
-    from forcenet.exact.checkpoints import resumed_plan
+    from forcenet.core.checkpoints import resumed_plan
     from forcenet.exact.routes import ENGINES, check_request, plan_request, takes
 
     request = check_request(N, moments, method, row=row, memory_bytes=memory_bytes, executor=executor)  # the check

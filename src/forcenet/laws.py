@@ -252,7 +252,7 @@ class LawPlan:
         >>> forcenet.law_plan(4, (4, 2)).run().mean
         Fraction(5, 14)
         """
-        from forcenet.exact.checkpoints import run_distrusting
+        from forcenet.core.checkpoints import run_distrusting
         from forcenet.exact.routes import law_run
 
         self.check()

@@ -64,7 +64,7 @@ import numpy as np
 from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan, with_compilation
 from forcenet.core.validation import check_layers
-from ...checkpoints import CheckpointStore
+from forcenet.core.checkpoints import CheckpointStore
 from ...modular import crt_many, primes_for_bound
 from ..gap_counts import GapCounts
 from ..prime_tasks import WORKER_BASE_BYTES, checkpoint_store, primes_plan, run_primes, workers_for
@@ -277,7 +277,7 @@ def floor_pooled_gap_law(N: int, *, workers: int | None = None, progress: Callab
     progress : callable, optional
         ``progress(1)`` after each prime.
     executor : concurrent.futures.Executor or dask Client, optional
-        Where the per-prime tasks run (:func:`forcenet.exact.execution.run_tasks`).
+        Where the per-prime tasks run (:func:`forcenet.core.execution.run_tasks`).
     checkpoint : path or CheckpointStore, optional
         Keep every finished prime there; a rerun reuses them.
 

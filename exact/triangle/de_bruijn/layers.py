@@ -53,7 +53,7 @@ import numpy as np
 
 from forcenet.core.plan import Plan, with_compilation
 from forcenet.core.validation import check_int, check_layers
-from ...checkpoints import CheckpointStore
+from forcenet.core.checkpoints import CheckpointStore
 from ..gap_counts import GapCounts
 from ..prime_tasks import checkpoint_store, primes_plan, run_primes, workers_for
 from ..residues import lagrange_matrix, pfaffian_mod

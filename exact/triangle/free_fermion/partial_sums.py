@@ -36,8 +36,8 @@ from fractions import Fraction
 from os import PathLike
 from typing import Any
 
-from ...checkpoints import CheckpointStore
-from ...execution import as_executor
+from forcenet.core.checkpoints import CheckpointStore
+from forcenet.core.execution import as_executor
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_layers
 from ..staircase import dimension

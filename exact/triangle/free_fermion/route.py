@@ -11,7 +11,7 @@ independent tasks (:mod:`forcenet.exact.triangle.prime_tasks`) run on an executo
 pool by default, or any :class:`concurrent.futures.Executor` given as
 ``executor=`` (a Dask cluster: ``client.get_executor()``, or the client
 itself); ``checkpoint=`` (a directory or a
-:class:`~forcenet.exact.checkpoints.CheckpointStore`) records every finished
+:class:`~forcenet.core.checkpoints.CheckpointStore`) records every finished
 prime, so a rerun recomputes only the missing ones.  The result never depends
 on either.
 
@@ -38,8 +38,8 @@ from math import ceil, comb, factorial, log2
 from typing import Any
 from os import PathLike
 
-from ...checkpoints import CheckpointStore
-from ...execution import as_executor
+from forcenet.core.checkpoints import CheckpointStore
+from forcenet.core.execution import as_executor
 from ...modular import crt_many
 from forcenet.core.plan import Plan, table_range
 from ...protocol import Progress, Table

@@ -1,7 +1,7 @@
 """Options of the routes over independent primes: ``--scheduler`` (a Dask cluster), its TLS, ``--checkpoint``.
 
 ``forcenet table --method pfaffian`` and the floor's route of ``forcenet dist``
-hand their per-prime tasks to an executor (:func:`forcenet.exact.execution.run_tasks`);
+hand their per-prime tasks to an executor (:func:`forcenet.core.execution.run_tasks`);
 this module turns the options into that executor (a Dask client) and a
 checkpoint store, refusing them for a route that does not run over primes.
 
@@ -14,7 +14,9 @@ taken); then a plain TCP connection (refused at once, or no answer within
 (``--tls-ca-file``, ``--tls-cert``, ``--tls-key``, else Dask's own
 configuration ``distributed.comm.tls.*``), and Dask's ``identity`` request
 (a server that is not a Dask scheduler does not answer it); only then the
-client, and the wait for a first worker, announced.  A Dask scheduler runs
+client, the wait for a first worker, announced, and one tiny task that
+imports forcenet on a worker (a cluster whose workers cannot is refused in
+seconds, by name).  A Dask scheduler runs
 whatever its clients send (pickled functions): a cluster is for one user's
 machines, bound to loopback or a private interface, with TLS.
 """
@@ -262,6 +264,13 @@ def connect_scheduler(text: str, security=None):
             client.close()
             raise _refuse(text, f"the cluster has no workers after {WORKER_SECONDS:g} s "
                                 f"(start `dask worker {address}` with forcenet installed)") from None
+    from forcenet.core.execution import check_cluster
+
+    try:  # one tiny task: workers that cannot import forcenet are named now, not after the run's long wait
+        check_cluster(client)
+    except BaseException:
+        client.close()
+        raise
     return client
 
 
@@ -291,7 +300,7 @@ def engine_options(args, applies: bool, what: str, plan_seconds: float, store_fo
     announced at over a minute checkpoint by default in the user's cache directory; ``store_for(directory)``
     makes the request's store.
     """
-    from forcenet.exact.checkpoints import default_directory
+    from forcenet.core.checkpoints import default_directory
 
     from .output import check_output_dir
 

@@ -23,10 +23,10 @@ The policy, in one place:
 from __future__ import annotations
 
 import os
-import stat
 import sys
-import tempfile
 from dataclasses import dataclass
+
+from forcenet.core import atomic_files
 
 from .common import UsageError
 
@@ -42,7 +42,6 @@ exit codes: 0 done (the cross-check agrees); 1 internal error (a bug: please rep
 cross-check DISAGREES; 4 the cross-check cannot judge (too few samples); 130 interrupted."""
 
 STDOUT = "standard output"
-_MAX_LINKS = 40  # symbolic links followed, as the kernel does
 
 
 @dataclass(frozen=True)
@@ -56,28 +55,8 @@ class Destination:
     mode: int | None  # permissions of the existing regular file (kept), None for a new file
 
 
-def _through_proc(path: str) -> bool:
-    """Whether ``path`` reaches its file through ``/proc`` (``/dev/stdout``, ``/dev/fd/1``, a link to them)."""
-    p = os.path.abspath(path)
-    for _ in range(_MAX_LINKS):
-        if p.startswith("/proc/") or os.path.realpath(os.path.dirname(p)).startswith("/proc/"):
-            return True
-        if not os.path.islink(p):
-            return False
-        p = os.path.join(os.path.dirname(p), os.readlink(p))
-    return False
-
-
-def _check_directory(given: str, name: str, target: str) -> None:
-    directory = os.path.dirname(target) or "."
-    if not os.path.isdir(directory):
-        raise UsageError(f"{name}={given}: the directory {directory} does not exist (create it first)")
-    if not os.access(directory, os.W_OK | os.X_OK):
-        raise UsageError(f"{name}={given}: the directory {directory} is not writable")
-
-
 def destination(path: str, name: str = "--out") -> Destination:
-    """Check ``path`` as an output file before any work; how it will be written.
+    """Check ``path`` as an output file before any work; how it will be written (:mod:`forcenet.core.atomic_files`).
 
     Raises
     ------
@@ -95,32 +74,11 @@ def destination(path: str, name: str = "--out") -> Destination:
     ...
     forcenet.cli.common.UsageError: --out='': an empty file name; give a file name
     """
-    if path == "":
-        raise UsageError(f"{name}='': an empty file name; give a file name")
-    if path.endswith(("/", os.sep)):
-        raise UsageError(f"{name}={path}: ends in '/', a directory; give a file name")
-    magic = _through_proc(path)
     try:
-        st = os.stat(path)  # follows links
-    except FileNotFoundError:
-        st = None  # a new file (or a link to one)
-    except NotADirectoryError:
-        st = None  # a file used as a directory: said below
-    except OSError as exc:
-        raise UsageError(f"{name}={path}: {exc.strerror or exc}") from None
-    target = path if magic else os.path.realpath(path)
-    if st is None:
-        _check_directory(path, name, target)
-        return Destination(path, name, target, False, None)
-    if stat.S_ISDIR(st.st_mode):
-        raise UsageError(f"{name}={path}: is a directory; give a file name")
-    if not st.st_mode & 0o222 or not os.access(path, os.W_OK):
-        raise UsageError(f"{name}={path}: is read-only (mode {stat.S_IMODE(st.st_mode):o}); "
-                         "make it writable or choose another name")
-    if magic or not stat.S_ISREG(st.st_mode):
-        return Destination(path, name, target, True, None)
-    _check_directory(path, name, target)
-    return Destination(path, name, target, False, stat.S_IMODE(st.st_mode))
+        target = atomic_files.resolve(path)
+    except atomic_files.DestinationError as exc:
+        raise UsageError(f"{name}={path or repr(path)}: {exc}") from None
+    return Destination(path, name, target.path, target.in_place, target.mode)
 
 
 def check_output_path(path: str | None, name: str = "--out") -> None:
@@ -190,20 +148,6 @@ def emit(text: str, out: str | None = None, name: str = "--out") -> None:
     write_files({out: text}, name=name)
 
 
-def _write_in_place(dest: Destination, data: bytes) -> None:
-    """A device, FIFO or /dev/stdout: opened without creating or truncating, written whole."""
-    if sys.stdout is not None:
-        sys.stdout.flush()
-    flags = os.O_WRONLY | (os.O_APPEND if stat.S_ISREG(os.stat(dest.target).st_mode) else 0)
-    fd = os.open(dest.target, flags)
-    try:
-        view = memoryview(data)
-        while view:
-            view = view[os.write(fd, view):]
-    finally:
-        os.close(fd)
-
-
 def _failure(dest: Destination, exc: OSError) -> UsageError:
     return UsageError(f"{dest.name}={dest.given}: {exc.strerror or exc}")
 
@@ -212,94 +156,34 @@ def write_files(files: dict, name: str = "--out", make_dir: str | None = None, n
                 then=None) -> None:
     """Write every ``{path: text}`` (``text`` may be ``bytes``), all or none; then call ``then()``.
 
-    Regular files are first written to temporaries beside their targets,
-    devices and FIFOs are written in place, then the temporaries are renamed
-    and ``then()`` runs (e.g. the summary on standard output).  On any failure
-    (or Ctrl-C) up to the end of ``then()``, the temporaries are removed, every
-    file renamed so far gets its old content back (or is removed if it was new),
-    and the directory ``make_dir`` is removed if this call created it.
-    ``names`` gives the argument of each path (default ``name``) for messages.
+    The one writer, :func:`forcenet.core.atomic_files.write_all`: regular
+    files are first written to temporaries beside their targets, devices and
+    FIFOs are written in place, then the temporaries are renamed and
+    ``then()`` runs (e.g. the summary on standard output).  On any failure
+    (or Ctrl-C) up to the end of ``then()``, the temporaries are removed,
+    every file renamed so far gets its old content back (or is removed if it
+    was new), and the directory ``make_dir`` is removed if this call created
+    it.  ``names`` gives the argument of each path (default ``name``) for
+    messages.
     """
     names = names or {}
     created = None
-    temps, renamed = {}, []  # renamed: (target, backup of its old content or None)
-    pending = None  # the backup of the file being renamed
     try:
         if make_dir is not None and not os.path.isdir(make_dir):
             check_output_dir(make_dir)
             os.mkdir(make_dir)
             created = make_dir
         dests = [(destination(path, names.get(path, name)), text) for path, text in files.items()]
-        umask = os.umask(0)
-        os.umask(umask)
-        for dest, text in dests:
-            data = text if isinstance(text, bytes) else text.encode()
-            if dest.in_place:
-                continue
-            try:
-                fd, tmp = tempfile.mkstemp(dir=os.path.dirname(dest.target), prefix=".tmp-",
-                                           suffix=os.path.basename(dest.target))
-                temps[dest] = tmp
-                os.chmod(tmp, dest.mode if dest.mode is not None else 0o666 & ~umask)  # mkstemp makes 0600
-                with os.fdopen(fd, "wb") as handle:
-                    handle.write(data)
-                    handle.flush()
-                    os.fsync(handle.fileno())
-            except OSError as exc:
-                raise _failure(dest, exc) from None
-        for dest, text in dests:
-            if dest.in_place:
-                try:
-                    _write_in_place(dest, text if isinstance(text, bytes) else text.encode())
-                except BrokenPipeError:
-                    raise
-                except OSError as exc:
-                    raise _failure(dest, exc) from None
-        for dest, tmp in list(temps.items()):
-            pending = _backup(dest.target)
-            try:
-                os.replace(tmp, dest.target)
-            except OSError as exc:
-                raise _failure(dest, exc) from None
-            del temps[dest]
-            renamed.append((dest.target, pending))
-            pending = None
-        if then is not None:
-            then()
+        items = [(atomic_files.Target(dest.target, dest.in_place, dest.mode), text if isinstance(text, bytes)
+                  else text.encode()) for dest, text in dests]
+        atomic_files.write_all(items, then=then, failure=lambda i, exc: _failure(dests[i][0], exc),
+                               before_in_place=_flush_stdout)
     except BaseException:
-        for tmp in [*temps.values(), *([pending] if pending else [])]:
-            _unlink(tmp)
-        for target, backup in reversed(renamed):
-            if backup is not None:
-                os.rename(backup, target)
-            else:
-                _unlink(target)
         if created is not None and os.path.isdir(created) and not os.listdir(created):
             os.rmdir(created)
         raise
-    for _, backup in renamed:
-        if backup is not None:
-            _unlink(backup)
 
 
-def _backup(target: str) -> str | None:
-    """A hard link to the old content of ``target`` (to give it back on failure), or None if it is new."""
-    if not os.path.exists(target):
-        return None
-    for _ in range(100):
-        name = os.path.join(os.path.dirname(target), f".bak-{os.urandom(6).hex()}-{os.path.basename(target)}")
-        try:
-            os.link(target, name)
-            return name
-        except FileExistsError:
-            continue
-        except OSError:
-            return None  # no hard links here: the old content cannot be kept
-    return None
-
-
-def _unlink(path: str) -> None:
-    try:
-        os.unlink(path)
-    except FileNotFoundError:
-        pass
+def _flush_stdout() -> None:
+    if sys.stdout is not None:
+        sys.stdout.flush()

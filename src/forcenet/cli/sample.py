@@ -12,9 +12,6 @@ the JSON for those who want them there (and gives up identical bytes).
 from __future__ import annotations
 
 import argparse
-import os
-
-from forcenet.core.validation import is_integer
 
 from .common import (
     UsageError,
@@ -76,7 +73,7 @@ def _finite(mean, stderr, extra):
 
 
 def _plan(args, scene, burn):
-    from dataclasses import replace
+    from forcenet.numeric.parallel_chains import parallel_plan
 
     memory = available_memory()
     K = args.workers
@@ -92,104 +89,7 @@ def _plan(args, scene, burn):
         from forcenet.numeric.packing.metropolis import packing_plan
 
         plan = packing_plan(scene, args.samples, burn * K, 2 if args.response else 1, memory, move=args.move)
-    if K == 1 or not plan.runnable:
-        return plan
-    # K processes on the machine's cores; each holds its own share (and its own copy of the code)
-    cores = max(1, min(K, os.cpu_count() or 1))
-    plan = replace(plan, what=f"{plan.what}, {K} workers", seconds=plan.seconds / cores + 1.0,
-                   nbytes=plan.nbytes + (K - 1) * 100 * 2**20)
-    return plan.within_memory(memory)
-
-
-def _shares(total: int, K: int):
-    """``total`` split into ``K`` shares differing by at most one (the first ones larger)."""
-    return [total // K + (k < total % K) for k in range(K)]
-
-
-def _seeds(seed: int, K: int):
-    """One seed per worker: the seed itself for one worker, else ``SeedSequence(seed).spawn(K)``."""
-    import numpy as np
-
-    return [seed] if K == 1 else np.random.SeedSequence(seed).spawn(K)
-
-
-def _exact_task(N, samples, seed, progress=None):
-    """Worker: raw sums of W and W^2 over ``samples`` exact draws."""
-    import numpy as np
-
-    from forcenet.numeric.triangle.exact_sampler import ExactSampler
-
-    sampler = ExactSampler(N, seed=np.random.default_rng(seed))
-    return sampler.moment_sums(samples, (1,), progress)[1], sampler.kernel
-
-
-def _metropolis_task(N, F, ph, scene, sweeps, burn, seed, response, move="metropolis", progress=None):
-    """Worker: one chain; its mean, error bars (integrated autocorrelation time) and counts.
-
-    Returns a dict, or ``{"error": message}`` when the chain is too short to trust.
-    """
-    import numpy as np
-
-    from forcenet.numeric.autocorr import AutocorrError, mean_and_stderr
-
-    rng = np.random.default_rng(seed)
-    out = {}
-    try:
-        if scene is None:
-            from forcenet.numeric.triangle.metropolis import TriangleMetropolis
-
-            sampler = TriangleMetropolis(N, seed=rng, ph=None if ph is None else ph / F, move=move)
-            chain = sampler.run(sweeps, burn_in=burn, progress=progress)  # in units of F (scaled at the end)
-        else:
-            from forcenet.numeric.packing.metropolis import PackingMetropolis, response as packing_response
-
-            sampler = PackingMetropolis(scene, seed=rng, move=move)
-            chain = sampler.run(sweeps, burn_in=burn, progress=progress)
-        mean, stderr, tau = mean_and_stderr(chain)
-        if response:
-            # the response's two chains: seeded from the same integer as before (one worker), else from a child
-            child = seed if is_integer(seed) else seed.spawn(1)[0]
-            out["G"], out["stderr_G"], _ = packing_response(scene, sweeps, burn, seed=child, progress=progress,
-                                                              move=move)
-    except AutocorrError as exc:
-        return {"error": str(exc)}
-    out.update({"n": sweeps, "mean": mean, "stderr": stderr, "tau": tau, "std": chain.std(axis=0, ddof=1),
-                "accepted": sampler.accepted, "attempted": sampler.attempted, "kernel": sampler.kernel})
-    return out
-
-
-def _combine_chains(parts):
-    """Means, error bars, spread and effective sample size of independent chains (:func:`pool_chains`)."""
-    from forcenet.numeric.autocorr import pool_chains, pool_means
-
-    n = [p["n"] for p in parts]
-    pooled = pool_chains(n, *([p[k] for p in parts] for k in ("mean", "stderr", "std", "tau")))
-    extra = {
-        "acceptance": sum(p["accepted"] for p in parts) / sum(p["attempted"] for p in parts),
-        "tau_max": float(max(p["tau"].max() for p in parts)),
-        "effective_samples": float(pooled.effective_samples.min()),  # min over the grains of sum_k n_k / tau_k
-        "std_W": pooled.std,
-    }
-    if "G" in parts[0]:
-        extra["G"], extra["stderr_G"] = pool_means(n, [p["G"] for p in parts], [p["stderr_G"] for p in parts])
-    return pooled.mean, pooled.stderr, extra
-
-
-def _run_tasks(func, tasks, K, tick):
-    """Run ``func(*task)`` for every task: in this process for one worker, else in ``K`` processes.
-
-    The results come in task order (they do not depend on timing); Ctrl-C
-    terminates the worker processes at once (:func:`forcenet.exact.execution.run_tasks`).
-    """
-    if K == 1:
-        return [func(*tasks[0], progress=tick)]
-    import multiprocessing
-
-    from forcenet.exact.execution import run_tasks
-
-    method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
-    weights = [task[1] if func is _exact_task else task[4] * (2 if task[7] else 1) for task in tasks]
-    return run_tasks(func, tasks, workers=K, progress=tick, weights=weights, start_method=method)
+    return parallel_plan(plan, K, memory)  # K processes on the machine's cores, each with its own share
 
 
 def cmd_sample(args):
@@ -216,29 +116,18 @@ def cmd_sample(args):
         raise UsageError(f"--workers={workers}: more workers than samples ({K}); use at most {K}")
     burn = args.burn_in if args.burn_in is not None else max(100, K // 10)
     plan = _plan(args, scene, burn)
-    seeds = _seeds(args.seed, workers)
-    shares = _shares(K, workers)
 
     def run(tick):
-        if args.sampler == "exact":
-            parts = _run_tasks(_exact_task, [(N, k, s) for k, s in zip(shares, seeds)], workers, tick)
-            from forcenet.numeric.triangle.exact_sampler import mean_and_error
+        from forcenet.numeric.autocorr import AutocorrError
+        from forcenet.numeric.parallel_chains import sample_in_parallel
 
-            mean, stderr = mean_and_error(sum(p[0][0] for p in parts), sum(p[0][1] for p in parts), K)
-            return mean * args.F, stderr * args.F, {"kernel": parts[0][1], "effective_samples": float(K)}
-        tasks = [(N, args.F, args.ph, scene, k, burn, s, args.response, args.move) for k, s in zip(shares, seeds)]
-        parts = _run_tasks(_metropolis_task, tasks, workers, tick)
-        for part in parts:
-            if "error" in part:
-                raise UsageError(f"samples={K}: {part['error']}; run more sweeps")
-        mean, stderr, extra = _combine_chains(parts)
-        if scene is None:  # the triangle's statistics in units of F, scaled last: any finite F
-            mean, stderr, extra["std_W"] = mean * args.F, stderr * args.F, extra["std_W"] * args.F
-        else:
-            extra = {"scene": scene.name, "P": scene.P, "F": scene.F, "j0": scene.j0,
-                     "pv": scene.pv, "mg": scene.mg, "ph": scene.ph, **extra}
-        extra = {"burn_in": burn, "kernel": parts[0]["kernel"], "move": args.move, **extra}
-        return mean, stderr, extra
+        try:
+            result = sample_in_parallel(args.sampler, N, K, seed=args.seed, workers=workers, F=args.F, ph=args.ph,
+                                        scene=scene, burn_in=burn, response=args.response, move=args.move,
+                                        progress=tick)
+        except AutocorrError as exc:
+            raise UsageError(f"samples={K}: {exc}; run more sweeps") from None
+        return result.mean, result.stderr, result.extra
 
     t0 = time.perf_counter()
     mean, stderr, extra = run_planned(plan, run, force=args.force, quiet=args.quiet)

@@ -11,9 +11,10 @@ namespace package, and a later editable install fails on import with
 
 So forcenet's kernels keep their cache under ``$XDG_CACHE_HOME/forcenet/numba``
 (else ``~/.cache/forcenet/numba``), one folder per source folder as numba's
-own user-wide cache does, and never in the package.  ``NUMBA_CACHE_DIR``, when
-set, still wins (numba's rule); when neither place is writable, numba's own
-choice applies.  The cache is checked against the source's content hash, so
+own user-wide cache does, and never in the package: by numba's public
+setting, ``NUMBA_CACHE_DIR`` (:func:`_use_cache_directory`).  A
+``NUMBA_CACHE_DIR`` the user set still wins (numba's rule); when neither
+place is writable, numba's own choice applies.  The cache is checked against the source's content hash, so
 a changed kernel is compiled again, and the code is the same wherever it is cached.
 
 Examples
@@ -22,7 +23,7 @@ Examples
 >>> cache_directory().endswith(os.path.join("forcenet", "numba"))
 True
 >>> from forcenet.exact.triangle.residues import inv_mod
->>> inv_mod._cache._cache_path.startswith(cache_directory()) or bool(os.environ.get("NUMBA_CACHE_DIR"))
+>>> inv_mod.stats.cache_path.startswith(os.environ["NUMBA_CACHE_DIR"])
 True
 """
 
@@ -79,38 +80,28 @@ def _usable_cache_directory() -> str:
     return _PRIVATE_CACHE[0]
 
 
-_FUNCTION_CACHE: Any = None
+_SET_HERE: list[str] = []  # the NUMBA_CACHE_DIR values this module set (any other is the user's choice)
 
 
-def _function_cache_class() -> Any:
-    """numba's ``FunctionCache`` with forcenet's locator after the user-provided one (built once)."""
-    global _FUNCTION_CACHE
-    if _FUNCTION_CACHE is None:
-        from numba.core import caching
+def _use_cache_directory() -> None:
+    """Point numba's cache at :func:`cache_directory` by its public setting, ``NUMBA_CACHE_DIR``.
 
-        def named(*names: str) -> Any:  # numba 0.60 spells them with a leading underscore
-            return next(getattr(caching, n) for n in names if hasattr(caching, n))
+    Set in the environment (numba reads it when imported and again whenever
+    a ``NUMBA_*`` variable changes; worker processes inherit it) and in
+    ``numba.config.CACHE_DIR`` (numba imported already).  A value the user
+    set wins, as numba's rule says.  numba's user-provided locator falls back
+    to its own choice when the folder cannot be created.
+    """
+    current = os.environ.get("NUMBA_CACHE_DIR")
+    if current and current not in _SET_HERE:
+        return
+    directory = _usable_cache_directory()
+    os.environ["NUMBA_CACHE_DIR"] = directory
+    _SET_HERE.append(directory)
+    if "numba" in sys.modules:
+        import numba
 
-        user_wide = named("UserWideCacheLocator", "_UserWideCacheLocator")
-        user_provided = named("UserProvidedCacheLocator", "_UserProvidedCacheLocator")
-        impl = caching.FunctionCache._impl_class
-
-        class KernelCacheLocator(user_wide):  # type: ignore[misc, valid-type]
-            """numba's user-wide locator, rooted at :func:`cache_directory`."""
-
-            def __init__(self, py_func: Any, py_file: str) -> None:
-                super().__init__(py_func, py_file)
-                self._cache_path = os.path.join(_usable_cache_directory(), self.get_suitable_cache_subpath(py_file))
-
-        class KernelCacheImpl(impl):  # type: ignore[misc, valid-type]
-            _locator_classes = [user_provided, KernelCacheLocator,
-                                *(c for c in impl._locator_classes if c is not user_provided)]
-
-        class KernelFunctionCache(caching.FunctionCache):  # type: ignore[misc]
-            _impl_class = KernelCacheImpl
-
-        _FUNCTION_CACHE = KernelFunctionCache
-    return _FUNCTION_CACHE
+        numba.config.CACHE_DIR = directory  # type: ignore[attr-defined]  # numba sets its settings at run time
 
 
 def njit(function: Callable[..., Any] | None = None, **options: Any) -> Any:
@@ -139,12 +130,11 @@ def njit(function: Callable[..., Any] | None = None, **options: Any) -> Any:
     cache = options.pop("cache", True)
 
     def decorate(func: Callable[..., Any]) -> Any:
+        if cache:
+            _use_cache_directory()  # before numba decides where this kernel's cache lives (at decoration)
         import numba
 
-        dispatcher = numba.njit(cache=False, **options)(func)
-        if cache:  # Dispatcher.enable_caching, with forcenet's place for the files
-            dispatcher._cache = _function_cache_class()(dispatcher.py_func)
-        return dispatcher
+        return numba.njit(cache=cache, **options)(func)
 
     return decorate if function is None else decorate(function)
 

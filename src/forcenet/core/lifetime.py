@@ -22,6 +22,7 @@ import signal
 import sys
 import threading
 import time
+from typing import Any
 
 __all__ = ["die_with_parent"]
 
@@ -29,7 +30,7 @@ _PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
 _WATCH_SECONDS = 0.5  # elsewhere: how often a worker's watchdog looks for its parent
 
 
-def die_with_parent(parent: int) -> None:
+def die_with_parent(parent: int, started: Any = None) -> None:
     """End this worker process when its parent ``parent`` ends, however it ends (SIGKILL included).
 
     Linux: the parent-death signal (``prctl(PR_SET_PDEATHSIG, SIGKILL)``),
@@ -42,6 +43,10 @@ def die_with_parent(parent: int) -> None:
     ----------
     parent : int
         The pid of the process that started the pool.
+    started : multiprocessing queue, optional
+        Receives this worker's pid once armed: the pool's owner stops its
+        workers by that list (``forcenet.core.execution``), not by a
+        private attribute of the pool.
 
     Examples
     --------
@@ -66,3 +71,5 @@ def die_with_parent(parent: int) -> None:
             os._exit(1)
 
         threading.Thread(target=watch, name="forcenet-parent-watch", daemon=True).start()
+    if started is not None:
+        started.put(os.getpid())

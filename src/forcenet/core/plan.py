@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import os
 import signal
+import sys
 import threading
 import time
 from contextlib import contextmanager
@@ -299,28 +300,44 @@ def first_chunk(seconds_per_unit: float, seconds: float = CHUNK_SECONDS) -> int:
 def kernels_cached(kernels) -> bool:
     """Whether numba holds machine code for every dispatcher of ``kernels`` without compiling.
 
-    True when each is compiled in this process already or its on-disk cache
-    (``cache=True``: the ``.nbi`` index under ``NUMBA_CACHE_DIR``, or
-    :func:`forcenet.core.compiled.cache_directory`, or beside the module) has an entry for this machine and this source.
+    True when each is compiled in this process already (its public
+    ``signatures``) or its on-disk cache (``cache=True``: the ``.nbi`` index in
+    ``dispatcher.stats.cache_path``, under ``NUMBA_CACHE_DIR``) was written
+    after its source last changed.
 
     Examples
     --------
     >>> kernels_cached([])
     True
     """
-    for kernel in kernels:
-        if kernel.overloads:
-            continue
-        try:  # numba's cache index: {(signature, machine, source hash): file}
-            cache = kernel._cache
-            codegen = kernel.targetctx.codegen()
-            index = cache._cache_file._load_index()
-            hit = any(cache._index_key(key[0], codegen) == key for key in index)
-        except (AttributeError, OSError, TypeError, ValueError, EOFError):  # unreadable: count the compilation
-            return False
-        if not hit:
-            return False
-    return True
+    return all(kernel.signatures or _cache_index_is_fresh(kernel) for kernel in kernels)
+
+
+def _cache_index_is_fresh(kernel) -> bool:
+    """Whether numba's on-disk cache of ``kernel`` has an index written after its source was last changed.
+
+    numba has no public "is it cached" query: its cache folder is public
+    (``dispatcher.stats.cache_path``), the index's name is numba's file
+    convention (``<file's stem>.<qualname>-<first line>.py<major><minor><abiflags>.nbi``,
+    numba's ``_CacheImpl.get_filename_base``, the same from 0.4x to the
+    versions pinned in pyproject.toml), and numba itself judges freshness by
+    the source's modification time and size.  Isolated here, read-only, so a
+    changed convention costs at most a compile time counted twice.
+    """
+    try:
+        folder = kernel.stats.cache_path
+        function = kernel.py_func
+        source_file = function.__code__.co_filename
+        stem = os.path.splitext(os.path.basename(source_file))[0]  # numba names by the file, not the module path
+        fullname = f"{stem}.{function.__qualname__}".replace("<", "").replace(">", "")
+        name = "{}-{}.py{}{}{}.nbi".format(fullname,
+                                           function.__code__.co_firstlineno, sys.version_info[0], sys.version_info[1],
+                                           getattr(sys, "abiflags", ""))
+        index = os.stat(os.path.join(folder, name))
+        source = os.stat(source_file)
+    except (AttributeError, OSError, TypeError):  # no cache, or unreadable: count the compilation
+        return False
+    return index.st_mtime >= source.st_mtime
 
 
 def with_compilation(plan: Plan, name: str, seconds: float, kernels) -> Plan:

@@ -11,9 +11,10 @@ the format version, and describes the payload (an integer numpy array:
 ``dtype``, ``shape``).  The guarantees, each tested in
 ``tests/test_checkpoints.py``:
 
-* **atomic**: a record is written to a temporary file beside it, flushed to
-  disk (``fsync``), then renamed over its name (``os.replace``), and the
-  directory is synced; a reader sees a whole record or none, whatever kills
+* **atomic**: a record is written by the package's one writer
+  (:func:`forcenet.core.atomic_files.write_atomic`): a temporary file beside
+  it, flushed to disk (``fsync``), then renamed over its name
+  (``os.replace``), and the directory is synced; a reader sees a whole record or none, whatever kills
   the writer (SIGKILL, Ctrl-C, a power cut);
 * **checked**: a truncated or bit-flipped record fails its checksum (or its
   framing), is reported in one line and recomputed, never trusted;
@@ -71,6 +72,8 @@ import time
 
 import numpy as np
 
+from forcenet.core.atomic_files import TEMP_PREFIX, write_atomic
+
 __all__ = ["FORMAT_VERSION", "MAX_RECORD_BYTES", "default_directory", "CheckpointStore", "distrust_reused", "run_distrusting",
            "records_held", "resumed_plan"]
 
@@ -78,7 +81,7 @@ FORMAT_VERSION = 1
 _MAGIC = b"forcenet-checkpoint\n"
 _LENGTH = struct.Struct("<Q")
 _DIGEST = 32
-_TEMP_PREFIX = ".tmp-"
+_TEMP_PREFIX = TEMP_PREFIX
 _STALE_SECONDS = 600  # a temporary file this old belongs to a killed writer
 _write = os.write  # one name for every byte written (the full-disk tests fault it)
 MAX_RECORD_BYTES = 2**31  # no record of any route is larger (N = 200's table: ~0.3 MiB per prime)
@@ -274,34 +277,19 @@ class CheckpointStore:
         if self.failed is not None or not self.usable():
             return
         data = self.encode(key, value)
-        tmp = None
         try:
             os.makedirs(self.path, exist_ok=True)
             if self.saved == 0:
                 _sweep(self.path)
-            fd, tmp = tempfile.mkstemp(dir=self.path, prefix=_TEMP_PREFIX)
-            try:
-                view = memoryview(data)
-                while view:
-                    view = view[_write(fd, view):]
-                os.fsync(fd)
-            finally:
-                os.close(fd)
-            os.replace(tmp, self._file(key))
-            tmp = None
-            _sync_directory(self.path)
+            # the one writer (temporary file, fsync, rename, folder synced); a record's name is the store's own:
+            # a FIFO, device or link planted there is replaced, never opened
+            write_atomic(self._file(key), data, owned=True, write=_write)
             self.saved += 1
         except OSError as exc:
             self.failed = exc.strerror or str(exc)
             kind = "the disk is full" if exc.errno in (errno.ENOSPC, errno.EDQUOT) else self.failed
             _once(self.report, self.directory, kind,
                   f"checkpoint {self.path}: cannot write ({kind}); continuing without checkpoints")
-        finally:
-            if tmp is not None:
-                try:
-                    os.unlink(tmp)
-                except OSError:
-                    pass
 
 
 def _not_a_record(info: os.stat_result) -> str | None:
@@ -516,17 +504,3 @@ def _sweep(path: str) -> None:
                     os.unlink(os.path.join(path, name))
             except OSError:  # another process removed it first
                 pass
-
-
-def _sync_directory(path: str) -> None:
-    """Make a rename durable (POSIX: fsync the directory)."""
-    try:
-        fd = os.open(path, os.O_RDONLY)
-    except OSError:  # pragma: no cover - platforms without directory handles
-        return
-    try:
-        os.fsync(fd)
-    except OSError:  # pragma: no cover - file systems refusing directory fsync
-        pass
-    finally:
-        os.close(fd)

@@ -10,7 +10,7 @@ cluster.  No scheduler is written here; this module only
 * collects the results in the order of the tasks (the same result, hence
   the same bytes, for any number of workers and any completion order),
 * reports progress per finished task and records each result in the store
-  (:mod:`forcenet.exact.checkpoints`) as it arrives,
+  (:mod:`forcenet.core.checkpoints`) as it arrives,
 * runs every task through :func:`_worker_call`, which readies the process
   it lands in once: glibc's allocator back to its steady state when the
   environment fixed it (a Dask nanny starts its workers with
@@ -38,15 +38,19 @@ from __future__ import annotations
 import ctypes
 import ctypes.util
 import os
+import sys
 import time
+import weakref
 from concurrent.futures import FIRST_COMPLETED, CancelledError, Executor, as_completed, wait
 from math import ceil
+from typing import Any
 
 from forcenet.core.lifetime import die_with_parent
-from forcenet.core.validation import check_int, is_integer
+from forcenet.core.validation import check_int
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ForcenetError
 
-__all__ = ["ClusterError", "WORKERLESS_SECONDS", "available_cores", "local_pool", "as_executor", "executor_workers", "executor_label", "wall_seconds", "run_tasks"]
+__all__ = ["ClusterError", "WORKERLESS_SECONDS", "PROBE_SECONDS", "available_cores", "local_pool", "as_executor",
+           "declare_workers", "executor_workers", "executor_label", "check_cluster", "wall_seconds", "run_tasks"]
 
 # glibc's mallopt parameters (<malloc.h>) and the ceiling of its own dynamic mmap threshold on 64-bit
 # (DEFAULT_MMAP_THRESHOLD_MAX = 32 MiB); the trim threshold is then twice it, as glibc sets it itself.
@@ -55,6 +59,15 @@ _MMAP_THRESHOLD = 32 * 2**20
 _READY: dict = {}
 WORKERLESS_SECONDS = 10.0  # a Dask cluster without a worker (or its scheduler gone) that long fails the run
 _POLL_SECONDS = 0.5  # how often a cluster run looks at its workers while no task finishes
+PROBE_SECONDS = 10.0  # a cluster's workers answer the probe task (import forcenet, its version) within this
+
+# Our own bookkeeping of the executors made here, never the private attributes of concurrent.futures or Dask:
+# how many tasks each runs at once, the Dask client behind an executor, the worker pids of a local pool.
+_WORKERS: weakref.WeakKeyDictionary[Any, int] = weakref.WeakKeyDictionary()
+_CLIENTS: weakref.WeakKeyDictionary[Any, Any] = weakref.WeakKeyDictionary()
+_PIDS: weakref.WeakKeyDictionary[Any, Any] = weakref.WeakKeyDictionary()  # a local pool: the queue its workers
+# report their pid to (forcenet.core.lifetime.die_with_parent)
+_PROBED: weakref.WeakSet[Any] = weakref.WeakSet()  # the Dask clients whose workers import forcenet
 
 
 class ClusterError(ForcenetError):
@@ -102,31 +115,70 @@ def as_executor(executor):
     if executor is None or isinstance(executor, Executor):
         return executor
     if callable(getattr(executor, "get_executor", None)):
-        return executor.get_executor()
+        made = executor.get_executor()
+        _CLIENTS[made] = executor  # the client is ours to know (Client.get_executor() keeps it private)
+        return made
     raise ArgumentTypeError(f"executor={executor!r} is not a concurrent.futures.Executor (nor a Dask Client)")
+
+
+def declare_workers(executor: Executor, workers: int) -> Executor:
+    """Tell forcenet how many tasks ``executor`` runs at once (its plans divide the work by it); returns it.
+
+    The pools made here (:func:`local_pool`) and Dask clients are known
+    already; a pool of your own is otherwise planned as one worker.
+
+    Examples
+    --------
+    >>> from concurrent.futures import ThreadPoolExecutor
+    >>> with declare_workers(ThreadPoolExecutor(3), 3) as pool:
+    ...     executor_workers(pool)
+    3
+    """
+    _WORKERS[executor] = check_int(workers, "workers", 1)
+    return executor
+
+
+def _dask_client(executor) -> Any:
+    """The Dask client behind ``executor``: the one :func:`as_executor` made it from, else, for an executor of
+    Dask's own (``client.get_executor()`` given directly), Dask's current client (``distributed.get_client``)."""
+    client = _CLIENTS.get(executor)
+    if client is not None or not type(executor).__module__.startswith("distributed"):
+        return client
+    try:
+        from distributed import get_client
+
+        return get_client()
+    except (ImportError, ValueError):  # no client in this process: treated as any executor
+        return None
 
 
 def executor_workers(executor) -> int | None:
     """How many tasks ``executor`` runs at once: a pool's workers, a Dask cluster's threads; None if unknown.
 
+    Known for the pools made by :func:`local_pool`, the executors given to
+    :func:`declare_workers` and Dask clients (their threads, asked of the
+    scheduler); None for any other executor.
+
     Examples
     --------
+    >>> with local_pool(2) as pool:
+    ...     executor_workers(pool)
+    2
     >>> from concurrent.futures import ThreadPoolExecutor
     >>> with ThreadPoolExecutor(3) as pool:
-    ...     executor_workers(pool)
-    3
+    ...     executor_workers(pool) is None
+    True
     """
     executor = as_executor(executor)
-    client = getattr(executor, "_client", None)  # distributed.cfexecutor.ClientExecutor
-    if client is not None and callable(getattr(client, "nthreads", None)):
+    client = _dask_client(executor)
+    if client is not None:
         try:
             threads = client.nthreads()
         except Exception as exc:  # the scheduler gone since the client connected
             raise ClusterError(f"the Dask cluster cannot be reached ({type(exc).__name__}): its scheduler went away; "
                                "rerun (finished primes are kept with --checkpoint)") from None
         return max(1, sum(threads.values()))
-    workers = getattr(executor, "_max_workers", None)
-    return int(workers) if workers is not None and is_integer(workers) and workers > 0 else None
+    return _WORKERS.get(executor)
 
 
 def executor_label(executor) -> str:
@@ -140,9 +192,82 @@ def executor_label(executor) -> str:
     'ThreadPoolExecutor'
     """
     executor = as_executor(executor)
-    client = getattr(executor, "_client", None)
-    address = getattr(getattr(client, "scheduler", None), "address", None)
+    address = getattr(getattr(_dask_client(executor), "scheduler", None), "address", None)
     return f"Dask scheduler {address}" if address else type(executor).__name__
+
+
+# The probe: a builtin (``eval``, unpickled by any Python) evaluating an import of forcenet on the worker. A task
+# of forcenet's own code cannot be the probe: a worker without forcenet fails to unpickle it while reading the
+# scheduler's message and leaves the cluster (Dask 2026.8), so the client would only see its workers vanish.
+_PROBE = "__import__('forcenet').__version__"
+
+
+def check_cluster(client, seconds: float | None = None) -> str:
+    """Run one tiny task on the cluster of ``client`` that imports forcenet; the workers' forcenet version.
+
+    The task is Python's ``eval`` of an import of forcenet (nothing of
+    forcenet to unpickle), so a worker without forcenet fails it at once
+    with the import's error, and the run is refused in seconds, naming the
+    cause, instead of waiting for workers that leave the cluster when a
+    task of forcenet's code cannot be unpickled.  Done once per client (a
+    run over a client probes on its first tasks).
+
+    Parameters
+    ----------
+    client : distributed.Client
+        The cluster's client.
+    seconds : float, optional
+        The bound on the probe (default :data:`PROBE_SECONDS`).
+
+    Returns
+    -------
+    str
+        The version of forcenet on the worker that ran the probe.
+
+    Raises
+    ------
+    ClusterError
+        One line: the workers cannot import forcenet (the import's error
+        named), or run another version, or no worker answers in time.
+
+    Examples
+    --------
+    >>> class Inline:  # a stand-in for a client: runs the task here
+    ...     def submit(self, f, *args, pure=True):
+    ...         from concurrent.futures import Future
+    ...         future = Future(); future.set_result(f(*args)); return future
+    >>> import forcenet
+    >>> check_cluster(Inline()) == forcenet.__version__
+    True
+    """
+    seconds = PROBE_SECONDS if seconds is None else seconds
+    future = client.submit(eval, _PROBE, {}, pure=False)
+    try:
+        version = future.result(timeout=seconds)
+    except ImportError as exc:  # unpickling the probe on the worker imported forcenet, and failed
+        raise ClusterError(f"the cluster's workers cannot import forcenet ({type(exc).__name__}: "
+                           f"{str(exc).splitlines()[0] if str(exc) else ''}): install forcenet on every worker"
+                           ) from None
+    except TimeoutError:
+        raise ClusterError(f"no worker of the cluster ran a first tiny task within {seconds:g} s (its workers are "
+                           "busy, stuck or gone): start workers with forcenet installed and rerun") from None
+    except CancelledError:
+        raise ClusterError("the cluster cancelled its first task: its scheduler went away; rerun") from None
+    except OSError as exc:
+        if type(exc).__module__.startswith("distributed"):  # CommClosedError and its kind
+            raise ClusterError(f"the cluster lost the connection ({type(exc).__name__}); rerun") from None
+        raise
+    finally:
+        try:
+            future.cancel()
+        except Exception:  # the scheduler gone: the failure being raised is the one to report
+            pass
+    ours = sys.modules["forcenet"].__version__  # imported with this module (its package's parent)
+    if version != ours:
+        raise ClusterError(f"the cluster's workers run forcenet {version}, this process {ours}: "
+                           "install the same version on every worker")
+    _PROBED.add(client)
+    return version
 
 
 def wall_seconds(per_task: float, tasks: int, workers: int, overhead: float = 0.0) -> float:
@@ -183,13 +308,28 @@ def local_pool(workers: int, start_method: str = "spawn"):
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
-    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(start_method),
-                               initializer=die_with_parent, initargs=(os.getpid(),))
+    context = multiprocessing.get_context(start_method)
+    started = context.SimpleQueue()  # each worker's pid, put by its initializer: the workers we stop
+    pool = ProcessPoolExecutor(workers, mp_context=context, initializer=die_with_parent,
+                               initargs=(os.getpid(), started))
+    _WORKERS[pool] = workers
+    _PIDS[pool] = started
+    return pool
 
 
 def _terminate(pool) -> None:
-    """Stop a local process pool now: pending work cancelled, worker processes terminated (then killed)."""
-    processes = list((getattr(pool, "_processes", None) or {}).values())
+    """Stop a local process pool now: pending work cancelled, worker processes terminated (then killed).
+
+    The workers are the children of this process (``multiprocessing.active_children``) whose pid the pool's
+    initializer reported; those that had not reported yet die with ``shutdown`` (or with this process).
+    """
+    import multiprocessing
+
+    started = _PIDS.get(pool)
+    pids = set()
+    while started is not None and not started.empty():
+        pids.add(started.get())
+    processes = [p for p in multiprocessing.active_children() if p.pid in pids]
     pool.shutdown(wait=False, cancel_futures=True)
     for process in processes:
         if process.is_alive():
@@ -324,7 +464,7 @@ def run_tasks(function, tasks, *, executor=None, workers: int = 1, progress=None
     weights : sequence, optional
         The progress weight of each task (default 1 each).
     store : object with ``load(key)`` and ``save(key, value)``, optional
-        A checkpoint store (:class:`forcenet.exact.checkpoints.CheckpointStore`):
+        A checkpoint store (:class:`forcenet.core.checkpoints.CheckpointStore`):
         results it holds are not recomputed, new ones are saved as they arrive.
     keys : sequence, optional
         The store's key of each task (required with ``store``).
@@ -377,12 +517,15 @@ def run_tasks(function, tasks, *, executor=None, workers: int = 1, progress=None
             finish(i, function(*tasks[i]))
         return results
     own = executor is None
+    client = None if own else _dask_client(executor)
+    if client is not None and client not in _PROBED:
+        check_cluster(client)  # workers that cannot import forcenet: said in seconds, by name
     pool = local_pool(min(workers, len(pending)), start_method) if own else executor
     futures = {}
     try:
         for i in pending:
             futures[pool.submit(_worker_call, os.getpid(), function, *tasks[i])] = i
-        client = getattr(pool, "_client", None)  # a Dask cluster's executor
+        client = _dask_client(pool)  # a Dask cluster's executor
         if client is None:
             for future in as_completed(futures):
                 finish(futures[future], future.result())

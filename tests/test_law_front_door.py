@@ -232,3 +232,18 @@ def test_the_ensemble_by_every_layers_pfaffians_is_the_dps_and_checkpoints(monke
     assert by_pfaffians.method == "pfaffians" and by_pfaffians.to_json() == dp.to_json()
     assert len(list(tmp_path.iterdir())) == 7
     assert forcenet.law_plan(8, checkpoint=tmp_path).checkpoint == str(tmp_path)
+
+
+def test_a_laws_plan_counts_the_clusters_workers():
+    """Issue 46: ``dist --scheduler`` planned as if the cluster were this machine; the law's plan (and so the
+    command line's announcement and refusals) now divides the primes among the executor's workers."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from forcenet.core.execution import declare_workers
+
+    with declare_workers(ThreadPoolExecutor(1), 1) as one, declare_workers(ThreadPoolExecutor(16), 16) as many:
+        for request in ({"layer": 40}, {"layer": 20}, {"grain": (39, 20)}, {}):
+            alone = forcenet.law_plan(40, **request, executor=one)
+            wide = forcenet.law_plan(40, **request, executor=many)
+            assert alone.method == wide.method != "ideals", request
+            assert wide.seconds < alone.seconds / 4, (request, alone.seconds, wide.seconds)

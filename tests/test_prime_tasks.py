@@ -22,8 +22,10 @@ from forcenet.exact.triangle.prime_tasks import (CLIENT_TASK_SECONDS, STARTUP_SE
 
 @pytest.fixture(scope="module")
 def pools():
-    """Executors of 1, 3 and 8 workers (nothing is submitted: the plans only count them)."""
-    made = {k: ThreadPoolExecutor(max_workers=k) for k in (1, 3, 8)}
+    """Executors of 1, 3 and 8 workers, declared (nothing is submitted: the plans only count them)."""
+    from forcenet.core.execution import declare_workers
+
+    made = {k: declare_workers(ThreadPoolExecutor(max_workers=k), k) for k in (1, 3, 8)}
     yield made
     for pool in made.values():
         pool.shutdown()
@@ -45,6 +47,14 @@ def test_primes_plan_counts_the_executors_workers(pools, k):
     local = primes_plan("x", 2.0, 10, 2**20, workers=k)
     assert local.seconds == pytest.approx(STARTUP_SECONDS * (1 + (k > 1)) + ceil(10 / k) * 2.0)
     assert local.nbytes == k * 2**20
+
+
+def test_an_undeclared_pool_is_planned_as_one_worker():
+    """A pool forcenet did not make and was not told about: its worker count is unknown (no private attribute is
+    read), so the plan is the conservative one worker's (the run itself is not throttled)."""
+    with ThreadPoolExecutor(max_workers=8) as pool:
+        plan = primes_plan("x", 0.5, 40, 10**6, executor=pool)
+    assert "on 1 worker" in plan.what
 
 
 def test_primes_plan_refuses_beyond_memory_and_counts_reused_primes():

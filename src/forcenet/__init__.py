@@ -39,7 +39,8 @@ from importlib.metadata import PackageNotFoundError, version
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ loads them on first use
-    from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceError, ForcenetError, PrecisionWarning
+    from forcenet.core.errors import (ArgumentError, ArgumentTypeError, ClusterError, ConvergenceError, ForcenetError,
+                                      PrecisionWarning)
     from forcenet.exact.triangle.distribution import cdf, contact_density, density
     from forcenet.exact.triangle.staircase import count, normalization
     from forcenet.front_door import TablePlan, plan, table
@@ -73,6 +74,7 @@ _FRONT_DOOR = {
     "ArgumentError": "forcenet.core.errors",
     "ArgumentTypeError": "forcenet.core.errors",
     "ConvergenceError": "forcenet.core.errors",
+    "ClusterError": "forcenet.core.errors",
     "PrecisionWarning": "forcenet.core.errors",
 }
 
@@ -82,7 +84,8 @@ __all__ = [  # the keys of _FRONT_DOOR (tests/test_front_door.py), written out f
     "table", "plan", "Table", "TablePlan", "Row", "law", "law_plan", "Law", "LawPlan",
     "count", "normalization", "density", "cdf", "contact_density",
     "ExactSampler", "TriangleMetropolis", "entropy", "tiling_entropy",
-    "ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError", "PrecisionWarning", "__version__",
+    "ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError", "ClusterError", "PrecisionWarning",
+    "__version__",
 ]
 
 try:

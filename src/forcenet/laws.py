@@ -214,7 +214,7 @@ class LawPlan:
         if not self.over_primes:
             given = " and ".join(n for n, v in (("executor=", executor), ("checkpoint=", checkpoint)) if v is not None)
             raise ArgumentError(f"{given} applies to the law routes over primes ({', '.join(LAW_PRIME_ROUTES)}); "
-                                f"this law runs by {self.method} (~{self.describe()}): run it without")
+                                f"this law runs by {self.method} ({self.describe()}): run it without")
         store = self.checkpoint
         cost = self.cost
         if checkpoint is not None:

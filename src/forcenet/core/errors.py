@@ -13,7 +13,9 @@ bug: exit code 1, ``forcenet: internal error``, the traceback under
 * :class:`ArgumentTypeError` -- an argument of the wrong type; also a
   ``TypeError``;
 * :class:`ConvergenceError` -- an iterative method did not converge for the
-  arguments given (choose others); also a ``RuntimeError``.
+  arguments given (choose others); also a ``RuntimeError``;
+* :class:`ClusterError` -- a cluster run cannot go on (its scheduler went
+  away, every worker left, or the workers cannot import forcenet).
 
 Beside the family, one warning: :class:`PrecisionWarning` (a ``UserWarning``),
 for a binary float accepted where an exact number was expected because its
@@ -35,7 +37,7 @@ ArgumentError True N=1 is out of range: N must be an integer >= 2
 
 from __future__ import annotations
 
-__all__ = ["ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError", "PrecisionWarning"]
+__all__ = ["ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError", "ClusterError", "PrecisionWarning"]
 
 
 class ForcenetError(Exception):
@@ -52,6 +54,10 @@ class ArgumentTypeError(ForcenetError, TypeError):
 
 class ConvergenceError(ForcenetError, RuntimeError):
     """An iterative method (Newton, a continuation) did not converge for these arguments; the message says where."""
+
+
+class ClusterError(ForcenetError):
+    """A cluster run cannot go on: the scheduler went away, every worker left, or workers cannot run forcenet."""
 
 
 class PrecisionWarning(UserWarning):

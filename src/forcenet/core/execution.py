@@ -47,7 +47,7 @@ from typing import Any
 
 from forcenet.core.lifetime import die_with_parent
 from forcenet.core.validation import check_int
-from forcenet.core.errors import ArgumentError, ArgumentTypeError, ForcenetError
+from forcenet.core.errors import ArgumentError, ArgumentTypeError, ClusterError
 
 __all__ = ["ClusterError", "WORKERLESS_SECONDS", "PROBE_SECONDS", "available_cores", "local_pool", "as_executor",
            "declare_workers", "executor_workers", "executor_label", "check_cluster", "wall_seconds", "run_tasks"]
@@ -68,10 +68,6 @@ _CLIENTS: weakref.WeakKeyDictionary[Any, Any] = weakref.WeakKeyDictionary()
 _PIDS: weakref.WeakKeyDictionary[Any, Any] = weakref.WeakKeyDictionary()  # a local pool: the queue its workers
 # report their pid to (forcenet.core.lifetime.die_with_parent)
 _PROBED: weakref.WeakSet[Any] = weakref.WeakSet()  # the Dask clients whose workers import forcenet
-
-
-class ClusterError(ForcenetError):
-    """A cluster run cannot go on: the scheduler went away, every worker left, or workers cannot run forcenet."""
 
 
 def available_cores() -> int:

@@ -12,7 +12,7 @@ from forcenet.numeric.chicken_wire.bethe import bethe_residuals, ground_state_se
 from forcenet.numeric.chicken_wire.transfer import largest_eigenvalue, sector_matrix
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _ground_state(L, n, m):
     """One solve per sector for the whole module: the eigenvalue, twist and photon tests share it."""
     return solve_ground_state(L, n, m)

@@ -152,7 +152,8 @@ def primes_plan(what: str, per_prime: float, nprimes: int, per_worker: int, *, w
     Examples
     --------
     >>> from concurrent.futures import ThreadPoolExecutor
-    >>> with ThreadPoolExecutor(max_workers=4) as pool:
+    >>> from forcenet.core.execution import declare_workers
+    >>> with declare_workers(ThreadPoolExecutor(max_workers=4), 4) as pool:
     ...     on_four = primes_plan("x", 10.0, 8, 2**20, executor=pool)
     >>> primes_plan("x", 10.0, 8, 2**20, workers=1).seconds > on_four.seconds
     True

@@ -294,3 +294,49 @@ def test_14_the_help_examples_run(line, cli):
     assert line in _EXAMPLES
     code, out, _ = cli(line.split()[1:] + ["--quiet"] * (line.split()[1] in ("sample", "transfer", "bethe", "entropy")))
     assert code == 0 and out
+
+
+def test_a_folder_that_cannot_be_made_is_one_line_naming_the_argument(tmp_path, monkeypatch):
+    """An OSError of the command line's own file operation is a user error (exit 2), never an internal one."""
+    import errno
+
+    from forcenet.cli.common import UsageError
+    from forcenet.cli.output import write_files
+
+    def read_only(path, *args):
+        raise OSError(errno.EROFS, "Read-only file system")
+
+    monkeypatch.setattr("os.mkdir", read_only)
+    folder = tmp_path / "tables"
+    with pytest.raises(UsageError, match=r"--out=.*tables: cannot create the folder \(Read-only file system\)"):
+        write_files({str(folder / "a.json"): "{}"}, make_dir=str(folder))
+    assert not folder.exists()
+
+
+def test_a_failed_rollback_keeps_the_first_failure_and_the_old_content(tmp_path, monkeypatch):
+    """Two files all or none: the second fails; restoring the first fails too; the first failure is reported and
+    the first file's old content is still on disk (its backup)."""
+    import errno
+
+    from forcenet.core import atomic_files
+
+    a, b = tmp_path / "a", tmp_path / "b"
+    a.write_text("old a")
+    real_replace, real_rename = os.replace, os.rename
+
+    def replace(src, dst):
+        if str(dst) == str(b):
+            raise OSError(errno.ENOSPC, "No space left on device")
+        return real_replace(src, dst)
+
+    def rename(src, dst):
+        if str(dst) == str(a):
+            raise OSError(errno.EIO, "Input/output error")
+        return real_rename(src, dst)
+
+    monkeypatch.setattr(atomic_files.os, "replace", replace)
+    monkeypatch.setattr(atomic_files.os, "rename", rename)
+    with pytest.raises(OSError, match="No space"):
+        atomic_files.write_all([(atomic_files.resolve(a), b"new a"), (atomic_files.resolve(b), b"new b")])
+    kept = [p.read_text() for p in tmp_path.iterdir()]
+    assert "old a" in kept and not b.exists()

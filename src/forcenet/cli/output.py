@@ -171,7 +171,10 @@ def write_files(files: dict, name: str = "--out", make_dir: str | None = None, n
     try:
         if make_dir is not None and not os.path.isdir(make_dir):
             check_output_dir(make_dir)
-            os.mkdir(make_dir)
+            try:
+                os.mkdir(make_dir)
+            except OSError as exc:
+                raise UsageError(f"{name}={make_dir}: cannot create the folder ({exc.strerror or exc})") from None
             created = make_dir
         dests = [(destination(path, names.get(path, name)), text) for path, text in files.items()]
         items = [(atomic_files.Target(dest.target, dest.in_place, dest.mode), text if isinstance(text, bytes)

@@ -73,7 +73,10 @@ def _through_proc(path: str) -> bool:
             return True
         if not os.path.islink(p):
             return False
-        p = os.path.join(os.path.dirname(p), os.readlink(p))
+        try:
+            p = os.path.join(os.path.dirname(p), os.readlink(p))
+        except OSError:  # a link that vanished or cannot be read: not through /proc; opening it reports why
+            return False
     return False
 
 
@@ -282,7 +285,10 @@ def write_all(items: Sequence[tuple[Target, bytes]], *, then: Callable[[], objec
             _unlink(tmp)
         for path, backup in reversed(renamed):
             if backup is not None:
-                os.rename(backup, path)
+                try:
+                    os.rename(backup, path)
+                except OSError:  # the old content stays in the backup file; the first failure is the one reported
+                    pass
             else:
                 _unlink(path)
         raise

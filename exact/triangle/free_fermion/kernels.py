@@ -95,7 +95,8 @@ def _check_width(n: int) -> None:
 
 @njit(inline="always", fastmath={"contract"}, **JIT)
 def _row_update(a0: float, a1: float, t0: float, t1: float, h00: float, h01: float, h10: float, h11: float, q00: float,
-                q01: float, q10: float, q11: float, c: float, p: float, pinv: float) -> tuple[float, float, float, float]:
+                q01: float, q10: float, q11: float, c: float, p: float,
+                pinv: float) -> tuple[float, float, float, float]:
     """One row with generators ``(a0, a1)``: ``E0, E1`` (its entries in the two pivot columns) and ``c F - E1 F_i0 + E0 F_i1``."""
     e0 = lred(lred(a0 * h00 + a1 * h01, p, pinv) * t0, p, pinv)
     e1 = lred(lred(a0 * h10 + a1 * h11, p, pinv) * t1, p, pinv)

@@ -79,7 +79,8 @@ def _refuse_ignored(args: argparse.Namespace) -> None:
         refuse_together(args, "seed", "samples", "the seed drives the cross-check's samples, and --samples 0 asks for none")
 
 
-def _request(args: argparse.Namespace, memory: int | None, client: Any = None, directory: str | None = None) -> TablePlan:
+def _request(args: argparse.Namespace, memory: int | None, client: Any = None,
+             directory: str | None = None) -> TablePlan:
     """The front door's plan of the request (:func:`forcenet.front_door.plan`); ``auto`` with ``--scheduler`` or
     ``--checkpoint`` chooses among the routes that take them."""
     from forcenet.front_door import plan

@@ -158,15 +158,6 @@ def test_exported_functions_have_the_numpydoc_sections(name, function):
 
 # ------------------------------------------------------------ every public function annotated (issue 44, item 7)
 
-# TEMPORARY: modules other work in progress owns (issue 44), held to the rule once that work is merged; empty this
-# list then, with pyproject.toml's [[tool.mypy.overrides]] of the same modules (disallow_untyped_defs = false)
-ANNOTATION_EXEMPT = {
-    "forcenet.front_door", "forcenet.results", "forcenet.core.compiled", "forcenet.core.plan", "forcenet.cli.dist",
-    "forcenet.cli.sample", "forcenet.cli.output", "forcenet.cli.cluster", "forcenet.cli.table",
-    "forcenet.exact.execution", "forcenet.exact.checkpoints", "forcenet.exact.routes",
-    "forcenet.exact.triangle.pfaffian",  # and its modules
-}
-
 
 def _public_definitions(tree: ast.Module) -> list[tuple[ast.FunctionDef | ast.AsyncFunctionDef, bool]]:
     """``(def, is_method)`` of every public function and method: at module level or in a public class, under
@@ -205,16 +196,15 @@ def _public_modules() -> list[tuple[str, object]]:
 
 
 def annotation_share() -> tuple[int, int, list[str]]:
-    """``(annotated, public, the unannotated outside ANNOTATION_EXEMPT)`` over the installed package."""
+    """``(annotated, public, the unannotated)`` over the installed package (no module exempt)."""
     annotated = total = 0
     offenders = []
     for name, path in _public_modules():
-        exempt = any(name == m or name.startswith(m + ".") for m in ANNOTATION_EXEMPT)
         for node, is_method in _public_definitions(ast.parse(path.read_text())):
             missing = unannotated(node, is_method)
             total += 1
             annotated += not missing
-            if missing and not exempt:
+            if missing:
                 offenders.append(f"{name}:{node.lineno} {node.name} {missing}")
     return annotated, total, offenders
 
@@ -247,3 +237,4 @@ def test_every_public_function_is_annotated():
     assert total > 500, total  # the walk sees the package
     assert not offenders, (f"{len(offenders)} public functions not fully annotated ({annotated}/{total} over the "
                            "package):\n" + "\n".join(offenders))
+    assert annotated / total == 1.0, (annotated, total)

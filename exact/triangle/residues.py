@@ -41,7 +41,7 @@ SOLVE_SLACK: Final = 2.0**26
 
 
 @njit(inline="always", **JIT)
-def red(x, p, pinv):
+def red(x: float, p: float, pinv: float) -> float:
     """The residue of the exact integer ``x`` (``|x| + p <= 2^53``) in ``[0, p)``."""
     x = x - np.floor(x * pinv) * p
     if x < 0.0:
@@ -52,13 +52,13 @@ def red(x, p, pinv):
 
 
 @njit(inline="always", **JIT)
-def lred(x, p, pinv):
+def lred(x: float, p: float, pinv: float) -> float:
     """A value in ``(-p, 2p)`` congruent to the exact integer ``x`` (``|x| < 2^53``): :func:`red` without corrections."""
     return x - np.floor(x * pinv) * p
 
 
 @njit(**JIT)
-def inv_mod(a, p, pinv):
+def inv_mod(a: Any, p: Any, pinv: float) -> float:
     """``1/a`` modulo ``p`` by the extended Euclidean algorithm (``a`` a nonzero residue; ~60 ns)."""
     t, new_t = int64(0), int64(1)
     r, new_r = int64(p), int64(a)
@@ -70,7 +70,7 @@ def inv_mod(a, p, pinv):
 
 
 @njit(fastmath={"contract"}, **JIT)
-def axpy(M, i, c, g, lo, hi):
+def axpy(M: np.ndarray, i: Any, c: Any, g: float, lo: int, hi: int) -> None:
     """Row ``i`` of ``M`` plus ``g`` times row ``c``, columns ``lo..hi-1`` (unreduced; a vector loop)."""
     i, c = uint64(i), uint64(c)
     for j in range(lo, hi):
@@ -78,7 +78,7 @@ def axpy(M, i, c, g, lo, hi):
 
 
 @njit(**JIT)
-def lazy_rounds(p):
+def lazy_rounds(p: float) -> int:
     """Elimination rounds :func:`solve` may run between two full reductions modulo ``p`` (``2 <= p < 2^25``).
 
     ``L = max(1, int((2^53 - S) / p^2) - 1)`` with the slack ``S`` = :data:`SOLVE_SLACK` = ``2^26``.
@@ -100,7 +100,7 @@ def lazy_rounds(p):
 
 
 @njit(**JIT)
-def solve(K, Rhs, p, pinv):
+def solve(K: np.ndarray, Rhs: np.ndarray, p: float, pinv: float) -> np.ndarray | None:
     """``K^{-1} Rhs`` modulo ``p`` by Gaussian elimination with row pivoting, lazily reduced; None if ``K`` is singular mod p.
 
     Forward elimination below each pivot (the pivot row is normalized and
@@ -167,21 +167,21 @@ def solve(K, Rhs, p, pinv):
 
 
 @njit(fastmath={"contract"}, **JIT)
-def _skew_rank2(A, i, x, y, xi, yi, lo, hi):
+def _skew_rank2(A: np.ndarray, i: int, x: np.ndarray, y: np.ndarray, xi: float, yi: float, lo: int, hi: int) -> None:
     """Row ``i`` of ``A``, columns ``lo..hi-1``, plus ``yi x_j + xi y_j`` (unreduced; a vector loop)."""
     for j in range(lo, hi):
         A[i, j] += yi * x[j] + xi * y[j]
 
 
 @njit(inline="always", **JIT)
-def _neg(x, p, pinv):
+def _neg(x: float, p: float, pinv: float) -> float:
     """``-x`` modulo ``p`` as a residue in ``[0, p)``."""
     v = red(x, p, pinv)
     return p - v if v != 0.0 else 0.0
 
 
 @njit(**JIT)
-def skew_solve(K, Rhs, p, pinv):
+def skew_solve(K: np.ndarray, Rhs: np.ndarray, p: float, pinv: float) -> np.ndarray | None:
     """``K^{-1} Rhs`` modulo ``p`` for a skew-symmetric ``K`` (zero diagonal); None if ``K`` is singular mod p.
 
     Bunch's elimination with ``2 x 2`` pivots ``[[0, a], [-a, 0]]`` and
@@ -290,7 +290,7 @@ def skew_solve(K, Rhs, p, pinv):
 
 
 @njit(**JIT)
-def pfaffian_mod(A, p):
+def pfaffian_mod(A: np.ndarray, p: float) -> float:
     """Pfaffian of the skew matrix ``A`` (residues, float64) modulo ``p``; ``A`` is overwritten."""
     pinv = 1.0 / p
     size = A.shape[0]
@@ -323,7 +323,7 @@ def pfaffian_mod(A, p):
 
 
 @njit(**JIT)
-def _quotient_at(P, x, p, pinv, q):
+def _quotient_at(P: np.ndarray, x: float, p: float, pinv: float, q: np.ndarray) -> None:
     """Synthetic division of the monic ``P`` (coefficients low to high) by ``(X - x)`` into ``q``."""
     deg = P.shape[0] - 1
     q[deg - 1] = 1.0
@@ -332,7 +332,7 @@ def _quotient_at(P, x, p, pinv, q):
 
 
 @njit(**JIT)
-def master_factors(P, points, lo, hi, p, pinv):
+def master_factors(P: np.ndarray, points: np.ndarray, lo: int, hi: int, p: float, pinv: float) -> None:
     """Multiply ``P`` (the product over ``points[:lo]``, low to high, length ``M + 1``) by ``X - points_i``, ``lo <= i < hi``."""
     for i in range(lo, hi):
         x = p - points[i]
@@ -342,7 +342,7 @@ def master_factors(P, points, lo, hi, p, pinv):
 
 
 @njit(**JIT)
-def _master(points, p, pinv):
+def _master(points: np.ndarray, p: float, pinv: float) -> np.ndarray:
     """Coefficients (low to high) of ``prod_i (X - points_i)`` modulo ``p``."""
     P = np.zeros(points.shape[0] + 1)
     P[0] = 1.0
@@ -351,7 +351,7 @@ def _master(points, p, pinv):
 
 
 @njit(fastmath={"contract"}, **JIT)
-def dual_block(points, g, P, p, lo, hi, lam):
+def dual_block(points: np.ndarray, g: np.ndarray, P: np.ndarray, p: float, lo: int, hi: int, lam: np.ndarray) -> None:
     """``lam[lo:hi]`` of :func:`dual_weights` (``lo`` a multiple of 8), given the master polynomial ``P``."""
     pinv = 1.0 / p
     M = points.shape[0]
@@ -378,7 +378,7 @@ def dual_block(points, g, P, p, lo, hi, lam):
             lam[i0 + l] = red(red(num[l], p, pinv) * inv_mod(red(den[l], p, pinv), p, pinv), p, pinv)
 
 
-def dual_weights(points, g, p):
+def dual_weights(points: np.ndarray, g: np.ndarray, p: float) -> np.ndarray:
     """``lam`` with ``sum_i lam_i points_i^l = g_l`` for ``l < M`` (transposed Vandermonde, O(M^2)).
 
     ``lam_i = phi(L_i)`` for the Lagrange basis ``L_i`` and the functional
@@ -402,7 +402,7 @@ def dual_weights(points, g, p):
 
 
 @njit(**JIT)
-def lagrange_matrix(points, p):
+def lagrange_matrix(points: np.ndarray, p: float) -> np.ndarray:
     """``L[k, j]``: coefficient of ``X^k`` in the Lagrange basis polynomial of ``points_j`` (the inverse Vandermonde)."""
     pinv = 1.0 / p
     M = points.shape[0]
@@ -421,7 +421,7 @@ def lagrange_matrix(points, p):
 
 
 @njit(**JIT)
-def weighted_rows(w, R, p, lo, hi, out):
+def weighted_rows(w: np.ndarray, R: np.ndarray, p: float, lo: int, hi: int, out: np.ndarray) -> None:
     """``out += sum_(lo <= i < hi) w_i R[i]`` modulo ``p`` (``out`` reduced on entry and on return)."""
     pinv = 1.0 / p
     m, a, b = R.shape
@@ -440,7 +440,7 @@ def weighted_rows(w, R, p, lo, hi, out):
             out[x, y] = red(out[x, y], p, pinv)
 
 
-def weighted_sum(w, R, p):
+def weighted_sum(w: np.ndarray, R: np.ndarray, p: float) -> np.ndarray:
     """``sum_i w_i R[i]`` modulo ``p`` for a stack ``R`` of shape ``(m, a, b)``, in compiled calls of ~0.15 s."""
     m, a, b = R.shape
     out = np.zeros((a, b))

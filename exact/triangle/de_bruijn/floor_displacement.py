@@ -70,13 +70,13 @@ def lane_buffer(lanes: int) -> np.ndarray:
 
 
 @njit(inline="always", fastmath={"contract"}, **JIT)
-def _update(x, c, e0, e1, q0, q1, p, pinv):
+def _update(x: float, c: float, e0: float, e1: float, q0: float, q1: float, p: float, pinv: float) -> float:
     """``c x - e1 q0 + e0 q1``: a row's entry after the fraction-free Schur step (below ``10 p^2`` before reduction)."""
     return lred(c * x - e1 * q0 + e0 * q1, p, pinv)
 
 
 @njit(fastmath={"contract"}, **JIT)
-def _step(Z, o, k, n, invx, c, p, pinv):
+def _step(Z: np.ndarray, o: int, k: int, n: int, invx: np.ndarray, c: float, p: float, pinv: float) -> None:
     """The pivot pair ``(k, k+1)`` of one lane (offset ``o``) on the rows ``k + 2..n - 1`` (padded): a vector loop.
 
     ``A[i, k] = G_i Omega G_k^T / (x_i + x_k)``, ``A[i, k+1]`` the same, then
@@ -109,7 +109,7 @@ def _step(Z, o, k, n, invx, c, p, pinv):
 
 
 @njit(**JIT)
-def _copy_fill(Z, o, n, y, p, pinv):
+def _copy_fill(Z: np.ndarray, o: int, n: int, y: float, p: float, pinv: float) -> None:
     """The lane at ``o`` from the one before it (same ``s``, ``t``; its state not yet eliminated), at ``y``."""
     src = o - STREAMS * STRIDE
     for k in range(n):
@@ -119,7 +119,7 @@ def _copy_fill(Z, o, n, y, p, pinv):
 
 
 @njit(**JIT)
-def _fill(Z, o, n, s, t, y, invx, p, pinv):
+def _fill(Z: np.ndarray, o: int, n: int, s: float, t: float, y: float, invx: np.ndarray, p: float, pinv: float) -> None:
     """The generators and border columns of one lane at ``(s, t, y)``."""
     sk = 1.0
     tk = 1.0
@@ -137,7 +137,8 @@ def _fill(Z, o, n, s, t, y, invx, p, pinv):
 
 
 @njit(**JIT)
-def bordered_pfaffians(n, ss, ts, ys, invx, p, Z, pf, S, ok):
+def bordered_pfaffians(n: int, ss: np.ndarray, ts: np.ndarray, ys: np.ndarray, invx: np.ndarray, p: float,
+                       Z: np.ndarray, pf: np.ndarray, S: np.ndarray, ok: np.ndarray) -> None:
     """``Pf Y`` and ``S`` of :func:`~.floor_kernels.fill_pair`'s matrix at every lane ``(ss[l], ts[l], ys[l])``.
 
     The same residues as :func:`~.floor_kernels.pfaffian_pair` (tested), by

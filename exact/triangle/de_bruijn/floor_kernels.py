@@ -24,7 +24,7 @@ GRID_LANES = 16  # nodes of a row side by side in the displacement kernel (the p
 
 
 @njit(**JIT)
-def pfaffian_lazy(A, size, p, pinv):
+def pfaffian_lazy(A: np.ndarray, size: int, p: float, pinv: float) -> tuple[float, bool]:
     """Pfaffian of the skew matrix whose upper triangle is ``A``, modulo ``p < 2^22``, ``size <= 128``.
 
     The entries may start unreduced, ``0 <= A < 3 p^2`` (:func:`fill`).  No
@@ -39,7 +39,7 @@ def pfaffian_lazy(A, size, p, pinv):
 
 
 @njit(**JIT)
-def eliminate(A, size, top, p, pinv):
+def eliminate(A: np.ndarray, size: int, top: int, p: float, pinv: float) -> tuple[float, bool]:
     """:func:`pfaffian_lazy`'s steps over the leading ``size`` rows of an order-``top`` upper triangle:
     ``(product of the pivots, ok)``; the trailing block is left as its Schur complement."""
     result = 1.0
@@ -62,7 +62,8 @@ def eliminate(A, size, top, p, pinv):
 
 
 @njit(inline="always", **JIT)
-def _diagonals(n, s, t, y, sp, tp, p, pinv):
+def _diagonals(n: int, s: float, t: float, y: float, sp: np.ndarray, tp: np.ndarray, p: float,
+               pinv: float) -> np.ndarray:
     """The powers ``s^e``, ``t^e`` (into ``sp``, ``tp``) and ``D_e = y s^e + 1 - t^e``, ``e = 2..2n``."""
     sp[0] = 1.0
     tp[0] = 1.0
@@ -76,7 +77,8 @@ def _diagonals(n, s, t, y, sp, tp, p, pinv):
 
 
 @njit(**JIT)
-def fill(A, n, size, s, t, zeta, C, iota, sp, tp, p, pinv, full):
+def fill(A: np.ndarray, n: int, size: int, s: float, t: float, zeta: float, C: np.ndarray, iota: np.ndarray,
+         sp: np.ndarray, tp: np.ndarray, p: float, pinv: float, full: bool) -> None:
     """The de Bruijn matrix at ``(s, t, zeta)`` (module docstring): the upper triangle unreduced (``< 3 p^2``), or
     both halves reduced if ``full``."""
     D = _diagonals(n, s, t, red(zeta * zeta, p, pinv), sp, tp, p, pinv)
@@ -101,7 +103,8 @@ def fill(A, n, size, s, t, zeta, C, iota, sp, tp, p, pinv, full):
 
 
 @njit(inline="always", **JIT)
-def add_node(outA, outB, a, weight, vals, mirrored, p, pinv):
+def add_node(outA: np.ndarray, outB: np.ndarray, a: int, weight: float, vals: np.ndarray, mirrored: bool, p: float,
+             pinv: float) -> None:
     """Row ``a`` of both sums plus ``weight`` times the node's values (``B`` only for a node with a mirror)."""
     for c in range(vals.shape[0]):
         term = red(weight * vals[c], p, pinv)
@@ -111,34 +114,35 @@ def add_node(outA, outB, a, weight, vals, mirrored, p, pinv):
 
 
 @njit(inline="always", **JIT)
-def grid_outputs(d, nz):
+def grid_outputs(d: int, nz: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The two half-grid sums (rows ``w = 0..d+2``) and one node's values."""
     return np.zeros((d + 3, nz)), np.zeros((d + 3, nz)), np.empty(nz)
 
 
 @njit(inline="always", **JIT)
-def grid_node(a, b, one_w, dinv, p, pinv):
+def grid_node(a: int, b: int, one_w: float, dinv: float, p: float, pinv: float) -> tuple[float, float]:
     """The node ``(u = b/d, w = a)``: ``s = (1 - w) u``, ``t = s + w``."""
     s = red(one_w * red(b * dinv, p, pinv), p, pinv)
     return s, red(s + a, p, pinv)
 
 
 @njit(inline="always", **JIT)
-def scale_row(outA, outB, a, factor, p, pinv):
+def scale_row(outA: np.ndarray, outB: np.ndarray, a: int, factor: float, p: float, pinv: float) -> None:
     for c in range(outA.shape[1]):
         outA[a, c] = red(outA[a, c] * factor, p, pinv)
         outB[a, c] = red(outB[a, c] * factor, p, pinv)
 
 
 @njit(inline="always", **JIT)
-def _lane_state(lanes):
+def _lane_state(lanes: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The displacement kernel's state and per-lane arrays for ``lanes`` lanes: ``Z, ss, ts, pf, S, ok``."""
     return (np.zeros(STREAMS * STRIDE * lanes), np.empty(lanes), np.empty(lanes), np.empty(lanes), np.empty(lanes),
             np.empty(lanes, dtype=np.bool_))
 
 
 @njit(**JIT)
-def grid(n, d, p, lam, C, iota, invx, displacement):
+def grid(n: int, d: int, p: float, lam: np.ndarray, C: np.ndarray, iota: np.ndarray, invx: np.ndarray,
+         displacement: bool) -> tuple[np.ndarray, np.ndarray, int]:
     """Half the grid at ``zeta = 1``, by the mirror ``v -> 1 - v``: ``(1 - w) sum_b lam_b Pf(s, t)`` over the
     nodes ``u = b/d``, ``b <= d/2`` (``A``), and the same without the middle node (``B``), for ``w = 0..d+2``, mod
     ``p``; ``s = (1 - w) u``, ``t = s + w``.
@@ -189,7 +193,8 @@ def grid(n, d, p, lam, C, iota, invx, displacement):
 
 
 @njit(**JIT)
-def fill_pair(A, n, s, t, y, C, iota, sp, tp, p, pinv):
+def fill_pair(A: np.ndarray, n: int, s: float, t: float, y: float, C: np.ndarray, iota: np.ndarray, sp: np.ndarray,
+              tp: np.ndarray, p: float, pinv: float) -> None:
     """The bordered matrix ``M = [[Y, sigma, rho], [., 0, 0]]`` at ``y = zeta^2`` (upper triangle, ``< 3 p^2``).
 
     The de Bruijn matrix is ``X(zeta) = Y(zeta^2) + zeta (sigma rho^T - rho sigma^T)``
@@ -222,7 +227,7 @@ def fill_pair(A, n, s, t, y, C, iota, sp, tp, p, pinv):
 
 
 @njit(**JIT)
-def pfaffian_pair(A, size, p, pinv):
+def pfaffian_pair(A: np.ndarray, size: int, p: float, pinv: float) -> tuple[float, float, bool]:
     """``(Pf Y, S, ok)`` for ``M`` of :func:`fill_pair` (``Y`` of order ``size``): :func:`pfaffian_lazy`'s steps
     over ``Y`` only, then the one entry left."""
     result, ok = eliminate(A, size, size + 2, p, pinv)
@@ -232,7 +237,8 @@ def pfaffian_pair(A, size, p, pinv):
 
 
 @njit(**JIT)
-def grid_pairs(n, d, p, zpos, with_zero, lam, C, iota, invx, displacement):
+def grid_pairs(n: int, d: int, p: float, zpos: np.ndarray, with_zero: int, lam: np.ndarray, C: np.ndarray,
+               iota: np.ndarray, invx: np.ndarray, displacement: bool) -> tuple[np.ndarray, np.ndarray, int]:
     """:func:`grid` for every floor load: ``zeta`` in ``[0 if with_zero] + [z, -z for z in zpos]`` (the columns),
     each pair ``+-z`` from one bordered Pfaffian (:func:`fill_pair`).
 
@@ -288,7 +294,7 @@ def grid_pairs(n, d, p, zpos, with_zero, lam, C, iota, invx, displacement):
 
 
 @njit(**JIT)
-def monomials(values, p):
+def monomials(values: np.ndarray, p: float) -> np.ndarray:
     """Monomial coefficients of the polynomial through ``(a, values[a])``, ``a = 0..k``, by forward differences."""
     pinv = 1.0 / p
     k = values.shape[0] - 1
@@ -311,7 +317,7 @@ def monomials(values, p):
 
 
 @njit(**JIT)
-def gap_residues(J, d, total_mod, p):
+def gap_residues(J: np.ndarray, d: int, total_mod: float, p: float) -> np.ndarray:
     """``count x_g`` mod ``p`` from the values of (1) at ``w = 0..d+2``; ``-1`` in slot 0 if the degree exceeds ``d + 1``."""
     pinv = 1.0 / p
     coef = monomials(J, p)

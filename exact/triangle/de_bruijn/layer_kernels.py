@@ -37,7 +37,8 @@ __all__ = ["layer_fill", "layer_grid"]
 
 
 @njit(**JIT)
-def layer_fill(A, m, k, s, t, zeta, kap, lam, w, iota, p, pinv, full):
+def layer_fill(A: np.ndarray, m: int, k: int, s: float, t: float, zeta: float, kap: np.ndarray, lam: np.ndarray,
+               w: np.ndarray, iota: np.ndarray, p: float, pinv: float, full: bool) -> None:
     """The de Bruijn matrix of a layer at ``(s, t, zeta)`` (module docstring), reduced; upper triangle, or both
     halves if ``full``.
 
@@ -101,7 +102,8 @@ def layer_fill(A, m, k, s, t, zeta, kap, lam, w, iota, p, pinv, full):
 
 
 @njit(**JIT)
-def _quadratic(A, F0, Q, P, zeta, size, p, pinv):
+def _quadratic(A: np.ndarray, F0: np.ndarray, Q: np.ndarray, P: np.ndarray, zeta: float, size: int, p: float,
+               pinv: float) -> None:
     """``A = F0 + zeta Q + zeta^2 P`` on the upper triangle: the matrix at ``zeta`` from its three parts."""
     z2 = red(zeta * zeta, p, pinv)
     for a in range(size):
@@ -110,7 +112,8 @@ def _quadratic(A, F0, Q, P, zeta, size, p, pinv):
 
 
 @njit(**JIT)
-def layer_grid(m, k, d, p, zetas, lam_u, kap, lam, w, iota):
+def layer_grid(m: int, k: int, d: int, p: float, zetas: np.ndarray, lam_u: np.ndarray, kap: np.ndarray, lam: np.ndarray,
+               w: np.ndarray, iota: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
     """Half the grid (the floor's, :func:`~.floor_kernels.grid`) for a layer, at every ``zeta`` of ``zetas``
     (the columns): ``(A, B, failures)``, ``(1 - w) sum_b lam_u[b] Pf(s, t, zeta)`` over the nodes
     ``u = b/d``, ``b <= d/2`` (``A``) and the same without the middle node (``B``), rows ``w = 0..d+2``.

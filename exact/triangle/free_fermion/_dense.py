@@ -28,6 +28,8 @@ It also carries the whole kernel interface of :mod:`.kernels` with
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numba import uint64
 
@@ -41,7 +43,7 @@ __all__ = ["point_values_dense", "displacement_generators", "pfaffian_mod", "poi
 
 
 @njit(fastmath={"contract"}, **JIT)
-def _matmul(A, B, rows, cols, p, pinv):
+def _matmul(A: Any, B: np.ndarray, rows: Any, cols: Any, p: float, pinv: float) -> np.ndarray:
     """``(A @ B)[:rows, :cols]`` modulo ``p``, reducing after every ``chunk`` inner terms (``p + chunk p^2 < 2^53``)."""
     inner = uint64(A.shape[1])
     rows, cols = uint64(rows), uint64(cols)
@@ -60,7 +62,8 @@ def _matmul(A, B, rows, cols, p, pinv):
 
 
 @njit(inline="always", **JIT)
-def _pivot(A, i0, i1, width, p, pinv, c1, c2, size):
+def _pivot(A: np.ndarray, i0: Any, i1: Any, width: Any, p: float, pinv: float, c1: np.ndarray, c2: np.ndarray,
+           size: Any) -> float:
     """Reduce the pivot rows ``i0, i1`` (from the first block any row below reads) and fill the multipliers.
 
     ``c1[i] = A[i1, i] / a``, ``c2[i] = -A[i0, i] / a`` for ``i > i1``: the Schur complement of the pivot
@@ -79,7 +82,8 @@ def _pivot(A, i0, i1, width, p, pinv, c1, c2, size):
 
 
 @njit(fastmath={"contract"}, **JIT)
-def _eliminate(A, n, p, pinv, c1, c2, d1, d2, out):
+def _eliminate(A: Any, n: int, p: float, pinv: float, c1: np.ndarray, c2: np.ndarray, d1: np.ndarray,
+               d2: np.ndarray, out: np.ndarray) -> bool:
     """Leading pair-Pfaffians of the skew matrix ``A`` (upper triangle, ``2n``-square), lazily reduced.
 
     ``out[k] = Pf(A[:2k+2, :2k+2])``; False on a zero pivot (the caller moves
@@ -147,7 +151,7 @@ def _eliminate(A, n, p, pinv, c1, c2, d1, d2, out):
 
 
 @njit(**JIT)
-def _scaled_rows(A, Wt, scale):
+def _scaled_rows(A: np.ndarray, Wt: Any, scale: np.ndarray) -> None:
     """Upper triangle of ``D_u W D_u`` into ``A`` (row ``i`` scaled by ``scale[i % 2]``), zeros below it in the first block."""
     size = uint64(Wt.shape[0])
     for i in range(size):
@@ -159,7 +163,7 @@ def _scaled_rows(A, Wt, scale):
 
 
 @njit(**JIT)
-def _kernel_matrix(B, X1, expo, c, n, p, Wt):
+def _kernel_matrix(B: np.ndarray, X1: np.ndarray, expo: np.ndarray, c: float, n: int, p: float, Wt: np.ndarray) -> bool:
     """The kernel ``W`` at ``q = c`` (upper triangle, copies interleaved) into ``Wt``; False if ``K(c)`` is singular.
 
     ``K(c) = B + Q X1 Q`` (``Q = diag(c^expo)``), ``W = -G0^{-1}`` restricted to the sites,
@@ -194,7 +198,8 @@ def _kernel_matrix(B, X1, expo, c, n, p, Wt):
 
 
 @njit(**JIT)
-def _window_pfaffians(A, Wt, u, with_j, n, p, bufs, out):
+def _window_pfaffians(A: np.ndarray, Wt: np.ndarray, u: float, with_j: bool, n: int, p: float, bufs: np.ndarray,
+                      out: np.ndarray) -> bool:
     """Leading pair-Pfaffians of ``D_u W D_u`` (``+ J`` if ``with_j``), ``D_u = diag(u, 1, u, 1, ...)``."""
     pinv = 1.0 / p
     size = 2 * n
@@ -211,7 +216,8 @@ def _window_pfaffians(A, Wt, u, with_j, n, p, bufs, out):
 
 
 @njit(**JIT)
-def point_values_dense(B, X1, expo, c, us, n, p, R, BC=None):
+def point_values_dense(B: np.ndarray, X1: np.ndarray, expo: np.ndarray, c: float, us: np.ndarray, n: int, p: float,
+                       R: np.ndarray, BC: np.ndarray | None = None) -> bool:
     """:func:`point_values` by the dense pair elimination (the baseline; needs ``p + 2 (n-1) p^2 < 2^53``).
 
     Builds the kernel ``W`` (:func:`_kernel_matrix`) and, for every ``u_j`` of
@@ -236,7 +242,7 @@ def point_values_dense(B, X1, expo, c, us, n, p, R, BC=None):
 
 
 @njit(**JIT)
-def displacement_generators(Wt, n, p, F):
+def displacement_generators(Wt: np.ndarray, n: int, p: float, F: np.ndarray) -> bool:
     """Two generators of the kernel ``W``: ``(x_i + x_j) W_ij = F_i0 F_j1 - F_i1 F_j0`` for all ``i < j``.
 
     ``Wt`` is the upper triangle of ``W`` (:func:`_kernel_matrix`), ``x`` the

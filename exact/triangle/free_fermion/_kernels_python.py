@@ -12,16 +12,19 @@ lazily reduced kernels against it on small ``N``.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 import numpy as np
 
 __all__ = ["pfaffian_mod", "point_values", "edge_values", "dual_weights", "lagrange_matrix", "weighted_sum"]
 
 
-def _ints(A):
+def _ints(A: Any) -> list[list[int]]:
     return [[int(x) for x in row] for row in np.asarray(A)]
 
 
-def _pair_pfaffians(A, p: int, pivoting: bool):
+def _pair_pfaffians(A: list[list[int]], p: int, pivoting: bool) -> list[int] | None:
     """Leading pair-Pfaffians ``Pf(A[:2k, :2k])``, ``k = 1..size/2`` (None where a pivot vanishes)."""
     A = [row[:] for row in A]
     size = len(A)
@@ -49,7 +52,7 @@ def _pair_pfaffians(A, p: int, pivoting: bool):
     return out
 
 
-def pfaffian_mod(A, p):
+def pfaffian_mod(A: Any, p: Any) -> int:
     """Pfaffian of the skew matrix ``A`` modulo ``p``."""
     p = int(p)
     if len(A) % 2:
@@ -58,7 +61,7 @@ def pfaffian_mod(A, p):
     return values[-1] if values else 1
 
 
-def _inverse(K, p):
+def _inverse(K: list[list[int]], p: int) -> list[list[int]] | None:
     s = len(K)
     M = [row[:] + [int(i == j) for j in range(s)] for i, row in enumerate(K)]
     for c in range(s):
@@ -75,7 +78,8 @@ def _inverse(K, p):
     return [row[s:] for row in M]
 
 
-def _kernel_matrix(B, X1, expo, c, n, p):
+def _kernel_matrix(B: Any, X1: Any, expo: Any, c: int, n: int,
+                   p: int) -> Callable[[int, bool], list[list[int]]] | None:
     """The kernel ``W`` at ``q = c`` as a function ``(u, with_j) -> J + D_u W D_u`` (None if ``K(c)`` is singular)."""
     B, X1 = _ints(B), _ints(X1)
     s = len(B)
@@ -87,7 +91,7 @@ def _kernel_matrix(B, X1, expo, c, n, p):
     BKi = [[sum(B[i][k] * Ki[k][j] for k in range(s)) % p for j in range(s)] for i in range(s)]
     BKiB = [[sum(BKi[i][k] * B[k][j] for k in range(s)) % p for j in range(s)] for i in range(s)]
 
-    def matrix(u, with_j):
+    def matrix(u: int, with_j: bool) -> list[list[int]]:
         size = 2 * n
         A = [[0] * size for _ in range(size)]
         for a in range(n):
@@ -105,7 +109,7 @@ def _kernel_matrix(B, X1, expo, c, n, p):
     return matrix
 
 
-def point_values(B, X1, expo, c, us, n, p, R, BC=None):
+def point_values(B: Any, X1: Any, expo: Any, c: Any, us: Any, n: Any, p: Any, R: np.ndarray, BC: Any = None) -> bool:
     """Pure-Python twin of :func:`.kernels.point_values` (fills ``R``, returns False on a zero pivot; ``BC`` unused)."""
     p, c, n = int(p), int(c), int(n)
     matrix = _kernel_matrix(B, X1, expo, c, n, p)
@@ -119,7 +123,7 @@ def point_values(B, X1, expo, c, us, n, p, R, BC=None):
     return True
 
 
-def edge_values(B, X1, expo, c, n, p, R, BC=None):
+def edge_values(B: Any, X1: Any, expo: Any, c: Any, n: Any, p: Any, R: np.ndarray, BC: Any = None) -> bool:
     """Pure-Python twin of :func:`.kernels.edge_values`: ``R[0]`` Pfaffians of ``W``, ``R[1]`` at ``y = 0`` (``BC`` unused)."""
     p, c, n = int(p), int(c), int(n)
     matrix = _kernel_matrix(B, X1, expo, c, n, p)
@@ -133,7 +137,7 @@ def edge_values(B, X1, expo, c, n, p, R, BC=None):
     return True
 
 
-def _quotients(points, p):
+def _quotients(points: list[int], p: int) -> list[list[int]]:
     """For each point ``x_i``: the coefficients of ``prod_{j != i} (X - x_j)`` (low to high)."""
     out = []
     for i, _ in enumerate(points):
@@ -145,7 +149,7 @@ def _quotients(points, p):
     return out
 
 
-def dual_weights(points, g, p):
+def dual_weights(points: Any, g: Any, p: Any) -> np.ndarray:
     """``lam`` with ``sum_i lam_i points_i^l = g_l`` for ``l < M`` (solved through the Lagrange basis)."""
     p = int(p)
     points = [int(x) for x in points]
@@ -156,7 +160,7 @@ def dual_weights(points, g, p):
     return np.array(lam, dtype=np.float64)
 
 
-def lagrange_matrix(points, p):
+def lagrange_matrix(points: Any, p: Any) -> np.ndarray:
     """``L[k, j]``: coefficient of ``X^k`` in the Lagrange basis polynomial of ``points_j``."""
     p = int(p)
     points = [int(x) for x in points]
@@ -169,7 +173,7 @@ def lagrange_matrix(points, p):
     return L
 
 
-def weighted_sum(w, R, p):
+def weighted_sum(w: Any, R: Any, p: Any) -> np.ndarray:
     """``sum_i w_i R[i]`` modulo ``p``."""
     p = int(p)
     R = np.asarray(R).astype(np.int64)

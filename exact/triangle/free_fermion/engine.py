@@ -33,7 +33,7 @@ come back as ``int64``.
 from __future__ import annotations
 
 import threading
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from types import ModuleType
 
@@ -204,7 +204,7 @@ def check_prime(N: int, p: int) -> int:
 _WORK = threading.local()
 
 
-def _work_array(shape) -> np.ndarray:
+def _work_array(shape: tuple[int, ...]) -> np.ndarray:
     """A float64 array of ``shape`` on a buffer of this thread, reused from prime to prime.
 
     The level values of one prime take ``M/2 (n + 1) n`` doubles (0.2 GB at
@@ -218,7 +218,8 @@ def _work_array(shape) -> np.ndarray:
     return buffer[:size].reshape(shape)
 
 
-def _level_sums(N: int, p: int, K, values, shape, shifts: tuple[int, ...] = (0,)):
+def _level_sums(N: int, p: int, K: ModuleType, values: Callable[[float, np.ndarray], bool], shape: tuple[int, ...],
+                shifts: tuple[int, ...] = (0,)) -> list[tuple[np.ndarray, np.ndarray]]:
     """Evaluate ``values(c, R)`` at the ``M/2`` representatives; the weighted sums over them and over their partners.
 
     ``values`` fills ``R`` (shape ``shape``) at ``q = c`` and returns False on a
@@ -376,7 +377,7 @@ def edge_residues(N: int, p: int) -> np.ndarray:
     return out
 
 
-def _matmul_mod(A, B, p):
+def _matmul_mod(A: np.ndarray, B: np.ndarray, p: int) -> np.ndarray:
     """``A @ B mod p`` for int64 residues below ``2^25`` (sums of 2^12 products stay below 2^63)."""
     out = np.zeros((A.shape[0], B.shape[1]), dtype=np.int64)
     for start in range(0, A.shape[1], 1 << 12):

@@ -49,14 +49,14 @@ LANES = 8  # values of y eliminated side by side
 
 
 @njit(inline="always", **JIT)
-def node_value(i, n):
+def node_value(i: int, n: int) -> int:
     """Node value of row ``i``: ``+a`` on copy 0 (even rows) and ``-a`` on copy 1 of the part ``a = n - i // 2``."""
     a = n - i // 2
     return a if i % 2 == 0 else -a
 
 
 @njit(**JIT)
-def _pivot_inverses(n, p):
+def _pivot_inverses(n: int, p: float) -> np.ndarray:
     """``T[k, 2 pc + rc, b] = 1/(x_row + x_pivot)`` modulo ``p``: pivot copy ``pc`` of site ``k``, row copy ``rc`` of site ``b > k``.
 
     With the node values ``x = +a`` (copy 0) and ``-a`` (copy 1) of the part
@@ -87,14 +87,16 @@ _USTRIDE = uint64(_STRIDE)
 
 
 @njit(**JIT)
-def _check_width(n):
+def _check_width(n: int) -> None:
     """Refuse ``n`` parts that do not fit the lanes' rows (``n + 8 <= _STRIDE``: N <= 209, beyond the route's 200)."""
     if n + 8 > _STRIDE:
         raise ArgumentError("n is out of range: the kernels need n + 8 <= _STRIDE (216)")
 
 
 @njit(inline="always", fastmath={"contract"}, **JIT)
-def _row_update(a0, a1, t0, t1, h00, h01, h10, h11, q00, q01, q10, q11, c, p, pinv):
+def _row_update(a0: float, a1: float, t0: float, t1: float, h00: float, h01: float, h10: float, h11: float, q00: float,
+                q01: float, q10: float, q11: float, c: float, p: float,
+                pinv: float) -> tuple[float, float, float, float]:
     """One row with generators ``(a0, a1)``: ``E0, E1`` (its entries in the two pivot columns) and ``c F - E1 F_i0 + E0 F_i1``."""
     e0 = lred(lred(a0 * h00 + a1 * h01, p, pinv) * t0, p, pinv)
     e1 = lred(lred(a0 * h10 + a1 * h11, p, pinv) * t1, p, pinv)
@@ -102,7 +104,8 @@ def _row_update(a0, a1, t0, t1, h00, h01, h10, h11, q00, q01, q10, q11, c, p, pi
 
 
 @njit(fastmath={"contract"}, **JIT)
-def _gko_sites(Z, o, Tk, k, n, h00, h01, h10, h11, q00, q01, q10, q11, c, p, pinv):
+def _gko_sites(Z: np.ndarray, o: int, Tk: np.ndarray, k: int, n: int, h00: float, h01: float, h10: float, h11: float,
+               q00: float, q01: float, q10: float, q11: float, c: float, p: float, pinv: float) -> None:
     """One fraction-free pivot (site ``k``, pivot value ``c``) on the sites ``b > k`` of one lane: a vector loop over ``b``.
 
     ``Z[o + r S + b]`` (``S`` = :data:`_STRIDE`): rows ``r = 0, 1`` the
@@ -133,7 +136,8 @@ def _gko_sites(Z, o, Tk, k, n, h00, h01, h10, h11, q00, q01, q10, q11, c, p, pin
 
 
 @njit(**JIT)
-def _gko_windows(F, Wd, T, us, js, n, p, out, Z):
+def _gko_windows(F: np.ndarray, Wd: np.ndarray, T: np.ndarray, us: np.ndarray, js: np.ndarray, n: int, p: float,
+                 out: np.ndarray, Z: np.ndarray) -> bool:
     """Leading pair-Pfaffians of ``js J + D_u W D_u`` for every lane ``l`` (``u = us[l]``), by displacement.
 
     ``F``: the generators of ``W`` (:func:`_kernel_generators`); ``Wd[b] = W[2b, 2b+1]``,
@@ -202,7 +206,8 @@ def _gko_windows(F, Wd, T, us, js, n, p, out, Z):
 
 
 @njit(**JIT)
-def _kernel_generators(B, X1, expo, c, n, p, F, Wd, C):
+def _kernel_generators(B: np.ndarray, X1: np.ndarray, expo: np.ndarray, c: float, n: int, p: float, F: np.ndarray,
+                       Wd: np.ndarray, C: np.ndarray) -> bool:
     """The kernel ``W`` at ``q = c`` as its two displacement generators ``F`` and pair entries ``Wd``, in ``O(n^3/2)``.
 
     ``notes/free_fermions.md`` Sec. 4.1: with ``D B + B D = u v^T - v u^T``
@@ -230,7 +235,7 @@ def _kernel_generators(B, X1, expo, c, n, p, F, Wd, C):
         qp[i] = powers[expo[i]]
     Rhs = np.zeros((s, 4))  # u, v, u', v'
     for i in range(s):
-        a = float(expo[i])
+        a = float(expo[i])  # type: ignore[assignment]  # the name holds an int above (numba unifies)
         if i < n:
             v = B[i, z]  # beta_i beta_0 M_i0 = beta_i
             sa = red(X1[i, z] * (p - sign_z), p, pinv)  # (S alpha)_i = -(-1)^z X1[i, z]
@@ -279,7 +284,7 @@ def _kernel_generators(B, X1, expo, c, n, p, F, Wd, C):
 
 
 @njit(**JIT)
-def kernel_constants(B, expo, n, p):
+def kernel_constants(B: np.ndarray, expo: np.ndarray, n: int, p: float) -> np.ndarray:
     """``C[b, j] = B[b, j] / (a_j + a_b)`` modulo ``p`` (``0`` at ``j = b``), ``b`` a part: the same for every level point.
 
     The pair entries of the kernel are ``W[2b, 2b+1] = sum_j C[b, j] g_jb``
@@ -301,7 +306,7 @@ def kernel_constants(B, expo, n, p):
 
 
 @njit(inline="always", **JIT)
-def _split(v, Ys, row, j):
+def _split(v: float, Ys: np.ndarray, row: int, j: int) -> None:
     """The residue ``v`` as ``8192 hi + lo`` into ``Ys[row, j]`` (``hi < 2^12``) and ``Ys[row + 1, j]`` (``lo < 2^13``)."""
     hi = np.floor(v * (1.0 / 8192.0))
     Ys[row, j] = hi
@@ -309,7 +314,7 @@ def _split(v, Ys, row, j):
 
 
 @njit(fastmath={"contract", "reassoc"}, **JIT)  # not inlined by numba: its own reassoc flag lets LLVM vectorize the sum
-def _dot(x, y, s):
+def _dot(x: np.ndarray, y: np.ndarray, s: int) -> float:
     """``sum x_j y_j``, ``j < s``, of exact integers whose sum stays below ``2^53`` (any order is exact)."""
     acc = 0.0
     for j in range(s):
@@ -318,13 +323,14 @@ def _dot(x, y, s):
 
 
 @njit(inline="always", **JIT)
-def _join(hi, lo, p, pinv):
+def _join(hi: float, lo: float, p: float, pinv: float) -> float:
     """``(8192 hi + lo) mod p`` for the two exact sums of a split dot product."""
     return red(red(hi, p, pinv) * 8192.0 + lo, p, pinv)
 
 
 @njit(**JIT)
-def point_values(B, X1, expo, c, us, n, p, R, BC=None):
+def point_values(B: np.ndarray, X1: np.ndarray, expo: np.ndarray, c: float, us: np.ndarray, n: int, p: float,
+                 R: np.ndarray, BC: np.ndarray | None = None) -> bool:
     """``R[j, k] = E_c[y_j^{N_m(B)}]`` at the level fugacity ``q = c``, modulo ``p``, every ``y_j = 1 + u_j``.
 
     Builds the kernel ``W`` as its two displacement generators
@@ -363,7 +369,8 @@ def point_values(B, X1, expo, c, us, n, p, R, BC=None):
 
 
 @njit(**JIT)
-def edge_values(B, X1, expo, c, n, p, R, BC=None):
+def edge_values(B: np.ndarray, X1: np.ndarray, expo: np.ndarray, c: float, n: int, p: float, R: np.ndarray,
+                BC: np.ndarray | None = None) -> bool:
     """The two extreme coefficients in ``y`` of every window at ``q = c``, modulo ``p``.
 
     ``R[0, k] = P_c(every site of the window in B)``: the top coefficient of

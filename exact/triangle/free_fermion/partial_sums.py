@@ -31,6 +31,7 @@ Examples
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from concurrent.futures import Executor
 from fractions import Fraction
 from os import PathLike
@@ -95,7 +96,7 @@ def partial_sum_moments_plan(N: int, *, memory_bytes: int | None = None, workers
                       bound_factor=(d + 2) // 2 + 1)
 
 
-def second_survival_tables(N: int, *, workers: int | None = None, progress=None,
+def second_survival_tables(N: int, *, workers: int | None = None, progress: Callable[[int], object] | None = None,
                            executor: Executor | None = None,
                            checkpoint: str | PathLike | CheckpointStore | None = None
                            ) -> tuple[list[list[int]], list[list[int]], int]:

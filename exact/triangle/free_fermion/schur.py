@@ -34,8 +34,10 @@ Examples
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from fractions import Fraction
 from math import factorial
+from typing import Any
 
 from forcenet.core.validation import check_int, check_layers
 from ..staircase import dimension
@@ -60,7 +62,7 @@ def labels(n: int) -> list[int]:
     return list(range(n, 0, -1)) + ([0] if n % 2 else [0, 0])
 
 
-def schur_entry(values, i: int, j: int) -> Fraction:
+def schur_entry(values: Sequence[int], i: int, j: int) -> Fraction:
     """Schur's ``M_ij = (a_i - a_j)/(a_i + a_j)``; between the two zeros ``+1`` above the diagonal."""
     a, b = values[i], values[j]
     if i == j:
@@ -85,7 +87,7 @@ def minor_summation_matrix(n: int, alpha: dict, beta: dict, t: dict | None = Non
     size = len(values)
     t = t or {}
 
-    def weights(pos):
+    def weights(pos: int) -> tuple[Fraction, Fraction, Fraction]:
         a = values[pos]
         if a:
             return Fraction(alpha[a]), Fraction(beta[a]), Fraction(t.get(a, 1))
@@ -102,7 +104,7 @@ def minor_summation_matrix(n: int, alpha: dict, beta: dict, t: dict | None = Non
     return K
 
 
-def pfaffian(A) -> Fraction:
+def pfaffian(A: Any) -> Fraction:
     """Pfaffian of a skew-symmetric matrix of Fractions (pair elimination with pivoting).
 
     Examples
@@ -135,7 +137,7 @@ def pfaffian(A) -> Fraction:
     return result
 
 
-def _inverse(A):
+def _inverse(A: list[list[Fraction]]) -> list[list[Fraction]]:
     size = len(A)
     M = [list(row) + [Fraction(int(i == j)) for j in range(size)] for i, row in enumerate(A)]
     for c in range(size):
@@ -150,7 +152,7 @@ def _inverse(A):
     return [row[size:] for row in M]
 
 
-def _matmul(A, B):
+def _matmul(A: Sequence[Sequence[Fraction | int]], B: Sequence[Sequence[Fraction | int]]) -> list[list[Fraction | int]]:
     return [[sum(A[i][k] * B[k][j] for k in range(len(B))) for j in range(len(B[0]))] for i in range(len(A))]
 
 
@@ -172,7 +174,7 @@ def count_exact(N: int) -> int:
     return int(value)
 
 
-def window_generating_function(n: int, q, y) -> list[Fraction]:
+def window_generating_function(n: int, q: int | Fraction, y: int | Fraction) -> list[Fraction]:
     """``E_q[y^{N_m(B)}]`` for ``m = n, n-1, ..., 1`` through the Pfaffian point-process kernel (exact).
 
     Under the weight ``q^l(A) w(A) / (l! (d-l)!)`` the complement ``B`` of the

@@ -26,8 +26,16 @@ from __future__ import annotations
 import json
 import os
 import sys
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 from .common import FORCE_SECONDS, UsageError
+
+if TYPE_CHECKING:
+    import argparse
+    import socket
+
+    from forcenet.core.checkpoints import CheckpointStore
 
 __all__ = ["DISTRIBUTED_MISSING", "CONNECT_SECONDS", "WORKER_SECONDS", "scheduler_address", "connect_scheduler",
            "add_engine_options", "engine_options", "report_checkpoints"]
@@ -101,7 +109,7 @@ def _read_scheduler_file(path: str) -> str:
     return address
 
 
-def _security(args):
+def _security(args: argparse.Namespace) -> Any:
     """Dask's ``Security`` from ``--tls-ca-file/--tls-cert/--tls-key``, else None (Dask's configuration)."""
     given = {name: getattr(args, name, None) for name in _TLS_OPTIONS}
     if not any(given.values()):
@@ -129,7 +137,7 @@ def _quiet_dask() -> None:
             logging.getLogger(name).setLevel(logging.CRITICAL + 1)
 
 
-def _probe(address: str, scheme: str, host: str, port: int, security) -> dict:
+def _probe(address: str, scheme: str, host: str, port: int, security: Any) -> dict:
     """Dask's ``identity`` of the scheduler at ``address``, each step within :data:`CONNECT_SECONDS`."""
     import asyncio
     import socket
@@ -169,7 +177,7 @@ def _probe(address: str, scheme: str, host: str, port: int, security) -> dict:
     if not 0 < int.from_bytes(head, "little") <= 64:
         raise _refuse(address, f"the server at {host}:{port} speaks another protocol: not a Dask scheduler")
 
-    async def identity():
+    async def identity() -> Any:
         from distributed.comm import connect
 
         comm = await connect(address, timeout=CONNECT_SECONDS, deserialize=False,
@@ -180,7 +188,7 @@ def _probe(address: str, scheme: str, host: str, port: int, security) -> dict:
         finally:
             comm.abort()
 
-    async def bounded():
+    async def bounded() -> Any:
         return await asyncio.wait_for(identity(), CONNECT_SECONDS)
 
     try:
@@ -198,7 +206,7 @@ def _probe(address: str, scheme: str, host: str, port: int, security) -> dict:
     return info
 
 
-def _first_bytes(sock, count: int) -> bytes:
+def _first_bytes(sock: socket.socket, count: int) -> bytes:
     """Up to ``count`` bytes from ``sock`` (fewer if it closes; its timeout applies)."""
     data = b""
     while len(data) < count:
@@ -209,7 +217,7 @@ def _first_bytes(sock, count: int) -> bytes:
     return data
 
 
-def connect_scheduler(text: str, security=None):
+def connect_scheduler(text: str, security: Any = None) -> Any:
     """A Dask client of the scheduler at ``text`` (``tcp://``/``tls://`` address or scheduler file), with a worker.
 
     ``security``: Dask's ``Security`` (None: Dask's configuration,
@@ -244,7 +252,7 @@ def connect_scheduler(text: str, security=None):
     class BoundedClient(Client):
         """Dask's client whose ``close`` is bounded and silent (a run's own error, not the closing's, is reported)."""
 
-        def close(self, timeout=None):
+        def close(self, timeout: float | None = None) -> Any:
             try:
                 return super().close(timeout=CONNECT_SECONDS)
             except Exception:  # the scheduler gone already: nothing left to close
@@ -274,7 +282,7 @@ def connect_scheduler(text: str, security=None):
     return client
 
 
-def add_engine_options(p, what: str) -> None:
+def add_engine_options(p: argparse.ArgumentParser, what: str) -> None:
     """``--scheduler`` (and its TLS), ``--checkpoint``, ``--no-checkpoint`` for a route over independent primes."""
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help=f"run {what}'s per-prime tasks on a Dask cluster: the tcp://HOST:PORT or tls://HOST:PORT "
@@ -293,7 +301,8 @@ def add_engine_options(p, what: str) -> None:
     p.add_argument("--no-checkpoint", action="store_true", help="no checkpoints, even for runs over a minute")
 
 
-def engine_options(args, applies: bool, what: str, plan_seconds: float, store_for):
+def engine_options(args: argparse.Namespace, applies: bool, what: str, plan_seconds: float,
+                   store_for: Callable[[str], Any]) -> tuple[Any, Any]:
     """``(client or None, checkpoint store or None)`` from :func:`add_engine_options`' arguments.
 
     ``applies``: the chosen route runs over primes (else the options are refused, naming ``what``).  Runs
@@ -329,7 +338,7 @@ def engine_options(args, applies: bool, what: str, plan_seconds: float, store_fo
     return connect_scheduler(args.scheduler, security), store
 
 
-def report_checkpoints(store, ticks: int) -> None:
+def report_checkpoints(store: CheckpointStore | str, ticks: int) -> None:
     """The closing line on stderr about a run's checkpoints: a store's reuse, or the directory of a run with one
     request per layer (``store`` is then the directory itself)."""
     if isinstance(store, str):

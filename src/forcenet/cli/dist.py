@@ -12,6 +12,8 @@ Examples (shell)::
 from __future__ import annotations
 
 import argparse
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 from forcenet.exact.routes import LAW_CONTACTS, LAW_DP_MAX_N, LAW_MAX_N
 
@@ -31,6 +33,11 @@ from .common import (
 from .cluster import add_engine_options, engine_options, report_checkpoints
 from .output import destination, emit, write_files
 
+if TYPE_CHECKING:
+    from forcenet.core.plan import Plan
+    from forcenet.exact.routes import LawRequest
+    from forcenet.laws import Law, LawPlan
+
 __all__ = ["register"]
 
 # the routes that take --scheduler and --checkpoint, as their refusal for any other route names them
@@ -38,7 +45,7 @@ _PRIMES = ("the de Bruijn Pfaffians of a layer (--layer i, --grain i,j beyond th
            "--ensemble)")
 
 
-def _grain(text):
+def _grain(text: str) -> tuple[int, ...]:
     """argparse type: ``i,j``."""
     parts = text.replace(" ", "").split(",")
     if len(parts) != 2:
@@ -46,7 +53,7 @@ def _grain(text):
     return tuple(integer(name, 1)(p) for name, p in zip(("grain i", "grain j"), parts))
 
 
-def _request(args):
+def _request(args: argparse.Namespace) -> LawPlan:
     """The front door's plan of the request (:func:`forcenet.law_plan`): validated, its route chosen, once."""
     from forcenet.laws import law_plan
 
@@ -55,7 +62,7 @@ def _request(args):
     return law_plan(args.N, args.grain, layer=args.layer, contact=args.contact, memory_bytes=available_memory())
 
 
-def _plot_plan(args):
+def _plot_plan(args: argparse.Namespace) -> tuple[list[Plan], Callable[..., Plan]]:
     from forcenet.core.plan import combine
     from forcenet.numeric.triangle.exact_sampler import sample_plan
     from forcenet.numeric.triangle.metropolis import metropolis_plan
@@ -65,7 +72,7 @@ def _plot_plan(args):
     return [sample_plan(args.N, args.samples, memory), metropolis_plan(args.N, args.sweeps, burn, memory)], combine
 
 
-def cmd_dist(args):
+def cmd_dist(args: argparse.Namespace) -> int:
     request = _request(args)
     if args.plot is not None:
         if request.request.grain is not None:
@@ -86,7 +93,7 @@ def cmd_dist(args):
             client.close()
 
 
-def _dist(args, request):
+def _dist(args: argparse.Namespace, request: LawPlan) -> int:
     if args.plot is not None:
         args.samples = 20000 if args.samples is None else args.samples
         args.sweeps = 3000 if args.sweeps is None else args.sweeps
@@ -97,7 +104,7 @@ def _dist(args, request):
     else:
         plan = request.cost
 
-    def run(tick):
+    def run(tick: Callable[..., None] | None) -> tuple[Law, bytes | None]:
         law = request.run(progress=tick)
         return law, (_figure(args, request.request, law.density, tick) if args.plot is not None else None)
 
@@ -108,7 +115,7 @@ def _dist(args, request):
     if png is None:
         emit(text, args.out)
         return 0
-    files = {args.plot: png}
+    files: dict[str, str | bytes] = {args.plot: png}
     if args.out is not None:
         files[args.out] = text if text.endswith("\n") else text + "\n"
     write_files(files, name="--plot", names={args.out: "--out"} if args.out is not None else None)
@@ -117,7 +124,7 @@ def _dist(args, request):
     return 0
 
 
-def _figure(args, target, pieces, tick):
+def _figure(args: argparse.Namespace, target: LawRequest, pieces: Any, tick: Callable[..., None] | None) -> bytes:
     """The sampled histograms and the figure (PNG bytes); a summary line per sampler on stderr."""
     import sys
 
@@ -149,7 +156,7 @@ def _figure(args, target, pieces, tick):
     return comparison_png(pieces, exact_bins, hists, title, args.f_max)
 
 
-def register(sub):
+def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("dist", help="exact force distributions: density and CDF of a grain or contact, pooled P(f)")
     add_layers(p, LAW_MAX_N, help_text=f"number of layers (2..{LAW_MAX_N}: every grain, layer and the ensemble by "
                                          f"Pfaffians, polynomial; the contacts 2..{LAW_DP_MAX_N}, one pass over the "

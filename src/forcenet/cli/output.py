@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import os
 import sys
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 from forcenet.core import atomic_files
@@ -87,7 +88,7 @@ def check_output_path(path: str | None, name: str = "--out") -> None:
         destination(path, name)
 
 
-def check_output_dir(directory: str, name: str = "--out-dir", files=()) -> None:
+def check_output_dir(directory: str, name: str = "--out-dir", files: Iterable[str] = ()) -> None:
     """Fail early on an output directory that is a file or whose parent is missing or read-only.
 
     ``files``: the names that will be written inside it, checked as destinations if the directory exists.
@@ -153,7 +154,7 @@ def _failure(dest: Destination, exc: OSError) -> UsageError:
 
 
 def write_files(files: dict, name: str = "--out", make_dir: str | None = None, names: dict | None = None,
-                then=None) -> None:
+                then: Callable[[], object] | None = None) -> None:
     """Write every ``{path: text}`` (``text`` may be ``bytes``), all or none; then call ``then()``.
 
     The one writer, :func:`forcenet.core.atomic_files.write_all`: regular

@@ -12,6 +12,8 @@ the JSON for those who want them there (and gives up identical bytes).
 from __future__ import annotations
 
 import argparse
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 from .common import (
     UsageError,
@@ -28,10 +30,16 @@ from .common import (
 )
 from .output import emit
 
+if TYPE_CHECKING:
+    import numpy as np
+
+    from forcenet.core.plan import Plan
+    from forcenet.numeric.packing.scene import Scene
+
 __all__ = ["register"]
 
 
-def _scene(args):
+def _scene(args: argparse.Namespace) -> Scene | None:
     """The N x P scene of --P/--pv/--mg/--j0, or None for the triangle under the overload."""
     if args.P is None:
         for name in ("pv", "mg", "j0"):
@@ -49,7 +57,7 @@ def _scene(args):
 _LOAD_RANGE = (1e-100, 1e100)
 
 
-def _check_loads(args):
+def _check_loads(args: argparse.Namespace) -> None:
     """Refuse loads whose squares would overflow or vanish (the triangle's F alone scales out: any finite F)."""
     low, high = _LOAD_RANGE
     if args.P is not None:
@@ -62,7 +70,7 @@ def _check_loads(args):
         raise UsageError(f"ph={args.ph:g} with F={args.F:g}: the ratio ph/F must lie in [{low:g}, {high:g}]")
 
 
-def _finite(mean, stderr, extra):
+def _finite(mean: np.ndarray, stderr: np.ndarray, extra: dict[str, Any]) -> None:
     """Never a nan or an infinity as a result: refuse it (an overflow of the model's numbers)."""
     from forcenet.numeric.autocorr import all_finite
 
@@ -72,7 +80,7 @@ def _finite(mean, stderr, extra):
                          f"give loads in [{_LOAD_RANGE[0]:g}, {_LOAD_RANGE[1]:g}]")
 
 
-def _plan(args, scene, burn):
+def _plan(args: argparse.Namespace, scene: Scene | None, burn: int) -> Plan:
     from forcenet.numeric.parallel_chains import parallel_plan
 
     memory = available_memory()
@@ -92,7 +100,7 @@ def _plan(args, scene, burn):
     return parallel_plan(plan, K, memory)  # K processes on the machine's cores, each with its own share
 
 
-def cmd_sample(args):
+def cmd_sample(args: argparse.Namespace) -> int:
     import sys
     import time
 
@@ -117,7 +125,7 @@ def cmd_sample(args):
     burn = args.burn_in if args.burn_in is not None else max(100, K // 10)
     plan = _plan(args, scene, burn)
 
-    def run(tick):
+    def run(tick: Callable[..., None] | None) -> tuple[np.ndarray, np.ndarray, dict[str, Any]]:
         from forcenet.numeric.autocorr import AutocorrError
         from forcenet.numeric.parallel_chains import sample_in_parallel
 

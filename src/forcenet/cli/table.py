@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, cast
 
 import argparse
 from forcenet.exact.routes import MAX_MOMENTS, METHODS, takes
@@ -22,6 +24,10 @@ from .common import (
 from .cluster import add_engine_options, engine_options, report_checkpoints
 from .output import EXIT_CANNOT_JUDGE, EXIT_DISAGREES, check_output_dir, emit, write_files, write_stdout
 
+if TYPE_CHECKING:
+    from forcenet.front_door import Table, TablePlan
+    from forcenet.testing import TableAgreement
+
 __all__ = ["register"]
 
 _EXTENSIONS = {".json": "json", ".csv": "csv", ".tex": "latex"}
@@ -35,7 +41,7 @@ def _decimal(n: int) -> str:
     return str(flint.fmpz(n))
 
 
-def cmd_count(args):
+def cmd_count(args: argparse.Namespace) -> int:
     from forcenet.exact.triangle.staircase import count, count_plan
 
     plan = count_plan(args.N, available_memory())
@@ -44,7 +50,7 @@ def cmd_count(args):
     return 0
 
 
-def _samples(text):
+def _samples(text: str) -> int:
     """--samples of the cross-check: 0 (none) or an integer >= 2 (an error bar needs two)."""
     value = integer("samples", 0)(text)
     if value == 1:
@@ -52,7 +58,7 @@ def _samples(text):
     return value
 
 
-def _output_format(args):
+def _output_format(args: argparse.Namespace) -> str | None:
     """--format, or the format implied by the extension of --out."""
     if args.format is not None or args.out is None:
         return args.format
@@ -62,7 +68,7 @@ def _output_format(args):
     return _EXTENSIONS[ext]
 
 
-def _refuse_ignored(args):
+def _refuse_ignored(args: argparse.Namespace) -> None:
     """What the main job alone uses, refused beside --format or --out (it would be ignored)."""
     single = next((name for name in ("format", "out") if given(args, name)), None)
     if single is not None:
@@ -73,7 +79,8 @@ def _refuse_ignored(args):
         refuse_together(args, "seed", "samples", "the seed drives the cross-check's samples, and --samples 0 asks for none")
 
 
-def _request(args, memory, client=None, directory=None):
+def _request(args: argparse.Namespace, memory: int | None, client: Any = None,
+             directory: str | None = None) -> TablePlan:
     """The front door's plan of the request (:func:`forcenet.front_door.plan`); ``auto`` with ``--scheduler`` or
     ``--checkpoint`` chooses among the routes that take them."""
     from forcenet.front_door import plan
@@ -84,7 +91,7 @@ def _request(args, memory, client=None, directory=None):
     return plan(args.N, args.moments, method, executor=client, checkpoint=directory, memory_bytes=memory).check()
 
 
-def cmd_table(args):
+def cmd_table(args: argparse.Namespace) -> int:
     _refuse_ignored(args)
     fmt = _output_format(args)
     if args.row is not None:
@@ -107,7 +114,7 @@ def cmd_table(args):
             client.close()
 
 
-def _table_row(args, fmt):
+def _table_row(args: argparse.Namespace, fmt: str | None) -> int:
     """``--row i``: row ``i`` of ``<W^s>``, ``s <= --moments``, by the fastest exact route for that row, announced
     (:func:`forcenet.front_door.plan` with ``row=``)."""
     from forcenet.exact.routes import ROW_PRIME_ROUTES
@@ -138,7 +145,7 @@ def _table_row(args, fmt):
     return 0
 
 
-def _table(args, fmt, memory, request):
+def _table(args: argparse.Namespace, fmt: str | None, memory: int | None, request: TablePlan) -> int:
     from forcenet.core.plan import combine_by_time, phase_progress
     from forcenet.exact.triangle.staircase import dimension
     from forcenet.exact.triangle.tables import fraction_str
@@ -154,9 +161,9 @@ def _table(args, fmt, memory, request):
         what, _, why = plans[0].what.partition("; ")  # the reason stays last: the announcement's second line
         plan = combine_by_time(f"{what} and its Monte Carlo cross-check" + (f"; {why}" if why else ""), plans)
 
-    def run(tick):
+    def run(tick: Callable[..., None] | None) -> tuple[Table, TableAgreement | None]:
         phase = [tick] * len(plans) if len(plans) == 1 else [phase_progress(tick, p) for p in plans]
-        table = request.run(progress=phase[0])
+        table = cast("Table", request.run(progress=phase[0]))  # a plan without row=: a whole table
         check = cross_check(args.N, table.mean_W, args.samples, args.seed, phase[-1]) if cross else None
         return table, check
 
@@ -193,7 +200,7 @@ def _table(args, fmt, memory, request):
     return EXIT_CANNOT_JUDGE if check.verdict == "cannot judge" else EXIT_DISAGREES
 
 
-def cmd_maps(args):
+def cmd_maps(args: argparse.Namespace) -> int:
     from forcenet.exact.thesis.recursions import lambda_table
 
     N = args.N
@@ -210,7 +217,7 @@ def cmd_maps(args):
     return 0
 
 
-def register(sub):
+def register(sub: argparse._SubParsersAction) -> None:
     """Add ``count``, ``table`` and ``maps`` to the subcommands."""
     what = ("how many force networks: standard shifted staircase tableaux, d! * normalization (4.1) "
             "(d = N(N-1)/2 free forces; an exact integer)")

@@ -69,10 +69,17 @@ import struct
 import sys
 import tempfile
 import time
+from collections.abc import Callable, Collection
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 
 from forcenet.core.atomic_files import TEMP_PREFIX, write_atomic
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+T = TypeVar("T")
 
 __all__ = ["FORMAT_VERSION", "MAX_RECORD_BYTES", "default_directory", "CheckpointStore", "distrust_reused", "run_distrusting",
            "records_held", "resumed_plan"]
@@ -109,7 +116,7 @@ def _default_anchor() -> str:
 _REPORTED: set[tuple[str, str]] = set()  # (directory, cause) already reported in this run: one line per cause
 
 
-def _once(report, directory: str, cause: str, message: str) -> None:
+def _once(report: Callable[[str], object], directory: str, cause: str, message: str) -> None:
     """``report(message)`` unless this cause in this directory was reported already in this run (every layer's
     store of a run shares the directory: a full disk is one line, not one per layer)."""
     key = (os.path.abspath(directory), cause)
@@ -148,7 +155,8 @@ class CheckpointStore:
         Why saving stopped (e.g. a full disk), or None.
     """
 
-    def __init__(self, directory, route: str, N: int, moments: int = 1, report=None):
+    def __init__(self, directory: str | os.PathLike[str], route: str, N: int, moments: int = 1,
+                 report: Callable[[str], object] | None = None) -> None:
         self.directory = os.fspath(directory)
         self.request = {"format": FORMAT_VERSION, "route": str(route), "N": int(N), "moments": int(moments)}
         self.path = os.path.join(self.directory, f"{route}-N{int(N)}-m{int(moments)}-v{FORMAT_VERSION}")
@@ -165,7 +173,7 @@ class CheckpointStore:
     def _file(self, key: int) -> str:
         return os.path.join(self.path, f"p{int(key)}.rec")
 
-    def encode(self, key: int, value) -> bytes:
+    def encode(self, key: int, value: ArrayLike) -> bytes:
         """The record of ``value`` (an integer array or integer) under ``key``."""
         array = np.asarray(value, dtype=np.int64)
         header = dict(self.request, prime=int(key), dtype="<i8", shape=list(array.shape))
@@ -173,7 +181,7 @@ class CheckpointStore:
         body = _MAGIC + _LENGTH.pack(len(head)) + head + array.astype("<i8").tobytes(order="C")
         return body + hashlib.sha256(body).digest()
 
-    def decode(self, key: int, data: bytes):
+    def decode(self, key: int, data: bytes) -> tuple[np.ndarray | None, Any]:
         """``(array, None)`` for a valid record of this request, else ``(None, reason)``; ``reason`` starts
         with ``"another request"`` for a whole record that is not this request's."""
         start = len(_MAGIC) + _LENGTH.size
@@ -225,7 +233,7 @@ class CheckpointStore:
                       "checkpoints (give --checkpoint DIR, or --no-checkpoint)")
         return self._usable
 
-    def load(self, key: int):
+    def load(self, key: int) -> np.ndarray | None:
         """The recorded value of ``key`` (a numpy int64 array), or None (missing, damaged, another request)."""
         if not self.usable():
             return None
@@ -272,7 +280,7 @@ class CheckpointStore:
         except OSError:
             return False
 
-    def save(self, key: int, value) -> None:
+    def save(self, key: int, value: ArrayLike) -> None:
         """Record ``value`` under ``key`` atomically; on a write error report once and stop saving."""
         if self.failed is not None or not self.usable():
             return
@@ -316,7 +324,8 @@ def _read_at_most(fd: int, size: int) -> bytes:
     return b"".join(chunks)
 
 
-def distrust_reused(run, directory, N: int, started: float, report=None):
+def distrust_reused(run: Callable[[], T], directory: str | os.PathLike[str] | None, N: int, started: float,
+                    report: Callable[[str], object] | None = None) -> T:
     """``run()``; if it fails its exact checks (``ArithmeticError``) after reusing records, repeat it without them.
 
     A record with a valid checksum but wrong content (a faulty program, a hand edit) is only caught by the
@@ -378,7 +387,7 @@ def distrust_reused(run, directory, N: int, started: float, report=None):
         return result
 
 
-def records_held(directory, N: int, routes) -> int:
+def records_held(directory: str | os.PathLike[str], N: int, routes: Collection[str]) -> int:
     """How many record files (regular files, not yet verified) the requests of ``N`` of ``routes`` hold in
     ``directory`` (a route's name, or the name and a layer ``i``: a run with one request per layer).
 
@@ -411,7 +420,7 @@ def records_held(directory, N: int, routes) -> int:
     return held
 
 
-def run_distrusting(checkpoint, N: int, attempt):
+def run_distrusting(checkpoint: CheckpointStore | str | os.PathLike[str] | None, N: int, attempt: Callable[[], T]) -> T:
     """``attempt()``, repeated once without the reused records if the route's exact checks fail
     (:func:`distrust_reused`: a record with a valid checksum but wrong content is named, dropped, recomputed).
 
@@ -433,7 +442,7 @@ def run_distrusting(checkpoint, N: int, attempt):
 
     started = time.time()
 
-    def fresh():
+    def fresh() -> T:
         if isinstance(checkpoint, CheckpointStore):
             checkpoint.reused = checkpoint.saved = checkpoint.damaged = checkpoint.ignored = 0
         return attempt()
@@ -442,7 +451,7 @@ def run_distrusting(checkpoint, N: int, attempt):
     return distrust_reused(fresh, directory, N, started)
 
 
-def resumed_plan(plan, directory, N: int, routes):
+def resumed_plan(plan: Any, directory: str | os.PathLike[str], N: int, routes: Collection[str]) -> Any:
     """``plan`` (one tick per prime) with the records already held in ``directory`` counted: its time without
     the compilation scaled by the share still to compute, and the reuse stated in its description.
 

@@ -41,13 +41,19 @@ import os
 import sys
 import time
 import weakref
+from collections.abc import Callable, Iterable
 from concurrent.futures import FIRST_COMPLETED, CancelledError, Executor, as_completed, wait
 from math import ceil
-from typing import Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from forcenet.core.lifetime import die_with_parent
 from forcenet.core.validation import check_int
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ClusterError
+
+if TYPE_CHECKING:
+    from concurrent.futures import ProcessPoolExecutor
+
+T = TypeVar("T")
 
 __all__ = ["ClusterError", "WORKERLESS_SECONDS", "PROBE_SECONDS", "available_cores", "local_pool", "as_executor",
            "declare_workers", "executor_workers", "executor_label", "check_cluster", "wall_seconds", "run_tasks"]
@@ -83,7 +89,7 @@ def available_cores() -> int:
     return os.cpu_count() or 1  # pragma: no cover - platforms without affinity
 
 
-def as_executor(executor):
+def as_executor(executor: Any) -> Executor | None:
     """``executor`` as a :class:`concurrent.futures.Executor`: a Dask ``Client`` gives its ``get_executor()``.
 
     Parameters
@@ -134,7 +140,7 @@ def declare_workers(executor: Executor, workers: int) -> Executor:
     return executor
 
 
-def _dask_client(executor) -> Any:
+def _dask_client(executor: Any) -> Any:
     """The Dask client behind ``executor``: the one :func:`as_executor` made it from, else, for an executor of
     Dask's own (``client.get_executor()`` given directly), Dask's current client (``distributed.get_client``)."""
     client = _CLIENTS.get(executor)
@@ -148,7 +154,7 @@ def _dask_client(executor) -> Any:
         return None
 
 
-def executor_workers(executor) -> int | None:
+def executor_workers(executor: Any) -> int | None:
     """How many tasks ``executor`` runs at once: a pool's workers, a Dask cluster's threads; None if unknown.
 
     Known for the pools made by :func:`local_pool`, the executors given to
@@ -177,7 +183,7 @@ def executor_workers(executor) -> int | None:
     return _WORKERS.get(executor)
 
 
-def executor_label(executor) -> str:
+def executor_label(executor: Any) -> str:
     """Where an executor runs its tasks, for announcements: ``"Dask scheduler tcp://..."`` or its class name.
 
     Examples
@@ -198,7 +204,7 @@ def executor_label(executor) -> str:
 _PROBE = "__import__('forcenet').__version__"
 
 
-def check_cluster(client, seconds: float | None = None) -> str:
+def check_cluster(client: Any, seconds: float | None = None) -> str:
     """Run one tiny task on the cluster of ``client`` that imports forcenet; the workers' forcenet version.
 
     The task is Python's ``eval`` of an import of forcenet (nothing of
@@ -275,7 +281,7 @@ def wall_seconds(per_task: float, tasks: int, workers: int, overhead: float = 0.
     return ceil(tasks / max(1, workers)) * (per_task + overhead)
 
 
-def local_pool(workers: int, start_method: str = "spawn"):
+def local_pool(workers: int, start_method: str = "spawn") -> ProcessPoolExecutor:
     """A local :class:`~concurrent.futures.ProcessPoolExecutor` whose workers die with this process.
 
     Every worker runs :func:`~forcenet.core.lifetime.die_with_parent` first
@@ -313,7 +319,7 @@ def local_pool(workers: int, start_method: str = "spawn"):
     return pool
 
 
-def _terminate(pool) -> None:
+def _terminate(pool: Any) -> None:
     """Stop a local process pool now: pending work cancelled, worker processes terminated (then killed).
 
     The workers are the children of this process (``multiprocessing.active_children``) whose pid the pool's
@@ -379,7 +385,7 @@ def _ready_worker() -> dict:
     return dict(_READY)
 
 
-def _worker_call(client_pid: int, function, *args):
+def _worker_call(client_pid: int, function: Callable[..., T], *args: Any) -> T:
     """``function(*args)``, in a process readied by :func:`_ready_worker` unless it is the client's own (an
     executor of threads): the form every task is submitted in."""
     if os.getpid() == client_pid:
@@ -392,7 +398,7 @@ def _worker_call(client_pid: int, function, *args):
     return result
 
 
-def _cluster_workers(client) -> int | None:
+def _cluster_workers(client: Any) -> int | None:
     """The workers a Dask client knows of (its scheduler's last report, no round trip); 0 once it is closed."""
     if getattr(client, "status", "running") in ("closed", "closing", "failed"):
         return 0
@@ -402,7 +408,7 @@ def _cluster_workers(client) -> int | None:
         return 0
 
 
-def _cluster_result(future, label: str):
+def _cluster_result(future: Any, label: str) -> Any:
     """A cluster task's result; the cluster's own failures as :class:`ClusterError`, a task's error as it is."""
     try:
         return future.result()
@@ -418,7 +424,7 @@ def _cluster_result(future, label: str):
         raise
 
 
-def _collect_from_cluster(futures: dict, finish, client) -> None:
+def _collect_from_cluster(futures: dict, finish: Callable[[int, Any], object], client: Any) -> None:
     """``finish(i, result)`` per finished task of a Dask cluster, bounded: a run whose cluster has no worker (or no
     scheduler) for :data:`WORKERLESS_SECONDS` fails with :class:`ClusterError` instead of waiting for ever."""
     label = executor_label(client.get_executor()) if callable(getattr(client, "get_executor", None)) else "the cluster"
@@ -438,8 +444,9 @@ def _collect_from_cluster(futures: dict, finish, client) -> None:
                                "or the scheduler is gone); start workers and rerun")
 
 
-def run_tasks(function, tasks, *, executor=None, workers: int = 1, progress=None, weights=None,
-              store=None, keys=None, start_method: str = "spawn") -> list:
+def run_tasks(function: Callable[..., Any], tasks: Iterable[Any], *, executor: Any = None, workers: int = 1,
+              progress: Callable[[Any], object] | None = None, weights: Iterable[float] | None = None,
+              store: Any = None, keys: Any = None, start_method: str = "spawn") -> list:
     """``[function(*task) for task in tasks]``, the tasks run independently on an executor.
 
     Parameters
@@ -500,7 +507,7 @@ def run_tasks(function, tasks, *, executor=None, workers: int = 1, progress=None
         if progress is not None:
             progress(weights[i])
 
-    def finish(i, value):
+    def finish(i: int, value: Any) -> None:
         results[i] = value
         if store is not None:
             store.save(keys[i], value)

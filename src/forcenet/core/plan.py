@@ -24,8 +24,11 @@ import signal
 import sys
 import threading
 import time
+from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, replace
+from types import FrameType
+from typing import Any, cast
 
 from .errors import ArgumentError
 
@@ -139,7 +142,7 @@ class Plan:
         )
 
 
-def combine(what: str, plans, unit: str = "step") -> Plan:
+def combine(what: str, plans: Iterable[Plan], unit: str = "step") -> Plan:
     """One plan for several runs done one after the other (times and ticks add, memory is the peak).
 
     Examples
@@ -166,7 +169,7 @@ def combine(what: str, plans, unit: str = "step") -> Plan:
                 sum(p.ticks for p in plans), unit, refusal, tuple(compiling.items()))
 
 
-def combine_by_time(what: str, plans) -> Plan:
+def combine_by_time(what: str, plans: Iterable[Plan]) -> Plan:
     """One plan for runs of different units (primes, samples) on one bar counted in estimated seconds.
 
     A phase's tick of ``k`` of its own units advances the bar by ``k`` times
@@ -183,7 +186,7 @@ def combine_by_time(what: str, plans) -> Plan:
     return replace(plan, ticks=max(1, round(plan.seconds)))
 
 
-def phase_progress(progress, plan: Plan):
+def phase_progress(progress: Callable[[float], object] | None, plan: Plan) -> Callable[..., None] | None:
     """``progress`` (of a :func:`combine_by_time` bar) in the units of one phase ``plan``; None stays None.
 
     Examples
@@ -197,7 +200,7 @@ def phase_progress(progress, plan: Plan):
         return None
     rate = plan.seconds / plan.ticks if plan.ticks else 0.0
 
-    def tick(k=1):
+    def tick(k: float = 1) -> None:
         progress(k * rate)
 
     return tick
@@ -252,7 +255,7 @@ def table_range(what: str, method: str, N: int, moments: int, max_N: int, *, max
 # ------------------------------------------------- compiled work in bounded calls
 
 
-def chunks(total: int, first: int, seconds: float = CHUNK_SECONDS):
+def chunks(total: int, first: int, seconds: float = CHUNK_SECONDS) -> Iterator[tuple[int, int]]:
     """Consecutive ranges ``(start, stop)`` covering ``0..total``, each taking about ``seconds``.
 
     The first range has ``first`` units (the caller's estimate of ``seconds``
@@ -297,7 +300,7 @@ def first_chunk(seconds_per_unit: float, seconds: float = CHUNK_SECONDS) -> int:
 # ------------------------------------------------- the first run: compiling the kernels
 
 
-def kernels_cached(kernels) -> bool:
+def kernels_cached(kernels: Iterable[Any]) -> bool:
     """Whether numba holds machine code for every dispatcher of ``kernels`` without compiling.
 
     True when each is compiled in this process already (its public
@@ -313,7 +316,7 @@ def kernels_cached(kernels) -> bool:
     return all(kernel.signatures or _cache_index_is_fresh(kernel) for kernel in kernels)
 
 
-def _cache_index_is_fresh(kernel) -> bool:
+def _cache_index_is_fresh(kernel: Any) -> bool:
     """Whether numba's on-disk cache of ``kernel`` has an index written after its source was last changed.
 
     numba has no public "is it cached" query: its cache folder is public
@@ -340,7 +343,7 @@ def _cache_index_is_fresh(kernel) -> bool:
     return index.st_mtime >= source.st_mtime
 
 
-def with_compilation(plan: Plan, name: str, seconds: float, kernels) -> Plan:
+def with_compilation(plan: Plan, name: str, seconds: float, kernels: Iterable[Any]) -> Plan:
     """``plan`` plus ``seconds`` of compiling the kernel group ``name`` if numba's cache does not hold ``kernels``.
 
     ``kernels``: the group's entry points (numba dispatchers) the run will
@@ -365,7 +368,7 @@ NATIVE_CALL_SITES = [("__call__", os.path.join("llvmlite", "binding", "ffi.py"))
                      ("__call__", os.sep + "weakref.py")]  # weakref.finalize's callbacks, run by the collector
 
 
-def _where_exceptions_are_swallowed(frame) -> bool:
+def _where_exceptions_are_swallowed(frame: FrameType) -> bool:
     """Whether ``frame`` runs below one of ``NATIVE_CALL_SITES`` (a callback, a finalizer) or in a ``__del__``."""
     if frame.f_code.co_name == "__del__":
         return True
@@ -380,7 +383,7 @@ def _where_exceptions_are_swallowed(frame) -> bool:
 
 
 @contextmanager
-def interruptible_compilation(retry_seconds: float = 0.02):
+def interruptible_compilation(retry_seconds: float = 0.02) -> Iterator[None]:
     """Make Ctrl-C end the run even when it arrives while numba compiles.
 
     Python's own SIGINT handler raises ``KeyboardInterrupt`` wherever the
@@ -423,16 +426,16 @@ def interruptible_compilation(retry_seconds: float = 0.02):
         yield
         return
     state, timers = {"pending": False, "closed": False}, []
-    main_thread = threading.main_thread().ident
+    main_thread = cast(int, threading.main_thread().ident)  # the main thread has started: its ident is set
 
-    def again():
+    def again() -> None:
         if not state["closed"]:
             if hasattr(signal, "pthread_kill"):  # to the main thread: it may be blocked in a wait
                 signal.pthread_kill(main_thread, signal.SIGINT)
             else:  # pragma: no cover - Windows
                 signal.raise_signal(signal.SIGINT)
 
-    def handler(signum, frame):
+    def handler(signum: int, frame: FrameType | None) -> None:
         if frame is not None and _where_exceptions_are_swallowed(frame):
             state["pending"] = True
             timer = threading.Timer(retry_seconds, again)
@@ -443,7 +446,7 @@ def interruptible_compilation(retry_seconds: float = 0.02):
         state["pending"] = False
         raise KeyboardInterrupt
 
-    def record(signum, frame):  # while the block ends: note the interrupt, raise nothing yet
+    def record(signum: int, frame: FrameType | None) -> None:  # while the block ends: note the interrupt, raise nothing yet
         state["pending"] = True
 
     signal.signal(signal.SIGINT, handler)

@@ -79,6 +79,8 @@ from forcenet.core.atomic_files import TEMP_PREFIX, write_atomic
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
+    from forcenet.core.plan import Plan
+
 T = TypeVar("T")
 
 __all__ = ["FORMAT_VERSION", "MAX_RECORD_BYTES", "default_directory", "CheckpointStore", "distrust_reused", "run_distrusting",
@@ -451,7 +453,7 @@ def run_distrusting(checkpoint: CheckpointStore | str | os.PathLike[str] | None,
     return distrust_reused(fresh, directory, N, started)
 
 
-def resumed_plan(plan: Any, directory: str | os.PathLike[str], N: int, routes: Collection[str]) -> Any:
+def resumed_plan(plan: Plan, directory: str | os.PathLike[str], N: int, routes: Collection[str]) -> Plan:
     """``plan`` (one tick per prime) with the records already held in ``directory`` counted: its time without
     the compilation scaled by the share still to compute, and the reuse stated in its description.
 

@@ -105,12 +105,12 @@ def scaling(N: int):
     """Wall time of the table at ``N`` on a local cluster of 1 and of 2 worker processes (kernels loaded first),
     with what the load cannot blur: each worker's CPU seconds and the sum of its tasks' compute time (Dask's task
     stream), whose largest share is the run's critical path."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
     from distributed import Client, LocalCluster, get_task_stream
 
     from forcenet.exact.triangle.free_fermion import cost, route
-
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor
 
     primes = _primes(N)[:8]
     with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn")) as pool:

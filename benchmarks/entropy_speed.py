@@ -6,8 +6,8 @@ Prints a markdown table: route, setting, seconds (min of repeats for the fast on
 """
 
 import time
-from functools import partial
 from fractions import Fraction
+from functools import partial
 
 import mpmath
 

@@ -25,9 +25,10 @@ import os
 import time
 from fractions import Fraction
 
-from forcenet.exact.triangle.distribution import density_from_gaps, moment_from_gaps
-from forcenet.exact.triangle.de_bruijn.floor import floor_pooled_gap_law
 from goe_spacing import floor_limit_density  # benchmarks/goe_spacing.py, beside this script
+
+from forcenet.exact.triangle.de_bruijn.floor import floor_pooled_gap_law
+from forcenet.exact.triangle.distribution import density_from_gaps, moment_from_gaps
 
 POINTS = ("0", "1/20", "1/10", "1/4", "1/2", "1", "2")
 

@@ -17,7 +17,6 @@ import sys
 import time
 from pathlib import Path
 
-
 from forcenet.numeric.chicken_wire.bethe import isotropic_sequence
 from forcenet.numeric.chicken_wire.isotropic import extrapolate
 

@@ -19,8 +19,8 @@ import os
 import time
 
 from forcenet.exact.triangle.distribution import moment_from_gaps
-from forcenet.exact.triangle.tables import fraction_from_text, fraction_str
 from forcenet.exact.triangle.free_fermion.fluctuations import lattice_gap_laws
+from forcenet.exact.triangle.tables import fraction_from_text, fraction_str
 
 
 def main(argv=None):

@@ -22,8 +22,8 @@ import time
 
 import numpy as np
 
-from forcenet.numeric.agreement import compare_samples
 from forcenet.exact.triangle.tables import fraction_from_text
+from forcenet.numeric.agreement import compare_samples
 from forcenet.numeric.triangle.exact_sampler import ExactSampler
 
 

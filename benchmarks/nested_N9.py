@@ -13,10 +13,10 @@ notes/chapter4.md and notes/benchmarks.md.
 """
 
 import argparse
+import multiprocessing
 import resource
 import sys
 import time
-import multiprocessing
 
 from forcenet.exact import mean_W, normalization
 from forcenet.exact.thesis.nested import integrate_layers

@@ -19,8 +19,8 @@ import os
 
 import numpy as np
 
-from forcenet.numeric.limit_shape.surface import bulk_response, lattice_response
 from forcenet.exact.triangle.tables import fraction_from_text
+from forcenet.numeric.limit_shape.surface import bulk_response, lattice_response
 
 
 def load_table(N: int, directory: str = "out"):

@@ -48,8 +48,8 @@ from fractions import Fraction
 
 import numpy as np
 
-from forcenet.numeric.limit_shape.surface import bulk_response, lattice_response
 from forcenet.exact.triangle.tables import fraction_from_text
+from forcenet.numeric.limit_shape.surface import bulk_response, lattice_response
 
 # exact-sampler deviations from the limit, notes/scaling_limit.md Sec. 3 (seed 2026, 16384 ... 200 samples): N -> (delta, stderr)
 SAMPLED = {
@@ -188,12 +188,11 @@ def load_rows(N: int, directory: str, digest: dict | None = None) -> dict[int, l
 
 def write_lattice(N: int, directory: str, checkpoint: str | None = None):
     """Exact ``<W_{i,1}>`` by :func:`forcenet.exact.triangle.free_fermion.route.lattice_direction` into ``lattice_N{N}.json``."""
+    import resource
     import time
 
     from forcenet.exact.triangle.free_fermion.route import lattice_direction, lattice_direction_plan
     from forcenet.exact.triangle.tables import integer_text, write_atomic
-
-    import resource
 
     def children():  # cumulative over the process's life: take differences
         usage = resource.getrusage(resource.RUSAGE_CHILDREN)

@@ -18,8 +18,8 @@ import time
 
 import numpy as np
 
-from forcenet.numeric.triangle.exact_sampler import ExactSampler
 from forcenet.numeric.limit_shape.surface import bulk_response, lattice_response
+from forcenet.numeric.triangle.exact_sampler import ExactSampler
 
 
 def sampled(N, samples, seed, batch):

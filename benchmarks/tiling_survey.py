@@ -25,9 +25,25 @@ from typing import TypeVar
 
 from forcenet.core.errors import ArgumentError
 from forcenet.core.validation import check_int, check_real
-from forcenet.exact.chicken_wire.square_triangle import Lattice2in2, Lattice2in4, TilingError, canonical_form, check_tiling, tiling_from_canonical, tiling_tiles
+from forcenet.exact.chicken_wire.square_triangle import (
+    Lattice2in2,
+    Lattice2in4,
+    TilingError,
+    canonical_form,
+    check_tiling,
+    tiling_from_canonical,
+    tiling_tiles,
+)
 from forcenet.exact.chicken_wire.tiler import enumerate_tilings
-from forcenet.exact.chicken_wire.tiling import MapError, check_cells, chicken_wire_configs, config_canonical, config_to_tiling, failure_kind, tiling_to_config
+from forcenet.exact.chicken_wire.tiling import (
+    MapError,
+    check_cells,
+    chicken_wire_configs,
+    config_canonical,
+    config_to_tiling,
+    failure_kind,
+    tiling_to_config,
+)
 
 __all__ = ["survey", "call_with_timeout"]
 

@@ -34,6 +34,7 @@ from typing import Any, NamedTuple
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan, duration_text
 from forcenet.core.validation import check_grain, check_int, check_layers
+
 from .protocol import Progress
 
 __all__ = ["LAW_METHODS", "LAW_MAX_N", "LAW_DP_MAX_N", "LAW_CONTACTS", "LAW_PRIME_ROUTES", "LAW_ROUTES", "LawRequest",
@@ -252,8 +253,7 @@ def law_run(request: LawRequest, route: str, progress: Progress | None = None, *
     """
     from .triangle import distribution as D
     from .triangle.gaps import contact_gap_law
-    from .triangle.law_routes import single_grain_gap_law
-    from .triangle.law_routes import ensemble_pieces, layer_gap_law
+    from .triangle.law_routes import ensemble_pieces, layer_gap_law, single_grain_gap_law
 
     N = request.N
     if request.grain is not None:

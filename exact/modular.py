@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from functools import cache
+
 from forcenet.core.errors import ArgumentError
 
 __all__ = ["is_prime", "primes_below", "primes_for_bound", "crt", "crt_many"]

@@ -44,23 +44,43 @@ True
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass, field, replace
-from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any, NamedTuple
 
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan, duration_text
+from forcenet.core.validation import MAX_MOMENTS, check_int, check_layers, check_moments
+
+from .law_registry import (
+    LAW_CONTACTS,
+    LAW_DP_MAX_N,
+    LAW_MAX_N,
+    LAW_METHODS,
+    LAW_PRIME_ROUTES,
+    LAW_ROUTES,
+    LawChoice,
+    LawPieces,
+    LawRequest,
+    choose_law,
+    law_checkpoint,
+    law_request,
+    law_resumed,
+    law_run,
+)
 from .protocol import Progress, Table, TableEngine
 from .thesis import lambda_route, maps_route, nested_route
 from .triangle import moments as ideal_moments
 from .triangle import pfaffian_table as pfaffian_route
-from forcenet.core.validation import MAX_MOMENTS, check_int, check_layers, check_moments
 
 __all__ = ["ENGINES", "METHODS", "MAX_MOMENTS", "Choice", "Request", "check_request", "plan_request", "run_request",
            "choose", "table_plan", "table_run", "takes", "checkpoint_for", "ROW_ROUTES", "ROW_PRIME_ROUTES", "RowChoice",
-           "plan_row", "run_row", "choose_row", "row_plan", "row_run"]
+           "plan_row", "run_row", "choose_row", "row_plan", "row_run",
+           # the laws of one load (forcenet.law, forcenet dist): defined in .law_registry, this registry's names
+           "LAW_METHODS", "LAW_MAX_N", "LAW_DP_MAX_N", "LAW_CONTACTS", "LAW_PRIME_ROUTES", "LAW_ROUTES", "LawRequest",
+           "law_request", "LawChoice", "choose_law", "law_checkpoint", "law_resumed", "LawPieces", "law_run"]
 
 ENGINES: dict[str, TableEngine] = {
     "fast": ideal_moments,
@@ -380,10 +400,10 @@ class RowChoice(NamedTuple):
 
 def _row_candidates(request: Request) -> dict[str, Plan]:
     """Every route's plan for the checked request's row (``auto``: the row routes and the other tables)."""
-    from .triangle.free_fermion.covers import cover_row_plan, one_time_rows
     from .triangle.de_bruijn.floor import MAX_FLOOR_N, floor_plan
-    from .triangle.free_fermion.fluctuations import lattice_gap_laws_plan
     from .triangle.de_bruijn.layers import layer_plan
+    from .triangle.free_fermion.covers import cover_row_plan, one_time_rows
+    from .triangle.free_fermion.fluctuations import lattice_gap_laws_plan
 
     method, N, moments, memory_bytes, executor = (request.method, request.N, request.moments, request.memory_bytes,
                                                   request.executor)
@@ -569,32 +589,3 @@ def run_row(request: Request, choice: RowChoice, progress: Progress | None = Non
         return {s: [moment_from_gaps(laws[j], s) for j in range(1, row + 1)] for s in range(1, moments + 1)}
     tables = run_request(replace(request, method=route), Choice(route, choice.plan, ""), progress)
     return {s: table[row - 1] for s, table in tables.items()}
-
-
-# ================================================================================================================
-# laws: one load's law (forcenet.law, forcenet.law_plan, forcenet dist)
-#
-# Which engine answers a grain's W_ij, a contact force, a layer's or the ensemble's P(f), for which N; the checkpoint
-# each route keeps; the limits the command line shows.  Defined in .law_registry (this module stays under 600 lines),
-# part of this registry: the front door and the command line import them from here.  The table functions above are
-# not used by them.
-
-from .law_registry import (  # noqa: E402 - the laws' section of the registry, after the tables'
-    LAW_CONTACTS,
-    LAW_DP_MAX_N,
-    LAW_MAX_N,
-    LAW_METHODS,
-    LAW_PRIME_ROUTES,
-    LAW_ROUTES,
-    LawChoice,
-    LawPieces,
-    LawRequest,
-    choose_law,
-    law_checkpoint,
-    law_request,
-    law_resumed,
-    law_run,
-)
-
-__all__ += ["LAW_METHODS", "LAW_MAX_N", "LAW_DP_MAX_N", "LAW_CONTACTS", "LAW_PRIME_ROUTES", "LAW_ROUTES", "LawRequest",
-            "law_request", "LawChoice", "choose_law", "law_checkpoint", "law_resumed", "LawPieces", "law_run"]

@@ -83,10 +83,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from forcenet.core.errors import ArgumentError
+
 from .autocorr import batch_means
 from .size_rule import U_MAX, charged_skewness, size_rule, skewness, t_rows_needed
-from .size_rule import bonferroni as _bonferroni, hotelling as _hotelling
-from forcenet.core.errors import ArgumentError
+from .size_rule import bonferroni as _bonferroni
+from .size_rule import hotelling as _hotelling
 
 __all__ = ["TableAgreement", "batch_means", "compare_samples", "compare_chain", "compare_means", "varying_columns"]
 

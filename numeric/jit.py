@@ -34,8 +34,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from forcenet.core.plan import CHUNK_SECONDS, chunks, first_chunk
 from forcenet.core.errors import ArgumentError
+from forcenet.core.plan import CHUNK_SECONDS, chunks, first_chunk
 
 __all__ = ["HAVE_NUMBA", "njit", "kernel_choice", "chunks", "first_chunk", "CHUNK_SECONDS"]
 

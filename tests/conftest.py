@@ -70,8 +70,8 @@ def layer_agrees_with_the_exact_sampler(laws, N, i, samples=20000, seed=2811):
     from scipy.stats import binom
 
     from forcenet.exact.triangle.distribution import moment_from_gaps
-    from forcenet.numeric.agreement import compare_samples
     from forcenet.exact.triangle.staircase import dimension
+    from forcenet.numeric.agreement import compare_samples
     from forcenet.numeric.triangle.exact_sampler import ExactSampler
 
     d = dimension(N)

@@ -8,7 +8,12 @@ import pytest
 from scipy.sparse.linalg import eigs
 
 from forcenet.core.errors import ArgumentError, ConvergenceError
-from forcenet.numeric.chicken_wire.bethe import bethe_residuals, ground_state_sequence, newton_polish, solve_ground_state
+from forcenet.numeric.chicken_wire.bethe import (
+    bethe_residuals,
+    ground_state_sequence,
+    newton_polish,
+    solve_ground_state,
+)
 from forcenet.numeric.chicken_wire.transfer import largest_eigenvalue, sector_matrix
 
 

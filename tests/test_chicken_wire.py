@@ -3,7 +3,6 @@
 import math
 
 import mpmath
-
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -16,8 +15,8 @@ from forcenet.exact.chicken_wire.model import (
     transfer_matrix,
     vertex_counts_torus,
 )
-from forcenet.numeric.chicken_wire.transfer import _Operator, largest_eigenvalue, perron_root, sector_entropies
 from forcenet.numeric.chicken_wire.monte_carlo import ChickenWire, HexagonMonteCarlo, component
+from forcenet.numeric.chicken_wire.transfer import _Operator, largest_eigenvalue, perron_root, sector_entropies
 from forcenet.testing import assert_agrees
 from forcenet.testing import strategies as fst
 

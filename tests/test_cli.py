@@ -8,10 +8,9 @@ from fractions import Fraction
 
 import pytest
 
+from forcenet.cli import main
 from forcenet.exact import count, count_by_hooks, mean_W, moment_table, normalization
 from forcenet.exact.packing.mobilized import mean_W_mobilized
-from forcenet.cli import main
-
 
 
 def _assert_within_5_sigma(data, exact):

@@ -21,10 +21,10 @@ from hypothesis import strategies as st
 from forcenet.core.errors import ArgumentError
 from forcenet.exact.reference.linear_extensions import partial_sum_poset
 from forcenet.exact.routes import choose_row, row_plan, row_run, table_run
-from forcenet.exact.triangle.distribution import moment_from_gaps
-from forcenet.exact.triangle.moments import mean_W_grain, moment
-from forcenet.exact.triangle.free_fermion import covers as cv
 from forcenet.exact.triangle.de_bruijn.layers import layer_gap_laws
+from forcenet.exact.triangle.distribution import moment_from_gaps
+from forcenet.exact.triangle.free_fermion import covers as cv
+from forcenet.exact.triangle.moments import mean_W_grain, moment
 
 
 def _rank_moments(N):

@@ -14,8 +14,8 @@ import sympy
 from hypothesis import given
 from hypothesis import strategies as st
 
-from forcenet.exact import moment
 from forcenet.core.errors import ArgumentError
+from forcenet.exact import moment
 from forcenet.exact.triangle import distribution as D
 from forcenet.exact.triangle.gaps import contact_gap_law, grain_gap_counts
 from forcenet.numeric.triangle.force_distribution import density_grid, histogram_edges

@@ -13,9 +13,9 @@ HTML) need no browser. Without Chromium the browser test is skipped with the rea
 from __future__ import annotations
 
 import asyncio
+import fnmatch
 import functools
 import http.server
-import fnmatch
 import json
 import os
 import re

@@ -1,8 +1,8 @@
 """The edge of the lattice directions (notes/scaling_limit.md Secs. 1 and 5): closed forms, two routes, exact data."""
 
 import json
-from fractions import Fraction
 import pathlib
+from fractions import Fraction
 
 import mpmath
 import numpy as np
@@ -14,10 +14,14 @@ from hypothesis import strategies as st
 from forcenet.cli import main
 from forcenet.exact.limit_shape.closed_forms import (
     bulk_edge_coefficient as bulk_edge_expr,
+)
+from forcenet.exact.limit_shape.closed_forms import (
     edge_density_coefficient,
-    edge_scale as edge_scale_expr,
     kesten_mckay_edge_coefficient,
     lattice_direction_limit,
+)
+from forcenet.exact.limit_shape.closed_forms import (
+    edge_scale as edge_scale_expr,
 )
 from forcenet.numeric.limit_shape.edge import (
     EDGE_EXPONENT,

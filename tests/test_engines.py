@@ -13,10 +13,11 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import pytest
-from hypothesis import given, strategies as st
+from hypothesis import given
+from hypothesis import strategies as st
 
-from forcenet.exact import routes
 from forcenet.core.errors import ArgumentError
+from forcenet.exact import routes
 from forcenet.exact.modular import crt, crt_many, primes_for_bound
 from forcenet.exact.triangle.moments import mean_W
 

@@ -13,10 +13,12 @@ from contextlib import contextmanager
 from fractions import Fraction
 
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from forcenet.core.errors import ArgumentError
 from forcenet.exact.triangle.tables import fraction_from_text, fraction_str, integer_text, to_csv, to_json, to_latex
+
 
 @contextmanager
 def _limit(digits: int):

@@ -14,8 +14,6 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from forcenet.core.errors import ArgumentError
-from forcenet.exact.triangle.distribution import layer_pieces, layer_pieces_from_gaps, moment_from_gaps, pool_gaps
-from forcenet.exact.triangle.gaps import layer_gap_counts
 from forcenet.exact.triangle.de_bruijn.floor import (
     MAX_FLOOR_N,
     floor_gap_laws,
@@ -25,6 +23,8 @@ from forcenet.exact.triangle.de_bruijn.floor import (
     floor_prime_seconds,
     floor_primes,
 )
+from forcenet.exact.triangle.distribution import layer_pieces, layer_pieces_from_gaps, moment_from_gaps, pool_gaps
+from forcenet.exact.triangle.gaps import layer_gap_counts
 from forcenet.exact.triangle.law_routes import layer_gap_law, layer_route, single_grain_gap_law, single_grain_route
 from forcenet.exact.triangle.staircase import count, dimension
 

@@ -18,13 +18,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from forcenet.exact.triangle import law_routes
 from forcenet.exact.triangle.distribution import cdf_from_gaps, density_from_gaps, moment_from_gaps
+from forcenet.exact.triangle.free_fermion import _kernels_python, engine, route
+from forcenet.exact.triangle.free_fermion import fluctuations as fl
 from forcenet.exact.triangle.gaps import layer_gap_counts
 from forcenet.exact.triangle.moments import moment_table
-from forcenet.exact.triangle import law_routes
-from forcenet.exact.triangle.free_fermion import _kernels_python, engine
-from forcenet.exact.triangle.free_fermion import fluctuations as fl
-from forcenet.exact.triangle.free_fermion import route
 from forcenet.exact.triangle.staircase import count
 
 PRIME = 8388593
@@ -298,8 +297,9 @@ def test_two_time_formula_gives_the_second_moment(N):
     (d!/count) [y^(j-1)] <full| e^{(1-t) H} e^{(t-s) H_m} y^{N_m} e^{s H} |empty>, H the covering moves of the
     ideal lattice and H_m the same without the moves across m - 1 -> m (exact polynomials in s, t; sympy).
     """
-    import sympy
     from math import factorial
+
+    import sympy
 
     n, d = N - 1, N * (N - 1) // 2
     s, t, y = sympy.symbols("s t y")

@@ -328,6 +328,7 @@ from forcenet.exact import correlation, count, mean_W, mean_W_grain, moment, nor
 from forcenet.exact.triangle import density  # noqa: E402
 from forcenet.numeric.chicken_wire import isotropic as iso  # noqa: E402
 
+
 def _sampler():
     from forcenet.numeric.triangle.exact_sampler import ExactSampler
 

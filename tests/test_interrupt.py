@@ -385,7 +385,8 @@ def test_exact_sampler_does_not_depend_on_the_calls(monkeypatch):
 
 def test_pfaffian_level_weights_do_not_depend_on_the_calls(monkeypatch):
     from forcenet.exact.triangle import residues
-    from forcenet.exact.triangle.free_fermion import _kernels_python as kernels_python, kernels
+    from forcenet.exact.triangle.free_fermion import _kernels_python as kernels_python
+    from forcenet.exact.triangle.free_fermion import kernels
 
     p = 8388593.0
     points = np.arange(2.0, 42.0)
@@ -473,11 +474,15 @@ def test_compilation_is_counted_once_per_kernel_group():
 
 def test_the_plans_name_their_kernels(monkeypatch):
     """Every sampler plan and the Pfaffian engine add their group's time when the cache lacks the kernel."""
-    from forcenet.exact.triangle.free_fermion.engine import COMPILE_SECONDS as PFAFFIAN, with_kernels_compiled
-    from forcenet.numeric.packing.metropolis import COMPILE_SECONDS as PACKING, packing_plan
+    from forcenet.exact.triangle.free_fermion.engine import COMPILE_SECONDS as PFAFFIAN
+    from forcenet.exact.triangle.free_fermion.engine import with_kernels_compiled
+    from forcenet.numeric.packing.metropolis import COMPILE_SECONDS as PACKING
+    from forcenet.numeric.packing.metropolis import packing_plan
     from forcenet.numeric.packing.scene import Scene
-    from forcenet.numeric.triangle.exact_sampler import COMPILE_SECONDS as EXACT, sample_plan
-    from forcenet.numeric.triangle.metropolis import COMPILE_SECONDS as TRIANGLE, metropolis_plan
+    from forcenet.numeric.triangle.exact_sampler import COMPILE_SECONDS as EXACT
+    from forcenet.numeric.triangle.exact_sampler import sample_plan
+    from forcenet.numeric.triangle.metropolis import COMPILE_SECONDS as TRIANGLE
+    from forcenet.numeric.triangle.metropolis import metropolis_plan
 
     monkeypatch.setattr(plan_module, "kernels_cached", lambda kernels: False)
     scene = Scene(N=5, P=9, F=10.0, pv=1.0, ph=1.0)

@@ -16,8 +16,6 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from forcenet.core.errors import ArgumentError
-from forcenet.exact.triangle.distribution import pool_gaps
-from forcenet.exact.triangle.gaps import contact_gap_counts, grain_gap_counts, layer_gap_counts
 from forcenet.exact.triangle.de_bruijn.floor import floor_primes
 from forcenet.exact.triangle.de_bruijn.layers import (
     layer_gap_laws,
@@ -27,6 +25,8 @@ from forcenet.exact.triangle.de_bruijn.layers import (
     layer_prime_seconds,
     layer_tables,
 )
+from forcenet.exact.triangle.distribution import pool_gaps
+from forcenet.exact.triangle.gaps import contact_gap_counts, grain_gap_counts, layer_gap_counts
 from forcenet.exact.triangle.law_routes import (
     floor_contact_gap_law,
     layer_gap_law,

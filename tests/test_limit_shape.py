@@ -6,10 +6,21 @@ import sympy
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from forcenet.exact import mean_W
-from forcenet.exact.limit_shape.closed_forms import bottom_row_limit, diagonal_limit, edge_profile, lattice_direction_limit
 from forcenet.cli import main
-from forcenet.numeric.limit_shape.surface import bulk_response, lattice_response, level_curve, level_curve_slope, limit_surface
+from forcenet.exact import mean_W
+from forcenet.exact.limit_shape.closed_forms import (
+    bottom_row_limit,
+    diagonal_limit,
+    edge_profile,
+    lattice_direction_limit,
+)
+from forcenet.numeric.limit_shape.surface import (
+    bulk_response,
+    lattice_response,
+    level_curve,
+    level_curve_slope,
+    limit_surface,
+)
 
 DPS = 40
 

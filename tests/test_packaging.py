@@ -24,9 +24,9 @@ from importlib import metadata
 from pathlib import Path
 
 import pytest
+from installed import ROOT, installed_modules, packages, setuptools_config, source_dir
 
 import forcenet
-from installed import ROOT, installed_modules, packages, setuptools_config, source_dir
 
 SOURCE_TOPS = ("src", "exact", "numeric")  # the folders that install (pyproject.toml's package-dir)
 SKIP_DIRS = {".git", "build", "dist", "__pycache__", ".hypothesis", ".pytest_cache", ".mypy_cache"}

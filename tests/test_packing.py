@@ -10,8 +10,6 @@ from hypothesis import strategies as st
 
 from forcenet.exact.packing.mobilized import mean_W_mobilized
 from forcenet.numeric.autocorr import mean_and_stderr
-from forcenet.testing import assert_agrees, exact_mean_W
-from forcenet.testing import strategies as fst
 from forcenet.numeric.packing import (
     PackingMetropolis,
     Scene,
@@ -21,6 +19,8 @@ from forcenet.numeric.packing import (
     response,
     uniform_networks,
 )
+from forcenet.testing import assert_agrees, exact_mean_W
+from forcenet.testing import strategies as fst
 
 S3 = math.sqrt(3)
 

@@ -18,8 +18,8 @@ from hypothesis import strategies as st
 
 from forcenet.core.errors import ArgumentError
 from forcenet.exact.reference.linear_extensions import partial_sum_poset
-from forcenet.exact.triangle.moments import correlation, moment
 from forcenet.exact.triangle.free_fermion import _kernels_python, engine, fluctuations, partial_sums, route
+from forcenet.exact.triangle.moments import correlation, moment
 from forcenet.exact.triangle.staircase import count
 
 PRIME = 8388593

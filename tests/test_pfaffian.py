@@ -21,10 +21,10 @@ from hypothesis import strategies as st
 from forcenet.cli import main
 from forcenet.exact import count, mean_W
 from forcenet.exact.routes import METHODS, table_plan, table_run
-from forcenet.exact.triangle.ideal_dp import survival_counts
 from forcenet.exact.triangle.free_fermion import _dense as dense
 from forcenet.exact.triangle.free_fermion import _kernels_python as kernels_python
 from forcenet.exact.triangle.free_fermion import cost, engine, kernels, route, schur
+from forcenet.exact.triangle.ideal_dp import survival_counts
 from forcenet.exact.triangle.staircase import shifted_tableaux_count
 
 PRIME = 8388593  # below the dense baseline's bound too

@@ -16,8 +16,7 @@ from forcenet.exact.triangle import law_routes, pfaffian_table
 from forcenet.exact.triangle.de_bruijn.floor import floor_plan, floor_prime_seconds, floor_primes
 from forcenet.exact.triangle.de_bruijn.layers import layer_plan, layer_prime_seconds
 from forcenet.exact.triangle.free_fermion import fluctuations, partial_sums, route
-from forcenet.exact.triangle.prime_tasks import (CLIENT_TASK_SECONDS, STARTUP_SECONDS, WORKER_TASK_SECONDS,
-                                                 primes_plan)
+from forcenet.exact.triangle.prime_tasks import CLIENT_TASK_SECONDS, STARTUP_SECONDS, WORKER_TASK_SECONDS, primes_plan
 
 
 @pytest.fixture(scope="module")

@@ -18,13 +18,20 @@ from hypothesis import find, given, settings
 from scipy.signal import lfilter
 
 from forcenet.exact import mean_W, moment_table
+from forcenet.numeric.agreement import t_rows_needed
 from forcenet.numeric.autocorr import AutocorrError
+from forcenet.numeric.betting import rows_needed
 from forcenet.numeric.triangle.exact_sampler import ExactSampler
 from forcenet.numeric.triangle.metropolis import TriangleMetropolis, q_model_samples
-from forcenet.numeric.agreement import t_rows_needed
-from forcenet.numeric.betting import rows_needed
-from forcenet.testing import (CannotJudgeError, DisagreementError, assert_agrees, assert_means_agree, compare,
-                              exact_array, exact_mean_W)
+from forcenet.testing import (
+    CannotJudgeError,
+    DisagreementError,
+    assert_agrees,
+    assert_means_agree,
+    compare,
+    exact_array,
+    exact_mean_W,
+)
 from forcenet.testing import strategies as fst
 
 

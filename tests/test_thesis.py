@@ -11,7 +11,6 @@ from hypothesis import strategies as st
 
 from forcenet.exact import count, mean_W, normalization
 from forcenet.exact.reference.linear_extensions import partial_sum_poset
-from forcenet.exact.triangle.staircase import grain_to_cell
 from forcenet.exact.thesis import (
     boundary_mean_W,
     count_lambda,
@@ -26,6 +25,7 @@ from forcenet.exact.thesis import (
     maps_by_bottom_row,
     normalization_lambda,
 )
+from forcenet.exact.triangle.staircase import grain_to_cell
 
 
 @given(st.integers(min_value=0, max_value=5), st.integers(min_value=0, max_value=5))
@@ -304,8 +304,8 @@ def test_maps_route_correlations(N, data):
 @given(st.integers(min_value=3, max_value=5), st.data())
 def test_maps_route_equals_nested_integration(N, data):
     # two thesis routes: map counting and the nested-matrix integration (4.14)-(4.46)
-    from forcenet.exact.thesis.nested import moment_nested
     from forcenet.exact.thesis import moments_by_maps
+    from forcenet.exact.thesis.nested import moment_nested
 
     i1 = data.draw(st.integers(min_value=1, max_value=N))
     g1 = (i1, data.draw(st.integers(min_value=1, max_value=i1)))

@@ -5,15 +5,32 @@ import importlib.util
 from collections import Counter
 from pathlib import Path
 
-
 import pytest
 
-from forcenet.exact.chicken_wire.tiler import enumerate_tilings, scan_lifts
 from forcenet.core.errors import ArgumentError
+from forcenet.exact.chicken_wire.tiler import enumerate_tilings, scan_lifts
 from forcenet.exact.chicken_wire.tiling import (
-    F, F_IMAGE, KERNEL, NAME_OF, STEP, UNIT, Lattice2in2, Lattice2in4, MapError, canonical_form, check_cells,
-    check_tiling, chicken_wire_configs, config_canonical, config_to_tiling, config_vertex_counts,
-    TilingError, predicted_failures, tiling_tiles, tiling_to_config, zmul,
+    F_IMAGE,
+    KERNEL,
+    NAME_OF,
+    STEP,
+    UNIT,
+    F,
+    Lattice2in2,
+    Lattice2in4,
+    MapError,
+    TilingError,
+    canonical_form,
+    check_cells,
+    check_tiling,
+    chicken_wire_configs,
+    config_canonical,
+    config_to_tiling,
+    config_vertex_counts,
+    predicted_failures,
+    tiling_tiles,
+    tiling_to_config,
+    zmul,
 )
 
 SURVEY = Path(__file__).resolve().parent.parent / "benchmarks" / "tiling_survey.py"  # a test helper, not installed

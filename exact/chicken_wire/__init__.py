@@ -5,7 +5,14 @@
 * :mod:`.closed_form`: the entropy on the isotropic line, Eqs. (7.1)-(7.4), as sympy expressions.
 """
 
-from .model import VERTICES, count_torus, count_torus_by_enumeration, row_transitions, transfer_matrix, vertex_counts_torus
+from .model import (
+    VERTICES,
+    count_torus,
+    count_torus_by_enumeration,
+    row_transitions,
+    transfer_matrix,
+    vertex_counts_torus,
+)
 from .sectors import sector_polynomial_factors
 
 __all__ = [

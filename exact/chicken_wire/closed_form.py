@@ -42,6 +42,7 @@ from __future__ import annotations
 from functools import lru_cache
 
 import sympy
+
 from forcenet.core.errors import ArgumentError
 
 __all__ = [

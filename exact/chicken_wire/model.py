@@ -45,11 +45,11 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from functools import cache
-from typing import TYPE_CHECKING
 from itertools import product
+from typing import TYPE_CHECKING
 
-from forcenet.core.validation import check_int
 from forcenet.core.errors import ArgumentError
+from forcenet.core.validation import check_int
 
 if TYPE_CHECKING:
     import sympy

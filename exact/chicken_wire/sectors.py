@@ -19,6 +19,7 @@ from __future__ import annotations
 from itertools import product
 
 from forcenet.core.validation import check_int
+
 from .model import EMPTY, LEFT, RIGHT, row_transitions
 
 __all__ = ["sector_polynomial_factors"]

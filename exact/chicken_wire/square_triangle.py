@@ -21,6 +21,7 @@ from collections import Counter
 from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
+
 from forcenet.core.errors import ArgumentError, ForcenetError
 
 __all__ = [

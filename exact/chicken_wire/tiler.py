@@ -15,7 +15,17 @@ from __future__ import annotations
 from itertools import product
 from typing import Any
 
-from .square_triangle import KERNEL, Lattice2in2, Lattice2in4, Tile, canonical_form, corner_sectors, f_preimage, tile_corners, vadd
+from .square_triangle import (
+    KERNEL,
+    Lattice2in2,
+    Lattice2in4,
+    Tile,
+    canonical_form,
+    corner_sectors,
+    f_preimage,
+    tile_corners,
+    vadd,
+)
 
 __all__ = ["enumerate_tilings", "lifts", "scan_lifts"]
 

@@ -58,10 +58,26 @@ from math import gcd
 from typing import Any
 
 from forcenet.core.errors import ArgumentError
+
 from .model import BOND_STEPS, VERTICES, torus_configurations
 from .square_triangle import (
-    F, F_IMAGE, KERNEL, UNIT, Lattice2in2, Lattice2in4, Tile, TilingError, canonical_form, check_tiling, tile_corners, tile_edges,
-    tiling_from_canonical, tiling_tiles, vadd, vsub, zmul,
+    F_IMAGE,
+    KERNEL,
+    UNIT,
+    F,
+    Lattice2in2,
+    Lattice2in4,
+    Tile,
+    TilingError,
+    canonical_form,
+    check_tiling,
+    tile_corners,
+    tile_edges,
+    tiling_from_canonical,
+    tiling_tiles,
+    vadd,
+    vsub,
+    zmul,
 )
 
 __all__ = [

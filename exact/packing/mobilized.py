@@ -20,8 +20,8 @@ from typing import Any
 
 import sympy
 
-from forcenet.core.validation import check_int, check_rational
 from forcenet.core.errors import ArgumentError
+from forcenet.core.validation import check_int, check_rational
 
 __all__ = ["mean_W_mobilized"]
 

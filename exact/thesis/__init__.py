@@ -23,7 +23,6 @@ from .map_counting import (
     tableau_from_map,
 )
 from .nested import integrate_layers, mean_W_nested, moment_nested, moment_table_nested, normalization_nested
-from .symbolic import integrate_layer_step, moment_symbolic, nested_layers
 from .recursions import (
     boundary_mean_W,
     count_lambda,
@@ -34,6 +33,7 @@ from .recursions import (
     mean_W_gamma,
     normalization_lambda,
 )
+from .symbolic import integrate_layer_step, moment_symbolic, nested_layers
 
 __all__ = [
     "gamma_coefficient", "integral_I", "index_tuples", "psi_fundamental", "right_vector", "normalization_fundamental",

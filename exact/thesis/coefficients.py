@@ -14,10 +14,11 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from fractions import Fraction
-from typing import Any
 from math import factorial
+from typing import Any
 
 import numpy as np
+
 from forcenet.core.errors import ArgumentError
 
 __all__ = ["gamma", "gamma_coefficient", "gamma_residues", "upper_bound", "defect_line"]

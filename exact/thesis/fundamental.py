@@ -15,9 +15,10 @@ from collections.abc import Iterator
 from fractions import Fraction
 from typing import Any
 
-from forcenet.core.validation import check_layers
-from .coefficients import gamma, gamma_coefficient, upper_bound
 from forcenet.core.errors import ArgumentError
+from forcenet.core.validation import check_layers
+
+from .coefficients import gamma, gamma_coefficient, upper_bound
 
 __all__ = ["integral_I", "index_tuples", "psi_fundamental", "right_vector", "normalization_fundamental"]
 

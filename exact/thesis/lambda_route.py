@@ -6,8 +6,10 @@ Its plan (measured costs) and its run, over the functions of :mod:`.recursions`.
 from __future__ import annotations
 
 from concurrent.futures import Executor
-from forcenet.core.validation import check_layers, check_moments
+
 from forcenet.core.plan import Plan, table_range
+from forcenet.core.validation import check_layers, check_moments
+
 from ..protocol import Progress, Table, run_independent
 from .recursions import mean_W_gamma
 

@@ -20,13 +20,14 @@ from collections.abc import Iterable, Iterator
 from fractions import Fraction
 from functools import lru_cache
 
+from forcenet.core.errors import ArgumentError
+from forcenet.core.validation import check_grain, check_int, check_layers
+
+from ..protocol import Progress
 from ..triangle.spacings import rank_gap_moments, rising
 from ..triangle.staircase import dimension
-from forcenet.core.validation import check_grain, check_int, check_layers
 from .coefficients import defect_line, upper_bound
 from .recursions import count_lambda, table_from_bulk
-from ..protocol import Progress
-from forcenet.core.errors import ArgumentError
 
 __all__ = ["is_map", "maps", "count_maps", "maps_by_bottom_row", "map_from_tableau", "tableau_from_map", "mean_W_thesis_maps", "moment_thesis_maps", "moments_by_maps", "mean_W_by_maps"]
 

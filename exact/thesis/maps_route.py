@@ -7,10 +7,12 @@ from __future__ import annotations
 
 from concurrent.futures import Executor
 from decimal import Decimal
-from ..triangle.staircase import trusted_count, trusted_dimension
-from forcenet.core.validation import check_layers, check_moments
+
 from forcenet.core.plan import Plan, combine, table_range
+from forcenet.core.validation import check_layers, check_moments
+
 from ..protocol import Progress, Table, run_independent
+from ..triangle.staircase import trusted_count, trusted_dimension
 from .map_counting import mean_W_thesis_maps, moments_by_maps
 
 __all__ = ["table_plan", "table_run", "trusted_plan", "trusted_run"]

@@ -47,19 +47,20 @@ from __future__ import annotations
 
 from collections import defaultdict
 from collections.abc import Sequence
-from typing import Any
 from fractions import Fraction
 from functools import lru_cache
 from math import factorial
+from typing import Any
 
 import numpy as np
 
-from ..modular import crt, primes_for_bound
-from ..triangle.staircase import dimension
-from forcenet.core.validation import check_grain, check_int, check_layers
-from .coefficients import gamma, gamma_residues
-from ..protocol import Progress
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
+from forcenet.core.validation import check_grain, check_int, check_layers
+
+from ..modular import crt, primes_for_bound
+from ..protocol import Progress
+from ..triangle.staircase import dimension
+from .coefficients import gamma, gamma_residues
 
 __all__ = ["check_powers", "multiply_site", "integrate_layer", "prune_layer", "integrate_layers", "normalization_nested", "moment_nested", "moment_table_nested", "mean_W_nested"]
 

@@ -17,17 +17,18 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from fractions import Fraction
-from typing import Any
 from functools import lru_cache
 from math import factorial
+from typing import Any
 
 import numpy as np
 
-from ..modular import crt, primes_for_bound
-from ..triangle.staircase import count, dimension
 from forcenet.core.validation import check_int, check_layers
-from .coefficients import defect_line, upper_bound
+
+from ..modular import crt, primes_for_bound
 from ..protocol import Progress
+from ..triangle.staircase import count, dimension
+from .coefficients import defect_line, upper_bound
 
 Reduce = Callable[..., np.ndarray]  # an array to canonical values (% prime, or the identity)
 

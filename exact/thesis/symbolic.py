@@ -43,9 +43,10 @@ from typing import Any, NamedTuple
 
 import sympy
 
-from forcenet.core.validation import check_layers
-from .nested import check_powers, integrate_layer, multiply_site, prune_layer
 from forcenet.core.errors import ArgumentError
+from forcenet.core.validation import check_layers
+
+from .nested import check_powers, integrate_layer, multiply_site, prune_layer
 
 __all__ = ["w_symbol", "NestedLayer", "nested_layers", "integrate_layer_step", "moment_symbolic"]
 

@@ -40,8 +40,8 @@ from typing import Any
 
 import sympy
 
-from forcenet.core.validation import check_layers
 from forcenet.core.errors import ArgumentError
+from forcenet.core.validation import check_layers
 
 __all__ = [
     "W_from_q",

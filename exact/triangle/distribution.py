@@ -45,15 +45,16 @@ from math import comb
 
 import sympy
 
+from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan
 from forcenet.core.validation import available_memory, check_grain, check_int, check_layers
+
 from .gap_counts import GapCounts, moment_from_gaps, pool_gaps
 from .gaps import chain_pass, contact_gap_counts, contact_gap_law, gap_laws_plan
 from .joint_gaps import q_gap_counts
-from .pieces import Piece, as_pieces, bernstein_to_monomial, bin_probabilities, piecewise_cdf, sum_pieces
 from .moments import mean_W_grain
+from .pieces import Piece, as_pieces, bernstein_to_monomial, bin_probabilities, piecewise_cdf, sum_pieces
 from .spacings import rising
-from forcenet.core.errors import ArgumentError
 
 __all__ = [
     "W_SYMBOL",

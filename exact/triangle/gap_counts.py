@@ -22,6 +22,7 @@ from typing import NamedTuple
 
 from forcenet.core.errors import ArgumentError
 from forcenet.core.validation import check_int
+
 from .spacings import rising
 
 __all__ = ["GapCounts", "pool_gaps", "moment_from_gaps"]

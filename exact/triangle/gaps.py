@@ -44,14 +44,15 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..modular import crt, primes_for_bound
+from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_grain, check_int, check_layers
+
+from ..modular import crt, primes_for_bound
 from .gap_counts import GapCounts
 from .ideal_dp import predecessor_moves
 from .runs import check_chain, mulmod_sum, run_layout, transport
 from .staircase import count, dimension
-from forcenet.core.errors import ArgumentError
 
 __all__ = [
     "GapCounts",

@@ -30,14 +30,15 @@ here (issue 25: validate at the boundary, trust inside).
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Sequence
-from functools import lru_cache, cache
+from functools import cache, lru_cache
 from typing import NamedTuple, TypeAlias
 
 import numpy as np
 
+from forcenet.core.errors import ArgumentError
+
 from ..modular import crt, primes_for_bound
 from .staircase import trusted_count, trusted_dimension
-from forcenet.core.errors import ArgumentError
 
 Progress: TypeAlias = Callable[..., object] | None  # progress(k): k more ticks done
 

@@ -24,12 +24,13 @@ from collections.abc import Iterable, Sequence
 
 import numpy as np
 
-from ..modular import crt, primes_for_bound
-from forcenet.core.validation import check_grain, check_int, check_layers
-from .runs import check_chain, mulmod_sum, run_layout, transport
-from .ideal_dp import predecessor_moves
-from .staircase import count, dimension
 from forcenet.core.errors import ArgumentError
+from forcenet.core.validation import check_grain, check_int, check_layers
+
+from ..modular import crt, primes_for_bound
+from .ideal_dp import predecessor_moves
+from .runs import check_chain, mulmod_sum, run_layout, transport
+from .staircase import count, dimension
 
 __all__ = ["joint_gap_counts", "q_gap_counts"]
 

@@ -25,10 +25,11 @@ from fractions import Fraction
 from os import PathLike
 from typing import Any
 
+from forcenet.core.checkpoints import CheckpointStore
 from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan, combine
 from forcenet.core.validation import check_grain, check_int, check_layers
-from forcenet.core.checkpoints import CheckpointStore
+
 from .de_bruijn.floor import MAX_FLOOR_N, floor_gap_laws, floor_plan, floor_pooled_gap_law
 from .de_bruijn.layers import layer_gap_laws, layer_plan, layer_pooled_gap_law
 from .distribution import distribution_plan, layer_pieces_from_gaps, triangle_force_density

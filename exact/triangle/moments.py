@@ -20,24 +20,24 @@ S. Ostojic, PhD thesis (2006), Eqs. (4.3), (4.63)-(4.85).
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from concurrent.futures import Executor
 from fractions import Fraction
 from functools import lru_cache
 from math import comb, factorial
+from typing import Any
 
 import numpy as np
 
-from collections.abc import Callable
-from concurrent.futures import Executor
-from typing import Any
+from forcenet.core.errors import ArgumentError
+from forcenet.core.plan import Plan, combine
+from forcenet.core.validation import check_grain, check_int, check_layers, check_moments
 
 from ..modular import crt, primes_for_bound
-from forcenet.core.plan import Plan, combine
 from ..protocol import Progress, Table, bounded_result, run_independent
-from forcenet.core.validation import check_grain, check_int, check_layers, check_moments
 from .ideal_dp import estimate_survival_cost, marked_chain_sums, parts_table, survival_counts
 from .spacings import rising
 from .staircase import trusted_count, trusted_dimension
-from forcenet.core.errors import ArgumentError
 
 __all__ = [
     "mean_W",

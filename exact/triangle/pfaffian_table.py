@@ -38,10 +38,11 @@ from fractions import Fraction
 from os import PathLike
 from typing import Any
 
-from forcenet.core.plan import Plan, combine
-from forcenet.core.validation import check_int, check_layers, check_moments
 from forcenet.core.checkpoints import CheckpointStore
 from forcenet.core.execution import as_executor
+from forcenet.core.plan import Plan, combine
+from forcenet.core.validation import check_int, check_layers, check_moments
+
 from ..protocol import Progress, Table
 from .de_bruijn.floor import MAX_FLOOR_N, floor_gap_laws, floor_plan
 from .de_bruijn.layers import layer_gap_laws, layer_plan

@@ -25,10 +25,17 @@ from concurrent.futures import Executor
 from os import PathLike
 from typing import Any
 
+from forcenet.core.checkpoints import CheckpointStore
+from forcenet.core.execution import (
+    as_executor,
+    available_cores,
+    executor_label,
+    executor_workers,
+    run_tasks,
+    wall_seconds,
+)
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_int
-from forcenet.core.checkpoints import CheckpointStore
-from forcenet.core.execution import as_executor, available_cores, executor_label, executor_workers, run_tasks, wall_seconds
 
 __all__ = ["STARTUP_SECONDS", "WORKER_BASE_BYTES", "WORKER_TASK_SECONDS", "CLIENT_TASK_SECONDS",
            "PARALLEL_MIN_SECONDS", "ROUTES", "checkpoint_store", "run_primes", "workers_for", "primes_plan"]

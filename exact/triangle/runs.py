@@ -17,10 +17,11 @@ from typing import NamedTuple
 
 import numpy as np
 
+from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.validation import check_int
+
 from .ideal_dp import forward_counts_mod, ideal_levels
 from .staircase import dimension
-from forcenet.core.errors import ArgumentError, ArgumentTypeError
 
 __all__ = ["check_chain", "down_size", "RunLayout", "run_layout", "transport", "mulmod_sum"]
 

@@ -18,15 +18,15 @@ References
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Iterable
 from fractions import Fraction
-import math
-from typing import TYPE_CHECKING, Any
 from functools import lru_cache
 from math import factorial, prod
+from typing import TYPE_CHECKING, Any
 
-from forcenet.core.validation import check_layers
 from forcenet.core.errors import ArgumentError
+from forcenet.core.validation import check_layers
 
 if TYPE_CHECKING:
     from forcenet.core.plan import Plan

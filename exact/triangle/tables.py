@@ -17,9 +17,10 @@ from fractions import Fraction
 
 from forcenet.core import atomic_files
 from forcenet.core.errors import ArgumentError
-from .moments import mean_W, moment_table
-from ..protocol import Progress
 from forcenet.core.validation import check_layers, check_moments
+
+from ..protocol import Progress
+from .moments import mean_W, moment_table
 from .staircase import count, normalization
 
 __all__ = ["exact_table", "exact_row", "to_json", "to_csv", "to_latex", "write_atomic", "fraction_str", "integer_text",

@@ -24,12 +24,11 @@ Examples
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Any, TypeVar
-
-import functools
 
 import numpy as np
 from threadpoolctl import threadpool_limits

@@ -36,17 +36,16 @@ from __future__ import annotations
 import functools
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
 from fractions import Fraction
 from functools import lru_cache
+from typing import Any
 
 import mpmath
 
-from forcenet.core.plan import Plan
-from forcenet.core.validation import check_dps, check_float_digits, check_int, is_binary_float
-
-from forcenet.core.precision import GUARD, RealLike, converged, to_mpf
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
+from forcenet.core.plan import Plan
+from forcenet.core.precision import GUARD, RealLike, converged, to_mpf
+from forcenet.core.validation import check_dps, check_float_digits, check_int, is_binary_float
 
 __all__ = [
     "phi_within_range",

@@ -24,6 +24,7 @@ Examples
 from __future__ import annotations
 
 import numpy as np
+
 from forcenet.core.errors import ArgumentError
 
 Site = tuple[int, int]  # (x, y) on the L x M torus

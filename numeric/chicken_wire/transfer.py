@@ -30,13 +30,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from forcenet.core.errors import ArgumentError
+from forcenet.core.plan import Plan
+from forcenet.core.validation import check_dps, check_int, check_real
 from forcenet.exact.chicken_wire.model import EMPTY as _E
 from forcenet.exact.chicken_wire.model import LEFT as _L
 from forcenet.exact.chicken_wire.model import RIGHT as _R
 from forcenet.exact.chicken_wire.model import SITE_CHOICES, VERTICES
-from forcenet.core.errors import ArgumentError
-from forcenet.core.plan import Plan
-from forcenet.core.validation import check_dps, check_int, check_real
 
 if TYPE_CHECKING:
     import mpmath

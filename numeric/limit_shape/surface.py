@@ -44,10 +44,9 @@ from typing import Any
 
 import mpmath
 
-from forcenet.core.validation import check_dps
-
-from forcenet.core.precision import GUARD, RealLike, guarded, to_mpf
 from forcenet.core.errors import ArgumentError
+from forcenet.core.precision import GUARD, RealLike, guarded, to_mpf
+from forcenet.core.validation import check_dps
 
 __all__ = ["level_curve", "level_curve_slope", "limit_surface", "bulk_response", "lattice_response"]
 

@@ -15,19 +15,18 @@ True
 from __future__ import annotations
 
 import math
-
 from collections.abc import Callable
 from typing import Literal, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_int
 
 from .networks import maximin_network
 from .scene import Scene, forces_from_lateral, forces_from_q, lateral_forces
-from forcenet.core.errors import ArgumentError, ArgumentTypeError
 
 __all__ = ["PackingMetropolis", "response", "packing_plan"]
 

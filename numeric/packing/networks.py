@@ -11,8 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .scene import SQRT3, Scene, forces_from_lateral
 from forcenet.core.errors import ArgumentError, ConvergenceError
+
+from .scene import SQRT3, Scene, forces_from_lateral
 
 __all__ = ["uniform_networks", "maximin_network"]
 

@@ -47,8 +47,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from forcenet.core.validation import check_int, check_real
 from forcenet.core.errors import ArgumentError
+from forcenet.core.validation import check_int, check_real
 
 __all__ = ["Scene", "forces_from_q", "forces_from_lateral", "lateral_forces", "lateral_increments", "contact_forces",
            "SQRT3"]

@@ -30,8 +30,8 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from forcenet.core.validation import check_int, check_real
 from forcenet.core.errors import ArgumentError
+from forcenet.core.validation import check_int, check_real
 
 if TYPE_CHECKING:
     from forcenet.exact.triangle.gaps import GapCounts

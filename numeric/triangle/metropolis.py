@@ -29,16 +29,15 @@ True
 from __future__ import annotations
 
 import math
-
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from forcenet.exact.triangle.staircase import dimension
-from forcenet.core.validation import check_fits_memory, check_int, check_layers, check_seed
 from forcenet.core.errors import ArgumentError
+from forcenet.core.validation import check_fits_memory, check_int, check_layers, check_seed
+from forcenet.exact.triangle.staircase import dimension
 
 if TYPE_CHECKING:
     from forcenet.core.plan import Plan

@@ -39,16 +39,22 @@ from importlib.metadata import PackageNotFoundError, version
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ loads them on first use
-    from forcenet.core.errors import (ArgumentError, ArgumentTypeError, ClusterError, ConvergenceError, ForcenetError,
-                                      PrecisionWarning)
+    from forcenet.core.errors import (
+        ArgumentError,
+        ArgumentTypeError,
+        ClusterError,
+        ConvergenceError,
+        ForcenetError,
+        PrecisionWarning,
+    )
     from forcenet.exact.triangle.distribution import cdf, contact_density, density
     from forcenet.exact.triangle.staircase import count, normalization
     from forcenet.front_door import TablePlan, plan, table
     from forcenet.law_results import Law
     from forcenet.laws import LawPlan, law, law_plan
-    from forcenet.results import Row, Table
     from forcenet.numeric.chicken_wire.isotropic import entropy, tiling_entropy
     from forcenet.numeric.triangle import ExactSampler, TriangleMetropolis
+    from forcenet.results import Row, Table
 
 # name -> the module that defines it, imported on first use (forcenet.exact costs about a second to import)
 _FRONT_DOOR = {

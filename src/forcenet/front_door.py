@@ -38,7 +38,6 @@ from typing import TYPE_CHECKING, Any
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan
 from forcenet.core.validation import available_memory
-
 from forcenet.results import Row, Table
 
 if TYPE_CHECKING:

@@ -19,7 +19,6 @@ from fractions import Fraction
 from typing import TYPE_CHECKING, Any
 
 from forcenet.core.validation import check_int
-
 from forcenet.results import _Rendered
 
 if TYPE_CHECKING:  # pragma: no cover - annotations only

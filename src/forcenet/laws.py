@@ -37,7 +37,6 @@ from typing import TYPE_CHECKING, Any
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan
 from forcenet.core.validation import available_memory, check_int
-
 from forcenet.law_results import Law
 
 if TYPE_CHECKING:  # pragma: no cover - annotations only

@@ -15,8 +15,8 @@ Examples
 
 from __future__ import annotations
 
-from fractions import Fraction
 from collections.abc import Callable
+from fractions import Fraction
 from typing import TYPE_CHECKING, Any
 
 from forcenet.core.errors import ArgumentError

@@ -61,10 +61,11 @@ from typing import Any
 
 import numpy as np
 
+from forcenet.core.checkpoints import CheckpointStore
 from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan, with_compilation
 from forcenet.core.validation import check_layers
-from forcenet.core.checkpoints import CheckpointStore
+
 from ...modular import crt_many, primes_for_bound
 from ..gap_counts import GapCounts
 from ..prime_tasks import WORKER_BASE_BYTES, checkpoint_store, primes_plan, run_primes, workers_for

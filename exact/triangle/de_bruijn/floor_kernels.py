@@ -14,8 +14,8 @@ import numpy as np
 
 from forcenet.core.compiled import njit
 
-from .floor_displacement import STREAMS, STRIDE, bordered_pfaffians
 from ..residues import JIT, inv_mod, lred, pfaffian_mod, red
+from .floor_displacement import STREAMS, STRIDE, bordered_pfaffians
 
 __all__ = ["pfaffian_lazy", "eliminate", "fill", "grid", "fill_pair", "pfaffian_pair", "grid_pairs",
            "monomials", "gap_residues", "GRID_LANES", "grid_node", "grid_outputs", "add_node", "scale_row"]

@@ -30,8 +30,8 @@ import numpy as np
 
 from forcenet.core.compiled import njit
 
-from .floor_kernels import add_node, grid_node, grid_outputs, pfaffian_lazy, scale_row
 from ..residues import JIT, inv_mod, pfaffian_mod, red
+from .floor_kernels import add_node, grid_node, grid_outputs, pfaffian_lazy, scale_row
 
 __all__ = ["layer_fill", "layer_grid"]
 

@@ -51,15 +51,24 @@ from typing import Any
 
 import numpy as np
 
+from forcenet.core.checkpoints import CheckpointStore
 from forcenet.core.plan import Plan, with_compilation
 from forcenet.core.validation import check_int, check_layers
-from forcenet.core.checkpoints import CheckpointStore
+
 from ..gap_counts import GapCounts
 from ..prime_tasks import checkpoint_store, primes_plan, run_primes, workers_for
 from ..residues import lagrange_matrix, pfaffian_mod
 from ..staircase import count, dimension
-from .floor import (COMPILE_SECONDS, MAX_FLOOR_N, exact_gap_laws, floor_primes, grid_gap_residues, grid_worker_bytes,
-                    quadrature_weights, zeta_coefficients)
+from .floor import (
+    COMPILE_SECONDS,
+    MAX_FLOOR_N,
+    exact_gap_laws,
+    floor_primes,
+    grid_gap_residues,
+    grid_worker_bytes,
+    quadrature_weights,
+    zeta_coefficients,
+)
 from .floor_kernels import gap_residues, monomials, pfaffian_lazy
 from .layer_kernels import layer_fill, layer_grid
 

@@ -25,9 +25,17 @@ Examples
 (286, ['1/7', '5/14', '5/14', '1/7'])
 """
 
-from .route import (count, expected_entries, lattice_direction, lattice_direction_plan, mean_plan, mean_W,
-                    normalization, survival_table)
 from .partial_sums import entry_moments, partial_sum_moments, partial_sum_moments_plan
+from .route import (
+                    count,
+                    expected_entries,
+                    lattice_direction,
+                    lattice_direction_plan,
+                    mean_plan,
+                    mean_W,
+                    normalization,
+                    survival_table,
+)
 
 __all__ = ["count", "normalization", "expected_entries", "mean_W", "mean_plan", "lattice_direction",
            "lattice_direction_plan", "survival_table", "partial_sum_moments", "partial_sum_moments_plan",

@@ -35,8 +35,8 @@ from numba import uint64
 
 from forcenet.core.compiled import njit
 
-from .kernels import dual_weights, edge_values, lagrange_matrix, node_value, pfaffian_mod, weighted_sum
 from ..residues import JIT, inv_mod, red, solve
+from .kernels import dual_weights, edge_values, lagrange_matrix, node_value, pfaffian_mod, weighted_sum
 
 __all__ = ["point_values_dense", "displacement_generators", "pfaffian_mod", "point_values", "edge_values", "dual_weights",
            "lagrange_matrix", "weighted_sum"]

@@ -18,6 +18,7 @@ from __future__ import annotations
 from math import isqrt
 
 from forcenet.core.validation import check_int
+
 from ...modular import primes_for_bound
 from ..prime_tasks import WORKER_BASE_BYTES
 from ..staircase import dimension

@@ -41,10 +41,11 @@ from fractions import Fraction
 from os import PathLike
 from typing import Any
 
+from forcenet.core.checkpoints import CheckpointStore
 from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_int, check_layers
-from forcenet.core.checkpoints import CheckpointStore
+
 from .partial_sums import partial_sum_moments, partial_sum_moments_plan
 from .route import MAX_N
 

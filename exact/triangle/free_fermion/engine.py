@@ -39,13 +39,14 @@ from types import ModuleType
 
 import numpy as np
 
-from ...modular import is_prime
-from forcenet.core.plan import Plan, with_compilation
 from forcenet.core.errors import ArgumentError
+from forcenet.core.plan import Plan, with_compilation
 from forcenet.core.validation import check_int, check_layers
+
+from ...modular import is_prime
+from ..staircase import dimension
 from .cost import level_points, prime_limit
 from .schur import labels
-from ..staircase import dimension
 
 __all__ = ["setup_matrices", "prime_residues", "edge_residues", "count_residue", "PointFailureError",
            "with_kernels_compiled", "kernel_module", "constants", "pair_points", "check_prime"]

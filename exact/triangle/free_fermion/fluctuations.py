@@ -54,13 +54,22 @@ import numpy as np
 from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_grain, check_int, check_layers
+
 from ...modular import crt_many
 from ..gap_counts import GapCounts
 from ..prime_tasks import WORKER_BASE_BYTES, primes_plan, run_primes, workers_for
 from ..staircase import count as product_count
 from ..staircase import dimension
 from .cost import edge_seconds, level_points, prime_limit, route_primes
-from .engine import MAX_POINT_FAILURES, PointFailureError, kernel_module, check_prime, constants, pair_points, setup_matrices
+from .engine import (
+    MAX_POINT_FAILURES,
+    PointFailureError,
+    check_prime,
+    constants,
+    kernel_module,
+    pair_points,
+    setup_matrices,
+)
 from .route import count
 
 __all__ = ["MAX_LAW_N", "edge_level_residues", "lattice_level_sums", "lattice_gap_laws", "lattice_mean_W2",

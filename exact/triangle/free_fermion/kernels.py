@@ -37,10 +37,22 @@ import numpy as np
 from numba import uint64
 
 from forcenet.core.compiled import njit
-
 from forcenet.core.errors import ArgumentError
-from ..residues import (JIT, dual_block, dual_weights, inv_mod, lagrange_matrix, lred, master_factors, pfaffian_mod, red,
-                        skew_solve, weighted_rows, weighted_sum)
+
+from ..residues import (
+    JIT,
+    dual_block,
+    dual_weights,
+    inv_mod,
+    lagrange_matrix,
+    lred,
+    master_factors,
+    pfaffian_mod,
+    red,
+    skew_solve,
+    weighted_rows,
+    weighted_sum,
+)
 
 __all__ = ["pfaffian_mod", "point_values", "edge_values", "kernel_constants", "dual_weights", "lagrange_matrix", "weighted_sum", "LANES",
            "node_value", "master_factors", "dual_block", "weighted_rows"]

@@ -41,8 +41,9 @@ from forcenet.core.checkpoints import CheckpointStore
 from forcenet.core.execution import as_executor
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_layers
-from ..staircase import dimension
+
 from ..prime_tasks import checkpoint_store
+from ..staircase import dimension
 from .cost import prime_seconds, worker_bytes
 from .route import MAX_N, route_plan, survival_tables
 

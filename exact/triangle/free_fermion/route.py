@@ -35,18 +35,19 @@ from __future__ import annotations
 from concurrent.futures import Executor
 from fractions import Fraction
 from math import ceil, comb, factorial, log2
-from typing import Any
 from os import PathLike
+from typing import Any
 
 from forcenet.core.checkpoints import CheckpointStore
 from forcenet.core.execution import as_executor
-from ...modular import crt_many
 from forcenet.core.plan import Plan, table_range
-from ...protocol import Progress, Table
 from forcenet.core.validation import check_layers
-from ..staircase import dimension
+
+from ...modular import crt_many
+from ...protocol import Progress, Table
 from ..prime_tasks import checkpoint_store, primes_plan, run_primes, workers_for
 from ..staircase import count as product_count
+from ..staircase import dimension
 from .cost import CRT_SECONDS, edge_seconds, prime_limit, prime_seconds, route_primes, worker_bytes
 from .engine import count_residue, edge_residues, prime_residues, with_kernels_compiled
 

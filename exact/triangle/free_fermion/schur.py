@@ -40,6 +40,7 @@ from math import factorial
 from typing import Any
 
 from forcenet.core.validation import check_int, check_layers
+
 from ..staircase import dimension
 
 __all__ = [

@@ -7,20 +7,21 @@ from collections.abc import Callable
 from fractions import Fraction
 from typing import Any
 
+from forcenet.core.errors import ArgumentError
+
 from .common import (
     UsageError,
     add_force,
-    given,
-    refuse_together,
     add_format,
     add_quiet,
+    given,
     integer,
     json_dumps,
     real,
+    refuse_together,
     run_planned,
 )
 from .output import emit
-from forcenet.core.errors import ArgumentError
 
 __all__ = ["register"]
 

@@ -23,9 +23,9 @@ import time
 from collections.abc import Callable, Sequence
 from typing import Any, NoReturn, TypeVar
 
+from forcenet.core.errors import ArgumentError, ForcenetError
 from forcenet.core.plan import Plan, duration_text
 from forcenet.core.validation import check_int, check_real
-from forcenet.core.errors import ArgumentError, ForcenetError
 
 __all__ = [
     "UsageError",

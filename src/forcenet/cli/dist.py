@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 from forcenet.exact.routes import LAW_CONTACTS, LAW_DP_MAX_N, LAW_MAX_N
 
+from .cluster import add_engine_options, engine_options, report_checkpoints
 from .common import (
     UsageError,
     add_force,
@@ -30,7 +31,6 @@ from .common import (
     real,
     run_planned,
 )
-from .cluster import add_engine_options, engine_options, report_checkpoints
 from .output import destination, emit, write_files
 
 if TYPE_CHECKING:

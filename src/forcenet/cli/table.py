@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import argparse
 import os
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, cast
 
-import argparse
 from forcenet.exact.routes import MAX_MOMENTS, METHODS, takes
 
+from .cluster import add_engine_options, engine_options, report_checkpoints
 from .common import (
     UsageError,
     add_force,
@@ -21,7 +22,6 @@ from .common import (
     refuse_together,
     run_planned,
 )
-from .cluster import add_engine_options, engine_options, report_checkpoints
 from .output import EXIT_CANNOT_JUDGE, EXIT_DISAGREES, check_output_dir, emit, write_files, write_stdout
 
 if TYPE_CHECKING:

@@ -46,9 +46,9 @@ from concurrent.futures import FIRST_COMPLETED, CancelledError, Executor, as_com
 from math import ceil
 from typing import TYPE_CHECKING, Any, TypeVar
 
+from forcenet.core.errors import ArgumentError, ArgumentTypeError, ClusterError
 from forcenet.core.lifetime import die_with_parent
 from forcenet.core.validation import check_int
-from forcenet.core.errors import ArgumentError, ArgumentTypeError, ClusterError
 
 if TYPE_CHECKING:
     from concurrent.futures import ProcessPoolExecutor

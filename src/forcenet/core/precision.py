@@ -26,8 +26,8 @@ from typing import TypeAlias
 
 import mpmath
 
-from forcenet.core.validation import check_float_digits, check_not_bool, is_binary_float
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceError
+from forcenet.core.validation import check_float_digits, check_not_bool, is_binary_float
 
 __all__ = ["GUARD", "RealLike", "to_mpf", "guarded", "converged"]
 

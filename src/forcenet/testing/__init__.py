@@ -32,7 +32,15 @@ True
 
 from types import ModuleType
 
-from .assertions import CannotJudgeError, DisagreementError, TableAgreement, assert_agrees, assert_means_agree, compare, exact_array
+from .assertions import (
+    CannotJudgeError,
+    DisagreementError,
+    TableAgreement,
+    assert_agrees,
+    assert_means_agree,
+    compare,
+    exact_array,
+)
 from .counterparts import exact_mean_W
 from .cross_check import cross_check, cross_check_plan
 

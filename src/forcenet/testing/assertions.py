@@ -58,8 +58,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from forcenet.numeric.agreement import TableAgreement, compare_chain, compare_means, compare_samples, varying_columns
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ForcenetError
+from forcenet.numeric.agreement import TableAgreement, compare_chain, compare_means, compare_samples, varying_columns
 
 __all__ = ["CannotJudgeError", "DisagreementError", "TableAgreement", "assert_agrees", "assert_means_agree", "compare",
            "exact_array", "samples_array"]

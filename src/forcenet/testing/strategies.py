@@ -30,6 +30,7 @@ from __future__ import annotations
 
 from functools import lru_cache
 from typing import Any
+
 from forcenet.core.errors import ArgumentError
 
 try:

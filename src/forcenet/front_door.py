@@ -33,7 +33,7 @@ import os
 from collections.abc import Callable
 from concurrent.futures import Executor
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Self
 
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan
@@ -61,49 +61,10 @@ def _checkpoint(checkpoint: object) -> str | None:
     return os.fspath(checkpoint)
 
 
-@dataclass(frozen=True)
-class TablePlan:
-    """A checked request for an exact table, with its cost: what :func:`plan` returns (make it with :func:`plan`).
+class _Costed:
+    """What a front door's plan (:class:`TablePlan`, :class:`~forcenet.LawPlan`) says of its ``cost``."""
 
-    Parameters
-    ----------
-    N : int
-        Number of layers.
-    moments : int
-        Highest moment ``s`` of ``<W^s>``.
-    method : str
-        The route that runs it (``auto`` resolved to the fastest by the plans).
-    why : str
-        Why ``auto`` chose ``method`` (empty for an explicit method).
-    cost : forcenet.core.plan.Plan
-        Estimated seconds, peak bytes, progress ticks, or the refusal.
-    executor : concurrent.futures.Executor or Dask Client, optional
-        Runs the route's independent tasks.
-    checkpoint : CheckpointStore or str, optional
-        Where the route records finished tasks.
-    memory_bytes : int, optional
-        The memory the plan was checked against.
-    row : int, optional
-        One row (layer) ``i`` of the tables instead of the whole table; ``method`` then names the row's route.
-
-    Examples
-    --------
-    >>> import forcenet
-    >>> p = forcenet.plan(12)
-    >>> p.method, p.runnable, p.refusal
-    ('fast', True, None)
-    """
-
-    N: int
-    moments: int
-    method: str
-    why: str
     cost: Plan
-    executor: Executor | None = field(default=None, repr=False)
-    checkpoint: Any = field(default=None, repr=False)
-    memory_bytes: int | None = field(default=None, repr=False)
-    row: int | None = None
-    request: Request | None = field(default=None, repr=False)  # the checked request it was planned for
 
     @property
     def runnable(self) -> bool:
@@ -168,12 +129,12 @@ class TablePlan:
         """
         return self.cost.describe()
 
-    def check(self) -> TablePlan:
+    def check(self) -> Self:
         """The plan itself when it can run; else :class:`~forcenet.ArgumentError` with its refusal.
 
         Returns
         -------
-        TablePlan
+        TablePlan or LawPlan
             This plan.
 
         Raises
@@ -189,6 +150,51 @@ class TablePlan:
         """
         self.cost.check()
         return self
+
+
+@dataclass(frozen=True)
+class TablePlan(_Costed):
+    """A checked request for an exact table, with its cost: what :func:`plan` returns (make it with :func:`plan`).
+
+    Parameters
+    ----------
+    N : int
+        Number of layers.
+    moments : int
+        Highest moment ``s`` of ``<W^s>``.
+    method : str
+        The route that runs it (``auto`` resolved to the fastest by the plans).
+    why : str
+        Why ``auto`` chose ``method`` (empty for an explicit method).
+    cost : forcenet.core.plan.Plan
+        Estimated seconds, peak bytes, progress ticks, or the refusal.
+    executor : concurrent.futures.Executor or Dask Client, optional
+        Runs the route's independent tasks.
+    checkpoint : CheckpointStore or str, optional
+        Where the route records finished tasks.
+    memory_bytes : int, optional
+        The memory the plan was checked against.
+    row : int, optional
+        One row (layer) ``i`` of the tables instead of the whole table; ``method`` then names the row's route.
+
+    Examples
+    --------
+    >>> import forcenet
+    >>> p = forcenet.plan(12)
+    >>> p.method, p.runnable, p.refusal
+    ('fast', True, None)
+    """
+
+    N: int
+    moments: int
+    method: str
+    why: str
+    cost: Plan
+    executor: Executor | None = field(default=None, repr=False)
+    checkpoint: Any = field(default=None, repr=False)
+    memory_bytes: int | None = field(default=None, repr=False)
+    row: int | None = None
+    request: Request | None = field(default=None, repr=False)  # the checked request it was planned for
 
     def run(self, progress: Progress | bool | None = None) -> Table | Row:
         """Compute the table (or the row) this plan describes (the plan is not made again).

@@ -37,6 +37,7 @@ from typing import TYPE_CHECKING, Any
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan
 from forcenet.core.validation import available_memory, check_int
+from forcenet.front_door import _Costed
 from forcenet.law_results import Law
 
 if TYPE_CHECKING:  # pragma: no cover - annotations only
@@ -48,7 +49,7 @@ Progress = Callable[..., Any]
 
 
 @dataclass(frozen=True)
-class LawPlan:
+class LawPlan(_Costed):
     """A checked request for one load's law, with its route and cost: what :func:`law_plan` returns.
 
     Parameters
@@ -94,54 +95,6 @@ class LawPlan:
         return self.request.N
 
     @property
-    def runnable(self) -> bool:
-        """True when the request can run (in range, within memory).
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> forcenet.law_plan(40, layer=40).runnable, forcenet.law_plan(40, layer=40, method="ideals").runnable
-        (True, False)
-        """
-        return self.cost.runnable
-
-    @property
-    def refusal(self) -> str | None:
-        """Why it cannot run, and what would; None when it can.
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> print(forcenet.law_plan(40, layer=40, method="ideals").refusal)  # doctest: +ELLIPSIS
-        N=40 is out of range for exact gap laws: ...; method='auto' runs it by floor (~...)
-        """
-        return self.cost.refusal
-
-    @property
-    def seconds(self) -> float:
-        """Estimated wall time on the 2-core reference machine.
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> forcenet.law_plan(6).seconds < 5
-        True
-        """
-        return self.cost.seconds
-
-    @property
-    def nbytes(self) -> int:
-        """Estimated peak memory in bytes.
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> forcenet.law_plan(40, layer=40).nbytes < 2**31
-        True
-        """
-        return self.cost.nbytes
-
-    @property
     def over_primes(self) -> bool:
         """True when the route runs over independent primes (it takes ``executor=`` and ``checkpoint=``).
 
@@ -154,29 +107,6 @@ class LawPlan:
         from forcenet.exact.routes import LAW_PRIME_ROUTES
 
         return self.method in LAW_PRIME_ROUTES
-
-    def describe(self) -> str:
-        """The cost in words: ``'~1 min, ~0.25 GiB'``.
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> forcenet.law_plan(5, (5, 3)).describe()  # doctest: +ELLIPSIS
-        '~0 s, ~...GiB'
-        """
-        return self.cost.describe()
-
-    def check(self) -> LawPlan:
-        """The plan itself when it can run; else :class:`~forcenet.ArgumentError` with its refusal.
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> forcenet.law_plan(7, layer=7).check().method
-        'ideals'
-        """
-        self.cost.check()
-        return self
 
     def with_options(self, *, executor: Executor | None = None,
                      checkpoint: str | os.PathLike[str] | None = None) -> LawPlan:

@@ -248,3 +248,18 @@ def test_a_laws_plan_counts_the_clusters_workers():
             wide = forcenet.law_plan(40, **request, executor=many)
             assert alone.method == wide.method != "ideals", request
             assert wide.seconds < alone.seconds / 4, (request, alone.seconds, wide.seconds)
+
+
+def test_a_plan_given_a_cluster_afterwards_counts_its_workers():
+    """The command line plans first, then connects to ``--scheduler`` for a route over primes: the plan it
+    announces is the chosen route's on the cluster's workers, not this machine's."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from forcenet.core.execution import declare_workers
+
+    local = forcenet.law_plan(40, layer=20)
+    with declare_workers(ThreadPoolExecutor(16), 16) as many:
+        on_cluster = local.with_options(executor=many)
+        direct = forcenet.law_plan(40, layer=20, executor=many)
+    assert on_cluster.method == local.method == direct.method
+    assert on_cluster.seconds == direct.seconds < local.seconds / 4

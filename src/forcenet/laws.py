@@ -81,6 +81,7 @@ class LawPlan(_Costed):
     cost: Plan
     executor: Executor | None = field(default=None, repr=False)
     checkpoint: Any = field(default=None, repr=False)
+    memory_bytes: int | None = field(default=None, repr=False)  # the memory the plan was checked against
 
     @property
     def N(self) -> int:
@@ -136,7 +137,7 @@ class LawPlan(_Costed):
         >>> p.checkpoint.request["route"]
         'pfaffian-floor'
         """
-        from forcenet.exact.routes import LAW_PRIME_ROUTES, law_checkpoint, law_resumed
+        from forcenet.exact.routes import LAW_PRIME_ROUTES, choose_law, law_checkpoint, law_resumed
 
         if executor is None and checkpoint is None:
             return self
@@ -146,6 +147,10 @@ class LawPlan(_Costed):
                                 f"this law runs by {self.method} ({self.describe()}): run it without")
         store = self.checkpoint
         cost = self.cost
+        if executor is not None and executor is not self.executor:  # the route's plan on the executor's workers
+            again = choose_law(self.request, "auto", self.memory_bytes, executor=executor)
+            if again.route == self.method:  # (a cluster slower per task than this machine keeps the plan it had)
+                cost = again.plan
         if checkpoint is not None:
             if self.checkpoint is not None:
                 raise ArgumentError(f"checkpoint={checkpoint!r}: this plan keeps its checkpoint already; make the "
@@ -253,8 +258,12 @@ def law_plan(N: int, grain: tuple[int, int] | None = None, *, layer: int | None 
     request = law_request(N, grain, layer, contact)
     memory = (available_memory() or 16 * 2**30) if memory_bytes is None else check_int(memory_bytes, "memory_bytes", 1)
     choice = choose_law(request, method, memory, executor=executor)
-    plan = LawPlan(request, choice.route, choice.why, choice.plan)
-    return plan.with_options(executor=executor, checkpoint=checkpoint) if plan.runnable else plan
+    plan = LawPlan(request, choice.route, choice.why, choice.plan, memory_bytes=memory)
+    if not plan.runnable or (executor is None and checkpoint is None):
+        return plan
+    if not plan.over_primes:
+        return plan.with_options(executor=executor, checkpoint=checkpoint)  # refuses them, naming the route
+    return replace(plan, executor=executor).with_options(checkpoint=checkpoint)  # planned on its workers above
 
 
 def law(N: int, grain: tuple[int, int] | None = None, *, layer: int | None = None, contact: str | None = None,

@@ -38,10 +38,25 @@ WORKER_BYTES = 100 * 2**20  # each further worker process: its interpreter, nump
 
 @dataclass(frozen=True)
 class ChainsResult:
-    """The pooled estimate: ``mean`` and ``stderr`` of every ``W`` (arrays of the sampler's shape), and
-    ``extra``: ``effective_samples``, ``kernel``, and for Markov chains ``burn_in``, ``move``,
-    ``acceptance``, ``tau_max``, ``std_W`` (and ``G``, ``stderr_G`` with a response; the scene's
-    parameters for a packing)."""
+    """The pooled estimate of :func:`sample_in_parallel`.
+
+    Parameters
+    ----------
+    mean : numpy.ndarray
+        The mean of every ``W`` (the sampler's shape).
+    stderr : numpy.ndarray
+        Its standard error (from the integrated autocorrelation time for a Markov chain).
+    extra : dict
+        ``effective_samples``, ``kernel``, and for Markov chains ``burn_in``, ``move``, ``acceptance``,
+        ``tau_max``, ``std_W`` (and ``G``, ``stderr_G`` with a response; the scene's parameters for a packing).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> r = ChainsResult(np.array([0.5]), np.array([0.01]), {"effective_samples": 2500})
+    >>> r.mean.tolist(), r.extra["effective_samples"]
+    ([0.5], 2500)
+    """
 
     mean: np.ndarray
     stderr: np.ndarray

@@ -176,6 +176,8 @@ class TablePlan(_Costed):
         The memory the plan was checked against.
     row : int, optional
         One row (layer) ``i`` of the tables instead of the whole table; ``method`` then names the row's route.
+    request : forcenet.exact.routes.Request, optional
+        The checked request the plan was made for (what :meth:`run` hands to the registry).
 
     Examples
     --------

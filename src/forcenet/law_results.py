@@ -139,6 +139,16 @@ class Law(_Rendered):
         """The density at ``x``: exact for an int, a Fraction or a ``"p/q"`` string; a float gets the exact value at
         that float, rounded once.
 
+        Parameters
+        ----------
+        x : int, Fraction, str or float
+            Where to evaluate: exact for an int, a Fraction or ``"p/q"``; a float is taken at its exact value.
+
+        Returns
+        -------
+        Fraction or float
+            Exact for an exact ``x``; for a float, the exact value rounded once.
+
         Examples
         --------
         >>> import forcenet
@@ -151,6 +161,16 @@ class Law(_Rendered):
     def cdf_at(self, x: Any) -> Fraction | float:
         """``P(<= x)``, exact as :meth:`density_at`.
 
+        Parameters
+        ----------
+        x : int, Fraction, str or float
+            Where to evaluate, as in :meth:`density_at`.
+
+        Returns
+        -------
+        Fraction or float
+            Exact for an exact ``x``; for a float, the exact value rounded once.
+
         Examples
         --------
         >>> import forcenet
@@ -161,6 +181,16 @@ class Law(_Rendered):
 
     def grid(self, K: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(x, density, cdf)`` at ``K + 1`` equally spaced points of the support, exact values rounded once.
+
+        Parameters
+        ----------
+        K : int
+            Number of intervals (``K + 1`` points).
+
+        Returns
+        -------
+        tuple of three numpy.ndarray
+            The points, the density and the CDF there.
 
         Examples
         --------
@@ -174,6 +204,16 @@ class Law(_Rendered):
 
     def to_dict(self, grid: int | None = None) -> dict[str, Any]:
         """What ``forcenet dist --format json`` writes, exact values as ``"p/q"`` strings (``grid``: ``--grid``).
+
+        Parameters
+        ----------
+        grid : int, optional
+            Also the values at ``grid + 1`` equally spaced points of the support (``forcenet dist --grid``).
+
+        Returns
+        -------
+        dict
+            The JSON object, exact values as strings.
 
         Examples
         --------
@@ -197,6 +237,15 @@ class Law(_Rendered):
     def to_json(self, grid: int | None = None) -> str:
         """``forcenet dist --format json`` (without its newline).
 
+        Parameters
+        ----------
+        grid : int, optional
+            Also the values at ``grid + 1`` equally spaced points of the support (``forcenet dist --grid``).
+
+        Returns
+        -------
+        str
+
         Examples
         --------
         >>> import forcenet
@@ -209,6 +258,15 @@ class Law(_Rendered):
 
     def to_csv(self, grid: int | None = None) -> str:
         """``forcenet dist --format csv``: ``lo,hi,power,density,cdf`` coefficient rows, or with ``grid`` the values.
+
+        Parameters
+        ----------
+        grid : int, optional
+            Also the values at ``grid + 1`` equally spaced points of the support (``forcenet dist --grid``).
+
+        Returns
+        -------
+        str
 
         Examples
         --------
@@ -246,6 +304,15 @@ class Law(_Rendered):
     def to_latex(self, grid: int | None = None) -> str:
         """``forcenet dist --format latex``: the density and the CDF as cases, and the ``grid`` as a tabular.
 
+        Parameters
+        ----------
+        grid : int, optional
+            Also the values at ``grid + 1`` equally spaced points of the support (``forcenet dist --grid``).
+
+        Returns
+        -------
+        str
+
         Examples
         --------
         >>> import forcenet
@@ -264,6 +331,15 @@ class Law(_Rendered):
 
     def to_text(self, grid: int | None = None) -> str:
         """``forcenet dist``'s text: each piece's degree and lowest coefficients, the extra fields, the ``grid``.
+
+        Parameters
+        ----------
+        grid : int, optional
+            Also the values at ``grid + 1`` equally spaced points of the support (``forcenet dist --grid``).
+
+        Returns
+        -------
+        str
 
         Examples
         --------
@@ -299,6 +375,17 @@ class Law(_Rendered):
 
     def plot(self, ax: Axes | None = None, points: int = 400) -> Axes:
         """The density over its support (exact values rounded once, ``points + 1`` points).
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Where to draw (default: a new figure).
+        points : int
+            Number of intervals of the drawn curve.
+
+        Returns
+        -------
+        matplotlib.axes.Axes
 
         Examples
         --------

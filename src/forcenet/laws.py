@@ -66,6 +66,8 @@ class LawPlan(_Costed):
         Runs the route's independent primes.
     checkpoint : CheckpointStore or str, optional
         Where the route records finished primes (a directory for the ensemble: one request per layer).
+    memory_bytes : int, optional
+        The memory the plan was checked against (a cluster's plan is made again within it).
 
     Examples
     --------

@@ -57,7 +57,13 @@ class ConvergenceError(ForcenetError, RuntimeError):
 
 
 class ClusterError(ForcenetError):
-    """A cluster run cannot go on: the scheduler went away, every worker left, or workers cannot run forcenet."""
+    """A cluster run cannot go on: the scheduler went away, every worker left, or workers cannot run forcenet.
+
+    Examples
+    --------
+    >>> issubclass(ClusterError, ForcenetError)  # the command line: one line, exit code 2
+    True
+    """
 
 
 class PrecisionWarning(UserWarning):

@@ -28,6 +28,8 @@ from forcenet.exact.triangle.gaps import layer_gap_counts
 from forcenet.exact.triangle.law_routes import layer_gap_law, layer_route, single_grain_gap_law, single_grain_route
 from forcenet.exact.triangle.staircase import count, dimension
 
+pytestmark = pytest.mark.usefixtures("de_bruijn_compiled")
+
 
 @settings(max_examples=8)
 @given(st.integers(2, 10))

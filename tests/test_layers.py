@@ -36,6 +36,8 @@ from forcenet.exact.triangle.law_routes import (
 )
 from forcenet.exact.triangle.staircase import count, dimension
 
+pytestmark = pytest.mark.usefixtures("de_bruijn_compiled")
+
 
 @settings(max_examples=10, deadline=None)
 @given(N=st.integers(3, 10), data=st.data())

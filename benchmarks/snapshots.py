@@ -2,6 +2,7 @@
 
     python benchmarks/snapshots.py --write DIR      # before: every command below, every format, into DIR
     python benchmarks/snapshots.py --compare DIR    # after: rerun and compare byte for byte (exit 1 on a difference)
+    python benchmarks/snapshots.py --compare DIR --only sample dist   # only the cases of these commands
 
 Each case runs ``forcenet ARGS`` with a fixed seed and stores its stdout and exit code; stderr (costs,
 progress, timings) is not compared. The main job's files are compared too (``table`` without ``--format``).
@@ -55,12 +56,16 @@ def run(args: str, cwd: str) -> tuple[bytes, int]:
     return proc.stdout, proc.returncode
 
 
-def collect(directory: str) -> None:
+def collect(directory: str, only: list[str] | None = None) -> None:
     os.makedirs(directory, exist_ok=True)
     for k, case in enumerate(CASES):
+        if only and case.split()[0] not in only:
+            continue
         out, code = run(case, directory)
         with open(os.path.join(directory, f"{k:02d}.out"), "wb") as handle:
             handle.write(f"$ forcenet {case}\nexit {code}\n".encode() + out)
+    if only and "table" not in only:
+        return
     work = tempfile.mkdtemp()
     try:
         out, code = run(MAIN_JOB, work)
@@ -82,6 +87,7 @@ def main(argv=None) -> int:
     group = parser.add_mutually_exclusive_group(required=True)
     group.add_argument("--write", metavar="DIR")
     group.add_argument("--compare", metavar="DIR")
+    parser.add_argument("--only", nargs="+", metavar="COMMAND", help="compare only the cases of these commands")
     args = parser.parse_args(argv)
     if args.write:
         collect(args.write)
@@ -89,8 +95,9 @@ def main(argv=None) -> int:
         return 0
     fresh = tempfile.mkdtemp()
     try:
-        collect(fresh)
-        before, after = sorted(os.listdir(args.compare)), sorted(os.listdir(fresh))
+        collect(fresh, args.only)
+        after = sorted(os.listdir(fresh))
+        before = sorted(os.listdir(args.compare)) if not args.only else after
         differ = [name for name in before if name not in after or digest(os.path.join(args.compare, name)) != digest(os.path.join(fresh, name))]
         differ += [name for name in after if name not in before]
         for name in differ:

@@ -3,8 +3,9 @@
 The map (notes/architecture.md, "How far an argument travels") states the rule: the command line's parser
 checks the text it reads, the registry (``forcenet.exact.routes.check_request``) checks the request once,
 and everything behind it (the engines' ``trusted_plan``/``trusted_run``) trusts it.  ``benchmarks/walks.py``
-counts the checks of a command run in this process; these tests hold the walks to one check of ``N``
-besides the request's, so a check added inside an engine fails here instead of lengthening the walk.
+counts the checks of a command run in this process; these tests hold the walks to one check of ``N``, the
+request's (the parser reads the text and leaves the range to it), so a check added inside an engine fails here
+instead of lengthening the walk.
 """
 
 import importlib.util
@@ -28,11 +29,29 @@ def test_the_table_walk_checks_the_request_once(walk, method):
     result = walk(["table", "--N", "12", "--format", "json", *method])
     assert result["exit"] == 0
     checks = result["checks"]
-    # N: the parser's check of the text (check_int) and nothing behind it but the registry's one request check
-    assert checks.get("check_layers", 0) + checks.get("check_int", 0) == 1, checks
+    # N: the parser reads the text as an integer and leaves its range to the registry's one request check
+    assert checks.get("check_layers", 0) + checks.get("check_int", 0) == 0, checks
     assert checks.get("check_request", 0) == 1, checks  # N, moments, method, memory once (delegations not counted)
     assert checks.get("check_moments", 0) == 0, checks  # moments: checked in the request only
-    assert result["check_calls"] == 4, checks  # and the two destination checks of standard output; 21 (auto) before
+    assert result["check_calls"] == 3, checks  # and the two destination checks of standard output; 21 (auto) before
+
+
+@pytest.mark.parametrize("argv, line", [
+    (["table", "--N", "1"], "forcenet table: error: argument --N: N=1 is out of range: N must be an integer >= 2"),
+    (["table", "--N", "-3", "--format", "json"],
+     "forcenet table: error: argument --N: N=-3 is out of range: N must be an integer >= 2"),
+    (["table", "--N", "x", "--format", "json"],
+     "forcenet table: error: argument --N: N='x' is not an integer: N must be an integer >= 2"),
+])
+def test_a_range_left_to_the_front_door_reads_as_the_parsers_refusal(argv, line, capsys, tmp_path, monkeypatch):
+    """The parser reads --N, the request checks its range once; the refusal still names the option, exit 2."""
+    from forcenet.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    assert main(argv) == 2
+    out, err = capsys.readouterr()
+    assert (out, err) == ("", line + "\n")
+    assert not list(tmp_path.iterdir())  # nothing written
 
 
 @pytest.fixture

@@ -40,7 +40,7 @@ from forcenet.core.errors import ForcenetError
 from forcenet.core.plan import interruptible_compilation
 
 from . import chicken_wire, dist, limit, sample, table
-from .common import Parser, UsageError, given
+from .common import Parser, UsageError, deferred_option, given, usage_error_line
 from .output import EXIT_CODES, check_stdout, destination
 
 __all__ = ["main", "build_parser"]
@@ -196,6 +196,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         with interruptible_compilation():  # Ctrl-C while numba compiles is not lost in LLVM's callbacks
             return args.func(args)
     except ForcenetError as exc:  # expected failures (UsageError, the library's argument checks): they name the argument
+        deferred = deferred_option(args, exc)
+        if deferred is not None:  # a range the parser left to the front door: reported as the parser reports one
+            prog, option = deferred
+            print(usage_error_line(prog, f"argument {option}: {exc}"), end="", file=sys.stderr)
+            return 2
         return _error(str(exc))
     except MemoryError:
         return _error("out of memory: choose a smaller size (the cost announcement is an estimate)")

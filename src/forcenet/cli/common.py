@@ -33,6 +33,9 @@ __all__ = [
     "given",
     "refuse_together",
     "integer",
+    "defer",
+    "deferred_option",
+    "usage_error_line",
     "real",
     "add_layers",
     "add_format",
@@ -63,7 +66,7 @@ class Parser(argparse.ArgumentParser):
     """
 
     def error(self, message: str) -> NoReturn:
-        self.exit(2, f"{self.prog}: error: {message}\n")
+        self.exit(2, usage_error_line(self.prog, message))
 
     def _add_action(self, action: Any) -> Any:  # every option of this parser and of its mutually exclusive groups
         action = super()._add_action(action)
@@ -89,6 +92,19 @@ def _once(cls: Any) -> Any:
     return Once
 
 
+def usage_error_line(prog: str, message: str) -> str:
+    """The parser's one-line error, ``forcenet table: error: argument --N: ...`` (also for a deferred range)."""
+    return f"{prog}: error: {message}\n"
+
+
+def deferred_option(args: argparse.Namespace, exc: BaseException) -> tuple[str, str] | None:
+    """``(prog, option)`` when ``exc`` is the front door's refusal of a range the parser left to it (:func:`integer`
+    with ``deferred=True``), else ``None``: the command line then reports it as the parser would have."""
+    argument = getattr(exc, "argument", None)
+    deferred: dict[str, tuple[str, str]] = vars(args).get("_deferred") or {}
+    return deferred.get(argument) if isinstance(argument, str) else None
+
+
 def given(args: argparse.Namespace, dest: str) -> bool:
     """Whether the option ``dest`` was given on the command line (not its default)."""
     return dest in vars(args).get("_given", ())
@@ -103,13 +119,19 @@ def refuse_together(args: argparse.Namespace, first: str, second: str, why: str)
 # ----------------------------------------------------------------- argument types
 
 
-def integer(name: str, minimum: int | None = None, maximum: int | None = None) -> Callable[[str], int]:
+def integer(name: str, minimum: int | None = None, maximum: int | None = None, *,
+            deferred: bool = False) -> Callable[[str], int]:
     """argparse type: an integer in range, with the validation module's message.
+
+    ``deferred=True``: the text is read as an integer here and its range is left to the front door, which checks
+    the whole request once (:func:`defer` records the option, so a refusal still reads ``argument --N: ...``).
 
     Examples
     --------
     >>> integer("N", 2)("12")
     12
+    >>> integer("N", 2, deferred=True)("1")  # read; the range is the front door's check
+    1
     """
 
     def parse(text: str) -> int:
@@ -119,9 +141,16 @@ def integer(name: str, minimum: int | None = None, maximum: int | None = None) -
             value = int(text)
         except ValueError:
             return check_int(text, name, minimum, maximum)  # raises the uniform ArgumentTypeError message
-        return check_int(value, name, minimum, maximum)
+        return value if deferred else check_int(value, name, minimum, maximum)
 
     return _argparse_type(parse)
+
+
+def defer(p: argparse.ArgumentParser, name: str, option: str) -> None:
+    """Record that the range of ``option`` (the front door's argument ``name``) is checked by the front door."""
+    deferred = dict(p.get_default("_deferred") or {})
+    deferred[name] = (p.prog, option)
+    p.set_defaults(_deferred=deferred)
 
 
 def real(name: str, low: float | None = None, high: float | None = None, *, low_open: bool = False,
@@ -157,9 +186,13 @@ def _argparse_type(parse: Callable[[str], T]) -> Callable[[str], T]:
 
 
 def add_layers(p: argparse.ArgumentParser, maximum: int | None = None, minimum: int = 2,
-               help_text: str | None = None) -> None:
+               help_text: str | None = None, *, deferred: bool = False) -> None:
+    """``--N``; ``deferred=True`` when the command's front door checks ``N`` (then once, there)."""
     allowed = f"{minimum}..{maximum}" if maximum else f">= {minimum}"
-    p.add_argument("--N", type=integer("N", minimum, maximum), required=True, help=help_text or f"number of layers ({allowed})")
+    p.add_argument("--N", type=integer("N", minimum, maximum, deferred=deferred), required=True,
+                   help=help_text or f"number of layers ({allowed})")
+    if deferred:
+        defer(p, "N", "--N")
 
 
 def add_format(p: argparse.ArgumentParser, choices: Sequence[str] = ("text", "json"), default: str | None = "text",

@@ -246,7 +246,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                "  forcenet table --N 12                   # the main job (~2 s)\n"
                "  forcenet table --N 9 --out table.csv    # one CSV file, the format from the extension\n"
                "  forcenet table --N 40 --method pfaffian --moments 2 --row 39 --format json   # <W>, <W^2> of layer 39")
-    add_layers(p)
+    add_layers(p, deferred=True)  # N: checked once, by the request (forcenet.plan)
     p.add_argument("--format", choices=["json", "csv", "latex"], help="print one format of the exact table instead of "
                                                                        "the main job (no files, no cross-check)")
     p.add_argument("--out", help="write that format to this file (atomically; its directory must exist); "

@@ -45,7 +45,20 @@ class ForcenetError(Exception):
 
 
 class ArgumentError(ForcenetError, ValueError):
-    """An argument's value is out of range or not allowed; the message names the argument and the range."""
+    """An argument's value is out of range or not allowed; the message names the argument and the range.
+
+    ``argument`` names the argument at fault where one alone is (``"N"``), so the command line can report the
+    error as its parser would, against the option (``argument --N: ...``), when it left that check to the front door.
+
+    Examples
+    --------
+    >>> ArgumentError("N=1 is out of range: N must be an integer >= 2", argument="N").argument
+    'N'
+    """
+
+    def __init__(self, *args: object, argument: str | None = None) -> None:
+        super().__init__(*args)
+        self.argument = argument
 
 
 class ArgumentTypeError(ForcenetError, TypeError):

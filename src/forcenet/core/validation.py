@@ -119,7 +119,7 @@ def check_int(value: Any, name: str, minimum: int | None = None, maximum: int | 
         raise ArgumentTypeError(f"{name}={value!r} is not an integer: {name} must be an integer {allowed}")
     value = int(value.__index__())
     if (minimum is not None and value < minimum) or (maximum is not None and value > maximum):
-        raise ArgumentError(f"{name}={value} is out of range: {name} must be an integer {allowed}")
+        raise ArgumentError(f"{name}={value} is out of range: {name} must be an integer {allowed}", argument=name)
     return value
 
 

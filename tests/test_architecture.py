@@ -48,7 +48,7 @@ class Section:
     package: str
     may_import: list[str] | None = None
     bullets: list[Bullet] = field(default_factory=list)
-    uses_only: list[str] | None = None  # the command line: the computing libraries' names allowed
+    computing: list[str] | None = None  # the command line's section: the computing libraries it names
 
 
 def _names_after(text: str, keyword: str) -> list[str] | None:
@@ -113,8 +113,8 @@ def read_map(text: str | None = None) -> list[Section]:
             close_bullet()
             if line.startswith("May import:"):
                 section.may_import = _names_after(line, "May import:")
-            if "uses only" in line:
-                section.uses_only = _names_after(line, "uses only")
+            if "computing libraries (" in line:
+                section.computing = _names_after(line, "computing libraries (")
     close_bullet()
     return sections
 
@@ -200,8 +200,9 @@ def allowed(module: str, target: str) -> bool:
         if package_of(target) == section.package and target.startswith("forcenet"):
             return True  # its own package
         rules = (section.may_import or []) + (bullet.also if bullet else [])
-    if target.startswith("forcenet"):
-        return any(_within(target, rule) for rule in rules if rule.startswith("forcenet"))
+    if target.startswith("forcenet"):  # `forcenet` alone: the top of the package (its front door), not its tree
+        return any(target == rule if rule == "forcenet" else _within(target, rule)
+                   for rule in rules if rule.startswith("forcenet"))
     return _library(target) in rules
 
 
@@ -401,39 +402,56 @@ def test_import_chains_inside_the_triangle_are_short():
     assert len(chain) <= MAX_IMPORT_DEPTH, f"{len(chain)} modules deep: {' -> '.join(chain)}"
 
 
-_COMPUTING = ("numpy", "scipy", "sympy", "mpmath", "flint", "math", "numba")
+# the command line reaches the library only through these: the front door, the neutral core, the registry, the toolkit
+_FRONT_DOOR_RULES = ("forcenet", "forcenet.core", "forcenet.exact.routes", "forcenet.testing")
 
 
-def computing_names(source: str) -> list[tuple[int, str]]:
-    """``(line, library.name)`` of every name of a computing library the source uses (``np.sqrt`` -> numpy.sqrt)."""
-    tree = ast.parse(source)
-    alias: dict[str, str] = {}
-    used: list[tuple[int, str]] = []
+def _cli_rules() -> list[str]:
+    section = BY_PACKAGE["forcenet.cli"]
+    rules = list(section.may_import or [])
+    for bullet in section.bullets:
+        rules += bullet.also + (bullet.only or [])
+    return rules
+
+
+def test_the_command_line_computes_nothing_by_structure():
+    """The cli section allows no engine and no computing library; test_imports_follow_the_map holds the modules to it."""
+    computing = BY_PACKAGE["forcenet.cli"].computing or []
+    assert {"numpy", "sympy", "mpmath", "flint"} <= set(computing), "the cli section names the computing libraries"
+    rules = _cli_rules()
+    engines = [r for r in rules if r.startswith("forcenet") and r not in _FRONT_DOOR_RULES]
+    assert not engines, f"the command line may import {engines}: reach them through the front door (forcenet.NAME)"
+    libraries = [r for r in rules if _library(r) in computing]
+    assert not libraries, f"the command line may import {libraries}: computation belongs next to its engine"
+
+
+def _front_door_reads(tree: ast.AST) -> list[tuple[int, str]]:
+    """``(line, name)`` of every name a module takes from the top of the package: ``from forcenet import name``
+    and ``forcenet.name`` on the module imported as ``forcenet``."""
+    reads = []
+    top = {(a.asname or a.name) for node in ast.walk(tree) if isinstance(node, ast.Import)
+           for a in node.names if a.name == "forcenet"}
     for node in ast.walk(tree):
-        if isinstance(node, ast.Import):
-            for a in node.names:
-                if _library(a.name) in _COMPUTING:
-                    alias[(a.asname or a.name).split(".")[0]] = a.name if a.asname else _library(a.name)
-        elif isinstance(node, ast.ImportFrom) and not node.level and _library(node.module or "") in _COMPUTING:
-            used += [(node.lineno, f"{node.module}.{a.name}") for a in node.names]
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id in alias:
-            used.append((node.lineno, f"{alias[node.value.id]}.{node.attr}"))
-    return sorted(used)
+        if isinstance(node, ast.ImportFrom) and node.module == "forcenet" and not node.level:
+            reads += [(node.lineno, a.name) for a in node.names]
+        elif isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id in top:
+            reads.append((node.lineno, node.attr))
+    return reads
 
 
-def test_the_computation_check_sees_computing_names():
-    source = "import numpy as np\nimport mpmath\nfrom math import log\nx = np.sqrt(2) + log(3)\ny = mpmath.nstr(x, 5)\n"
-    assert computing_names(source) == [(3, "math.log"), (4, "numpy.sqrt"), (5, "mpmath.nstr")]
+def test_the_front_door_check_sees_the_names():
+    tree = ast.parse("import forcenet\nfrom forcenet import plan, testing\nx = forcenet.table(3)\n")
+    assert sorted(_front_door_reads(tree)) == [(2, "plan"), (2, "testing"), (3, "table")]
 
 
 @pytest.mark.parametrize("name, path", [m for m in MODULES if m[0].startswith("forcenet.cli")], ids=lambda x: str(x))
-def test_the_command_line_computes_nothing(name, path):
-    """Of the computing libraries a cli module uses only the rendering and parsing names the map allows."""
-    uses_only = set(BY_PACKAGE["forcenet.cli"].uses_only or [])
-    assert "mpmath.nstr" in uses_only, "the cli section of the map lists the names a cli module may use"
-    bad = [(line, what) for line, what in computing_names(path.read_text()) if what not in uses_only]
-    assert not bad, f"{name} computes with {bad}: move the computation next to its engine"
+def test_the_command_line_takes_only_front_door_names(name, path):
+    """What a cli module takes from ``forcenet`` is a front-door name (``forcenet.__all__``) or the toolkit."""
+    import forcenet
+
+    public = set(forcenet.__all__) | {"testing", "__version__"}
+    bad = [(line, what) for line, what in _front_door_reads(ast.parse(path.read_text())) if what not in public]
+    assert not bad, f"{name} takes {bad} from the top of the package, which are not front-door names"
 
 
 # ------------------------------------------------------------------------------------- one copy of each rule

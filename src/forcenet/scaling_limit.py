@@ -22,6 +22,7 @@ scaling limit at x = 0.2, z = 0.6 (15 digits)
 from __future__ import annotations
 
 import json
+import numbers
 from decimal import Decimal
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any
@@ -202,17 +203,42 @@ def _coordinate(value: Any, name: str, dps: int) -> tuple[str, Fraction, Any]:
             raise ArgumentTypeError(f"{name}={value!r} is not a number: give a decimal string ('0.25'), a fraction "
                                     "('1/4', Fraction(1, 4)) or an int") from None
         return text, exact, text  # the engines read the string inside mpmath.workdps: every digit counts
-    if isinstance(value, (int, Fraction, Decimal)):
+    if isinstance(value, (numbers.Rational, Decimal)):  # int, Fraction: exact
         try:
             exact = Fraction(value)
         except (ValueError, OverflowError):  # a Decimal nan or inf
             raise ArgumentError(f"{name}={value} is out of range: {name} must be a finite number") from None
+        exact = Fraction(int(exact.numerator), int(exact.denominator))  # numpy's integers become Python's
         return str(value), exact, exact
     raise ArgumentTypeError(f"{name}={value!r} is not a real number: give a decimal string ('0.25'), a fraction "
                             "('1/4', Fraction(1, 4)) or an int")
 
 
-def limit_shape(x: str | Fraction | int | float, z: str | Fraction | int | float, *, dps: int = 20) -> LimitShape:
+NEAR_LATTICE = Fraction(1, 10**7)  # closer to |x| = z, the bulk response costs about one digit per digit of the gap
+MAX_DPS = 10000  # forcenet.core.validation.check_dps's bound, the engines'
+
+
+def _bulk(bulk_response: Any, x_text: str, z_text: str, x: Fraction, z: Fraction, x_value: Any, z_value: Any,
+          dps: int) -> mpmath.mpf:
+    """The bulk response to ``dps`` digits; within ``10^-7`` of a lattice direction computed with the gap's
+    digits added (the level curve's slope cancels there) and rounded to ``dps``."""
+    import mpmath
+
+    gap = z - abs(x)
+    if not (0 < gap < NEAR_LATTICE and z < 1):  # the corners x = +-z = +-1 are no lattice direction: no divergence
+        return bulk_response(x_value, z_value, dps=dps)
+    digits = int((gap.denominator // gap.numerator).bit_length() * 0.30103) + 1  # ~ -log10(gap)
+    if dps + digits + 3 > MAX_DPS:
+        raise ArgumentError(f"x={x_text} lies within 10^-{digits - 1} of the lattice direction |x| = z = {z_text}: "
+                            f"the bulk response there needs over {MAX_DPS} digits; give |x| = z exactly for the "
+                            "lattice direction's law, or an x farther from it")
+    value = bulk_response(x_value, z_value, dps=dps + digits + 3)
+    with mpmath.workdps(dps):
+        return +value
+
+
+def limit_shape(x: str | Fraction | int | float | Decimal, z: str | Fraction | int | float | Decimal, *,
+                dps: int = 20) -> LimitShape:
     """The scaling limit of the response of a large triangle at reduced coordinates ``(x, z)``.
 
     Grain ``(i, j)`` of a triangle of ``N`` layers sits at depth ``z = i/N``
@@ -226,16 +252,18 @@ def limit_shape(x: str | Fraction | int | float, z: str | Fraction | int | float
 
     Parameters
     ----------
-    x : str, Fraction or int
+    x : str, Fraction, int or Decimal
         Horizontal coordinate, ``-z <= x <= z``, read at full precision. A
         binary float is refused where its 15 digits do not reach ``dps`` and
         accepted with a :class:`~forcenet.PrecisionWarning` where they do
         (silently when it is exactly its decimal, like ``0.5``).
-    z : str, Fraction or int
+    z : str, Fraction, int or Decimal
         Depth, ``0 < z <= 1``, read as ``x`` is.
     dps : int
         Decimal digits of every value, ``5..10000``; on a lattice direction
         ``5..60`` (the edge law: 20 digits take ~3 s, 60 digits minutes).
+        Within ``10^-7`` of a lattice direction the bulk is computed with the
+        gap's digits added (it diverges as ``(z - |x|)^(-1/3)``).
 
     Returns
     -------
@@ -283,7 +311,7 @@ def limit_shape(x: str | Fraction | int | float, z: str | Fraction | int | float
     if on_lattice:
         dps = check_dps(dps, maximum=EDGE_MAX_DPS)
     lattice = lattice_response(z_value, dps=dps)
-    bulk = None if on_lattice else bulk_response(x_value, z_value, dps=dps)
+    bulk = None if on_lattice else _bulk(bulk_response, x_text, z_text, x_exact, z_exact, x_value, z_value, dps)
     # the N^(-2/3) edge correction of <W_(i,1)> (Tracy-Widom GUE at the end of the level curves)
     edge = (edge_amplitude(z_value, dps=dps), edge_sd_amplitude(z_value, dps=dps)) if on_lattice else None
     return LimitShape(x_text, z_text, (x_exact, z_exact), dps, bulk, lattice, edge)

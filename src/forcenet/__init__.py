@@ -56,8 +56,8 @@ if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ lo
     from forcenet.front_door import TablePlan, plan, table
     from forcenet.law_results import Law
     from forcenet.laws import LawPlan, law, law_plan
-    from forcenet.numeric.chicken_wire.isotropic import entropy, tiling_entropy
     from forcenet.map_counts import MapCounts, maps
+    from forcenet.numeric.chicken_wire.isotropic import entropy, tiling_entropy
     from forcenet.numeric.triangle import ExactSampler, TriangleMetropolis
     from forcenet.results import Row, Table
     from forcenet.scaling_limit import LimitShape, limit_shape

@@ -72,7 +72,8 @@ class LimitShape:
         self.x_text, self.z_text = x, z
         self.x, self.z = exact
         self.dps, self.bulk, self.lattice = dps, bulk, lattice
-        self.edge_amplitude, self.edge_sd_amplitude = edge if edge is not None else (None, None)
+        self.edge_amplitude: mpmath.mpf | None = edge[0] if edge is not None else None
+        self.edge_sd_amplitude: mpmath.mpf | None = edge[1] if edge is not None else None
 
     def __repr__(self) -> str:
         return f"LimitShape(x={self.x_text!r}, z={self.z_text!r}, dps={self.dps}, on_lattice={self.on_lattice})"

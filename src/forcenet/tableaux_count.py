@@ -30,7 +30,7 @@ from typing import Any
 
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_int, check_layers
-from forcenet.front_door import _Costed, _available_memory
+from forcenet.front_door import _available_memory, _Costed
 
 __all__ = ["CountPlan", "TableauxCount", "count_plan"]
 

@@ -8,6 +8,10 @@ The front door (one flat namespace, loaded on first use so ``import forcenet`` s
   the ensemble's pooled ``P(f)``): density, CDF and moments as exact polynomials, and its cost
   (:mod:`forcenet.laws`);
 * :func:`count`, :func:`normalization` — the tableaux count and the volume, Eq. (4.1);
+  :func:`count_plan` — its cost and its decimal digits (:class:`CountPlan`, :class:`TableauxCount`);
+* :func:`maps` — the maps of Sec. 4.6 per bottom row, Eq. (4.88) (:class:`MapCounts`);
+* :func:`limit_shape` — the scaling limit of the response at ``(x, z)``, bulk, lattice direction and edge
+  (:class:`LimitShape`);
 * :func:`density`, :func:`cdf`, :func:`contact_density` — one load's exact law (Beta mixtures);
 * :class:`ExactSampler`, :class:`TriangleMetropolis` — the exact sampler and the thesis's Metropolis chain;
 * :func:`entropy`, :func:`tiling_entropy` — the chicken-wire entropy (7.1) and the square-triangle tiling's;
@@ -52,9 +56,12 @@ if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ lo
     from forcenet.front_door import TablePlan, plan, table
     from forcenet.law_results import Law
     from forcenet.laws import LawPlan, law, law_plan
+    from forcenet.map_counts import MapCounts, maps
     from forcenet.numeric.chicken_wire.isotropic import entropy, tiling_entropy
     from forcenet.numeric.triangle import ExactSampler, TriangleMetropolis
     from forcenet.results import Row, Table
+    from forcenet.scaling_limit import LimitShape, limit_shape
+    from forcenet.tableaux_count import CountPlan, TableauxCount, count_plan
 
 # name -> the module that defines it, imported on first use (forcenet.exact costs about a second to import)
 _FRONT_DOOR = {
@@ -69,6 +76,13 @@ _FRONT_DOOR = {
     "LawPlan": "forcenet.laws",
     "count": "forcenet.exact.triangle.staircase",
     "normalization": "forcenet.exact.triangle.staircase",
+    "count_plan": "forcenet.tableaux_count",
+    "CountPlan": "forcenet.tableaux_count",
+    "TableauxCount": "forcenet.tableaux_count",
+    "maps": "forcenet.map_counts",
+    "MapCounts": "forcenet.map_counts",
+    "limit_shape": "forcenet.scaling_limit",
+    "LimitShape": "forcenet.scaling_limit",
     "density": "forcenet.exact.triangle.distribution",
     "cdf": "forcenet.exact.triangle.distribution",
     "contact_density": "forcenet.exact.triangle.distribution",
@@ -88,7 +102,8 @@ _SUBPACKAGES = frozenset({"exact", "numeric", "testing"})
 
 __all__ = [  # the keys of _FRONT_DOOR (tests/test_front_door.py), written out for the linters
     "table", "plan", "Table", "TablePlan", "Row", "law", "law_plan", "Law", "LawPlan",
-    "count", "normalization", "density", "cdf", "contact_density",
+    "count", "normalization", "count_plan", "CountPlan", "TableauxCount", "maps", "MapCounts",
+    "limit_shape", "LimitShape", "density", "cdf", "contact_density",
     "ExactSampler", "TriangleMetropolis", "entropy", "tiling_entropy",
     "ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError", "ClusterError", "PrecisionWarning",
     "__version__",

@@ -226,6 +226,46 @@ class Table(_Rendered):
         out.update({"mean_W" if s == 1 else f"mean_W{s}": rows for s, rows in sorted(self._tables.items())})
         return out
 
+    def summary(self) -> str:
+        """The readable summary the main job (``forcenet table --N N``) prints first: the triangle's size and
+        dimension, the count and the normalization of Eq. (4.1), and the bottom row, each value as a decimal and
+        exactly.
+
+        Returns
+        -------
+        str
+            The lines, without a final newline.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> print(forcenet.table(4).summary())
+        Fully mobilized triangle, N = 4 layers, d = 6 free forces
+          tableaux count (d! * normalization): 2
+          normalization (Eq. 4.1):             1/360
+          <W_N,j> on the bottom row:
+            j =  1: 0.1428571429  = 1/7
+            j =  2: 0.3571428571  = 5/14
+            j =  3: 0.3571428571  = 5/14
+            j =  4: 0.1428571429  = 1/7
+
+        References
+        ----------
+        Ostojic (2006), Eq. (4.1) (count and normalization), Eq. (4.3) (``d = N (N - 1)/2``), Sec. 4.2.
+        """
+        from forcenet.exact.triangle.staircase import trusted_dimension
+        from forcenet.exact.triangle.tables import fraction_str, integer_text
+
+        lines = [
+            f"Fully mobilized triangle, N = {self.N} layers, d = {trusted_dimension(self.N)} free forces",
+            f"  tableaux count (d! * normalization): {integer_text(self.count)}",
+            f"  normalization (Eq. 4.1):             {fraction_str(self.normalization)}",
+            "  <W_N,j> on the bottom row:",
+        ]
+        lines += [f"    j = {j:2d}: {float(value):.10f}  = {fraction_str(value)}"
+                  for j, value in enumerate(self.mean_W[-1], start=1)]
+        return "\n".join(lines)
+
     def to_numpy(self, s: int = 1) -> np.ndarray:
         """``<W_ij^s>`` as an ``(N, N)`` float array (correctly rounded), NaN where ``j > i``.
 

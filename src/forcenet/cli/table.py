@@ -18,34 +18,27 @@ from .common import (
     available_memory,
     given,
     integer,
-    json_dumps,
     refuse_together,
     run_planned,
 )
 from .output import EXIT_CANNOT_JUDGE, EXIT_DISAGREES, check_output_dir, emit, write_files, write_stdout
 
 if TYPE_CHECKING:
-    from forcenet.front_door import Table, TablePlan
+    from forcenet import Table, TablePlan
     from forcenet.testing import TableAgreement
 
 __all__ = ["register"]
 
 _EXTENSIONS = {".json": "json", ".csv": "csv", ".tex": "latex"}
-MAPS_MAX_N = 10
-
-
-def _decimal(n: int) -> str:
-    """Decimal digits of a (possibly huge) integer: python-flint's conversion is subquadratic."""
-    import flint
-
-    return str(flint.fmpz(n))
+MAPS_MAX_N = 10  # forcenet.maps's range (tests/test_limit_maps_front_door.py checks they agree)
 
 
 def cmd_count(args: argparse.Namespace) -> int:
-    from forcenet.exact.triangle.staircase import count, count_plan
+    from forcenet import count_plan
 
-    plan = count_plan(args.N, available_memory())
-    text = run_planned(plan, lambda tick: _decimal(count(args.N)), force=args.force, quiet=args.quiet)
+    request = count_plan(args.N, memory_bytes=available_memory())
+    text = run_planned(request.cost, lambda tick: request.run(progress=tick).to_text(), force=args.force,
+                       quiet=args.quiet)
     emit(text, args.out)
     return 0
 
@@ -81,9 +74,9 @@ def _refuse_ignored(args: argparse.Namespace) -> None:
 
 def _request(args: argparse.Namespace, memory: int | None, client: Any = None,
              directory: str | None = None) -> TablePlan:
-    """The front door's plan of the request (:func:`forcenet.front_door.plan`); ``auto`` with ``--scheduler`` or
+    """The front door's plan of the request (:func:`forcenet.plan`); ``auto`` with ``--scheduler`` or
     ``--checkpoint`` chooses among the routes that take them."""
-    from forcenet.front_door import plan
+    from forcenet import plan
 
     method = args.method
     if method == "auto" and client is None and directory is None and (args.scheduler or args.checkpoint):
@@ -116,9 +109,9 @@ def cmd_table(args: argparse.Namespace) -> int:
 
 def _table_row(args: argparse.Namespace, fmt: str | None) -> int:
     """``--row i``: row ``i`` of ``<W^s>``, ``s <= --moments``, by the fastest exact route for that row, announced
-    (:func:`forcenet.front_door.plan` with ``row=``)."""
+    (:func:`forcenet.plan` with ``row=``)."""
+    from forcenet import plan
     from forcenet.exact.routes import ROW_PRIME_ROUTES
-    from forcenet.front_door import plan
 
     if fmt is None:
         raise UsageError("--row gives one row in one format: give --format json|csv|latex or --out FILE "
@@ -147,8 +140,6 @@ def _table_row(args: argparse.Namespace, fmt: str | None) -> int:
 
 def _table(args: argparse.Namespace, fmt: str | None, memory: int | None, request: TablePlan) -> int:
     from forcenet.core.plan import combine_by_time, phase_progress
-    from forcenet.exact.triangle.staircase import dimension
-    from forcenet.exact.triangle.tables import fraction_str
     from forcenet.testing import cross_check, cross_check_plan
 
     plans = [request.cost]
@@ -178,14 +169,7 @@ def _table(args: argparse.Namespace, fmt: str | None, memory: int | None, reques
     N = args.N
     stem = os.path.join(args.out_dir, f"mean_W_N{N}")
     files = {f"{stem}.{ext}": render[fmt_name]() for ext, fmt_name in (("json", "json"), ("csv", "csv"), ("tex", "latex"))}
-    bottom = table.mean_W[-1]
-    lines = [
-        f"Fully mobilized triangle, N = {N} layers, d = {dimension(N)} free forces",
-        f"  tableaux count (d! * normalization): {table.count}",
-        f"  normalization (Eq. 4.1):             {fraction_str(table.normalization)}",
-        "  <W_N,j> on the bottom row:",
-    ]
-    lines += [f"    j = {j:2d}: {float(value):.10f}  = {fraction_str(value)}" for j, value in enumerate(bottom, start=1)]
+    lines = table.summary().splitlines()
     lines.append(f"  exact tables written: {stem}.json, {stem}.csv, {stem}.tex")
     if check is not None:
         lines.append(f"Monte Carlo cross-check: {args.samples} independent exact samples (seed {args.seed}) "
@@ -201,19 +185,10 @@ def _table(args: argparse.Namespace, fmt: str | None, memory: int | None, reques
 
 
 def cmd_maps(args: argparse.Namespace) -> int:
-    from forcenet.exact.thesis.recursions import lambda_table
+    from forcenet import maps
 
-    N = args.N
-    table = lambda_table(N - 2)  # maps per bottom row h(N-2, .), Eq. (4.88)
-    Z = sum(table.values())
-    if args.format == "json":
-        rows = [{"bottom_row": list(j), "maps": str(v)} for j, v in sorted(table.items())]
-        emit(json_dumps({"N": N, "Z": str(Z), "by_bottom_row": rows}), args.out)
-        return 0
-    lines = [f"Z_{N - 2} = {Z}  (maps h of Sec. 4.6 for N = {N}; equals the tableaux count)",
-             f"maps per bottom row h(N-2, 1..N-2), {len(table)} rows with maps:"]
-    lines += [" ".join(f"{x:2d}" for x in j) + " : " + str(v) for j, v in sorted(table.items())]
-    emit("\n".join(lines), args.out)
+    result = maps(args.N)  # maps per bottom row h(N-2, .), Eq. (4.88)
+    emit(result.to_json() if args.format == "json" else result.to_text(), args.out)
     return 0
 
 

@@ -44,7 +44,7 @@ import mpmath
 
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan
-from forcenet.core.precision import GUARD, RealLike, converged, to_mpf
+from forcenet.core.precision import GUARD, RealLike, converged, to_mpf, within_pi
 from forcenet.core.validation import check_dps, check_float_digits, check_int, is_binary_float
 
 __all__ = [
@@ -274,9 +274,7 @@ def phi_within_range(text: str, strict: bool = False) -> bool:
     >>> phi_within_range("1.5707963267948966"), phi_within_range("1.5707963267948967")
     (True, False)
     """
-    with mpmath.workdps(len(text) + 20):
-        x, limit = abs(mpmath.mpf(text)), mpmath.pi / 2
-        return bool(x < limit if strict else x <= limit)
+    return within_pi(text, Fraction(1, 2), strict=strict, name="phi")  # the generic check of forcenet.core
 
 
 def leading_series_at(eps: mpmath.mpf, dps: int, Q: RealLike | None = None) -> mpmath.mpf:

@@ -13,7 +13,8 @@ The front door (one flat namespace, loaded on first use so ``import forcenet`` s
 * :func:`entropy`, :func:`tiling_entropy` — the chicken-wire entropy (7.1) and the square-triangle tiling's;
 * :func:`transfer_spectrum`, :func:`bethe_ground_state`, :func:`isotropic_point`, :func:`isotropic_maximum`
   (each with its ``..._plan``) — the chicken-wire model's transfer spectrum, Bethe ground states and the
-  quantities on its isotropic line, Eqs. (7.1)-(7.4) (:mod:`forcenet.chicken_wire_entropy`);
+  quantities on its isotropic line, Eqs. (7.1)-(7.4) (:mod:`forcenet.chicken_wire_sectors`,
+  :mod:`forcenet.chicken_wire_isotropic`);
 * :mod:`forcenet.testing` — test your own sampler or formula against the exact ensemble;
 * the exception family (:mod:`forcenet.core.errors`): :class:`ForcenetError`, the base of every
   expected failure, :class:`ArgumentError` (also a ``ValueError``), :class:`ArgumentTypeError`
@@ -42,20 +43,22 @@ from importlib.metadata import PackageNotFoundError, version
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ loads them on first use
-    from forcenet.chicken_wire_entropy import (
-        BetheGroundStatePlan,
+    from forcenet.chicken_wire_isotropic import (
         IsotropicPlan,
-        TransferSpectrumPlan,
-        bethe_ground_state,
-        bethe_ground_state_plan,
         isotropic_maximum,
         isotropic_maximum_plan,
         isotropic_point,
         isotropic_point_plan,
+    )
+    from forcenet.chicken_wire_results import BetheGroundState, IsotropicEntropy, TransferSpectrum
+    from forcenet.chicken_wire_sectors import (
+        BetheGroundStatePlan,
+        TransferSpectrumPlan,
+        bethe_ground_state,
+        bethe_ground_state_plan,
         transfer_spectrum,
         transfer_spectrum_plan,
     )
-    from forcenet.chicken_wire_results import BetheGroundState, IsotropicEntropy, TransferSpectrum
     from forcenet.core.errors import (
         ArgumentError,
         ArgumentTypeError,
@@ -93,20 +96,20 @@ _FRONT_DOOR = {
     "TriangleMetropolis": "forcenet.numeric.triangle",
     "entropy": "forcenet.numeric.chicken_wire.isotropic",
     "tiling_entropy": "forcenet.numeric.chicken_wire.isotropic",
-    "transfer_spectrum": "forcenet.chicken_wire_entropy",
-    "transfer_spectrum_plan": "forcenet.chicken_wire_entropy",
+    "transfer_spectrum": "forcenet.chicken_wire_sectors",
+    "transfer_spectrum_plan": "forcenet.chicken_wire_sectors",
     "TransferSpectrum": "forcenet.chicken_wire_results",
-    "TransferSpectrumPlan": "forcenet.chicken_wire_entropy",
-    "bethe_ground_state": "forcenet.chicken_wire_entropy",
-    "bethe_ground_state_plan": "forcenet.chicken_wire_entropy",
+    "TransferSpectrumPlan": "forcenet.chicken_wire_sectors",
+    "bethe_ground_state": "forcenet.chicken_wire_sectors",
+    "bethe_ground_state_plan": "forcenet.chicken_wire_sectors",
     "BetheGroundState": "forcenet.chicken_wire_results",
-    "BetheGroundStatePlan": "forcenet.chicken_wire_entropy",
-    "isotropic_point": "forcenet.chicken_wire_entropy",
-    "isotropic_point_plan": "forcenet.chicken_wire_entropy",
-    "isotropic_maximum": "forcenet.chicken_wire_entropy",
-    "isotropic_maximum_plan": "forcenet.chicken_wire_entropy",
+    "BetheGroundStatePlan": "forcenet.chicken_wire_sectors",
+    "isotropic_point": "forcenet.chicken_wire_isotropic",
+    "isotropic_point_plan": "forcenet.chicken_wire_isotropic",
+    "isotropic_maximum": "forcenet.chicken_wire_isotropic",
+    "isotropic_maximum_plan": "forcenet.chicken_wire_isotropic",
     "IsotropicEntropy": "forcenet.chicken_wire_results",
-    "IsotropicPlan": "forcenet.chicken_wire_entropy",
+    "IsotropicPlan": "forcenet.chicken_wire_isotropic",
     "ForcenetError": "forcenet.core.errors",
     "ArgumentError": "forcenet.core.errors",
     "ArgumentTypeError": "forcenet.core.errors",

@@ -26,6 +26,8 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any, NamedTuple
 
+from forcenet.core.errors import ArgumentError
+
 if TYPE_CHECKING:  # pragma: no cover - annotations only
     import mpmath
     import numpy as np
@@ -395,7 +397,7 @@ class IsotropicEntropy:
         for name, _, value in self.rows:
             if name == key:
                 return value
-        raise KeyError(f"{key!r}: the rows are {', '.join(self.keys())}")
+        raise ArgumentError(f"key={key!r} is not a row here: the rows are {', '.join(self.keys())}")
 
     def keys(self) -> list[str]:
         """The rows' keys, in order.
@@ -433,7 +435,7 @@ class IsotropicEntropy:
         for name, what, _ in self.rows:
             if name == key:
                 return what
-        raise KeyError(f"{key!r}: the rows are {', '.join(self.keys())}")
+        raise ArgumentError(f"key={key!r} is not a row here: the rows are {', '.join(self.keys())}")
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON fields of ``forcenet entropy --format json``: ``mpmath.nstr`` at ``dps`` digits, notes, Bethe.

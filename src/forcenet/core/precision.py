@@ -27,7 +27,7 @@ from typing import TypeAlias
 import mpmath
 
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceError
-from forcenet.core.validation import check_float_digits, check_not_bool, is_binary_float
+from forcenet.core.validation import check_float_digits, check_not_bool, is_binary_float, is_integer
 
 __all__ = ["GUARD", "RealLike", "to_mpf", "guarded", "converged", "within_pi", "check_within_pi"]
 
@@ -75,8 +75,8 @@ def _digits(value: object) -> int:
         return len(value) + 20
     if isinstance(value, Fraction):
         return len(str(value.numerator)) + len(str(value.denominator)) + 20
-    if isinstance(value, int):
-        return len(str(value)) + 20
+    if is_integer(value):
+        return len(str(int(value))) + 20  # type: ignore[call-overload]  # anything with __index__
     if isinstance(value, mpmath.mpf):  # an mpf is exact at the precision of its mantissa
         return int(value.man).bit_length() // 3 + mpmath.mp.dps + 20
     return 40  # a binary float (53 bits: exact at 17 digits) or another number type

@@ -192,9 +192,9 @@ class BetheGroundState:
     Examples
     --------
     >>> import forcenet
-    >>> g = forcenet.bethe_ground_state(9, 4, 2)
+    >>> g = forcenet.bethe_ground_state(8, 3, 1)
     >>> round(g.eigenvalue, 12), (g.L, g.n, g.m)
-    (1.855529779351, (9, 4, 2))
+    (1.563320996252, (8, 3, 1))
     """
 
     solution: Any

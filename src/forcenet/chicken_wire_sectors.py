@@ -253,8 +253,8 @@ class BetheGroundStatePlan(_Costed):
         Examples
         --------
         >>> import forcenet
-        >>> round(forcenet.bethe_ground_state_plan(9, 4, 2).run().entropy_per_site, 12)
-        0.068685583402
+        >>> round(forcenet.bethe_ground_state_plan(8, 3, 1).run().entropy_per_site, 12)
+        0.055851550279
         """
         from forcenet.numeric.chicken_wire.bethe_sector import ground_state
 
@@ -336,11 +336,11 @@ def bethe_ground_state(L: int, n: int | None = None, m: int | None = None, *,
     Examples
     --------
     >>> import forcenet
-    >>> g = forcenet.bethe_ground_state(9, 4, 2)
+    >>> g = forcenet.bethe_ground_state(8, 3, 1)
     >>> round(g.eigenvalue, 12)
-    1.855529779351
-    >>> round(forcenet.transfer_spectrum(9, particles=4).sectors[0].eigenvalue, 12)  # the transfer matrix agrees
-    1.855529779351
+    1.563320996252
+    >>> round(forcenet.transfer_spectrum(8, particles=3).sectors[0].eigenvalue, 12)  # the transfer matrix agrees
+    1.563320996252
 
     References
     ----------

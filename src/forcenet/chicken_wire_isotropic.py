@@ -28,7 +28,7 @@ from forcenet.chicken_wire_results import BetheValue, IsotropicEntropy
 from forcenet.chicken_wire_sectors import Progress, _Bar
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceError
 from forcenet.core.plan import Plan, combine
-from forcenet.core.validation import check_dps, check_float_digits, check_not_bool, is_binary_float
+from forcenet.core.validation import check_float_digits, check_not_bool, is_binary_float
 from forcenet.front_door import _Costed
 
 __all__ = ["IsotropicPlan", "isotropic_point_plan", "isotropic_point", "isotropic_maximum_plan", "isotropic_maximum"]
@@ -211,11 +211,11 @@ class IsotropicPlan(_Costed):
         return BetheValue(v, err, tuple(densities), self.L_max)
 
 
-def _mpf(value: Any) -> Any:
-    """``value`` as an mpf at the current precision (a Fraction divided exactly)."""
-    from forcenet.core.precision import to_mpf
+def _mpf(value: str | Fraction) -> Any:
+    """A validated point as an mpf at the current precision (a Fraction divided exactly)."""
+    import mpmath
 
-    return to_mpf(value, "value")
+    return mpmath.mpf(value.numerator) / value.denominator if isinstance(value, Fraction) else mpmath.mpf(value)
 
 
 def _real(value: Any, name: str, dps: int, keep_text: bool = True) -> str | Fraction:
@@ -305,7 +305,8 @@ def isotropic_point_plan(phi: Any = None, Q: Any = None, *, dps: int = 50, side:
     """
     from forcenet.core.precision import check_within_pi, to_mpf
 
-    dps = check_dps(dps)
+    closed = _closed_form_plan(dps, maximum=False)  # checks dps (once: the engines' checks follow)
+    dps = int(dps)
     if (phi is None) == (Q is None):
         raise ArgumentTypeError("give exactly one of phi= and Q=")
     if L_max is not None and not bethe:
@@ -325,7 +326,7 @@ def isotropic_point_plan(phi: Any = None, Q: Any = None, *, dps: int = 50, side:
             if not to_mpf(side, "side") > 0:
                 raise ArgumentError(f"side={_shown(side)} is out of range: the hexagon side l of Eq. (7.4) must be "
                                     "a finite number > 0")
-    return IsotropicPlan(dps, _cost(dps, False, Q if isinstance(Q, Fraction) else None, bool(bethe), L_max),
+    return IsotropicPlan(dps, _cost(closed, Q if isinstance(Q, Fraction) else None, bool(bethe), L_max),
                          phi, Q, side, bool(bethe), L_max)
 
 
@@ -336,11 +337,14 @@ def _shown(value: str | Fraction) -> str:
     return str(value)
 
 
-def _cost(dps: int, maximum: bool, Q: Fraction | float | None = None, bethe: bool = False, L_max: int = 240) -> Plan:
-    """The closed forms' plan, and the Bethe ansatz's after it: one announcement, as ``forcenet entropy`` makes it."""
+def _closed_form_plan(dps: int, maximum: bool) -> Plan:
     from forcenet.numeric.chicken_wire.isotropic import closed_form_plan
 
-    closed = closed_form_plan(dps, maximum=maximum)
+    return closed_form_plan(dps, maximum=maximum)
+
+
+def _cost(closed: Plan, Q: Fraction | None = None, bethe: bool = False, L_max: int = 240) -> Plan:
+    """The closed forms' plan, and the Bethe ansatz's after it: one announcement, as ``forcenet entropy`` makes it."""
     plans = [closed]
     if bethe:
         from forcenet.numeric.chicken_wire.isotropic_bethe import isotropic_entropy_plan
@@ -431,8 +435,8 @@ def isotropic_maximum_plan(dps: int = 50) -> IsotropicPlan:
     ----------
     Sec. 7.4: the maxima of Eq. (7.1) per site and per tiling vertex.
     """
-    dps = check_dps(dps)
-    return IsotropicPlan(dps, _cost(dps, True))
+    closed = _closed_form_plan(dps, maximum=True)  # checks dps
+    return IsotropicPlan(int(dps), _cost(closed))
 
 
 def isotropic_maximum(dps: int = 50, *, progress: Progress | bool | None = None) -> IsotropicEntropy:

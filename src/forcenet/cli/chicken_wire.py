@@ -55,10 +55,10 @@ def _density(text: str) -> Fraction:
 
 def _phi(text: str) -> str:
     """--phi: a finite number in [-pi/2, pi/2] (compared with pi/2 at the digits given), kept as the string given."""
-    real("phi")(text)  # a finite ASCII number
-    text = text.strip()
-    try:
-        return str(check_within_pi(text, "phi"))
+    if not text.isascii():
+        raise argparse.ArgumentTypeError(f"phi={text!r} is not a number: use the ASCII digits 0-9")
+    try:  # a finite number in range, one check (the front door checks it again for a Python caller)
+        return str(check_within_pi(text, "phi")).strip()
     except ForcenetError as exc:
         raise argparse.ArgumentTypeError(str(exc)) from None
 

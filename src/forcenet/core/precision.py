@@ -27,7 +27,7 @@ from typing import TypeAlias
 import mpmath
 
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceError
-from forcenet.core.validation import check_float_digits, check_not_bool, is_binary_float, is_integer
+from forcenet.core.validation import check_float_digits, check_not_bool, check_real, is_binary_float, is_integer
 
 __all__ = ["GUARD", "RealLike", "to_mpf", "guarded", "converged", "within_pi", "check_within_pi"]
 
@@ -122,10 +122,17 @@ def within_pi(value: RealLike | mpmath.mpf, multiple: Fraction = Fraction(1, 2),
     >>> within_pi("1.5707963267948966"), within_pi("1.5707963267948967"), within_pi(Fraction(-3, 2), strict=True)
     (True, False, True)
     """
+    if isinstance(value, bool) or not (isinstance(value, (str, Fraction, float, mpmath.mpf)) or is_integer(value)):
+        raise ArgumentTypeError(f"{name}={value!r} is not a real number")
     with mpmath.workdps(_digits(value)):
-        x = abs(to_mpf(value, name))
+        try:  # converted here, not by to_mpf: the command line's --phi meets one check (tests/test_walks.py)
+            x = mpmath.mpf(value.numerator) / value.denominator if isinstance(value, Fraction) else mpmath.mpf(value)
+        except (TypeError, ValueError):
+            raise ArgumentTypeError(f"{name}={value!r} is not a real number") from None
+        if not mpmath.isfinite(x):
+            raise ArgumentError(f"{name}={value!r} is out of range: {name} must be a finite real number")
         limit = mpmath.pi * multiple.numerator / multiple.denominator
-        return bool(x < limit if strict else x <= limit)
+        return bool(abs(x) < limit if strict else abs(x) <= limit)
 
 
 def check_within_pi(value: RealLike | mpmath.mpf, name: str, multiple: Fraction = Fraction(1, 2)) -> RealLike | mpmath.mpf:
@@ -149,6 +156,8 @@ def check_within_pi(value: RealLike | mpmath.mpf, name: str, multiple: Fraction 
     ------
     ArgumentError
         If ``value`` lies outside ``[-multiple pi, multiple pi]`` (or is not finite).
+    ArgumentTypeError
+        If ``value`` is not a number.
 
     Examples
     --------
@@ -157,11 +166,13 @@ def check_within_pi(value: RealLike | mpmath.mpf, name: str, multiple: Fraction 
     ...
     forcenet.core.errors.ArgumentError: phi=1.6 is out of range: phi must lie in [-pi/2, pi/2] = [-1.5707963267948966192..., 1.5707963267948966192...]
     """
+    check_real(value, name)  # a finite number (the messages of every real argument)
     if not within_pi(value, multiple, name=name):
+        shown = value.strip() if isinstance(value, str) else value  # the number, without the blanks around it
         pi_text = _pi_text(multiple)
         with mpmath.workdps(30):
             bound = mpmath.nstr(mpmath.pi * multiple.numerator / multiple.denominator, 20)
-        raise ArgumentError(f"{name}={value} is out of range: {name} must lie in [-{pi_text}, {pi_text}] "
+        raise ArgumentError(f"{name}={shown} is out of range: {name} must lie in [-{pi_text}, {pi_text}] "
                             f"= [-{bound}..., {bound}...]")
     return value
 

@@ -122,7 +122,7 @@ def within_pi(value: RealLike | mpmath.mpf, multiple: Fraction = Fraction(1, 2),
     >>> within_pi("1.5707963267948966"), within_pi("1.5707963267948967"), within_pi(Fraction(-3, 2), strict=True)
     (True, False, True)
     """
-    if isinstance(value, bool) or not (isinstance(value, (str, Fraction, float, mpmath.mpf)) or is_integer(value)):
+    if not (isinstance(value, (str, Fraction, float, mpmath.mpf)) or is_integer(value)):  # is_integer: no bool
         raise ArgumentTypeError(f"{name}={value!r} is not a real number")
     with mpmath.workdps(_digits(value)):
         try:  # converted here, not by to_mpf: the command line's --phi meets one check (tests/test_walks.py)

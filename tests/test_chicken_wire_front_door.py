@@ -243,7 +243,9 @@ def test_the_plan_is_the_announcement_of_the_command_line():
      "phi=1.5707963267948967 is out of range: phi must lie in [-pi/2, pi/2] = [-1.5707963267948966192..., "
      "1.5707963267948966192...]"),
     (lambda: forcenet.isotropic_point_plan(Q="0.4"), ArgumentError,
-     "Q=2/5 is out of range: the density per direction Q must lie in [0, 1/3]"),
+     "Q=0.4 is out of range: the density per direction Q must lie in [0, 1/3]"),
+    (lambda: forcenet.isotropic_point_plan(Q=Fraction(-1, 7)), ArgumentError, "Q=-1/7 is out of range"),
+    (lambda: forcenet.isotropic_point_plan(Q=[0.1]), ArgumentTypeError, "Q=[0.1] is not a real number"),
     (lambda: forcenet.isotropic_point_plan(Q="abc"), ArgumentTypeError, "Q='abc' is not a real number"),
     (lambda: forcenet.isotropic_point_plan(Q=float("nan")), ArgumentError, "Q=nan is out of range"),
     (lambda: forcenet.isotropic_point_plan(Q=True), ArgumentTypeError, "Q=True is not a number"),

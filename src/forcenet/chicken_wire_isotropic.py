@@ -315,26 +315,25 @@ def isotropic_point_plan(phi: Any = None, Q: Any = None, *, dps: int = 50, side:
     if phi is not None:
         phi = check_within_pi(_real(phi, "phi", dps), "phi")
     else:
+        given = Q
         Q = _real(Q, "Q", dps, keep_text=False)
         if not 0 <= Q <= Fraction(1, 3):
-            raise ArgumentError(f"Q={_shown(Q)} is out of range: the density per direction Q must lie in [0, 1/3]")
+            raise ArgumentError(f"Q={_shown(given)} is out of range: the density per direction Q must lie in [0, 1/3]")
     if side is not None:
         import mpmath
 
         side = _real(side, "side", dps)
         with mpmath.workdps(dps):
             if not to_mpf(side, "side") > 0:
-                raise ArgumentError(f"side={_shown(side)} is out of range: the hexagon side l of Eq. (7.4) must be "
+                raise ArgumentError(f"side={side} is out of range: the hexagon side l of Eq. (7.4) must be "
                                     "a finite number > 0")
     return IsotropicPlan(dps, _cost(closed, Q if isinstance(Q, Fraction) else None, bool(bethe), L_max),
                          phi, Q, side, bool(bethe), L_max)
 
 
-def _shown(value: str | Fraction) -> str:
-    """A value in a message: as given, or a Fraction as its float when its denominator is long (a binary float's)."""
-    if isinstance(value, Fraction) and len(str(value.denominator)) > 12:
-        return repr(float(value))
-    return str(value)
+def _shown(value: Any) -> str:
+    """A value in a message as the caller gave it (a string without the blanks around it)."""
+    return value.strip() if isinstance(value, str) else str(value)
 
 
 def _closed_form_plan(dps: int, maximum: bool) -> Plan:

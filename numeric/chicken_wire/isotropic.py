@@ -44,7 +44,7 @@ import mpmath
 
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan
-from forcenet.core.precision import GUARD, RealLike, converged, to_mpf
+from forcenet.core.precision import GUARD, RealLike, converged, to_mpf, within_pi
 from forcenet.core.validation import check_dps, check_float_digits, check_int, is_binary_float
 
 __all__ = [
@@ -274,9 +274,7 @@ def phi_within_range(text: str, strict: bool = False) -> bool:
     >>> phi_within_range("1.5707963267948966"), phi_within_range("1.5707963267948967")
     (True, False)
     """
-    with mpmath.workdps(len(text) + 20):
-        x, limit = abs(mpmath.mpf(text)), mpmath.pi / 2
-        return bool(x < limit if strict else x <= limit)
+    return within_pi(text, Fraction(1, 2), strict=strict, name="phi")  # the generic check of forcenet.core
 
 
 def leading_series_at(eps: mpmath.mpf, dps: int, Q: RealLike | None = None) -> mpmath.mpf:
@@ -292,7 +290,8 @@ def leading_series_at(eps: mpmath.mpf, dps: int, Q: RealLike | None = None) -> m
     """
     from fractions import Fraction
 
-    return entropy_series_7_3(mpmath.pi if Q is not None and Q == Fraction(1, 3) else eps, 2, dps)
+    dps = check_dps(dps)
+    return _series_7_3(mpmath.pi if Q is not None and Q == Fraction(1, 3) else eps, 2, dps)  # order 2: no argument
 
 
 def eps_of(*, phi: RealLike | None = None, Q: RealLike | None = None, dps: int = 50) -> mpmath.mpf:
@@ -464,8 +463,11 @@ def entropy_series_7_3(eps: RealLike, order: int = 2, dps: int = 50) -> mpmath.m
     '6.05137311061e-5'
     """
     dps = check_dps(dps)
-    eps = _exact(eps, "eps", dps)
-    order = check_int(order, "order", 2, 8)
+    return _series_7_3(_exact(eps, "eps", dps), check_int(order, "order", 2, 8), dps)
+
+
+def _series_7_3(eps: Any, order: int, dps: int) -> mpmath.mpf:
+    """:func:`entropy_series_7_3` with ``order`` and ``dps`` checked by the caller."""
     f = _series_eps_function(order)
 
     def compute() -> mpmath.mpf:

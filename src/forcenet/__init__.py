@@ -15,6 +15,10 @@ The front door (one flat namespace, loaded on first use so ``import forcenet`` s
 * :func:`density`, :func:`cdf`, :func:`contact_density` — one load's exact law (Beta mixtures);
 * :class:`ExactSampler`, :class:`TriangleMetropolis` — the exact sampler and the thesis's Metropolis chain;
 * :func:`entropy`, :func:`tiling_entropy` — the chicken-wire entropy (7.1) and the square-triangle tiling's;
+* :func:`transfer_spectrum`, :func:`bethe_ground_state`, :func:`isotropic_point`, :func:`isotropic_maximum`
+  (each with its ``..._plan``) — the chicken-wire model's transfer spectrum, Bethe ground states and the
+  quantities on its isotropic line, Eqs. (7.1)-(7.4) (:mod:`forcenet.chicken_wire_sectors`,
+  :mod:`forcenet.chicken_wire_isotropic`);
 * :mod:`forcenet.testing` — test your own sampler or formula against the exact ensemble;
 * the exception family (:mod:`forcenet.core.errors`): :class:`ForcenetError`, the base of every
   expected failure, :class:`ArgumentError` (also a ``ValueError``), :class:`ArgumentTypeError`
@@ -43,6 +47,22 @@ from importlib.metadata import PackageNotFoundError, version
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ loads them on first use
+    from forcenet.chicken_wire_isotropic import (
+        IsotropicPlan,
+        isotropic_maximum,
+        isotropic_maximum_plan,
+        isotropic_point,
+        isotropic_point_plan,
+    )
+    from forcenet.chicken_wire_results import BetheGroundState, IsotropicEntropy, TransferSpectrum
+    from forcenet.chicken_wire_sectors import (
+        BetheGroundStatePlan,
+        TransferSpectrumPlan,
+        bethe_ground_state,
+        bethe_ground_state_plan,
+        transfer_spectrum,
+        transfer_spectrum_plan,
+    )
     from forcenet.core.errors import (
         ArgumentError,
         ArgumentTypeError,
@@ -90,6 +110,20 @@ _FRONT_DOOR = {
     "TriangleMetropolis": "forcenet.numeric.triangle",
     "entropy": "forcenet.numeric.chicken_wire.isotropic",
     "tiling_entropy": "forcenet.numeric.chicken_wire.isotropic",
+    "transfer_spectrum": "forcenet.chicken_wire_sectors",
+    "transfer_spectrum_plan": "forcenet.chicken_wire_sectors",
+    "TransferSpectrum": "forcenet.chicken_wire_results",
+    "TransferSpectrumPlan": "forcenet.chicken_wire_sectors",
+    "bethe_ground_state": "forcenet.chicken_wire_sectors",
+    "bethe_ground_state_plan": "forcenet.chicken_wire_sectors",
+    "BetheGroundState": "forcenet.chicken_wire_results",
+    "BetheGroundStatePlan": "forcenet.chicken_wire_sectors",
+    "isotropic_point": "forcenet.chicken_wire_isotropic",
+    "isotropic_point_plan": "forcenet.chicken_wire_isotropic",
+    "isotropic_maximum": "forcenet.chicken_wire_isotropic",
+    "isotropic_maximum_plan": "forcenet.chicken_wire_isotropic",
+    "IsotropicEntropy": "forcenet.chicken_wire_results",
+    "IsotropicPlan": "forcenet.chicken_wire_isotropic",
     "ForcenetError": "forcenet.core.errors",
     "ArgumentError": "forcenet.core.errors",
     "ArgumentTypeError": "forcenet.core.errors",
@@ -105,6 +139,10 @@ __all__ = [  # the keys of _FRONT_DOOR (tests/test_front_door.py), written out f
     "count", "normalization", "count_plan", "CountPlan", "TableauxCount", "maps", "MapCounts",
     "limit_shape", "LimitShape", "density", "cdf", "contact_density",
     "ExactSampler", "TriangleMetropolis", "entropy", "tiling_entropy",
+    "transfer_spectrum", "transfer_spectrum_plan", "TransferSpectrum", "TransferSpectrumPlan",
+    "bethe_ground_state", "bethe_ground_state_plan", "BetheGroundState", "BetheGroundStatePlan",
+    "isotropic_point", "isotropic_point_plan", "isotropic_maximum", "isotropic_maximum_plan", "IsotropicEntropy",
+    "IsotropicPlan",
     "ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError", "ClusterError", "PrecisionWarning",
     "__version__",
 ]

@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import argparse
-from collections.abc import Callable
 from fractions import Fraction
-from typing import Any
 
-from forcenet.core.errors import ArgumentError
+import forcenet
+from forcenet.core.errors import ArgumentError, ForcenetError
+from forcenet.core.precision import check_within_pi
 
 from .common import (
     UsageError,
@@ -16,7 +16,6 @@ from .common import (
     add_quiet,
     given,
     integer,
-    json_dumps,
     real,
     refuse_together,
     run_planned,
@@ -26,82 +25,23 @@ from .output import emit
 __all__ = ["register"]
 
 
-def _r(x: float) -> float:
-    """A float rounded to 12 decimals, the eigensolvers' accuracy: identical runs print identical bytes
-    (BLAS kernels may change the last bits from run to run)."""
-    return round(float(x), 12) + 0.0  # + 0.0: no negative zero
-
-
 def cmd_transfer(args: argparse.Namespace) -> int:
-    from forcenet.numeric.chicken_wire.transfer import sector_entropy, transfer_plan
-
-    L = args.L
-    plan = transfer_plan(L, args.particles)
-    sectors = [args.particles] if args.particles is not None else list(range(L + 1))
-
-    def run(tick: Callable[..., None] | None) -> list[dict[str, Any]]:
-        rows = []
-        for n in sectors:
-            lam, per_site = sector_entropy(L, particles=n)
-            rows.append({"particles": n, "lambda": _r(lam), "entropy_per_site": _r(per_site)})
-            if tick:
-                tick()
-        return rows
-
-    rows = run_planned(plan, run, force=args.force, quiet=args.quiet)
-    top = max(rows, key=lambda r: r["lambda"])
-    out = {"L": L, "lambda_max": top["lambda"], "entropy_per_site": top["entropy_per_site"], "sectors": rows}
-    bulk = [r for r in rows if r["particles"] > 0]
-    if bulk and args.particles is None:
-        best = max(bulk, key=lambda r: r["lambda"])
-        out["bulk"] = {"particles": best["particles"], "entropy_per_site": best["entropy_per_site"]}
-    if args.format == "json":
-        emit(json_dumps(out), args.out)
-        return 0
-    lines = [f"chicken-wire transfer matrix, cylinder of width L = {L}: lambda_max = {top['lambda']:.15g}, "
-             f"log(lambda)/L = {top['entropy_per_site']:.12g} per site"]
-    lines += [f"  n = {r['particles']:2d}: lambda = {r['lambda']:.15g}   log(lambda)/L = {r['entropy_per_site']:.12g}" for r in rows]
-    emit("\n".join(lines), args.out)
+    plan = forcenet.transfer_spectrum_plan(args.L, args.particles)
+    spectrum = run_planned(plan.cost, plan.run, force=args.force, quiet=args.quiet)
+    emit(spectrum.to_json() if args.format == "json" else spectrum.to_text(), args.out)
     return 0
 
 
 def cmd_bethe(args: argparse.Namespace) -> int:
-    from forcenet.core.errors import ConvergenceError
-    from forcenet.numeric.chicken_wire.bethe_sector import default_sector, ground_state, ground_state_plan
-
-    L = args.L
-    n, m = default_sector(L, args.n, args.m)
-    plan = ground_state_plan(L, n, m)
-
-    def run(tick: Callable[..., None] | None) -> Any:
-        try:
-            return ground_state(L, n, m, progress=tick)
-        except ConvergenceError as exc:
-            raise UsageError(str(exc)) from None
-
-    sol = run_planned(plan, run, force=args.force, quiet=args.quiet)
-    out = {
-        "L": L, "n": n, "m": m, "eigenvalue": _r(sol.eigenvalue), "entropy_per_site": _r(sol.entropy_per_site),
-        "residual": float(f"{sol.residual:.1e}"),
-        "w": [[round(float(z.real), 12), round(float(z.imag), 12)] for z in sol.w],
-        "u": [[round(float(z.real), 12), round(float(z.imag), 12)] for z in sol.u],
-    }
-    if args.format == "json":
-        emit(json_dumps(out), args.out)
-        return 0
-    lines = [f"Bethe ansatz, L = {L}, n = {n} particles, m = {m} left-movers: Lambda = {sol.eigenvalue:.15g}, "
-             f"log(Lambda)/L = {sol.entropy_per_site:.15g} per site (max residual {sol.residual:.1e})",
-             "  u: " + "  ".join(f"{z.real:+.10f}{z.imag:+.10f}i" for z in sol.u),
-             "  w: " + "  ".join(f"{z.real:+.10f}{z.imag:+.10f}i" for z in sol.w)]
-    emit("\n".join(lines), args.out)
+    plan = forcenet.bethe_ground_state_plan(args.L, args.n, args.m)
+    # a ConvergenceError (no ground state converged) is of the family: one line, its message, exit code 2
+    state = run_planned(plan.cost, plan.run, force=args.force, quiet=args.quiet)
+    emit(state.to_json() if args.format == "json" else state.to_text(), args.out)
     return 0
 
 
 def _density(text: str) -> Fraction:
     """--Q: a number or a fraction c/a in [0, 1/3], kept exact."""
-    import argparse
-    from fractions import Fraction
-
     try:
         if not text.isascii():
             raise ArgumentError(text)
@@ -115,16 +55,12 @@ def _density(text: str) -> Fraction:
 
 def _phi(text: str) -> str:
     """--phi: a finite number in [-pi/2, pi/2] (compared with pi/2 at the digits given), kept as the string given."""
-    import argparse
-
-    from forcenet.numeric.chicken_wire import isotropic as iso
-
-    real("phi")(text)  # a finite ASCII number
-    text = text.strip()
-    if not iso.phi_within_range(text):
-        raise argparse.ArgumentTypeError(f"phi={text} is out of range: phi must lie in [-pi/2, pi/2] "
-                                         "= [-1.5707963267948966192..., 1.5707963267948966192...]")
-    return text
+    if not text.isascii():
+        raise argparse.ArgumentTypeError(f"phi={text!r} is not a number: use the ASCII digits 0-9")
+    try:  # a finite number in range, one check (the front door checks it again for a Python caller)
+        return str(check_within_pi(text, "phi")).strip()
+    except ForcenetError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
 
 
 def _side(text: str) -> str:
@@ -133,144 +69,20 @@ def _side(text: str) -> str:
     return text.strip()
 
 
-def _inside(args: argparse.Namespace) -> bool:
-    """Whether the point is strictly inside ``0 < Q < 1/3`` (``|phi| < pi/2``), decided exactly."""
-    from fractions import Fraction
-
-    from forcenet.numeric.chicken_wire import isotropic as iso
-
-    if args.Q is not None:
-        return 0 < args.Q < Fraction(1, 3)
-    return iso.phi_within_range(args.phi, strict=True)
-
-
-def _closed_form_rows(args: argparse.Namespace, dps: int) -> list[tuple[str, str, Any]]:
-    """Every quantity at the point, named by what it is (mpmath values)."""
-    import mpmath
-
-    from forcenet.numeric.chicken_wire import isotropic as iso
-
-    point = {"phi": args.phi} if args.phi is not None else {"Q": args.Q}
-    if args.phi is not None:
-        Q = iso.density_Q(args.phi, dps)
-        with mpmath.workdps(dps):
-            phi_value = mpmath.mpf(args.phi)
-    else:
-        with mpmath.workdps(dps):
-            Q = mpmath.mpf(args.Q.numerator) / args.Q.denominator
-        phi_value = iso.phi_of_density(args.Q, dps)
-    eps = iso.eps_of(**point, dps=dps)
-    rows = [
-        ("phi", "parameter of Eqs. (7.1)-(7.2)", phi_value),
-        ("Q", "bonds per site in each of the three directions, Eq. (7.2)", Q),
-        ("v_per_site", "entropy per chicken-wire site, Eq. (7.1)", iso.entropy(**point, dps=dps)),
-        ("empty_per_site", "empty sites per site = square-triangle tiling vertices per site, 1 - 3Q + 3Q^2", iso.empty_density(**point, dps=dps)),
-        ("s_per_tiling_vertex", "entropy per square-triangle tiling vertex, v / e", iso.tiling_entropy(**point, dps=dps)),
-    ]
-    if _inside(args):
-        rows.append(("mu", "log-fugacity of each bond direction, -(1/3) dv/dQ", iso.chemical_potential(**point, dps=dps)))
-    if eps > 0:
-        rows.append(("eps", "pi/2 - phi", eps))
-        rows.append(_series_row(args, eps, rows[2][2], dps))
-    side = "1" if args.F is None else args.F
-    rows.append(("g_per_grain_7_4", f"entropy per grain in the continuum limit, Eq. (7.4) corrected: log(6 l) - 3/2 at l = {side}",
-                 iso.entropy_per_grain(side, dps)))
-    return rows
-
-
-# the leading term of (7.3) is shown as an approximation of v where it is one: within 1 % of v
-_SERIES_TOLERANCE = 0.01
-
-
-def _series_row(args: argparse.Namespace, eps: Any, v: Any, dps: int) -> tuple[str, str, Any]:
-    """The leading term of (7.3) at ``eps``, described with its deviation from ``v`` where it is no approximation."""
-    import mpmath
-
-    from forcenet.numeric.chicken_wire import isotropic as iso
-
-    series = iso.leading_series_at(eps, dps, args.Q)
-    what = "approximation of v by the leading term of Eq. (7.3), corrected: eps^2 (log(108/eps^2) - 3)/18"
-    if not abs(series - v) <= _SERIES_TOLERANCE * v:
-        what += (f"; NOT VALID here: eps = {mpmath.nstr(eps, 3)} is not small, it differs from v by "
-                 f"{mpmath.nstr(abs(series - v), 2)}")
-    return ("v_series_7_3", what, series)
-
-
-def _maximum_rows(dps: int) -> list[tuple[str, str, Any]]:
-    from forcenet.numeric.chicken_wire import isotropic as iso
-
-    m = iso.maximum(dps)
-    return [
-        ("v_max_per_site", "maximal entropy per chicken-wire site (where mu = 0)", m.v_max),
-        ("Q_max", "its bond density per direction", m.Q_max),
-        ("phi_max", "its parameter phi", m.phi_max),
-        ("s_max_per_tiling_vertex", "maximal entropy per square-triangle tiling vertex, log 108 - 2 sqrt3 log(2 + sqrt3)", m.s_max),
-        ("Q0", "its bond density per direction (phi = 0, the twelvefold point), (3 - sqrt3)/6", m.Q0),
-        ("v_per_site_at_Q0", "entropy per chicken-wire site there (half of s_max)", m.v_at_Q0),
-        ("empty_per_site_at_Q0", "tiling vertices per site there", m.empty_per_site),
-        ("Y_per_site_at_Q0", "Y vertices (one kind) per site there, 3 Q0^2", m.y_per_site),
-        ("squares_per_tiling_vertex", "squares per tiling vertex there", m.squares_per_vertex),
-        ("triangles_per_tiling_vertex", "triangles per tiling vertex there (half upright, half rotated)", m.triangles_per_vertex),
-        ("squares_per_triangle", "squares per triangle there, sqrt3/4", m.squares_per_triangle),
-    ]
-
-
 def cmd_entropy(args: argparse.Namespace) -> int:
-    import mpmath
-
-    from forcenet.core.plan import combine
-    from forcenet.numeric.chicken_wire.isotropic import closed_form_plan
-
-    dps = args.dps
     if args.max and args.bethe:
         raise UsageError("--bethe goes with --phi or --Q (the maximum comes from the closed form)")
     refuse_together(args, "max", "F", "the maxima do not depend on the hexagon side l of Eq. (7.4)")
     if given(args, "L_max") and not args.bethe:
         raise UsageError("--L-max sets the widths of --bethe: add --bethe or drop --L-max")
-    closed = closed_form_plan(dps, maximum=args.max)
-    plans = [closed]
-    if args.bethe:
-        from forcenet.numeric.chicken_wire.isotropic_bethe import isotropic_entropy_plan
-
-        plans.append(isotropic_entropy_plan(args.Q, args.L_max))
-    plan = combine(plans[-1].what if args.bethe else closed.what, plans, plans[-1].unit)
-
-    def run(tick: Callable[..., None] | None) -> tuple[list[tuple[str, str, Any]], dict[str, Any] | None]:
-        rows = _maximum_rows(dps) if args.max else _closed_form_rows(args, dps)
-        bethe = _bethe(args, rows) if args.bethe else None
-        if tick:
-            tick()
-        return rows, bethe
-
-    rows, bethe = run_planned(plan, run, force=args.force, quiet=args.quiet)
-    out = {"dps": dps}
-    out.update({key: mpmath.nstr(value, dps) for key, _, value in rows})
-    out.update({f"{key}_note": what.split("; ", 1)[1] for key, what, _ in rows if "; NOT VALID here" in what})
-    if bethe:
-        out.update(bethe)
-    if args.format == "json":
-        emit(json_dumps(out), args.out)
-        return 0
-    width = max(len(key) for key, _, _ in rows)
-    lines = [f"{key:<{width}} = {mpmath.nstr(value, dps)}   ({what})" for key, what, value in rows]
-    if bethe:
-        lines.append(f"{'v_bethe':<{width}} = {bethe['v_bethe']:.12f} +- {bethe['v_bethe_error']:.1e}   "
-                     f"(entropy per site from the Bethe ansatz, densities {', '.join(bethe['bethe_densities'])}, L <= {args.L_max})")
-    emit("\n".join(lines), args.out)
+    if args.max:
+        plan = forcenet.isotropic_maximum_plan(args.dps)
+    else:
+        plan = forcenet.isotropic_point_plan(args.phi, args.Q, dps=args.dps, side=args.F, bethe=args.bethe,
+                                             L_max=args.L_max if args.bethe else None)
+    result = run_planned(plan.cost, plan.run, force=args.force, quiet=args.quiet)
+    emit(result.to_json() if args.format == "json" else result.to_text(), args.out)
     return 0
-
-
-def _bethe(args: argparse.Namespace, rows: list[tuple[str, str, Any]]) -> dict[str, Any]:
-    """The independent Bethe-ansatz value of v at the point (float, with its error)."""
-    from forcenet.core.errors import ConvergenceError
-    from forcenet.numeric.chicken_wire.isotropic_bethe import isotropic_entropy
-
-    Q = args.Q if args.Q is not None else float(dict((key, value) for key, _, value in rows)["Q"])
-    try:
-        v, err, densities = isotropic_entropy(Q, args.L_max)
-    except ConvergenceError as exc:
-        raise UsageError(f"Bethe ansatz: {exc}") from None
-    return {"v_bethe": v, "v_bethe_error": err, "bethe_densities": [str(f) for f in densities]}
 
 
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:

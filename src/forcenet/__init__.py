@@ -9,6 +9,9 @@ The front door (one flat namespace, loaded on first use so ``import forcenet`` s
   (:mod:`forcenet.laws`);
 * :func:`count`, :func:`normalization` — the tableaux count and the volume, Eq. (4.1);
 * :func:`density`, :func:`cdf`, :func:`contact_density` — one load's exact law (Beta mixtures);
+* :func:`sample` / :func:`sample_plan` — Monte Carlo ``<W_ij>`` with standard errors (the exact sampler or the
+  Metropolis chain, on the triangle or on the N x P packing of a :class:`Scene`) and its cost
+  (:mod:`forcenet.sampling`); :meth:`Law.compare_with_samples` — a pooled ``P(f)`` against sampled histograms;
 * :class:`ExactSampler`, :class:`TriangleMetropolis` — the exact sampler and the thesis's Metropolis chain;
 * :func:`entropy`, :func:`tiling_entropy` — the chicken-wire entropy (7.1) and the square-triangle tiling's;
 * :mod:`forcenet.testing` — test your own sampler or formula against the exact ensemble;
@@ -53,8 +56,12 @@ if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ lo
     from forcenet.law_results import Law
     from forcenet.laws import LawPlan, law, law_plan
     from forcenet.numeric.chicken_wire.isotropic import entropy, tiling_entropy
+    from forcenet.numeric.packing.scene import Scene
     from forcenet.numeric.triangle import ExactSampler, TriangleMetropolis
     from forcenet.results import Row, Table
+    from forcenet.sample_results import Samples
+    from forcenet.sampled_comparison import SampledComparison, SampledComparisonPlan
+    from forcenet.sampling import SamplePlan, sample, sample_plan
 
 # name -> the module that defines it, imported on first use (forcenet.exact costs about a second to import)
 _FRONT_DOOR = {
@@ -72,6 +79,13 @@ _FRONT_DOOR = {
     "density": "forcenet.exact.triangle.distribution",
     "cdf": "forcenet.exact.triangle.distribution",
     "contact_density": "forcenet.exact.triangle.distribution",
+    "sample": "forcenet.sampling",
+    "sample_plan": "forcenet.sampling",
+    "Samples": "forcenet.sample_results",
+    "SamplePlan": "forcenet.sampling",
+    "Scene": "forcenet.numeric.packing.scene",
+    "SampledComparison": "forcenet.sampled_comparison",
+    "SampledComparisonPlan": "forcenet.sampled_comparison",
     "ExactSampler": "forcenet.numeric.triangle",
     "TriangleMetropolis": "forcenet.numeric.triangle",
     "entropy": "forcenet.numeric.chicken_wire.isotropic",
@@ -89,6 +103,7 @@ _SUBPACKAGES = frozenset({"exact", "numeric", "testing"})
 __all__ = [  # the keys of _FRONT_DOOR (tests/test_front_door.py), written out for the linters
     "table", "plan", "Table", "TablePlan", "Row", "law", "law_plan", "Law", "LawPlan",
     "count", "normalization", "density", "cdf", "contact_density",
+    "sample", "sample_plan", "Samples", "SamplePlan", "Scene", "SampledComparison", "SampledComparisonPlan",
     "ExactSampler", "TriangleMetropolis", "entropy", "tiling_entropy",
     "ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError", "ClusterError", "PrecisionWarning",
     "__version__",

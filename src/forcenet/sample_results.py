@@ -11,8 +11,8 @@ Examples
 --------
 >>> import forcenet
 >>> s = forcenet.sample(4, 400, seed=1)
->>> s.mean.shape, s.effective_samples, s.to_json()[:40]
-((4, 4), 400.0, '{"N": 4, "sampler": "exact", "samples": 4')
+>>> s.mean.shape, s.effective_samples, s.to_json()[:43]
+((4, 4), 400.0, '{"N": 4, "sampler": "exact", "samples": 400')
 """
 
 from __future__ import annotations
@@ -214,9 +214,9 @@ class Samples:
         Examples
         --------
         >>> import forcenet
-        >>> print(forcenet.sample(3, 1000, seed=1).to_text())  # doctest: +ELLIPSIS
+        >>> print(forcenet.sample(3, 1000, seed=1).to_text())  # the exact bottom row: 1/4, 1/2, 1/4
         exact sampler, N = 3 (triangle), 1000 samples, 1000 effective
-          bottom row <W_N,j>: 0.2...±0.00... 0.4...±0.00... 0.2...±0.00...
+          bottom row <W_N,j>: 0.2488±0.0062 0.5058±0.0071 0.2454±0.0060
         """
         where = "triangle" if self.scene is None else f"{self.scene.name} packing, P = {self.scene.P}"
         lines = [f"{self.sampler} sampler, N = {self.N} ({where}), {self.samples} samples, "

@@ -256,8 +256,7 @@ def sample_plan(N: int, samples: int, *, sampler: str = "exact", seed: int = 0, 
     N, samples = check_int(N, "N", 2), check_int(samples, "samples", 2)
     sampler, move = _choice(sampler, "sampler", SAMPLERS), _choice(move, "move", MOVES)
     seed, workers = check_int(seed, "seed", 0, 2**63 - 1), check_int(workers, "workers", 1, MAX_WORKERS)
-    if not isinstance(response, bool):
-        raise ArgumentTypeError(f"response={response!r} is not a bool: give True or False")
+    response = bool(response)
     memory = (available_memory() or 16 * 2**30) if memory_bytes is None else check_int(memory_bytes, "memory_bytes", 1)
     chain = sampler == "metropolis"
     for name, value, given in (("ph", ph, ph is not None), ("scene", scene, scene is not None),

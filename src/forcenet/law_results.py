@@ -380,7 +380,7 @@ class Law(_Rendered):
         return head + "<table><tr><th>piece</th><th>degree</th></tr>" + rows + "</table>"
 
     def compare_with_samples(self, samples: int = 20000, sweeps: int = 3000, bins: int = 40, f_max: float = 4.0,
-                             seed: int = 0, progress: Callable[..., Any] | bool | None = None) -> SampledComparison:
+                             seed: int = 0, progress: Callable[..., Any] | bool | None = None) -> SampledComparison[Law]:
         """This pooled ``P(f)`` against the exact sampler's and Metropolis's histograms (``forcenet dist --plot``).
 
         Both samplers draw the pooled force ``f = i W_ij`` of :attr:`pool`

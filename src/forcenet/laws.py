@@ -213,7 +213,7 @@ class LawPlan(_Costed):
                    found.extra, pool)
 
     def with_sampled_comparison(self, samples: int = 20000, sweeps: int = 3000, bins: int = 40, f_max: float = 4.0,
-                                seed: int = 0) -> SampledComparisonPlan:
+                                seed: int = 0) -> SampledComparisonPlan[Law]:
         """This law and its comparison with the exact sampler's and Metropolis's histograms, planned as one run.
 
         What ``forcenet dist --plot`` announces and runs: the law's cost, then

@@ -24,7 +24,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import TYPE_CHECKING, Any, Protocol
+from typing import TYPE_CHECKING, Any, Generic, Protocol, TypeVar
 
 from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan
@@ -41,22 +41,26 @@ __all__ = ["SampledComparison", "SampledComparisonPlan"]
 Progress = Callable[..., Any]
 
 
-class Law(Protocol):  # what the comparison reads of a forcenet.Law (no import: forcenet.law_results imports this)
+class _PooledLaw(Protocol):  # what the comparison reads of a forcenet.Law (forcenet.law_results imports this module)
     N: int
     pool: str | int | None
     density: list[Any]
-    quantity: str
 
 
-class LawPlan(Protocol):  # what it reads of a forcenet.LawPlan (no import: forcenet.laws imports this)
-    cost: Plan
+L = TypeVar("L", bound=_PooledLaw)
+L_co = TypeVar("L_co", bound=_PooledLaw, covariant=True)
 
-    def run(self, progress: Progress | bool | None = None) -> Any: ...
+
+class _LawPlan(Protocol[L_co]):  # what it reads of a forcenet.LawPlan (forcenet.laws imports this module)
+    @property
+    def cost(self) -> Plan: ...
+
+    def run(self, progress: Progress | bool | None = None) -> L_co: ...
 
 MAX_BINS = 1000
 
 
-class SampledComparison:
+class SampledComparison(Generic[L]):
     """An exact pooled ``P(f)`` against sampled histograms: what :meth:`forcenet.Law.compare_with_samples` returns.
 
     Parameters
@@ -81,7 +85,7 @@ class SampledComparison:
     'exact sampler: chi2 = ... over 5 bins (p = ...), tau = 1.0'
     """
 
-    def __init__(self, law: Law, edges: np.ndarray, exact_bins: list[Fraction], histograms: dict[str, Histogram]):
+    def __init__(self, law: L, edges: np.ndarray, exact_bins: list[Fraction], histograms: dict[str, Histogram]):
         self.law, self.edges, self.exact_bins, self.histograms = law, edges, exact_bins, dict(histograms)
 
     def __repr__(self) -> str:
@@ -162,7 +166,7 @@ class SampledComparison:
 
 
 @dataclass(frozen=True)
-class SampledComparisonPlan(_Costed):
+class SampledComparisonPlan(_Costed, Generic[L]):
     """A checked comparison of an exact pooled ``P(f)`` with sampled histograms, with its cost (the law's too when it
     is still to be computed): what :meth:`forcenet.LawPlan.with_sampled_comparison` returns.
 
@@ -205,10 +209,10 @@ class SampledComparisonPlan(_Costed):
     f_max: float
     seed: int
     cost: Plan
-    law_plan: LawPlan | None = field(default=None, repr=False)
-    law: Law | None = field(default=None, repr=False)
+    law_plan: _LawPlan[L] | None = field(default=None, repr=False)
+    law: L | None = field(default=None, repr=False)
 
-    def run(self, progress: Progress | bool | None = None) -> SampledComparison:
+    def run(self, progress: Progress | bool | None = None) -> SampledComparison[L]:
         """Compute the law (if the plan holds none), draw both histograms, and set them against the exact bins.
 
         Parameters
@@ -269,8 +273,8 @@ class SampledComparisonPlan(_Costed):
 
 
 def comparison_plan(N: int, pool: Any, *, samples: Any, sweeps: Any, bins: Any, f_max: Any, seed: Any,
-                    law_plan: LawPlan | None = None, law: Law | None = None,
-                    memory_bytes: int | None = None) -> SampledComparisonPlan:
+                    law_plan: _LawPlan[L] | None = None, law: L | None = None,
+                    memory_bytes: int | None = None) -> SampledComparisonPlan[L]:
     """The checked comparison of the pooled law of ``law_plan`` (or of ``law``) and its cost (what the methods call).
 
     Parameters

@@ -85,20 +85,16 @@ def cmd_dist(args: argparse.Namespace) -> int:
 def _dist(args: argparse.Namespace, request: LawPlan) -> int:
     import sys
 
-    def notes(lines: list[str]) -> None:  # the chi-square of each sampler, on stderr as the run ends
-        if not args.quiet:
-            for line in lines:
-                print(f"forcenet: {line}", file=sys.stderr)
-
-    if args.plot is not None:
-        comparison = request.with_sampled_comparison(
-            samples=20000 if args.samples is None else args.samples, sweeps=3000 if args.sweeps is None else args.sweeps,
-            bins=40 if args.bins is None else args.bins, f_max=4.0 if args.f_max is None else args.f_max,
-            seed=args.seed)
+    if args.plot is not None:  # the options given; the others keep the face's defaults (those of --help)
+        chosen = {name: getattr(args, name) for name in ("samples", "sweeps", "bins", "f_max")
+                  if getattr(args, name) is not None}
+        comparison = request.with_sampled_comparison(seed=args.seed, **chosen)
 
         def run(tick: Callable[..., None] | None) -> tuple[Law, bytes | None]:
             compared = comparison.run(progress=tick)
-            notes(compared.notes)
+            if not args.quiet:  # the chi-square of each sampler, on stderr as the run ends
+                for line in compared.notes:
+                    print(f"forcenet: {line}", file=sys.stderr)
             return compared.law, compared.png()
 
         law, png = run_planned(comparison.cost, run, force=args.force, quiet=args.quiet)

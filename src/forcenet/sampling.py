@@ -51,11 +51,6 @@ MAX_WORKERS = 64
 class SamplePlan(_Costed):
     """A checked Monte Carlo request with its cost: what :func:`sample_plan` returns (make it with :func:`sample_plan`).
 
-    Attributes
-    ----------
-    load_range : tuple of float
-        ``(1e-100, 1e100)``: where the loads may lie (their squares enter the error bars, far from overflow).
-
     Parameters
     ----------
     N : int
@@ -82,6 +77,11 @@ class SamplePlan(_Costed):
         The chains' move.
     cost : forcenet.core.plan.Plan
         Estimated seconds, peak bytes, progress ticks, or the refusal.
+
+    Attributes
+    ----------
+    load_range : tuple of float
+        ``(1e-100, 1e100)``: where the loads may lie (their squares enter the error bars, far from overflow).
 
     Examples
     --------

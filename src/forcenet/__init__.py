@@ -13,6 +13,9 @@ The front door (one flat namespace, loaded on first use so ``import forcenet`` s
 * :func:`limit_shape` — the scaling limit of the response at ``(x, z)``, bulk, lattice direction and edge
   (:class:`LimitShape`);
 * :func:`density`, :func:`cdf`, :func:`contact_density` — one load's exact law (Beta mixtures);
+* :func:`sample` / :func:`sample_plan` — Monte Carlo ``<W_ij>`` with standard errors (the exact sampler or the
+  Metropolis chain, on the triangle or on the N x P packing of a :class:`Scene`) and its cost
+  (:mod:`forcenet.sampling`); :meth:`Law.compare_with_samples` — a pooled ``P(f)`` against sampled histograms;
 * :class:`ExactSampler`, :class:`TriangleMetropolis` — the exact sampler and the thesis's Metropolis chain;
 * :func:`entropy`, :func:`tiling_entropy` — the chicken-wire entropy (7.1) and the square-triangle tiling's;
 * :func:`transfer_spectrum`, :func:`bethe_ground_state`, :func:`isotropic_point`, :func:`isotropic_maximum`
@@ -78,10 +81,14 @@ if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ lo
     from forcenet.laws import LawPlan, law, law_plan
     from forcenet.map_counts import MapCounts, maps
     from forcenet.numeric.chicken_wire.isotropic import entropy, tiling_entropy
+    from forcenet.numeric.packing.scene import Scene
     from forcenet.numeric.triangle import ExactSampler, TriangleMetropolis
     from forcenet.results import Row, Table
     from forcenet.scaling_limit import LimitShape, limit_shape
     from forcenet.tableaux_count import CountPlan, TableauxCount, count_plan
+    from forcenet.sample_results import Samples
+    from forcenet.sampled_comparison import SampledComparison, SampledComparisonPlan
+    from forcenet.sampling import SamplePlan, sample, sample_plan
 
 # name -> the module that defines it, imported on first use (forcenet.exact costs about a second to import)
 _FRONT_DOOR = {
@@ -106,6 +113,13 @@ _FRONT_DOOR = {
     "density": "forcenet.exact.triangle.distribution",
     "cdf": "forcenet.exact.triangle.distribution",
     "contact_density": "forcenet.exact.triangle.distribution",
+    "sample": "forcenet.sampling",
+    "sample_plan": "forcenet.sampling",
+    "Samples": "forcenet.sample_results",
+    "SamplePlan": "forcenet.sampling",
+    "Scene": "forcenet.numeric.packing.scene",
+    "SampledComparison": "forcenet.sampled_comparison",
+    "SampledComparisonPlan": "forcenet.sampled_comparison",
     "ExactSampler": "forcenet.numeric.triangle",
     "TriangleMetropolis": "forcenet.numeric.triangle",
     "entropy": "forcenet.numeric.chicken_wire.isotropic",
@@ -138,6 +152,7 @@ __all__ = [  # the keys of _FRONT_DOOR (tests/test_front_door.py), written out f
     "table", "plan", "Table", "TablePlan", "Row", "law", "law_plan", "Law", "LawPlan",
     "count", "normalization", "count_plan", "CountPlan", "TableauxCount", "maps", "MapCounts",
     "limit_shape", "LimitShape", "density", "cdf", "contact_density",
+    "sample", "sample_plan", "Samples", "SamplePlan", "Scene", "SampledComparison", "SampledComparisonPlan",
     "ExactSampler", "TriangleMetropolis", "entropy", "tiling_entropy",
     "transfer_spectrum", "transfer_spectrum_plan", "TransferSpectrum", "TransferSpectrumPlan",
     "bethe_ground_state", "bethe_ground_state_plan", "BetheGroundState", "BetheGroundStatePlan",

@@ -15,6 +15,7 @@ Examples
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any
 
@@ -24,6 +25,8 @@ from forcenet.results import _Rendered
 if TYPE_CHECKING:  # pragma: no cover - annotations only
     import numpy as np
     from matplotlib.axes import Axes
+
+    from forcenet.sampled_comparison import SampledComparison
 
 __all__ = ["Law"]
 
@@ -52,6 +55,9 @@ class Law(_Rendered):
         The route that computed it, and why ``auto`` chose it (empty for an explicit method).
     extra : dict, optional
         Exact fields ``forcenet dist`` prints besides (a grain's ``mean`` and ``second_moment``).
+    pool : "ensemble", int or None
+        A pooled ``P(f)``'s grains: ``"ensemble"`` (layers ``2..N``) or a layer ``i``; None for a grain's or a
+        contact's law.
 
     Examples
     --------
@@ -64,9 +70,9 @@ class Law(_Rendered):
     """
 
     def __init__(self, N: int, quantity: str, variable: str, density: list[Any], cdf: list[Any], method: str,
-                 why: str = "", extra: dict[str, Any] | None = None):
+                 why: str = "", extra: dict[str, Any] | None = None, pool: str | int | None = None):
         self.N, self.quantity, self.variable, self.method, self.why = N, quantity, variable, method, why
-        self.density, self.cdf, self.extra = density, cdf, dict(extra or {})
+        self.density, self.cdf, self.extra, self.pool = density, cdf, dict(extra or {}), pool
 
     def __repr__(self) -> str:
         return f"Law(N={self.N}, quantity={self.quantity!r}, method={self.method!r})"
@@ -372,6 +378,57 @@ class Law(_Rendered):
         head = f"<p>{escape(self.quantity)}, N = {self.N} ({escape(self.method)}): mean {self.mean}</p>"
         rows = "".join(f"<tr><td>[{p.lo}, {p.hi}]</td><td>{p.poly.degree()}</td></tr>" for p in self.density)
         return head + "<table><tr><th>piece</th><th>degree</th></tr>" + rows + "</table>"
+
+    def compare_with_samples(self, samples: int = 20000, sweeps: int = 3000, bins: int = 40, f_max: float = 4.0,
+                             seed: int = 0, progress: Callable[..., Any] | bool | None = None) -> SampledComparison[Law]:
+        """This pooled ``P(f)`` against the exact sampler's and Metropolis's histograms (``forcenet dist --plot``).
+
+        Both samplers draw the pooled force ``f = i W_ij`` of :attr:`pool`
+        on ``bins`` equal bins of ``[0, f_max]``; each histogram is set
+        against the exact bin masses of this density by a chi-square (the
+        chain's error bars from its integrated autocorrelation time,
+        Sec. 3.2.4).  The defaults are those of ``forcenet dist --plot``.
+
+        Parameters
+        ----------
+        samples : int
+            Independent exact samples, ``>= 2``.
+        sweeps : int
+            Metropolis sweeps, ``>= 2`` (burn-in ``max(100, sweeps // 10)``).
+        bins : int
+            Equal bins of ``[0, f_max]``, ``1..1000``.
+        f_max : float
+            The histograms' range, a finite number ``> 0``.
+        seed : int
+            Both samplers' seed, ``>= 0``.
+        progress : callable, bool or None
+            ``progress(k)`` per ``k`` samples or sweeps; ``True``: a progress bar.
+
+        Returns
+        -------
+        SampledComparison
+            The histograms, the exact bin masses, the chi-square notes and the figure (:meth:`~SampledComparison.png`).
+
+        Raises
+        ------
+        ArgumentError
+            If this is a grain's or a contact's law (not pooled), or an argument is out of range.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> c = forcenet.law(6, layer=6).compare_with_samples(samples=2000, sweeps=2000, bins=10, seed=1)
+        >>> [bins for _, bins, _ in c.chi_squares.values()]
+        [10, 10]
+        >>> forcenet.law(6, (6, 3)).compare_with_samples()  # doctest: +ELLIPSIS
+        Traceback (most recent call last):
+        ...
+        forcenet.core.errors.ArgumentError: compare_with_samples compares a pooled P(f) with sampled histograms: ...
+        """
+        from forcenet.sampled_comparison import comparison_plan
+
+        return comparison_plan(self.N, self.pool, samples=samples, sweeps=sweeps, bins=bins, f_max=f_max, seed=seed,
+                               law=self).check().run(progress)
 
     def plot(self, ax: Axes | None = None, points: int = 400) -> Axes:
         """The density over its support (exact values rounded once, ``points + 1`` points).

@@ -42,6 +42,7 @@ from forcenet.law_results import Law
 
 if TYPE_CHECKING:  # pragma: no cover - annotations only
     from forcenet.exact.routes import LawRequest
+    from forcenet.sampled_comparison import SampledComparisonPlan
 
 __all__ = ["Law", "LawPlan", "law", "law_plan"]  # Law: forcenet.law_results
 
@@ -206,8 +207,54 @@ class LawPlan(_Costed):
         finally:
             if bar is not None:
                 bar.close()
+        kind = self.request.kind
+        pool = "ensemble" if kind == "ensemble" else self.request.layer if kind == "layer" else None
         return Law(self.N, found.quantity, found.variable, found.density, found.cdf, self.method, self.why,
-                   found.extra)
+                   found.extra, pool)
+
+    def with_sampled_comparison(self, samples: int = 20000, sweeps: int = 3000, bins: int = 40, f_max: float = 4.0,
+                                seed: int = 0) -> SampledComparisonPlan[Law]:
+        """This law and its comparison with the exact sampler's and Metropolis's histograms, planned as one run.
+
+        What ``forcenet dist --plot`` announces and runs: the law's cost, then
+        both samplers' (:meth:`Law.compare_with_samples`), one progress count.
+
+        Parameters
+        ----------
+        samples : int
+            Independent exact samples, ``>= 2``.
+        sweeps : int
+            Metropolis sweeps, ``>= 2`` (burn-in ``max(100, sweeps // 10)``).
+        bins : int
+            Equal bins of ``[0, f_max]``, ``1..1000``.
+        f_max : float
+            The histograms' range, a finite number ``> 0``.
+        seed : int
+            Both samplers' seed, ``>= 0``.
+
+        Returns
+        -------
+        SampledComparisonPlan
+            Its ``cost`` (the law's and the samplers'); ``run(progress)`` computes the law and the comparison.
+
+        Raises
+        ------
+        ArgumentError
+            If the law is a grain's or a contact's (not a pooled ``P(f)``), or an argument is out of range.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> p = forcenet.law_plan(8, layer=8).with_sampled_comparison(samples=1000, sweeps=1000)
+        >>> p.cost.ticks == forcenet.law_plan(8, layer=8).cost.ticks + 2000
+        True
+        """
+        from forcenet.sampled_comparison import comparison_plan
+
+        kind = self.request.kind
+        pool = "ensemble" if kind == "ensemble" else self.request.layer if kind == "layer" else None
+        return comparison_plan(self.N, pool, samples=samples, sweeps=sweeps, bins=bins, f_max=f_max, seed=seed,
+                               law_plan=self, memory_bytes=self.memory_bytes)
 
 
 def law_plan(N: int, grain: tuple[int, int] | None = None, *, layer: int | None = None, contact: str | None = None,

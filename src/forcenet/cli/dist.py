@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import argparse
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from forcenet.exact.routes import LAW_CONTACTS, LAW_DP_MAX_N, LAW_MAX_N
 
@@ -34,9 +34,7 @@ from .common import (
 from .output import destination, emit, write_files
 
 if TYPE_CHECKING:
-    from forcenet.core.plan import Plan
-    from forcenet.exact.routes import LawRequest
-    from forcenet.laws import Law, LawPlan
+    from forcenet import Law, LawPlan
 
 __all__ = ["register"]
 
@@ -55,21 +53,12 @@ def _grain(text: str) -> tuple[int, ...]:
 
 def _request(args: argparse.Namespace) -> LawPlan:
     """The front door's plan of the request (:func:`forcenet.law_plan`): validated, its route chosen, once."""
-    from forcenet.laws import law_plan
+    import forcenet
 
     if args.contact is not None and args.grain is None:
         raise UsageError("--contact needs --grain i,j (the grain whose contact force is wanted)")
-    return law_plan(args.N, args.grain, layer=args.layer, contact=args.contact, memory_bytes=available_memory())
-
-
-def _plot_plan(args: argparse.Namespace) -> tuple[list[Plan], Callable[..., Plan]]:
-    from forcenet.core.plan import combine
-    from forcenet.numeric.triangle.exact_sampler import sample_plan
-    from forcenet.numeric.triangle.metropolis import metropolis_plan
-
-    memory = available_memory()
-    burn = max(100, args.sweeps // 10)
-    return [sample_plan(args.N, args.samples, memory), metropolis_plan(args.N, args.sweeps, burn, memory)], combine
+    return forcenet.law_plan(args.N, args.grain, layer=args.layer, contact=args.contact,
+                             memory_bytes=available_memory())
 
 
 def cmd_dist(args: argparse.Namespace) -> int:
@@ -94,21 +83,24 @@ def cmd_dist(args: argparse.Namespace) -> int:
 
 
 def _dist(args: argparse.Namespace, request: LawPlan) -> int:
-    if args.plot is not None:
-        args.samples = 20000 if args.samples is None else args.samples
-        args.sweeps = 3000 if args.sweeps is None else args.sweeps
-        args.bins = 40 if args.bins is None else args.bins
-        args.f_max = 4.0 if args.f_max is None else args.f_max
-        more, combine = _plot_plan(args)
-        plan = combine(f"{request.cost.what} with its sampled comparison", [request.cost, *more], "step")
+    import sys
+
+    if args.plot is not None:  # the options given; the others keep the face's defaults (those of --help)
+        chosen = {name: getattr(args, name) for name in ("samples", "sweeps", "bins", "f_max")
+                  if getattr(args, name) is not None}
+        comparison = request.with_sampled_comparison(seed=args.seed, **chosen)
+
+        def run(tick: Callable[..., None] | None) -> tuple[Law, bytes | None]:
+            compared = comparison.run(progress=tick)
+            if not args.quiet:  # the chi-square of each sampler, on stderr as the run ends
+                for line in compared.notes:
+                    print(f"forcenet: {line}", file=sys.stderr)
+            return compared.law, compared.png()
+
+        law, png = run_planned(comparison.cost, run, force=args.force, quiet=args.quiet)
     else:
-        plan = request.cost
-
-    def run(tick: Callable[..., None] | None) -> tuple[Law, bytes | None]:
-        law = request.run(progress=tick)
-        return law, (_figure(args, request.request, law.density, tick) if args.plot is not None else None)
-
-    law, png = run_planned(plan, run, force=args.force, quiet=args.quiet)
+        law, png = run_planned(request.cost, lambda tick: request.run(progress=tick), force=args.force,
+                               quiet=args.quiet), None
     if request.checkpoint is not None and not args.quiet:
         report_checkpoints(request.checkpoint, request.cost.ticks)
     text = {"json": law.to_json, "csv": law.to_csv, "latex": law.to_latex, "text": law.to_text}[args.format](args.grid)
@@ -122,38 +114,6 @@ def _dist(args: argparse.Namespace, request: LawPlan) -> int:
     if args.out is None:
         emit(text)
     return 0
-
-
-def _figure(args: argparse.Namespace, target: LawRequest, pieces: Any, tick: Callable[..., None] | None) -> bytes:
-    """The sampled histograms and the figure (PNG bytes); a summary line per sampler on stderr."""
-    import sys
-
-    from forcenet.exact.triangle.distribution import bin_probabilities
-    from forcenet.numeric.triangle.force_distribution import (
-        chi_square,
-        comparison_png,
-        exact_sampler_histogram,
-        histogram_edges,
-        metropolis_histogram,
-    )
-
-    pool = "ensemble" if target.layer is None else target.layer
-    edges = histogram_edges(args.f_max, args.bins)
-    exact_bins = bin_probabilities(pieces, edges)
-    hists = {f"exact sampler, {args.samples} samples": exact_sampler_histogram(args.N, args.samples, edges, pool, args.seed, tick),
-             f"Metropolis, {args.sweeps} sweeps": metropolis_histogram(args.N, args.sweeps, edges, pool, seed=args.seed,
-                                                                       progress=tick)}
-    notes = []
-    for label, h in hists.items():
-        chi2, bins, p = chi_square(h, exact_bins)
-        flag = "" if h.reliable else f"; chain shorter than 50 tau (tau = {h.tau:.0f} sweeps): error bars unreliable"
-        notes.append(f"{label.split(',')[0]}: chi2 = {chi2:.1f} over {bins} bins (p = {p:.2g}), tau = {h.tau:.1f}{flag}")
-    if not args.quiet:
-        for line in notes:
-            print(f"forcenet: {line}", file=sys.stderr)
-    pool_text = "every grain of layers 2..N, f = i W_ij" if pool == "ensemble" else f"layer {pool}, f = {pool} W_{pool},j"
-    title = f"N = {args.N}: exact P(f) ({pool_text}) against sampled histograms (1 sigma error bars)\n" + "; ".join(notes)
-    return comparison_png(pieces, exact_bins, hists, title, args.f_max)
 
 
 def register(sub: argparse._SubParsersAction) -> None:

@@ -84,11 +84,11 @@ if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ lo
     from forcenet.numeric.packing.scene import Scene
     from forcenet.numeric.triangle import ExactSampler, TriangleMetropolis
     from forcenet.results import Row, Table
-    from forcenet.scaling_limit import LimitShape, limit_shape
-    from forcenet.tableaux_count import CountPlan, TableauxCount, count_plan
     from forcenet.sample_results import Samples
     from forcenet.sampled_comparison import SampledComparison, SampledComparisonPlan
     from forcenet.sampling import SamplePlan, sample, sample_plan
+    from forcenet.scaling_limit import LimitShape, limit_shape
+    from forcenet.tableaux_count import CountPlan, TableauxCount, count_plan
 
 # name -> the module that defines it, imported on first use (forcenet.exact costs about a second to import)
 _FRONT_DOOR = {

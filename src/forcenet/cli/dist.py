@@ -120,7 +120,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("dist", help="exact force distributions: density and CDF of a grain or contact, pooled P(f)")
     add_layers(p, LAW_MAX_N, help_text=f"number of layers (2..{LAW_MAX_N}: every grain, layer and the ensemble by "
                                          f"Pfaffians, polynomial; the contacts 2..{LAW_DP_MAX_N}, one pass over the "
-                                         f"2^(N-1) ideals per layer; the faster route by the plans)")
+                                         f"2^(N-1) ideals per layer; the faster route by the plans)", deferred=True)
     which = p.add_mutually_exclusive_group(required=True)
     which.add_argument("--grain", type=_grain, help="i,j: the density of W_ij (or of its contact force with --contact)")
     which.add_argument("--layer", type=integer("layer", 2), help="P(f) of layer i, f = i W_ij pooled over j (2..N)")

@@ -107,7 +107,7 @@ def cmd_sample(args: argparse.Namespace) -> int:
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("sample", help="Monte Carlo <W> with standard errors (exact sampler or Metropolis)")
-    add_layers(p)
+    add_layers(p, deferred=True)  # N: checked once, by the front door
     p.add_argument("--sampler", choices=["exact", "metropolis"], default="exact",
                    help="exact: independent exact samples of the triangle (default); metropolis: a Markov chain "
                         "of the thesis's moves (also the full N x P packing, --P)")

@@ -14,6 +14,7 @@ from .common import (
     UsageError,
     add_force,
     add_layers,
+    defer,
     add_quiet,
     available_memory,
     given,
@@ -116,8 +117,6 @@ def _table_row(args: argparse.Namespace, fmt: str | None) -> int:
     if fmt is None:
         raise UsageError("--row gives one row in one format: give --format json|csv|latex or --out FILE "
                          "(the main job's three files and cross-check are for the whole table)")
-    if args.row > args.N:
-        raise UsageError(f"--row={args.row} is out of range: row must be an integer in 1..{args.N} (a layer of --N)")
     memory = available_memory()
     request = plan(args.N, args.moments, args.method, memory_bytes=memory, row=args.row).check()
     explicit = args.scheduler is not None or args.checkpoint is not None  # then only the routes that take them
@@ -197,7 +196,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     what = ("how many force networks: standard shifted staircase tableaux, d! * normalization (4.1) "
             "(d = N(N-1)/2 free forces; an exact integer)")
     p = sub.add_parser("count", help=what, description=what[0].upper() + what[1:] + ".")
-    add_layers(p)
+    add_layers(p, deferred=True)  # N: checked once, by the front door
     p.add_argument("--out", help="write the integer to this file (atomically; its directory must exist)")
     add_force(p)
     add_quiet(p)
@@ -226,13 +225,15 @@ def register(sub: argparse._SubParsersAction) -> None:
                                                                        "the main job (no files, no cross-check)")
     p.add_argument("--out", help="write that format to this file (atomically; its directory must exist); "
                                  "the format follows the extension .json/.csv/.tex if --format is not given")
-    p.add_argument("--moments", type=integer("moments", 1, MAX_MOMENTS), default=1,
+    p.add_argument("--moments", type=integer("moments", 1, MAX_MOMENTS, deferred=True), default=1,
                    help=f"highest moment s of W^s (1..{MAX_MOMENTS}, default 1)")
-    p.add_argument("--row", type=integer("row", 1), default=None,
+    p.add_argument("--row", type=integer("row", 1, deferred=True), default=None,
                    help="only row (layer) i of <W> .. <W^s>, by the fastest exact route for that row, announced: "
                         "for s = 2 the rows 2, 3 and N-1 are one-time (each cell uniform between its covers, the "
                         "price of the mean; notes/fluctuations.md Sec. 3.1), other rows one layer's de Bruijn "
                         "Pfaffians; needs --format or --out")
+    defer(p, "moments", "--moments")  # N, moments and row: checked once, by the request (forcenet.plan)
+    defer(p, "row", "--row")
     p.add_argument("--out-dir", default="forcenet-tables",
                    help="directory of the main job's three files (default ./forcenet-tables, created if missing; "
                         "its parent must exist)")
@@ -258,7 +259,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=cmd_table)
 
     p = sub.add_parser("maps", help="Z_(N-2) and the number of maps h per bottom row (Sec. 4.6)")
-    add_layers(p, maximum=MAPS_MAX_N, minimum=3)
+    add_layers(p, maximum=MAPS_MAX_N, minimum=3, deferred=True)  # N: checked by forcenet.maps
     p.add_argument("--format", choices=["text", "json"], default="text", help="output format (default text)")
     p.add_argument("--out", help="write the output to this file (atomically; its directory must exist)")
     p.set_defaults(func=cmd_maps)

@@ -25,7 +25,7 @@ from fractions import Fraction
 from typing import Any
 
 from forcenet.chicken_wire_results import BetheValue, IsotropicEntropy
-from forcenet.chicken_wire_sectors import Progress, _Bar
+from forcenet.chicken_wire_sectors import Progress
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceError
 from forcenet.core.plan import Plan, combine
 from forcenet.core.validation import check_float_digits, check_not_bool, is_binary_float
@@ -116,7 +116,7 @@ class IsotropicPlan(_Costed):
         '0.211324865405'
         """
         self.check()
-        with _Bar(progress, self.cost, "entropy") as tick:
+        with self._ticks(progress, "entropy") as tick:
             rows = self._maximum_rows() if self.maximum else self._closed_form_rows()
             value = self._bethe(rows) if self.bethe else None
             if tick:

@@ -37,26 +37,6 @@ __all__ = [
 Progress = Callable[..., Any]
 
 
-class _Bar:
-    """``progress`` as a callable: itself, a tqdm bar (``True``) closed at the end, or None."""
-
-    def __init__(self, progress: Progress | bool | None, cost: Plan, desc: str) -> None:
-        self.bar = None
-        self.tick: Progress | None = progress if callable(progress) else None
-        if progress is True:
-            from tqdm.auto import tqdm
-
-            self.bar = tqdm(total=cost.ticks or None, desc=desc, unit=cost.unit)
-            self.tick = self.bar.update
-
-    def __enter__(self) -> Progress | None:
-        return self.tick
-
-    def __exit__(self, *exc: object) -> None:
-        if self.bar is not None:
-            self.bar.close()
-
-
 # ------------------------------------------------------------------------ transfer matrix
 
 
@@ -113,7 +93,7 @@ class TransferSpectrumPlan(_Costed):
         self.check()
         sectors = [self.particles] if self.particles is not None else list(range(self.L + 1))
         found = []
-        with _Bar(progress, self.cost, f"transfer L={self.L}") as tick:
+        with self._ticks(progress, f"transfer L={self.L}") as tick:
             for n in sectors:
                 found.append(Sector(n, *sector_entropy(self.L, particles=n)))
                 if tick:
@@ -259,7 +239,7 @@ class BetheGroundStatePlan(_Costed):
         from forcenet.numeric.chicken_wire.bethe_sector import ground_state
 
         self.check()
-        with _Bar(progress, self.cost, f"Bethe L={self.L}") as tick:
+        with self._ticks(progress, f"Bethe L={self.L}") as tick:
             return BetheGroundState(ground_state(self.L, self.n, self.m, progress=tick))
 
 

@@ -30,8 +30,9 @@ Examples
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from concurrent.futures import Executor
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Self
 
@@ -65,6 +66,21 @@ class _Costed:
     """What a front door's plan (:class:`TablePlan`, :class:`~forcenet.LawPlan`) says of its ``cost``."""
 
     cost: Plan
+
+    @contextmanager
+    def _ticks(self, progress: Callable[..., Any] | bool | None, desc: str) -> Iterator[Callable[..., Any] | None]:
+        """``progress`` as the run's tick: itself if callable, a tqdm bar for ``True`` (closed at the end; none for
+        a refused plan), else None."""
+        if progress is not True or not self.runnable:
+            yield progress if callable(progress) else None
+            return
+        from tqdm.auto import tqdm
+
+        bar = tqdm(total=self.cost.ticks or None, desc=desc, unit=self.cost.unit)
+        try:
+            yield bar.update
+        finally:
+            bar.close()
 
     @property
     def runnable(self) -> bool:
@@ -229,23 +245,13 @@ class TablePlan(_Costed):
         request = self.request  # checked once by plan(); the registry checks the plan before the run
         if request is None:
             raise ArgumentError("this TablePlan was not made by forcenet.plan: make it with forcenet.plan(N, ...)")
-        bar = None
-        tick: Progress | None = progress if callable(progress) else None
-        if progress is True and self.runnable:  # a refused plan starts no bar (run_request refuses it)
-            from tqdm.auto import tqdm
-
-            bar = tqdm(total=self.cost.ticks or None, desc=f"table N={self.N}", unit=self.cost.unit)
-            tick = bar.update
-        try:  # a reused record that fails the route's exact checks is named, dropped and recomputed
-            if self.row is not None:
+        with self._ticks(progress, f"table N={self.N}") as tick:  # a reused record that fails the route's
+            if self.row is not None:                                 # exact checks is named, dropped, recomputed
                 rows = run_distrusting(self.checkpoint, self.N, lambda: run_row(
                     request, RowChoice(self.method, self.cost, self.why), tick))
                 return Row(self.N, self.row, self.method, self.why, rows)
             tables = run_distrusting(self.checkpoint, self.N, lambda: run_request(
                 request, Choice(self.method, self.cost, self.why), tick))
-        finally:
-            if bar is not None:
-                bar.close()
         return Table(self.N, self.method, self.why, tables)
 
 

@@ -194,19 +194,9 @@ class LawPlan(_Costed):
 
         self.check()
         options = {k: v for k, v in (("executor", self.executor), ("checkpoint", self.checkpoint)) if v is not None}
-        bar = None
-        tick: Progress | None = progress if callable(progress) else None
-        if progress is True:
-            from tqdm.auto import tqdm
-
-            bar = tqdm(total=self.cost.ticks or None, desc=f"law N={self.N}", unit=self.cost.unit)
-            tick = bar.update
-        try:  # a reused record that fails the route's exact checks is named, dropped and recomputed
-            found = run_distrusting(self.checkpoint, self.N,
+        with self._ticks(progress, f"law N={self.N}") as tick:  # a reused record that fails the route's exact
+            found = run_distrusting(self.checkpoint, self.N,      # checks is named, dropped and recomputed
                                     lambda: law_run(self.request, self.method, tick, **options))
-        finally:
-            if bar is not None:
-                bar.close()
         kind = self.request.kind
         pool = "ensemble" if kind == "ensemble" else self.request.layer if kind == "layer" else None
         return Law(self.N, found.quantity, found.variable, found.density, found.cdf, self.method, self.why,

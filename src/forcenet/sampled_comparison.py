@@ -244,14 +244,7 @@ class SampledComparisonPlan(_Costed, Generic[L]):
         )
 
         self.check()
-        bar = None
-        tick: Progress | None = progress if callable(progress) else None
-        if progress is True:
-            from tqdm.auto import tqdm
-
-            bar = tqdm(total=self.cost.ticks or None, desc=f"comparison N={self.N}", unit=self.cost.unit)
-            tick = bar.update
-        try:
+        with self._ticks(progress, f"comparison N={self.N}") as tick:
             if self.law is not None:
                 law = self.law
             elif self.law_plan is not None:
@@ -266,9 +259,6 @@ class SampledComparisonPlan(_Costed, Generic[L]):
                     self.N, self.samples, edges, self.pool, self.seed, tick),
                 f"Metropolis, {self.sweeps} sweeps": metropolis_histogram(
                     self.N, self.sweeps, edges, self.pool, seed=self.seed, progress=tick)}
-        finally:
-            if bar is not None:
-                bar.close()
         return SampledComparison(law, edges, exact_bins, histograms)
 
 

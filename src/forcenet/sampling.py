@@ -135,22 +135,14 @@ class SamplePlan(_Costed):
         from forcenet.numeric.parallel_chains import sample_in_parallel
 
         self.check()
-        bar = None
-        tick: Progress | None = progress if callable(progress) else None
-        if progress is True:
-            from tqdm.auto import tqdm
-
-            bar = tqdm(total=self.cost.ticks or None, desc=f"{self.sampler} N={self.N}", unit=self.cost.unit)
-            tick = bar.update
         try:
-            result = sample_in_parallel(self.sampler, self.N, self.samples, seed=self.seed, workers=self.workers,
-                                        F=self.F, ph=self.ph, scene=self.scene, burn_in=self.burn_in or 0,
-                                        response=self.response, move=self.move, progress=tick)
+            with self._ticks(progress, f"{self.sampler} N={self.N}") as tick:
+                result = sample_in_parallel(self.sampler, self.N, self.samples, seed=self.seed,
+                                            workers=self.workers,
+                                            F=self.F, ph=self.ph, scene=self.scene, burn_in=self.burn_in or 0,
+                                            response=self.response, move=self.move, progress=tick)
         except AutocorrError as exc:  # the chain cannot judge its own error bar: more sweeps would
             raise ConvergenceError(f"samples={self.samples}: {exc}; run more sweeps") from exc
-        finally:
-            if bar is not None:
-                bar.close()
         extra = result.extra
         values = [result.mean, result.stderr, extra["effective_samples"]] + [extra[k] for k in ("G", "stderr_G")
                                                                              if k in extra]

@@ -16,8 +16,6 @@ from __future__ import annotations
 
 import argparse
 import functools
-import json
-import math
 import sys
 import time
 from collections.abc import Callable, Sequence
@@ -45,7 +43,6 @@ __all__ = [
     "available_memory",
     "run_planned",
     "progress_label",
-    "json_dumps",
 ]
 
 FORCE_SECONDS = 60  # a run announced at over a minute needs --force
@@ -338,16 +335,3 @@ def run_planned(plan: Plan, run: Callable[[Callable[..., None] | None], T], *, f
             bar.close()
     print(f"forcenet: {label}: done in {time.perf_counter() - t0:.1f} s", file=sys.stderr)
     return result
-
-
-# --------------------------------------------------------------------------- output
-
-
-def json_dumps(obj: object) -> str:
-    """JSON without NaN/Infinity (refused: they are not JSON)."""
-    return json.dumps(obj, allow_nan=False)
-
-
-def finite_or_none(x: float) -> float | None:
-    """A float for JSON, None for inf/nan (JSON has neither)."""
-    return x if math.isfinite(x) else None

@@ -31,14 +31,16 @@ LATENCY = 8.0
 ENTRY = "import sys; from forcenet.__main__ import run; sys.exit(run())"
 
 
-def _interrupt(args, cwd, wait_for="estimated", after=1.0, env=None, signum=signal.SIGINT, workers=False):
+def _interrupt(args, cwd, wait_for="estimated", after=1.0, env=None, signum=signal.SIGINT, workers=False,
+               group=False):
     """Run ``forcenet *args`` in ``cwd``; ``signum`` ``after`` s past the first stderr text containing ``wait_for``
-    (with ``workers``, also past the first child processes).
+    (with ``workers``, also past the first child processes); with ``group``, to the whole process group, as a
+    terminal's Ctrl-C is sent.
 
     Returns (exit code, seconds from the signal to exit, stderr, the children seen with ``workers``).
     """
     proc = subprocess.Popen([sys.executable, "-c", ENTRY, *args], cwd=cwd, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.PIPE, text=True, env=env)
+                            stderr=subprocess.PIPE, text=True, env=env, start_new_session=group)
     seen, err = threading.Event(), []
 
     def read():
@@ -63,7 +65,10 @@ def _interrupt(args, cwd, wait_for="estimated", after=1.0, env=None, signum=sign
         time.sleep(after)
         children = _children(proc.pid) if workers else []
         t0 = time.monotonic()
-        proc.send_signal(signum)
+        if group:
+            os.killpg(proc.pid, signum)
+        else:
+            proc.send_signal(signum)
         code = proc.wait(60)
         latency = time.monotonic() - t0
     finally:
@@ -132,6 +137,27 @@ def test_sigterm_ends_a_pool_run_as_ctrl_c_does_and_leaves_no_worker_behind(tmp_
     code, latency, err, children = _interrupt(args, tmp_path, after=1.0, signum=signum, workers=True)
     assert children, "no worker process was started"
     assert code == 128 + signum, err
+    assert latency < LATENCY, f"{latency:.1f} s from the signal to exit"
+    assert err.rstrip().splitlines()[-1] == "forcenet: interrupted; no partial output was written"
+    deadline = time.monotonic() + LATENCY
+    while any(_alive(c) for c in children) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert not [c for c in children if _alive(c)], "a worker outlived the run"
+    assert os.listdir(tmp_path) == []
+
+
+@pytest.mark.skipif(not os.path.exists("/proc/self/task"), reason="reads the child processes from /proc")
+def test_ctrl_c_at_the_terminal_ends_parallel_chains_within_seconds(tmp_path):
+    """A terminal's Ctrl-C reaches the whole process group: the pool's workers ignore it, the parent (whose main
+    thread waits in bounded polls, whichever thread the kernel hands the signal to) stops them; exit 130.
+
+    Before: the workers died of their own KeyboardInterrupt first, 2.1 s from the signal to exit here.
+    """
+    args = ["sample", "--N", "30", "--sampler", "metropolis", "--samples", "400000", "--workers", "2", "--force",
+            "--out", "o.txt"]
+    code, latency, err, children = _interrupt(args, tmp_path, after=1.0, workers=True, group=True)
+    assert children, "no worker process was started"
+    assert code == 130, err
     assert latency < LATENCY, f"{latency:.1f} s from the signal to exit"
     assert err.rstrip().splitlines()[-1] == "forcenet: interrupted; no partial output was written"
     deadline = time.monotonic() + LATENCY

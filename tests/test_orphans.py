@@ -130,3 +130,47 @@ def test_a_worker_whose_parent_is_already_gone_exits_at_once():
     block = "import os; from forcenet.core.lifetime import die_with_parent; die_with_parent(os.getppid()); print('ran')"
     result = subprocess.run([sys.executable, "-c", block], capture_output=True, text=True, timeout=60, check=False)
     assert result.returncode == 0 and result.stdout == "ran\n"  # the real parent: armed, and the work goes on
+
+
+def _sigint_disposition():
+    return signal.getsignal(signal.SIGINT)
+
+
+@pytest.mark.parametrize("method", ["spawn", "fork"])
+def test_a_local_pools_workers_leave_ctrl_c_to_their_parent(method):
+    """A terminal's Ctrl-C reaches the whole process group; the workers ignore it and the parent stops them."""
+    with local_pool(1, method) as pool:
+        assert pool.submit(_sigint_disposition).result(timeout=60) == signal.SIG_IGN
+
+
+def _nap(seconds):
+    time.sleep(seconds)
+    return seconds
+
+
+@pytest.mark.skipif(not hasattr(signal, "pthread_kill"), reason="delivers the signal to one thread")
+def test_a_signal_handed_to_another_thread_ends_the_wait_within_a_poll():
+    """The kernel may hand a process's signal to any thread; Python runs the handler in the main thread only when
+    it next runs bytecode. The pool's wait is bounded, so the run ends within a poll, not when the tasks end."""
+    import threading
+
+    from forcenet.core.execution import run_tasks
+
+    class Stop(Exception):
+        pass
+
+    def stop(signum, frame):
+        raise Stop
+
+    previous = signal.signal(signal.SIGUSR1, stop)
+    timer = threading.Timer(1.0, lambda: signal.pthread_kill(threading.get_ident(), signal.SIGUSR1))
+    try:
+        t0 = time.monotonic()
+        timer.start()
+        with pytest.raises(Stop):
+            run_tasks(_nap, [(30,), (30,)], workers=2, start_method="fork")
+        elapsed = time.monotonic() - t0
+    finally:
+        timer.cancel()
+        signal.signal(signal.SIGUSR1, previous)
+    assert elapsed < 15, f"{elapsed:.1f} s: the wait ended only with the tasks"

@@ -38,11 +38,12 @@ from __future__ import annotations
 import ctypes
 import ctypes.util
 import os
+import signal
 import sys
 import time
 import weakref
 from collections.abc import Callable, Iterable
-from concurrent.futures import FIRST_COMPLETED, CancelledError, Executor, as_completed, wait
+from concurrent.futures import FIRST_COMPLETED, CancelledError, Executor, wait
 from math import ceil
 from typing import TYPE_CHECKING, Any, TypeVar
 
@@ -312,11 +313,17 @@ def local_pool(workers: int, start_method: str = "spawn") -> ProcessPoolExecutor
 
     context = multiprocessing.get_context(start_method)
     started = context.SimpleQueue()  # each worker's pid, put by its initializer: the workers we stop
-    pool = ProcessPoolExecutor(workers, mp_context=context, initializer=die_with_parent,
+    pool = ProcessPoolExecutor(workers, mp_context=context, initializer=_start_worker,
                                initargs=(os.getpid(), started))
     _WORKERS[pool] = workers
     _PIDS[pool] = started
     return pool
+
+
+def _start_worker(parent: int, started: Any) -> None:
+    """A local pool's worker: Ctrl-C is its parent's to handle (the parent stops its workers), and it dies with it."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    die_with_parent(parent, started)
 
 
 def _terminate(pool: Any) -> None:
@@ -530,8 +537,11 @@ def run_tasks(function: Callable[..., Any], tasks: Iterable[Any], *, executor: A
             futures[pool.submit(_worker_call, os.getpid(), function, *tasks[i])] = i
         client = _dask_client(pool)  # a Dask cluster's executor
         if client is None:
-            for future in as_completed(futures):
-                finish(futures[future], future.result())
+            waiting = set(futures)
+            while waiting:  # bounded waits: a Ctrl-C the kernel hands to a pool thread is raised within a poll
+                done, waiting = wait(waiting, timeout=_POLL_SECONDS, return_when=FIRST_COMPLETED)
+                for future in done:
+                    finish(futures[future], future.result())
         else:
             _collect_from_cluster(futures, finish, client)
     except BaseException:

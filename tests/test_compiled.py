@@ -111,6 +111,41 @@ def test_a_second_process_loads_the_cached_code(tmp_path, monkeypatch):
         sys.modules.pop("probe_kernel", None)
 
 
+def test_a_reinstalled_source_keeps_its_cache_and_an_edited_one_does_not(tmp_path, monkeypatch):
+    """numba stamps its index with the source's content: the same bytes with a later modification time (a
+    reinstall) are still cached, and numba loads them; changed bytes are not. A FIFO in the index's place is
+    never opened (the check returns at once)."""
+    from forcenet.core.plan import kernels_cached
+
+    source = tmp_path / "probe_stamp.py"
+    source.write_text(PROBE)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    monkeypatch.syspath_prepend(str(tmp_path))
+
+    def fresh_dispatcher():
+        sys.modules.pop("probe_stamp", None)
+        importlib.invalidate_caches()
+        return importlib.import_module("probe_stamp").twice
+
+    try:
+        assert fresh_dispatcher()(4) == 8  # compiled and cached
+        later = source.stat().st_mtime + 3600
+        os.utime(source, (later, later))  # pip install . again: the same bytes, a new time
+        twice = fresh_dispatcher()
+        assert kernels_cached([twice])
+        assert twice(5) == 10 and twice.stats.cache_hits  # numba agrees: loaded, not compiled
+        source.write_text(PROBE.replace("2 * x", "x + x"))  # an edited kernel
+        assert not kernels_cached([fresh_dispatcher()])
+        twice = fresh_dispatcher()
+        index = next(Path(twice.stats.cache_path).glob("probe_stamp.twice-*.nbi"))
+        index.unlink()
+        os.mkfifo(index)
+        assert not kernels_cached([twice])
+    finally:
+        sys.modules.pop("probe_stamp", None)
+
+
 def test_an_unwritable_cache_home_falls_back_to_numbas_choice(tmp_path, monkeypatch):
     (tmp_path / "probe_kernel.py").write_text(PROBE)
     blocker = tmp_path / "not-a-folder"

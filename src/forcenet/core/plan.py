@@ -19,14 +19,17 @@ False
 
 from __future__ import annotations
 
+import hashlib
 import os
 import signal
+import struct
 import sys
 import threading
 import time
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, replace
+from stat import S_ISREG
 from types import FrameType
 from typing import Any, cast
 
@@ -299,6 +302,8 @@ def first_chunk(seconds_per_unit: float, seconds: float = CHUNK_SECONDS) -> int:
 
 # ------------------------------------------------- the first run: compiling the kernels
 
+_INDEX_BYTES = 1 << 20  # numba's index: a few KiB of signatures
+
 
 def kernels_cached(kernels: Iterable[Any]) -> bool:
     """Whether numba holds machine code for every dispatcher of ``kernels`` without compiling.
@@ -306,7 +311,8 @@ def kernels_cached(kernels: Iterable[Any]) -> bool:
     True when each is compiled in this process already (its public
     ``signatures``) or its on-disk cache (``cache=True``: the ``.nbi`` index in
     ``dispatcher.stats.cache_path``, under ``NUMBA_CACHE_DIR``) was written
-    after its source last changed.
+    by this numba for the source as it is now (numba's own test: the source's
+    content hash, so a reinstall of the same source keeps its cache).
 
     Examples
     --------
@@ -317,17 +323,24 @@ def kernels_cached(kernels: Iterable[Any]) -> bool:
 
 
 def _cache_index_is_fresh(kernel: Any) -> bool:
-    """Whether numba's on-disk cache of ``kernel`` has an index written after its source was last changed.
+    """Whether numba's on-disk cache of ``kernel`` holds an index numba would load: this numba's, this source's.
 
     numba has no public "is it cached" query: its cache folder is public
     (``dispatcher.stats.cache_path``), the index's name is numba's file
     convention (``<file's stem>.<qualname>-<first line>.py<major><minor><abiflags>.nbi``,
     numba's ``_CacheImpl.get_filename_base``, the same from 0.4x to the
-    versions pinned in pyproject.toml), and numba itself judges freshness by
-    the source's modification time and size.  Isolated here, read-only, so a
-    changed convention costs at most a compile time counted twice.
+    versions pinned in pyproject.toml).  numba loads an index only when the
+    numba version and the source stamp it holds are the current ones; the
+    stamp is the SHA-256 of the source file's bytes (numba 0.6x and later;
+    earlier ones stamped ``(st_mtime, st_size)``).  Both are looked for in the
+    index's bytes, never unpickled: a reinstall of the same source (a new
+    modification time) keeps its cache, an edited source does not.  Isolated
+    here, read-only, so a changed convention costs at most a compile time
+    counted twice.
     """
     try:
+        import numba
+
         folder = kernel.stats.cache_path
         function = kernel.py_func
         source_file = function.__code__.co_filename
@@ -336,11 +349,20 @@ def _cache_index_is_fresh(kernel: Any) -> bool:
         name = "{}-{}.py{}{}{}.nbi".format(fullname,
                                            function.__code__.co_firstlineno, sys.version_info[0], sys.version_info[1],
                                            getattr(sys, "abiflags", ""))
-        index = os.stat(os.path.join(folder, name))
-        source = os.stat(source_file)
-    except (AttributeError, OSError, TypeError):  # no cache, or unreadable: count the compilation
+        path = os.path.join(folder, name)
+        if not S_ISREG(os.stat(path).st_mode):  # a FIFO or device in its place is never opened
+            return False
+        with open(path, "rb") as index:
+            data = index.read(_INDEX_BYTES)
+        with open(source_file, "rb") as source:
+            digest = hashlib.sha256(source.read()).digest()
+        mtime = os.stat(source_file).st_mtime
+        version = numba.__version__.encode()
+    except (AttributeError, OSError, TypeError, ImportError):  # no cache, or unreadable: count the compilation
         return False
-    return index.st_mtime >= source.st_mtime
+    # the pickled version string (SHORT_BINUNICODE: its length, then its bytes) opens the index
+    same_numba = b"\x8c" + bytes([len(version)]) + version in data[:64]
+    return same_numba and (digest in data or struct.pack(">d", mtime) in data)
 
 
 def with_compilation(plan: Plan, name: str, seconds: float, kernels: Iterable[Any]) -> Plan:

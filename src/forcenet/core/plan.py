@@ -29,6 +29,7 @@ import time
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, replace
+from importlib import metadata
 from stat import S_ISREG
 from types import FrameType
 from typing import Any, cast
@@ -339,8 +340,6 @@ def _cache_index_is_fresh(kernel: Any) -> bool:
     counted twice.
     """
     try:
-        import numba
-
         folder = kernel.stats.cache_path
         function = kernel.py_func
         source_file = function.__code__.co_filename
@@ -357,8 +356,8 @@ def _cache_index_is_fresh(kernel: Any) -> bool:
         with open(source_file, "rb") as source:
             digest = hashlib.sha256(source.read()).digest()
         mtime = os.stat(source_file).st_mtime
-        version = numba.__version__.encode()
-    except (AttributeError, OSError, TypeError, ImportError):  # no cache, or unreadable: count the compilation
+        version = metadata.version("numba").encode()  # the installed numba's, as numba.__version__
+    except (AttributeError, OSError, TypeError, metadata.PackageNotFoundError):  # no cache, or unreadable: count the compilation
         return False
     # the pickled version string (SHORT_BINUNICODE: its length, then its bytes) opens the index
     same_numba = b"\x8c" + bytes([len(version)]) + version in data[:64]

@@ -74,6 +74,21 @@ def test_transfer_spectrum_refuses_a_sector_that_does_not_exist(capsys):
         forcenet.transfer_spectrum_plan(4.0)
 
 
+def test_the_faces_hold_the_widths_the_command_line_offers(capsys):
+    """The ranges live in the faces (the engines' limits), so Python and the command line agree: transfer's
+    L = 14 is planned in both (the command line asks for --force), a Bethe width or L_max beyond its range is
+    refused by the family, however large (10**100 overflowed a float in the plan before)."""
+    assert forcenet.transfer_spectrum_plan(14).cost.runnable
+    code, out, err = run(["transfer", "--L", "14"], capsys)
+    assert code == 2 and out == "" and "--force" in err
+    for huge in (5001, 10**100):
+        with pytest.raises(ArgumentError, match="L must be an integer in 3..5000"):
+            forcenet.bethe_ground_state_plan(huge)
+        with pytest.raises(ArgumentError, match="L_max must be an integer in 60..1200"):
+            forcenet.isotropic_point_plan("0.3", bethe=True, L_max=huge)
+    assert forcenet.isotropic_point_plan("0.3", bethe=True, L_max=1200).cost.runnable
+
+
 def test_transfer_spectrum_reports_one_tick_per_sector():
     ticks = []
     forcenet.transfer_spectrum(4, progress=lambda k=1: ticks.append(k))

@@ -42,9 +42,29 @@ def test_the_table_walk_checks_the_request_once(walk, method):
      "forcenet table: error: argument --N: N=-3 is out of range: N must be an integer >= 2"),
     (["table", "--N", "x", "--format", "json"],
      "forcenet table: error: argument --N: N='x' is not an integer: N must be an integer >= 2"),
+    # the chicken-wire commands' integers: read by the parser, ranged by the faces (the engines' limits)
+    (["transfer", "--L", "15"],
+     "forcenet transfer: error: argument --L: L=15 is out of range: L must be an integer in 2..14"),
+    (["transfer", "--L", "5", "--particles", "-1"],
+     "forcenet transfer: error: argument --particles: particles=-1 is out of range: particles must be an integer >= 0"),
+    (["bethe", "--L", "5001"],
+     "forcenet bethe: error: argument --L: L=5001 is out of range: L must be an integer in 3..5000"),
+    (["bethe", "--L", "9", "--n", "1"],
+     "forcenet bethe: error: argument --n: n=1 is out of range: n must be an integer >= 2"),
+    (["bethe", "--L", "9", "--n", "4", "--m", "0"],
+     "forcenet bethe: error: argument --m: m=0 is out of range: m must be an integer >= 1"),
+    (["entropy", "--phi", "0.3", "--dps", "10001"],
+     "forcenet entropy: error: argument --dps: dps=10001 is out of range: dps must be an integer in 5..10000"),
+    (["entropy", "--max", "--dps", "4"],
+     "forcenet entropy: error: argument --dps: dps=4 is out of range: dps must be an integer in 5..10000"),
+    (["entropy", "--Q", "1/6", "--bethe", "--L-max", "1201"],
+     "forcenet entropy: error: argument --L-max: L_max=1201 is out of range: L_max must be an integer in 60..1200"),
+    (["entropy", "--Q", "1/6", "--bethe", "--L-max", "x"],
+     "forcenet entropy: error: argument --L-max: L_max='x' is not an integer: L_max must be an integer in 60..1200"),
 ])
 def test_a_range_left_to_the_front_door_reads_as_the_parsers_refusal(argv, line, capsys, tmp_path, monkeypatch):
-    """The parser reads --N, the request checks its range once; the refusal still names the option, exit 2."""
+    """The parser reads --N (--L, --dps...), the front door checks its range once; the refusal still names the
+    option, exit 2."""
     from forcenet.cli import main
 
     monkeypatch.chdir(tmp_path)
@@ -92,4 +112,4 @@ def test_the_entropy_walk_checks_dps_once_per_public_function(walk):
     result = walk(["entropy", "--phi", "0.3", "--dps", "30"])
     assert result["exit"] == 0
     assert result["checks"].get("check_dps", 0) <= 9, result["checks"]  # one per closed form the command prints
-    assert result["check_calls"] <= 30, result["checks"]  # 37 before the renovation
+    assert result["check_calls"] <= 29, result["checks"]  # 37 before the renovation, 30 before --dps was deferred

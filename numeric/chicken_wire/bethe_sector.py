@@ -13,7 +13,7 @@ from forcenet.core.validation import check_int
 
 from .bethe import BetheSolution, Progress, ground_state_sequence, solve_ground_state
 
-__all__ = ["default_sector", "ground_state_plan", "ground_state"]
+__all__ = ["MAX_WIDTH", "default_sector", "ground_state_plan", "ground_state"]
 
 
 def default_sector(L: int, n: int | None = None, m: int | None = None) -> tuple[int, int]:
@@ -40,6 +40,9 @@ def default_sector(L: int, n: int | None = None, m: int | None = None) -> tuple[
     """
     n = n if n is not None else 2 * max(1, round(L / 6))
     return n, m if m is not None else n // 2
+
+
+MAX_WIDTH = 5000  # the widest cylinder planned: L = 5000 by random starts is ~14 days (ground_state_plan)
 
 
 def _continued(L: int, n: int, m: int) -> bool:

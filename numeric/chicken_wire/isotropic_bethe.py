@@ -37,6 +37,8 @@ __all__ = [
     "bethe_entropy_maximum",
     "bethe_plan",
     "DIRECT_DENOMINATOR",
+    "MIN_L_MAX",
+    "MAX_L_MAX",
     "isotropic_entropy_plan",
     "isotropic_entropy",
 ]
@@ -219,6 +221,7 @@ def bethe_plan(sequences: int, L_max: int) -> Plan:
     return Plan(f"{sequences} Bethe-ansatz sequence(s) to L = {L_max}", seconds, 200 * 2**20, sequences, "sequence")
 
 
+MIN_L_MAX, MAX_L_MAX = 60, 1200  # the widths' sequences: 1200 plans ~14 min (one sequence) to ~27 min (two)
 DIRECT_DENOMINATOR = 60  # a density c/a with a <= 60 is solved directly (widths L = k a, k >= 2: 4 of them need
 # L_max >= 5a, i.e. a <= 48 at the default 240; the plan names the L_max a larger a needs)
 
@@ -242,7 +245,7 @@ def isotropic_entropy_plan(Q: Fraction | float | None, L_max: int) -> Plan:
         The density; a Fraction with denominator at most
         :data:`DIRECT_DENOMINATOR` costs one sequence, anything else two.
     L_max : int
-        Largest width, ``>= 60``.
+        Largest width, ``60..1200`` (:data:`MIN_L_MAX`, :data:`MAX_L_MAX`).
 
     Returns
     -------
@@ -261,7 +264,7 @@ def isotropic_entropy_plan(Q: Fraction | float | None, L_max: int) -> Plan:
     >>> isotropic_entropy_plan(Fraction(1, 3), 240).refusal
     'Q=0.333333 is out of range: the Bethe route needs 0 < Q < 1/3'
     """
-    L_max = check_int(L_max, "L_max", 60)
+    L_max = check_int(L_max, "L_max", MIN_L_MAX, MAX_L_MAX)
     plan = bethe_plan(1 if _direct(Q) else 2, L_max)
     if Q is not None:
         try:

@@ -274,7 +274,7 @@ def isotropic_point_plan(phi: Any = None, Q: Any = None, *, dps: int = 50, side:
     bethe : bool
         Also the independent Bethe-ansatz value of ``v`` (needs ``0 < Q < 1/3``).
     L_max : int, optional
-        Largest Bethe-ansatz width, ``>= 60`` (default 240; only with ``bethe=True``).
+        Largest Bethe-ansatz width, ``60..1200`` (default 240; only with ``bethe=True``).
 
     Returns
     -------
@@ -374,7 +374,7 @@ def isotropic_point(phi: Any = None, Q: Any = None, *, dps: int = 50, side: Any 
     bethe : bool
         Also the independent Bethe-ansatz value of ``v`` (float, with its error).
     L_max : int, optional
-        Largest Bethe-ansatz width, ``>= 60`` (default 240).
+        Largest Bethe-ansatz width, ``60..1200`` (default 240).
     progress : callable, bool or None
         ``progress(1)`` once done; ``True``: a progress bar.
 

@@ -249,7 +249,7 @@ def bethe_ground_state_plan(L: int, n: int | None = None, m: int | None = None) 
     Parameters
     ----------
     L : int
-        Cylinder width, ``>= 3``.
+        Cylinder width, ``3..5000`` (the plan grows as ``L^3``: about 14 days at 5000).
     n : int, optional
         Particles per row, ``2 <= n < L`` (default ``2 round(L/6)``, the density ``Q = 1/6``).
     m : int, optional
@@ -277,9 +277,9 @@ def bethe_ground_state_plan(L: int, n: int | None = None, m: int | None = None) 
     ----------
     Sec. 7.4.2: the nested Bethe ansatz of the chicken-wire transfer matrix.
     """
-    from forcenet.numeric.chicken_wire.bethe_sector import default_sector, ground_state_plan
+    from forcenet.numeric.chicken_wire.bethe_sector import MAX_WIDTH, default_sector, ground_state_plan
 
-    L = check_int(L, "L", 3)
+    L = check_int(L, "L", 3, MAX_WIDTH)
     n = None if n is None else check_int(n, "n", 2)
     m = None if m is None else check_int(m, "m", 1)
     n, m = default_sector(L, n, m)
@@ -293,7 +293,7 @@ def bethe_ground_state(L: int, n: int | None = None, m: int | None = None, *,
     Parameters
     ----------
     L : int
-        Cylinder width, ``>= 3``.
+        Cylinder width, ``3..5000`` (the plan grows as ``L^3``: about 14 days at 5000).
     n : int, optional
         Particles per row (default ``2 round(L/6)``).
     m : int, optional

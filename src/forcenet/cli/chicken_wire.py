@@ -14,6 +14,7 @@ from .common import (
     add_force,
     add_format,
     add_quiet,
+    defer,
     given,
     integer,
     real,
@@ -87,17 +88,23 @@ def cmd_entropy(args: argparse.Namespace) -> int:
 
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p = sub.add_parser("transfer", help="chicken-wire model (Sec. 7.4): largest transfer-matrix eigenvalue per particle sector")
-    p.add_argument("--L", type=integer("L", 2, 13), required=True, help="cylinder width (2..13)")
-    p.add_argument("--particles", type=integer("particles", 0), default=None, help="only this particle sector, 0..L (default: all)")
+    # --L and --particles: read as integers; their ranges are the front door's check (once)
+    p.add_argument("--L", type=integer("L", 2, 14, deferred=True), required=True, help="cylinder width (2..14)")
+    p.add_argument("--particles", type=integer("particles", 0, deferred=True), default=None,
+                   help="only this particle sector, 0..L (default: all)")
+    defer(p, "L", "--L")
+    defer(p, "particles", "--particles")
     add_format(p)
     add_force(p)
     add_quiet(p)
     p.set_defaults(func=cmd_transfer)
 
     p = sub.add_parser("bethe", help="chicken-wire model: Bethe roots and the largest eigenvalue of a sector")
-    p.add_argument("--L", type=integer("L", 3, 5000), required=True, help="cylinder width (3..5000)")
-    p.add_argument("--n", type=integer("n", 2), default=None, help="particles per row (default 2 round(L/6))")
-    p.add_argument("--m", type=integer("m", 1), default=None, help="left-movers among them (default n/2)")
+    p.add_argument("--L", type=integer("L", 3, 5000, deferred=True), required=True, help="cylinder width (3..5000)")
+    p.add_argument("--n", type=integer("n", 2, deferred=True), default=None, help="particles per row (default 2 round(L/6))")
+    p.add_argument("--m", type=integer("m", 1, deferred=True), default=None, help="left-movers among them (default n/2)")
+    for name in ("L", "n", "m"):  # ranges: the front door's check (once)
+        defer(p, name, f"--{name}")
     add_format(p)
     add_force(p)
     add_quiet(p)
@@ -109,12 +116,15 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
                            "counts (0.3 is exactly 3/10, not the nearest float)")
     mode.add_argument("--Q", type=_density, help="bond density per direction, a number or fraction in [0, 1/3]")
     mode.add_argument("--max", action="store_true", help="the maxima: per site (mu = 0) and per tiling vertex (phi = 0)")
-    p.add_argument("--dps", type=integer("dps", 5, 10000), default=50, help="decimal digits (5..10000, default 50)")
+    p.add_argument("--dps", type=integer("dps", 5, 10000, deferred=True), default=50, help="decimal digits (5..10000, default 50)")
     p.add_argument("--F", type=_side, default=None,
                    help="hexagon side l (force scale) of Eq. (7.4), a finite number > 0 (default 1), read at full "
                         "precision like --phi")
     p.add_argument("--bethe", action="store_true", help="also the independent Bethe-ansatz value of v (announces its cost)")
-    p.add_argument("--L-max", type=integer("L-max", 60, 1200), default=240, help="largest Bethe-ansatz width (60..1200, default 240)")
+    p.add_argument("--L-max", type=integer("L_max", 60, 1200, deferred=True), default=240,
+                   help="largest Bethe-ansatz width (60..1200, default 240)")
+    defer(p, "dps", "--dps")  # --dps and --L-max: ranges checked once, by the front door
+    defer(p, "L_max", "--L-max")
     add_format(p)
     add_force(p)
     add_quiet(p)

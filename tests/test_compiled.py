@@ -311,3 +311,24 @@ def test_a_kernel_of_a_subpackage_is_seen_cached_by_a_second_process(tmp_path):
 
     assert run() == ["False", "8"]  # compiled (and cached) here
     assert run() == ["True", "8"]  # found in the cache by the next process
+
+
+def test_a_local_pools_workers_take_the_command_lines_vector_width(monkeypatch):
+    """forcenet's own worker processes compile as the command line's do (512-bit vectors on AVX-512), so a
+    table from Python costs what ``forcenet table`` costs; the caller's process keeps its settings, and a
+    choice of the caller's (NUMBA_CPU_FEATURES) reaches the workers unchanged."""
+    from llvmlite import binding
+
+    from forcenet.core.compiled import WIDE_VECTOR_FEATURE
+    from forcenet.core.execution import local_pool
+
+    monkeypatch.delenv("NUMBA_CPU_FEATURES", raising=False)
+    monkeypatch.delenv("NUMBA_CPU_NAME", raising=False)
+    features = binding.get_host_cpu_features().flatten()
+    expected = f"{features},{WIDE_VECTOR_FEATURE}" if "+avx512f" in features.split(",") else None
+    with local_pool(1) as pool:
+        assert pool.submit(os.getenv, "NUMBA_CPU_FEATURES").result(timeout=120) == expected
+    assert "NUMBA_CPU_FEATURES" not in os.environ  # this process is left as it was
+    monkeypatch.setenv("NUMBA_CPU_FEATURES", "+avx2")
+    with local_pool(1) as pool:
+        assert pool.submit(os.getenv, "NUMBA_CPU_FEATURES").result(timeout=120) == "+avx2"

@@ -174,3 +174,29 @@ def test_a_signal_handed_to_another_thread_ends_the_wait_within_a_poll():
         timer.cancel()
         signal.signal(signal.SIGUSR1, previous)
     assert elapsed < 15, f"{elapsed:.1f} s: the wait ended only with the tasks"
+
+
+def test_a_worker_that_dies_is_a_family_error():
+    """A local pool's worker gone (here it exits at once): the run stops with ClusterError, not
+    concurrent.futures' BrokenProcessPool, and its message says what to do."""
+    from concurrent.futures import BrokenExecutor
+
+    from forcenet.core.errors import ClusterError
+    from forcenet.core.execution import run_tasks
+
+    with pytest.raises(ClusterError, match="ended abruptly") as caught:
+        run_tasks(os._exit, [(3,), (3,)], workers=2)
+    assert isinstance(caught.value.__cause__, BrokenExecutor)
+
+
+def test_a_script_without_the_main_guard_is_told_about_it(tmp_path):
+    """Spawned workers import the caller's script again: without ``if __name__ == "__main__":`` they cannot
+    start. One family error naming the guard, in bounded time (no hang, no worker left)."""
+    script = tmp_path / "unguarded.py"
+    script.write_text("from operator import add\n\nfrom forcenet.core.execution import run_tasks\n\n"
+                      "print(run_tasks(add, [(1, 2), (3, 4)], workers=2))\n")
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120, cwd=tmp_path,
+                          check=False)
+    assert done.returncode != 0
+    last = done.stderr.strip().splitlines()[-1]
+    assert last.startswith("forcenet.core.errors.ClusterError:") and "if __name__ ==" in last, done.stderr[-2000:]

@@ -45,7 +45,10 @@ WORKER_BASE_BYTES = 160 * 2**20  # a worker process: the interpreter, numpy and 
 # a Dask cluster's cost per task on loopback (notes/benchmarks.md, `python benchmarks/cluster.py overhead 200`):
 WORKER_TASK_SECONDS = 0.0102  # on the worker, in parallel with the other workers
 CLIENT_TASK_SECONDS = 0.0075  # in the client, the scheduler and the nanny, one task after the other
-PARALLEL_MIN_SECONDS = 20.0  # below this, starting workers (numba import, ~3 s each) costs more than it saves
+# parallel from here: the workers start at once (each ~STARTUP_SECONDS), so 2 workers pay once half the work
+# exceeds a start-up; on a 2-core host, table N = 34 (1.7 s) in 2 workers 0.76x the wall, N = 40 (5.4 s) 0.56x
+# (notes/benchmarks.md); 20 s before, which left N = 40-48 on one core
+PARALLEL_MIN_SECONDS = 2 * STARTUP_SECONDS
 ROUTES = {"count": "pfaffian-count", "table": "pfaffian-table", "table2": "pfaffian-table-second",
           "lattice": "pfaffian-lattice",
           "floor": "pfaffian-floor", "floor-grains": "pfaffian-floor-grains",

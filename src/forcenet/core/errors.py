@@ -72,6 +72,9 @@ class ConvergenceError(ForcenetError, RuntimeError):
 class ClusterError(ForcenetError):
     """A cluster run cannot go on: the scheduler went away, every worker left, or workers cannot run forcenet.
 
+    Also a local process pool's worker that died or could not start (``concurrent.futures``'
+    ``BrokenProcessPool``, chained as the cause).
+
     Examples
     --------
     >>> issubclass(ClusterError, ForcenetError)  # the command line: one line, exit code 2

@@ -43,10 +43,11 @@ import sys
 import time
 import weakref
 from collections.abc import Callable, Iterable
-from concurrent.futures import FIRST_COMPLETED, CancelledError, Executor, wait
+from concurrent.futures import FIRST_COMPLETED, BrokenExecutor, CancelledError, Executor, wait
 from math import ceil
 from typing import TYPE_CHECKING, Any, TypeVar
 
+from forcenet.core.compiled import prefer_wide_vectors
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ClusterError
 from forcenet.core.lifetime import die_with_parent
 from forcenet.core.validation import check_int
@@ -289,7 +290,9 @@ def local_pool(workers: int, start_method: str = "spawn") -> ProcessPoolExecutor
     (a module of the standard library alone, so a spawned worker arms it
     within a fraction of a second, before the seconds of importing the
     route's modules), and a parent killed by SIGKILL, the OOM killer or a
-    time limit leaves no worker computing.
+    time limit leaves no worker computing.  On an AVX-512 machine the
+    workers compile the kernels with 512-bit vectors, as the command line
+    does (:func:`_start_worker`); this process is left as it is.
 
     Parameters
     ----------
@@ -321,9 +324,15 @@ def local_pool(workers: int, start_method: str = "spawn") -> ProcessPoolExecutor
 
 
 def _start_worker(parent: int, started: Any) -> None:
-    """A local pool's worker: Ctrl-C is its parent's to handle (the parent stops its workers), and it dies with it."""
+    """A local pool's worker: Ctrl-C is its parent's to handle (the parent stops its workers), and it dies with it.
+
+    Before numba is imported, the worker takes 512-bit vectors on an AVX-512 machine
+    (:func:`~forcenet.core.compiled.prefer_wide_vectors`), as the command line's processes do: a table from
+    Python costs what ``forcenet table`` costs, and the caller's own process and numba are left as they are.
+    """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     die_with_parent(parent, started)
+    prefer_wide_vectors()  # nothing when the caller chose NUMBA_CPU_FEATURES / NUMBA_CPU_NAME, or numba is loaded
 
 
 def _terminate(pool: Any) -> None:
@@ -451,6 +460,13 @@ def _collect_from_cluster(futures: dict, finish: Callable[[int, Any], object], c
                                "or the scheduler is gone); start workers and rerun")
 
 
+# a local pool's worker that died: killed (the OOM killer, a signal), or it could not start; spawned workers
+# import the caller's main script again, so a script must start the work under `if __name__ == "__main__":`
+LOST_WORKER = ("a worker process of the local pool ended abruptly: killed (out of memory, or by a signal), or "
+               "it could not start; a Python script must make forcenet's calls under "
+               "'if __name__ == \"__main__\":' (Python's rule for spawned worker processes), then run it again")
+
+
 def run_tasks(function: Callable[..., Any], tasks: Iterable[Any], *, executor: Any = None, workers: int = 1,
               progress: Callable[[Any], object] | None = None, weights: Iterable[float] | None = None,
               store: Any = None, keys: Any = None, start_method: str = "spawn") -> list:
@@ -552,6 +568,9 @@ def run_tasks(function: Callable[..., Any], tasks: Iterable[Any], *, executor: A
                 pass
         if own:
             _terminate(pool)
+            broken = sys.exc_info()[1]
+            if isinstance(broken, BrokenExecutor):
+                raise ClusterError(LOST_WORKER) from broken
         raise
     if own:
         pool.shutdown(wait=True)

@@ -374,6 +374,10 @@ def table(N: int, moments: int = 1, method: str = "auto", *, executor: Executor 
     executor : concurrent.futures.Executor or Dask Client, optional
         Runs the Pfaffian route's independent primes (a Dask
         ``Client`` or ``client.get_executor()`` runs them on a cluster).
+        Default: worker processes on every core once the work pays for
+        starting them (the mean from ``N = 37``), else this process.  A script
+        makes the call under ``if __name__ == "__main__":`` (spawned
+        workers import it again).
     checkpoint : str or os.PathLike, optional
         A directory recording every finished prime (resumable runs).
     progress : callable, bool or None
@@ -393,6 +397,9 @@ def table(N: int, moments: int = 1, method: str = "auto", *, executor: Executor 
     ArgumentError
         If the request is out of range, or its plan is refused (the message
         names the route that would run it).
+    ClusterError
+        If a worker process (local or on a cluster) is lost, or a script's
+        workers cannot start (the ``__main__`` guard).
 
     Examples
     --------

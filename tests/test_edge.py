@@ -196,3 +196,22 @@ def test_given_the_floor_the_rows_above_are_a_uniform_gelfand_tsetlin_pattern():
                               / (sympy.gamma(2 + (n + j - 1) * half) * sympy.gamma(1 + half)) for j in range(n)])
         ordered = selberg / sympy.factorial(n) / sympy.prod([sympy.factorial(k) for k in range(1, n)])
         assert sympy.simplify(ordered - sympy.Rational(normalization(N).numerator, normalization(N).denominator)) == 0
+
+
+@pytest.mark.parametrize("dps", [59, 60])
+def test_the_edge_amplitudes_take_every_precision_they_offer(dps, monkeypatch):
+    """``dps`` up to 60 (the face's limit): the amplitudes ask the Tracy-Widom moments for 2 guard digits more,
+    62, which the public ``tracy_widom_moments`` refuses; they were refused as ``dps=62`` (a number the user did
+    not give). The quadrature itself is held by the test above; here it is replaced by its digits at 60."""
+    from forcenet.numeric.limit_shape import edge
+
+    mean, variance = edge.tracy_widom_moments(15)
+    asked = []
+
+    def moments(digits):
+        asked.append(digits)
+        return mpmath.nstr(mean, 15), mpmath.nstr(variance, 15)
+
+    monkeypatch.setattr(edge, "_tw_moments", moments)
+    assert mpmath.almosteq(edge_amplitude("0.3", dps=dps), edge_amplitude("0.3", dps=15), 1e-13)
+    assert asked[0] == dps + 2

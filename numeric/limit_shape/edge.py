@@ -137,7 +137,12 @@ def tracy_widom_moments(dps: int = 20) -> tuple[mpmath.mpf, mpmath.mpf]:
     >>> mpmath.nstr(mean, 15), mpmath.nstr(var, 15)
     ('-1.7710868074116', '0.813194792832958')
     """
-    dps = check_dps(dps, maximum=60)
+    return _rounded_moments(check_dps(dps, maximum=60))
+
+
+def _rounded_moments(dps: int) -> tuple[mpmath.mpf, mpmath.mpf]:
+    """:func:`tracy_widom_moments` for a ``dps`` checked by the caller (the edge amplitudes ask 2 digits more
+    than their own ``dps``, up to 62)."""
     mean, variance = _tw_moments(dps)
     with mpmath.workdps(dps):
         return +mpmath.mpf(mean), +mpmath.mpf(variance)
@@ -217,7 +222,7 @@ def edge_amplitude(z: RealLike, dps: int = 20) -> mpmath.mpf:
     '0.549690876488'
     """
     dps = check_dps(dps, maximum=60)
-    mean, _ = tracy_widom_moments(dps + 2)
+    mean, _ = _rounded_moments(dps + 2)
     return guarded(lambda: -mean * _scale(_open_depth(z)), dps)
 
 
@@ -246,7 +251,7 @@ def edge_sd_amplitude(z: RealLike, dps: int = 20) -> mpmath.mpf:
     '0.14899570936'
     """
     dps = check_dps(dps, maximum=60)
-    _, variance = tracy_widom_moments(dps + 2)
+    _, variance = _rounded_moments(dps + 2)
     return guarded(lambda: mpmath.sqrt(variance) * _scale(_open_depth(z)), dps)
 
 

@@ -94,7 +94,7 @@ def test_refusals_name_the_argument_and_the_range(capsys):
     with pytest.raises(forcenet.ArgumentError, match=r"^dps=61 is out of range: dps must be an integer in 5\.\.60$"):
         forcenet.limit_shape("0.5", "0.5", dps=61)
     assert _cli(capsys, "limit", "--x", "0.5", "--z", "0.5", "--dps", "61")[::2] == (
-        2, "forcenet: error: dps=61 is out of range: dps must be an integer in 5..60\n")
+        2, "forcenet limit: error: argument --dps: dps=61 is out of range: dps must be an integer in 5..60\n")
     with pytest.raises(forcenet.ArgumentTypeError, match=r"^x='abc' is not a number"):
         forcenet.limit_shape("abc", "0.5")
     with pytest.raises(forcenet.ArgumentTypeError, match="x=True"):

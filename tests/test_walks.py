@@ -59,6 +59,10 @@ def test_the_table_walk_checks_the_request_once(walk, method):
      "forcenet entropy: error: argument --dps: dps=4 is out of range: dps must be an integer in 5..10000"),
     (["entropy", "--Q", "1/6", "--bethe", "--L-max", "1201"],
      "forcenet entropy: error: argument --L-max: L_max=1201 is out of range: L_max must be an integer in 60..1200"),
+    (["limit", "--x", "0.2", "--z", "0.6", "--dps", "10001"],
+     "forcenet limit: error: argument --dps: dps=10001 is out of range: dps must be an integer in 5..10000"),
+    (["limit", "--x", "0.3", "--z", "0.3", "--dps", "61"],  # a lattice direction: the edge law's digits
+     "forcenet limit: error: argument --dps: dps=61 is out of range: dps must be an integer in 5..60"),
     (["entropy", "--Q", "1/6", "--bethe", "--L-max", "x"],
      "forcenet entropy: error: argument --L-max: L_max='x' is not an integer: L_max must be an integer in 60..1200"),
 ])

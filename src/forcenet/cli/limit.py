@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from collections.abc import Callable
 
-from .common import add_format, integer, real
+from .common import add_format, defer, integer, real
 from .output import emit
 
 __all__ = ["register"]
@@ -25,9 +25,10 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p.add_argument("--x", type=_decimal("x", -1, 1), required=True, help="horizontal coordinate (2j - i - 1)/N, |x| <= z; "
                    "read at full precision (every digit given counts)")
     p.add_argument("--z", type=_decimal("z", 0, 1, low_open=True), required=True, help="depth i/N in (0, 1]")
-    p.add_argument("--dps", type=integer("dps", 5, 1000), default=20,
-                   help="decimal digits (5..1000, default 20; on a lattice direction 5..60 for the edge law: "
-                        "20 digits ~3 s, 60 digits minutes)")
+    p.add_argument("--dps", type=integer("dps", 5, 10000, deferred=True), default=20,
+                   help="decimal digits (5..10000, default 20; 10000 digits ~6 s; on a lattice direction 5..60 "
+                        "for the edge law: 20 digits ~3 s, 60 digits ~90 s)")
+    defer(p, "dps", "--dps")  # the range (and the edge's 60) checked once, by forcenet.limit_shape
     add_format(p)
     p.set_defaults(func=cmd_limit)
 

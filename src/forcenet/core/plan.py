@@ -332,8 +332,9 @@ def _cache_index_is_fresh(kernel: Any) -> bool:
     numba's ``_CacheImpl.get_filename_base``, the same from 0.4x to the
     versions pinned in pyproject.toml).  numba loads an index only when the
     numba version and the source stamp it holds are the current ones; the
-    stamp is the SHA-256 of the source file's bytes (numba 0.6x and later;
-    earlier ones stamped ``(st_mtime, st_size)``).  Both are looked for in the
+    stamp is the SHA-256 of the source file's bytes from numba 0.68 (numba
+    pull request 10659), ``(st_mtime, st_size)`` in 0.60-0.67 (its
+    modification time is looked for then).  Both are looked for in the
     index's bytes, never unpickled: a reinstall of the same source (a new
     modification time) keeps its cache, an edited source does not.  Isolated
     here, read-only, so a changed convention costs at most a compile time

@@ -332,3 +332,41 @@ def test_a_local_pools_workers_take_the_command_lines_vector_width(monkeypatch):
     monkeypatch.setenv("NUMBA_CPU_FEATURES", "+avx2")
     with local_pool(1) as pool:
         assert pool.submit(os.getenv, "NUMBA_CPU_FEATURES").result(timeout=120) == "+avx2"
+
+
+def _compile_probe_here():
+    """In a worker process: import the probe (its kernel compiled, or loaded, for the worker's CPU features)."""
+    import probe_variant
+
+    return probe_variant.twice(3)
+
+
+def test_the_cache_is_judged_for_the_cpu_features_the_run_compiles_for(tmp_path, monkeypatch):
+    """numba keys cached machine code by CPU features. forcenet's workers compile for their own (512-bit vectors on
+    AVX-512), so code cached by this process does not spare them a compilation, and the other way round; a plan
+    asks for the features of the processes that will run (kernels_cached(..., in_workers))."""
+    from forcenet.core.compiled import WIDE_VECTOR_FEATURE, compile_features, host_features
+    from forcenet.core.execution import local_pool
+    from forcenet.core.plan import kernels_cached
+
+    monkeypatch.delenv("NUMBA_CPU_FEATURES", raising=False)
+    monkeypatch.delenv("NUMBA_CPU_NAME", raising=False)
+    wide = "+avx512f" in host_features().split(",")
+    assert compile_features() == host_features()
+    assert compile_features(workers=True) == (f"{host_features()},{WIDE_VECTOR_FEATURE}" if wide else host_features())
+    (tmp_path / "probe_variant.py").write_text(PROBE)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    try:
+        with local_pool(1) as pool:  # only a worker compiles
+            assert pool.submit(_compile_probe_here).result(timeout=300) == 6
+        twice = importlib.import_module("probe_variant").twice
+        assert kernels_cached([twice], in_workers=True)
+        assert kernels_cached([twice]) == (not wide)  # this process needs its own variant on AVX-512
+        assert twice(4) == 8  # compiled here (or loaded: the same features)
+        sys.modules.pop("probe_variant")
+        fresh = importlib.import_module("probe_variant").twice  # only the disk can say now
+        assert kernels_cached([fresh]) and kernels_cached([fresh], in_workers=True)
+    finally:
+        sys.modules.pop("probe_variant", None)

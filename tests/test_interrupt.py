@@ -510,12 +510,12 @@ def test_the_plans_name_their_kernels(monkeypatch):
     from forcenet.numeric.triangle.metropolis import COMPILE_SECONDS as TRIANGLE
     from forcenet.numeric.triangle.metropolis import metropolis_plan
 
-    monkeypatch.setattr(plan_module, "kernels_cached", lambda kernels: False)
+    monkeypatch.setattr(plan_module, "kernels_cached", lambda kernels, in_workers=False: False)
     scene = Scene(N=5, P=9, F=10.0, pv=1.0, ph=1.0)
     assert sample_plan(12, 20000).compiling == (("exact sampler", EXACT),)
     assert metropolis_plan(12, 2000, move="slice").compiling == (("triangle slice", TRIANGLE["slice"]),)
     assert packing_plan(scene, 2000).compiling == (("packing metropolis", PACKING["metropolis"]),)
     assert with_kernels_compiled(Plan("x", 1.0), lattice=True).compiling == (("Pfaffian lattice", PFAFFIAN["lattice"]),)
     assert sample_plan(12, 20000, kernel="python").compiling == ()
-    monkeypatch.setattr(plan_module, "kernels_cached", lambda kernels: True)
+    monkeypatch.setattr(plan_module, "kernels_cached", lambda kernels, in_workers=False: True)
     assert metropolis_plan(12, 2000).compiling == ()

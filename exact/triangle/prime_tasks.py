@@ -115,7 +115,7 @@ def workers_for(workers: int | None, tasks: int, seconds: float, executor: Execu
 def primes_plan(what: str, per_prime: float, nprimes: int, per_worker: int, *, workers: int | None = None,
                 executor: Executor | None = None, store: CheckpointStore | None = None, reused: int = 0,
                 crt_seconds: float = 0.0, memory_bytes: int | None = None,
-                compile: Callable[[Plan], Plan] | None = None) -> Plan:
+                compile: Callable[[Plan, bool], Plan] | None = None) -> Plan:
     """The plan of a run over ``nprimes`` primes, one tick per prime: the one formula of every route over primes.
 
     ``per_prime`` CPU seconds each, the ``reused`` primes (recorded in
@@ -153,7 +153,8 @@ def primes_plan(what: str, per_prime: float, nprimes: int, per_worker: int, *, w
     memory_bytes : int, optional
         Memory available to the run (None: not checked).
     compile : callable, optional
-        ``compile(plan)``: the plan plus compiling the route's kernels (a local run only).
+        ``compile(plan, in_workers)``: the plan plus compiling the route's kernels (a local run only;
+        ``in_workers``: in local worker processes, which compile for their own CPU features).
 
     Returns
     -------
@@ -182,6 +183,6 @@ def primes_plan(what: str, per_prime: float, nprimes: int, per_worker: int, *, w
         what += f"; checkpoints in {store.path}: {reused} of {nprimes} primes recorded"
     local = 1 if executor is not None else nworkers  # a cluster's workers hold their share on their own machines
     plan = Plan(what, seconds, local * per_worker, nprimes, "prime").within_memory(memory_bytes)
-    if executor is None and compile is not None:  # the workers compile (or load) the kernels on their own machines
-        plan = compile(plan)
+    if executor is None and compile is not None:  # a cluster's workers compile (or load) on their own machines
+        plan = compile(plan, nworkers > 1)  # local workers compile for their own CPU features
     return plan

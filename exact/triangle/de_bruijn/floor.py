@@ -377,4 +377,5 @@ def floor_plan(N: int, grains: bool = False, memory_bytes: int | None = None, wo
     name = "floor-grains" if grains else "floor"
     return primes_plan(what, floor_prime_seconds(N, grains), len(floor_primes(N)), per_worker, workers=workers,
                        executor=executor, memory_bytes=memory_bytes,
-                       compile=lambda plan: with_compilation(plan, f"Pfaffian {name}", COMPILE_SECONDS[name], kernels))
+                       compile=lambda plan, in_workers: with_compilation(plan, f"Pfaffian {name}", COMPILE_SECONDS[name],
+                                                                          kernels, in_workers=in_workers))

@@ -283,4 +283,5 @@ def layer_plan(N: int, i: int, grains: bool = False, memory_bytes: int | None = 
     kernels = [layer_grid, layer_fill, pfaffian_lazy, monomials, gap_residues, pfaffian_mod]
     return primes_plan(what, layer_prime_seconds(N, i, grains), len(floor_primes(N)), per_worker, workers=workers,
                        executor=executor, memory_bytes=memory_bytes,
-                       compile=lambda plan: with_compilation(plan, "Pfaffian layers", COMPILE_SECONDS["floor"], kernels))
+                       compile=lambda plan, in_workers: with_compilation(plan, "Pfaffian layers", COMPILE_SECONDS["floor"],
+                                                                          kernels, in_workers=in_workers))

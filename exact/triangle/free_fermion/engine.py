@@ -140,9 +140,10 @@ def count_residue(N: int, p: int) -> int:
     return fact * pf % p
 
 
-def with_kernels_compiled(plan: Plan, lattice: bool = False) -> Plan:
+def with_kernels_compiled(plan: Plan, lattice: bool = False, in_workers: bool = False) -> Plan:
     """``plan`` plus compiling the compiled kernels of :func:`prime_residues` (``lattice``: of
-    :func:`edge_residues`) when numba's cache lacks them (a first run, :data:`COMPILE_SECONDS`).
+    :func:`edge_residues`) when numba's cache lacks them (a first run, :data:`COMPILE_SECONDS`);
+    ``in_workers``: for the CPU features of forcenet's worker processes.
 
     Examples
     --------
@@ -157,7 +158,7 @@ def with_kernels_compiled(plan: Plan, lattice: bool = False) -> Plan:
     if not lattice:
         entries.append(kernels.lagrange_matrix)
     name = "lattice" if lattice else "table"
-    return with_compilation(plan, f"Pfaffian {name}", COMPILE_SECONDS[name], entries)
+    return with_compilation(plan, f"Pfaffian {name}", COMPILE_SECONDS[name], entries, in_workers=in_workers)
 
 
 def pair_points(p: int, taken: set[int]) -> Iterator[tuple[int, int]]:

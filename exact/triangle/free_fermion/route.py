@@ -500,4 +500,4 @@ def route_plan(what: str, N: int, per_prime: float, per_worker: int, workers: in
         nprimes, reused = len(primes), sum(store.holds(p) for p in primes)
     return primes_plan(what, per_prime, nprimes, per_worker, workers=workers, executor=executor, store=store,
                        reused=reused, crt_seconds=CRT_SECONDS * entries * nprimes**2, memory_bytes=memory_bytes,
-                       compile=lambda plan: with_kernels_compiled(plan, lattice))
+                       compile=lambda plan, in_workers: with_kernels_compiled(plan, lattice, in_workers))

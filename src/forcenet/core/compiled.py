@@ -34,7 +34,7 @@ import sys
 from collections.abc import Callable
 from typing import Any
 
-__all__ = ["cache_directory", "njit", "prefer_wide_vectors"]
+__all__ = ["cache_directory", "compile_features", "host_features", "njit", "prefer_wide_vectors"]
 
 # LLVM tunes most AVX-512 Intel cores to prefer 256-bit vectors (``prefer-256-bit``); the route's hot loops
 # run over blocks of eight float64, one 512-bit vector: 1.4x per table prime at N = 100 (notes/benchmarks.md)
@@ -172,12 +172,59 @@ def prefer_wide_vectors(environ: Any = None) -> str | None:
     environ = os.environ if environ is None else environ
     if "NUMBA_CPU_FEATURES" in environ or "NUMBA_CPU_NAME" in environ or "numba" in sys.modules:
         return None
-    try:
-        from llvmlite import binding
-    except ImportError:  # pragma: no cover - llvmlite comes with numba
+    wide = _wide_features(host_features())
+    if wide is None:
         return None
-    features = binding.get_host_cpu_features().flatten()
-    if "+avx512f" not in features.split(","):
-        return None
-    environ["NUMBA_CPU_FEATURES"] = f"{features},{WIDE_VECTOR_FEATURE}"
-    return environ["NUMBA_CPU_FEATURES"]
+    environ["NUMBA_CPU_FEATURES"] = wide
+    return wide
+
+
+def host_features() -> str:
+    """This machine's CPU features as numba names them by default (LLVM's, flattened: ``"+64bit,+adx,..."``).
+
+    Examples
+    --------
+    >>> host_features().startswith(("+", "-")) or host_features() == ""
+    True
+    """
+    if not _HOST:
+        try:
+            from llvmlite import binding
+
+            _HOST.append(binding.get_host_cpu_features().flatten())
+        except (ImportError, RuntimeError):  # pragma: no cover - llvmlite comes with numba; no features known
+            _HOST.append("")
+    return _HOST[0]
+
+
+_HOST: list[str] = []
+
+
+def _wide_features(features: str) -> str | None:
+    """``features`` preferring 512-bit vectors, on an AVX-512 machine; else None."""
+    return f"{features},{WIDE_VECTOR_FEATURE}" if "+avx512f" in features.split(",") else None
+
+
+def compile_features(workers: bool = False) -> str:
+    """The CPU features numba compiles forcenet's kernels for, in this process or in forcenet's worker processes.
+
+    A ``NUMBA_CPU_FEATURES`` in the environment (the user's, or the command
+    line's :func:`prefer_wide_vectors`) is what numba uses; else this
+    machine's features.  Worker processes of a local pool
+    (``workers=True``) take :func:`prefer_wide_vectors` in their
+    initializer: 512-bit vectors on an AVX-512 machine, unless the
+    environment chose (``NUMBA_CPU_NAME`` too).  numba keys its cached
+    machine code by these features, so a plan asks for the ones the run
+    will use.
+
+    Examples
+    --------
+    >>> compile_features() in (os.environ.get("NUMBA_CPU_FEATURES"), host_features())
+    True
+    """
+    chosen = os.environ.get("NUMBA_CPU_FEATURES")
+    if chosen:
+        return chosen
+    if workers and "NUMBA_CPU_NAME" not in os.environ:
+        return _wide_features(host_features()) or host_features()
+    return host_features()

@@ -306,24 +306,35 @@ def first_chunk(seconds_per_unit: float, seconds: float = CHUNK_SECONDS) -> int:
 _INDEX_BYTES = 1 << 20  # numba's index: a few KiB of signatures
 
 
-def kernels_cached(kernels: Iterable[Any]) -> bool:
+def kernels_cached(kernels: Iterable[Any], in_workers: bool = False) -> bool:
     """Whether numba holds machine code for every dispatcher of ``kernels`` without compiling.
 
     True when each is compiled in this process already (its public
     ``signatures``) or its on-disk cache (``cache=True``: the ``.nbi`` index in
     ``dispatcher.stats.cache_path``, under ``NUMBA_CACHE_DIR``) was written
     by this numba for the source as it is now (numba's own test: the source's
-    content hash, so a reinstall of the same source keeps its cache).
+    content hash, so a reinstall of the same source keeps its cache) and holds
+    code for the CPU features the run compiles for
+    (:func:`~forcenet.core.compiled.compile_features`).  ``in_workers``: the
+    run is in forcenet's worker processes, which compile with their own
+    features (512-bit vectors on AVX-512) and load only from the disk.
 
     Examples
     --------
     >>> kernels_cached([])
     True
     """
-    return all(kernel.signatures or _cache_index_is_fresh(kernel) for kernel in kernels)
+    kernels = list(kernels)
+    if not kernels:
+        return True
+    from .compiled import compile_features
+
+    features = compile_features(workers=in_workers)
+    return all((kernel.signatures and not in_workers) or _cache_index_is_fresh(kernel, features)
+               for kernel in kernels)
 
 
-def _cache_index_is_fresh(kernel: Any) -> bool:
+def _cache_index_is_fresh(kernel: Any, features: str) -> bool:
     """Whether numba's on-disk cache of ``kernel`` holds an index numba would load: this numba's, this source's.
 
     numba has no public "is it cached" query: its cache folder is public
@@ -336,7 +347,9 @@ def _cache_index_is_fresh(kernel: Any) -> bool:
     pull request 10659), ``(st_mtime, st_size)`` in 0.60-0.67 (its
     modification time is looked for then).  Both are looked for in the
     index's bytes, never unpickled: a reinstall of the same source (a new
-    modification time) keeps its cache, an edited source does not.  Isolated
+    modification time) keeps its cache, an edited source does not.  numba
+    keys each overload by the CPU ``features`` it was compiled for (its
+    codegen's ``magic_tuple``): the index must hold ``features`` too.  Isolated
     here, read-only, so a changed convention costs at most a compile time
     counted twice.
     """
@@ -361,24 +374,34 @@ def _cache_index_is_fresh(kernel: Any) -> bool:
     except (AttributeError, OSError, TypeError, metadata.PackageNotFoundError):  # no cache, or unreadable: count the compilation
         return False
     # the pickled version string (SHORT_BINUNICODE: its length, then its bytes) opens the index
-    same_numba = b"\x8c" + bytes([len(version)]) + version in data[:64]
-    return same_numba and (digest in data or struct.pack(">d", mtime) in data)
+    same_numba = _pickled_text(version) in data[:64]
+    same_source = digest in data or struct.pack(">d", mtime) in data
+    return same_numba and same_source and _pickled_text(features.encode()) in data
 
 
-def with_compilation(plan: Plan, name: str, seconds: float, kernels: Iterable[Any]) -> Plan:
+def _pickled_text(text: bytes) -> bytes:
+    """A str as pickle (protocol 4 and later, numba's) writes it: its opcode, its length, its UTF-8 bytes."""
+    if len(text) < 256:
+        return b"\x8c" + bytes([len(text)]) + text  # SHORT_BINUNICODE
+    return b"X" + struct.pack("<I", len(text)) + text  # BINUNICODE
+
+
+def with_compilation(plan: Plan, name: str, seconds: float, kernels: Iterable[Any], *,
+                     in_workers: bool = False) -> Plan:
     """``plan`` plus ``seconds`` of compiling the kernel group ``name`` if numba's cache does not hold ``kernels``.
 
     ``kernels``: the group's entry points (numba dispatchers) the run will
     call; ``seconds``: their measured compile time on the reference machine
-    (``benchmarks/compile_times.py``).  A refused plan, or one that counts
-    ``name`` already, is returned as it is.
+    (``benchmarks/compile_times.py``); ``in_workers``: the run is in
+    forcenet's worker processes (:func:`kernels_cached`).  A refused plan, or
+    one that counts ``name`` already, is returned as it is.
 
     Examples
     --------
     >>> with_compilation(Plan("x", 3), "none", 5.0, []).seconds  # nothing to compile
     3
     """
-    if not plan.runnable or any(n == name for n, _ in plan.compiling) or kernels_cached(kernels):
+    if not plan.runnable or any(n == name for n, _ in plan.compiling) or kernels_cached(kernels, in_workers):
         return plan
     return replace(plan, seconds=plan.seconds + seconds, compiling=plan.compiling + ((name, seconds),))
 

@@ -19,6 +19,7 @@ False
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import os
 import signal
@@ -367,16 +368,29 @@ def _cache_index_is_fresh(kernel: Any, features: str) -> bool:
             return False
         with open(path, "rb") as index:
             data = index.read(_INDEX_BYTES)
-        with open(source_file, "rb") as source:
-            digest = hashlib.sha256(source.read()).digest()
-        mtime = os.stat(source_file).st_mtime
-        version = metadata.version("numba").encode()  # the installed numba's, as numba.__version__
+        stat = os.stat(source_file)
+        mtime = stat.st_mtime
+        digest = _source_digest(source_file, mtime, stat.st_size)
+        version = _numba_version()
     except (AttributeError, OSError, TypeError, metadata.PackageNotFoundError):  # no cache, or unreadable: count the compilation
         return False
     # the pickled version string (SHORT_BINUNICODE: its length, then its bytes) opens the index
     same_numba = _pickled_text(version) in data[:64]
     same_source = digest in data or struct.pack(">d", mtime) in data
     return same_numba and same_source and _pickled_text(features.encode()) in data
+
+
+@functools.lru_cache(maxsize=64)
+def _source_digest(path: str, mtime: float, size: int) -> bytes:
+    """The SHA-256 of a kernel's source, once per file as it is (numba's own memo: path, time, size)."""
+    with open(path, "rb") as source:
+        return hashlib.sha256(source.read()).digest()
+
+
+@functools.lru_cache(maxsize=1)
+def _numba_version() -> bytes:
+    """The installed numba's version (``numba.__version__``), read once from its metadata."""
+    return metadata.version("numba").encode()
 
 
 def _pickled_text(text: bytes) -> bytes:

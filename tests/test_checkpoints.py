@@ -337,3 +337,20 @@ def test_without_reused_records_an_arithmetic_error_stays_a_bug(tmp_path):
 
     with pytest.raises(ArithmeticError, match="a bug"):
         distrust_reused(broken, tmp_path, 8, time.time())
+
+
+@pytest.mark.parametrize("shape", [(7, 7), (9,), (2, 8, 8), ()])
+def test_a_record_of_the_wrong_shape_with_a_valid_checksum_is_named_and_recomputed(tmp_path, shape):
+    """Issue 56: a 23 x 23 record where 24 x 24 belongs (checksum recomputed) was a ValueError on every rerun."""
+    expected = route.mean_W(9)
+    assert route.mean_W(9, checkpoint=tmp_path) == expected
+    plain = CheckpointStore(tmp_path, "pfaffian-table", 9)
+    key = int(sorted(os.listdir(plain.path))[0][1:-4])
+    open(plain._file(key), "wb").write(plain.encode(key, np.ones(shape, dtype=np.int64)))
+    lines = []
+    store = CheckpointStore(tmp_path, "pfaffian-table", 9, report=lines.append)
+    assert route.mean_W(9, checkpoint=store) == expected
+    assert store.damaged == 1 and len(lines) == 1
+    assert plain._file(key) in lines[0] and f"a record of shape {shape} where (9, 9) belongs" in lines[0]
+    again = CheckpointStore(tmp_path, "pfaffian-table", 9)  # recomputed and written again: the next run reuses it
+    assert route.mean_W(9, checkpoint=again) == expected and again.damaged == 0 and again.reused == 2

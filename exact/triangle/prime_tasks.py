@@ -56,7 +56,7 @@ ROUTES = {"count": "pfaffian-count", "table": "pfaffian-table", "table2": "pfaff
 
 
 def checkpoint_store(checkpoint: str | PathLike | CheckpointStore | None, route: str, N: int,
-                     layer: int | None = None) -> CheckpointStore | None:
+                     layer: int | None = None, shape: tuple[int, ...] | None = None) -> CheckpointStore | None:
     """The checkpoint store of one request of ``route`` (a key of :data:`ROUTES`, with the ``layer`` of a layer's
     route): None, from a directory, or a given store (reused when it is this request's, else its directory and
     report).
@@ -71,9 +71,11 @@ def checkpoint_store(checkpoint: str | PathLike | CheckpointStore | None, route:
     name = ROUTES[route] + ("" if layer is None else f"{int(layer)}")
     if isinstance(checkpoint, CheckpointStore):
         if checkpoint.request["route"] == name and checkpoint.request["N"] == N:
+            if shape is not None:
+                checkpoint.shape = tuple(shape)
             return checkpoint
-        return CheckpointStore(checkpoint.directory, name, N, report=checkpoint.report)
-    return CheckpointStore(checkpoint, name, N)
+        return CheckpointStore(checkpoint.directory, name, N, report=checkpoint.report, shape=shape)
+    return CheckpointStore(checkpoint, name, N, shape=shape)
 
 
 def run_primes(function: Callable[..., Any], tasks: Sequence[tuple], executor: Executor | None, nworkers: int,

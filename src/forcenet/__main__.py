@@ -18,8 +18,14 @@ from types import FrameType
 def run() -> int:
     """The ``forcenet`` command: wide vectors where the machine has them, SIGTERM and SIGHUP as Ctrl-C, then the
     command line."""
-    from forcenet.core.compiled import prefer_wide_vectors
+    from forcenet.core.compiled import check_environment, prefer_wide_vectors
+    from forcenet.core.errors import ArgumentError
 
+    try:
+        check_environment()  # before numba is imported: some settings abort the process inside LLVM
+    except ArgumentError as refusal:
+        print(f"forcenet: error: {refusal}", file=sys.stderr)
+        return 2
     prefer_wide_vectors()
     from forcenet.cli import main
 

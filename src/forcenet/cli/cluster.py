@@ -49,7 +49,19 @@ _TLS_OPTIONS = ("tls_ca_file", "tls_cert", "tls_key")
 
 
 def _refuse(address: str, why: str) -> UsageError:
-    return UsageError(f"--scheduler={address}: {why}")
+    shown = address if len(address) <= 80 else f"{address[:60]}... ({len(address)} characters)"
+    return UsageError(f"--scheduler={shown}: {why}")
+
+
+def _host_name_problem(host: str) -> str | None:
+    """Why ``host`` cannot be a DNS name (RFC 1035: labels of 1..63 octets, at most 253 in all), or None."""
+    try:
+        octets = host.encode("idna")
+    except UnicodeError:
+        return "a label of the host name is empty or longer than 63 characters"
+    if len(octets) > 253:
+        return f"the host name has {len(octets)} characters, more than DNS allows (253)"
+    return None
 
 
 def scheduler_address(text: str) -> tuple[str, str, str, int]:
@@ -82,6 +94,9 @@ def scheduler_address(text: str) -> tuple[str, str, str, int]:
     if not host or not port.isascii() or not port.isdigit() or not 0 < int(port) < 65536 \
             or any(c in "/?#@[]" or c.isspace() for c in host) or (":" in host and not bracketed):
         raise _refuse(text, f"{address!r} is not HOST:PORT with a port in 1..65535{where}: e.g. tcp://127.0.0.1:8786")
+    problem = None if bracketed else _host_name_problem(host)
+    if problem is not None:
+        raise _refuse(text, f"{problem}{where}: e.g. tcp://127.0.0.1:8786")
     return address, scheme, host, int(port)
 
 

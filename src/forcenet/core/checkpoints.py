@@ -75,6 +75,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 import numpy as np
 
 from forcenet.core.atomic_files import TEMP_PREFIX, write_atomic
+from forcenet.core.compiled import cache_home
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -104,15 +105,14 @@ def default_directory() -> str:
     >>> default_directory().endswith("forcenet")
     True
     """
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return os.path.join(base, "forcenet")
+    return os.path.join(cache_home(), "forcenet")
 
 
 def _default_anchor() -> str:
     """The folder the default checkpoint directory may be created under, which must exist already: the parent of
     ``$XDG_CACHE_HOME``, else the home directory."""
-    xdg = os.environ.get("XDG_CACHE_HOME")
-    return os.path.dirname(os.path.abspath(xdg)) if xdg else os.path.expanduser("~")
+    xdg = os.environ.get("XDG_CACHE_HOME", "")
+    return os.path.dirname(xdg) if os.path.isabs(xdg) else os.path.expanduser("~")
 
 
 _REPORTED: set[tuple[str, str]] = set()  # (directory, cause) already reported in this run: one line per cause
@@ -146,6 +146,9 @@ class CheckpointStore:
     report : callable, optional
         Receives each one-line report (a damaged record, a write failure);
         default: printed on stderr.
+    shape : tuple of int, optional
+        The shape every record of the request has, when the route knows it: a record of another shape
+        (a valid checksum on the wrong content) is named and recomputed like a damaged one.
 
     Attributes
     ----------
@@ -158,8 +161,9 @@ class CheckpointStore:
     """
 
     def __init__(self, directory: str | os.PathLike[str], route: str, N: int, moments: int = 1,
-                 report: Callable[[str], object] | None = None) -> None:
+                 report: Callable[[str], object] | None = None, shape: tuple[int, ...] | None = None) -> None:
         self.directory = os.fspath(directory)
+        self.shape = None if shape is None else tuple(int(s) for s in shape)  # every record's, when known
         self.request = {"format": FORMAT_VERSION, "route": str(route), "N": int(N), "moments": int(moments)}
         self.path = os.path.join(self.directory, f"{route}-N{int(N)}-m{int(moments)}-v{FORMAT_VERSION}")
         self.report = report if report is not None else _stderr_line
@@ -200,6 +204,8 @@ class CheckpointStore:
             return None, "malformed header"
         if {k: header.get(k) for k in self.request} != self.request or header.get("prime") != int(key):
             return None, "another request"
+        if self.shape is not None and array.shape != self.shape:  # a valid checksum on a record that cannot fit
+            return None, f"a record of shape {array.shape} where {self.shape} belongs"
         return array.astype(np.int64), None
 
     def _folder_problem(self) -> str | None:

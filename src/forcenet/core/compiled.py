@@ -34,11 +34,86 @@ import sys
 from collections.abc import Callable
 from typing import Any
 
-__all__ = ["cache_directory", "compile_features", "host_features", "njit", "prefer_wide_vectors"]
+from .errors import ArgumentError
+
+__all__ = ["cache_directory", "cache_home", "check_environment", "compile_features", "host_features", "njit",
+           "prefer_wide_vectors"]
+
+MIN_OPEN_FILES = 64  # a table over primes with its pool of workers needs ~24 (pipes, semaphores); headroom for more
 
 # LLVM tunes most AVX-512 Intel cores to prefer 256-bit vectors (``prefer-256-bit``); the route's hot loops
 # run over blocks of eight float64, one 512-bit vector: 1.4x per table prime at N = 100 (notes/benchmarks.md)
 WIDE_VECTOR_FEATURE = "-prefer-256-bit"
+
+
+def cache_home() -> str:
+    """The user's cache folder by the XDG rules: ``$XDG_CACHE_HOME`` when it is an absolute path, else
+    ``~/.cache`` (a relative or empty ``$XDG_CACHE_HOME`` is ignored, as the XDG Base Directory specification says,
+    so nothing lands in the current folder).
+
+    Examples
+    --------
+    >>> import os
+    >>> os.path.isabs(cache_home())
+    True
+    """
+    base = os.environ.get("XDG_CACHE_HOME", "")
+    return base if os.path.isabs(base) else os.path.join(os.path.expanduser("~"), ".cache")
+
+
+def check_environment(environ: dict[str, str] | None = None) -> None:
+    """Refuse, in one line, the settings under which numba cannot work, before anything imports it.
+
+    numba aborts the process inside LLVM for a ``NUMBA_CPU_FEATURES`` item without its ``+``/``-``, raises at
+    import for ``NUMBA_NUM_THREADS`` below 1, and with ``NUMBA_DISABLE_JIT`` leaves forcenet's kernels
+    uncompiled. A limit on open files below :data:`MIN_OPEN_FILES` is raised to the hard limit where allowed,
+    else refused (the pools of worker processes need pipes).
+
+    Raises
+    ------
+    ArgumentError
+        Naming the setting, its value and what would work.
+
+    Examples
+    --------
+    >>> check_environment({"NUMBA_NUM_THREADS": "2"})
+    >>> check_environment({"NUMBA_CPU_FEATURES": "avx2"})
+    Traceback (most recent call last):
+    ...
+    forcenet.core.errors.ArgumentError: NUMBA_CPU_FEATURES='avx2' is not a list of +feature/-feature items (e.g. '+avx2,-avx512f'): correct it or unset it
+    """
+    env = os.environ if environ is None else environ
+    features = env.get("NUMBA_CPU_FEATURES")
+    if features is not None and any(item and item[0] not in "+-" for item in features.split(",")):
+        raise ArgumentError(f"NUMBA_CPU_FEATURES={features[:80]!r} is not a list of +feature/-feature items "
+                            "(e.g. '+avx2,-avx512f'): correct it or unset it")
+    threads = env.get("NUMBA_NUM_THREADS")
+    if threads is not None and threads.strip() and not (threads.strip().isdigit() and int(threads) >= 1):
+        raise ArgumentError(f"NUMBA_NUM_THREADS={threads[:80]!r} must be a whole number of at least 1 "
+                            "(unset: one thread per core)")
+    disable = env.get("NUMBA_DISABLE_JIT", "").strip()
+    if disable.lstrip("+-").isdigit() and int(disable) != 0:
+        raise ArgumentError(f"NUMBA_DISABLE_JIT={disable!r} turns off the compiled kernels forcenet's routes are "
+                            "written for: unset it (or set it to 0)")
+    if environ is None:
+        _enough_open_files()
+
+
+def _enough_open_files() -> None:
+    """Raise the soft limit on open files to at least :data:`MIN_OPEN_FILES` (up to the hard limit), or refuse."""
+    try:
+        import resource
+    except ImportError:  # not on this platform: nothing to check
+        return
+    soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+    if soft == resource.RLIM_INFINITY or soft >= MIN_OPEN_FILES:
+        return
+    wanted = MIN_OPEN_FILES if hard == resource.RLIM_INFINITY else min(hard, MIN_OPEN_FILES)
+    if wanted > soft:
+        resource.setrlimit(resource.RLIMIT_NOFILE, (wanted, hard))
+    if wanted < MIN_OPEN_FILES:
+        raise ArgumentError(f"the limit on open files is {hard} (ulimit -n), below the {MIN_OPEN_FILES} forcenet's "
+                            f"worker processes need: raise it (e.g. ulimit -n 1024)")
 
 
 def cache_directory() -> str:
@@ -56,8 +131,7 @@ def cache_directory() -> str:
     >>> os.path.basename(cache_directory())
     'numba'
     """
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return os.path.join(base, "forcenet", "numba")
+    return os.path.join(cache_home(), "forcenet", "numba")
 
 
 _PRIVATE_CACHE: list[str] = []
@@ -68,7 +142,7 @@ def _usable_cache_directory() -> str:
     ``$XDG_CACHE_HOME``): then a private folder of this process (``mkdtemp``: mode 0700, a fresh name),
     removed at exit. A missing home is never created, and nothing is cached where another user could plant
     machine code."""
-    if os.environ.get("XDG_CACHE_HOME") or os.path.isdir(os.path.expanduser("~")):
+    if os.path.isabs(os.environ.get("XDG_CACHE_HOME", "")) or os.path.isdir(os.path.expanduser("~")):
         return cache_directory()
     if not _PRIVATE_CACHE:
         import atexit

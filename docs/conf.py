@@ -12,8 +12,12 @@ the theme ships its own assets, and no inventory is fetched (no intersphinx).
 from __future__ import annotations
 
 import re
+import sys
+from pathlib import Path
 
 import forcenet
+
+sys.path.insert(0, str(Path(__file__).resolve().parent / "_ext"))  # the site's own extensions
 
 project = "forcenet"
 author = "The forcenet developers"
@@ -28,6 +32,7 @@ extensions = [
     "sphinx-mathjax-offline",  # MathJax 3 from a package, copied into _static/mathjax: no CDN
     "numpydoc",
     "myst_nb",
+    "cli_reference",  # docs/_ext: the command-line reference, generated from forcenet.cli.build_parser
 ]
 
 exclude_patterns = ["_build", "jupyter_execute", "**.ipynb_checkpoints", "Thumbs.db", ".DS_Store"]
@@ -92,13 +97,45 @@ html_last_updated_fmt = None
 html_theme_options = {"navigation_with_keys": True}
 
 
-def _summary_keeps_literals(extract_summary):
-    """Autosummary's one-line summary, never cut inside an inline literal (``W_1 + ... + W_j``)."""
+# Abbreviations after which a period does not end a sentence ("the maps of Sec. 4.6", "Eq. (4.1)").
+_ABBREVIATIONS = ("Eq", "Eqs", "Sec", "Secs", "Fig", "Figs", "Ref", "Refs", "Ch", "Chap", "Thm", "Prop", "cf", "e.g",
+                  "i.e", "vs", "resp", "approx", "No", "al")
+_SENTENCE_END = re.compile(r"(?<!\b" + r")(?<!\b".join(re.escape(a) for a in _ABBREVIATIONS) + r")\.(?=\s|$)")
+
+
+def first_sentence(doc: list[str]) -> str:
+    """The first sentence of a docstring's first paragraph: ends at a period that follows no abbreviation
+    (``Eq.``, ``Sec.``, ``e.g.``), outside inline literals; the whole paragraph if none.
+
+    >>> first_sentence(["The maps of Sec. 4.6 per bottom row, Eq. (4.88).", "", "More."])
+    'The maps of Sec. 4.6 per bottom row, Eq. (4.88).'
+    >>> first_sentence(["A sum ``W_1 + ... + W_j``. Then more."])
+    'A sum ``W_1 + ... + W_j``.'
+    """
+    paragraph = []
+    for line in doc:
+        if not line.strip():
+            if paragraph:
+                break
+            continue
+        paragraph.append(line.strip())
+    text = " ".join(paragraph)
+    for match in _SENTENCE_END.finditer(text):
+        head = text[: match.end()]
+        if head.count("``") % 2 == 0 and head.count("(") <= head.count(")"):
+            return head
+    return text
+
+
+def _summary_survives_abbreviations(extract_summary):
+    """Autosummary's one-line summary, never cut after "Eq." or "Sec." nor inside an inline literal."""
 
     def extract(doc, settings):
         summary = extract_summary(doc, settings)
-        if summary.count("``") % 2:  # cut at a ". " inside a literal: keep the docstring's first line whole
-            return doc[0].strip() if doc else summary
+        sentence = first_sentence(doc)
+        if sentence and (summary.count("``") % 2 or len(sentence) > len(summary.rstrip("."))
+                         or re.search(r"\b(?:" + "|".join(map(re.escape, _ABBREVIATIONS)) + r")\.$", summary)):
+            return sentence
         return summary
 
     return extract
@@ -107,4 +144,4 @@ def _summary_keeps_literals(extract_summary):
 def setup(app):  # Sphinx calls it with the application
     import sphinx.ext.autosummary as autosummary
 
-    autosummary.extract_summary = _summary_keeps_literals(autosummary.extract_summary)
+    autosummary.extract_summary = _summary_survives_abbreviations(autosummary.extract_summary)

@@ -141,7 +141,35 @@ def _summary_survives_abbreviations(extract_summary):
     return extract
 
 
+# ------------------------------------------------------------------ the derivations of notes/, rendered on the site
+# Each page docs/derivations/NAME.md is a one-line stub; its source is notes/NAME.md, read when the page is read
+# (so the notes stay where the code and the tests cite them, and the site shows the proofs). The project's issue
+# numbers are dropped (they mean nothing to a reader of the site); figures are found in notes/figures.
+NOTES = Path(__file__).resolve().parent.parent / "notes"
+_ISSUE_REFERENCE = re.compile(
+    r"\s*\((?:issues?|Issues?)\s+#?\d+[^()]*\)"  # a parenthetical "(issue 43)", "(issues 45 items 1, 3 and 46)"
+    r"|\b(?:[Ii]ssues?)\s+#?\d+(?:\s+items?\s+[\d, -]+)?(?:(?:,|\s+and)\s+\d+(?:\s+items?\s+[\d, -]+)?)*")
+
+
+def note_as_page(text: str) -> str:
+    """A note's Markdown as a page of the site: issue numbers out, figure paths from docs/derivations/.
+
+    >>> note_as_page("# Fluctuations (issue 27)\\n\\nAs in issue 6, see ![a](figures/x.png).")
+    '# Fluctuations\\n\\nAs in a project issue, see ![a](../../notes/figures/x.png).'
+    """
+    text = _ISSUE_REFERENCE.sub(lambda m: "" if m.group(0).lstrip().startswith("(") else "a project issue", text)
+    return re.sub(r"\]\((?:\./)?figures/", "](../../notes/figures/", text)
+
+
+def _render_note(app, docname, source):  # Sphinx's "source-read" event
+    if docname.startswith("derivations/") and docname != "derivations/index":
+        note = NOTES / (docname.split("/", 1)[1] + ".md")
+        app.env.note_dependency(str(note))
+        source[0] = note_as_page(note.read_text(encoding="utf-8"))
+
+
 def setup(app):  # Sphinx calls it with the application
     import sphinx.ext.autosummary as autosummary
 
     autosummary.extract_summary = _summary_survives_abbreviations(autosummary.extract_summary)
+    app.connect("source-read", _render_note)

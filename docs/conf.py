@@ -167,8 +167,41 @@ def _render_note(app, docname, source):  # Sphinx's "source-read" event
         source[0] = note_as_page(note.read_text(encoding="utf-8"))
 
 
+# ------------------------------------------------------------------ the tutorials as downloadable notebooks
+# myst-nb writes each executed page to OUTDIR/../jupyter_execute; when the build has finished the tutorials' are
+# copied to OUTDIR/notebooks, and each tutorial links its own (with the outputs the page shows).
+_DOWNLOAD = """
+
+```{raw} html
+<p class="download-notebook"><a href="../notebooks/NAME.ipynb" download>Download this tutorial as a Jupyter
+notebook</a> (with the outputs shown here; it runs where forcenet is installed).</p>
+```
+"""
+
+
+def _link_notebook(app, docname, source):  # Sphinx's "source-read" event
+    if docname.startswith("tutorials/") and docname != "tutorials/index":
+        lines = source[0].split("\n")
+        title = next(k for k, line in enumerate(lines) if line.startswith("# "))
+        name = docname.split("/", 1)[1]
+        source[0] = "\n".join([*lines[: title + 1], *_DOWNLOAD.replace("NAME", name).split("\n"), *lines[title + 1:]])
+
+
+def _copy_notebooks(app, exception):  # Sphinx's "build-finished" event
+    import shutil
+
+    executed = Path(app.outdir).parent / "jupyter_execute" / "tutorials"
+    if exception is None and app.builder.format == "html" and executed.is_dir():
+        target = Path(app.outdir) / "notebooks"
+        target.mkdir(exist_ok=True)
+        for notebook in executed.glob("*.ipynb"):
+            shutil.copyfile(notebook, target / notebook.name)
+
+
 def setup(app):  # Sphinx calls it with the application
     import sphinx.ext.autosummary as autosummary
 
     autosummary.extract_summary = _summary_survives_abbreviations(autosummary.extract_summary)
     app.connect("source-read", _render_note)
+    app.connect("source-read", _link_notebook)
+    app.connect("build-finished", _copy_notebooks)

@@ -444,3 +444,22 @@ def test_no_api_summary_is_cut_after_an_abbreviation(site):
             if re.search(r"\b(?:Eqs?|Secs?|Fig|e\.g|i\.e)\.$", text):
                 cut.append(f"{page.name}: {text}")
     assert not cut, cut
+
+
+@pytest.mark.slow
+def test_every_tutorial_is_a_downloadable_executed_notebook(site):
+    for name in TUTORIALS:
+        html = (site / "tutorials" / f"{name}.html").read_text()
+        assert f'href="../notebooks/{name}.ipynb"' in html, name
+        notebook = json.loads((site / "notebooks" / f"{name}.ipynb").read_text())
+        code = [c for c in notebook["cells"] if c["cell_type"] == "code"]
+        assert code and any(c.get("outputs") for c in code), name
+
+
+@pytest.mark.slow
+def test_the_performance_page_plots_its_scaling_from_its_data(site):
+    html = (site / "performance.html").read_text()
+    assert re.search(r'<img[^>]+src="_images/[^"]+\.png"', html) and "one prime scales as N^" in html
+    data = json.loads((DOCS / "_data" / "performance.json").read_text())
+    for N, *_ in data["pfaffian"]["rows"]:
+        assert f"<td><p>{N}</p></td>" in html, N

@@ -85,6 +85,7 @@ nb_execution_raise_on_error = True  # a notebook that fails fails the build
 nb_execution_show_tb = True
 nb_merge_streams = True
 nb_render_image_options = {"width": "100%"}
+nb_render_markdown_format = "myst"  # a cell's Markdown output may be a table (the performance page's)
 
 # ------------------------------------------------------------------ HTML
 html_theme = "furo"

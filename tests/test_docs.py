@@ -364,6 +364,8 @@ def test_the_readme_is_a_short_page_that_starts_with_the_two_commands():
     for page in ("docs/getting_started.md", "docs/command_line.rst", "docs/references.md", "docs/citing.md"):
         assert page.split("/")[-1].rsplit(".", 1)[0] in text and (ROOT / page).is_file(), page
     assert "2026-" not in text  # the history is in the changelog
+    links = re.findall(r"\]\(([^)#]+)\)", text)
+    assert links and all((ROOT / link).is_file() for link in links), [link for link in links if not (ROOT / link).is_file()]
 
 
 def test_the_citation_file_is_valid_cff():

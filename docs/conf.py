@@ -62,8 +62,6 @@ numpydoc_validation_checks = {
 # Docstrings that need work before they pass these checks (each listed, so the list can only shrink; the
 # others are validated). The exceptions' shared example is on the family's page (api/errors.rst).
 NEEDS_WORK = [
-    "forcenet.numeric.autocorr.AutocorrError",
-    "forcenet.testing.DisagreementError", "forcenet.testing.CannotJudgeError",
     "forcenet.testing.TableAgreement", "forcenet.testing.TableAgreement.*", "forcenet.testing.compare",
     "forcenet.testing.strategies.*",
     "forcenet.numeric.packing.PackingMetropolis.*", "forcenet.numeric.packing.Scene.name",

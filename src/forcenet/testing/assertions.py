@@ -398,6 +398,10 @@ def compare(samples: ArrayLike, exact: Any, *, chain: bool = False, alpha: float
         ``None``: run Hotelling's test when the rows suffice (see
         :mod:`forcenet.numeric.agreement`); ``False``: only the maximum. The
         t route only.
+    **batching
+        With ``chain=True``: ``batch_factor``, ``gap_factor``, ``pilot``,
+        ``max_batches``, ``min_batches`` of
+        :func:`forcenet.numeric.autocorr.batch_means`.
 
     Returns
     -------

@@ -34,7 +34,24 @@ __all__ = ["AutocorrError", "autocorr_function", "batch_means", "integrated_time
 
 
 class AutocorrError(ForcenetError):
-    """The chain is too short to estimate its autocorrelation time reliably."""
+    """The chain is too short to estimate its autocorrelation time reliably.
+
+    Parameters
+    ----------
+    message : str
+        What was too short, and how long the chain must be.
+    tau : numpy.ndarray
+        The autocorrelation times estimated anyway, one per observable.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(1)
+    >>> try:
+    ...     integrated_time(rng.random(50).cumsum())  # a random walk of 50 steps: far too short
+    ... except AutocorrError as exc:
+    ...     print(str(exc).split(":")[0], exc.tau.shape)
+    the chain is too short to trust its autocorrelation time (1,)
+    """
 
     def __init__(self, message: str, tau: np.ndarray) -> None:
         super().__init__(message)

@@ -279,7 +279,8 @@ def test_the_readme_starts_nothing_on_every_interface():
     import re
     from pathlib import Path
 
-    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    # the cluster guide is the distributed tutorial of the site (the README links to it)
+    readme = (Path(__file__).resolve().parents[1] / "docs" / "tutorials" / "distributed.md").read_text()
     starts = [line for line in readme.splitlines() if re.match(r"\s*dask (scheduler|worker)\b", line)]
     assert len(starts) >= 4
     for line in starts:

@@ -306,6 +306,10 @@ PAGES = {  # page: (math expected, figures expected)
     "tutorials/exact_tables.html": (True, True),
     "tutorials/symbolic_session.html": (True, True),
     "explanations/order_polytope.html": (True, False),
+    "explanations/ensemble.html": (True, True),
+    "derivations/scaling_limit.html": (False, True),
+    "command_line.html": (False, False),
+    "glossary.html": (True, False),
     "api/generated/forcenet.exact.mean_W.html": (False, False),
 }
 
@@ -334,3 +338,130 @@ def test_a_page_renders_in_headless_chromium(page, site, server, chromium):
     assert not state["errors"], state["errors"]
     foreign = [u for u in state["requests"] if not (u.startswith(server) or u.startswith("data:"))]
     assert not foreign, foreign
+
+
+# ------------------------------------------------------------------------------------------------ the content
+
+
+def _pages_and_notes() -> list[Path]:
+    return [*USER_PAGES, ROOT / "README.md", *sorted((ROOT / "notes").glob("*.md"))]
+
+
+def test_no_page_says_the_edge_diverges_as_an_inverse_square_root():
+    """The bulk response diverges as (z - |x|)^(-1/3) at the lattice directions (tests/test_edge.py)."""
+    wrong = re.compile(r"\(z\s*-\s*\|x\|\)\s*\^\s*[({]?\s*-\s*1\s*/\s*2")
+    assert wrong.search("like `(z - |x|)^(-1/2)` there") and wrong.search(r"$(z - |x|)^{-1/2}$")
+    found = [f"{p.relative_to(ROOT)}: {m.group(0)}" for p in _pages_and_notes() for m in wrong.finditer(p.read_text())]
+    assert not found, found
+
+
+def test_the_readme_is_a_short_page_that_starts_with_the_two_commands():
+    readme = (ROOT / "README.md").read_text().splitlines()
+    assert len(readme) <= 80, len(readme)
+    assert readme[:5] == ["# forcenet", "", "```bash", "python -m pip install . && forcenet table --N 12",
+                          "python -m pip install '.[test]' && python -m pytest"]
+    text = "\n".join(readme)
+    for page in ("docs/getting_started.md", "docs/command_line.rst", "docs/references.md", "docs/citing.md"):
+        assert page.split("/")[-1].rsplit(".", 1)[0] in text and (ROOT / page).is_file(), page
+    assert "2026-" not in text  # the history is in the changelog
+    links = re.findall(r"\]\(([^)#]+)\)", text)
+    assert links and all((ROOT / link).is_file() for link in links), [link for link in links if not (ROOT / link).is_file()]
+
+
+def test_the_citation_file_is_valid_cff():
+    """CITATION.cff by the Citation File Format 1.2.0's required keys and types (the schema was checked with
+    jsonschema when it was written), with the package's version and the thesis among its references."""
+    import tomllib
+
+    import yaml
+
+    cff = yaml.safe_load((ROOT / "CITATION.cff").read_text())
+    assert cff["cff-version"] == "1.2.0" and isinstance(cff["message"], str) and isinstance(cff["title"], str)
+    assert cff["authors"] and all(("name" in a) != ("family-names" in a) for a in cff["authors"])
+    version = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["version"]
+    assert str(cff["version"]) == version and cff["license"] == "MIT" and cff["type"] == "software"
+    thesis = [r for r in cff["references"] if r["type"] == "thesis"]
+    assert thesis and thesis[0]["authors"][0]["family-names"] == "Ostojic" and thesis[0]["year"] == 2006
+    assert "@phdthesis{Ostojic2006" in (DOCS / "citing.md").read_text()
+
+
+FRONT_DOOR_CALL = re.compile(r"\bforcenet\.(?:table|law|plan|law_plan|sample|sample_plan)\(")
+
+
+def test_the_tutorials_and_the_how_tos_call_the_front_door():
+    tutorials = [p for p in sorted((DOCS / "tutorials").glob("*.md")) if p.name != "index.md"]
+    calling = [p.stem for p in tutorials if FRONT_DOOR_CALL.search(p.read_text())]
+    assert len(calling) >= 4, calling
+    for page in ("getting_started.md", "howto/choosing_a_method.md", "howto/command_line_in_python.md"):
+        assert FRONT_DOOR_CALL.search((DOCS / page).read_text()), page
+
+
+def test_the_command_line_reference_is_the_parser():
+    """Every command and every option the parser knows is on the generated page, and every exit code."""
+    import argparse
+
+    from forcenet.cli import build_parser
+    from forcenet.cli.output import EXIT_CODES
+
+    extension = runpy.run_path(str(DOCS / "_ext" / "cli_reference.py"))
+    text = "\n".join(extension["reference_lines"]())
+    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    for name, command in sub.choices.items():
+        assert f"forcenet {name}\n" in text, name
+        for action in command._actions:
+            for option in action.option_strings:
+                assert option in ("-h", "--help") or f"``{option}" in text, (name, option)
+    table = (DOCS / "command_line.rst").read_text()
+    for code in {int(c) for c in re.findall(r"\b(\d+) ", EXIT_CODES)} | {129, 143}:
+        assert f"   * - {code}\n" in table, code
+
+
+def test_api_summaries_survive_abbreviations():
+    first_sentence = runpy.run_path(str(DOCS / "conf.py"))["first_sentence"]
+    assert first_sentence(["The maps of Sec. 4.6 per bottom row, Eq. (4.88). More."]) == \
+        "The maps of Sec. 4.6 per bottom row, Eq. (4.88)."
+    assert first_sentence(["One load's law (e.g. W_62). Then more."]) == "One load's law (e.g. W_62)."
+    assert first_sentence(["A sum ``W_1 + ... + W_j``. Then more."]) == "A sum ``W_1 + ... + W_j``."
+
+
+def test_every_derivation_is_on_the_site_without_issue_numbers():
+    conf = runpy.run_path(str(DOCS / "conf.py"))
+    notes = {p.stem for p in (ROOT / "notes").glob("*.md")} - {"architecture"}
+    pages = {p.stem for p in (DOCS / "derivations").glob("*.md")} - {"index"}
+    assert notes == pages, notes ^ pages
+    index = (DOCS / "derivations" / "index.md").read_text()
+    assert all(f"\n{name}\n" in index for name in pages)
+    for name in notes:
+        rendered = conf["note_as_page"]((ROOT / "notes" / f"{name}.md").read_text())
+        assert not re.search(r"\bissues?\s+\d+", rendered, re.IGNORECASE), name
+        assert "](figures/" not in rendered
+
+
+@pytest.mark.slow
+def test_no_api_summary_is_cut_after_an_abbreviation(site):
+    cut = []
+    for page in [site / "api" / f"{n}.html" for n in ("forcenet", "exact", "numeric", "testing", "errors")]:
+        for cell in re.findall(r'<td><p>(.*?)</p></td>', page.read_text(), re.S):
+            text = re.sub(r"<[^>]+>", "", cell).strip()
+            if re.search(r"\b(?:Eqs?|Secs?|Fig|e\.g|i\.e)\.$", text):
+                cut.append(f"{page.name}: {text}")
+    assert not cut, cut
+
+
+@pytest.mark.slow
+def test_every_tutorial_is_a_downloadable_executed_notebook(site):
+    for name in TUTORIALS:
+        html = (site / "tutorials" / f"{name}.html").read_text()
+        assert f'href="../notebooks/{name}.ipynb"' in html, name
+        notebook = json.loads((site / "notebooks" / f"{name}.ipynb").read_text())
+        code = [c for c in notebook["cells"] if c["cell_type"] == "code"]
+        assert code and any(c.get("outputs") for c in code), name
+
+
+@pytest.mark.slow
+def test_the_performance_page_plots_its_scaling_from_its_data(site):
+    html = (site / "performance.html").read_text()
+    assert re.search(r'<img[^>]+src="_images/[^"]+\.png"', html) and "one prime scales as N^" in html
+    data = json.loads((DOCS / "_data" / "performance.json").read_text())
+    for N, *_ in data["pfaffian"]["rows"]:
+        assert f"<td><p>{N}</p></td>" in html, N

@@ -36,7 +36,9 @@ def _cli(capsys, *argv: str) -> tuple[int, str, str]:
                                        ("-0", "0.25", 15)])
 def test_limit_shape_is_the_engines_and_the_command_lines(capsys, x, z, dps):
     r = forcenet.limit_shape(x, z, dps=dps)
-    assert not r.on_lattice and r.edge_exponent is None and r.edge_amplitude is None
+    # the floor's corner |x| = z = 1 is a lattice direction with a hard edge (tests/test_corrections.py)
+    assert r.on_lattice == r.corner == (x == z == "1")
+    assert r.corner or (r.edge_exponent is None and r.edge_amplitude is None)
     assert r.bulk == bulk_response(x, z, dps=dps) and r.lattice == lattice_response(z, dps=dps)
     assert (r.x, r.z) == (Fraction(x), Fraction(z))
     for fmt, text in (("json", r.to_json()), ("text", r.to_text())):
@@ -64,7 +66,7 @@ def test_a_fraction_a_decimal_string_and_a_decimal_give_the_same_limit(k, data):
     as_text = forcenet.limit_shape(str(Decimal(m) / 100), str(Decimal(k) / 100), dps=12)
     assert exact.to_dict() == as_text.to_dict() == forcenet.limit_shape(Decimal(m) / 100, Decimal(k) / 100,
                                                                         dps=12).to_dict()
-    assert exact.on_lattice == (abs(m) == k < 100) and (exact.bulk is None) == exact.on_lattice
+    assert exact.on_lattice == (abs(m) == k) and (exact.bulk is None) == (abs(m) == k < 100)  # the corner: Beta(1, d)
 
 
 def test_the_range_is_checked_exactly(capsys):

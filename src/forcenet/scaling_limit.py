@@ -80,28 +80,45 @@ class LimitShape:
 
     @property
     def on_lattice(self) -> bool:
-        """True on a lattice direction ``|x| = z < 1``, where ``N <W>`` diverges and ``<W>`` stays finite.
+        """True on a lattice direction ``|x| = z``: for ``z < 1`` ``N <W>`` diverges there and ``<W>`` stays
+        finite; at ``z = 1`` it is the floor's corner, a hard edge (:attr:`corner`).
 
         Examples
         --------
         >>> import forcenet
         >>> forcenet.limit_shape("-0.5", "0.5", dps=8).on_lattice, forcenet.limit_shape(1, 1).on_lattice
-        (True, False)
+        (True, True)
         """
-        return abs(self.x) == self.z and self.z < 1
+        return abs(self.x) == self.z
 
     @property
-    def edge_exponent(self) -> Fraction | None:
-        """``2/3`` on a lattice direction (the Airy scale of a square-root edge, ``N^(-2/3)``); else None.
+    def corner(self) -> bool:
+        """True at the floor's corners ``|x| = z = 1``: the grains ``(N, 1)``, ``(N, N)``, whose load is exactly
+        ``Beta(1, d)``, ``d = N(N-1)/2`` (notes/force_distribution.md): a hard edge, not the soft edge of ``z < 1``.
 
         Examples
         --------
         >>> import forcenet
-        >>> forcenet.limit_shape("0.6", "0.6", dps=8).edge_exponent
-        Fraction(2, 3)
+        >>> forcenet.limit_shape(1, 1).corner, forcenet.limit_shape("0.5", "0.5", dps=8).corner
+        (True, False)
+        """
+        return abs(self.x) == self.z == 1
+
+    @property
+    def edge_exponent(self) -> Fraction | None:
+        """``2/3`` on a lattice direction ``z < 1`` (the Airy scale of a square-root edge, ``N^(-2/3)``), ``2`` at
+        the floor's corner (``<W_(N,1)> = 1/(d + 1) = 2 N^(-2) + O(N^(-3))``, a hard edge); else None.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.limit_shape("0.6", "0.6", dps=8).edge_exponent, forcenet.limit_shape(1, 1).edge_exponent
+        (Fraction(2, 3), Fraction(2, 1))
         """
         if not self.on_lattice:
             return None
+        if self.corner:
+            return Fraction(2)
         from forcenet.numeric.limit_shape.edge import EDGE_EXPONENT
 
         return EDGE_EXPONENT
@@ -164,21 +181,25 @@ class LimitShape:
         scaling limit at x = 0.6, z = 0.6 (8 digits)
           bulk:              N <W>  -> infinity (|x| = z is a lattice direction: <W> itself stays finite)
           lattice direction: <W>    -> 0.04174243  (= (1 - sqrt(z(2-z)))/2)
-          edge correction:   <W> - limit = 0.21325536 N^(-2/3) + O(1/N)
+          edge correction:   <W> - limit = 0.21325536 N^(-2/3) + o(N^(-2/3)), argued O(1/N)
           edge fluctuation:  sd(W) = 0.10858189 N^(-2/3)  (Tracy-Widom GUE)
         """
         lines = [f"scaling limit at x = {self.x_text}, z = {self.z_text} ({self.dps} digits)"]
         if self.bulk is None:
             lines.append("  bulk:              N <W>  -> infinity (|x| = z is a lattice direction: <W> itself stays "
                          "finite)")
+        elif self.corner:
+            lines.append(f"  bulk:              N <W>  -> {self._digits(self.bulk)} (the floor's corner: |x| = z = 1)")
         else:
             lines.append(f"  bulk:              N <W>  -> {self._digits(self.bulk)}")
         lines.append(f"  lattice direction: <W>    -> {self._digits(self.lattice)}  (= (1 - sqrt(z(2-z)))/2)")
         if self.edge_amplitude is not None and self.edge_sd_amplitude is not None:
+            rest, law = ("O(N^(-3))", "W ~ Beta(1, d) exactly: a hard edge") if self.corner else (
+                "o(N^(-2/3)), argued O(1/N)", "Tracy-Widom GUE")
             lines.append(f"  edge correction:   <W> - limit = {self._digits(self.edge_amplitude)} "
-                         f"N^(-{self.edge_exponent}) + O(1/N)")
+                         f"N^(-{self.edge_exponent}) + {rest}")
             lines.append(f"  edge fluctuation:  sd(W) = {self._digits(self.edge_sd_amplitude)} "
-                         f"N^(-{self.edge_exponent})  (Tracy-Widom GUE)")
+                         f"N^(-{self.edge_exponent})  ({law})")
         return "\n".join(lines)
 
 
@@ -305,6 +326,7 @@ def limit_shape(x: str | Fraction | int | float | Decimal, z: str | Fraction | i
     if not abs(x_exact) <= z_exact:
         raise ArgumentError(f"x={x_text} is out of range: x must lie in [-z, z] = [-{z_text}, {z_text}]")
     on_lattice = abs(x_exact) == z_exact and z_exact < 1  # the bulk density diverges there
+    corner = abs(x_exact) == z_exact == 1  # W_(N,1) ~ Beta(1, d): <W> = 1/(d + 1) = 2 N^(-2) + O(N^(-3)), the same sd
 
     from forcenet.numeric.limit_shape.edge import edge_amplitude, edge_sd_amplitude
     from forcenet.numeric.limit_shape.surface import bulk_response, lattice_response
@@ -315,4 +337,8 @@ def limit_shape(x: str | Fraction | int | float | Decimal, z: str | Fraction | i
     bulk = None if on_lattice else _bulk(bulk_response, x_text, z_text, x_exact, z_exact, x_value, z_value, dps)
     # the N^(-2/3) edge correction of <W_(i,1)> (Tracy-Widom GUE at the end of the level curves)
     edge = (edge_amplitude(z_value, dps=dps), edge_sd_amplitude(z_value, dps=dps)) if on_lattice else None
+    if corner:  # sd Beta(1, d) = sqrt(d / (d + 2)) / (d + 1) = 2 N^(-2) (1 + O(1/N)), d = N(N-1)/2
+        import mpmath
+
+        edge = (mpmath.mpf(2), mpmath.mpf(2))
     return LimitShape(x_text, z_text, (x_exact, z_exact), dps, bulk, lattice, edge)

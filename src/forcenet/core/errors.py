@@ -41,7 +41,19 @@ __all__ = ["ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceEr
 
 
 class ForcenetError(Exception):
-    """The base of every expected failure raised by forcenet (the command line: one line, exit code 2)."""
+    """The base of every expected failure raised by forcenet (the command line: one line, exit code 2).
+
+    Catch it to handle every expected failure at once; anything else forcenet raises is a bug.
+
+    Examples
+    --------
+    >>> import forcenet
+    >>> try:
+    ...     forcenet.table(1)
+    ... except forcenet.ForcenetError as exc:
+    ...     print(type(exc).__name__, "-", exc)
+    ArgumentError - N=1 is out of range: N must be an integer >= 2
+    """
 
 
 class ArgumentError(ForcenetError, ValueError):
@@ -49,6 +61,13 @@ class ArgumentError(ForcenetError, ValueError):
 
     ``argument`` names the argument at fault where one alone is (``"N"``), so the command line can report the
     error as its parser would, against the option (``argument --N: ...``), when it left that check to the front door.
+
+    Parameters
+    ----------
+    *args : object
+        The message (one line: the argument, its range and what would work), as for any exception.
+    argument : str, optional
+        The argument at fault, without dashes (``"N"``); None when the message names several.
 
     Examples
     --------
@@ -62,11 +81,33 @@ class ArgumentError(ForcenetError, ValueError):
 
 
 class ArgumentTypeError(ForcenetError, TypeError):
-    """An argument has the wrong type; the message names the argument and the type expected."""
+    """An argument has the wrong type; the message names the argument and the type expected.
+
+    Examples
+    --------
+    >>> import forcenet
+    >>> try:
+    ...     forcenet.count(1.5)
+    ... except TypeError as exc:  # also a TypeError, so ``except TypeError`` keeps working
+    ...     print(isinstance(exc, forcenet.ArgumentTypeError), exc)
+    True N=1.5 is not an integer: N must be an integer >= 2
+    """
 
 
 class ConvergenceError(ForcenetError, RuntimeError):
-    """An iterative method (Newton, a continuation) did not converge for these arguments; the message says where."""
+    """An iterative method (Newton, a continuation) did not converge for these arguments; the message says where.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from forcenet.numeric.chicken_wire.bethe import newton_polish
+    >>> w = np.exp(1j * np.linspace(-1, 1, 4))  # one Newton step from a poor start: the Bethe equations
+    >>> try:
+    ...     newton_polish(12, w, np.array([5.0 + 5j, 5.0 - 5j]), iterations=1)
+    ... except ConvergenceError as exc:
+    ...     print(isinstance(exc, RuntimeError), str(exc).split(":")[0])
+    True Newton did not converge for L=12, n=4, m=2
+    """
 
 
 class ClusterError(ForcenetError):

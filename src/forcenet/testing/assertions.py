@@ -66,7 +66,26 @@ __all__ = ["CannotJudgeError", "DisagreementError", "TableAgreement", "assert_ag
 
 
 class DisagreementError(ForcenetError, AssertionError):
-    """Sampled values disagree with their exact counterparts; ``report`` holds the details."""
+    """Sampled values disagree with their exact counterparts; ``report`` holds the details.
+
+    Parameters
+    ----------
+    report : TableAgreement
+        The comparison that disagreed (its message is the exception's).
+
+    Examples
+    --------
+    >>> from fractions import Fraction
+    >>> import forcenet
+    >>> from forcenet.testing import assert_agrees
+    >>> wrong = [list(row) for row in forcenet.table(4).mean_W]  # a claimed table with two floor loads off
+    >>> wrong[3][0] += Fraction(1, 20); wrong[3][1] -= Fraction(1, 20)
+    >>> try:
+    ...     assert_agrees(forcenet.ExactSampler(4, seed=1).sample_W(2000), wrong)
+    ... except DisagreementError as exc:
+    ...     print(exc.report.verdict, isinstance(exc, AssertionError))
+    DISAGREES True
+    """
 
     def __init__(self, report: TableAgreement) -> None:
         super().__init__(report.message())
@@ -74,7 +93,23 @@ class DisagreementError(ForcenetError, AssertionError):
 
 
 class CannotJudgeError(ForcenetError, AssertionError):
-    """The samples cannot support a verdict (too few rows, a constant value); ``report.reason`` says why."""
+    """The samples cannot support a verdict (too few rows, a constant value); ``report.reason`` says why.
+
+    Parameters
+    ----------
+    report : TableAgreement
+        The comparison that could not judge (its message is the exception's).
+
+    Examples
+    --------
+    >>> import forcenet
+    >>> from forcenet.testing import assert_agrees
+    >>> try:
+    ...     assert_agrees(forcenet.ExactSampler(4, seed=1).sample_W(5), forcenet.table(4).mean_W)
+    ... except CannotJudgeError as exc:  # an AssertionError: a test fails rather than passing silently
+    ...     print(exc.report.verdict)
+    cannot judge
+    """
 
     def __init__(self, report: TableAgreement) -> None:
         super().__init__(report.message())
@@ -363,6 +398,10 @@ def compare(samples: ArrayLike, exact: Any, *, chain: bool = False, alpha: float
         ``None``: run Hotelling's test when the rows suffice (see
         :mod:`forcenet.numeric.agreement`); ``False``: only the maximum. The
         t route only.
+    **batching
+        With ``chain=True``: ``batch_factor``, ``gap_factor``, ``pilot``,
+        ``max_batches``, ``min_batches`` of
+        :func:`forcenet.numeric.autocorr.batch_means`.
 
     Returns
     -------

@@ -109,7 +109,7 @@ MIN_STEPS = 8  # the window spans at least this many threshold steps at every si
 
 
 def collapse_cost(params: Sequence[float], curves: Sequence[tuple[float, np.ndarray, np.ndarray]],
-                  window: tuple[float, float], points: int = 64) -> float:
+                  window: tuple[float, float], points: int = 64, min_span: float = 0.0) -> float:
     """Eq. (6.12): the relative variance over sizes of ``m_2 = S^-gamma <s^2>`` at ``x = (f - f_c) S^(1/(2 nu))``.
 
     Parameters
@@ -119,9 +119,11 @@ def collapse_cost(params: Sequence[float], curves: Sequence[tuple[float, np.ndar
     curves : sequence of (S, f, s2)
         Each size's scaling size, thresholds (increasing) and ``<s^2>``.
     window : (x_min, x_max)
-        The integration window.
+        The integration window in the scaling variable.
     points : int
         The trapezoid rule's points.
+    min_span : float
+        The least width of the window in thresholds at the largest size (``inf`` below it).
 
     Returns
     -------
@@ -139,6 +141,9 @@ def collapse_cost(params: Sequence[float], curves: Sequence[tuple[float, np.ndar
     gamma, nu, fc = params
     if not (nu > 0.05 and math.isfinite(gamma) and math.isfinite(fc)):
         return math.inf
+    anchor = max(S for S, _, _ in curves) ** (1.0 / (2.0 * nu))
+    if (window[1] - window[0]) / anchor < min_span:
+        return math.inf  # the window would shrink to a sliver of the largest size's peak: the degenerate nu -> 0
     grid = np.linspace(window[0], window[1], points)
     rows = []
     for S, f, s2 in curves:
@@ -158,7 +163,8 @@ def collapse_cost(params: Sequence[float], curves: Sequence[tuple[float, np.ndar
 
 
 def best_collapse(data: Sequence[SizeBlocks], window: tuple[float, float], start: Sequence[float],
-                  weights: Sequence[np.ndarray | None] | None = None) -> tuple[float, float, float]:
+                  weights: Sequence[np.ndarray | None] | None = None, min_span: float = 0.0
+                  ) -> tuple[float, float, float]:
     """``(gamma_2, nu, f_c)`` minimizing :func:`collapse_cost` (Nelder-Mead in ``(gamma_2, 1/nu, f_c)``).
 
     Parameters
@@ -171,6 +177,8 @@ def best_collapse(data: Sequence[SizeBlocks], window: tuple[float, float], start
         The starting point.
     weights : sequence, optional
         Each size's block weights (a bootstrap resample).
+    min_span : float
+        As :func:`collapse_cost`.
 
     Returns
     -------
@@ -190,7 +198,7 @@ def best_collapse(data: Sequence[SizeBlocks], window: tuple[float, float], start
     curves = [(d.S, d.thresholds, d.s2(w)) for d, w in zip(data, weights, strict=True)]
 
     def cost(p: np.ndarray) -> float:
-        return collapse_cost((p[0], 1.0 / p[1], p[2]), curves, window) if p[1] > 0 else math.inf
+        return collapse_cost((p[0], 1.0 / p[1], p[2]), curves, window, min_span=min_span) if p[1] > 0 else math.inf
 
     x0 = np.array([start[0], 1.0 / start[1], start[2]])
     if not math.isfinite(cost(x0)):
@@ -297,30 +305,22 @@ def wrapping_crossings(data: Sequence[SizeBlocks], weights: Sequence[np.ndarray 
     return float(np.mean(found)) if found else math.nan
 
 
-def default_window(data: Sequence[SizeBlocks], gamma: float, nu: float, fc: float, level: float = 0.5
-                   ) -> tuple[float, float]:
-    """The region of the collapse: where the largest size's rescaled curve is above ``level`` times its maximum,
-    cut to the range every size covers.
+def default_window(data: Sequence[SizeBlocks], level: float = 0.5) -> tuple[float, float]:
+    """The region of the collapse, in thresholds: where the largest size's ``<s^2>`` exceeds ``level`` times its
+    maximum.
 
     Examples
     --------
     >>> import numpy as np
     >>> f = np.linspace(0, 1, 401)
     >>> d = [SizeBlocks.from_curve(S, S, f, S * np.exp(-((f - 0.5) * S ** 0.5) ** 2)) for S in (4.0, 16.0)]
-    >>> [round(v, 2) for v in default_window(d, 0.0, 1.0, 0.5)]
-    [-0.83, 0.83]
+    >>> [round(v, 2) for v in default_window(d)]
+    [0.29, 0.71]
     """
-    big = data[-1]
-    x = (big.thresholds - fc) * big.S ** (1 / (2 * nu))
+    big = max(data, key=lambda d: d.S)
     y = big.s2()
     above = np.nonzero(y >= level * y.max())[0]
-    lo, hi = float(x[above[0]]), float(x[above[-1]])
-    for d in data:
-        xd = (d.thresholds - fc) * d.S ** (1 / (2 * nu))
-        lo, hi = max(lo, float(xd[0])), min(hi, float(xd[-1]))
-    if not hi > lo:
-        raise ConvergenceError("no window of the collapse is covered by every size; widen the thresholds' range")
-    return lo, hi
+    return float(big.thresholds[above[0]]), float(big.thresholds[above[-1]])
 
 
 @dataclass(frozen=True)
@@ -344,8 +344,9 @@ class ScalingFit:
 
 
 NAMES = ("gamma_2", "nu", "f_c")
-LEVEL = 0.3  # the window: where the largest size's rescaled curve exceeds 30 % of its peak (notes/force_chains.md)
+LEVEL = 0.3  # the window: where the largest size's <s^2> exceeds 30 % of its peak (notes/force_chains.md)
 NU_STARTS = (1.0, 1.5, 2.5, 4.0)
+MIN_SPAN = 0.2  # the window never narrower than this part of the largest size's peak region (excludes nu -> 0)
 
 
 def _resample(data: Sequence[SizeBlocks], rng: np.random.Generator) -> list[np.ndarray]:
@@ -356,14 +357,27 @@ def _curves(data: Sequence[SizeBlocks]) -> list[tuple[float, np.ndarray, np.ndar
     return [(d.S, d.thresholds, d.s2()) for d in data]
 
 
+def _x_window(data: Sequence[SizeBlocks], f_window: tuple[float, float], p: Sequence[float]) -> tuple[float, float]:
+    """The f-window of the largest size in the scaling variable at ``p``, cut to what every size covers."""
+    anchor = max(d.S for d in data) ** (1.0 / (2.0 * p[1]))
+    lo, hi = (f_window[0] - p[2]) * anchor, (f_window[1] - p[2]) * anchor
+    for d in data:
+        scale = d.S ** (1.0 / (2.0 * p[1]))
+        lo, hi = max(lo, (d.thresholds[0] - p[2]) * scale), min(hi, (d.thresholds[-1] - p[2]) * scale)
+    return (lo, hi) if hi > lo else ((f_window[0] - p[2]) * anchor, (f_window[1] - p[2]) * anchor)
+
+
 def fit_collapse(data: Sequence[SizeBlocks], start: Sequence[float], nu_starts: Sequence[float] = NU_STARTS
-                 ) -> tuple[tuple[float, float, float], tuple[float, float], float]:
-    """The best collapse from several starting ``nu``: for each, the window of :func:`default_window` at the start,
-    the optimum there, the window at that optimum and the optimum again; the lowest chi^2 wins.
+                 ) -> tuple[tuple[float, float, float], tuple[float, float], float, float]:
+    """The best collapse from several starting ``nu``.  For each: the window ``[x_min, x_max]`` is the region
+    where the largest size's ``<s^2>`` exceeds ``LEVEL`` of its peak (:func:`default_window`), in the scaling
+    variable of the start; the optimum in that window; the window again at the optimum; the optimum again.
+    The window may not shrink below ``MIN_SPAN`` of that region (``min_span``, which excludes the degenerate ``nu -> 0``);
+    the lowest chi^2 wins.
 
     Returns
     -------
-    ((gamma_2, nu, f_c), window, chi2)
+    ((gamma_2, nu, f_c), (x_min, x_max), chi2, min_span)
 
     Raises
     ------
@@ -376,21 +390,28 @@ def fit_collapse(data: Sequence[SizeBlocks], start: Sequence[float], nu_starts: 
     >>> f = np.linspace(0.0, 1.0, 301)
     >>> data = [SizeBlocks.from_curve(S, S, f, S * S**0.9 * np.exp(-((f - 0.5) * S ** (1 / 3)) ** 2))
     ...         for S in (64.0, 256.0, 1024.0)]
-    >>> p, w, c = fit_collapse(data, (0.8, 1.4, 0.48)); [round(v, 2) for v in p]
+    >>> p, w, c, m = fit_collapse(data, (0.8, 1.4, 0.48)); [round(v, 2) for v in p]
     [0.9, 1.5, 0.5]
     """
-    best: tuple[tuple[float, float, float], tuple[float, float], float] | None = None
+    f_window = default_window(data, LEVEL)
+    min_span = MIN_SPAN * (f_window[1] - f_window[0])
+    best: tuple[tuple[float, float, float], tuple[float, float], float, float] | None = None
     for nu0 in (start[1], *nu_starts):
+        p: tuple[float, float, float] = (start[0], nu0, start[2])
+        window = _x_window(data, f_window, p)
         try:
-            p0 = (start[0], nu0, start[2])
-            p = best_collapse(data, default_window(data, *p0, level=LEVEL), p0)
-            window = default_window(data, *p, level=LEVEL)
-            p = best_collapse(data, window, p)
+            p = best_collapse(data, window, p, min_span=min_span)
         except ConvergenceError:
             continue
-        cost = collapse_cost(p, _curves(data), window)
-        if best is None or cost < best[2]:
-            best = (p, window, cost)
+        for _ in range(2):  # the window followed to the optimum, while every size covers it
+            moved = _x_window(data, f_window, p)
+            try:
+                p, window = best_collapse(data, moved, p, min_span=min_span), moved
+            except ConvergenceError:
+                break
+        cost = collapse_cost(p, _curves(data), window, min_span=min_span)
+        if math.isfinite(cost) and (best is None or cost < best[2]):
+            best = (p, window, cost, min_span)
     if best is None:
         raise ConvergenceError("no collapse found: no starting point gives a window covered by every size; "
                                "widen the thresholds' range")
@@ -439,14 +460,14 @@ def analyse(data: Sequence[SizeBlocks], *, replicas: int = 100, seed: int = 0,
                                                          else peak(data[-1].thresholds, data[-1].s2())[0])
         nu0 = estimators["nu"] if math.isfinite(estimators["nu"]) and 0.8 < estimators["nu"] < 5 else 1.5
         start = (estimators["gamma_2"], nu0, fc0)
-    central, window, cost = fit_collapse(data, start)
+    central, window, cost, min_span = fit_collapse(data, start)
     width = window[1] - window[0]
     windows, optima = [], []
     for a in (-0.2, 0.0, 0.2):  # the thesis's error: the bounds varied over the region of the collapse
         for b in (-0.2, 0.0, 0.2):
             w = (window[0] + a * width, window[1] + b * width)
             try:
-                optima.append(best_collapse(data, w, central))
+                optima.append(best_collapse(data, w, central, min_span=0.5 * min_span))
                 windows.append(w)
             except ConvergenceError:
                 continue
@@ -454,7 +475,7 @@ def analyse(data: Sequence[SizeBlocks], *, replicas: int = 100, seed: int = 0,
     sizes = {n: 0.0 for n in NAMES}
     if len(data) >= 4:  # corrections to scaling: the optimum without the smallest size
         try:
-            without, _, _ = fit_collapse(data[1:], central, nu_starts=())
+            without = best_collapse(data[1:], window, central, min_span=min_span)
             sizes = {n: abs(without[i] - central[i]) for i, n in enumerate(NAMES)}
         except ConvergenceError:
             sizes = {n: math.nan for n in NAMES}
@@ -463,7 +484,7 @@ def analyse(data: Sequence[SizeBlocks], *, replicas: int = 100, seed: int = 0,
     for _ in range(replicas):
         w = _resample(data, rng)
         try:
-            boot.append(best_collapse(data, window, central, weights=w))
+            boot.append(best_collapse(data, window, central, weights=w, min_span=min_span))
         except ConvergenceError:
             continue
         e = peak_estimates(data, w)
@@ -471,8 +492,10 @@ def analyse(data: Sequence[SizeBlocks], *, replicas: int = 100, seed: int = 0,
         boot_est.append(e)
     boot_err = {n: float(np.std([b[i] for b in boot], ddof=1)) if len(boot) > 1 else 0.0
                 for i, n in enumerate(NAMES)}
-    est_err = {k: float(np.nanstd([e[k] for e in boot_est], ddof=1)) if len(boot_est) > 1 else math.nan
-               for k in estimators}
+    est_err = {}
+    for k in estimators:
+        values = [e[k] for e in boot_est if math.isfinite(e[k])]
+        est_err[k] = float(np.std(values, ddof=1)) if len(values) > 1 else math.nan
     value = dict(zip(NAMES, central, strict=True))
     error = {n: math.sqrt(boot_err[n] ** 2 + spread[n] ** 2 + sizes[n] ** 2) for n in NAMES}
     return ScalingFit(value, boot_err, spread, sizes, error, window, cost, estimators, est_err, len(boot), windows)

@@ -34,7 +34,7 @@ import sympy
 
 from forcenet.core.validation import check_int
 
-__all__ = ["volume", "mean_forces", "integrate_polytope"]
+__all__ = ["volume", "mean_forces", "force_moments", "integrate_polytope"]
 
 
 def _symbols(L: int, W: int) -> list[list[sympy.Symbol]]:
@@ -93,25 +93,38 @@ def volume(L: int, W: int) -> Fraction:
     return integrate_polytope(L, W)
 
 
-def mean_forces(L: int, W: int) -> list[Fraction]:
-    """The exact mean of every bond force, in the bond order of :func:`forcenet.numeric.force_chains.q_models.q_lattice`
-    (grain ``(i, j)``'s left bond, then its right bond, row by row).
+def force_moments(L: int, W: int, power: int = 1) -> list[Fraction]:
+    """The exact ``<F^power>`` of every bond force, in the bond order of
+    :func:`forcenet.numeric.force_chains.q_models.q_lattice` (grain ``(i, j)``'s left bond, then its right bond,
+    row by row).
 
     Examples
     --------
-    >>> mean_forces(1, 2)
+    >>> force_moments(1, 2)                       # F_l uniform in [0, 1]: mean 1/2
     [Fraction(1, 2), Fraction(1, 2), Fraction(1, 2), Fraction(1, 2)]
-    >>> [str(m) for m in mean_forces(2, 2)][4:6]
-    ['1/2', '1/2']
+    >>> [str(m) for m in force_moments(1, 2, 2)][:2]
+    ['1/3', '1/3']
     """
     L, W = check_int(L, "L", 1, 4), check_int(W, "W", 2, 4)
+    power = check_int(power, "power", 1, 4)
     F = _symbols(L, W)
     loads = _loads(F, L, W)
     total = volume(L, W)
-    means = []
+    out = []
     for i in range(L):
         for j in range(W):
-            left = integrate_polytope(L, W, F[i][j]) / total
-            load = integrate_polytope(L, W, loads[i][j]) / total
-            means += [left, load - left]
-    return means
+            out += [integrate_polytope(L, W, F[i][j] ** power) / total,
+                    integrate_polytope(L, W, (loads[i][j] - F[i][j]) ** power) / total]
+    return out
+
+
+def mean_forces(L: int, W: int) -> list[Fraction]:
+    """The exact mean of every bond force (:func:`force_moments` with ``power=1``; ``1/2`` on the top row, and by
+    the lattice's reflection and translation symmetries everywhere: the second moments are the real check).
+
+    Examples
+    --------
+    >>> [str(m) for m in mean_forces(2, 2)][4:6]
+    ['1/2', '1/2']
+    """
+    return force_moments(L, W, 1)

@@ -465,10 +465,10 @@ def analyse(data: Sequence[SizeBlocks], *, replicas: int = 100, seed: int = 0,
     windows, optima = [], []
     for a in (-0.2, 0.0, 0.2):  # the thesis's error: the bounds varied over the region of the collapse
         for b in (-0.2, 0.0, 0.2):
-            w = (window[0] + a * width, window[1] + b * width)
+            varied = (window[0] + a * width, window[1] + b * width)
             try:
-                optima.append(best_collapse(data, w, central, min_span=0.5 * min_span))
-                windows.append(w)
+                optima.append(best_collapse(data, varied, central, min_span=0.5 * min_span))
+                windows.append(varied)
             except ConvergenceError:
                 continue
     spread = {n: float(np.ptp([o[i] for o in optima]) / 2) for i, n in enumerate(NAMES)}

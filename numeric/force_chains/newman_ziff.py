@@ -94,8 +94,8 @@ def periodic_lattice(name: str, L: int) -> Lattice:
     L = check_int(L, "L", 2)
     if name not in LATTICES:
         raise ArgumentError(f"lattice={name!r} is out of range: lattice must be one of {', '.join(LATTICES)}")
-    x, y = np.meshgrid(np.arange(L), np.arange(L), indexing="xy")
-    x, y = x.ravel(), y.ravel()
+    grid_x, grid_y = np.meshgrid(np.arange(L), np.arange(L), indexing="xy")
+    x, y = grid_x.ravel(), grid_y.ravel()
     cell = x + L * y
     right, up, diag = (x + 1) % L + L * y, x + L * ((y + 1) % L), (x + 1) % L + L * ((y + 1) % L)
     one, zero = np.ones_like(x), np.zeros_like(x)

@@ -68,8 +68,8 @@ def q_lattice(L: int, W: int) -> Lattice:
     ([0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5], [3, 4, 4, 5, 5, 3, 6, 7, 7, 8, 8, 6])
     """
     L, W = check_int(L, "L", 1), check_int(W, "W", 2)
-    i, j = np.meshgrid(np.arange(L), np.arange(W), indexing="ij")
-    i, j = i.ravel(), j.ravel()
+    grid_i, grid_j = np.meshgrid(np.arange(L), np.arange(W), indexing="ij")
+    i, j = grid_i.ravel(), grid_j.ravel()
     grain = i * W + j
     head = np.repeat(grain, 2)
     tail = np.empty_like(head)

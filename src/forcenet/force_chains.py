@@ -27,6 +27,7 @@ True
 
 from __future__ import annotations
 
+import functools
 import os
 import time
 from collections.abc import Callable, Sequence
@@ -45,7 +46,7 @@ from forcenet.numeric.force_chains.finite_size_scaling import SizeBlocks, analys
 from forcenet.numeric.force_chains.newman_ziff import LATTICES, sweep_samples
 from forcenet.registry import REGISTRY
 
-__all__ = ["ScalingPlan", "ForceChainScaling", "scaling", "scaling_plan", "clusters", "read_networks"]
+__all__ = ["ScalingPlan", "ForceChainScaling", "scaling", "scaling_plan", "clusters", "read_networks", "example"]
 
 MAX_SIZE = 4096
 
@@ -118,6 +119,13 @@ def scaling_plan(model: str, sizes: Sequence[int] | None = None, samples: int | 
     -------
     ScalingPlan
         The request and its cost.
+
+    Raises
+    ------
+    ArgumentError
+        A model, lattice or number out of range, fewer than 3 sizes, samples not matching the sizes.
+    ArgumentTypeError
+        A size or number that is not an integer.
 
     Examples
     --------
@@ -282,6 +290,13 @@ def clusters(sources: Sequence[Any], *, thresholds: int = 600, replicas: int = 1
     ForceChainScaling
         The scaling size is ``S = M``; ``wrapping`` is not known (no geometry).
 
+    Raises
+    ------
+    ArgumentError
+        Fewer than 3 sizes or 2 samples of a size, a file that cannot be read or is not ``sample,i,j,f``.
+    ConvergenceError
+        If no collapse is found (the forces' range leaves no window covered by every size).
+
     Examples
     --------
     >>> import numpy as np, forcenet
@@ -321,3 +336,16 @@ def clusters(sources: Sequence[Any], *, thresholds: int = 600, replicas: int = 1
     details = {"sources": [os.fspath(s) if isinstance(s, str | os.PathLike) else f"<{type(s).__name__}>"
                            for s in sources], "thresholds": int(levels.size)}
     return ForceChainScaling("data", sorted(data, key=lambda d: d.S), fit, time.perf_counter() - started, details)
+
+
+@functools.cache
+def example() -> ForceChainScaling:
+    """A small result to try the renderings on: bond percolation on periodic square lattices ``L = 8..24``
+    (64 samples each, no bootstrap), made once per session.
+
+    Examples
+    --------
+    >>> example().model
+    'percolation'
+    """
+    return scaling("percolation", sizes=(8, 12, 16, 24), samples=64, replicas=0, blocks=8)

@@ -8,6 +8,7 @@ smallest size, in quadrature), the standard estimators, every size's
 
 Examples
 --------
+>>> from forcenet.force_chains import example
 >>> result = example()      # a small percolation run (forcenet.scaling), made once
 >>> [k for k in result.summary()][:6]
 ['f_c', 'f_c_error', 'nu', 'nu_error', 'gamma_2', 'gamma_2_error']
@@ -15,7 +16,6 @@ Examples
 
 from __future__ import annotations
 
-import functools
 import io
 import json
 import math
@@ -26,7 +26,7 @@ import numpy as np
 
 from forcenet.numeric.force_chains.finite_size_scaling import NAMES, ScalingFit, SizeBlocks, peak
 
-__all__ = ["ForceChainScaling", "example"]
+__all__ = ["ForceChainScaling"]
 
 # Table 7.1 of the thesis: (gamma_2, its error, nu, its error); percolation's exact values
 THESIS_TABLE = {
@@ -39,21 +39,6 @@ THESIS_TABLE = {
 
 def _number(x: float) -> float | None:
     return round(float(x), 6) if math.isfinite(x) else None
-
-
-@functools.cache
-def example() -> ForceChainScaling:
-    """A small result to try the renderings on: bond percolation on periodic square lattices ``L = 8..24``
-    (64 samples each, no bootstrap), made once per session.
-
-    Examples
-    --------
-    >>> example().model
-    'percolation'
-    """
-    from forcenet.force_chains import scaling
-
-    return scaling("percolation", sizes=(8, 12, 16, 24), samples=64, replicas=0, blocks=8)
 
 
 @dataclass(frozen=True)
@@ -85,6 +70,7 @@ class ForceChainScaling:
 
         Examples
         --------
+        >>> from forcenet.force_chains import example
         >>> r = example()
         >>> r.summary()["sizes"][0]["L"], r.summary()["sizes"][0]["M"]
         (8, 128)
@@ -121,6 +107,7 @@ class ForceChainScaling:
         Examples
         --------
         >>> import json
+        >>> from forcenet.force_chains import example
         >>> r = example()
         >>> json.loads(r.to_json())["model"]
         'percolation'
@@ -132,6 +119,7 @@ class ForceChainScaling:
 
         Examples
         --------
+        >>> from forcenet.force_chains import example
         >>> r = example()
         >>> r.to_text().splitlines()[0]
         'percolation: finite-size scaling of the clusters of large forces (Eqs. 6.8, 6.12)'
@@ -162,6 +150,7 @@ class ForceChainScaling:
 
         Examples
         --------
+        >>> from forcenet.force_chains import example
         >>> r = example()
         >>> sorted(r.figures()), r.figures()["s2.png"][:4]
         (['collapse.png', 's2.png'], b'\\x89PNG')
@@ -203,6 +192,7 @@ class ForceChainScaling:
 
         Examples
         --------
+        >>> from forcenet.force_chains import example
         >>> r = example()
         >>> r.curves()["s2_L8"].shape == r.curves()["f_L8"].shape
         True

@@ -39,8 +39,7 @@ from importlib.metadata import version
 from forcenet.core.errors import ForcenetError
 from forcenet.core.plan import interruptible_compilation
 
-from . import chicken_wire, dist, limit, sample, table
-from . import force_chains
+from . import chicken_wire, dist, force_chains, limit, sample, table
 from .common import Parser, UsageError, deferred_option, given, usage_error_line
 from .output import EXIT_CODES, check_stdout, destination
 

@@ -60,8 +60,8 @@ MODELS = ("percolation", "q-independent", "q-microcanonical")
 # default sizes and samples per size: the whole default run of each model within ~2-5 minutes on one core
 DEFAULTS: dict[str, tuple[tuple[int, ...], tuple[int, ...]]] = {
     "percolation": ((32, 48, 64, 96, 128, 192, 256), (3200, 2400, 1600, 1200, 800, 480, 400)),
-    "q-independent": ((20, 28, 40, 56, 80, 112), (6400, 3200, 1600, 1000, 640, 320)),
-    "q-microcanonical": ((12, 16, 24, 32, 48), (1280, 1280, 640, 640, 320)),
+    "q-independent": ((20, 28, 40, 56, 80, 112), (19200, 9600, 4800, 2400, 1200, 640)),
+    "q-microcanonical": ((12, 16, 24, 32, 48, 64), (1280, 1280, 640, 640, 320, 192)),
 }
 BONDS_PER_SECOND = 6.0e6  # the cluster pass with wrapping, one core (notes/benchmarks.md), sorting included
 GENERATE_PER_SECOND = 3.0e7  # uniform forces or q-model forces per second

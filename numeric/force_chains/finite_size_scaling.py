@@ -341,6 +341,10 @@ class ScalingFit:
     estimator_errors: dict[str, float]
     replicas: int
     windows: list[tuple[float, float]] = field(default_factory=list)
+    pinned: bool = False
+    """The optimum sits on the window's limit (a smaller ``nu`` would shrink the window below ``MIN_SPAN``): chi^2
+    keeps falling towards the degenerate ``nu -> 0``, the collapse does not fix ``nu`` and its errors understate;
+    trust the estimators instead."""
 
 
 NAMES = ("gamma_2", "nu", "f_c")
@@ -358,18 +362,29 @@ def _curves(data: Sequence[SizeBlocks]) -> list[tuple[float, np.ndarray, np.ndar
 
 
 def _x_window(data: Sequence[SizeBlocks], f_window: tuple[float, float], p: Sequence[float]) -> tuple[float, float]:
-    """The f-window of the largest size in the scaling variable at ``p``, cut to what every size covers."""
-    anchor = max(d.S for d in data) ** (1.0 / (2.0 * p[1]))
+    """The f-window of the largest size in the scaling variable at ``p``, cut to what every size covers.
+
+    Raises
+    ------
+    ConvergenceError
+        If the cut leaves out the largest size's peak (the collapse would compare tails only).
+    """
+    big = max(data, key=lambda d: d.S)
+    anchor = big.S ** (1.0 / (2.0 * p[1]))
     lo, hi = (f_window[0] - p[2]) * anchor, (f_window[1] - p[2]) * anchor
     for d in data:
         scale = d.S ** (1.0 / (2.0 * p[1]))
         lo, hi = max(lo, (d.thresholds[0] - p[2]) * scale), min(hi, (d.thresholds[-1] - p[2]) * scale)
-    return (lo, hi) if hi > lo else ((f_window[0] - p[2]) * anchor, (f_window[1] - p[2]) * anchor)
+    top = (peak(big.thresholds, big.s2())[0] - p[2]) * anchor
+    if not lo < top < hi:
+        raise ConvergenceError(f"at {tuple(p)} the sizes do not all cover the peak of the largest one")
+    return lo, hi
 
 
 def fit_collapse(data: Sequence[SizeBlocks], start: Sequence[float], nu_starts: Sequence[float] = NU_STARTS
                  ) -> tuple[tuple[float, float, float], tuple[float, float], float, float]:
-    """The best collapse from several starting ``nu``.  For each: the window ``[x_min, x_max]`` is the region
+    """The best collapse from several starts (``nu`` from ``start`` and ``nu_starts``; ``f_c`` from ``start`` and
+    the largest size's peak).  For each: the window ``[x_min, x_max]`` is the region
     where the largest size's ``<s^2>`` exceeds ``LEVEL`` of its peak (:func:`default_window`), in the scaling
     variable of the start; the optimum in that window; the window again at the optimum; the optimum again.
     The window may not shrink below ``MIN_SPAN`` of that region (``min_span``, which excludes the degenerate ``nu -> 0``);
@@ -396,19 +411,24 @@ def fit_collapse(data: Sequence[SizeBlocks], start: Sequence[float], nu_starts: 
     f_window = default_window(data, LEVEL)
     min_span = MIN_SPAN * (f_window[1] - f_window[0])
     best: tuple[tuple[float, float, float], tuple[float, float], float, float] | None = None
-    for nu0 in (start[1], *nu_starts):
-        p: tuple[float, float, float] = (start[0], nu0, start[2])
-        window = _x_window(data, f_window, p)
+    f_top = peak(max(data, key=lambda d: d.S).thresholds, max(data, key=lambda d: d.S).s2())[0]
+    starts = [(start[0], nu0, fc0) for fc0 in dict.fromkeys((start[2], f_top)) for nu0 in (start[1], *nu_starts)]
+    for p in starts:
         try:
+            window = _x_window(data, f_window, p)
             p = best_collapse(data, window, p, min_span=min_span)
         except ConvergenceError:
             continue
-        for _ in range(2):  # the window followed to the optimum, while every size covers it
-            moved = _x_window(data, f_window, p)
+        for _ in range(2):  # the window followed to the optimum, while every size covers it and its peak
             try:
+                moved = _x_window(data, f_window, p)
                 p, window = best_collapse(data, moved, p, min_span=min_span), moved
             except ConvergenceError:
                 break
+        try:
+            _x_window(data, f_window, p)  # the optimum itself must keep the largest size's peak in the window
+        except ConvergenceError:
+            continue
         cost = collapse_cost(p, _curves(data), window, min_span=min_span)
         if math.isfinite(cost) and (best is None or cost < best[2]):
             best = (p, window, cost, min_span)
@@ -456,10 +476,10 @@ def analyse(data: Sequence[SizeBlocks], *, replicas: int = 100, seed: int = 0,
     crossing = wrapping_crossings(data)
     estimators["f_c_crossing"] = crossing
     if start is None:
-        fc0 = crossing if math.isfinite(crossing) else (estimators["f_c"] if math.isfinite(estimators["f_c"])
+        sane = math.isfinite(estimators["nu"]) and 0.8 < estimators["nu"] < 5  # else the peak shift is no guide
+        fc0 = crossing if math.isfinite(crossing) else (estimators["f_c"] if sane
                                                          else peak(data[-1].thresholds, data[-1].s2())[0])
-        nu0 = estimators["nu"] if math.isfinite(estimators["nu"]) and 0.8 < estimators["nu"] < 5 else 1.5
-        start = (estimators["gamma_2"], nu0, fc0)
+        start = (estimators["gamma_2"], estimators["nu"] if sane else 1.5, fc0)
     central, window, cost, min_span = fit_collapse(data, start)
     width = window[1] - window[0]
     windows, optima = [], []
@@ -498,4 +518,7 @@ def analyse(data: Sequence[SizeBlocks], *, replicas: int = 100, seed: int = 0,
         est_err[k] = float(np.std(values, ddof=1)) if len(values) > 1 else math.nan
     value = dict(zip(NAMES, central, strict=True))
     error = {n: math.sqrt(boot_err[n] ** 2 + spread[n] ** 2 + sizes[n] ** 2) for n in NAMES}
-    return ScalingFit(value, boot_err, spread, sizes, error, window, cost, estimators, est_err, len(boot), windows)
+    nudged = (central[0], central[1] * 0.98, central[2])
+    pinned = not math.isfinite(collapse_cost(nudged, _curves(data), window, min_span=min_span))
+    return ScalingFit(value, boot_err, spread, sizes, error, window, cost, estimators, est_err, len(boot), windows,
+                      pinned)

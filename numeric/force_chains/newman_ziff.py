@@ -8,15 +8,17 @@ normalization), averaged over samples.
 
 Rather than one search per threshold (the thesis's depth-first search), the
 bonds of a sample are added in decreasing force (Newman and Ziff, Phys. Rev.
-E 64, 016706 (2001)) to a union-find forest with path halving; when the next
-bond's force falls to the next threshold, the running statistics of the
-forest are recorded: the sum of ``s^2`` (updated in O(1) per bond: a merge of
+E 64, 016706 (2001)) to a union-find forest with path halving, threshold
+after threshold: the bonds are grouped by the first threshold they exceed
+(a binary search each and a counting sort; the order inside a group does not
+matter, so no full sort of the forces is needed), and after each group the
+running statistics of the forest are recorded: the sum of ``s^2`` (updated in O(1) per bond: a merge of
 clusters ``a`` and ``b`` adds ``(a + b + 1)^2 - a^2 - b^2``), the largest
 cluster (sizes only grow, so a running maximum) and, when the bonds carry
 their lattice displacement, whether a cluster wraps around the torus (the
 offset of every site from its root is kept; a bond closing a loop whose net
-displacement is not zero wraps, Newman-Ziff Sec. II.D).  One sort and
-``M`` near-constant-time unions per sample, whatever the number of thresholds.
+displacement is not zero wraps, Newman-Ziff Sec. II.D).  ``O(M log T)``
+for the grouping and ``M`` near-constant-time unions per sample.
 
 The lattices (periodic ``L x L``): ``square`` (``M = 2 L^2``, bond
 percolation threshold ``p_c = 1/2``), ``triangular`` (``M = 3 L^2``,
@@ -177,24 +179,54 @@ def _root_offset(parent: np.ndarray, ox: np.ndarray, oy: np.ndarray, a: int) -> 
 
 
 @njit
+def _bucket_order(force: np.ndarray, levels: np.ndarray, bucket: np.ndarray, counts: np.ndarray,
+                  order: np.ndarray) -> None:
+    """The bonds grouped by the first (decreasing) level they exceed: a counting sort on ``T + 1`` buckets.
+
+    Within a bucket the order does not matter (the statistics are read only at the levels), so no full sort
+    of the forces is needed: a binary search per bond and two passes, ``O(M log T)``."""
+    T = levels.size
+    for k in range(T + 2):
+        counts[k] = 0
+    for b in range(force.size):
+        f = force[b]
+        lo = 0
+        hi = T  # the first t with levels[t] < f (levels decrease); T if none
+        while lo < hi:
+            mid = (lo + hi) >> 1
+            if levels[mid] < f:
+                hi = mid
+            else:
+                lo = mid + 1
+        bucket[b] = lo
+        counts[lo + 1] += 1
+    for k in range(T + 1):
+        counts[k + 1] += counts[k]
+    for b in range(force.size):  # counts[k] is now the start of bucket k
+        k = bucket[b]
+        order[counts[k]] = b
+        counts[k] += 1
+
+
+@njit
 def _sweep_one(sites: int, head: np.ndarray, tail: np.ndarray, dx: np.ndarray, dy: np.ndarray, force: np.ndarray,
                levels: np.ndarray, track: bool, parent: np.ndarray, size: np.ndarray, ox: np.ndarray, oy: np.ndarray,
+               bucket: np.ndarray, counts: np.ndarray, order: np.ndarray,
                total: np.ndarray, largest: np.ndarray, wraps: np.ndarray) -> None:
-    """One sample: bonds added in decreasing force; at each level (decreasing) the bonds with ``f > level``."""
+    """One sample: bonds added level by level (decreasing); at each level the bonds with ``f > level``."""
     for a in range(sites):
         parent[a] = a
         size[a] = 0
         ox[a] = 0
         oy[a] = 0
-    order = np.argsort(-force)
-    m = force.size
+    _bucket_order(force, levels, bucket, counts, order)  # after it, counts[t] = the bonds with f > levels[t]
     k = 0
     s2 = 0
     big = 0
     wrapped = 0
     for t in range(levels.size):
-        level = levels[t]
-        while k < m and force[order[k]] > level:
+        end = counts[t]
+        while k < end:
             b = order[k]
             k += 1
             if track:
@@ -245,9 +277,12 @@ def _sweep_shared(sites: int, head: np.ndarray, tail: np.ndarray, dx: np.ndarray
     size = np.empty(sites, np.int64)
     ox = np.empty(sites, np.int64)
     oy = np.empty(sites, np.int64)
+    bucket = np.empty(forces.shape[1], np.int64)
+    order = np.empty(forces.shape[1], np.int64)
+    counts = np.empty(levels.size + 2, np.int64)
     for r in range(forces.shape[0]):
-        _sweep_one(sites, head, tail, dx, dy, forces[r], levels, track, parent, size, ox, oy, total[r], largest[r],
-                   wraps[r])
+        _sweep_one(sites, head, tail, dx, dy, forces[r], levels, track, parent, size, ox, oy, bucket, counts, order,
+                   total[r], largest[r], wraps[r])
 
 
 @njit
@@ -260,10 +295,13 @@ def _sweep_ragged(starts: np.ndarray, sites: np.ndarray, head: np.ndarray, tail:
     size = np.empty(n, np.int64)
     ox = np.zeros(n, np.int64)
     oy = np.zeros(n, np.int64)
+    bucket = np.empty(force.size, np.int64)
+    order = np.empty(force.size, np.int64)
+    counts = np.empty(levels.size + 2, np.int64)
     for r in range(starts.size - 1):
         lo, hi = starts[r], starts[r + 1]
         _sweep_one(sites[r], head[lo:hi], tail[lo:hi], head[lo:hi], head[lo:hi], force[lo:hi], levels, False, parent,
-                   size, ox, oy, total[r], largest[r], wraps[r])
+                   size, ox, oy, bucket[lo:hi], counts, order[lo:hi], total[r], largest[r], wraps[r])
 
 
 def _levels(thresholds: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

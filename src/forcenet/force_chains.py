@@ -131,7 +131,7 @@ def scaling_plan(model: str, sizes: Sequence[int] | None = None, samples: int | 
     --------
     >>> import forcenet
     >>> forcenet.scaling_plan("q-microcanonical").request.sizes
-    (12, 16, 24, 32, 48)
+    (12, 16, 24, 32, 48, 64)
     >>> forcenet.scaling_plan("ising")
     Traceback (most recent call last):
     ...
@@ -306,9 +306,9 @@ def clusters(sources: Sequence[Any], *, thresholds: int = 600, replicas: int = 1
     ...     lat = periodic_lattice("square", L)
     ...     return np.concatenate([np.column_stack([np.full(lat.bonds, k), lat.head, lat.tail, rng.random(lat.bonds)])
     ...                            for k in range(K)])
-    >>> r = forcenet.clusters([networks(8, 200), networks(12, 100), networks(16, 60)], replicas=0)
+    >>> r = forcenet.clusters([networks(12, 300), networks(16, 200), networks(24, 120), networks(32, 80)], replicas=0)
     >>> abs(r.fit.value["f_c"] - 0.5) < 0.05, r.summary()["sizes"][0]["M"]
-    (True, 128)
+    (True, 288)
     """
     if isinstance(sources, str | bytes) or not isinstance(sources, Sequence):
         raise ArgumentTypeError("sources: expected a list of CSV paths, arrays or DataFrames, one per system size")

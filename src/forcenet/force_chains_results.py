@@ -93,6 +93,7 @@ class ForceChainScaling:
         out["estimators"] = {k: _number(v) for k, v in self.fit.estimators.items()}
         out["estimator_errors"] = {k: _number(v) for k, v in self.fit.estimator_errors.items()}
         out["replicas"] = self.fit.replicas
+        out["nu_pinned"] = self.fit.pinned
         out["model"] = self.model
         out["seconds"] = round(self.seconds, 2)
         out["details"] = self.details
@@ -139,6 +140,9 @@ class ForceChainScaling:
                      f"nu = {est['nu']}, wrapping crossings f_c = {est['f_c_crossing']}")
         lines.append(f"  window x in {s['window']}, chi2 = {s['chi2']}, {s['replicas']} bootstrap replicas, "
                      f"{s['seconds']} s")
+        if self.fit.pinned:
+            lines.append("  WARNING: the collapse's optimum lies on its window's limit (chi^2 still falls towards "
+                         "nu -> 0): nu is not fixed by the collapse here; see the peak-shift estimator")
         for size in s["sizes"]:
             lines.append(f"  L = {size['L']:5d}  M = {size['M']:8d}  samples = {size['samples']:7d}  "
                          f"peak <s^2> = {size['peak_s2']} at f = {size['peak_f']}")

@@ -283,7 +283,7 @@ def clusters(sources: Sequence[Any], *, thresholds: int = 600, replicas: int = 1
     seed : int
         The bootstrap's seed.
     labels : sequence of float, optional
-        A label per size (e.g. the linear size ``L``; default ``sqrt(M)``).
+        A label per size (e.g. the linear size ``L``; default none).
 
     Returns
     -------
@@ -318,20 +318,26 @@ def clusters(sources: Sequence[Any], *, thresholds: int = 600, replicas: int = 1
     replicas = check_int(replicas, "replicas", 0, 10000)
     seed = check_int(seed, "seed", 0)
     started = time.perf_counter()
-    networks = [read_networks(s) for s in sources]
-    pooled = np.concatenate([n[4] for n in networks])
-    levels = np.unique(np.quantile(pooled, np.linspace(0.01, 0.99, thresholds)))
+    rng = np.random.default_rng(seed)
+    pooled = []
+    for source in sources:  # pass 1: the thresholds, from up to 2^17 forces of every size (one size in memory)
+        force = read_networks(source)[4]
+        pooled.append(force if force.size <= 2**17 else rng.choice(force, 2**17, replace=False))
+    levels = np.unique(np.quantile(np.concatenate(pooled), np.linspace(0.01, 0.99, thresholds)))
+    del pooled
     data = []
-    for index, (starts, sites, head, tail, force) in enumerate(networks):
+    for index, source in enumerate(sources):  # pass 2: one size at a time
+        starts, sites, head, tail, force = read_networks(source)
         stats = sweep_samples(starts, sites, head, tail, force, levels)
         K = sites.size
         if K < 2:
             raise ArgumentError(f"sources[{index}]: the bootstrap needs at least 2 samples, got {K}")
         M = float(force.size) / K
-        label = float(labels[index]) if labels is not None else float(np.sqrt(M))
+        label = float(labels[index]) if labels is not None else 0.0
         data.append(SizeBlocks(M, int(round(M)), levels, stats.total.astype(np.float64),
                                stats.largest.astype(np.float64), stats.wraps.astype(np.float64), np.ones(K),
                                label=label))
+        del starts, sites, head, tail, force, stats
     fit = analyse(data, replicas=replicas, seed=seed)
     details = {"sources": [os.fspath(s) if isinstance(s, str | os.PathLike) else f"<{type(s).__name__}>"
                            for s in sources], "thresholds": int(levels.size)}

@@ -82,7 +82,7 @@ class ForceChainScaling:
         sizes = []
         for d in self.data:
             fp, h = peak(d.thresholds, d.s2())
-            sizes.append({"L": int(d.label), "M": int(d.M), "S": _number(d.S), "samples": int(d.samples.sum()),
+            sizes.append({"L": int(d.label) if d.label else None, "M": int(d.M), "S": _number(d.S), "samples": int(d.samples.sum()),
                           "blocks": d.blocks, "peak_f": _number(fp), "peak_s2": _number(h)})
         out["sizes"] = sizes
         out["errors"] = {name: {"bootstrap": _number(self.fit.bootstrap[name]),
@@ -144,7 +144,7 @@ class ForceChainScaling:
             lines.append("  WARNING: the collapse's optimum lies on its window's limit (chi^2 still falls towards "
                          "nu -> 0): nu is not fixed by the collapse here; see the peak-shift estimator")
         for size in s["sizes"]:
-            lines.append(f"  L = {size['L']:5d}  M = {size['M']:8d}  samples = {size['samples']:7d}  "
+            lines.append(f"  L = {size['L'] or '-':>5}  M = {size['M']:8d}  samples = {size['samples']:7d}  "
                          f"peak <s^2> = {size['peak_s2']} at f = {size['peak_f']}")
         return "\n".join(lines) + "\n"
 
@@ -172,9 +172,9 @@ class ForceChainScaling:
             for d in self.data:
                 y = d.s2()
                 if name == "s2.png":
-                    ax.plot(d.thresholds, y, label=f"L={int(d.label)}, M={d.M}")
+                    ax.plot(d.thresholds, y, label=f"M={d.M}")
                 else:
-                    ax.plot((d.thresholds - fc) * d.S ** (1 / (2 * nu)), y * d.S ** (-g), label=f"L={int(d.label)}")
+                    ax.plot((d.thresholds - fc) * d.S ** (1 / (2 * nu)), y * d.S ** (-g), label=f"M={d.M}")
             if name == "s2.png":
                 ax.set_xlabel("threshold f")
                 ax.set_ylabel("<s^2>")
@@ -203,7 +203,7 @@ class ForceChainScaling:
         """
         out = {}
         for d in self.data:
-            key = f"L{int(d.label)}"
+            key = f"L{int(d.label)}" if d.label else f"M{d.M}"
             out[f"f_{key}"] = d.thresholds
             out[f"s2_{key}"] = d.s2()
             out[f"wrapping_{key}"] = d.wrapping()

@@ -53,14 +53,40 @@ MAX_SIZE = 4096
 
 @dataclass(frozen=True)
 class ScalingPlan(_Costed):
-    """A checked :func:`scaling` request with its cost (make it with :func:`scaling_plan`); :meth:`run` runs it."""
+    """A checked :func:`scaling` request with its cost (make it with :func:`scaling_plan`); :meth:`run` runs it.
+
+    Parameters
+    ----------
+    request : forcenet.numeric.force_chains.engines.ScalingRequest
+        The checked request (model, sizes, samples, seed, thresholds, blocks, ...).
+    cost : forcenet.core.plan.Plan
+        Its estimated seconds, bytes and progress ticks (one per block), or the refusal.
+
+    Examples
+    --------
+    >>> import forcenet
+    >>> plan = forcenet.scaling_plan("q-independent", sizes=(8, 12, 16), samples=64)
+    >>> plan.request.blocks, plan.cost.unit, plan.cost_method
+    (32, 'block', 'union-find')
+    """
 
     request: ScalingRequest
     cost: Plan
 
     def run(self, *, progress: Callable[..., Any] | bool | None = None, executor: Any = None) -> ForceChainScaling:
-        """Run as planned (``progress=True``: a bar; ``executor``: a ``concurrent.futures`` executor or a Dask
-        client's ``get_executor()``).
+        """Run as planned.
+
+        Parameters
+        ----------
+        progress : callable or bool, optional
+            A tick per finished block, or ``True`` for a bar.
+        executor : Executor or Dask client, optional
+            Where the blocks run (default: this process, or ``workers`` local processes).
+
+        Returns
+        -------
+        ForceChainScaling
+            The exponents with their errors, the curves, the figures.
 
         Examples
         --------
@@ -176,12 +202,21 @@ def scaling(model: str, sizes: Sequence[int] | None = None, samples: int | Seque
 
     Parameters
     ----------
-    model, sizes, samples, seed
-        As :func:`scaling_plan` (``options``: its keyword arguments).
+    model : str
+        As :func:`scaling_plan`.
+    sizes : sequence of int, optional
+        As :func:`scaling_plan`.
+    samples : int or sequence of int, optional
+        As :func:`scaling_plan`.
+    seed : int
+        As :func:`scaling_plan`.
     progress : callable or bool, optional
         A tick per block, or ``True`` for a bar.
     executor : Executor, optional
         Where the blocks run.
+    **options
+        The other keyword arguments of :func:`scaling_plan` (``lattice``, ``thresholds``, ``replicas``,
+        ``blocks``, ``workers``, ``checkpoint``, ``method``).
 
     Returns
     -------

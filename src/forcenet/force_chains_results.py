@@ -45,7 +45,7 @@ def _number(x: float) -> float | None:
 class ForceChainScaling:
     """The finite-size scaling of the clusters of large forces (thesis Ch. 6-7).
 
-    Attributes
+    Parameters
     ----------
     model : str
         The model (``percolation``, ``q-independent``, ``q-microcanonical``) or ``"data"`` (users' networks).
@@ -57,6 +57,13 @@ class ForceChainScaling:
         Wall time of the run.
     details : dict
         What was run (sizes, samples, seed, lattice, sources).
+
+    Examples
+    --------
+    >>> from forcenet.force_chains import example
+    >>> r = example()                       # what forcenet.scaling returns
+    >>> r.model, len(r.data), sorted(r.fit.value)
+    ('percolation', 4, ['f_c', 'gamma_2', 'nu'])
     """
 
     model: str

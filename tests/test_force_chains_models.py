@@ -141,3 +141,12 @@ def test_cli_scaling_and_clusters(tmp_path, capsys):
     assert main(["scaling", "--model", "percolation", "--sizes", "8,x"]) == 2
     assert main(["scaling", "--model", "percolation", "--sizes", "8,12,16", "--samples", "1"]) == 2
     assert "samples" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_the_result_does_not_depend_on_the_workers():
+    options = dict(sizes=(8, 10, 12), samples=32, replicas=5, blocks=4)
+    one = forcenet.scaling("q-microcanonical", **options)
+    two = forcenet.scaling("q-microcanonical", workers=2, **options)
+    assert one.fit.value == two.fit.value and one.fit.error == two.fit.error
+    assert [d.total.tolist() for d in one.data] == [d.total.tolist() for d in two.data]

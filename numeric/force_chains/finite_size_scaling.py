@@ -212,8 +212,9 @@ def best_collapse(data: Sequence[SizeBlocks], window: tuple[float, float], start
                             x0 + [0, 0, 0.01 * scale * span]])
         result = minimize(cost, x0, method="Nelder-Mead",
                           options={"initial_simplex": simplex, "xatol": 1e-5, "fatol": 1e-12, "maxiter": 4000})
-        if result.fun < best[0]:
-            best = (float(result.fun), result.x)
+        if not result.fun < best[0] - 1e-9 * abs(best[0]):
+            break  # the restart found nothing better: the simplex had converged
+        best = (float(result.fun), result.x)
     g, inv_nu, fc = best[1]
     return float(g), float(1.0 / inv_nu), float(fc)
 

@@ -106,7 +106,14 @@ class ScalingPlan(_Costed):
 
     @property
     def cost_method(self) -> str:
-        """The engine chosen (``auto`` resolved)."""
+        """The engine chosen (``auto`` resolved).
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.scaling_plan("q-microcanonical", sizes=(8, 12, 16), samples=8).cost_method
+        'heat-bath'
+        """
         return REGISTRY.choose(self.request)[0].name
 
 

@@ -75,6 +75,11 @@ class ForceChainScaling:
     def summary(self) -> dict[str, Any]:
         """The command line's JSON: ``f_c``, ``nu``, ``gamma_2`` with ``..._error``, ``sizes`` and the details.
 
+        Returns
+        -------
+        dict
+            Plain numbers (floats rounded to 6 decimals, None for a missing estimate), lists and strings.
+
         Examples
         --------
         >>> from forcenet.force_chains import example
@@ -112,6 +117,11 @@ class ForceChainScaling:
     def to_json(self) -> str:
         """The summary as JSON text.
 
+        Returns
+        -------
+        str
+            What ``forcenet clusters`` / ``forcenet scaling --format json`` print.
+
         Examples
         --------
         >>> import json
@@ -124,6 +134,11 @@ class ForceChainScaling:
 
     def to_text(self) -> str:
         """A short report: the exponents with their errors, the thesis's row, the sizes.
+
+        Returns
+        -------
+        str
+            What the commands print by default.
 
         Examples
         --------
@@ -158,6 +173,11 @@ class ForceChainScaling:
     def figures(self) -> dict[str, bytes]:
         """Two PNG figures: ``s2.png`` (``<s^2>(f, M)`` for every size, as Fig. 7.2 a) and ``collapse.png``
         (``M^-gamma_2 <s^2>`` against ``(f - f_c) M^(1/(2 nu))`` at the best collapse, Fig. 7.2 b).
+
+        Returns
+        -------
+        dict
+            File name -> PNG bytes.
 
         Examples
         --------
@@ -200,6 +220,11 @@ class ForceChainScaling:
 
     def curves(self) -> dict[str, np.ndarray]:
         """Every size's thresholds and ``<s^2>``, wrapping probability and largest cluster fraction.
+
+        Returns
+        -------
+        dict
+            ``f_L..``, ``s2_L..``, ``wrapping_L..``, ``largest_L..`` arrays per size (``M..`` for users' data).
 
         Examples
         --------

@@ -132,6 +132,7 @@ def test_percolation_control_quick():
     assert abs(v["nu"] - 4 / 3) < 0.45
     assert all(e[k] > 0 for k in e)
     assert abs(r.fit.estimators["f_c_crossing"] - 0.5) < 0.02
+    assert abs(r.fit.estimators["nu_width"] - 4 / 3) < 0.3
 
 
 def _write_csv(path, lattice, L, K, rng):

@@ -59,7 +59,7 @@ from forcenet.core.errors import ArgumentError, ConvergenceError
 from forcenet.core.validation import check_int
 
 __all__ = ["SizeBlocks", "collapse_cost", "best_collapse", "peak", "peak_estimates", "wrapping_crossings",
-           "ScalingFit", "analyse", "default_window", "fit_collapse", "NAMES"]
+           "ScalingFit", "analyse", "default_window", "fit_collapse", "NAMES", "peak_width"]
 
 
 @dataclass(frozen=True)
@@ -241,10 +241,36 @@ def peak(f: np.ndarray, y: np.ndarray, points: int = 7) -> tuple[float, float]:
     return float(f[k] + dx), float(c0 + c1 * dx + c2 * dx * dx)
 
 
+def peak_width(f: np.ndarray, y: np.ndarray, level: float = 0.5) -> float:
+    """The width in ``f`` of the region where a sampled curve exceeds ``level`` times its maximum (linear
+    interpolation at both crossings; NaN if the curve does not fall below it on both sides).
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> f = np.linspace(-3, 3, 601)
+    >>> round(peak_width(f, np.exp(-f**2)), 3), round(2 * math.sqrt(math.log(2)), 3)
+    (1.665, 1.665)
+    """
+    k = int(np.argmax(y))
+    h = level * y[k]
+    below = np.nonzero(y[:k] <= h)[0]
+    above = np.nonzero(y[k:] <= h)[0]
+    if below.size == 0 or above.size == 0:
+        return math.nan
+    i, j = int(below[-1]), k + int(above[0])
+    left = f[i] + (h - y[i]) * (f[i + 1] - f[i]) / (y[i + 1] - y[i])
+    right = f[j - 1] + (h - y[j - 1]) * (f[j] - f[j - 1]) / (y[j] - y[j - 1])
+    return float(right - left)
+
+
 def peak_estimates(data: Sequence[SizeBlocks], weights: Sequence[np.ndarray | None] | None = None
                    ) -> dict[str, float]:
-    """The standard estimators: ``gamma_2`` from the peak heights (slope of ``log max <s^2>`` on ``log S``), and
-    ``f_c``, ``nu`` from the peak positions ``f*(S) = f_c + a S^(-1/(2 nu))`` (least squares; NaN if it fails).
+    """The standard estimators: ``gamma_2`` from the peak heights (slope of ``log max <s^2>`` on ``log S``),
+    ``f_c``, ``nu`` from the peak positions ``f*(S) = f_c + a S^(-1/(2 nu))`` (least squares; NaN if it fails),
+    and ``nu_width`` from the peak widths at half height, ``~ S^(-1/(2 nu))`` (Eq. 6.8: the scaling function's
+    width in ``x`` is fixed; needs neither ``f_c`` nor ``gamma_2``).
 
     Examples
     --------
@@ -252,18 +278,24 @@ def peak_estimates(data: Sequence[SizeBlocks], weights: Sequence[np.ndarray | No
     >>> f = np.linspace(0, 1, 401)
     >>> data = [SizeBlocks.from_curve(S, S, f, S * S**0.9 * np.exp(-((f - 0.5) * S**0.25 - 0.7) ** 2))
     ...         for S in (256.0, 1024.0, 4096.0, 16384.0)]                       # nu = 2, f* = 0.5 + 0.7 S^-1/4
-    >>> e = peak_estimates(data); round(e["gamma_2"], 2), round(e["f_c"], 2), round(float(e["nu"]), 1)
-    (0.9, 0.5, 2.0)
+    >>> e = peak_estimates(data); round(e["gamma_2"], 2), round(e["f_c"], 2), round(e["nu"], 1), round(e["nu_width"], 2)
+    (0.9, 0.5, 2.0, 2.0)
     """
     weights = [None] * len(data) if weights is None else list(weights)
-    pos, height, S = [], [], []
+    pos, height, S, widths = [], [], [], []
     for d, w in zip(data, weights, strict=True):
-        fp, h = peak(d.thresholds, d.s2(w))
+        y = d.s2(w)
+        fp, h = peak(d.thresholds, y)
         pos.append(fp)
         height.append(h)
         S.append(d.S)
+        widths.append(peak_width(d.thresholds, y))
     logS = np.log(S)
     gamma = float(np.polyfit(logS, np.log(np.maximum(height, 1e-300)), 1)[0])
+    nu_width = math.nan
+    if all(math.isfinite(x) and x > 0 for x in widths):
+        slope = float(np.polyfit(logS, np.log(widths), 1)[0])
+        nu_width = -1.0 / (2.0 * slope) if slope < 0 else math.nan
     fc = nu = math.nan
     if len(data) >= 3:
         best = (math.inf, math.nan, math.nan)
@@ -275,7 +307,7 @@ def peak_estimates(data: Sequence[SizeBlocks], weights: Sequence[np.ndarray | No
             if r < best[0]:
                 best = (r, float(coef[0]), 1.0 / inv)
         fc, nu = float(best[1]), float(best[2])
-    return {"gamma_2": gamma, "f_c": fc, "nu": nu}
+    return {"gamma_2": gamma, "f_c": fc, "nu": nu, "nu_width": nu_width}
 
 
 def wrapping_crossings(data: Sequence[SizeBlocks], weights: Sequence[np.ndarray | None] | None = None) -> float:

@@ -91,6 +91,12 @@ class ForceChainScaling:
         for name in ("f_c", "nu", "gamma_2"):
             out[name] = _number(self.fit.value[name])
             out[f"{name}_error"] = _number(self.fit.error[name])
+        out["nu_method"] = "collapse"
+        width, width_error = self.fit.estimators.get("nu_width", math.nan), self.fit.estimator_errors.get("nu_width")
+        if self.fit.pinned and math.isfinite(width):  # the collapse does not fix nu: the peak widths do
+            out["nu"], out["nu_error"] = _number(width), _number(width_error if width_error is not None else math.nan)
+            out["nu_method"] = "peak widths (the collapse's optimum is pinned at its window's limit)"
+        out["nu_collapse"] = _number(self.fit.value["nu"])
         sizes = []
         for d in self.data:
             fp, h = peak(d.thresholds, d.s2())
@@ -151,6 +157,10 @@ class ForceChainScaling:
         lines = [f"{self.model}: finite-size scaling of the clusters of large forces (Eqs. 6.8, 6.12)"]
         for name in ("f_c", "gamma_2", "nu"):
             e = s["errors"][name]
+            if name == "nu" and s["nu_method"] != "collapse":
+                lines.append(f"  nu       = {s['nu']} +- {s['nu_error']}   (from the {s['nu_method']}; the collapse's "
+                             f"{s['nu_collapse']})")
+                continue
             lines.append(f"  {name:8s} = {s[name]} +- {s[name + '_error']}   (bootstrap {e['bootstrap']}, "
                          f"window {e['window']}, sizes {e['sizes']})")
         if "thesis" in s:
@@ -158,8 +168,10 @@ class ForceChainScaling:
             lines.append(f"  thesis (Table 7.1): gamma_2 = {t['gamma_2']} +- {t['gamma_2_error']}, "
                          f"nu = {t['nu']} +- {t['nu_error']}")
         est = s["estimators"]
-        lines.append(f"  estimators: peak heights gamma_2 = {est['gamma_2']}, peak shift f_c = {est['f_c']} "
-                     f"nu = {est['nu']}, wrapping crossings f_c = {est['f_c_crossing']}")
+        err = s["estimator_errors"]
+        lines.append(f"  estimators: peak heights gamma_2 = {est['gamma_2']} +- {err['gamma_2']}; peak widths "
+                     f"nu = {est['nu_width']} +- {err['nu_width']}; peak shift f_c = {est['f_c']}, nu = {est['nu']}; "
+                     f"wrapping crossings f_c = {est['f_c_crossing']} +- {err['f_c_crossing']}")
         lines.append(f"  window x in {s['window']}, chi2 = {s['chi2']}, {s['replicas']} bootstrap replicas, "
                      f"{s['seconds']} s")
         if self.fit.pinned:

@@ -159,3 +159,16 @@ def test_the_result_does_not_depend_on_the_workers():
     two = forcenet.scaling("q-microcanonical", workers=2, **options)
     assert one.fit.value == two.fit.value and one.fit.error == two.fit.error
     assert [d.total.tolist() for d in one.data] == [d.total.tolist() for d in two.data]
+
+
+@pytest.mark.slow
+def test_blocks_run_on_a_dask_cluster(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    options = dict(sizes=(8, 10, 12), samples=24, replicas=0, blocks=4)
+    local = forcenet.scaling("percolation", **options)
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster, set_as_default=False) as client:
+        remote = forcenet.scaling("percolation", executor=client, checkpoint=tmp_path / "ck", **options)
+    assert [d.total.tolist() for d in remote.data] == [d.total.tolist() for d in local.data]
+    assert remote.fit.value == local.fit.value

@@ -21,6 +21,7 @@ from forcenet.numeric.force_chains.newman_ziff import (
     cluster_sizes,
     critical_threshold,
     periodic_lattice,
+    size_distribution,
     sweep_lattice,
     sweep_samples,
 )
@@ -190,3 +191,17 @@ def test_percolation_exponents_from_users_data(tmp_path, lattice, sizes, samples
     assert abs(v["gamma_2"] - 43 / 48) < 2 * e["gamma_2"]
     assert abs(v["nu"] - 4 / 3) < 2 * e["nu"]
     print(lattice, r.to_text())
+
+
+def test_size_distribution_counts_every_cluster():
+    rng = np.random.default_rng(17)
+    lat = periodic_lattice("square", 16)
+    forces = rng.random((5, lat.bonds))
+    starts = np.arange(6) * lat.bonds
+    lower, n_s = size_distribution(starts, np.full(5, lat.sites), np.tile(lat.head, 5), np.tile(lat.tail, 5),
+                                   forces.ravel(), 0.5)
+    every = np.concatenate([cluster_sizes(lat.sites, lat.head, lat.tail, f, 0.5) for f in forces])
+    assert np.isclose((n_s * lower * forces.size).sum(), every.size)  # every cluster counted once
+    assert np.isclose(n_s[0] * forces.size, np.sum(every == 1))
+    stats = sweep_lattice(lat, forces, np.array([0.5]))
+    assert every.max() == stats.largest[:, 0].max()

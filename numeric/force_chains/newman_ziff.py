@@ -50,7 +50,7 @@ from forcenet.core.validation import check_int
 from ..jit import njit
 
 __all__ = ["Lattice", "periodic_lattice", "critical_threshold", "SweepStatistics", "sweep_lattice", "sweep_samples",
-           "cluster_sizes", "LATTICES"]
+           "cluster_sizes", "size_distribution", "LATTICES"]
 
 LATTICES = ("square", "triangular", "honeycomb")
 
@@ -396,6 +396,35 @@ def sweep_samples(starts: np.ndarray, sites: np.ndarray, head: np.ndarray, tail:
     return SweepStatistics(total[:, back], largest[:, back], wraps[:, back])
 
 
+@njit
+def _sizes_at(sites: int, head: np.ndarray, tail: np.ndarray, force: np.ndarray, threshold: float,
+              parent: np.ndarray, size: np.ndarray) -> np.ndarray:
+    for a in range(sites):
+        parent[a] = a
+        size[a] = 0
+    for b in range(force.size):
+        if force[b] > threshold:
+            ra = _root(parent, head[b])
+            rb = _root(parent, tail[b])
+            if ra != rb:
+                if size[ra] < size[rb]:
+                    ra, rb = rb, ra
+                parent[rb] = ra
+                size[ra] += size[rb]
+            size[ra] += 1
+    count = 0
+    for a in range(sites):
+        if parent[a] == a and size[a] > 0:
+            count += 1
+    out = np.empty(count, np.int64)
+    k = 0
+    for a in range(sites):
+        if parent[a] == a and size[a] > 0:
+            out[k] = size[a]
+            k += 1
+    return out
+
+
 def cluster_sizes(sites: int, head: np.ndarray, tail: np.ndarray, force: np.ndarray, threshold: float) -> np.ndarray:
     """The sizes (in bonds) of the clusters of bonds with force ``> threshold``, largest first (the ``n_s`` data).
 
@@ -419,15 +448,47 @@ def cluster_sizes(sites: int, head: np.ndarray, tail: np.ndarray, force: np.ndar
     >>> cluster_sizes(5, np.array([0, 1, 2, 3]), np.array([1, 2, 0, 4]), np.array([3.0, 2.0, 1.0, 5.0]), 0.5).tolist()
     [3, 1]
     """
-    keep = np.asarray(force) > threshold
-    parent = np.arange(check_int(sites, "sites", 1), dtype=np.int64)
-    size = np.zeros(sites, np.int64)
-    for a, b in zip(np.asarray(head)[keep].tolist(), np.asarray(tail)[keep].tolist(), strict=True):
-        ra, rb = _root(parent, a), _root(parent, b)
-        if ra != rb:
-            parent[rb] = ra
-            size[ra] += size[rb]
-            size[rb] = 0
-        size[ra] += 1
-    sizes = size[size > 0]
+    sites = check_int(sites, "sites", 1)
+    sizes = _sizes_at(sites, np.ascontiguousarray(head, dtype=np.int64), np.ascontiguousarray(tail, dtype=np.int64),
+                      np.ascontiguousarray(force, dtype=np.float64), float(threshold), np.empty(sites, np.int64),
+                      np.empty(sites, np.int64))
     return np.sort(sizes)[::-1]
+
+
+def size_distribution(starts: np.ndarray, sites: np.ndarray, head: np.ndarray, tail: np.ndarray, force: np.ndarray,
+                      threshold: float) -> tuple[np.ndarray, np.ndarray]:
+    """``n_s`` at one threshold: clusters of ``s`` bonds per bond, in bins ``[2^k, 2^(k+1))`` (Eq. 6.1's
+    ``P(s, f)``: the number per bond of clusters of size ``s``, averaged over the bin and the samples).
+
+    Parameters
+    ----------
+    starts, sites, head, tail, force : ndarray
+        The samples, as :func:`sweep_samples` takes them.
+    threshold : float
+        The threshold.
+
+    Returns
+    -------
+    (lower, n_s) : ndarray, ndarray
+        The bins' lower sizes ``2^k`` and ``n_s`` (clusters per bond and per unit of size).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> lower, n_s = size_distribution(np.array([0, 4]), np.array([5]), np.array([0, 1, 2, 3]),
+    ...                                np.array([1, 2, 0, 4]), np.array([3.0, 2.0, 1.0, 5.0]), 0.5)
+    >>> lower.tolist(), n_s.tolist()            # one cluster of 1 bond, one of 3 (bin [2, 4) has width 2)
+    ([1, 2], [0.25, 0.125])
+    """
+    counts = np.zeros(64, np.int64)
+    n = int(np.max(sites))
+    parent, size = np.empty(n, np.int64), np.empty(n, np.int64)
+    for r in range(len(sites)):
+        lo, hi = int(starts[r]), int(starts[r + 1])
+        sizes = _sizes_at(int(sites[r]), np.ascontiguousarray(head[lo:hi], dtype=np.int64),
+                          np.ascontiguousarray(tail[lo:hi], dtype=np.int64),
+                          np.ascontiguousarray(force[lo:hi], dtype=np.float64), float(threshold), parent, size)
+        np.add.at(counts, np.floor(np.log2(sizes)).astype(np.int64), 1)
+    top = int(np.max(np.nonzero(counts)[0])) + 1 if counts.any() else 0
+    lower = 2 ** np.arange(top)
+    return lower, counts[:top] / (lower * float(len(force)))

@@ -43,7 +43,7 @@ from forcenet.force_chains_results import ForceChainScaling
 from forcenet.front_door import _Costed
 from forcenet.numeric.force_chains.engines import DEFAULTS, MODELS, ScalingRequest
 from forcenet.numeric.force_chains.finite_size_scaling import SizeBlocks, analyse
-from forcenet.numeric.force_chains.newman_ziff import LATTICES, sweep_samples
+from forcenet.numeric.force_chains.newman_ziff import LATTICES, size_distribution, sweep_samples
 from forcenet.registry import REGISTRY
 
 __all__ = ["ScalingPlan", "ForceChainScaling", "scaling", "scaling_plan", "clusters", "read_networks", "example"]
@@ -330,7 +330,8 @@ def clusters(sources: Sequence[Any], *, thresholds: int = 600, replicas: int = 1
     Returns
     -------
     ForceChainScaling
-        The scaling size is ``S = M``; ``wrapping`` is not known (no geometry).
+        The scaling size is ``S = M``; ``wrapping`` is not known (no geometry).  ``details["n_s_at_f_c"]``:
+        per size, the clusters per bond of ``s`` bonds at the ``f_c`` found, in bins ``[2^k, 2^(k+1))``.
 
     Raises
     ------
@@ -381,8 +382,13 @@ def clusters(sources: Sequence[Any], *, thresholds: int = 600, replicas: int = 1
                                label=label))
         del starts, sites, head, tail, force, stats
     fit = analyse(data, replicas=replicas, seed=seed)
+    n_s = []
+    for source in sources:  # pass 3: the cluster numbers n_s at the f_c found (Eq. 6.1)
+        lower, density = size_distribution(*read_networks(source), fit.value["f_c"])
+        n_s.append({"s": lower.tolist(), "n_s": [float(f"{x:.6g}") for x in density]})
     details = {"sources": [os.fspath(s) if isinstance(s, str | os.PathLike) else f"<{type(s).__name__}>"
-                           for s in sources], "thresholds": int(levels.size)}
+                           for s in sources], "thresholds": int(levels.size),
+               "n_s_at_f_c": n_s}
     return ForceChainScaling("data", sorted(data, key=lambda d: d.S), fit, time.perf_counter() - started, details)
 
 

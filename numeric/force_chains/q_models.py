@@ -204,13 +204,24 @@ def microcanonical_chain(L: int, W: int, samples: int, thin: int, burn_in: int, 
     samples, thin, burn_in = check_int(samples, "samples", 1), check_int(thin, "thin", 1), check_int(burn_in, "burn_in", 0)
     F = independent_forces(L, W, np.full((1, L, W), 0.5))[0]
     out = np.empty((samples, F.size))
-    moves = L * W
-    if burn_in:
-        _heat_bath(F, L, W, burn_in, rng.random(moves * burn_in))
+    _sweeps(F, L, W, burn_in, rng)
     for k in range(samples):
-        _heat_bath(F, L, W, thin, rng.random(moves * thin))
+        _sweeps(F, L, W, thin, rng)
         out[k] = F
     return out
+
+
+SWEEP_NUMBERS = 2**21  # uniforms drawn at once (16 MiB): the sweeps run in chunks of about this many moves
+
+
+def _sweeps(F: np.ndarray, L: int, W: int, sweeps: int, rng: np.random.Generator) -> None:
+    """``sweeps`` heat-bath sweeps, the uniforms drawn in chunks (the same numbers, in the same order, as one draw)."""
+    per = max(1, SWEEP_NUMBERS // (L * W))
+    done = 0
+    while done < sweeps:
+        n = min(per, sweeps - done)
+        _heat_bath(F, L, W, n, rng.random(L * W * n))
+        done += n
 
 
 def microcanonical_samples(L: int, W: int, samples: int, rng: np.random.Generator) -> np.ndarray:

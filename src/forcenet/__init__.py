@@ -22,6 +22,9 @@ The front door (one flat namespace, loaded on first use so ``import forcenet`` s
   (each with its ``..._plan``) — the chicken-wire model's transfer spectrum, Bethe ground states and the
   quantities on its isotropic line, Eqs. (7.1)-(7.4) (:mod:`forcenet.chicken_wire_sectors`,
   :mod:`forcenet.chicken_wire_isotropic`);
+* :func:`clusters`, :func:`scaling` / :func:`scaling_plan` — clusters of large forces and their finite-size
+  scaling (Part III, Eqs. 6.8, 6.12): users' force networks, or percolation and the q-models of Sec. 7.3
+  generated at several sizes (:mod:`forcenet.force_chains`, :class:`ForceChainScaling`);
 * :mod:`forcenet.testing` — test your own sampler or formula against the exact ensemble;
 * the exception family (:mod:`forcenet.core.errors`): :class:`ForcenetError`, the base of every
   expected failure, :class:`ArgumentError` (also a ``ValueError``), :class:`ArgumentTypeError`
@@ -76,6 +79,8 @@ if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ lo
     )
     from forcenet.exact.triangle.distribution import cdf, contact_density, density
     from forcenet.exact.triangle.staircase import count, normalization
+    from forcenet.force_chains import ScalingPlan, clusters, scaling, scaling_plan
+    from forcenet.force_chains_results import ForceChainScaling
     from forcenet.front_door import TablePlan, plan, table
     from forcenet.law_results import Law
     from forcenet.laws import LawPlan, law, law_plan
@@ -144,6 +149,11 @@ _FRONT_DOOR = {
     "ConvergenceError": "forcenet.core.errors",
     "ClusterError": "forcenet.core.errors",
     "PrecisionWarning": "forcenet.core.errors",
+    "clusters": "forcenet.force_chains",
+    "scaling": "forcenet.force_chains",
+    "scaling_plan": "forcenet.force_chains",
+    "ScalingPlan": "forcenet.force_chains",
+    "ForceChainScaling": "forcenet.force_chains_results",
 }
 
 _SUBPACKAGES = frozenset({"exact", "numeric", "testing"})
@@ -159,6 +169,7 @@ __all__ = [  # the keys of _FRONT_DOOR (tests/test_front_door.py), written out f
     "isotropic_point", "isotropic_point_plan", "isotropic_maximum", "isotropic_maximum_plan", "IsotropicEntropy",
     "IsotropicPlan",
     "ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError", "ClusterError", "PrecisionWarning",
+    "clusters", "scaling", "scaling_plan", "ScalingPlan", "ForceChainScaling",
     "__version__",
 ]
 

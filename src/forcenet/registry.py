@@ -20,3 +20,7 @@ from forcenet.core.registry import Registry
 __all__ = ["REGISTRY"]
 
 REGISTRY = Registry()
+
+# the force-chain models (Part III, issue 52): finite-size scaling of the clusters of large forces
+for _model in ("percolation", "q-independent", "q-microcanonical"):
+    REGISTRY.add_loader(_model, "forcenet.numeric.force_chains.engines")

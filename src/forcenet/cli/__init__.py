@@ -39,7 +39,7 @@ from importlib.metadata import version
 from forcenet.core.errors import ForcenetError
 from forcenet.core.plan import interruptible_compilation
 
-from . import chicken_wire, dist, limit, sample, table
+from . import chicken_wire, dist, force_chains, limit, sample, table
 from .common import Parser, UsageError, deferred_option, given, usage_error_line
 from .output import EXIT_CODES, check_stdout, destination
 
@@ -65,6 +65,7 @@ examples, one per command (each takes a few seconds at most):
   forcenet bethe --L 6 --n 2 --m 1            # chicken-wire model: one sector by the Bethe ansatz
   forcenet entropy --phi 0.3                  # chicken-wire entropy on the isotropic line, Eq. (7.1)
   forcenet dist --N 12 --grain 12,6           # exact probability density of one force
+  forcenet scaling --model percolation --sizes 16,24,32,48 --samples 200   # clusters of large forces, Table 7.1
 
 Results go to stdout (or to --out FILE, written atomically); costs, progress
 and errors go to stderr. Runs announced at over a minute need --force.
@@ -80,7 +81,7 @@ def build_parser() -> Parser:
     parser.add_argument("--debug", action="store_true",
                         help="on an internal error (a bug), print the traceback on stderr instead of to a file")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
-    for family in (table, limit, sample, chicken_wire, dist):
+    for family in (table, limit, sample, chicken_wire, dist, force_chains):
         family.register(sub)
     return parser
 

@@ -119,7 +119,7 @@ def test_an_os_error_inside_an_engine_is_a_bug_exit_1(monkeypatch, capsys, tmp_p
     def engine(N):
         raise OSError(errno.EBADF, "Bad file descriptor")
 
-    monkeypatch.setattr(staircase, "trusted_count", engine)  # what forcenet.count_plan runs (N checked once)
+    monkeypatch.setattr(staircase, "tableau_count", engine)  # what forcenet.count_plan runs (N checked once)
     monkeypatch.setenv("TMPDIR", str(tmp_path))
     monkeypatch.setattr("tempfile.tempdir", None)
     code = main(["count", "--N", "5"])

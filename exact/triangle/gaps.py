@@ -52,7 +52,7 @@ from ..modular import crt, primes_for_bound
 from .gap_counts import GapCounts
 from .ideal_dp import predecessor_moves
 from .runs import check_chain, mulmod_sum, run_layout, transport
-from .staircase import count, dimension
+from .staircase import count, dimension, free_force_count
 
 __all__ = [
     "GapCounts",
@@ -215,7 +215,7 @@ def estimate_chain_cost(N: int, chain: Iterable[tuple[int, int]], n_primes: int 
 
 def _chain_cost(N: int, n_primes: int | None) -> int:
     """:func:`estimate_chain_cost` for ``N`` already checked (the cost does not depend on the chain)."""
-    n, d = N - 1, dimension(N)
+    n, d = N - 1, free_force_count(N)
     if n_primes is None:
         n_primes = len(primes_for_bound(count(N)))
     width = max(_level_sizes(n))
@@ -470,7 +470,7 @@ _AVERAGE_PASS = 0.6  # a layer / row pass averaged over the triangle, relative t
 
 
 def _pass_seconds(N: int, average: bool = False) -> float:
-    n, d = N - 1, dimension(N)
+    n, d = N - 1, free_force_count(N)
     primes = len(primes_for_bound(count(N)))
     states = _SECONDS_PER_STATE * (1 << n) * d / 3 * primes
     return states * (_AVERAGE_PASS if average else 1.0) + _SECONDS_PER_LEVEL * d
@@ -503,5 +503,5 @@ def gap_laws_plan(N: int, passes: int = 1, memory_bytes: int | None = None, what
     per_prime = _chain_cost(N, 1)
     chunk = max(1, min(primes, (4 * 2**30) // per_prime))  # primes per chunk, as chain_gap_counts does
     nbytes = _chain_cost(N, chunk) + 100 * 2**20
-    plan = Plan(what, passes * _pass_seconds(N, average=passes > 1), nbytes, passes * dimension(N), "level")
+    plan = Plan(what, passes * _pass_seconds(N, average=passes > 1), nbytes, passes * free_force_count(N), "level")
     return plan.within_memory(memory_bytes)

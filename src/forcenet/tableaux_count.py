@@ -145,10 +145,10 @@ class CountPlan(_Costed):
         >>> int(forcenet.count_plan(6).run())
         286
         """
-        from forcenet.exact.triangle.staircase import trusted_count
+        from forcenet.exact.triangle.staircase import tableau_count
 
         self.check()
-        return TableauxCount(self.N, trusted_count(self.N))  # N checked once, by count_plan
+        return TableauxCount(self.N, tableau_count(self.N))  # N checked once, by count_plan
 
 
 def count_plan(N: int, *, memory_bytes: int | None = None) -> CountPlan:

@@ -76,14 +76,14 @@ from .law_registry import (
     law_run,
 )
 from .protocol import Progress, Table, TableEngine, TableRequest, check_table_request
-from .row_routes import ROW_ENGINES, ROW_PRIME_ROUTES, ROW_ROUTES, row_policy
+from .row_routes import ROW_ENGINES, ROW_LAYER_ROUTES, ROW_PRIME_ROUTES, ROW_ROUTES, row_policy
 from .thesis import lambda_route, maps_route, nested_route
 from .triangle import moments as ideal_moments
 from .triangle import pfaffian_table as pfaffian_route
 
 __all__ = ["ENGINES", "TABLE_ENGINES", "METHODS", "MAX_MOMENTS", "Choice", "Request", "check_request", "plan_request",
-           "run_request", "choose", "table_plan", "table_run", "takes", "checkpoint_for", "ROW_ROUTES",
-           "ROW_PRIME_ROUTES", "RowChoice", "plan_row", "run_row", "choose_row", "row_plan", "row_run",
+           "run_request", "choose", "table_plan", "table_run", "takes", "checkpoint_for", "over_primes",
+           "over_primes_text", "ROW_ROUTES", "ROW_PRIME_ROUTES", "ROW_LAYER_ROUTES", "RowChoice", "plan_row", "run_row", "choose_row", "row_plan", "row_run",
            # the laws of one load (forcenet.law, forcenet dist): defined in .law_registry, this registry's names
            "LAW_METHODS", "LAW_MAX_N", "LAW_DP_MAX_N", "LAW_CONTACTS", "LAW_PRIME_ROUTES", "LAW_ROUTES", "LawRequest",
            "law_request", "LawChoice", "choose_law", "law_checkpoint", "law_resumed", "LawPieces", "law_run"]
@@ -170,6 +170,32 @@ def _options(method: str, options: dict[str, Any]) -> dict[str, Any]:
         raise ArgumentError(f"{', '.join(f'{k}=' for k in unknown)} applies to method={' or '.join(map(repr, able))} "
                             "only (the routes over independent primes)")
     return given
+
+
+def over_primes(method: str = "auto") -> str:
+    """The table method a request with a cluster or a checkpoint is planned by before they are connected:
+    ``method`` itself, or for ``auto`` the one method over independent primes (``auto`` among several).
+
+    Examples
+    --------
+    >>> over_primes(), over_primes("fast")
+    ('pfaffian', 'fast')
+    """
+    if method != "auto":
+        return method
+    able = [engine.name for engine in TABLE_ENGINES if "checkpoint" in engine.options]
+    return able[0] if len(able) == 1 else "auto"
+
+
+def over_primes_text() -> str:
+    """The table methods over independent primes as the command line names them (its options' help and refusals).
+
+    Examples
+    --------
+    >>> over_primes_text()
+    '--method pfaffian'
+    """
+    return "--method " + " or ".join(engine.name for engine in TABLE_ENGINES if "checkpoint" in engine.options)
 
 
 class Choice(NamedTuple):

@@ -43,11 +43,12 @@ from .triangle.free_fermion.covers import cover_row_cost, cover_row_moments, one
 from .triangle.free_fermion.fluctuations import grain_gap_law, lattice_gap_laws_plan
 from .triangle.pfaffian_table import every_load_gap_law
 
-__all__ = ["ROW_ROUTES", "ROW_PRIME_ROUTES", "RowEngine", "APEX", "COVERS", "LATTICE", "LAYERS", "FLOOR",
+__all__ = ["ROW_ROUTES", "ROW_PRIME_ROUTES", "ROW_LAYER_ROUTES", "RowEngine", "APEX", "COVERS", "LATTICE", "LAYERS", "FLOOR",
            "ROW_ENGINES", "row_policy"]
 
 ROW_ROUTES = ("apex", "covers", "lattice", "layers", "floor")  # beside them, a table method's whole table
 ROW_PRIME_ROUTES = ("covers", "layers", "floor", "pfaffian")  # the row's routes over primes: executor=, checkpoint=
+ROW_LAYER_ROUTES = ("layers", "floor")  # a checkpoint directory holds one request per layer
 
 Rows = dict[int, list[Fraction]]
 

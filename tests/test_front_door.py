@@ -100,7 +100,7 @@ def test_a_plan_computes_nothing_and_runs_as_planned(monkeypatch):
     calls, plans = [], []
     engine = routes.TABLE_ENGINES[1]  # thesis
     real, real_plan = routes.run_request, engine.table_plan
-    monkeypatch.setattr(forcenet.front_door, "run_request", lambda *a, **k: calls.append(a) or real(*a, **k))
+    monkeypatch.setattr(routes, "run_request", lambda *a, **k: calls.append(a) or real(*a, **k))
     monkeypatch.setattr(engine, "table_plan", lambda *a, **k: plans.append(a) or real_plan(*a, **k))
     request = forcenet.plan(6, method="thesis")
     assert calls == [] and len(plans) == 1

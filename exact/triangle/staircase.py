@@ -23,13 +23,13 @@ from collections.abc import Callable, Iterable
 from fractions import Fraction
 from functools import lru_cache
 from math import factorial, prod
-from typing import TYPE_CHECKING, Any
+from typing import Any
+
+import numpy as np
 
 from forcenet.core.errors import ArgumentError
-from forcenet.core.validation import check_layers
-
-if TYPE_CHECKING:
-    from forcenet.core.plan import Plan
+from forcenet.core.plan import Plan
+from forcenet.core.validation import available_memory, check_layers
 
 __all__ = [
     "dimension",
@@ -236,8 +236,6 @@ def count_by_hooks(N: int) -> int:
 
 
 def _primes_upto(top: int) -> Any:
-    import numpy as np
-
     sieve = np.ones(top + 1, dtype=bool)
     sieve[:2] = False
     for p in range(2, int(top**0.5) + 1):
@@ -248,8 +246,6 @@ def _primes_upto(top: int) -> Any:
 
 def _exponents_of_denominator(n: int, primes: Any) -> Any:
     """``v_p`` of ``D = prod_{k<n} (2k+1)!/k!`` for each prime (``normalization = 1/D``)."""
-    import numpy as np
-
     ks = np.arange(n, dtype=np.int64)
     exps = np.zeros(primes.size, dtype=np.int64)
     for idx in np.flatnonzero(primes <= max(2 * n - 1, 1)):
@@ -263,8 +259,6 @@ def _exponents_of_denominator(n: int, primes: Any) -> Any:
 
 def _prime_exponents_of_count(N: int) -> list[tuple[int, int]]:
     """Prime factorisation of ``count = d! / D`` (Legendre's formula)."""
-    import numpy as np
-
     n, d = N - 1, free_force_count(N)
     primes = _primes_upto(max(d, 2 * n, 2))
     exps = np.zeros(primes.size, dtype=np.int64)
@@ -346,8 +340,6 @@ def count_plan(N: int, memory_bytes: int | None = None) -> Plan:
 
 def _count_plan(N: int, memory_bytes: int | None) -> Plan:
     """:func:`count_plan` for ``N`` already checked."""
-    from forcenet.core.plan import Plan
-
     if N > _COUNT_MAX_N:
         return Plan(f"count N={N}", 0, refusal=f"N={N} is out of range for count: N must be an integer in 2..{_COUNT_MAX_N} "
                                                 "(beyond, the integer has more than 10^12 digits)")
@@ -363,8 +355,6 @@ _COUNT_MAX_N = 10**6
 def _within_memory(N: Any, what: str) -> int:
     """``N`` checked, and refused before any work where the integer cannot fit in the memory available now
     (:func:`count_plan`; the denominator of :func:`normalization` has about twice the digits of the count)."""
-    from forcenet.core.validation import available_memory
-
     N = check_layers(N)
     memory = available_memory()
     plan = _count_plan(N, None if memory is None else memory // (1 if what == "count" else 2))

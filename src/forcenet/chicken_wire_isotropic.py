@@ -20,7 +20,9 @@ Examples
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+from decimal import Decimal
 from fractions import Fraction
 from typing import Any
 
@@ -28,7 +30,7 @@ from forcenet.chicken_wire_results import BetheValue, IsotropicEntropy
 from forcenet.chicken_wire_sectors import Progress
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceError
 from forcenet.core.plan import Plan, combine
-from forcenet.core.validation import check_float_digits, check_not_bool, is_binary_float
+from forcenet.core.validation import check_float_digits, check_not_bool, is_binary_float, is_integer
 from forcenet.front_door import _Costed
 
 __all__ = ["IsotropicPlan", "isotropic_point_plan", "isotropic_point", "isotropic_maximum_plan", "isotropic_maximum"]
@@ -222,12 +224,7 @@ def _real(value: Any, name: str, dps: int, keep_text: bool = True) -> str | Frac
     """A real argument as the engines take it, exactly: a string kept as given (stripped; ``keep_text=False``: read
     as a Fraction), any other number as its exact Fraction; a binary float by the one rule (refused where its
     digits do not reach ``dps``, else accepted at its exact value with a warning, once)."""
-    import math
-    from decimal import Decimal
-
     import mpmath
-
-    from forcenet.core.validation import is_integer
 
     if isinstance(value, str):
         text = value.strip()

@@ -34,25 +34,15 @@ from collections.abc import Callable, Iterator
 from concurrent.futures import Executor
 from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
-from typing import Any, Self
+from typing import TYPE_CHECKING, Any, Self
 
-from forcenet.core.checkpoints import resumed_plan, run_distrusting
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan, duration_text
 from forcenet.core.validation import available_memory
-from forcenet.exact.routes import (
-    METHODS,
-    Choice,
-    Request,
-    RowChoice,
-    check_request,
-    plan_request,
-    plan_row,
-    run_request,
-    run_row,
-    takes,
-)
 from forcenet.results import Row, Table
+
+if TYPE_CHECKING:
+    from forcenet.exact.routes import Request
 
 __all__ = ["Row", "Table", "TablePlan", "plan", "table"]  # Row and Table: forcenet.results
 
@@ -249,6 +239,9 @@ class TablePlan(_Costed):
         >>> forcenet.plan(4, method="thesis").run().mean_W[-1]
         [Fraction(1, 7), Fraction(5, 14), Fraction(5, 14), Fraction(1, 7)]
         """
+        from forcenet.core.checkpoints import run_distrusting  # numpy: not before a run
+        from forcenet.exact.routes import Choice, RowChoice, run_request, run_row  # the engines, on first use
+
         request = self.request  # checked once by plan(); the registry checks the plan before the run
         if request is None:
             raise ArgumentError("this TablePlan was not made by forcenet.plan: make it with forcenet.plan(N, ...)")
@@ -311,6 +304,9 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
     >>> print(forcenet.plan(40, method="fast").refusal)  # doctest: +ELLIPSIS
     N=40 is out of range for the exact table here: ...; method='auto' runs it by pfaffian (~...)
     """
+    from forcenet.core.checkpoints import resumed_plan  # numpy: not before a plan
+    from forcenet.exact.routes import METHODS, check_request, plan_request, takes  # the engines: not before a plan
+
     request = check_request(N, moments, method, row=row, memory_bytes=memory_bytes, executor=executor)  # the check
     directory = _checkpoint(checkpoint)
     if request.memory_bytes is None:
@@ -337,6 +333,8 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
 
 def _row_plan(request: Request) -> TablePlan:
     """One row's plan: its route by :func:`forcenet.exact.routes.choose_row`, planned once with the options."""
+    from forcenet.exact.routes import plan_row
+
     choice = plan_row(request)
     cost = choice.plan if not choice.why else replace(choice.plan, what=f"{choice.plan.what}; {choice.why}")
     return TablePlan(request.N, request.moments, choice.route, choice.why, cost, request.executor,

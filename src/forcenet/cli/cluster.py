@@ -23,17 +23,24 @@ machines, bound to loopback or a private interface, with TLS.
 
 from __future__ import annotations
 
+import asyncio
 import json
+import logging
 import os
+import socket
+import ssl
 import sys
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
+from forcenet.core.checkpoints import default_directory
+from forcenet.core.execution import check_cluster
+
 from .common import FORCE_SECONDS, UsageError
+from .output import check_output_dir
 
 if TYPE_CHECKING:
     import argparse
-    import socket
 
     from forcenet.core.checkpoints import CheckpointStore
 
@@ -129,8 +136,6 @@ def _security(args: argparse.Namespace) -> Any:
 
 def _quiet_dask() -> None:
     """Dask's own log lines off for this command (each failure is one line of ours)."""
-    import logging
-
     prefixes = ("distributed", "tornado", "asyncio")
     for name in [*prefixes, *logging.root.manager.loggerDict]:  # Dask's configuration sets its loggers' own levels
         if name.startswith(prefixes):
@@ -139,10 +144,6 @@ def _quiet_dask() -> None:
 
 def _probe(address: str, scheme: str, host: str, port: int, security: Any) -> dict:
     """Dask's ``identity`` of the scheduler at ``address``, each step within :data:`CONNECT_SECONDS`."""
-    import asyncio
-    import socket
-    import ssl
-
     try:
         raw = socket.create_connection((host, port), timeout=CONNECT_SECONDS)
     except ConnectionRefusedError:
@@ -272,7 +273,6 @@ def connect_scheduler(text: str, security: Any = None) -> Any:
             client.close()
             raise _refuse(text, f"the cluster has no workers after {WORKER_SECONDS:g} s "
                                 f"(start `dask worker {address}` with forcenet installed)") from None
-    from forcenet.core.execution import check_cluster
 
     try:  # one tiny task: workers that cannot import forcenet are named now, not after the run's long wait
         check_cluster(client)
@@ -309,10 +309,6 @@ def engine_options(args: argparse.Namespace, applies: bool, what: str, plan_seco
     announced at over a minute checkpoint by default in the user's cache directory; ``store_for(directory)``
     makes the request's store.
     """
-    from forcenet.core.checkpoints import default_directory
-
-    from .output import check_output_dir
-
     if args.checkpoint is not None and args.no_checkpoint:
         raise UsageError("--checkpoint and --no-checkpoint contradict each other: give one")
     tls = [f"--{name.replace('_', '-')}" for name in _TLS_OPTIONS if getattr(args, name, None) is not None]

@@ -29,8 +29,11 @@ True
 
 from __future__ import annotations
 
+import atexit
 import os
+import shutil
 import sys
+import tempfile
 from collections.abc import Callable
 from typing import Any
 
@@ -71,10 +74,6 @@ def _usable_cache_directory() -> str:
     if os.environ.get("XDG_CACHE_HOME") or os.path.isdir(os.path.expanduser("~")):
         return cache_directory()
     if not _PRIVATE_CACHE:
-        import atexit
-        import shutil
-        import tempfile
-
         _PRIVATE_CACHE.append(tempfile.mkdtemp(prefix="forcenet-numba-"))
         atexit.register(shutil.rmtree, _PRIVATE_CACHE[0], True)
     return _PRIVATE_CACHE[0]

@@ -7,6 +7,7 @@ import os
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, cast
 
+import forcenet
 from forcenet.core.plan import combine_by_time, phase_progress
 from forcenet.exact.routes import (
     MAX_MOMENTS,
@@ -44,9 +45,7 @@ MAPS_MAX_N = 10  # forcenet.maps's range (tests/test_limit_maps_front_door.py ch
 
 
 def cmd_count(args: argparse.Namespace) -> int:
-    from forcenet import count_plan
-
-    request = count_plan(args.N, memory_bytes=available_memory())
+    request = forcenet.count_plan(args.N, memory_bytes=available_memory())
     text = run_planned(request.cost, lambda tick: request.run(progress=tick).to_text(), force=args.force,
                        quiet=args.quiet)
     emit(text, args.out)
@@ -86,12 +85,10 @@ def _request(args: argparse.Namespace, memory: int | None, client: Any = None,
              directory: str | None = None) -> TablePlan:
     """The front door's plan of the request (:func:`forcenet.plan`); ``auto`` with ``--scheduler`` or
     ``--checkpoint`` chooses among the routes that take them."""
-    from forcenet import plan
-
     method = args.method
     if client is None and directory is None and (args.scheduler or args.checkpoint):
         method = over_primes(method)  # not yet connected: the registry's routes that take the options
-    return plan(args.N, args.moments, method, executor=client, checkpoint=directory, memory_bytes=memory).check()
+    return forcenet.plan(args.N, args.moments, method, executor=client, checkpoint=directory, memory_bytes=memory).check()
 
 
 def cmd_table(args: argparse.Namespace) -> int:
@@ -120,20 +117,18 @@ def cmd_table(args: argparse.Namespace) -> int:
 def _table_row(args: argparse.Namespace, fmt: str | None) -> int:
     """``--row i``: row ``i`` of ``<W^s>``, ``s <= --moments``, by the fastest exact route for that row, announced
     (:func:`forcenet.plan` with ``row=``)."""
-    from forcenet import plan
-
     if fmt is None:
         raise UsageError("--row gives one row in one format: give --format json|csv|latex or --out FILE "
                          "(the main job's three files and cross-check are for the whole table)")
     memory = available_memory()
-    request = plan(args.N, args.moments, args.method, memory_bytes=memory, row=args.row).check()
+    request = forcenet.plan(args.N, args.moments, args.method, memory_bytes=memory, row=args.row).check()
     explicit = args.scheduler is not None or args.checkpoint is not None  # then only the routes that take them
     applies = explicit or request.method in ROW_PRIME_ROUTES
     client, directory = engine_options(args, applies, f"a row's routes over primes ({', '.join(ROW_PRIME_ROUTES[:3])})",
                                        request.seconds, lambda directory: directory)
     try:
         if client is not None or directory is not None:  # a cluster or a checkpoint store changes the plan
-            request = plan(args.N, args.moments, args.method, executor=client, checkpoint=directory,
+            request = forcenet.plan(args.N, args.moments, args.method, executor=client, checkpoint=directory,
                            memory_bytes=memory, row=args.row).check()
         row = run_planned(request.cost, lambda tick: request.run(progress=tick), force=args.force, quiet=args.quiet)
     finally:
@@ -191,9 +186,7 @@ def _table(args: argparse.Namespace, fmt: str | None, memory: int | None, reques
 
 
 def cmd_maps(args: argparse.Namespace) -> int:
-    from forcenet import maps
-
-    result = maps(args.N)  # maps per bottom row h(N-2, .), Eq. (4.88)
+    result = forcenet.maps(args.N)  # maps per bottom row h(N-2, .), Eq. (4.88)
     emit(result.to_json() if args.format == "json" else result.to_text(), args.out)
     return 0
 

@@ -46,7 +46,11 @@ class MapCounts:
     >>> import forcenet
     >>> forcenet.maps(6)
     MapCounts(N=6, Z=286, rows=37)
+    >>> forcenet.MapCounts.MAX_N  # the largest N forcenet.maps lists (the command line's range)
+    10
     """
+
+    MAX_N = MAPS_MAX_N
 
     def __init__(self, N: int, by_bottom_row: dict[tuple[int, ...], int]):
         self.N = N

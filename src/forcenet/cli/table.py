@@ -41,7 +41,6 @@ if TYPE_CHECKING:
 __all__ = ["register"]
 
 _EXTENSIONS = {".json": "json", ".csv": "csv", ".tex": "latex"}
-MAPS_MAX_N = 10  # forcenet.maps's range (tests/test_limit_maps_front_door.py checks they agree)
 
 
 def cmd_count(args: argparse.Namespace) -> int:
@@ -259,7 +258,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=cmd_table)
 
     p = sub.add_parser("maps", help="Z_(N-2) and the number of maps h per bottom row (Sec. 4.6)")
-    add_layers(p, maximum=MAPS_MAX_N, minimum=3, deferred=True)  # N: checked by forcenet.maps
+    add_layers(p, maximum=forcenet.MapCounts.MAX_N, minimum=3, deferred=True)  # N: checked by forcenet.maps
     p.add_argument("--format", choices=["text", "json"], default="text", help="output format (default text)")
     p.add_argument("--out", help="write the output to this file (atomically; its directory must exist)")
     p.set_defaults(func=cmd_maps)

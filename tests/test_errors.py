@@ -114,7 +114,7 @@ def test_an_os_error_inside_an_engine_is_a_bug_exit_1(monkeypatch, capsys, tmp_p
     """An OSError that no file or stream operation of the command line raised is an internal error, not exit 2."""
     import errno
 
-    from forcenet.exact.triangle import staircase
+    import forcenet.tableaux_count as staircase  # the front door's engine, imported at its top
 
     def engine(N):
         raise OSError(errno.EBADF, "Bad file descriptor")

@@ -32,19 +32,16 @@ import os
 from collections.abc import Callable
 from concurrent.futures import Executor
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from forcenet.core.checkpoints import run_distrusting
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan
-from forcenet.core.validation import available_memory
 from forcenet.exact.routes import LAW_PRIME_ROUTES, LawRequest, law_checkpoint, law_request, law_resumed
-from forcenet.front_door import _Costed
 from forcenet.law_results import Law
+from forcenet.plan_base import PlanBase, memory_or_default
 from forcenet.registry import REGISTRY
-
-if TYPE_CHECKING:  # pragma: no cover - annotations only
-    from forcenet.sampled_comparison import SampledComparisonPlan
+from forcenet.sampled_comparison import SampledComparisonPlan, comparison_plan
 
 __all__ = ["Law", "LawPlan", "law", "law_plan"]  # Law: forcenet.law_results
 
@@ -52,7 +49,7 @@ Progress = Callable[..., Any]
 
 
 @dataclass(frozen=True)
-class LawPlan(_Costed):
+class LawPlan(PlanBase):
     """A checked request for one load's law, with its route and cost: what :func:`law_plan` returns.
 
     Parameters
@@ -236,8 +233,6 @@ class LawPlan(_Costed):
         >>> p.cost.ticks == forcenet.law_plan(8, layer=8).cost.ticks + 2000
         True
         """
-        from forcenet.sampled_comparison import comparison_plan
-
         kind = self.request.kind
         pool = "ensemble" if kind == "ensemble" else self.request.layer if kind == "layer" else None
         return comparison_plan(self.N, pool, samples=samples, sweeps=sweeps, bins=bins, f_max=f_max, seed=seed,
@@ -291,7 +286,7 @@ def law_plan(N: int, grain: tuple[int, int] | None = None, *, layer: int | None 
     """
     request = law_request(N, grain, layer, contact, method=method, memory_bytes=memory_bytes, executor=executor)
     if request.memory_bytes is None:
-        request = request._replace(memory_bytes=available_memory() or 16 * 2**30)
+        request = request._replace(memory_bytes=memory_or_default())
     decision = REGISTRY.decide(request)  # the law's policy: the faster runnable route by the plans
     plan = LawPlan(request, decision.engine.name, decision.why, decision.plan, memory_bytes=request.memory_bytes)
     if not plan.runnable or (executor is None and checkpoint is None):

@@ -22,6 +22,7 @@ import json
 from typing import Any
 
 from forcenet.core.validation import check_layers
+from forcenet.exact.thesis.recursions import lambda_table
 
 __all__ = ["MAPS_MAX_N", "MapCounts", "maps"]
 
@@ -166,7 +167,5 @@ def maps(N: int) -> MapCounts:
     Ostojic (2006), Sec. 4.6, Eqs. (4.86)-(4.88) (the maps and their count
     per bottom row), Eq. (4.50) (the recursion Lambda), Eq. (4.1).
     """
-    from forcenet.exact.thesis.recursions import lambda_table
-
     N = check_layers(N, minimum=3, maximum=MAPS_MAX_N)
     return MapCounts(N, lambda_table(N - 2))  # maps per bottom row h(N-2, .), Eq. (4.88)

@@ -41,7 +41,7 @@ from forcenet.core.validation import check_grain, check_int, check_layers
 from .protocol import Progress
 from .triangle import distribution as D
 from .triangle.distribution import distribution_plan
-from .triangle.gaps import contact_gap_law, contact_spacing
+from .triangle.gaps import contact_gap_law, contact_location
 from .triangle.law_routes import (
     ensemble_pieces,
     ensemble_route,
@@ -142,7 +142,7 @@ def law_request(N: int, grain: Any = None, layer: Any = None, contact: Any = Non
         if contact is None and i == 1:
             raise ArgumentError(f"grain=({i}, {j}): W_11 = 1 is the overload, it has no density; i must be in 2..{N}")
         if contact is not None:
-            contact_spacing(N, (i, j), contact)  # refuses the contacts that are not random
+            contact_location(N, i, j, contact, grain)  # refuses the contacts that are not random
         target = LawRequest(N, (i, j), None, contact)
     elif layer is not None:
         target = LawRequest(N, None, check_int(layer, "layer", 2, N))

@@ -40,7 +40,7 @@ from .triangle.de_bruijn.floor import MAX_FLOOR_N, floor_cost
 from .triangle.de_bruijn.layers import layer_cost
 from .triangle.distribution import moment_from_gaps
 from .triangle.free_fermion.covers import cover_row_cost, cover_row_moments, one_time_rows
-from .triangle.free_fermion.fluctuations import grain_gap_law, lattice_gap_laws_plan
+from .triangle.free_fermion.fluctuations import grain_gap_law, lattice_gap_laws_cost
 from .triangle.pfaffian_table import every_load_gap_law
 
 __all__ = ["ROW_ROUTES", "ROW_PRIME_ROUTES", "ROW_LAYER_ROUTES", "RowEngine", "APEX", "COVERS", "LATTICE", "LAYERS", "FLOOR",
@@ -111,7 +111,7 @@ class _Lattice(RowEngine):
     options = frozenset({"workers"})
 
     def plan(self, request: TableRequest) -> Plan:
-        law = lattice_gap_laws_plan(request.N, request.memory_bytes, request.options.get("workers"), layers=1)
+        law = lattice_gap_laws_cost(request.N, request.memory_bytes, request.options.get("workers"), layers=1)
         return replace(law, what=f"{_what(request)} (one-time: the lattice directions' law, Pfaffians)")
 
     def run(self, request: TableRequest, plan: Plan, *, progress: Progress | None = None,

@@ -15,6 +15,8 @@ import sys
 import textwrap
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import forcenet
 import forcenet.core.validation as validation
@@ -83,3 +85,23 @@ def test_a_plan_checks_its_request_once_cold(expression):
     out = subprocess.run([sys.executable, "-c", _COUNT, expression], capture_output=True, text=True, check=True).stdout
     count, *calls = out.split()
     assert 1 <= int(count) <= LIMIT, calls
+
+
+@settings(max_examples=25, deadline=None)
+@given(N=st.sampled_from([2, 5, 9, 13, 28, 40, 129]), moments=st.integers(1, 3),
+       method=st.sampled_from(["auto", "fast", "thesis", "lambda", "maps", "pfaffian"]), row=st.integers(0, 129))
+def test_every_table_plan_checks_its_request_once(N, moments, method, row):
+    expression = f"forcenet.plan({N}, {moments}, {method!r}" + (f", row={row})" if 1 <= row <= N else ")")
+    eval(expression, {"forcenet": forcenet})
+    assert len(_counted(expression)) <= LIMIT, expression
+
+
+@settings(max_examples=20, deadline=None)
+@given(N=st.sampled_from([3, 12, 30, 40, 128]), target=st.sampled_from(["grain", "edge", "layer", "ensemble", "contact"]),
+       method=st.sampled_from(["auto", "ideals", "pfaffians"]))
+def test_every_law_plan_checks_its_request_once(N, target, method):
+    where = {"grain": f"({N}, {N // 2 + 1})", "edge": f"({N}, 1)", "layer": f"layer={N}", "ensemble": "",
+             "contact": f"({N}, 2), contact='F1'"}[target]
+    expression = f"forcenet.law_plan({N}{', ' + where if where else ''}, method={method!r})"
+    eval(expression, {"forcenet": forcenet})
+    assert len(_counted(expression)) <= LIMIT, expression

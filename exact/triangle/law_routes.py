@@ -33,9 +33,9 @@ from forcenet.core.validation import check_grain, check_int, check_layers
 from .de_bruijn.floor import MAX_FLOOR_N, floor_cost, floor_gap_laws, floor_pooled_gap_law
 from .de_bruijn.layers import layer_cost, layer_gap_laws, layer_pooled_gap_law
 from .distribution import distribution_plan, layer_pieces_from_gaps, triangle_force_density
-from .free_fermion.fluctuations import MAX_LAW_N, grain_gap_law, lattice_gap_laws_plan
+from .free_fermion.fluctuations import MAX_LAW_N, grain_gap_law, lattice_gap_laws_cost
 from .gap_counts import GapCounts, pool_gaps
-from .gaps import gap_laws_plan, grain_gap_counts, layer_gap_counts
+from .gaps import gap_laws_cost, grain_gap_counts, layer_gap_counts
 from .pieces import Piece, sum_pieces
 from .prime_tasks import STARTUP_SECONDS
 from .staircase import count, dimension
@@ -76,7 +76,7 @@ def layer_route(N: int, i: int, memory_bytes: int | None = None, *,
     N = check_layers(N, maximum=MAX_FLOOR_N)
     i = check_int(i, "i", 2, N)
     what = f"exact P(f) of layer {i} N={N}"
-    ideals = gap_laws_plan(N, 1, memory_bytes, what=f"{what} (order ideals)")
+    ideals = gap_laws_cost(N, 1, memory_bytes, what=f"{what} (order ideals)")
     name = "floor" if i == N else "layers"
     pfaffians = (floor_cost(N, False, memory_bytes, executor=executor) if i == N
                  else layer_cost(N, i, False, memory_bytes, executor=executor))
@@ -286,7 +286,7 @@ def grain_route(N: int, grain: tuple[int, int], memory_bytes: int | None = None,
     """
     i, j = grain
     what = f"exact density of W_({i},{j}) N={N}"
-    ideals = gap_laws_plan(N, 1, memory_bytes, what=f"{what} (order ideals)")
+    ideals = gap_laws_cost(N, 1, memory_bytes, what=f"{what} (order ideals)")
     if i == N and 1 < j < N:  # a floor load: the DP or de Bruijn Pfaffians with a fugacity (every floor load at once)
         floor = replace(floor_cost(N, True, memory_bytes, executor=executor), what=f"{what} (de Bruijn Pfaffians, every floor load)")
         if ideals.runnable and (not floor.runnable or ideals.seconds <= floor.seconds):
@@ -299,7 +299,7 @@ def grain_route(N: int, grain: tuple[int, int], memory_bytes: int | None = None,
         if ideals.runnable and (not layers.runnable or ideals.seconds <= layers.seconds):
             return "ideals", ideals
         return "layers", layers
-    pfaffian = replace(lattice_gap_laws_plan(N, memory_bytes, layers=1, executor=executor), what=f"{what} (Pfaffians)")
+    pfaffian = replace(lattice_gap_laws_cost(N, memory_bytes, layers=1, executor=executor), what=f"{what} (Pfaffians)")
     if ideals.runnable and (not pfaffian.runnable or ideals.seconds <= pfaffian.seconds):
         return "ideals", ideals
     return "pfaffian", pfaffian

@@ -27,9 +27,9 @@ from typing import Any
 from forcenet.chicken_wire_results import BetheGroundState, Sector, TransferSpectrum
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_int
+from forcenet.front_door import _Costed
 from forcenet.numeric.chicken_wire.bethe_sector import MAX_WIDTH, default_sector, ground_state, ground_state_plan
 from forcenet.numeric.chicken_wire.transfer import sector_entropy, transfer_plan
-from forcenet.plan_base import PlanBase
 
 __all__ = [
     "TransferSpectrumPlan", "transfer_spectrum_plan", "transfer_spectrum",
@@ -43,7 +43,7 @@ Progress = Callable[..., Any]
 
 
 @dataclass(frozen=True)
-class TransferSpectrumPlan(PlanBase):
+class TransferSpectrumPlan(_Costed):
     """A checked request for the transfer spectrum of a cylinder, with its cost: what :func:`transfer_spectrum_plan` returns.
 
     Parameters
@@ -186,7 +186,7 @@ def transfer_spectrum(L: int, particles: int | None = None, *,
 
 
 @dataclass(frozen=True)
-class BetheGroundStatePlan(PlanBase):
+class BetheGroundStatePlan(_Costed):
     """A checked request for one sector's Bethe ground state, with its cost: what :func:`bethe_ground_state_plan` returns.
 
     Parameters

@@ -30,22 +30,28 @@ Examples
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from concurrent.futures import Executor
+from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any, Self
 
-from forcenet.core.checkpoints import resumed_plan, run_distrusting
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan, duration_text
-from forcenet.exact import routes
-from forcenet.exact.routes import METHODS, Choice, Request, RowChoice, check_request, plan_request, plan_row, takes
-from forcenet.plan_base import PlanBase, memory_or_default
+from forcenet.core.validation import available_memory
 from forcenet.results import Row, Table
+
+if TYPE_CHECKING:
+    from forcenet.exact.routes import Request
 
 __all__ = ["Row", "Table", "TablePlan", "plan", "table"]  # Row and Table: forcenet.results
 
 Progress = Callable[..., Any]
+
+
+def _available_memory() -> int:
+    """Bytes of memory available now, 16 GiB if unknown (the command line's figure)."""
+    return available_memory() or 16 * 2**30
 
 
 def _checkpoint(checkpoint: object) -> str | None:
@@ -56,8 +62,114 @@ def _checkpoint(checkpoint: object) -> str | None:
     return os.fspath(checkpoint)
 
 
+class _Costed:
+    """What a front door's plan (:class:`TablePlan`, :class:`~forcenet.LawPlan`) says of its ``cost``."""
+
+    cost: Plan
+
+    @contextmanager
+    def _ticks(self, progress: Callable[..., Any] | bool | None, desc: str) -> Iterator[Callable[..., Any] | None]:
+        """``progress`` as the run's tick: itself if callable, a tqdm bar for ``True`` (closed at the end; none for
+        a refused plan), else None."""
+        if progress is not True or not self.runnable:
+            yield progress if callable(progress) else None
+            return
+        from tqdm.auto import tqdm
+
+        bar = tqdm(total=self.cost.ticks or None, desc=desc, unit=self.cost.unit)
+        try:
+            yield bar.update
+        finally:
+            bar.close()
+
+    @property
+    def runnable(self) -> bool:
+        """True when the request can run (in range, within memory).
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.plan(40).runnable, forcenet.plan(40, method="lambda").runnable
+        (True, False)
+        """
+        return self.cost.runnable
+
+    @property
+    def refusal(self) -> str | None:
+        """Why it cannot run, and what would; None when it can.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> print(forcenet.plan(13, method="lambda").refusal)  # doctest: +ELLIPSIS
+        N=13 is out of range for --method lambda: ...; method='auto' runs it by fast (~0 s)
+        """
+        return self.cost.refusal
+
+    @property
+    def seconds(self) -> float:
+        """Estimated wall time on the 2-core reference machine.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.plan(5).seconds < 1
+        True
+        """
+        return self.cost.seconds
+
+    @property
+    def nbytes(self) -> int:
+        """Estimated peak memory in bytes.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.plan(64).nbytes < 2**31
+        True
+        """
+        return self.cost.nbytes
+
+    def describe(self) -> str:
+        """The cost in words: ``'~1 min, ~0.25 GiB'``.
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.plan(6, method="fast").describe()  # doctest: +ELLIPSIS
+        '~0 s, ~...GiB'
+        """
+        return self.cost.describe()
+
+    def check(self) -> Self:
+        """The plan itself when it can run; else :class:`~forcenet.ArgumentError` with its refusal.
+
+        Returns
+        -------
+        TablePlan or LawPlan
+            This plan.
+
+        Raises
+        ------
+        ArgumentError
+            If the plan is refused.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.plan(7).check().method
+        'fast'
+        """
+        self.cost.check()
+        return self
+
+
 @dataclass(frozen=True)
-class TablePlan(PlanBase):
+class TablePlan(_Costed):
     """A checked request for an exact table, with its cost: what :func:`plan` returns (make it with :func:`plan`).
 
     Parameters
@@ -127,15 +239,18 @@ class TablePlan(PlanBase):
         >>> forcenet.plan(4, method="thesis").run().mean_W[-1]
         [Fraction(1, 7), Fraction(5, 14), Fraction(5, 14), Fraction(1, 7)]
         """
+        from forcenet.core.checkpoints import run_distrusting  # numpy: not before a run
+        from forcenet.exact.routes import Choice, RowChoice, run_request, run_row  # the engines, on first use
+
         request = self.request  # checked once by plan(); the registry checks the plan before the run
         if request is None:
             raise ArgumentError("this TablePlan was not made by forcenet.plan: make it with forcenet.plan(N, ...)")
         with self._ticks(progress, f"table N={self.N}") as tick:  # a reused record that fails the route's
             if self.row is not None:                                 # exact checks is named, dropped, recomputed
-                rows = run_distrusting(self.checkpoint, self.N, lambda: routes.run_row(
+                rows = run_distrusting(self.checkpoint, self.N, lambda: run_row(
                     request, RowChoice(self.method, self.cost, self.why), tick))
                 return Row(self.N, self.row, self.method, self.why, rows)
-            tables = run_distrusting(self.checkpoint, self.N, lambda: routes.run_request(
+            tables = run_distrusting(self.checkpoint, self.N, lambda: run_request(
                 request, Choice(self.method, self.cost, self.why), tick))
         return Table(self.N, self.method, self.why, tables)
 
@@ -189,10 +304,13 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
     >>> print(forcenet.plan(40, method="fast").refusal)  # doctest: +ELLIPSIS
     N=40 is out of range for the exact table here: ...; method='auto' runs it by pfaffian (~...)
     """
+    from forcenet.core.checkpoints import resumed_plan  # numpy: not before a plan
+    from forcenet.exact.routes import METHODS, check_request, plan_request, takes  # the engines: not before a plan
+
     request = check_request(N, moments, method, row=row, memory_bytes=memory_bytes, executor=executor)  # the check
     directory = _checkpoint(checkpoint)
     if request.memory_bytes is None:
-        request = replace(request, memory_bytes=memory_or_default())
+        request = replace(request, memory_bytes=_available_memory())
     if row is not None:
         return _row_plan(replace(request, options={} if directory is None else {"checkpoint": directory}))
     request = replace(request, directory=directory)
@@ -215,6 +333,8 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
 
 def _row_plan(request: Request) -> TablePlan:
     """One row's plan: its route by :func:`forcenet.exact.routes.choose_row`, planned once with the options."""
+    from forcenet.exact.routes import plan_row
+
     choice = plan_row(request)
     cost = choice.plan if not choice.why else replace(choice.plan, what=f"{choice.plan.what}; {choice.why}")
     return TablePlan(request.N, request.moments, choice.route, choice.why, cost, request.executor,

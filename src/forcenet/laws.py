@@ -37,9 +37,10 @@ from typing import Any
 from forcenet.core.checkpoints import run_distrusting
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan
+from forcenet.core.validation import available_memory
 from forcenet.exact.routes import LAW_PRIME_ROUTES, LawRequest, law_checkpoint, law_request, law_resumed
+from forcenet.front_door import _Costed
 from forcenet.law_results import Law
-from forcenet.plan_base import PlanBase, memory_or_default
 from forcenet.registry import REGISTRY
 from forcenet.sampled_comparison import SampledComparisonPlan, comparison_plan
 
@@ -49,7 +50,7 @@ Progress = Callable[..., Any]
 
 
 @dataclass(frozen=True)
-class LawPlan(PlanBase):
+class LawPlan(_Costed):
     """A checked request for one load's law, with its route and cost: what :func:`law_plan` returns.
 
     Parameters
@@ -286,7 +287,7 @@ def law_plan(N: int, grain: tuple[int, int] | None = None, *, layer: int | None 
     """
     request = law_request(N, grain, layer, contact, method=method, memory_bytes=memory_bytes, executor=executor)
     if request.memory_bytes is None:
-        request = request._replace(memory_bytes=memory_or_default())
+        request = request._replace(memory_bytes=available_memory() or 16 * 2**30)
     decision = REGISTRY.decide(request)  # the law's policy: the faster runnable route by the plans
     plan = LawPlan(request, decision.engine.name, decision.why, decision.plan, memory_bytes=request.memory_bytes)
     if not plan.runnable or (executor is None and checkpoint is None):

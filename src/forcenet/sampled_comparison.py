@@ -30,6 +30,7 @@ from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan, combine
 from forcenet.core.validation import available_memory, check_int, check_real
 from forcenet.exact.triangle.distribution import bin_probabilities
+from forcenet.front_door import _Costed
 from forcenet.numeric.triangle.exact_sampler import sample_plan
 from forcenet.numeric.triangle.force_distribution import (
     chi_square,
@@ -39,7 +40,6 @@ from forcenet.numeric.triangle.force_distribution import (
     metropolis_histogram,
 )
 from forcenet.numeric.triangle.metropolis import metropolis_plan
-from forcenet.plan_base import PlanBase
 
 if TYPE_CHECKING:  # pragma: no cover - annotations only
     import numpy as np
@@ -172,7 +172,7 @@ class SampledComparison(Generic[L]):
 
 
 @dataclass(frozen=True)
-class SampledComparisonPlan(PlanBase, Generic[L]):
+class SampledComparisonPlan(_Costed, Generic[L]):
     """A checked comparison of an exact pooled ``P(f)`` with sampled histograms, with its cost (the law's too when it
     is still to be computed): what :meth:`forcenet.LawPlan.with_sampled_comparison` returns.
 

@@ -32,7 +32,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceError
 from forcenet.core.plan import Plan
 from forcenet.core.validation import available_memory, check_int, check_real
-from forcenet.plan_base import PlanBase as _Costed
+from forcenet.front_door import _Costed
 from forcenet.sample_results import Samples
 
 if TYPE_CHECKING:  # pragma: no cover - annotations only

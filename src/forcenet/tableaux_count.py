@@ -32,7 +32,7 @@ from forcenet.core.plan import Plan
 from forcenet.core.validation import check_int, check_layers
 from forcenet.exact.triangle.staircase import count_plan as staircase_plan
 from forcenet.exact.triangle.staircase import tableau_count
-from forcenet.plan_base import PlanBase, memory_or_default
+from forcenet.front_door import _available_memory, _Costed
 
 __all__ = ["CountPlan", "TableauxCount", "count_plan"]
 
@@ -103,7 +103,7 @@ class TableauxCount:
 
 
 @dataclass(frozen=True)
-class CountPlan(PlanBase):
+class CountPlan(_Costed):
     """The checked request for the tableaux count of ``N`` layers and its cost: what :func:`count_plan` returns.
 
     Parameters
@@ -191,5 +191,5 @@ def count_plan(N: int, *, memory_bytes: int | None = None) -> CountPlan:
     Ostojic (2006), Eq. (4.1) (``d! * normalization``); OEIS A003121.
     """
     N = check_layers(N)
-    memory = memory_or_default() if memory_bytes is None else check_int(memory_bytes, "memory_bytes", 1)
+    memory = _available_memory() if memory_bytes is None else check_int(memory_bytes, "memory_bytes", 1)
     return CountPlan(N, staircase_plan(N, memory))

@@ -25,14 +25,13 @@ import json
 import numbers
 from decimal import Decimal
 from fractions import Fraction
-from typing import Any
-
-import mpmath
+from typing import TYPE_CHECKING, Any
 
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.validation import check_dps, check_float_digits, check_not_bool, is_binary_float
-from forcenet.numeric.limit_shape.edge import EDGE_EXPONENT, edge_amplitude, edge_sd_amplitude
-from forcenet.numeric.limit_shape.surface import bulk_response, lattice_response
+
+if TYPE_CHECKING:  # pragma: no cover - annotations only
+    import mpmath
 
 __all__ = ["LimitShape", "limit_shape"]
 
@@ -103,10 +102,13 @@ class LimitShape:
         """
         if not self.on_lattice:
             return None
+        from forcenet.numeric.limit_shape.edge import EDGE_EXPONENT
 
         return EDGE_EXPONENT
 
     def _digits(self, value: mpmath.mpf) -> str:
+        import mpmath
+
         return str(mpmath.nstr(value, self.dps))
 
     def to_dict(self) -> dict[str, Any]:
@@ -221,6 +223,8 @@ def _bulk(bulk_response: Any, x_text: str, z_text: str, x: Fraction, z: Fraction
           dps: int) -> mpmath.mpf:
     """The bulk response to ``dps`` digits; within ``10^-7`` of a lattice direction computed with the gap's
     digits added (the level curve's slope cancels there) and rounded to ``dps``."""
+    import mpmath
+
     gap = z - abs(x)
     if not (0 < gap < NEAR_LATTICE and z < 1):  # the corners x = +-z = +-1 are no lattice direction: no divergence
         return bulk_response(x_value, z_value, dps=dps)
@@ -301,6 +305,9 @@ def limit_shape(x: str | Fraction | int | float | Decimal, z: str | Fraction | i
     if not abs(x_exact) <= z_exact:
         raise ArgumentError(f"x={x_text} is out of range: x must lie in [-z, z] = [-{z_text}, {z_text}]")
     on_lattice = abs(x_exact) == z_exact and z_exact < 1  # the bulk density diverges there
+
+    from forcenet.numeric.limit_shape.edge import edge_amplitude, edge_sd_amplitude
+    from forcenet.numeric.limit_shape.surface import bulk_response, lattice_response
 
     if on_lattice:
         dps = check_dps(dps, maximum=EDGE_MAX_DPS)

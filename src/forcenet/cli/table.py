@@ -7,17 +7,7 @@ import os
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, cast
 
-import forcenet
-from forcenet.core.plan import combine_by_time, phase_progress
-from forcenet.exact.routes import (
-    MAX_MOMENTS,
-    METHODS,
-    ROW_LAYER_ROUTES,
-    ROW_PRIME_ROUTES,
-    over_primes,
-    over_primes_text,
-    takes,
-)
+from forcenet.exact.routes import MAX_MOMENTS, METHODS, over_primes, over_primes_text, takes
 
 from .cluster import add_engine_options, engine_options, report_checkpoints
 from .common import (
@@ -44,7 +34,9 @@ _EXTENSIONS = {".json": "json", ".csv": "csv", ".tex": "latex"}
 
 
 def cmd_count(args: argparse.Namespace) -> int:
-    request = forcenet.count_plan(args.N, memory_bytes=available_memory())
+    from forcenet import count_plan
+
+    request = count_plan(args.N, memory_bytes=available_memory())
     text = run_planned(request.cost, lambda tick: request.run(progress=tick).to_text(), force=args.force,
                        quiet=args.quiet)
     emit(text, args.out)
@@ -84,10 +76,12 @@ def _request(args: argparse.Namespace, memory: int | None, client: Any = None,
              directory: str | None = None) -> TablePlan:
     """The front door's plan of the request (:func:`forcenet.plan`); ``auto`` with ``--scheduler`` or
     ``--checkpoint`` chooses among the routes that take them."""
+    from forcenet import plan
+
     method = args.method
     if client is None and directory is None and (args.scheduler or args.checkpoint):
         method = over_primes(method)  # not yet connected: the registry's routes that take the options
-    return forcenet.plan(args.N, args.moments, method, executor=client, checkpoint=directory, memory_bytes=memory).check()
+    return plan(args.N, args.moments, method, executor=client, checkpoint=directory, memory_bytes=memory).check()
 
 
 def cmd_table(args: argparse.Namespace) -> int:
@@ -116,18 +110,21 @@ def cmd_table(args: argparse.Namespace) -> int:
 def _table_row(args: argparse.Namespace, fmt: str | None) -> int:
     """``--row i``: row ``i`` of ``<W^s>``, ``s <= --moments``, by the fastest exact route for that row, announced
     (:func:`forcenet.plan` with ``row=``)."""
+    from forcenet import plan
+    from forcenet.exact.routes import ROW_LAYER_ROUTES, ROW_PRIME_ROUTES
+
     if fmt is None:
         raise UsageError("--row gives one row in one format: give --format json|csv|latex or --out FILE "
                          "(the main job's three files and cross-check are for the whole table)")
     memory = available_memory()
-    request = forcenet.plan(args.N, args.moments, args.method, memory_bytes=memory, row=args.row).check()
+    request = plan(args.N, args.moments, args.method, memory_bytes=memory, row=args.row).check()
     explicit = args.scheduler is not None or args.checkpoint is not None  # then only the routes that take them
     applies = explicit or request.method in ROW_PRIME_ROUTES
     client, directory = engine_options(args, applies, f"a row's routes over primes ({', '.join(ROW_PRIME_ROUTES[:3])})",
                                        request.seconds, lambda directory: directory)
     try:
         if client is not None or directory is not None:  # a cluster or a checkpoint store changes the plan
-            request = forcenet.plan(args.N, args.moments, args.method, executor=client, checkpoint=directory,
+            request = plan(args.N, args.moments, args.method, executor=client, checkpoint=directory,
                            memory_bytes=memory, row=args.row).check()
         row = run_planned(request.cost, lambda tick: request.run(progress=tick), force=args.force, quiet=args.quiet)
     finally:
@@ -140,6 +137,7 @@ def _table_row(args: argparse.Namespace, fmt: str | None) -> int:
 
 
 def _table(args: argparse.Namespace, fmt: str | None, memory: int | None, request: TablePlan) -> int:
+    from forcenet.core.plan import combine_by_time, phase_progress
     from forcenet.testing import cross_check, cross_check_plan
 
     plans = [request.cost]
@@ -185,13 +183,17 @@ def _table(args: argparse.Namespace, fmt: str | None, memory: int | None, reques
 
 
 def cmd_maps(args: argparse.Namespace) -> int:
-    result = forcenet.maps(args.N)  # maps per bottom row h(N-2, .), Eq. (4.88)
+    from forcenet import maps
+
+    result = maps(args.N)  # maps per bottom row h(N-2, .), Eq. (4.88)
     emit(result.to_json() if args.format == "json" else result.to_text(), args.out)
     return 0
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``count``, ``table`` and ``maps`` to the subcommands."""
+    from forcenet import MapCounts  # the range of forcenet.maps, its own (no copy here)
+
     what = ("how many force networks: standard shifted staircase tableaux, d! * normalization (4.1) "
             "(d = N(N-1)/2 free forces; an exact integer)")
     p = sub.add_parser("count", help=what, description=what[0].upper() + what[1:] + ".")
@@ -258,7 +260,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=cmd_table)
 
     p = sub.add_parser("maps", help="Z_(N-2) and the number of maps h per bottom row (Sec. 4.6)")
-    add_layers(p, maximum=forcenet.MapCounts.MAX_N, minimum=3, deferred=True)  # N: checked by forcenet.maps
+    add_layers(p, maximum=MapCounts.MAX_N, minimum=3, deferred=True)  # N: checked by forcenet.maps
     p.add_argument("--format", choices=["text", "json"], default="text", help="output format (default text)")
     p.add_argument("--out", help="write the output to this file (atomically; its directory must exist)")
     p.set_defaults(func=cmd_maps)

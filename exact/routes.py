@@ -212,7 +212,7 @@ def choose(N: int, moments: int = 1, *, memory_bytes: int | None = None, executo
 
     Every candidate method's plan is asked; among the runnable ones (in
     range, within ``memory_bytes``) the one of least estimated seconds wins
-    (ties: the order of :data:`ENGINES`).  A method whose engine states a
+    (ties: the order of :data:`TABLE_ENGINES`).  A method whose engine states a
     ``min_plan_seconds`` (its start-up, e.g. loading compiled kernels) is
     not planned when another plan already runs within that time.  Engine options (``workers=``,
     ``checkpoint=``) restrict the candidates to the methods that take them.
@@ -228,7 +228,7 @@ def choose(N: int, moments: int = 1, *, memory_bytes: int | None = None, executo
     executor : concurrent.futures.Executor, optional
         Runs the chosen method's independent tasks (the plans count it).
     methods : sequence of str, optional
-        The candidates (default: every method of :data:`ENGINES`).
+        The candidates (default: every method of :data:`TABLE_ENGINES`).
     **options
         ``workers=``, ``checkpoint=`` of the Pfaffian route.
 

@@ -27,18 +27,34 @@ Fraction(5, 14)
 
 from __future__ import annotations
 
+import os
 from concurrent.futures import Executor
 from dataclasses import replace
 from typing import Any, NamedTuple
 
+from forcenet.core.checkpoints import resumed_plan
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan, duration_text
+from forcenet.core.registry import Decision
 from forcenet.core.validation import check_grain, check_int, check_layers
 
 from .protocol import Progress
+from .triangle import distribution as D
+from .triangle.distribution import distribution_plan
+from .triangle.gaps import contact_gap_law, contact_location
+from .triangle.law_routes import (
+    ensemble_pieces,
+    ensemble_route,
+    grain_route,
+    layer_gap_law,
+    layer_route,
+    single_grain_gap_law,
+)
+from .triangle.prime_tasks import checkpoint_store
 
 __all__ = ["LAW_METHODS", "LAW_MAX_N", "LAW_DP_MAX_N", "LAW_CONTACTS", "LAW_PRIME_ROUTES", "LAW_ROUTES", "LawRequest",
-           "law_request", "LawChoice", "choose_law", "law_checkpoint", "law_resumed", "LawPieces", "law_run"]
+           "law_request", "LawChoice", "choose_law", "law_policy", "law_checkpoint", "law_resumed", "LawPieces",
+           "law_run", "LawEngine", "LAW_ENGINES"]
 
 LAW_METHODS = ("auto", "ideals", "pfaffians")  # the faster by the plans; the order-ideal DP; the Pfaffian route
 LAW_MAX_N = 128  # the Pfaffian routes' reach (fluctuations.MAX_LAW_N, layers.MAX_FLOOR_N; tested equal)
@@ -55,12 +71,28 @@ LAW_ROUTES = {  # route -> what it is (the routes the route functions return, an
 
 
 class LawRequest(NamedTuple):
-    """One load's law, validated (:func:`law_request`): a grain's ``W_ij``, its contact force, a layer or the ensemble."""
+    """One load's law, validated (:func:`law_request`): a grain's ``W_ij``, its contact force, a layer or the
+    ensemble; the ``method`` asked, the memory the plan is checked against, the ``executor`` and ``checkpoint`` of
+    the routes over primes. The registry's request (model ``"triangle"``, quantity ``"law"``)."""
 
     N: int
     grain: tuple[int, int] | None = None
     layer: int | None = None
     contact: str | None = None
+    method: str = "auto"
+    memory_bytes: int | None = None
+    executor: Executor | None = None
+    checkpoint: Any = None
+
+    @property
+    def model(self) -> str:
+        """``"triangle"``."""
+        return "triangle"
+
+    @property
+    def quantity(self) -> str:
+        """``"law"``."""
+        return "law"
 
     @property
     def kind(self) -> str:
@@ -70,15 +102,18 @@ class LawRequest(NamedTuple):
         return "grain" if self.grain is not None else "layer" if self.layer is not None else "ensemble"
 
 
-def law_request(N: int, grain: Any = None, layer: Any = None, contact: Any = None) -> LawRequest:
+def law_request(N: int, grain: Any = None, layer: Any = None, contact: Any = None, *, method: Any = "auto",
+                memory_bytes: Any = None, executor: Executor | None = None) -> LawRequest:
     """Validate one load's law once: ``grain=(i, j)`` (with ``contact``, its contact force), ``layer=i``, or neither
-    (the ensemble, every grain of layers ``2..N`` pooled).
+    (the ensemble, every grain of layers ``2..N`` pooled); ``memory_bytes >= 1``; ``method`` one of
+    :data:`LAW_METHODS`.
 
     Raises
     ------
     ArgumentError, ArgumentTypeError
         If ``N`` is not in ``2..LAW_MAX_N``, the grain or layer is out of range, ``W_11`` (the overload) is asked,
-        a contact is not random there, or the arguments do not name one target.
+        a contact is not random there, the arguments do not name one target, or ``memory_bytes`` or ``method`` is
+        out of range.
 
     Examples
     --------
@@ -107,13 +142,22 @@ def law_request(N: int, grain: Any = None, layer: Any = None, contact: Any = Non
         if contact is None and i == 1:
             raise ArgumentError(f"grain=({i}, {j}): W_11 = 1 is the overload, it has no density; i must be in 2..{N}")
         if contact is not None:
-            from .triangle.gaps import contact_spacing
+            contact_location(N, i, j, contact, grain)  # refuses the contacts that are not random
+        target = LawRequest(N, (i, j), None, contact)
+    elif layer is not None:
+        target = LawRequest(N, None, check_int(layer, "layer", 2, N))
+    else:
+        target = LawRequest(N)
+    memory = None if memory_bytes is None else check_int(memory_bytes, "memory_bytes", 1)
+    return target._replace(method=_check_method(method), memory_bytes=memory, executor=executor)
 
-            contact_spacing(N, (i, j), contact)  # refuses the contacts that are not random
-        return LawRequest(N, (i, j), None, contact)
-    if layer is not None:
-        return LawRequest(N, None, check_int(layer, "layer", 2, N))
-    return LawRequest(N)
+
+def _check_method(method: Any) -> str:
+    if not isinstance(method, str):
+        raise ArgumentTypeError(f"method={method!r} is not a string: method must be one of {', '.join(LAW_METHODS)}")
+    if method not in LAW_METHODS:
+        raise ArgumentError(f"method={method!r} is out of range: method must be one of {', '.join(LAW_METHODS)}")
+    return method
 
 
 class LawChoice(NamedTuple):
@@ -124,12 +168,13 @@ class LawChoice(NamedTuple):
     why: str
 
 
-def choose_law(request: LawRequest, method: str = "auto", memory_bytes: int | None = None, *,
+def choose_law(request: LawRequest, method: str | None = None, memory_bytes: int | None = None, *,
                executor: Executor | None = None) -> LawChoice:
-    """The route to ``request``'s law by ``method`` and its plan; a refused plan names what would run it.
+    """The route to ``request``'s law by ``method`` (default: the request's) and its plan; a refused plan names what
+    would run it.  :func:`law_policy` (the registry's choice for a law) as a function.
 
     ``auto`` takes the route function's choice beside the engines (the faster runnable plan of the order-ideal
-    DP and the Pfaffian route: :func:`~forcenet.exact.triangle.law_routes.single_grain_route`,
+    DP and the Pfaffian route: :func:`~forcenet.exact.triangle.law_routes.grain_route`,
     :func:`~forcenet.exact.triangle.law_routes.layer_route`,
     :func:`~forcenet.exact.triangle.law_routes.ensemble_route`; a contact force has the DP only), each
     called once.  ``ideals`` is the DP; ``pfaffians`` the Pfaffian route, planned where it is the faster.
@@ -142,19 +187,36 @@ def choose_law(request: LawRequest, method: str = "auto", memory_bytes: int | No
     >>> print(choose_law(law_request(40, layer=40), "ideals").plan.refusal)  # doctest: +ELLIPSIS
     N=40 is out of range for exact gap laws: ...; method='auto' runs it by floor (~...)
     """
-    from .triangle.distribution import distribution_plan
-    from .triangle.law_routes import ensemble_route, layer_route, single_grain_route
+    if method is not None:
+        request = request._replace(method=_check_method(method))
+    if memory_bytes is not None:
+        request = request._replace(memory_bytes=memory_bytes)
+    if executor is not None:
+        request = request._replace(executor=executor)
+    return _decide(request)
 
-    if not isinstance(method, str):
-        raise ArgumentTypeError(f"method={method!r} is not a string: method must be one of {', '.join(LAW_METHODS)}")
-    if method not in LAW_METHODS:
-        raise ArgumentError(f"method={method!r} is out of range: method must be one of {', '.join(LAW_METHODS)}")
+
+def law_policy(registry: Any, request: LawRequest) -> Decision:
+    """The registry's choice for a checked law request (:func:`choose_law`): the route's engine, its plan, why.
+
+    Examples
+    --------
+    >>> law_policy(None, law_request(40, layer=40)).engine.name
+    'floor'
+    """
+    route, plan, why = _decide(request)
+    return Decision(LAW_ENGINES_BY_ROUTE[route], plan, {route: plan}, {}, why)
+
+
+def _decide(request: LawRequest) -> LawChoice:
+    """The route, plan and reason for a checked law request (the body of :func:`choose_law`)."""
+    method, memory_bytes, executor = request.method, request.memory_bytes, request.executor
     N, kind = request.N, request.kind
     options: dict[str, Any] = {"executor": executor}  # the plans over primes count a cluster's workers
     if request.contact is not None:  # a contact force: the DP over the ideals of its row or column
         route, plan = "ideals", distribution_plan(N, "contact", memory_bytes)
     elif request.grain is not None:
-        route, plan = single_grain_route(N, request.grain, memory_bytes, **options)
+        route, plan = grain_route(N, request.grain, memory_bytes, **options)
     elif request.layer is not None:
         route, plan = layer_route(N, request.layer, memory_bytes, **options)
     else:
@@ -198,10 +260,6 @@ def law_checkpoint(request: LawRequest, route: str, directory: Any) -> Any:
     >>> law_checkpoint(law_request(40), "pfaffians", d) == d
     True
     """
-    import os
-
-    from .triangle.prime_tasks import checkpoint_store
-
     if route not in LAW_PRIME_ROUTES:
         raise ArgumentError(f"checkpoint= applies to the law routes over primes ({', '.join(LAW_PRIME_ROUTES)}), "
                             f"not to route={route!r}: run it without a checkpoint")
@@ -225,8 +283,6 @@ def law_resumed(plan: Plan, request: LawRequest, checkpoint: Any) -> Plan:
     """
     if not isinstance(checkpoint, str):
         return plan
-    from forcenet.core.checkpoints import resumed_plan
-
     return resumed_plan(plan, checkpoint, request.N, ("pfaffian-layer", "pfaffian-floor"))
 
 
@@ -251,10 +307,6 @@ def law_run(request: LawRequest, route: str, progress: Progress | None = None, *
     >>> law.quantity, law.density[0].poly.as_expr(), law.extra["mean"]
     ('W_{3,2}', -6*w**2 + 6*w, Fraction(1, 2))
     """
-    from .triangle import distribution as D
-    from .triangle.gaps import contact_gap_law
-    from .triangle.law_routes import ensemble_pieces, layer_gap_law, single_grain_gap_law
-
     N = request.N
     if request.grain is not None:
         i, j = request.grain
@@ -270,3 +322,37 @@ def law_run(request: LawRequest, route: str, progress: Progress | None = None, *
         return LawPieces(f"P(f), f = {i} W_{{{i},j}} (layer {i})", "f", *D.layer_pieces_from_gaps(gaps, i), {})
     pieces = ensemble_pieces(N, route, progress, **options)
     return LawPieces("P(f), f = i W_{i,j} over layers 2..N (ensemble)", "f", pieces, D.piecewise_cdf(pieces), {})
+
+
+class LawEngine:
+    """One route to a load's law as an engine (model ``"triangle"``, quantity ``"law"``): its ``name`` is the route
+    (:data:`LAW_ROUTES`); the law's policy (:func:`law_policy`) chooses among them, so its plan is the policy's
+    when the policy takes this route, else refused naming the route that serves the law."""
+
+    model = "triangle"
+    quantities = frozenset({"law"})
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+        self.options = frozenset({"checkpoint"}) if name in LAW_PRIME_ROUTES else frozenset()
+
+    def __repr__(self) -> str:
+        return f"<triangle law engine {self.name!r}>"
+
+    def plan(self, request: LawRequest) -> Plan:
+        """The policy's plan if it takes this route; else a refusal naming the route that does."""
+        route, plan, _ = _decide(request)
+        if route == self.name:
+            return plan
+        return Plan(plan.what, 0, refusal=f"route {self.name!r} does not serve this law at N={request.N}: {route} does")
+
+    def run(self, request: LawRequest, plan: Plan, *, progress: Progress | None = None,
+            executor: Executor | None = None) -> LawPieces:
+        """:func:`law_run` by this route, with the request's ``executor`` (or ``executor``) and ``checkpoint``."""
+        options = {k: v for k, v in (("executor", executor or request.executor), ("checkpoint", request.checkpoint))
+                   if v is not None}
+        return law_run(request, self.name, progress, **options)
+
+
+LAW_ENGINES: tuple[LawEngine, ...] = tuple(LawEngine(route) for route in LAW_ROUTES)
+LAW_ENGINES_BY_ROUTE = {engine.name: engine for engine in LAW_ENGINES}

@@ -1,4 +1,4 @@
-"""The routes of ``forcenet table``: a plain table from method name to engine module, and ``auto``.
+"""The triangle's engines in the registry: ``forcenet table``'s methods, one row's routes, one load's laws.
 
 =========  ==========================================================  ==========
 method     engine                                                      reach
@@ -11,19 +11,21 @@ pfaffian   Schur Pfaffians, minor summation (:mod:`.triangle.pfaffian_table`)  N
 auto       the fastest runnable of the five, by their plans (the default)
 =========  ==========================================================  ==========
 
-Every engine module has the same ``table_plan``/``table_run`` pair
-(:class:`forcenet.exact.protocol.TableEngine`) and owns its cost knowledge;
-this module only looks the method up, and for ``auto`` compares the plans.
-It alone checks a request (:func:`check_request`: ``N``, ``moments``,
-``method``, ``row``, ``memory_bytes``, once), plans it once
-(:func:`plan_request`) and checks the plan before the run
-(:func:`run_request`); the engines' trusted pair (``trusted_plan``,
-``trusted_run``) receives the checked arguments.
+Every table method is an engine object (:class:`forcenet.exact.protocol.TableEngine`,
+each module's ``ENGINE``) that owns its cost knowledge; this module registers
+them, the row's routes (:mod:`.row_routes`) and the laws' routes
+(:mod:`.law_registry`) in the one registry (:data:`forcenet.core.registry.REGISTRY`,
+model ``"triangle"``, quantities ``"table"``, ``"row"``, ``"law"``), with the
+policies of a row and a law; ``auto`` is the registry's choice by the plans.
+A request is checked once (:func:`check_request`: ``N``, ``moments``,
+``method``, ``row``, ``memory_bytes``), planned once (:func:`plan_request`,
+:func:`plan_row`) and its plan checked before the run (:func:`run_request`,
+:func:`run_row`); the engines take the request and trust it.
 
 One row of the moment tables (``forcenet table --row i``, :func:`row_plan`,
-:func:`row_run`) has routes of its own (:func:`choose_row`): the one-time
-cover identity for the rows ``2``, ``3``, ``N - 1`` (``<W^2>`` for the price
-of the mean, :mod:`.triangle.free_fermion.covers`), the lattice route for row 2
+:func:`row_run`) has routes of its own (:func:`choose_row`,
+:mod:`.row_routes`): the one-time cover identity for the rows ``2``, ``3``,
+``N - 1`` (``<W^2>`` for the price of the mean), the lattice route for row 2
 (every moment), de Bruijn Pfaffians for one layer (every load, every moment),
 or a whole table's row.
 
@@ -46,17 +48,19 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from concurrent.futures import Executor
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 from fractions import Fraction
 from typing import Any, NamedTuple
 
-from forcenet.core.errors import ArgumentError, ArgumentTypeError
+from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan, duration_text
-from forcenet.core.validation import MAX_MOMENTS, check_int, check_layers, check_moments
+from forcenet.core.registry import REGISTRY, Engine
+from forcenet.core.validation import MAX_MOMENTS
 
 from .law_registry import (
     LAW_CONTACTS,
     LAW_DP_MAX_N,
+    LAW_ENGINES,
     LAW_MAX_N,
     LAW_METHODS,
     LAW_PRIME_ROUTES,
@@ -66,46 +70,35 @@ from .law_registry import (
     LawRequest,
     choose_law,
     law_checkpoint,
+    law_policy,
     law_request,
     law_resumed,
     law_run,
 )
-from .protocol import Progress, Table, TableEngine
+from .protocol import Progress, Table, TableEngine, TableRequest, check_table_request
+from .row_routes import ROW_ENGINES, ROW_LAYER_ROUTES, ROW_PRIME_ROUTES, ROW_ROUTES, row_policy
 from .thesis import lambda_route, maps_route, nested_route
 from .triangle import moments as ideal_moments
 from .triangle import pfaffian_table as pfaffian_route
 
-__all__ = ["ENGINES", "METHODS", "MAX_MOMENTS", "Choice", "Request", "check_request", "plan_request", "run_request",
-           "choose", "table_plan", "table_run", "takes", "checkpoint_for", "ROW_ROUTES", "ROW_PRIME_ROUTES", "RowChoice",
-           "plan_row", "run_row", "choose_row", "row_plan", "row_run",
+__all__ = ["ENGINES", "TABLE_ENGINES", "METHODS", "MAX_MOMENTS", "Choice", "Request", "check_request", "plan_request",
+           "run_request", "choose", "table_plan", "table_run", "takes", "checkpoint_for", "over_primes",
+           "over_primes_text", "ROW_ROUTES", "ROW_PRIME_ROUTES", "ROW_LAYER_ROUTES", "RowChoice", "plan_row", "run_row", "choose_row", "row_plan", "row_run",
            # the laws of one load (forcenet.law, forcenet dist): defined in .law_registry, this registry's names
            "LAW_METHODS", "LAW_MAX_N", "LAW_DP_MAX_N", "LAW_CONTACTS", "LAW_PRIME_ROUTES", "LAW_ROUTES", "LawRequest",
            "law_request", "LawChoice", "choose_law", "law_checkpoint", "law_resumed", "LawPieces", "law_run"]
 
-ENGINES: dict[str, TableEngine] = {
-    "fast": ideal_moments,
-    "thesis": nested_route,
-    "lambda": lambda_route,
-    "maps": maps_route,
-    "pfaffian": pfaffian_route,
-}
-METHODS = (*ENGINES, "auto")
+MODEL = "triangle"
+TABLE_ENGINES: tuple[TableEngine, ...] = (ideal_moments.ENGINE, nested_route.ENGINE, lambda_route.ENGINE,
+                                          maps_route.ENGINE, pfaffian_route.ENGINE)
+ENGINES: tuple[Engine, ...] = (*TABLE_ENGINES, *ROW_ENGINES, *LAW_ENGINES)  # the triangle's, in the registry
+METHODS = (*(engine.name for engine in TABLE_ENGINES), "auto")
+Request = TableRequest  # a checked table (or row) request: forcenet.exact.protocol.TableRequest
 
-
-@dataclass(frozen=True)
-class Request:
-    """A checked table request (:func:`check_request` makes it), planned and run trusted: ``options``, the engine
-    options given; ``directory``, where each engine keeping checkpoints makes its store, once (``stores``)."""
-
-    N: int
-    moments: int = 1
-    method: str = "auto"
-    memory_bytes: int | None = None
-    executor: Executor | None = None
-    options: dict[str, Any] = field(default_factory=dict)
-    row: int | None = None
-    directory: str | None = None
-    stores: dict[str, Any] = field(default_factory=dict, compare=False, repr=False)
+for _one in ENGINES:
+    REGISTRY.register(_one)
+REGISTRY.set_policy(MODEL, "row", row_policy)
+REGISTRY.set_policy(MODEL, "law", law_policy)
 
 
 def check_request(N: int, moments: int = 1, method: str = "auto", *, row: int | None = None,
@@ -135,32 +128,23 @@ def check_request(N: int, moments: int = 1, method: str = "auto", *, row: int | 
     ...
     forcenet.core.errors.ArgumentError: method='fastest' is out of range: method must be one of fast, ...
     """
-    N, moments = check_layers(N), check_moments(moments)
-    if not isinstance(method, str):
-        raise ArgumentTypeError(f"method={method!r} is not a string: method must be one of {', '.join(METHODS)}")
-    if method != "auto":
-        _engine(method)  # refuses an unknown name
-    row = None if row is None else check_int(row, "row", 1, N)
-    memory_bytes = None if memory_bytes is None else check_int(memory_bytes, "memory_bytes", 0)
-    given = {k: v for k, v in options.items() if v is not None}
-    return Request(N, moments, method, memory_bytes, executor, given, row)
+    return check_table_request(N, moments, method, row=row, memory_bytes=memory_bytes, executor=executor,
+                         methods=METHODS, **options)
 
 
 def _engine(method: str) -> TableEngine:
-    if method not in ENGINES:
-        raise ArgumentError(f"method={method!r} is out of range: method must be one of {', '.join(METHODS)}")
-    return ENGINES[method]
+    return REGISTRY.engine(MODEL, "table", method)  # type: ignore[return-value]
 
 
 def takes(method: str, option: str) -> bool:
-    """Whether the engine of ``method`` takes the keyword ``option`` beyond the protocol's (its ``OPTIONS``).
+    """Whether the engine of ``method`` takes the keyword ``option`` beyond the request's (its ``options``).
 
     Examples
     --------
     >>> takes("pfaffian", "checkpoint"), takes("fast", "checkpoint")
     (True, False)
     """
-    return option in getattr(_engine(method), "OPTIONS", ())
+    return option in _engine(method).options
 
 
 def checkpoint_for(method: str, directory: Any, N: int, moments: int = 1) -> Any:
@@ -182,10 +166,36 @@ def _options(method: str, options: dict[str, Any]) -> dict[str, Any]:
     given = {k: v for k, v in options.items() if v is not None}
     unknown = [k for k in given if not takes(method, k)]
     if unknown:
-        able = [m for m in ENGINES if all(takes(m, k) for k in unknown)]
+        able = [e.name for e in TABLE_ENGINES if all(k in e.options for k in unknown)]
         raise ArgumentError(f"{', '.join(f'{k}=' for k in unknown)} applies to method={' or '.join(map(repr, able))} "
                             "only (the routes over independent primes)")
     return given
+
+
+def over_primes(method: str = "auto") -> str:
+    """The table method a request with a cluster or a checkpoint is planned by before they are connected:
+    ``method`` itself, or for ``auto`` the one method over independent primes (``auto`` among several).
+
+    Examples
+    --------
+    >>> over_primes(), over_primes("fast")
+    ('pfaffian', 'fast')
+    """
+    if method != "auto":
+        return method
+    able = [engine.name for engine in TABLE_ENGINES if "checkpoint" in engine.options]
+    return able[0] if len(able) == 1 else "auto"
+
+
+def over_primes_text() -> str:
+    """The table methods over independent primes as the command line names them (its options' help and refusals).
+
+    Examples
+    --------
+    >>> over_primes_text()
+    '--method pfaffian'
+    """
+    return "--method " + " or ".join(engine.name for engine in TABLE_ENGINES if "checkpoint" in engine.options)
 
 
 class Choice(NamedTuple):
@@ -202,8 +212,8 @@ def choose(N: int, moments: int = 1, *, memory_bytes: int | None = None, executo
 
     Every candidate method's plan is asked; among the runnable ones (in
     range, within ``memory_bytes``) the one of least estimated seconds wins
-    (ties: the order of :data:`ENGINES`).  A method whose module states a
-    ``MIN_PLAN_SECONDS`` (its start-up, e.g. loading compiled kernels) is
+    (ties: the order of :data:`TABLE_ENGINES`).  A method whose engine states a
+    ``min_plan_seconds`` (its start-up, e.g. loading compiled kernels) is
     not planned when another plan already runs within that time.  Engine options (``workers=``,
     ``checkpoint=``) restrict the candidates to the methods that take them.
 
@@ -218,7 +228,7 @@ def choose(N: int, moments: int = 1, *, memory_bytes: int | None = None, executo
     executor : concurrent.futures.Executor, optional
         Runs the chosen method's independent tasks (the plans count it).
     methods : sequence of str, optional
-        The candidates (default: every method of :data:`ENGINES`).
+        The candidates (default: every method of :data:`TABLE_ENGINES`).
     **options
         ``workers=``, ``checkpoint=`` of the Pfaffian route.
 
@@ -246,43 +256,33 @@ def choose(N: int, moments: int = 1, *, memory_bytes: int | None = None, executo
     return _choose(check_request(N, moments, memory_bytes=memory_bytes, executor=executor, **options), methods)
 
 
-def _engine_options(method: str, request: Request) -> dict[str, Any]:
-    """The options ``method``'s engine is given: the request's, with its checkpoint store made once from
-    ``request.directory``."""
+def _engine_options(method: str, request: Request) -> Request:
+    """The request ``method``'s engine is given: its checkpoint store made once from ``request.directory``."""
     if request.directory is None:
-        return request.options
+        return request
     if method not in request.stores:
         request.stores[method] = checkpoint_for(method, request.directory, request.N, request.moments)
-    return {**request.options, "checkpoint": request.stores[method]}
-
-
-def _plan(method: str, request: Request) -> Plan:
-    """The engine's plan of a checked request (its trusted face: nothing is checked again)."""
-    return ENGINES[method].trusted_plan(request.N, request.moments, memory_bytes=request.memory_bytes,
-                                        executor=request.executor, **_engine_options(method, request))
+    return replace(request, options={**request.options, "checkpoint": request.stores[method]}, directory=None,
+                   stores=request.stores)
 
 
 def _choose(request: Request, methods: Sequence[str] | None = None) -> Choice:
-    """:func:`choose` for a checked request."""
+    """:func:`choose` for a checked request: the registry's ``auto`` among ``methods`` (default: all)."""
     given = request.options
-    candidates = [m for m in (ENGINES if methods is None else methods)
-                  if all(takes(m, k) for k in given)]
+    candidates = tuple(m for m in (METHODS[:-1] if methods is None else methods) if all(takes(m, k) for k in given))
     if not candidates:
         raise ArgumentError(f"{', '.join(f'{k}=' for k in given)} applies to method='pfaffian' only "
                             "(the route over independent primes)")
-    plans: dict[str, Plan] = {}
-    slower: list[str] = []  # not planned: their start-up alone exceeds a runnable plan's whole time
-    for m in sorted(candidates, key=lambda m: getattr(ENGINES[m], "MIN_PLAN_SECONDS", 0.0)):
-        floor = getattr(ENGINES[m], "MIN_PLAN_SECONDS", 0.0)
-        if floor and any(p.runnable and p.seconds <= floor for p in plans.values()):
-            slower.append(f"{m} >= {duration_text(floor)}")
-            continue
-        plans[m] = _plan(m, request)
+    if request.directory is not None:  # the stores of the candidates keeping checkpoints, made once
+        request = _engine_options("pfaffian", request) if "pfaffian" in candidates else request
+    decision = REGISTRY.decide(replace(request, method="auto"), candidates)
+    plans = decision.plans
     runnable = {m: p for m, p in plans.items() if p.runnable}
     if not runnable:  # every refusal, so the user sees each route's reach
         reasons = "; ".join(dict.fromkeys(p.refusal for p in plans.values() if p.refusal))
         return Choice(candidates[0], replace(plans[candidates[0]], refusal=f"no method can run it: {reasons}"), "")
-    method = min(runnable, key=lambda m: (runnable[m].seconds, candidates.index(m)))
+    method = decision.engine.name
+    slower = [f"{m} >= {duration_text(floor)}" for m, floor in decision.skipped.items()]
     costs = ", ".join([f"{m} ~{duration_text(p.seconds)}" for m, p in runnable.items()] + slower)
     refused = [m for m in plans if m not in runnable]
     out = f"; {', '.join(refused)} out of range" if refused else ""
@@ -367,7 +367,7 @@ def plan_request(request: Request, methods: Sequence[str] | None = None) -> Choi
     if request.method == "auto":
         return _choose(request, methods)
     _options(request.method, request.options)  # refuses an option the method does not take
-    return Choice(request.method, _plan(request.method, request), "")
+    return Choice(request.method, _engine(request.method).plan(_engine_options(request.method, request)), "")
 
 
 def run_request(request: Request, choice: Choice, progress: Progress | None = None) -> dict[int, Table]:
@@ -379,15 +379,11 @@ def run_request(request: Request, choice: Choice, progress: Progress | None = No
     ['1/11', '1/4', '7/22', '1/4', '1/11']
     """
     choice.plan.check()
-    return ENGINES[choice.method].trusted_run(
-        request.N, request.moments, choice.plan, memory_bytes=request.memory_bytes, progress=progress,
-        executor=request.executor, **_engine_options(choice.method, request))
+    return _engine(choice.method).run(_engine_options(choice.method, request), choice.plan,  # type: ignore[no-any-return]
+                                      progress=progress)
 
 
 # ------------------------------------------------------------------ one row: forcenet table --row i
-
-ROW_ROUTES = ("apex", "covers", "lattice", "layers", "floor")  # beside them, a table method's whole table
-ROW_PRIME_ROUTES = ("covers", "layers", "floor", "pfaffian")  # the row's routes over primes: executor=, checkpoint=
 
 
 class RowChoice(NamedTuple):
@@ -396,47 +392,6 @@ class RowChoice(NamedTuple):
     route: str
     plan: Plan
     why: str
-
-
-def _row_candidates(request: Request) -> dict[str, Plan]:
-    """Every route's plan for the checked request's row (``auto``: the row routes and the other tables)."""
-    from .triangle.de_bruijn.floor import MAX_FLOOR_N, floor_plan
-    from .triangle.de_bruijn.layers import layer_plan
-    from .triangle.free_fermion.covers import cover_row_plan, one_time_rows
-    from .triangle.free_fermion.fluctuations import lattice_gap_laws_plan
-
-    method, N, moments, memory_bytes, executor = (request.method, request.N, request.moments, request.memory_bytes,
-                                                  request.executor)
-    row, options = request.row or 1, request.options  # a row's request has its row (check_request)
-    if method not in ("auto", "pfaffian"):  # a table method: its whole table, one row kept
-        plan = _plan(method, request)
-        return {method: replace(plan, what=f"row {row} of the {plan.what}")}
-    what = f"row {row} of <W^s>, s <= {moments}, N={N}"
-    if row == 1:
-        return {"apex": Plan(f"{what} (the apex: W_11 = 1)", 0.0)}
-    plans: dict[str, Plan] = {}
-    workers, checkpoint = options.get("workers"), options.get("checkpoint")
-    if moments == 1:  # the mean: one row of the one-time mean table
-        plans["pfaffian"] = _plan("pfaffian", request)
-    elif moments == 2 and row in one_time_rows(N):
-        plans["covers"] = cover_row_plan(N, row, memory_bytes=memory_bytes, workers=workers, executor=executor,
-                                         checkpoint=checkpoint)
-    if row == 2 and executor is None and checkpoint is None:  # both loads are lattice directions: every moment
-        law = lattice_gap_laws_plan(N, memory_bytes, workers, layers=1)
-        plans["lattice"] = replace(law, what=f"{what} (one-time: the lattice directions' law, Pfaffians)")
-    name = "floor" if row == N else "layers"
-    if N <= MAX_FLOOR_N:
-        plan = floor_plan(N, True, memory_bytes, workers) if row == N else layer_plan(N, row, True, memory_bytes, workers)
-    else:
-        plan = Plan(what, 0, refusal=f"N={N} is out of range for one layer's de Bruijn Pfaffians: N must be an "
-                                     f"integer in 2..{MAX_FLOOR_N}")
-    plans[name] = replace(plan, what=f"{what} (two-time: layer {row}'s gap laws, de Bruijn Pfaffians)")
-    if method == "auto" and not options:  # the other methods' whole tables
-        others = [m for m in ENGINES if m != "pfaffian"]
-        choice = _choose(request, others)
-        if choice.plan.runnable:
-            plans[choice.method] = replace(choice.plan, what=f"row {row} of the {choice.plan.what}")
-    return plans
 
 
 def choose_row(method: str, N: int, row: int, moments: int = 2, *, memory_bytes: int | None = None,
@@ -497,21 +452,19 @@ def plan_row(request: Request) -> RowChoice:
     """
     if request.method not in ("auto", "pfaffian"):
         _options(request.method, request.options)  # refuses an option the method does not take
-    plans = _row_candidates(request)
-    row = request.row
-    runnable = {name: plan for name, plan in plans.items() if plan.runnable}
-    if not runnable:
-        first = next(iter(plans))
+    decision = REGISTRY.decide(request)
+    plans, row, route = decision.plans, request.row, decision.engine.name
+    if not decision.plan.runnable:
         reasons = "; ".join(dict.fromkeys(p.refusal for p in plans.values() if p.refusal))
+        first = next(iter(plans))
         return RowChoice(first, replace(plans[first], refusal=f"no route can give row {row}: {reasons}"), "")
-    names = list(plans)
-    route = min(runnable, key=lambda name: (runnable[name].seconds, names.index(name)))
     if len(plans) == 1:
-        return RowChoice(route, runnable[route], "")
+        return RowChoice(route, decision.plan, "")
+    runnable = {name: plan for name, plan in plans.items() if plan.runnable}
     costs = ", ".join(f"{name} ~{duration_text(plan.seconds)}" for name, plan in runnable.items())
     refused = [name for name in plans if name not in runnable]
     out = f"; {', '.join(refused)} out of range" if refused else ""
-    return RowChoice(route, runnable[route], f"row {row}: {route}, the fastest by the plans ({costs}{out})")
+    return RowChoice(route, decision.plan, f"row {row}: {route}, the fastest by the plans ({costs}{out})")
 
 
 def row_plan(method: str, N: int, row: int, moments: int = 2, memory_bytes: int | None = None, *,
@@ -568,24 +521,6 @@ def run_row(request: Request, choice: RowChoice, progress: Progress | None = Non
     >>> [str(x) for x in run_row(request, choose_row("auto", 5, 4, 2))[2]]
     ['1/22', '4/33', '4/33', '1/22']
     """
-    from .triangle.distribution import moment_from_gaps
-    from .triangle.free_fermion.covers import cover_row_moments
-    from .triangle.free_fermion.fluctuations import grain_gap_law
-    from .triangle.pfaffian_table import every_load_gap_law
-
     choice.plan.check()
-    N, row, moments, route, executor = request.N, request.row or 1, request.moments, choice.route, request.executor
-    given = request.options
-    if route == "apex":
-        return {s: [Fraction(1)] for s in range(1, moments + 1)}
-    if route == "covers":
-        found = cover_row_moments(N, row, progress=progress, executor=executor, **given)
-        return {s: found[s] for s in range(1, moments + 1)}
-    if route == "lattice":
-        law = grain_gap_law(N, (row, 1), progress=progress, **given)
-        return {s: [moment_from_gaps(law, s)] * 2 for s in range(1, moments + 1)}
-    if route in ("layers", "floor"):
-        laws = every_load_gap_law(N, row, progress=progress, executor=executor, **given)
-        return {s: [moment_from_gaps(laws[j], s) for j in range(1, row + 1)] for s in range(1, moments + 1)}
-    tables = run_request(replace(request, method=route), Choice(route, choice.plan, ""), progress)
-    return {s: table[row - 1] for s, table in tables.items()}
+    engine = REGISTRY.engine(MODEL, "row", choice.route)
+    return engine.run(request, choice.plan, progress=progress)  # type: ignore[no-any-return]

@@ -134,7 +134,7 @@ def test_bethe_ground_state_defaults_and_refusals(capsys):
 
 
 def test_a_bethe_ground_state_that_does_not_converge_is_one_line(monkeypatch, capsys):
-    from forcenet.numeric.chicken_wire import bethe_sector
+    import forcenet.chicken_wire_sectors as bethe_sector  # the front door's engine, imported at its top
 
     def lost(L, n, m, progress=None):
         raise ConvergenceError(f"no ground state of (L, n, m) = ({L}, {n}, {m}) converged")
@@ -202,7 +202,7 @@ def test_isotropic_maximum_is_the_engines_and_the_command_lines(capsys):
 
 def test_the_bethe_value_is_rendered_as_the_command_line_renders_it(monkeypatch, capsys):
     """The Bethe route's answer (stubbed here: its own tests are tests/test_bethe.py) in the face and in the cli."""
-    from forcenet.numeric.chicken_wire import isotropic_bethe
+    import forcenet.chicken_wire_isotropic as isotropic_bethe  # the front door's engine, imported at its top
 
     seen = []
 
@@ -223,7 +223,7 @@ def test_the_bethe_value_is_rendered_as_the_command_line_renders_it(monkeypatch,
 
 
 def test_a_bethe_value_that_does_not_converge_names_the_route(monkeypatch, capsys):
-    from forcenet.numeric.chicken_wire import isotropic_bethe
+    import forcenet.chicken_wire_isotropic as isotropic_bethe  # the front door's engine, imported at its top
 
     def lost(Q, L_max=240):
         raise ConvergenceError("the continuation lost the ground state at L = 84")

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import ast
 import inspect
+import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
@@ -17,6 +18,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from forcenet.core.errors import ArgumentError
+from forcenet.core.registry import REGISTRY
 from forcenet.exact import routes
 from forcenet.exact.modular import crt, crt_many, primes_for_bound
 from forcenet.exact.triangle.moments import mean_W
@@ -24,9 +26,10 @@ from forcenet.exact.triangle.moments import mean_W
 ROOT = Path(__file__).resolve().parents[1]
 
 
-@pytest.mark.parametrize("method", list(routes.ENGINES))
+@pytest.mark.parametrize("method", [engine.name for engine in routes.TABLE_ENGINES])
 def test_every_method_has_the_same_plan_and_run(method):
-    engine = routes.ENGINES[method]
+    engine = sys.modules[type(REGISTRY.engine("triangle", "table", method)).__module__]  # its module's user faces
+    assert engine.ENGINE.name == method and "table" in engine.ENGINE.quantities
     plan = inspect.signature(engine.table_plan).parameters
     run = inspect.signature(engine.table_run).parameters
     assert list(plan)[:2] == list(run)[:2] == ["N", "moments"]
@@ -64,7 +67,8 @@ def test_auto_picks_the_pfaffian_route_for_large_N_and_the_dp_for_higher_moments
 def test_auto_never_chooses_an_unrunnable_plan(moments):
     for N in (2, 3, 5, 8, 9, 10, 13, 20, 25, 36, 41, 64):
         choice = routes.choose(N, moments, memory_bytes=2**33)
-        plans = {m: e.table_plan(N, moments, memory_bytes=2**33) for m, e in routes.ENGINES.items()}
+        plans = {e.name: e.plan(routes.check_request(N, moments, e.name, memory_bytes=2**33))
+                 for e in routes.TABLE_ENGINES}
         runnable = {m: p.seconds for m, p in plans.items() if p.runnable}
         assert choice.plan.runnable == bool(runnable)
         if runnable:

@@ -114,12 +114,12 @@ def test_an_os_error_inside_an_engine_is_a_bug_exit_1(monkeypatch, capsys, tmp_p
     """An OSError that no file or stream operation of the command line raised is an internal error, not exit 2."""
     import errno
 
-    from forcenet.exact.triangle import staircase
+    import forcenet.tableaux_count as staircase  # the front door's engine, imported at its top
 
     def engine(N):
         raise OSError(errno.EBADF, "Bad file descriptor")
 
-    monkeypatch.setattr(staircase, "trusted_count", engine)  # what forcenet.count_plan runs (N checked once)
+    monkeypatch.setattr(staircase, "tableau_count", engine)  # what forcenet.count_plan runs (N checked once)
     monkeypatch.setenv("TMPDIR", str(tmp_path))
     monkeypatch.setattr("tempfile.tempdir", None)
     code = main(["count", "--N", "5"])

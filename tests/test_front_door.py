@@ -98,9 +98,10 @@ def test_a_plan_computes_nothing_and_runs_as_planned(monkeypatch):
     from forcenet.exact import routes
 
     calls, plans = [], []
-    real, real_plan = routes.run_request, routes.ENGINES["thesis"].trusted_plan
+    engine = routes.TABLE_ENGINES[1]  # thesis
+    real, real_plan = routes.run_request, engine.table_plan
     monkeypatch.setattr(routes, "run_request", lambda *a, **k: calls.append(a) or real(*a, **k))
-    monkeypatch.setattr(routes.ENGINES["thesis"], "trusted_plan", lambda *a, **k: plans.append(a) or real_plan(*a, **k))
+    monkeypatch.setattr(engine, "table_plan", lambda *a, **k: plans.append(a) or real_plan(*a, **k))
     request = forcenet.plan(6, method="thesis")
     assert calls == [] and len(plans) == 1
     ticks: list[int] = []

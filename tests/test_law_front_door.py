@@ -14,8 +14,7 @@ from hypothesis import strategies as st
 
 import forcenet
 from forcenet.cli import main
-from forcenet.exact import routes
-from forcenet.exact.triangle import law_routes
+from forcenet.exact import law_registry, routes
 from forcenet.exact.triangle.de_bruijn import floor
 from forcenet.exact.triangle.free_fermion import fluctuations
 
@@ -67,9 +66,9 @@ def route_calls(monkeypatch):
         real = getattr(module, name)
         monkeypatch.setattr(module, name, lambda *a, **k: calls.append(name) or real(*a, **k))
 
-    counted(law_routes, "single_grain_route")
-    counted(law_routes, "layer_route")
-    counted(law_routes, "ensemble_route")
+    counted(law_registry, "grain_route")  # the law's policy calls them where it imported them
+    counted(law_registry, "layer_route")
+    counted(law_registry, "ensemble_route")
     return calls
 
 
@@ -228,7 +227,7 @@ def test_the_ensemble_by_every_layers_pfaffians_is_the_dps_and_checkpoints(monke
 
     dp = forcenet.law(8)
     chosen = ("pfaffians", Plan("every layer", 1.0))
-    monkeypatch.setattr(law_routes, "ensemble_route", lambda N, memory=None, **_: chosen)
+    monkeypatch.setattr(law_registry, "ensemble_route", lambda N, memory=None, **_: chosen)
     by_pfaffians = forcenet.law(8, checkpoint=tmp_path)
     assert by_pfaffians.method == "pfaffians" and by_pfaffians.to_json() == dp.to_json()
     assert len(list(tmp_path.iterdir())) == 7

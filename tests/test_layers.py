@@ -235,7 +235,10 @@ def test_cli_ensemble_by_the_pfaffians_is_the_dps_output(cli, tmp_path, monkeypa
 
     code, dp, _ = cli(["dist", "--N", "8", "--ensemble", "--format", "json"])
     assert code == 0 and layers.ensemble_route(8)[0] == "ideals"
-    monkeypatch.setattr(layers, "ensemble_route", lambda N, memory=None, **_: ("pfaffians", Plan("every layer's Pfaffians", 1.0)))
+    from forcenet.exact import law_registry  # the law's policy asks the route function where it imported it
+
+    monkeypatch.setattr(law_registry, "ensemble_route", lambda N, memory=None, **_: ("pfaffians",
+                                                                                  Plan("every layer's Pfaffians", 1.0)))
     ck = tmp_path / "ck"
     code, out, err = cli(["dist", "--N", "8", "--ensemble", "--format", "json", "--checkpoint", str(ck)])
     assert code == 0 and out == dp and "one request per layer" in err

@@ -138,7 +138,7 @@ def test_maps_refuse_what_the_command_line_refuses(capsys):
     from forcenet.cli import table as table_cli
     from forcenet.map_counts import MAPS_MAX_N
 
-    assert table_cli.MAPS_MAX_N == MAPS_MAX_N  # the parser's range is the library's
+    assert forcenet.MapCounts.MAX_N == MAPS_MAX_N and not hasattr(table_cli, "MAPS_MAX_N")  # no copy: the front door's
     for N in (2, MAPS_MAX_N + 1):
         message = f"N={N} is out of range: N must be an integer in 3..{MAPS_MAX_N}"
         with pytest.raises(forcenet.ArgumentError, match=f"^{message}$"):

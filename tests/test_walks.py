@@ -2,7 +2,7 @@
 
 The map (notes/architecture.md, "How far an argument travels") states the rule: the command line's parser
 checks the text it reads, the registry (``forcenet.exact.routes.check_request``) checks the request once,
-and everything behind it (the engines' ``trusted_plan``/``trusted_run``) trusts it.  ``benchmarks/walks.py``
+and everything behind it (the engine objects' ``plan``/``run``) trusts it.  ``benchmarks/walks.py``
 counts the checks of a command run in this process; these tests hold the walks to one check of ``N``, the
 request's (the parser reads the text and leaves the range to it), so a check added inside an engine fails here
 instead of lengthening the walk.
@@ -80,19 +80,18 @@ def test_a_range_left_to_the_front_door_reads_as_the_parsers_refusal(argv, line,
 
 @pytest.fixture
 def plan_calls(monkeypatch):
-    """Calls of each engine's plan (the trusted one behind the public ``table_plan``), counted by method."""
+    """Calls of each table engine's plan (the engine object's, which the registry asks), counted by method."""
     from forcenet.exact import routes
 
     calls: dict[str, int] = {}
-    for method, engine in routes.ENGINES.items():
-        for name in ("table_plan", "trusted_plan"):
-            real = getattr(engine, name)
+    for engine in routes.TABLE_ENGINES:
+        real = engine.table_plan
 
-            def counted(*args, _real=real, _method=method, **kwargs):
-                calls[_method] = calls.get(_method, 0) + 1
-                return _real(*args, **kwargs)
+        def counted(*args, _real=real, _method=engine.name, **kwargs):
+            calls[_method] = calls.get(_method, 0) + 1
+            return _real(*args, **kwargs)
 
-            monkeypatch.setattr(engine, name, counted)
+        monkeypatch.setattr(engine, "table_plan", counted)
     return calls
 
 

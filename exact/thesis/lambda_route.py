@@ -8,12 +8,11 @@ from __future__ import annotations
 from concurrent.futures import Executor
 
 from forcenet.core.plan import Plan, table_range
-from forcenet.core.validation import check_layers, check_moments
 
-from ..protocol import Progress, Table, run_independent
+from ..protocol import Progress, Table, TableEngine, TableRequest, check_table_request, run_independent
 from .recursions import mean_W_gamma
 
-__all__ = ["table_plan", "table_run", "trusted_plan", "trusted_run"]
+__all__ = ["table_plan", "table_run", "ENGINE"]
 
 # ------------------------------------------------------ the table route: plan and run
 
@@ -58,19 +57,35 @@ def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, exe
     >>> table_plan(9, moments=2).refusal
     'moments=2 is out of range for --method lambda: moments must be 1 (higher moments use --method fast, thesis or maps)'
     """
-    return trusted_plan(check_layers(N), check_moments(moments), memory_bytes=memory_bytes)
+    return ENGINE.plan(check_table_request(N, moments, memory_bytes=memory_bytes, executor=executor))
 
 
-def trusted_plan(N: int, moments: int, *, memory_bytes: int | None = None, executor: Executor | None = None) -> Plan:
-    """:func:`table_plan` for arguments its caller checked (the registry, :mod:`forcenet.exact.routes`)."""
-    what = f"--method lambda N={N}, Gamma recursions"
-    refusal = table_range(what, "lambda", N, moments, _MAX_N, why_N="the index boxes of (4.32) outgrow memory")
-    if refusal is not None:
-        return refusal
-    per_grain, nbytes = _GRAIN_COST.get(N, (0.01, 0))
-    grains = (N - 1) * (N - 2) // 2
-    seconds = per_grain * grains + _BOUNDARY_SECONDS.get(N, 0.1)
-    return Plan(what, seconds, int(nbytes), grains, "grain").within_memory(memory_bytes)
+class LambdaEngine(TableEngine):
+    """The ``lambda`` table engine: the ``<W>`` table by the Lambda (4.50) and Gamma (4.73)-(4.77) recursions."""
+
+    name = "lambda"
+
+    def table_plan(self, request: TableRequest) -> Plan:
+        """The plan of the whole table for the checked ``request`` (:meth:`TableEngine.table_plan`)."""
+        N, moments, memory_bytes = request.N, request.moments, request.memory_bytes
+        what = f"--method lambda N={N}, Gamma recursions"
+        refusal = table_range(what, "lambda", N, moments, _MAX_N, why_N="the index boxes of (4.32) outgrow memory")
+        if refusal is not None:
+            return refusal
+        per_grain, nbytes = _GRAIN_COST.get(N, (0.01, 0))
+        grains = (N - 1) * (N - 2) // 2
+        seconds = per_grain * grains + _BOUNDARY_SECONDS.get(N, 0.1)
+        return Plan(what, seconds, int(nbytes), grains, "grain").within_memory(memory_bytes)
+
+    def tables(self, request: TableRequest, plan: Plan, progress: Progress | None,
+               executor: Executor | None) -> dict[int, Table]:
+        """The tables of the checked ``request`` as its runnable ``plan`` says (:meth:`TableEngine.tables`)."""
+        N = request.N
+        (table,) = run_independent([(mean_W_gamma, (N,), {})], executor=executor, progress=progress, weights=[plan.ticks])
+        return {1: table}
+
+
+ENGINE = LambdaEngine()
 
 
 def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, progress: Progress | None = None,
@@ -93,13 +108,7 @@ def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, prog
     >>> [str(x) for x in table_run(5)[1][-1]]
     ['1/11', '1/4', '7/22', '1/4', '1/11']
     """
-    N, moments = check_layers(N), check_moments(moments)
-    plan = trusted_plan(N, moments, memory_bytes=memory_bytes).check()
-    return trusted_run(N, moments, plan, progress=progress, executor=executor)
+    request = check_table_request(N, moments, memory_bytes=memory_bytes, executor=executor)
+    return ENGINE.run(request, ENGINE.plan(request).check(), progress=progress)
 
 
-def trusted_run(N: int, moments: int, plan: Plan, *, memory_bytes: int | None = None, progress: Progress | None = None,
-                executor: Executor | None = None) -> dict[int, Table]:
-    """:func:`table_run` for arguments its caller checked and the runnable ``plan`` of :func:`trusted_plan`."""
-    (table,) = run_independent([(mean_W_gamma, (N,), {})], executor=executor, progress=progress, weights=[plan.ticks])
-    return {1: table}

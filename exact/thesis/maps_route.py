@@ -9,13 +9,12 @@ from concurrent.futures import Executor
 from decimal import Decimal
 
 from forcenet.core.plan import Plan, combine, table_range
-from forcenet.core.validation import check_layers, check_moments
 
-from ..protocol import Progress, Table, run_independent
-from ..triangle.staircase import trusted_count, trusted_dimension
+from ..protocol import Progress, Table, TableEngine, TableRequest, check_table_request, run_independent
+from ..triangle.staircase import free_force_count, tableau_count
 from .map_counting import mean_W_thesis_maps, moments_by_maps
 
-__all__ = ["table_plan", "table_run", "trusted_plan", "trusted_run"]
+__all__ = ["table_plan", "table_run", "ENGINE"]
 
 # ------------------------------------------------------ the table route: plan and run
 
@@ -61,18 +60,41 @@ def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, exe
     >>> table_plan(10).refusal
     'N=10 is out of range for --method maps: N must be an integer in 2..9 (N = 10 would enumerate 3.97e+15 maps per grain)'
     """
-    return trusted_plan(check_layers(N), check_moments(moments), memory_bytes=memory_bytes)
+    return ENGINE.plan(check_table_request(N, moments, memory_bytes=memory_bytes, executor=executor))
 
 
-def trusted_plan(N: int, moments: int, *, memory_bytes: int | None = None, executor: Executor | None = None) -> Plan:
-    """:func:`table_plan` for arguments its caller checked (the registry, :mod:`forcenet.exact.routes`)."""
-    what = f"--method maps N={N}"
-    refusal = table_range(what, "maps", N, moments, _MAX_N, max_moments=None, why_N=_too_many(N))
-    if refusal is not None:
-        return refusal
-    plans = _pass_plans(N, moments)
-    what = plans[0].what if len(plans) == 1 else f"{what}, map sums and every map's tableau"
-    return combine(what, plans, "grain").within_memory(memory_bytes)
+class MapsEngine(TableEngine):
+    """The ``maps`` table engine: ``<W>`` by map counting (Sec. 4.6, (4.67), (4.90)-(4.91)), ``<W^s>`` over every map."""
+
+    name = "maps"
+
+    def table_plan(self, request: TableRequest) -> Plan:
+        """The plan of the whole table for the checked ``request`` (:meth:`TableEngine.table_plan`)."""
+        N, moments, memory_bytes = request.N, request.moments, request.memory_bytes
+        what = f"--method maps N={N}"
+        refusal = table_range(what, "maps", N, moments, _MAX_N, max_moments=None, why_N=_too_many(N))
+        if refusal is not None:
+            return refusal
+        plans = _pass_plans(N, moments)
+        what = plans[0].what if len(plans) == 1 else f"{what}, map sums and every map's tableau"
+        return combine(what, plans, "grain").within_memory(memory_bytes)
+
+    def tables(self, request: TableRequest, plan: Plan, progress: Progress | None,
+               executor: Executor | None) -> dict[int, Table]:
+        """The tables of the checked ``request`` as its runnable ``plan`` says (:meth:`TableEngine.tables`)."""
+        N, moments = request.N, request.moments
+        calls: list = [(mean_W_thesis_maps, (N,), {})]
+        if moments >= 2:
+            calls.append((_higher_moment_tables, (N, moments), {}))
+        results = run_independent(calls, executor=executor, progress=progress,
+                                  weights=[plan.ticks for plan in _pass_plans(N, moments)])
+        tables = {1: results[0]}
+        if moments >= 2:
+            tables.update(results[1])
+        return tables
+
+
+ENGINE = MapsEngine()
 
 
 def _too_many(N: int) -> str:
@@ -81,14 +103,14 @@ def _too_many(N: int) -> str:
     if N <= _MAX_N:
         return ""
     if N <= _COUNTED_N:
-        return f"N = {N} would enumerate {Decimal(trusted_count(N)):.3g} maps per grain"
-    return f"N = {N} would enumerate more than {Decimal(trusted_count(_COUNTED_N)):.3g} maps per grain"
+        return f"N = {N} would enumerate {Decimal(tableau_count(N)):.3g} maps per grain"
+    return f"N = {N} would enumerate more than {Decimal(tableau_count(_COUNTED_N)):.3g} maps per grain"
 
 
 def _pass_plans(N: int, moments: int) -> list[Plan]:
     what = f"--method maps N={N}"
     grains = (N - 1) * (N - 2) // 2
-    d, maps = trusted_dimension(N), trusted_count(N)
+    d, maps = free_force_count(N), tableau_count(N)
     plans = [Plan(f"{what}, map sums per grain ({maps} maps each)", maps * d * _SECONDS_PER_MAP_GRAIN,
                   0, grains, "grain")]
     if moments >= 2:
@@ -127,21 +149,7 @@ def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, prog
     >>> [str(x) for x in tables[2][-1]]
     ['1/66', '65/792', '25/198', '65/792', '1/66']
     """
-    N, moments = check_layers(N), check_moments(moments)
-    plan = trusted_plan(N, moments, memory_bytes=memory_bytes).check()
-    return trusted_run(N, moments, plan, progress=progress, executor=executor)
+    request = check_table_request(N, moments, memory_bytes=memory_bytes, executor=executor)
+    return ENGINE.run(request, ENGINE.plan(request).check(), progress=progress)
 
 
-def trusted_run(N: int, moments: int, plan: Plan, *, memory_bytes: int | None = None, progress: Progress | None = None,
-                executor: Executor | None = None) -> dict[int, Table]:
-    """:func:`table_run` for arguments its caller checked and the runnable ``plan`` of :func:`trusted_plan`
-    (its passes' ticks weigh the tasks on an executor)."""
-    calls: list = [(mean_W_thesis_maps, (N,), {})]
-    if moments >= 2:
-        calls.append((_higher_moment_tables, (N, moments), {}))
-    results = run_independent(calls, executor=executor, progress=progress,
-                              weights=[plan.ticks for plan in _pass_plans(N, moments)])
-    tables = {1: results[0]}
-    if moments >= 2:
-        tables.update(results[1])
-    return tables

@@ -8,12 +8,11 @@ from __future__ import annotations
 from concurrent.futures import Executor
 
 from forcenet.core.plan import Plan, table_range
-from forcenet.core.validation import check_layers, check_moments
 
-from ..protocol import Progress, Table, run_independent
+from ..protocol import Progress, Table, TableEngine, TableRequest, check_table_request, run_independent
 from .nested import integrate_layers, moment_table_nested
 
-__all__ = ["table_plan", "table_run", "trusted_plan", "trusted_run"]
+__all__ = ["table_plan", "table_run", "ENGINE"]
 
 # ------------------------------------------------------ the table route: plan and run
 
@@ -63,23 +62,41 @@ def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, exe
     >>> table_plan(10).refusal
     'N=10 is out of range for --method thesis: N must be an integer in 2..9 (the nested bonds outgrow memory at N = 10)'
     """
-    return trusted_plan(check_layers(N), check_moments(moments), memory_bytes=memory_bytes)
+    return ENGINE.plan(check_table_request(N, moments, memory_bytes=memory_bytes, executor=executor))
 
 
-def trusted_plan(N: int, moments: int, *, memory_bytes: int | None = None, executor: Executor | None = None) -> Plan:
-    """:func:`table_plan` for arguments its caller checked (the registry, :mod:`forcenet.exact.routes`)."""
-    what = f"--method thesis N={N}, nested integrations"
-    refusal = table_range(what, "thesis", N, moments, max(_TABLE_COST), max_moments=_MAX_ORDER,
-                          why_N="the nested bonds outgrow memory at N = 10",
-                          why_moments="the s-th order defects grow fast: N = 9, s = 3 needs 12 GB")
-    if refusal is not None:
-        return refusal
-    per_run, nbytes = _TABLE_COST[N]
-    runs = N * (N + 1) // 2
-    factor = _TIME_FACTOR.get(N, _TIME_FACTOR[8])
-    seconds = per_run * (1 + runs * sum(factor[:moments]))
-    plan = Plan(what, seconds, int(nbytes * _MEMORY_FACTOR[moments - 1]), runs * moments, "grain")
-    return plan.within_memory(memory_bytes)
+class NestedEngine(TableEngine):
+    """The ``thesis`` table engine: ``<W^s>`` by nested-matrix integration (Secs. 4.3-4.5)."""
+
+    name = "thesis"
+
+    def table_plan(self, request: TableRequest) -> Plan:
+        """The plan of the whole table for the checked ``request`` (:meth:`TableEngine.table_plan`)."""
+        N, moments, memory_bytes = request.N, request.moments, request.memory_bytes
+        what = f"--method thesis N={N}, nested integrations"
+        refusal = table_range(what, "thesis", N, moments, max(_TABLE_COST), max_moments=_MAX_ORDER,
+                              why_N="the nested bonds outgrow memory at N = 10",
+                              why_moments="the s-th order defects grow fast: N = 9, s = 3 needs 12 GB")
+        if refusal is not None:
+            return refusal
+        per_run, nbytes = _TABLE_COST[N]
+        runs = N * (N + 1) // 2
+        factor = _TIME_FACTOR.get(N, _TIME_FACTOR[8])
+        seconds = per_run * (1 + runs * sum(factor[:moments]))
+        plan = Plan(what, seconds, int(nbytes * _MEMORY_FACTOR[moments - 1]), runs * moments, "grain")
+        return plan.within_memory(memory_bytes)
+
+    def tables(self, request: TableRequest, plan: Plan, progress: Progress | None,
+               executor: Executor | None) -> dict[int, Table]:
+        """The tables of the checked ``request`` as its runnable ``plan`` says (:meth:`TableEngine.tables`)."""
+        N, moments = request.N, request.moments
+        volume = integrate_layers(N)  # once for every s
+        calls = [(moment_table_nested, (N, s), {"volume": volume}) for s in range(1, moments + 1)]
+        tables = run_independent(calls, executor=executor, progress=progress, weights=[plan.ticks / moments] * moments)
+        return dict(enumerate(tables, start=1))
+
+
+ENGINE = NestedEngine()
 
 
 def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, progress: Progress | None = None,
@@ -104,15 +121,7 @@ def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, prog
     >>> [str(x) for x in tables[2][-1]]
     ['1/28', '9/56', '9/56', '1/28']
     """
-    N, moments = check_layers(N), check_moments(moments)
-    plan = trusted_plan(N, moments, memory_bytes=memory_bytes).check()
-    return trusted_run(N, moments, plan, progress=progress, executor=executor)
+    request = check_table_request(N, moments, memory_bytes=memory_bytes, executor=executor)
+    return ENGINE.run(request, ENGINE.plan(request).check(), progress=progress)
 
 
-def trusted_run(N: int, moments: int, plan: Plan, *, memory_bytes: int | None = None, progress: Progress | None = None,
-                executor: Executor | None = None) -> dict[int, Table]:
-    """:func:`table_run` for arguments its caller checked and the runnable ``plan`` of :func:`trusted_plan`."""
-    volume = integrate_layers(N)  # once for every s
-    calls = [(moment_table_nested, (N, s), {"volume": volume}) for s in range(1, moments + 1)]
-    tables = run_independent(calls, executor=executor, progress=progress, weights=[plan.ticks / moments] * moments)
-    return dict(enumerate(tables, start=1))

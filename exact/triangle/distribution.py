@@ -50,7 +50,7 @@ from forcenet.core.plan import Plan
 from forcenet.core.validation import available_memory, check_grain, check_int, check_layers
 
 from .gap_counts import GapCounts, moment_from_gaps, pool_gaps
-from .gaps import chain_pass, contact_gap_counts, contact_gap_law, gap_laws_plan
+from .gaps import chain_pass, contact_gap_counts, contact_gap_law, gap_laws_cost
 from .joint_gaps import q_gap_counts
 from .moments import mean_W_grain
 from .pieces import Piece, as_pieces, bernstein_to_monomial, bin_probabilities, piecewise_cdf, sum_pieces
@@ -561,4 +561,4 @@ def distribution_plan(N: int, kind: str = "grain", memory_bytes: int | None = No
     what = {"grain": f"exact density N={N}", "contact": f"exact contact density N={N}",
             "layer": f"exact layer P(f) N={N}", "ensemble": f"exact ensemble P(f) N={N}",
             "all": f"exact densities of every grain N={N}", "contacts": f"exact contact densities N={N}"}[kind]
-    return gap_laws_plan(N, passes[kind], memory_bytes, what=f"{what} ({passes[kind]} pass{'es' if passes[kind] > 1 else ''})")
+    return gap_laws_cost(N, passes[kind], memory_bytes, what=f"{what} ({passes[kind]} pass{'es' if passes[kind] > 1 else ''})")

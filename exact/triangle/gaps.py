@@ -52,9 +52,11 @@ from ..modular import crt, primes_for_bound
 from .gap_counts import GapCounts
 from .ideal_dp import predecessor_moves
 from .runs import check_chain, mulmod_sum, run_layout, transport
-from .staircase import count, dimension
+from .staircase import count, dimension, free_force_count, tableau_count
 
 __all__ = [
+    "gap_laws_cost",
+    "contact_location",
     "GapCounts",
     "layer_chain",
     "row_chain",
@@ -215,7 +217,7 @@ def estimate_chain_cost(N: int, chain: Iterable[tuple[int, int]], n_primes: int 
 
 def _chain_cost(N: int, n_primes: int | None) -> int:
     """:func:`estimate_chain_cost` for ``N`` already checked (the cost does not depend on the chain)."""
-    n, d = N - 1, dimension(N)
+    n, d = N - 1, free_force_count(N)
     if n_primes is None:
         n_primes = len(primes_for_bound(count(N)))
     width = max(_level_sizes(n))
@@ -378,11 +380,18 @@ def contact_spacing(N: int, grain: tuple[int, int], kind: str) -> tuple[str, int
     """
     N = check_layers(N)
     i, j = check_grain(N, grain)
-    return _contact_spacing(N, i, j, kind, grain)
+    return contact_location(N, i, j, kind, grain)
 
 
-def _contact_spacing(N: int, i: int, j: int, kind: str, grain: object) -> tuple[str, int, int]:
-    """:func:`contact_spacing` for ``N`` and the grain ``(i, j)`` already checked (``grain`` as given, for the messages)."""
+def contact_location(N: int, i: int, j: int, kind: str, grain: object) -> tuple[str, int, int]:
+    """:func:`contact_spacing` for a checked request's ``N`` and grain ``(i, j)`` (``grain`` as given, for the
+    messages): the contacts that are not random are refused here.
+
+    Examples
+    --------
+    >>> contact_location(5, 4, 3, "F1", (4, 3)) == contact_spacing(5, (4, 3), "F1")
+    True
+    """
     if kind not in CONTACT_KINDS:
         raise ArgumentError(f"kind={kind!r} is not a contact force that is a spacing: kind must be one of {', '.join(CONTACT_KINDS)} "
                          "(F3, F4 are lateral forces, p_h plus signed sums of spacings)")
@@ -414,7 +423,7 @@ def contact_gap_law(N: int, grain: tuple[int, int], kind: str, progress: Callabl
     """
     N = check_layers(N)
     i, j = check_grain(N, grain)
-    where, index, interval = _contact_spacing(N, i, j, kind, grain)
+    where, index, interval = contact_location(N, i, j, kind, grain)
     return chain_pass(where, N, index, progress)[interval]
 
 
@@ -470,7 +479,7 @@ _AVERAGE_PASS = 0.6  # a layer / row pass averaged over the triangle, relative t
 
 
 def _pass_seconds(N: int, average: bool = False) -> float:
-    n, d = N - 1, dimension(N)
+    n, d = N - 1, free_force_count(N)
     primes = len(primes_for_bound(count(N)))
     states = _SECONDS_PER_STATE * (1 << n) * d / 3 * primes
     return states * (_AVERAGE_PASS if average else 1.0) + _SECONDS_PER_LEVEL * d
@@ -494,14 +503,24 @@ def gap_laws_plan(N: int, passes: int = 1, memory_bytes: int | None = None, what
     >>> gap_laws_plan(31).refusal
     'N=31 is out of range for exact gap laws: N must be an integer in 2..30'
     """
-    N = check_layers(N)
-    passes = check_int(passes, "passes", 0)
+    return gap_laws_cost(check_layers(N), check_int(passes, "passes", 0), memory_bytes, what)
+
+
+def gap_laws_cost(N: int, passes: int = 1, memory_bytes: int | None = None, what: str | None = None) -> Plan:
+    """:func:`gap_laws_plan` of a checked request's ``N`` (and ``passes``): what the law and row engines plan with,
+    nothing checked again.
+
+    Examples
+    --------
+    >>> gap_laws_cost(12, 11) == gap_laws_plan(12, 11)
+    True
+    """
     what = what or f"exact gap laws N={N}, {passes} pass{'es' if passes != 1 else ''} over the ideals"
     if N > _MAX_LAYERS:
         return Plan(what, 0, refusal=f"N={N} is out of range for exact gap laws: N must be an integer in 2..{_MAX_LAYERS}")
-    primes = len(primes_for_bound(count(N)))
+    primes = len(primes_for_bound(tableau_count(N)))
     per_prime = _chain_cost(N, 1)
     chunk = max(1, min(primes, (4 * 2**30) // per_prime))  # primes per chunk, as chain_gap_counts does
     nbytes = _chain_cost(N, chunk) + 100 * 2**20
-    plan = Plan(what, passes * _pass_seconds(N, average=passes > 1), nbytes, passes * dimension(N), "level")
+    plan = Plan(what, passes * _pass_seconds(N, average=passes > 1), nbytes, passes * free_force_count(N), "level")
     return plan.within_memory(memory_bytes)

@@ -38,7 +38,7 @@ import numpy as np
 from forcenet.core.errors import ArgumentError
 
 from ..modular import crt, primes_for_bound
-from .staircase import trusted_count, trusted_dimension
+from .staircase import free_force_count, tableau_count
 
 Progress: TypeAlias = Callable[..., object] | None  # progress(k): k more ticks done
 
@@ -83,7 +83,7 @@ def ideal_levels(n: int) -> tuple[np.ndarray, np.ndarray]:
     for p in range(n):
         level = np.concatenate([level, level + (p + 1)])
     order = np.argsort(level, kind="stable").astype(np.uint32 if n < 32 else np.int64)
-    d = trusted_dimension(n + 1)
+    d = free_force_count(n + 1)
     bounds = np.concatenate([[0], np.cumsum(np.bincount(level, minlength=d + 1))])
     return order, bounds
 
@@ -124,7 +124,7 @@ def forward_counts_mod(n: int, primes: Sequence[int], progress: Progress = None)
     pvec = np.asarray(primes, dtype=np.int64)
     f = np.zeros((1 << n, P), dtype=np.uint32)
     f[0] = 1
-    d = trusted_dimension(n + 1)
+    d = free_force_count(n + 1)
     for k in range(1, d + 1):
         masks = order[bounds[k] : bounds[k + 1]].astype(np.int64)
         acc = np.zeros((masks.size, P), dtype=np.int64)
@@ -149,7 +149,7 @@ def _prime_chunks(n: int, primes: Sequence[int], memory_bytes: int) -> list[Sequ
 
 def survival_primes(N: int) -> tuple[int, ...]:
     """Primes whose product bounds every survival sum for ``N`` layers."""
-    return primes_for_bound((trusted_dimension(N) + 1) * trusted_count(N))
+    return primes_for_bound((free_force_count(N) + 1) * tableau_count(N))
 
 
 def estimate_survival_cost(N: int, memory_bytes: int = 12 * 2**30) -> MemoryEstimate:
@@ -254,14 +254,14 @@ def survival_counts(N: int, progress: Progress = None, memory_bytes: int = 12 * 
     (1, 4, 3, 2, 1)
     """
     n = N - 1
-    d = trusted_dimension(n + 1)
+    d = free_force_count(n + 1)
     one_prime = (1 << n) * (_BYTES_PER_RESIDUE + _BYTES_PER_MASK)
     if one_prime > max(memory_bytes, 2**32):
         raise ArgumentError(
             f"N={N} is out of range for the exact table: one prime's residues over the 2^{n} ideals "
             f"need {one_prime / 2**30:.0f} GiB, more than memory_bytes={memory_bytes}; N must be at most about 30"
         )
-    total = trusted_count(N)
+    total = tableau_count(N)
     primes = survival_primes(N)
     A = np.concatenate(
         [_survival_residues(n, chunk, progress) for chunk in _prime_chunks(n, primes, memory_bytes)],
@@ -321,7 +321,7 @@ def marked_chain_sums(n: int, primes: Sequence[int], initial: Sequence[int] | np
     start = np.zeros((1, n_states, P), dtype=np.int64)
     start[0, :, :] = np.asarray(initial, dtype=np.int64)[:, None]
     F[0] = update(np.zeros(1, dtype=np.int64), start)[0] % pvec
-    d = trusted_dimension(n + 1)
+    d = free_force_count(n + 1)
     for k in range(1, d + 1):
         masks = order[bounds[k] : bounds[k + 1]].astype(np.int64)
         acc = np.zeros((masks.size, n_states, P), dtype=np.int64)

@@ -30,18 +30,18 @@ from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan, combine
 from forcenet.core.validation import check_grain, check_int, check_layers
 
-from .de_bruijn.floor import MAX_FLOOR_N, floor_gap_laws, floor_plan, floor_pooled_gap_law
-from .de_bruijn.layers import layer_gap_laws, layer_plan, layer_pooled_gap_law
+from .de_bruijn.floor import MAX_FLOOR_N, floor_cost, floor_gap_laws, floor_pooled_gap_law
+from .de_bruijn.layers import layer_cost, layer_gap_laws, layer_pooled_gap_law
 from .distribution import distribution_plan, layer_pieces_from_gaps, triangle_force_density
-from .free_fermion.fluctuations import MAX_LAW_N, grain_gap_law, lattice_gap_laws_plan
+from .free_fermion.fluctuations import MAX_LAW_N, grain_gap_law, lattice_gap_laws_cost
 from .gap_counts import GapCounts, pool_gaps
-from .gaps import gap_laws_plan, grain_gap_counts, layer_gap_counts
+from .gaps import gap_laws_cost, grain_gap_counts, layer_gap_counts
 from .pieces import Piece, sum_pieces
 from .prime_tasks import STARTUP_SECONDS
 from .staircase import count, dimension
 
 __all__ = ["layer_route", "layer_gap_law", "floor_contact_gap_law", "ensemble_route", "ensemble_pieces",
-           "single_grain_route", "single_grain_gap_law"]
+           "single_grain_route", "grain_route", "single_grain_gap_law"]
 
 
 def layer_route(N: int, i: int, memory_bytes: int | None = None, *,
@@ -76,10 +76,10 @@ def layer_route(N: int, i: int, memory_bytes: int | None = None, *,
     N = check_layers(N, maximum=MAX_FLOOR_N)
     i = check_int(i, "i", 2, N)
     what = f"exact P(f) of layer {i} N={N}"
-    ideals = gap_laws_plan(N, 1, memory_bytes, what=f"{what} (order ideals)")
+    ideals = gap_laws_cost(N, 1, memory_bytes, what=f"{what} (order ideals)")
     name = "floor" if i == N else "layers"
-    pfaffians = (floor_plan(N, False, memory_bytes, executor=executor) if i == N
-                 else layer_plan(N, i, False, memory_bytes, executor=executor))
+    pfaffians = (floor_cost(N, False, memory_bytes, executor=executor) if i == N
+                 else layer_cost(N, i, False, memory_bytes, executor=executor))
     pfaffians = replace(pfaffians, what=f"{what} (de Bruijn Pfaffians)")
     if ideals.runnable and (not pfaffians.runnable or ideals.seconds <= pfaffians.seconds):
         return "ideals", ideals
@@ -185,8 +185,8 @@ def ensemble_route(N: int, memory_bytes: int | None = None, *,
     """
     N = check_layers(N, maximum=MAX_FLOOR_N)
     ideals = distribution_plan(N, "ensemble", memory_bytes)
-    plans = ([layer_plan(N, i, False, memory_bytes, executor=executor) for i in range(2, N)]
-             + [floor_plan(N, False, memory_bytes, executor=executor)])
+    plans = ([layer_cost(N, i, False, memory_bytes, executor=executor) for i in range(2, N)]
+             + [floor_cost(N, False, memory_bytes, executor=executor)])
     pfaffians = combine(f"exact ensemble P(f) N={N} (de Bruijn Pfaffians, every layer's pooled law)", plans, "prime")
     pfaffians = replace(pfaffians, seconds=pfaffians.seconds - (len(plans) - 1) * STARTUP_SECONDS)  # one process
     if ideals.runnable and (not pfaffians.runnable or ideals.seconds <= pfaffians.seconds):
@@ -271,22 +271,35 @@ def single_grain_route(N: int, grain: tuple[int, int], memory_bytes: int | None 
     'layers'
     """
     N = check_layers(N, maximum=MAX_LAW_N)
-    i, j = check_grain(N, grain)
+    return grain_route(N, check_grain(N, grain), memory_bytes, executor=executor)
+
+
+def grain_route(N: int, grain: tuple[int, int], memory_bytes: int | None = None, *,
+                executor: Executor | None = None) -> tuple[str, Plan]:
+    """:func:`single_grain_route` of a checked law request's ``N`` and grain (the law's policy asks it), nothing
+    checked again.
+
+    Examples
+    --------
+    >>> grain_route(64, (64, 1)) == single_grain_route(64, (64, 1))
+    True
+    """
+    i, j = grain
     what = f"exact density of W_({i},{j}) N={N}"
-    ideals = gap_laws_plan(N, 1, memory_bytes, what=f"{what} (order ideals)")
+    ideals = gap_laws_cost(N, 1, memory_bytes, what=f"{what} (order ideals)")
     if i == N and 1 < j < N:  # a floor load: the DP or de Bruijn Pfaffians with a fugacity (every floor load at once)
-        floor = replace(floor_plan(N, True, memory_bytes, executor=executor), what=f"{what} (de Bruijn Pfaffians, every floor load)")
+        floor = replace(floor_cost(N, True, memory_bytes, executor=executor), what=f"{what} (de Bruijn Pfaffians, every floor load)")
         if ideals.runnable and (not floor.runnable or ideals.seconds <= floor.seconds):
             return "ideals", ideals
         return "floor", floor
     if i == 1:  # W_11 = 1
         return "ideals", ideals
     if j not in (1, i):  # an interior load above the floor: the DP or the layer's de Bruijn Pfaffians
-        layers = replace(layer_plan(N, i, True, memory_bytes, executor=executor), what=f"{what} (de Bruijn Pfaffians, every load of layer {i})")
+        layers = replace(layer_cost(N, i, True, memory_bytes, executor=executor), what=f"{what} (de Bruijn Pfaffians, every load of layer {i})")
         if ideals.runnable and (not layers.runnable or ideals.seconds <= layers.seconds):
             return "ideals", ideals
         return "layers", layers
-    pfaffian = replace(lattice_gap_laws_plan(N, memory_bytes, layers=1, executor=executor), what=f"{what} (Pfaffians)")
+    pfaffian = replace(lattice_gap_laws_cost(N, memory_bytes, layers=1, executor=executor), what=f"{what} (Pfaffians)")
     if ideals.runnable and (not pfaffian.runnable or ideals.seconds <= pfaffian.seconds):
         return "ideals", ideals
     return "pfaffian", pfaffian

@@ -31,13 +31,13 @@ import numpy as np
 
 from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan, combine
-from forcenet.core.validation import check_grain, check_int, check_layers, check_moments
+from forcenet.core.validation import check_grain, check_int, check_layers
 
 from ..modular import crt, primes_for_bound
-from ..protocol import Progress, Table, bounded_result, run_independent
+from ..protocol import Progress, Table, TableEngine, TableRequest, bounded_result, check_table_request, run_independent
 from .ideal_dp import estimate_survival_cost, marked_chain_sums, parts_table, survival_counts
 from .spacings import rising
-from .staircase import trusted_count, trusted_dimension
+from .staircase import free_force_count, tableau_count
 
 __all__ = [
     "mean_W",
@@ -51,8 +51,6 @@ __all__ = [
     "moment_table_plan",
     "table_plan",
     "table_run",
-    "trusted_plan",
-    "trusted_run",
 ]
 
 
@@ -111,7 +109,7 @@ def _mean_table(N: int, progress: Progress | None = None, memory_bytes: int | No
         C, total = survival_counts(N, progress, **({"memory_bytes": memory_bytes} if memory_bytes else {}))
     else:
         C, total = _survival(N)
-    d = trusted_dimension(N)
+    d = free_force_count(N)
     den = total * (d + 1)
     return [[Fraction(_mean_numerator(N, i, j, C), den) for j in range(1, i + 1)] for i in range(1, N + 1)]
 
@@ -143,7 +141,7 @@ def mean_W_grain(N: int, i: int, j: int) -> Fraction:
     N = _dp_layers(N, "mean_W_grain")
     i, j = check_grain(N, (i, j))
     C, total = _survival(N)
-    d = trusted_dimension(N)
+    d = free_force_count(N)
     return Fraction(_mean_numerator(N, i, j, C), total * (d + 1))
 
 
@@ -227,12 +225,12 @@ def moment_table_plan(N: int, s: int, memory_bytes: int | None = None) -> Plan:
 
 
 def _moment_plan(N: int, s: int, memory_bytes: int | None) -> Plan:
-    n, d = N - 1, trusted_dimension(N)
+    n, d = N - 1, free_force_count(N)
     grains = N * (N + 1) // 2
     what = f"<W^{s}> table N={N}"
     if N > 24:
         return Plan(what, 0, refusal=f"N={N} is out of range for --moments {s}: N must be an integer in 2..24")
-    primes = len(primes_for_bound(trusted_count(N) * comb(d + s, s)))
+    primes = len(primes_for_bound(tableau_count(N) * comb(d + s, s)))
     per_grain = (1 << n) * (s + 1) * primes * 8 * 3
     batch = max(1, min(grains, _budget(memory_bytes, _MOMENT_BATCH_BYTES) // per_grain))
     passes = -(-grains // batch)
@@ -298,8 +296,8 @@ def moment_table(N: int, s: int = 2, *, memory_bytes: int | None = None, progres
 
 def _moment_table(N: int, s: int, memory_bytes: int | None = None, progress: Progress | None = None) -> Table:
     """:func:`moment_table` for ``N`` and ``s`` already checked (the engine's inside, :func:`table_run`)."""
-    n, d = N - 1, trusted_dimension(N)
-    total = trusted_count(N)
+    n, d = N - 1, free_force_count(N)
+    total = tableau_count(N)
     grains = [(i, j) for i in range(1, N + 1) for j in range(1, i + 1)]
     if n == 0:
         return [[Fraction(1)]]
@@ -369,8 +367,8 @@ def moment(N: int, grain: tuple[int, int], s: int) -> Fraction:
 
 @lru_cache(maxsize=256)
 def _single_moment(N: int, i: int, j: int, s: int) -> Fraction:
-    n, d = N - 1, trusted_dimension(N)
-    total = trusted_count(N)
+    n, d = N - 1, free_force_count(N)
+    total = tableau_count(N)
     primes = primes_for_bound(total * comb(d + s, s))
     _check_state_memory(N, s + 1, len(primes))
     lam = parts_table(n)
@@ -422,8 +420,8 @@ def correlation(N: int, grain1: tuple[int, int], grain2: tuple[int, int]) -> Fra
 
 @lru_cache(maxsize=256)
 def _correlation(N: int, g1: tuple[int, int], g2: tuple[int, int]) -> Fraction:
-    n, d = N - 1, trusted_dimension(N)
-    total = trusted_count(N)
+    n, d = N - 1, free_force_count(N)
+    total = tableau_count(N)
     primes = primes_for_bound(total * (d + 1) * (d + 2))
     _check_state_memory(N, 4, len(primes))
     lam = parts_table(n)
@@ -532,14 +530,33 @@ def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, exe
     >>> table_plan(20, memory_bytes=2**20).runnable
     False
     """
-    return trusted_plan(check_layers(N), check_moments(moments), memory_bytes=memory_bytes)
+    return ENGINE.plan(check_table_request(N, moments, memory_bytes=memory_bytes, executor=executor))
 
 
-def trusted_plan(N: int, moments: int, *, memory_bytes: int | None = None, executor: Executor | None = None) -> Plan:
-    """:func:`table_plan` for arguments its caller checked (the registry, :mod:`forcenet.exact.routes`)."""
-    plans = _pass_plans(N, moments, memory_bytes)
-    what = plans[0].what if moments == 1 else f"exact tables N={N}, <W^s> for s = 1..{moments} (order ideals)"
-    return combine(what, plans, "ideal")
+class IdealEngine(TableEngine):
+    """The ``fast`` table engine: ``<W^s>`` by the order-ideal path sums (the default up to N ~ 28-30)."""
+
+    name = "fast"
+
+    def table_plan(self, request: TableRequest) -> Plan:
+        """The plan of the whole table for the checked ``request`` (:meth:`TableEngine.table_plan`)."""
+        N, moments, memory_bytes = request.N, request.moments, request.memory_bytes
+        plans = _pass_plans(N, moments, memory_bytes)
+        what = plans[0].what if moments == 1 else f"exact tables N={N}, <W^s> for s = 1..{moments} (order ideals)"
+        return combine(what, plans, "ideal")
+
+    def tables(self, request: TableRequest, plan: Plan, progress: Progress | None,
+               executor: Executor | None) -> dict[int, Table]:
+        """The tables of the checked ``request`` as its runnable ``plan`` says (:meth:`TableEngine.tables`)."""
+        N, moments, memory_bytes = request.N, request.moments, request.memory_bytes
+        weights = None if executor is None else [p.ticks for p in _pass_plans(N, moments, memory_bytes)]
+        calls: list[tuple[Callable[..., Any], tuple, dict]] = [(_mean_table, (N,), {"memory_bytes": _budget(memory_bytes, _RESIDUE_CAP)})]
+        calls += [(_moment_table, (N, s), {"memory_bytes": memory_bytes}) for s in range(2, moments + 1)]
+        tables = run_independent(calls, executor=executor, progress=progress, weights=weights)
+        return dict(enumerate(tables, start=1))
+
+
+ENGINE = IdealEngine()
 
 
 def _pass_plans(N: int, moments: int, memory_bytes: int | None) -> list[Plan]:
@@ -572,17 +589,7 @@ def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, prog
     >>> [str(x) for x in table_run(5, 2)[2][-1]]
     ['1/66', '65/792', '25/198', '65/792', '1/66']
     """
-    N, moments = check_layers(N), check_moments(moments)
-    plan = trusted_plan(N, moments, memory_bytes=memory_bytes).check()
-    return trusted_run(N, moments, plan, memory_bytes=memory_bytes, progress=progress, executor=executor)
+    request = check_table_request(N, moments, memory_bytes=memory_bytes, executor=executor)
+    return ENGINE.run(request, ENGINE.plan(request).check(), progress=progress)
 
 
-def trusted_run(N: int, moments: int, plan: Plan, *, memory_bytes: int | None = None, progress: Progress | None = None,
-                executor: Executor | None = None) -> dict[int, Table]:
-    """:func:`table_run` for arguments its caller checked and the runnable ``plan`` of :func:`trusted_plan`
-    (on an executor its passes' ticks weigh the tasks)."""
-    weights = None if executor is None else [p.ticks for p in _pass_plans(N, moments, memory_bytes)]
-    calls: list[tuple[Callable[..., Any], tuple, dict]] = [(_mean_table, (N,), {"memory_bytes": _budget(memory_bytes, _RESIDUE_CAP)})]
-    calls += [(_moment_table, (N, s), {"memory_bytes": memory_bytes}) for s in range(2, moments + 1)]
-    tables = run_independent(calls, executor=executor, progress=progress, weights=weights)
-    return dict(enumerate(tables, start=1))

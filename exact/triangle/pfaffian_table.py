@@ -43,19 +43,17 @@ from forcenet.core.execution import as_executor
 from forcenet.core.plan import Plan, combine
 from forcenet.core.validation import check_int, check_layers, check_moments
 
-from ..protocol import Progress, Table
-from .de_bruijn.floor import MAX_FLOOR_N, floor_gap_laws, floor_plan
-from .de_bruijn.layers import layer_gap_laws, layer_plan
+from ..protocol import Progress, Table, TableEngine, TableRequest, check_table_request
+from .de_bruijn.floor import MAX_FLOOR_N, floor_cost, floor_gap_laws
+from .de_bruijn.layers import layer_cost, layer_gap_laws
 from .free_fermion.route import MAX_N, mean_plan, survival_tables, table_from_survival
 from .gap_counts import GapCounts, moment_from_gaps
 from .prime_tasks import STARTUP_SECONDS, checkpoint_store
 
-__all__ = ["MAX_N", "MAX_MOMENTS_N", "MIN_PLAN_SECONDS", "OPTIONS", "checkpoint_for", "table_plan", "table_run",
-           "trusted_plan", "trusted_run", "moments_plan", "moments_run", "every_load_gap_law"]
+__all__ = ["MAX_N", "MAX_MOMENTS_N", "ENGINE", "checkpoint_for", "table_plan", "table_run",
+           "moments_plan", "moments_run", "every_load_gap_law"]
 
 MAX_MOMENTS_N = MAX_FLOOR_N
-MIN_PLAN_SECONDS = STARTUP_SECONDS  # every plan of the route pays the start-up (read by forcenet.exact.routes.choose)
-OPTIONS = ("workers", "checkpoint")  # keywords beyond the engine protocol's (read by forcenet.exact.routes)
 
 Checkpoint = str | PathLike | CheckpointStore | None
 
@@ -113,16 +111,43 @@ def table_plan(N: int, moments: int = 1, *, memory_bytes: int | None = None, exe
     >>> table_plan(201).refusal
     'N=201 is out of range for --method pfaffian: N must be an integer in 2..200'
     """
-    return trusted_plan(check_layers(N), check_moments(moments), memory_bytes=memory_bytes, executor=executor,
-                        workers=workers, checkpoint=checkpoint)
+    return ENGINE.plan(check_table_request(N, moments, memory_bytes=memory_bytes, executor=executor, workers=workers,
+                                     checkpoint=checkpoint))
 
 
-def trusted_plan(N: int, moments: int, *, memory_bytes: int | None = None, executor: Executor | None = None,
-                 workers: int | None = None, checkpoint: Checkpoint = None) -> Plan:
-    """:func:`table_plan` for arguments its caller checked (the registry, :mod:`forcenet.exact.routes`)."""
-    if moments > 1:  # every load's gap law, layer by layer (de Bruijn Pfaffians)
-        return moments_plan(N, moments, memory_bytes=memory_bytes, workers=workers, executor=executor)
-    return mean_plan(N, memory_bytes=memory_bytes, executor=executor, workers=workers, checkpoint=checkpoint)
+class PfaffianEngine(TableEngine):
+    """The ``pfaffian`` table engine: ``<W>`` by free fermions (Schur Pfaffians, minor summation), ``<W^s>`` from
+    every load's gap law by de Bruijn Pfaffians; over independent primes (``workers``, ``checkpoint``)."""
+
+    name = "pfaffian"
+    options = frozenset({"workers", "checkpoint"})
+    min_plan_seconds = STARTUP_SECONDS  # every plan of the route pays the start-up
+
+    def checkpoint_for(self, directory: str | PathLike, N: int, moments: int = 1) -> Checkpoint:
+        """The checkpoint this engine keeps for a table request in ``directory`` (:func:`checkpoint_for`)."""
+        return checkpoint_for(directory, N, moments)
+
+    def table_plan(self, request: TableRequest) -> Plan:
+        """The plan of the whole table for the checked ``request`` (:meth:`TableEngine.table_plan`)."""
+        N, moments, memory_bytes, executor = request.N, request.moments, request.memory_bytes, request.executor
+        workers, checkpoint = request.options.get("workers"), request.options.get("checkpoint")
+        if moments > 1:  # every load's gap law, layer by layer (de Bruijn Pfaffians)
+            return _moments_plan(N, moments, memory_bytes, workers, executor)
+        return mean_plan(N, memory_bytes=memory_bytes, executor=executor, workers=workers, checkpoint=checkpoint)
+
+    def tables(self, request: TableRequest, plan: Plan, progress: Progress | None,
+               executor: Executor | None) -> dict[int, Table]:
+        """The tables of the checked ``request`` as its runnable ``plan`` says (:meth:`TableEngine.tables`)."""
+        N, moments = request.N, request.moments
+        workers, checkpoint = request.options.get("workers"), request.options.get("checkpoint")
+        if moments > 1:
+            return _moments_run(N, moments, progress=progress, executor=executor, workers=workers,
+                                checkpoint=checkpoint)
+        (S,), total = survival_tables(N, workers, progress, as_executor(executor), checkpoint)
+        return {1: table_from_survival(N, S, total)}
+
+
+ENGINE = PfaffianEngine()
 
 
 def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, progress: Progress | None = None,
@@ -166,24 +191,9 @@ def table_run(N: int, moments: int = 1, *, memory_bytes: int | None = None, prog
     >>> [str(x) for x in table_run(5)[1][-1]]
     ['1/11', '1/4', '7/22', '1/4', '1/11']
     """
-    N, moments = check_layers(N), check_moments(moments)
-    if moments > 1:
-        return moments_run(N, moments, memory_bytes=memory_bytes, progress=progress, executor=executor,
-                           workers=workers, checkpoint=checkpoint)
-    if N > MAX_N or memory_bytes is not None:
-        trusted_plan(N, moments, memory_bytes=memory_bytes, executor=executor, workers=workers,
-                     checkpoint=checkpoint).check()
-    return trusted_run(N, moments, None, progress=progress, executor=executor, workers=workers, checkpoint=checkpoint)
-
-
-def trusted_run(N: int, moments: int, plan: Plan | None, *, memory_bytes: int | None = None,
-                progress: Progress | None = None, executor: Executor | None = None, workers: int | None = None,
-                checkpoint: Checkpoint = None) -> dict[int, Table]:
-    """:func:`table_run` for arguments its caller checked, after its plan (:func:`trusted_plan`) was checked."""
-    if moments > 1:
-        return _moments_run(N, moments, progress=progress, executor=executor, workers=workers, checkpoint=checkpoint)
-    (S,), total = survival_tables(N, workers, progress, as_executor(executor), checkpoint)
-    return {1: table_from_survival(N, S, total)}
+    request = check_table_request(N, moments, memory_bytes=memory_bytes, executor=executor, workers=workers,
+                            checkpoint=checkpoint)
+    return ENGINE.run(request, ENGINE.plan(request).check(), progress=progress)
 
 
 def moments_plan(N: int, moments: int = 2, *, memory_bytes: int | None = None,
@@ -193,18 +203,25 @@ def moments_plan(N: int, moments: int = 2, *, memory_bytes: int | None = None,
     Examples
     --------
     >>> plan = moments_plan(20)
-    >>> plan.runnable, plan.unit, plan.ticks == 19 * floor_plan(20).ticks
+    >>> plan.runnable, plan.unit, plan.ticks == 19 * floor_cost(20).ticks
     (True, 'prime', True)
     >>> moments_plan(129).refusal
     'N=129 is out of range for --method pfaffian --moments 2: N must be an integer in 2..128'
     """
     N, moments = check_layers(N), check_moments(moments)
+    return _moments_plan(N, moments, memory_bytes, workers, executor)
+
+
+def _moments_plan(N: int, moments: int, memory_bytes: int | None, workers: int | None,
+                  executor: Executor | None) -> Plan:
+    """:func:`moments_plan` of checked arguments: every layer's every-load plan (Sec. 5-6 of
+    ``notes/fluctuations.md``), each layer's start-up paid once."""
     what = f"exact <W^s> tables s <= {moments} N={N} (de Bruijn Pfaffians, every layer's gap laws)"
     if N > MAX_MOMENTS_N:
         return Plan(what, 0, refusal=f"N={N} is out of range for --method pfaffian --moments {moments}: N must be an "
                                      f"integer in 2..{MAX_MOMENTS_N}")
-    plans = [layer_plan(N, i, True, memory_bytes, workers, executor=executor) for i in range(2, N)]
-    plans.append(floor_plan(N, True, memory_bytes, workers, executor=executor))
+    plans = [layer_cost(N, i, True, memory_bytes, workers, executor=executor) for i in range(2, N)]
+    plans.append(floor_cost(N, True, memory_bytes, workers, executor=executor))
     plan = combine(what, plans, "prime")
     return replace(plan, seconds=plan.seconds - (len(plans) - 1) * STARTUP_SECONDS)  # one process starts once
 

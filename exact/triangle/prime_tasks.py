@@ -108,10 +108,9 @@ def workers_for(workers: int | None, tasks: int, seconds: float, executor: Execu
     """
     if executor is not None:
         return max(1, executor_workers(as_executor(executor)) or 1)
-    if workers is None:
-        workers = available_cores() if seconds >= PARALLEL_MIN_SECONDS else 1
-    workers = check_int(workers, "workers", 1)
-    return max(1, min(workers, tasks))
+    if workers is None:  # the default: no user's number to check
+        return max(1, min(available_cores() if seconds >= PARALLEL_MIN_SECONDS else 1, tasks))
+    return max(1, min(check_int(workers, "workers", 1), tasks))
 
 
 def primes_plan(what: str, per_prime: float, nprimes: int, per_worker: int, *, workers: int | None = None,

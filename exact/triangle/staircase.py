@@ -23,27 +23,27 @@ from collections.abc import Callable, Iterable
 from fractions import Fraction
 from functools import lru_cache
 from math import factorial, prod
-from typing import TYPE_CHECKING, Any
+from typing import Any
+
+import numpy as np
 
 from forcenet.core.errors import ArgumentError
-from forcenet.core.validation import check_layers
-
-if TYPE_CHECKING:
-    from forcenet.core.plan import Plan
+from forcenet.core.plan import Plan
+from forcenet.core.validation import available_memory, check_layers
 
 __all__ = [
     "dimension",
-    "trusted_dimension",
+    "free_force_count",
     "grain_to_cell",
     "cell_to_grain",
     "staircase_cells",
     "count",
-    "trusted_count",
+    "tableau_count",
     "count_digits",
     "count_plan",
     "count_by_hooks",
     "normalization",
-    "trusted_normalization",
+    "ensemble_volume",
     "shifted_hook_lengths",
     "shifted_tableaux_count",
 ]
@@ -72,19 +72,20 @@ def dimension(N: int) -> int:
     >>> dimension(5)
     10
     """
-    return trusted_dimension(check_layers(N, minimum=1))
+    return free_force_count(check_layers(N, minimum=1))
 
 
-def trusted_dimension(N: int) -> int:
-    """:func:`dimension` for an ``N`` its caller has checked: the one place the formula (4.3) is written.
+def free_force_count(N: int) -> int:
+    """The number of free forces ``d = N (N - 1) / 2`` of a checked ``N`` (a request's): the one place the formula
+    (4.3) is written.
 
-    The engines call it inside, after their public function checked ``N``
-    once (issue 25: validate at the boundary, trust inside); users call
-    :func:`dimension`.
+    The engines call it inside, on the ``N`` their request carries (checked
+    once, when the request was built); :func:`dimension` is the user's face,
+    which checks ``N`` first.
 
     Examples
     --------
-    >>> trusted_dimension(5)
+    >>> free_force_count(5)
     10
     """
     return N * (N - 1) // 2
@@ -235,8 +236,6 @@ def count_by_hooks(N: int) -> int:
 
 
 def _primes_upto(top: int) -> Any:
-    import numpy as np
-
     sieve = np.ones(top + 1, dtype=bool)
     sieve[:2] = False
     for p in range(2, int(top**0.5) + 1):
@@ -247,8 +246,6 @@ def _primes_upto(top: int) -> Any:
 
 def _exponents_of_denominator(n: int, primes: Any) -> Any:
     """``v_p`` of ``D = prod_{k<n} (2k+1)!/k!`` for each prime (``normalization = 1/D``)."""
-    import numpy as np
-
     ks = np.arange(n, dtype=np.int64)
     exps = np.zeros(primes.size, dtype=np.int64)
     for idx in np.flatnonzero(primes <= max(2 * n - 1, 1)):
@@ -262,9 +259,7 @@ def _exponents_of_denominator(n: int, primes: Any) -> Any:
 
 def _prime_exponents_of_count(N: int) -> list[tuple[int, int]]:
     """Prime factorisation of ``count = d! / D`` (Legendre's formula)."""
-    import numpy as np
-
-    n, d = N - 1, trusted_dimension(N)
+    n, d = N - 1, free_force_count(N)
     primes = _primes_upto(max(d, 2 * n, 2))
     exps = np.zeros(primes.size, dtype=np.int64)
     power = primes.copy()
@@ -321,7 +316,7 @@ def count_digits(N: int) -> int:
 
 
 def _count_digits(N: int) -> int:
-    n, d = N - 1, trusted_dimension(N)
+    n, d = N - 1, free_force_count(N)
     log10 = (math.lgamma(d + 1) - sum(math.lgamma(2 * k + 2) - math.lgamma(k + 1) for k in range(n))) / math.log(10)
     return int(log10) + 1
 
@@ -345,12 +340,10 @@ def count_plan(N: int, memory_bytes: int | None = None) -> Plan:
 
 def _count_plan(N: int, memory_bytes: int | None) -> Plan:
     """:func:`count_plan` for ``N`` already checked."""
-    from forcenet.core.plan import Plan
-
     if N > _COUNT_MAX_N:
         return Plan(f"count N={N}", 0, refusal=f"N={N} is out of range for count: N must be an integer in 2..{_COUNT_MAX_N} "
                                                 "(beyond, the integer has more than 10^12 digits)")
-    d = trusted_dimension(N)
+    d = free_force_count(N)
     digits = _count_digits(N)
     plan = Plan(f"count N={N} ({float(digits):.3g} digits)", 2.2e-7 * d**1.1, 24 * d + 4 * digits)
     return plan.within_memory(memory_bytes)
@@ -362,8 +355,6 @@ _COUNT_MAX_N = 10**6
 def _within_memory(N: Any, what: str) -> int:
     """``N`` checked, and refused before any work where the integer cannot fit in the memory available now
     (:func:`count_plan`; the denominator of :func:`normalization` has about twice the digits of the count)."""
-    from forcenet.core.validation import available_memory
-
     N = check_layers(N)
     memory = available_memory()
     plan = _count_plan(N, None if memory is None else memory // (1 if what == "count" else 2))
@@ -408,16 +399,17 @@ def count(N: int) -> int:
     ----------
     Ostojic (2006), Eq. (4.1); OEIS A003121.
     """
-    return trusted_count(_within_memory(N, "count"))
+    return tableau_count(_within_memory(N, "count"))
 
 
 @lru_cache(maxsize=64)
-def trusted_count(N: int) -> int:
-    """:func:`count` for an ``N`` its caller checked (a table's ``N``, checked once by the registry).
+def tableau_count(N: int) -> int:
+    """The tableaux count of Eq. (4.1) for a checked ``N`` (a request's); :func:`count` is the user's face, which
+    checks ``N`` and the memory first.
 
     Examples
     --------
-    >>> trusted_count(5)
+    >>> tableau_count(5)
     12
     """
     return _prime_power_product(_prime_exponents_of_count(N))
@@ -453,16 +445,17 @@ def normalization(N: int) -> Fraction:
     >>> normalization(5)
     Fraction(1, 302400)
     """
-    return trusted_normalization(_within_memory(N, "normalization"))
+    return ensemble_volume(_within_memory(N, "normalization"))
 
 
 @lru_cache(maxsize=64)
-def trusted_normalization(N: int) -> Fraction:
-    """:func:`normalization` for an ``N`` its caller checked (a table's ``N``, checked once by the registry).
+def ensemble_volume(N: int) -> Fraction:
+    """The ensemble's volume ``1 / D`` of Eq. (4.1)/(4.51) for a checked ``N`` (a request's); :func:`normalization`
+    is the user's face, which checks ``N`` and the memory first.
 
     Examples
     --------
-    >>> trusted_normalization(4)
+    >>> ensemble_volume(4)
     Fraction(1, 360)
     """
     n = N - 1

@@ -47,7 +47,7 @@ import numpy as np
 from forcenet.core.checkpoints import CheckpointStore
 from forcenet.core.execution import run_tasks
 from forcenet.core.plan import Plan
-from forcenet.registry import REGISTRY
+from forcenet.core.registry import REGISTRY
 
 from .finite_size_scaling import ScalingFit, SizeBlocks, analyse
 from .newman_ziff import Lattice, periodic_lattice, sweep_lattice

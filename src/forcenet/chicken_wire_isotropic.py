@@ -20,16 +20,24 @@ Examples
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+from decimal import Decimal
 from fractions import Fraction
 from typing import Any
+
+import mpmath
 
 from forcenet.chicken_wire_results import BetheValue, IsotropicEntropy
 from forcenet.chicken_wire_sectors import Progress
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceError
 from forcenet.core.plan import Plan, combine
-from forcenet.core.validation import check_float_digits, check_not_bool, is_binary_float
+from forcenet.core.precision import check_within_pi, to_mpf, within_pi
+from forcenet.core.validation import check_float_digits, check_not_bool, is_binary_float, is_integer
 from forcenet.front_door import _Costed
+from forcenet.numeric.chicken_wire import isotropic as iso
+from forcenet.numeric.chicken_wire.isotropic import closed_form_plan
+from forcenet.numeric.chicken_wire.isotropic_bethe import isotropic_entropy, isotropic_entropy_plan
 
 __all__ = ["IsotropicPlan", "isotropic_point_plan", "isotropic_point", "isotropic_maximum_plan", "isotropic_maximum"]
 
@@ -125,18 +133,12 @@ class IsotropicPlan(_Costed):
 
     def _inside(self) -> bool:
         """Whether the point is strictly inside ``0 < Q < 1/3`` (``|phi| < pi/2``), decided exactly."""
-        from forcenet.core.precision import within_pi
-
         if self.Q is not None:
             return bool(0 < self.Q < Fraction(1, 3))
         return within_pi(self.phi, strict=True, name="phi")
 
     def _closed_form_rows(self) -> list[tuple[str, str, Any]]:
         """Every quantity at the point, named by what it is (mpmath values)."""
-        import mpmath
-
-        from forcenet.numeric.chicken_wire import isotropic as iso
-
         dps = self.dps
         point = {"phi": self.phi} if self.phi is not None else {"Q": self.Q}
         if self.phi is not None:
@@ -168,10 +170,6 @@ class IsotropicPlan(_Costed):
 
     def _series_row(self, eps: Any, v: Any) -> tuple[str, str, Any]:
         """The leading term of (7.3) at ``eps``, described with its deviation from ``v`` where it is no approximation."""
-        import mpmath
-
-        from forcenet.numeric.chicken_wire import isotropic as iso
-
         series = iso.leading_series_at(eps, self.dps, self.Q)
         what = "approximation of v by the leading term of Eq. (7.3), corrected: eps^2 (log(108/eps^2) - 3)/18"
         if not abs(series - v) <= SERIES_TOLERANCE * v:
@@ -180,8 +178,6 @@ class IsotropicPlan(_Costed):
         return ("v_series_7_3", what, series)
 
     def _maximum_rows(self) -> list[tuple[str, str, Any]]:
-        from forcenet.numeric.chicken_wire import isotropic as iso
-
         m = iso.maximum(self.dps)
         return [
             ("v_max_per_site", "maximal entropy per chicken-wire site (where mu = 0)", m.v_max),
@@ -201,8 +197,6 @@ class IsotropicPlan(_Costed):
 
     def _bethe(self, rows: list[tuple[str, str, Any]]) -> BetheValue:
         """The independent Bethe-ansatz value of v at the point (float, with its error)."""
-        from forcenet.numeric.chicken_wire.isotropic_bethe import isotropic_entropy
-
         Q = self.Q if self.Q is not None else float(dict((key, value) for key, _, value in rows)["Q"])
         try:
             v, err, densities = isotropic_entropy(Q, self.L_max)
@@ -213,8 +207,6 @@ class IsotropicPlan(_Costed):
 
 def _mpf(value: str | Fraction) -> Any:
     """A validated point as an mpf at the current precision (a Fraction divided exactly)."""
-    import mpmath
-
     return mpmath.mpf(value.numerator) / value.denominator if isinstance(value, Fraction) else mpmath.mpf(value)
 
 
@@ -222,13 +214,6 @@ def _real(value: Any, name: str, dps: int, keep_text: bool = True) -> str | Frac
     """A real argument as the engines take it, exactly: a string kept as given (stripped; ``keep_text=False``: read
     as a Fraction), any other number as its exact Fraction; a binary float by the one rule (refused where its
     digits do not reach ``dps``, else accepted at its exact value with a warning, once)."""
-    import math
-    from decimal import Decimal
-
-    import mpmath
-
-    from forcenet.core.validation import is_integer
-
     if isinstance(value, str):
         text = value.strip()
         if keep_text:
@@ -303,8 +288,6 @@ def isotropic_point_plan(phi: Any = None, Q: Any = None, *, dps: int = 50, side:
     ----------
     Eqs. (7.1)-(7.4) and Sec. 7.4.2 (the Bethe ansatz).
     """
-    from forcenet.core.precision import check_within_pi, to_mpf
-
     closed = _closed_form_plan(dps, maximum=False)  # checks dps (once: the engines' checks follow)
     dps = int(dps)
     if (phi is None) == (Q is None):
@@ -320,8 +303,6 @@ def isotropic_point_plan(phi: Any = None, Q: Any = None, *, dps: int = 50, side:
         if not 0 <= Q <= Fraction(1, 3):
             raise ArgumentError(f"Q={_shown(given)} is out of range: the density per direction Q must lie in [0, 1/3]")
     if side is not None:
-        import mpmath
-
         side = _real(side, "side", dps)
         with mpmath.workdps(dps):
             if not to_mpf(side, "side") > 0:
@@ -337,8 +318,6 @@ def _shown(value: Any) -> str:
 
 
 def _closed_form_plan(dps: int, maximum: bool) -> Plan:
-    from forcenet.numeric.chicken_wire.isotropic import closed_form_plan
-
     return closed_form_plan(dps, maximum=maximum)
 
 
@@ -346,8 +325,6 @@ def _cost(closed: Plan, Q: Fraction | None = None, bethe: bool = False, L_max: i
     """The closed forms' plan, and the Bethe ansatz's after it: one announcement, as ``forcenet entropy`` makes it."""
     plans = [closed]
     if bethe:
-        from forcenet.numeric.chicken_wire.isotropic_bethe import isotropic_entropy_plan
-
         plans.append(isotropic_entropy_plan(Q, L_max))
     return combine(plans[-1].what if bethe else closed.what, plans, plans[-1].unit)
 

@@ -26,10 +26,11 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any, NamedTuple
 
+import mpmath
+
 from forcenet.core.errors import ArgumentError
 
 if TYPE_CHECKING:  # pragma: no cover - annotations only
-    import mpmath
     import numpy as np
 
 __all__ = ["Sector", "TransferSpectrum", "BetheGroundState", "IsotropicEntropy"]
@@ -450,8 +451,6 @@ class IsotropicEntropy:
         >>> forcenet.isotropic_point(Q=0, dps=8).to_dict()["v_per_site"]
         '0.0'
         """
-        import mpmath
-
         out: dict[str, Any] = {"dps": self.dps}
         out.update({key: mpmath.nstr(value, self.dps) for key, _, value in self.rows})
         out.update({f"{key}_note": what.split("; ", 1)[1] for key, what, _ in self.rows if "; NOT VALID here" in what})
@@ -488,8 +487,6 @@ class IsotropicEntropy:
         >>> print(forcenet.isotropic_point(Q="1/6", dps=10).to_text().splitlines()[2])
         v_per_site          = 0.06161598054   (entropy per chicken-wire site, Eq. (7.1))
         """
-        import mpmath
-
         width = max(len(key) for key, _, _ in self.rows)
         lines = [f"{key:<{width}} = {mpmath.nstr(value, self.dps)}   ({what})" for key, what, value in self.rows]
         if self.bethe is not None:

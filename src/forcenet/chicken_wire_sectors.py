@@ -28,6 +28,8 @@ from forcenet.chicken_wire_results import BetheGroundState, Sector, TransferSpec
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_int
 from forcenet.front_door import _Costed
+from forcenet.numeric.chicken_wire.bethe_sector import MAX_WIDTH, default_sector, ground_state, ground_state_plan
+from forcenet.numeric.chicken_wire.transfer import sector_entropy, transfer_plan
 
 __all__ = [
     "TransferSpectrumPlan", "transfer_spectrum_plan", "transfer_spectrum",
@@ -88,8 +90,6 @@ class TransferSpectrumPlan(_Costed):
         >>> forcenet.transfer_spectrum_plan(4).run().lambda_max
         2.0
         """
-        from forcenet.numeric.chicken_wire.transfer import sector_entropy
-
         self.check()
         sectors = [self.particles] if self.particles is not None else list(range(self.L + 1))
         found = []
@@ -135,8 +135,6 @@ def transfer_spectrum_plan(L: int, particles: int | None = None) -> TransferSpec
     ----------
     Sec. 7.4.1: the row-to-row transfer matrix of the chicken-wire model.
     """
-    from forcenet.numeric.chicken_wire.transfer import transfer_plan
-
     cost = transfer_plan(L, particles)  # checks L (2..14) and particles (>= 0)
     return TransferSpectrumPlan(check_int(L, "L"), None if particles is None else check_int(particles, "particles"),
                                 cost)
@@ -236,8 +234,6 @@ class BetheGroundStatePlan(_Costed):
         >>> round(forcenet.bethe_ground_state_plan(8, 3, 1).run().entropy_per_site, 12)
         0.055851550279
         """
-        from forcenet.numeric.chicken_wire.bethe_sector import ground_state
-
         self.check()
         with self._ticks(progress, f"Bethe L={self.L}") as tick:
             return BetheGroundState(ground_state(self.L, self.n, self.m, progress=tick))
@@ -277,8 +273,6 @@ def bethe_ground_state_plan(L: int, n: int | None = None, m: int | None = None) 
     ----------
     Sec. 7.4.2: the nested Bethe ansatz of the chicken-wire transfer matrix.
     """
-    from forcenet.numeric.chicken_wire.bethe_sector import MAX_WIDTH, default_sector, ground_state_plan
-
     L = check_int(L, "L", 3, MAX_WIDTH)
     n = None if n is None else check_int(n, "n", 2)
     m = None if m is None else check_int(m, "m", 1)

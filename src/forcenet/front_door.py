@@ -33,11 +33,11 @@ import os
 from collections.abc import Callable, Iterator
 from concurrent.futures import Executor
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, Self
 
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
-from forcenet.core.plan import Plan
+from forcenet.core.plan import Plan, duration_text
 from forcenet.core.validation import available_memory
 from forcenet.results import Row, Table
 
@@ -239,8 +239,8 @@ class TablePlan(_Costed):
         >>> forcenet.plan(4, method="thesis").run().mean_W[-1]
         [Fraction(1, 7), Fraction(5, 14), Fraction(5, 14), Fraction(1, 7)]
         """
-        from forcenet.core.checkpoints import run_distrusting
-        from forcenet.exact.routes import Choice, RowChoice, run_request, run_row
+        from forcenet.core.checkpoints import run_distrusting  # numpy: not before a run
+        from forcenet.exact.routes import Choice, RowChoice, run_request, run_row  # the engines, on first use
 
         request = self.request  # checked once by plan(); the registry checks the plan before the run
         if request is None:
@@ -304,10 +304,8 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
     >>> print(forcenet.plan(40, method="fast").refusal)  # doctest: +ELLIPSIS
     N=40 is out of range for the exact table here: ...; method='auto' runs it by pfaffian (~...)
     """
-    from dataclasses import replace
-
-    from forcenet.core.checkpoints import resumed_plan
-    from forcenet.exact.routes import ENGINES, check_request, plan_request, takes
+    from forcenet.core.checkpoints import resumed_plan  # numpy: not before a plan
+    from forcenet.exact.routes import METHODS, check_request, plan_request, takes  # the engines: not before a plan
 
     request = check_request(N, moments, method, row=row, memory_bytes=memory_bytes, executor=executor)  # the check
     directory = _checkpoint(checkpoint)
@@ -317,38 +315,30 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
         return _row_plan(replace(request, options={} if directory is None else {"checkpoint": directory}))
     request = replace(request, directory=directory)
     over_primes = executor is not None or directory is not None  # the routes over independent primes use them
-    choice = plan_request(request, [m for m in ENGINES if takes(m, "checkpoint")] if over_primes else None)
+    choice = plan_request(request, [m for m in METHODS[:-1] if takes(m, "checkpoint")] if over_primes else None)
     cost, why, store = choice.plan, choice.why, request.stores.get(choice.method)
     if isinstance(store, str):  # one request per layer: the records every layer already holds count
         cost = resumed_plan(cost, store, request.N, ("pfaffian-layer-grains", "pfaffian-floor-grains"))
     if why:
         cost = replace(cost, what=f"{cost.what}; {why}")
     elif not cost.runnable and request.method != "auto":  # an explicit method out of reach: name what runs it
-        others = [m for m in ENGINES if m != request.method]
+        others = [m for m in METHODS[:-1] if m != request.method]
         other = plan_request(replace(request, method="auto", executor=None, directory=None), others)
         if other.plan.runnable:
             cost = replace(cost, refusal=f"{cost.refusal}; method='auto' runs it by {other.method} "
-                                         f"(~{_duration(other.plan.seconds)})")
+                                         f"(~{duration_text(other.plan.seconds)})")
     return TablePlan(request.N, request.moments, choice.method, why, cost, executor, store, request.memory_bytes,
                      request=request)
 
 
 def _row_plan(request: Request) -> TablePlan:
     """One row's plan: its route by :func:`forcenet.exact.routes.choose_row`, planned once with the options."""
-    from dataclasses import replace
-
     from forcenet.exact.routes import plan_row
 
     choice = plan_row(request)
     cost = choice.plan if not choice.why else replace(choice.plan, what=f"{choice.plan.what}; {choice.why}")
     return TablePlan(request.N, request.moments, choice.route, choice.why, cost, request.executor,
                      request.options.get("checkpoint"), request.memory_bytes, request.row, request)
-
-
-def _duration(seconds: float) -> str:
-    from forcenet.core.plan import duration_text
-
-    return duration_text(seconds)
 
 
 def table(N: int, moments: int = 1, method: str = "auto", *, executor: Executor | None = None,

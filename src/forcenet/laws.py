@@ -32,17 +32,17 @@ import os
 from collections.abc import Callable
 from concurrent.futures import Executor
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
+from forcenet.core.checkpoints import run_distrusting
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan
-from forcenet.core.validation import available_memory, check_int
+from forcenet.core.validation import available_memory
+from forcenet.exact.routes import LAW_PRIME_ROUTES, LawRequest, law_checkpoint, law_request, law_resumed
 from forcenet.front_door import _Costed
 from forcenet.law_results import Law
-
-if TYPE_CHECKING:  # pragma: no cover - annotations only
-    from forcenet.exact.routes import LawRequest
-    from forcenet.sampled_comparison import SampledComparisonPlan
+from forcenet.registry import REGISTRY
+from forcenet.sampled_comparison import SampledComparisonPlan, comparison_plan
 
 __all__ = ["Law", "LawPlan", "law", "law_plan"]  # Law: forcenet.law_results
 
@@ -108,8 +108,6 @@ class LawPlan(_Costed):
         >>> forcenet.law_plan(40, layer=40).over_primes, forcenet.law_plan(8, layer=8).over_primes
         (True, False)
         """
-        from forcenet.exact.routes import LAW_PRIME_ROUTES
-
         return self.method in LAW_PRIME_ROUTES
 
     def with_options(self, *, executor: Executor | None = None,
@@ -140,8 +138,6 @@ class LawPlan(_Costed):
         >>> p.checkpoint.request["route"]
         'pfaffian-floor'
         """
-        from forcenet.exact.routes import LAW_PRIME_ROUTES, choose_law, law_checkpoint, law_resumed
-
         if executor is None and checkpoint is None:
             return self
         if not self.over_primes:
@@ -151,8 +147,9 @@ class LawPlan(_Costed):
         store = self.checkpoint
         cost = self.cost
         if executor is not None and executor is not self.executor:  # the route's plan on the executor's workers
-            again = choose_law(self.request, "auto", self.memory_bytes, executor=executor)
-            if again.route == self.method:  # (a cluster slower per task than this machine keeps the plan it had)
+            again = REGISTRY.decide(self.request._replace(method="auto", memory_bytes=self.memory_bytes,
+                                                          executor=executor))
+            if again.engine.name == self.method:  # (a cluster slower per task than this machine keeps its plan)
                 cost = again.plan
         if checkpoint is not None:
             if self.checkpoint is not None:
@@ -189,14 +186,12 @@ class LawPlan(_Costed):
         >>> forcenet.law_plan(4, (4, 2)).run().mean
         Fraction(5, 14)
         """
-        from forcenet.core.checkpoints import run_distrusting
-        from forcenet.exact.routes import law_run
-
         self.check()
-        options = {k: v for k, v in (("executor", self.executor), ("checkpoint", self.checkpoint)) if v is not None}
+        engine = REGISTRY.engine("triangle", "law", self.method)
+        request = self.request._replace(executor=self.executor, checkpoint=self.checkpoint)
         with self._ticks(progress, f"law N={self.N}") as tick:  # a reused record that fails the route's exact
             found = run_distrusting(self.checkpoint, self.N,      # checks is named, dropped and recomputed
-                                    lambda: law_run(self.request, self.method, tick, **options))
+                                    lambda: engine.run(request, self.cost, progress=tick))
         kind = self.request.kind
         pool = "ensemble" if kind == "ensemble" else self.request.layer if kind == "layer" else None
         return Law(self.N, found.quantity, found.variable, found.density, found.cdf, self.method, self.why,
@@ -239,8 +234,6 @@ class LawPlan(_Costed):
         >>> p.cost.ticks == forcenet.law_plan(8, layer=8).cost.ticks + 2000
         True
         """
-        from forcenet.sampled_comparison import comparison_plan
-
         kind = self.request.kind
         pool = "ensemble" if kind == "ensemble" else self.request.layer if kind == "layer" else None
         return comparison_plan(self.N, pool, samples=samples, sweeps=sweeps, bins=bins, f_max=f_max, seed=seed,
@@ -292,12 +285,11 @@ def law_plan(N: int, grain: tuple[int, int] | None = None, *, layer: int | None 
     >>> print(forcenet.law_plan(12, (6, 3), contact="F5", method="pfaffians").refusal)  # doctest: +ELLIPSIS
     method='pfaffians' for this law at N=12: no Pfaffian route reaches a contact force; method='auto' runs it by ideals (~...)
     """
-    from forcenet.exact.routes import choose_law, law_request
-
-    request = law_request(N, grain, layer, contact)
-    memory = (available_memory() or 16 * 2**30) if memory_bytes is None else check_int(memory_bytes, "memory_bytes", 1)
-    choice = choose_law(request, method, memory, executor=executor)
-    plan = LawPlan(request, choice.route, choice.why, choice.plan, memory_bytes=memory)
+    request = law_request(N, grain, layer, contact, method=method, memory_bytes=memory_bytes, executor=executor)
+    if request.memory_bytes is None:
+        request = request._replace(memory_bytes=available_memory() or 16 * 2**30)
+    decision = REGISTRY.decide(request)  # the law's policy: the faster runnable route by the plans
+    plan = LawPlan(request, decision.engine.name, decision.why, decision.plan, memory_bytes=request.memory_bytes)
     if not plan.runnable or (executor is None and checkpoint is None):
         return plan
     if not plan.over_primes:

@@ -22,6 +22,7 @@ import json
 from typing import Any
 
 from forcenet.core.validation import check_layers
+from forcenet.exact.thesis.recursions import lambda_table
 
 __all__ = ["MAPS_MAX_N", "MapCounts", "maps"]
 
@@ -46,7 +47,11 @@ class MapCounts:
     >>> import forcenet
     >>> forcenet.maps(6)
     MapCounts(N=6, Z=286, rows=37)
+    >>> forcenet.MapCounts.MAX_N  # the largest N forcenet.maps lists (the command line's range)
+    10
     """
+
+    MAX_N = MAPS_MAX_N
 
     def __init__(self, N: int, by_bottom_row: dict[tuple[int, ...], int]):
         self.N = N
@@ -162,7 +167,5 @@ def maps(N: int) -> MapCounts:
     Ostojic (2006), Sec. 4.6, Eqs. (4.86)-(4.88) (the maps and their count
     per bottom row), Eq. (4.50) (the recursion Lambda), Eq. (4.1).
     """
-    from forcenet.exact.thesis.recursions import lambda_table
-
     N = check_layers(N, minimum=3, maximum=MAPS_MAX_N)
     return MapCounts(N, lambda_table(N - 2))  # maps per bottom row h(N-2, .), Eq. (4.88)

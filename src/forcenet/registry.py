@@ -1,4 +1,4 @@
-"""The one registry of engines, keyed by model, quantity and method (:class:`forcenet.core.registry.Registry`).
+"""The one registry of engines, keyed by model, quantity and method (:data:`forcenet.core.registry.REGISTRY`).
 
 Each model's engines register themselves when their module is imported; the
 registry imports a model's module the first time that model is asked for
@@ -15,11 +15,11 @@ True
 
 from __future__ import annotations
 
-from forcenet.core.registry import Registry
+from forcenet.core.registry import REGISTRY  # the one instance: core holds it, so every layer's engines register
 
 __all__ = ["REGISTRY"]
 
-REGISTRY = Registry()
+REGISTRY.add_loader("triangle", "forcenet.exact.routes")  # tables, rows, laws (forcenet.exact.routes.ENGINES)
 
 # the force-chain models (Part III, issue 52): finite-size scaling of the clusters of large forces
 for _model in ("percolation", "q-independent", "q-microcanonical"):

@@ -191,9 +191,9 @@ class Table(_Rendered):
         >>> forcenet.table(6).count
         286
         """
-        from forcenet.exact.triangle.staircase import trusted_count
+        from forcenet.exact.triangle.staircase import tableau_count
 
-        return trusted_count(self.N)  # N checked once, by the request (forcenet.exact.routes.check_request)
+        return tableau_count(self.N)  # N checked once, by the request (forcenet.exact.routes.check_request)
 
     @property
     def normalization(self) -> Fraction:
@@ -205,9 +205,9 @@ class Table(_Rendered):
         >>> forcenet.table(4).normalization
         Fraction(1, 360)
         """
-        from forcenet.exact.triangle.staircase import trusted_normalization
+        from forcenet.exact.triangle.staircase import ensemble_volume
 
-        return trusted_normalization(self.N)
+        return ensemble_volume(self.N)
 
     def to_dict(self) -> dict[str, Any]:
         """``{"N", "count", "normalization", "mean_W", "mean_W2", ...}`` with exact values (the renderers' input).
@@ -253,11 +253,11 @@ class Table(_Rendered):
         ----------
         Ostojic (2006), Eq. (4.1) (count and normalization), Eq. (4.3) (``d = N (N - 1)/2``), Sec. 4.2.
         """
-        from forcenet.exact.triangle.staircase import trusted_dimension
+        from forcenet.exact.triangle.staircase import free_force_count
         from forcenet.exact.triangle.tables import fraction_str, integer_text
 
         lines = [
-            f"Fully mobilized triangle, N = {self.N} layers, d = {trusted_dimension(self.N)} free forces",
+            f"Fully mobilized triangle, N = {self.N} layers, d = {free_force_count(self.N)} free forces",
             f"  tableaux count (d! * normalization): {integer_text(self.count)}",
             f"  normalization (Eq. 4.1):             {fraction_str(self.normalization)}",
             "  <W_N,j> on the bottom row:",

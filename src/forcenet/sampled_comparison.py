@@ -27,9 +27,19 @@ from fractions import Fraction
 from typing import TYPE_CHECKING, Any, Generic, Protocol, TypeVar
 
 from forcenet.core.errors import ArgumentError
-from forcenet.core.plan import Plan
+from forcenet.core.plan import Plan, combine
 from forcenet.core.validation import available_memory, check_int, check_real
+from forcenet.exact.triangle.distribution import bin_probabilities
 from forcenet.front_door import _Costed
+from forcenet.numeric.triangle.exact_sampler import sample_plan
+from forcenet.numeric.triangle.force_distribution import (
+    chi_square,
+    comparison_png,
+    exact_sampler_histogram,
+    histogram_edges,
+    metropolis_histogram,
+)
+from forcenet.numeric.triangle.metropolis import metropolis_plan
 
 if TYPE_CHECKING:  # pragma: no cover - annotations only
     import numpy as np
@@ -102,8 +112,6 @@ class SampledComparison(Generic[L]):
         >>> [bins for _, bins, _ in c.chi_squares.values()]
         [4, 4]
         """
-        from forcenet.numeric.triangle.force_distribution import chi_square
-
         return {label: chi_square(h, self.exact_bins) for label, h in self.histograms.items()}
 
     @property
@@ -157,8 +165,6 @@ class SampledComparison(Generic[L]):
         >>> c.png()[:8]
         b'\\x89PNG\\r\\n\\x1a\\n'
         """
-        from forcenet.numeric.triangle.force_distribution import comparison_png
-
         return comparison_png(self.law.density, self.exact_bins, self.histograms, self.title, float(self.edges[-1]))
 
     def _repr_png_(self) -> bytes:
@@ -236,13 +242,6 @@ class SampledComparisonPlan(_Costed, Generic[L]):
         >>> c.law.quantity, len(c.exact_bins)
         ('P(f), f = 4 W_{4,j} (layer 4)', 6)
         """
-        from forcenet.exact.triangle.distribution import bin_probabilities
-        from forcenet.numeric.triangle.force_distribution import (
-            exact_sampler_histogram,
-            histogram_edges,
-            metropolis_histogram,
-        )
-
         self.check()
         with self._ticks(progress, f"comparison N={self.N}") as tick:
             if self.law is not None:
@@ -296,10 +295,6 @@ def comparison_plan(N: int, pool: Any, *, samples: Any, sweeps: Any, bins: Any, 
     >>> comparison_plan(6, "ensemble", samples=1000, sweeps=500, bins=10, f_max=4.0, seed=0).cost.ticks
     1500
     """
-    from forcenet.core.plan import combine
-    from forcenet.numeric.triangle.exact_sampler import sample_plan
-    from forcenet.numeric.triangle.metropolis import metropolis_plan
-
     if pool is None:
         raise ArgumentError("compare_with_samples compares a pooled P(f) with sampled histograms: make the law of a "
                             "layer (forcenet.law(N, layer=i)) or of the ensemble (forcenet.law(N))")

@@ -25,13 +25,12 @@ import json
 import numbers
 from decimal import Decimal
 from fractions import Fraction
-from typing import TYPE_CHECKING, Any
+from typing import Any
+
+import mpmath
 
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.validation import check_dps, check_float_digits, check_not_bool, is_binary_float
-
-if TYPE_CHECKING:  # pragma: no cover - annotations only
-    import mpmath
 
 __all__ = ["LimitShape", "limit_shape"]
 
@@ -124,8 +123,6 @@ class LimitShape:
         return EDGE_EXPONENT
 
     def _digits(self, value: mpmath.mpf) -> str:
-        import mpmath
-
         return str(mpmath.nstr(value, self.dps))
 
     def to_dict(self) -> dict[str, Any]:
@@ -244,8 +241,6 @@ def _bulk(bulk_response: Any, x_text: str, z_text: str, x: Fraction, z: Fraction
           dps: int) -> mpmath.mpf:
     """The bulk response to ``dps`` digits; within ``10^-7`` of a lattice direction computed with the gap's
     digits added (the level curve's slope cancels there) and rounded to ``dps``."""
-    import mpmath
-
     gap = z - abs(x)
     if not (0 < gap < NEAR_LATTICE and z < 1):  # the corners x = +-z = +-1 are no lattice direction: no divergence
         return bulk_response(x_value, z_value, dps=dps)
@@ -338,7 +333,5 @@ def limit_shape(x: str | Fraction | int | float | Decimal, z: str | Fraction | i
     # the N^(-2/3) edge correction of <W_(i,1)> (Tracy-Widom GUE at the end of the level curves)
     edge = (edge_amplitude(z_value, dps=dps), edge_sd_amplitude(z_value, dps=dps)) if on_lattice else None
     if corner:  # sd Beta(1, d) = sqrt(d / (d + 2)) / (d + 1) = 2 N^(-2) (1 + O(1/N)), d = N(N-1)/2
-        import mpmath
-
         edge = (mpmath.mpf(2), mpmath.mpf(2))
     return LimitShape(x_text, z_text, (x_exact, z_exact), dps, bulk, lattice, edge)

@@ -30,6 +30,8 @@ from typing import Any
 
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_int, check_layers
+from forcenet.exact.triangle.staircase import count_plan as staircase_plan
+from forcenet.exact.triangle.staircase import tableau_count
 from forcenet.front_door import _available_memory, _Costed
 
 __all__ = ["CountPlan", "TableauxCount", "count_plan"]
@@ -145,10 +147,8 @@ class CountPlan(_Costed):
         >>> int(forcenet.count_plan(6).run())
         286
         """
-        from forcenet.exact.triangle.staircase import trusted_count
-
         self.check()
-        return TableauxCount(self.N, trusted_count(self.N))  # N checked once, by count_plan
+        return TableauxCount(self.N, tableau_count(self.N))  # N checked once, by count_plan
 
 
 def count_plan(N: int, *, memory_bytes: int | None = None) -> CountPlan:
@@ -190,8 +190,6 @@ def count_plan(N: int, *, memory_bytes: int | None = None) -> CountPlan:
     ----------
     Ostojic (2006), Eq. (4.1) (``d! * normalization``); OEIS A003121.
     """
-    from forcenet.exact.triangle.staircase import count_plan as staircase_plan
-
     N = check_layers(N)
     memory = _available_memory() if memory_bytes is None else check_int(memory_bytes, "memory_bytes", 1)
     return CountPlan(N, staircase_plan(N, memory))

@@ -70,11 +70,11 @@ from ...modular import crt_many, primes_for_bound
 from ..gap_counts import GapCounts
 from ..prime_tasks import WORKER_BASE_BYTES, checkpoint_store, primes_plan, run_primes, workers_for
 from ..residues import dual_weights, lagrange_matrix, pfaffian_mod
-from ..staircase import count, dimension
+from ..staircase import count, dimension, free_force_count, tableau_count
 from .floor_displacement import bordered_pfaffians, inverse_table
 from .floor_kernels import fill, gap_residues, grid, grid_pairs, monomials
 
-__all__ = ["MAX_FLOOR_N", "floor_primes", "floor_prime_residues", "floor_pooled_gap_law", "floor_gap_laws",
+__all__ = ["floor_cost", "MAX_FLOOR_N", "floor_primes", "floor_prime_residues", "floor_pooled_gap_law", "floor_gap_laws",
            "floor_plan", "floor_prime_seconds", "de_bruijn_constants", "quadrature_weights", "zeta_coefficients",
            "FLOOR_PRIME_LIMIT", "COMPILE_SECONDS", "grid_gap_residues", "exact_gap_laws", "grid_worker_bytes"]
 
@@ -230,7 +230,8 @@ def floor_primes(N: int) -> tuple[int, ...]:
     (4194301,)
     """
     N = check_layers(N, maximum=MAX_FLOOR_N)
-    return primes_for_bound(N * count(N), limit=FLOOR_PRIME_LIMIT, smallest=max(2 * N + 3, dimension(N) + 3))
+    return primes_for_bound(N * tableau_count(N), limit=FLOOR_PRIME_LIMIT,
+                            smallest=max(2 * N + 3, free_force_count(N) + 3))
 
 
 def _laws(N: int, grains: bool, workers: int | None, progress: Callable[..., Any] | None,
@@ -334,7 +335,7 @@ def floor_prime_seconds(N: int, grains: bool = False) -> float:
     >>> 18 < floor_prime_seconds(40, grains=True) / floor_prime_seconds(40) < 24  # n + 1 fugacities, in pairs
     True
     """
-    n, d = N - 1, dimension(N)
+    n, d = N - 1, free_force_count(N)
     nodes = (d // 2 + 1) * (d + 3)  # half the grid: the mirror
     lanes = (n + 2) // 2 if grains else 1  # one bordered Pfaffian per pair +-zeta
     return nodes * lanes * (_SECONDS_PER_ROW * n * n + _SECONDS_PER_PIVOT * n)
@@ -349,7 +350,7 @@ def grid_worker_bytes(N: int) -> int:
     >>> grid_worker_bytes(40) - WORKER_BASE_BYTES  # d = 780
     1027296
     """
-    return 8 * (dimension(N) + 3) * (N + 1) * 4 + WORKER_BASE_BYTES
+    return 8 * (free_force_count(N) + 3) * (N + 1) * 4 + WORKER_BASE_BYTES
 
 
 def floor_plan(N: int, grains: bool = False, memory_bytes: int | None = None, workers: int | None = None, *,
@@ -368,7 +369,18 @@ def floor_plan(N: int, grains: bool = False, memory_bytes: int | None = None, wo
     >>> floor_plan(200).refusal
     'N=200 is out of range for the floor route: N must be an integer in 2..128'
     """
-    N = check_layers(N)
+    return floor_cost(check_layers(N), grains, memory_bytes, workers, executor=executor)
+
+
+def floor_cost(N: int, grains: bool = False, memory_bytes: int | None = None, workers: int | None = None, *,
+               executor: Executor | None = None) -> Plan:
+    """:func:`floor_plan` of a checked request's ``N``: what the engines plan with, nothing checked again.
+
+    Examples
+    --------
+    >>> floor_cost(40) == floor_plan(40)
+    True
+    """
     what = f"the floor's {'gap laws' if grains else 'pooled gap law'} N={N} (de Bruijn Pfaffians)"
     if N > MAX_FLOOR_N:
         return Plan(what, 0, refusal=f"N={N} is out of range for the floor route: N must be an integer in 2..{MAX_FLOOR_N}")

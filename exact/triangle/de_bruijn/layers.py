@@ -58,7 +58,7 @@ from forcenet.core.validation import check_int, check_layers
 from ..gap_counts import GapCounts
 from ..prime_tasks import checkpoint_store, primes_plan, run_primes, workers_for
 from ..residues import lagrange_matrix, pfaffian_mod
-from ..staircase import count, dimension
+from ..staircase import count, dimension, free_force_count
 from .floor import (
     COMPILE_SECONDS,
     MAX_FLOOR_N,
@@ -72,7 +72,7 @@ from .floor import (
 from .floor_kernels import gap_residues, monomials, pfaffian_lazy
 from .layer_kernels import layer_fill, layer_grid
 
-__all__ = ["layer_tables", "layer_prime_residues", "layer_pooled_gap_law", "layer_gap_laws", "layer_plan",
+__all__ = ["layer_cost", "layer_tables", "layer_prime_residues", "layer_pooled_gap_law", "layer_gap_laws", "layer_plan",
            "layer_prime_seconds"]
 
 # CPU seconds of the grid, on the floor's reference machine: per node (the fill: powers, moments, two small matrix
@@ -253,7 +253,7 @@ def layer_prime_seconds(N: int, i: int, grains: bool = False) -> float:
     >>> 20 < layer_prime_seconds(30, 29, grains=True) / layer_prime_seconds(30, 29) < 29  # i values of zeta
     True
     """
-    n, d, m = N - 1, dimension(N), i - 1
+    n, d, m = N - 1, free_force_count(N), i - 1
     nodes = (d // 2 + 1) * (d + 3)  # half the grid: the mirror
     pfaffian = _SECONDS_PER_CUBE * (n + n % 2) ** 3
     if not grains:
@@ -277,7 +277,19 @@ def layer_plan(N: int, i: int, grains: bool = False, memory_bytes: int | None = 
     (True, 'prime', 109)
     """
     N = check_layers(N, maximum=MAX_FLOOR_N)
-    i = check_int(i, "i", 2, N - 1)
+    return layer_cost(N, check_int(i, "i", 2, N - 1), grains, memory_bytes, workers, executor=executor)
+
+
+def layer_cost(N: int, i: int, grains: bool = False, memory_bytes: int | None = None,
+               workers: int | None = None, *, executor: Executor | None = None) -> Plan:
+    """:func:`layer_plan` of a checked request's numbers (``2 <= i < N <= 128``): what the engines plan with, every
+    layer of a table or of the ensemble, nothing checked again.
+
+    Examples
+    --------
+    >>> layer_cost(40, 39) == layer_plan(40, 39)
+    True
+    """
     what = f"layer {i}'s {'gap laws' if grains else 'pooled gap law'} N={N} (de Bruijn Pfaffians)"
     per_worker = grid_worker_bytes(N)
     kernels = [layer_grid, layer_fill, pfaffian_lazy, monomials, gap_residues, pfaffian_mod]

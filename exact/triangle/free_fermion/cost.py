@@ -21,7 +21,7 @@ from forcenet.core.validation import check_int
 
 from ...modular import primes_for_bound
 from ..prime_tasks import WORKER_BASE_BYTES
-from ..staircase import dimension
+from ..staircase import dimension, free_force_count
 
 __all__ = ["CRT_SECONDS", "prime_limit", "dense_prime_limit", "level_points", "route_primes", "prime_seconds",
            "edge_seconds", "worker_bytes"]
@@ -106,7 +106,7 @@ def worker_bytes(N: int, rows: int) -> int:
     True
     """
     n = N - 1
-    return level_points(dimension(N)) // 2 * rows * n * 8 + WORKER_BASE_BYTES
+    return level_points(free_force_count(N)) // 2 * rows * n * 8 + WORKER_BASE_BYTES
 
 
 def prime_seconds(N: int) -> float:
@@ -134,7 +134,7 @@ def edge_seconds(N: int) -> float:
 
 def _per_point_seconds(N: int, eliminations: int) -> float:
     """``d/2`` level points, each ``eliminations`` displacement eliminations and one kernel set-up, then the weights."""
-    n, d = N - 1, dimension(N)
+    n, d = N - 1, free_force_count(N)
     s = n + 1 + (n + 1) % 2
     per_y = _SECONDS_PER_PIVOT * n + _SECONDS_PER_ROW * n**2
     M = level_points(d)

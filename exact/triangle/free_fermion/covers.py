@@ -46,10 +46,10 @@ from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_int, check_layers
 
-from .partial_sums import partial_sum_moments, partial_sum_moments_plan
+from .partial_sums import partial_sum_moments, partial_sum_moments_cost
 from .route import MAX_N
 
-__all__ = ["covers", "cover_spans", "one_time_rows", "cover_row_moments", "cover_row_plan"]
+__all__ = ["covers", "cover_spans", "one_time_rows", "cover_row_moments", "cover_row_plan", "cover_row_cost"]
 
 Cell = tuple[int, int]
 
@@ -86,7 +86,11 @@ def covers(N: int, cell: Cell) -> tuple[list[Cell], list[Cell]]:
     """
     N = check_layers(N)
     i = check_int(cell[0], "i", 2, N)
-    j = check_int(cell[1], "j", 1, i - 1)
+    return _covers(N, i, check_int(cell[1], "j", 1, i - 1))
+
+
+def _covers(N: int, i: int, j: int) -> tuple[list[Cell], list[Cell]]:
+    """:func:`covers` of a checked cell (every cell of :func:`cover_spans`'s loop): Eqs. (4.8)-(4.9)."""
     lower = ([(i - 1, j - 1)] if j >= 2 else []) + ([(i + 1, j)] if i < N else [])
     upper = ([(i - 1, j)] if j <= i - 2 else []) + ([(i + 1, j + 1)] if i < N else [])
     return lower, upper
@@ -117,11 +121,15 @@ def cover_spans(N: int) -> dict[Cell, tuple[Cell, ...]]:
     >>> cover_spans(5)
     {(3, 2): ((2, 1),), (4, 1): ((5, 1),), (4, 2): ((5, 2),), (4, 3): ((5, 3),), (4, 4): ((5, 4),)}
     """
-    N = check_layers(N)
+    return _cover_spans(check_layers(N))
+
+
+def _cover_spans(N: int) -> dict[Cell, tuple[Cell, ...]]:
+    """:func:`cover_spans` of a checked ``N``."""
     spans: dict[Cell, tuple[Cell, ...]] = {}
     for i in range(2, N + 1):
         for j in range(1, i):
-            lower, upper = covers(N, (i, j))
+            lower, upper = _covers(N, i, j)
             if len(lower) > 1 or len(upper) > 1:
                 continue
             if lower and upper:  # S_(a,b) and S_(a,b+1)
@@ -148,17 +156,29 @@ def one_time_rows(N: int) -> list[int]:
     >>> one_time_rows(12)
     [1, 2, 3, 11]
     """
-    N = check_layers(N)
-    spans = cover_spans(N)
+    return _one_time_rows(check_layers(N))
+
+
+def _one_time_rows(N: int) -> list[int]:
+    """:func:`one_time_rows` of a checked ``N``."""
+    spans = _cover_spans(N)
     return [i for i in range(1, N + 1) if all(j in (1, i) or (i, j) in spans for j in range(1, i + 1))]
+
+
+def _row_refusal(N: int, i: int) -> str | None:
+    """Why the cover identity does not give row ``i`` (a checked ``1 <= i <= N``), or None."""
+    rows = _one_time_rows(N)
+    if i in rows:
+        return None
+    return (f"row={i} is out of range for the cover identity: it closes the rows {', '.join(map(str, rows))} of "
+            f"N={N} (the loads of other rows need two-time routes)")
 
 
 def _check_row(N: int, i: int) -> int:
     i = check_int(i, "row", 1, N)
-    rows = one_time_rows(N)
-    if i not in rows:
-        raise ArgumentError(f"row={i} is out of range for the cover identity: it closes the rows "
-                            f"{', '.join(map(str, rows))} of N={N} (the loads of other rows need two-time routes)")
+    refusal = _row_refusal(N, i)
+    if refusal is not None:
+        raise ArgumentError(refusal)
     return i
 
 
@@ -182,10 +202,30 @@ def cover_row_plan(N: int, i: int, *, memory_bytes: int | None = None, workers: 
     if N > MAX_N:
         return Plan(what, 0, refusal=f"N={N} is out of range for the cover identity: N must be an integer in 2..{MAX_N}")
     try:
-        _check_row(N, i)
+        i = check_int(i, "row", 1, N)
     except ArgumentError as error:
         return Plan(what, 0, refusal=str(error))
-    plan = partial_sum_moments_plan(N, memory_bytes=memory_bytes, workers=workers, executor=executor,
+    return cover_row_cost(N, i, memory_bytes=memory_bytes, workers=workers, executor=executor, checkpoint=checkpoint)
+
+
+def cover_row_cost(N: int, i: int, *, memory_bytes: int | None = None, workers: int | None = None,
+                   executor: Executor | None = None,
+                   checkpoint: str | PathLike | CheckpointStore | None = None) -> Plan:
+    """:func:`cover_row_plan` of a checked request's ``N`` and row (``1 <= i <= N``): what the row's engine plans
+    with, nothing checked again.
+
+    Examples
+    --------
+    >>> cover_row_cost(40, 39) == cover_row_plan(40, 39)
+    True
+    """
+    what = f"row {i} of <W>, <W^2> N={N} (one-time: each cell uniform between its covers; partial sums by Pfaffians)"
+    if N > MAX_N:
+        return Plan(what, 0, refusal=f"N={N} is out of range for the cover identity: N must be an integer in 2..{MAX_N}")
+    refusal = _row_refusal(N, i)
+    if refusal is not None:
+        return Plan(what, 0, refusal=refusal)
+    plan = partial_sum_moments_cost(N, memory_bytes=memory_bytes, workers=workers, executor=executor,
                                     checkpoint=checkpoint)
     return replace(plan, what=what)
 

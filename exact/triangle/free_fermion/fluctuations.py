@@ -58,8 +58,7 @@ from forcenet.core.validation import check_grain, check_int, check_layers
 from ...modular import crt_many
 from ..gap_counts import GapCounts
 from ..prime_tasks import WORKER_BASE_BYTES, primes_plan, run_primes, workers_for
-from ..staircase import count as product_count
-from ..staircase import dimension
+from ..staircase import dimension, free_force_count, tableau_count
 from .cost import edge_seconds, level_points, prime_limit, route_primes
 from .engine import (
     MAX_POINT_FAILURES,
@@ -72,7 +71,7 @@ from .engine import (
 )
 from .route import count
 
-__all__ = ["MAX_LAW_N", "edge_level_residues", "lattice_level_sums", "lattice_gap_laws", "lattice_mean_W2",
+__all__ = ["MAX_LAW_N", "lattice_gap_laws_cost", "edge_level_residues", "lattice_level_sums", "lattice_gap_laws", "lattice_mean_W2",
            "grain_gap_law", "lattice_gap_laws_plan", "law_prime_seconds"]
 
 MAX_LAW_N = 128  # the interpolation's exact float64 products need M < 2^13
@@ -343,7 +342,7 @@ def law_prime_seconds(N: int, windows: int | None = None) -> float:
     >>> law_prime_seconds(64, 1) < law_prime_seconds(64)
     True
     """
-    n, d = N - 1, dimension(N)
+    n, d = N - 1, free_force_count(N)
     M = level_points(d)
     windows = n if windows is None else windows
     return edge_seconds(N) + _SECONDS_PER_LAGRANGE * M**2 + _SECONDS_PER_INTERPOLATION * M**2 * (windows + 3)
@@ -423,12 +422,26 @@ def lattice_gap_laws_plan(N: int, memory_bytes: int | None = None, workers: int 
     'N=300 is out of range for the lattice gap laws: N must be an integer in 2..128'
     """
     N = check_layers(N)
+    layers = None if layers is None or N > MAX_LAW_N else check_int(layers, "layers", 1, N - 1)
+    return lattice_gap_laws_cost(N, memory_bytes, workers, layers, executor=executor)
+
+
+def lattice_gap_laws_cost(N: int, memory_bytes: int | None = None, workers: int | None = None,
+                          layers: int | None = None, *, executor: Executor | None = None) -> Plan:
+    """:func:`lattice_gap_laws_plan` of a checked request's ``N`` (and ``layers``): what the engines plan with,
+    nothing checked again.
+
+    Examples
+    --------
+    >>> lattice_gap_laws_cost(64, layers=1) == lattice_gap_laws_plan(64, layers=1)
+    True
+    """
     what = f"gap laws of W_(i,1) N={N} (Pfaffians)"
     if N > MAX_LAW_N:
         return Plan(what, 0, refusal=f"N={N} is out of range for the lattice gap laws: N must be an integer in 2..{MAX_LAW_N}")
-    n, d = N - 1, dimension(N)
-    nprimes = ceil(product_count(N).bit_length() / log2(prime_limit(max(n, 1)) * 0.999))
-    windows = n if layers is None else check_int(layers, "layers", 1, n)
+    n, d = N - 1, free_force_count(N)
+    nprimes = ceil(tableau_count(N).bit_length() / log2(prime_limit(max(n, 1)) * 0.999))
+    windows = n if layers is None else layers
     M = level_points(d)
     per_worker = 8 * (3 * M * M + 2 * M * n) + WORKER_BASE_BYTES
     crt = _SECONDS_PER_CRT * windows * (d + 1) * nprimes

@@ -43,11 +43,12 @@ from forcenet.core.plan import Plan
 from forcenet.core.validation import check_layers
 
 from ..prime_tasks import checkpoint_store
-from ..staircase import dimension
+from ..staircase import dimension, free_force_count
 from .cost import prime_seconds, worker_bytes
 from .route import MAX_N, route_plan, survival_tables
 
-__all__ = ["second_survival_tables", "entry_moments", "partial_sum_moments", "partial_sum_moments_plan"]
+__all__ = ["second_survival_tables", "entry_moments", "partial_sum_moments", "partial_sum_moments_plan",
+           "partial_sum_moments_cost"]
 
 Table = list[list[Fraction]]
 
@@ -88,8 +89,21 @@ def partial_sum_moments_plan(N: int, *, memory_bytes: int | None = None, workers
     >>> plan.runnable, plan.unit, plan.ticks > mean_plan(40).ticks
     (True, 'prime', True)
     """
-    N = check_layers(N, maximum=MAX_N)
-    n, d = N - 1, dimension(N)
+    return partial_sum_moments_cost(check_layers(N, maximum=MAX_N), memory_bytes=memory_bytes, workers=workers,
+                                    executor=executor, checkpoint=checkpoint)
+
+
+def partial_sum_moments_cost(N: int, *, memory_bytes: int | None = None, workers: int | None = None,
+                             executor: Executor | None = None,
+                             checkpoint: str | PathLike | CheckpointStore | None = None) -> Plan:
+    """:func:`partial_sum_moments_plan` of a checked ``N`` (``2..200``), nothing checked again.
+
+    Examples
+    --------
+    >>> partial_sum_moments_cost(40) == partial_sum_moments_plan(40)
+    True
+    """
+    n, d = N - 1, free_force_count(N)
     what = f"exact <S_ij^2> N={N} (Pfaffians: the mean's evaluations, a second level functional)"
     per_worker = worker_bytes(N, n + 2)
     return route_plan(what, N, prime_seconds(N), per_worker, workers, as_executor(executor),

@@ -46,8 +46,7 @@ from forcenet.core.validation import check_layers
 from ...modular import crt_many
 from ...protocol import Progress, Table
 from ..prime_tasks import checkpoint_store, primes_plan, run_primes, workers_for
-from ..staircase import count as product_count
-from ..staircase import dimension
+from ..staircase import dimension, free_force_count, tableau_count
 from .cost import CRT_SECONDS, edge_seconds, prime_limit, prime_seconds, route_primes, worker_bytes
 from .engine import count_residue, edge_residues, prime_residues, with_kernels_compiled
 
@@ -492,8 +491,8 @@ def route_plan(what: str, N: int, per_prime: float, per_worker: int, workers: in
     >>> route_plan("x", 12, 0.01, 2**20, 1, None, None, None, 121, False).unit
     'prime'
     """
-    n, d = N - 1, dimension(N)
-    bound = (d + 1) * product_count(N) * bound_factor  # what the primes' product must exceed
+    n, d = N - 1, free_force_count(N)
+    bound = (d + 1) * tableau_count(N) * bound_factor  # what the primes' product must exceed
     nprimes = ceil(bound.bit_length() / log2(prime_limit(max(n, 1)) * 0.999))
     reused = 0
     if store is not None:

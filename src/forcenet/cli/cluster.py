@@ -24,16 +24,21 @@ machines, bound to loopback or a private interface, with TLS.
 from __future__ import annotations
 
 import json
+import logging
 import os
+import socket
 import sys
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
+from forcenet.core.checkpoints import default_directory
+from forcenet.core.execution import check_cluster
+
 from .common import FORCE_SECONDS, UsageError
+from .output import check_output_dir
 
 if TYPE_CHECKING:
     import argparse
-    import socket
 
     from forcenet.core.checkpoints import CheckpointStore
 
@@ -144,8 +149,6 @@ def _security(args: argparse.Namespace) -> Any:
 
 def _quiet_dask() -> None:
     """Dask's own log lines off for this command (each failure is one line of ours)."""
-    import logging
-
     prefixes = ("distributed", "tornado", "asyncio")
     for name in [*prefixes, *logging.root.manager.loggerDict]:  # Dask's configuration sets its loggers' own levels
         if name.startswith(prefixes):
@@ -154,8 +157,7 @@ def _quiet_dask() -> None:
 
 def _probe(address: str, scheme: str, host: str, port: int, security: Any) -> dict:
     """Dask's ``identity`` of the scheduler at ``address``, each step within :data:`CONNECT_SECONDS`."""
-    import asyncio
-    import socket
+    import asyncio  # only for --scheduler: 10 ms of every command's start otherwise
     import ssl
 
     try:
@@ -287,7 +289,6 @@ def connect_scheduler(text: str, security: Any = None) -> Any:
             client.close()
             raise _refuse(text, f"the cluster has no workers after {WORKER_SECONDS:g} s "
                                 f"(start `dask worker {address}` with forcenet installed)") from None
-    from forcenet.core.execution import check_cluster
 
     try:  # one tiny task: workers that cannot import forcenet are named now, not after the run's long wait
         check_cluster(client)
@@ -324,10 +325,6 @@ def engine_options(args: argparse.Namespace, applies: bool, what: str, plan_seco
     announced at over a minute checkpoint by default in the user's cache directory; ``store_for(directory)``
     makes the request's store.
     """
-    from forcenet.core.checkpoints import default_directory
-
-    from .output import check_output_dir
-
     if args.checkpoint is not None and args.no_checkpoint:
         raise UsageError("--checkpoint and --no-checkpoint contradict each other: give one")
     tls = [f"--{name.replace('_', '-')}" for name in _TLS_OPTIONS if getattr(args, name, None) is not None]

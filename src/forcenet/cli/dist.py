@@ -12,9 +12,11 @@ Examples (shell)::
 from __future__ import annotations
 
 import argparse
+import sys
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
+import forcenet
 from forcenet.exact.routes import LAW_CONTACTS, LAW_DP_MAX_N, LAW_MAX_N
 
 from .cluster import add_engine_options, engine_options, report_checkpoints
@@ -53,8 +55,6 @@ def _grain(text: str) -> tuple[int, ...]:
 
 def _request(args: argparse.Namespace) -> LawPlan:
     """The front door's plan of the request (:func:`forcenet.law_plan`): validated, its route chosen, once."""
-    import forcenet
-
     if args.contact is not None and args.grain is None:
         raise UsageError("--contact needs --grain i,j (the grain whose contact force is wanted)")
     return forcenet.law_plan(args.N, args.grain, layer=args.layer, contact=args.contact,
@@ -83,8 +83,6 @@ def cmd_dist(args: argparse.Namespace) -> int:
 
 
 def _dist(args: argparse.Namespace, request: LawPlan) -> int:
-    import sys
-
     if args.plot is not None:  # the options given; the others keep the face's defaults (those of --help)
         chosen = {name: getattr(args, name) for name in ("samples", "sweeps", "bins", "f_max")
                   if getattr(args, name) is not None}

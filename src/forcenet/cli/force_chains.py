@@ -13,6 +13,9 @@ import os
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
+import forcenet
+
+from .cluster import connect_scheduler
 from .common import UsageError, add_force, add_format, add_quiet, add_seed, defer, integer, run_planned
 from .output import check_output_dir, emit, write_files
 
@@ -49,8 +52,6 @@ def _check_plot(args: argparse.Namespace) -> None:
 
 
 def cmd_clusters(args: argparse.Namespace) -> int:
-    import forcenet
-
     _check_plot(args)
     for path in args.files:
         if not os.path.isfile(path):
@@ -61,16 +62,12 @@ def cmd_clusters(args: argparse.Namespace) -> int:
 
 
 def cmd_scaling(args: argparse.Namespace) -> int:
-    import forcenet
-
     _check_plot(args)
     executor: Any = None
     plan = forcenet.scaling_plan(args.model, args.sizes, args.samples, args.seed, lattice=args.lattice,
                                  thresholds=args.thresholds, replicas=args.replicas, workers=args.workers,
                                  checkpoint=args.checkpoint)
     if args.scheduler is not None:
-        from .cluster import connect_scheduler
-
         executor = connect_scheduler(args.scheduler)
 
     def run(tick: Callable[..., None] | None) -> ForceChainScaling:

@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 from collections.abc import Callable
 
+import forcenet
+
 from .common import add_format, defer, integer, real
 from .output import emit
 
@@ -12,9 +14,7 @@ __all__ = ["register"]
 
 
 def cmd_limit(args: argparse.Namespace) -> int:
-    from forcenet import limit_shape
-
-    result = limit_shape(args.x, args.z, dps=args.dps)  # x in [-z, z] checked there, exactly
+    result = forcenet.limit_shape(args.x, args.z, dps=args.dps)  # x in [-z, z] checked there, exactly
     emit(result.to_json() if args.format == "json" else result.to_text(), args.out)
     return 0
 

@@ -12,8 +12,12 @@ the JSON for those who want them there (and gives up identical bytes).
 from __future__ import annotations
 
 import argparse
+import sys
+import time
 from collections.abc import Callable
 from typing import TYPE_CHECKING
+
+import forcenet
 
 from .common import (
     UsageError,
@@ -42,7 +46,6 @@ def _scene(args: argparse.Namespace) -> Scene | None:
             if getattr(args, name) is not None:
                 raise UsageError(f"--{name} needs the full packing: give its width with --P")
         return None
-    import forcenet
 
     if args.sampler == "exact":
         raise UsageError("--P: the exact sampler is the fully mobilized triangle; use --sampler metropolis for the packing")
@@ -51,8 +54,6 @@ def _scene(args: argparse.Namespace) -> Scene | None:
 
 def _check_packing_loads(args: argparse.Namespace) -> None:
     """The packing's load range in the flags' words (forcenet.sample_plan refuses the same, in its arguments')."""
-    import forcenet
-
     low, high = forcenet.SamplePlan.load_range
     if args.P is not None:
         for name in ("F", "pv", "mg", "ph"):
@@ -63,11 +64,6 @@ def _check_packing_loads(args: argparse.Namespace) -> None:
 
 
 def cmd_sample(args: argparse.Namespace) -> int:
-    import sys
-    import time
-
-    import forcenet
-
     K, workers = args.samples, args.workers
     if args.sampler == "exact" and args.ph is not None:
         raise UsageError("--ph applies to --sampler metropolis only (the exact sampler is the fully mobilized ensemble)")

@@ -7,7 +7,7 @@ import os
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, cast
 
-from forcenet.exact.routes import MAX_MOMENTS, METHODS, takes
+from forcenet.exact.routes import MAX_MOMENTS, METHODS, over_primes, over_primes_text, takes
 
 from .cluster import add_engine_options, engine_options, report_checkpoints
 from .common import (
@@ -31,7 +31,6 @@ if TYPE_CHECKING:
 __all__ = ["register"]
 
 _EXTENSIONS = {".json": "json", ".csv": "csv", ".tex": "latex"}
-MAPS_MAX_N = 10  # forcenet.maps's range (tests/test_limit_maps_front_door.py checks they agree)
 
 
 def cmd_count(args: argparse.Namespace) -> int:
@@ -80,8 +79,8 @@ def _request(args: argparse.Namespace, memory: int | None, client: Any = None,
     from forcenet import plan
 
     method = args.method
-    if method == "auto" and client is None and directory is None and (args.scheduler or args.checkpoint):
-        method = "pfaffian"  # not yet connected: the only route that takes the options
+    if client is None and directory is None and (args.scheduler or args.checkpoint):
+        method = over_primes(method)  # not yet connected: the registry's routes that take the options
     return plan(args.N, args.moments, method, executor=client, checkpoint=directory, memory_bytes=memory).check()
 
 
@@ -97,7 +96,7 @@ def cmd_table(args: argparse.Namespace) -> int:
     memory = available_memory()
     request = _request(args, memory)
     # --scheduler, --checkpoint (default: the user's cache for runs announced at over a minute)
-    client, directory = engine_options(args, takes(request.method, "checkpoint"), "--method pfaffian", request.seconds,
+    client, directory = engine_options(args, takes(request.method, "checkpoint"), over_primes_text(), request.seconds,
                                        lambda directory: directory)
     try:
         if client is not None or directory is not None:  # a cluster or recorded primes change the plan
@@ -112,7 +111,7 @@ def _table_row(args: argparse.Namespace, fmt: str | None) -> int:
     """``--row i``: row ``i`` of ``<W^s>``, ``s <= --moments``, by the fastest exact route for that row, announced
     (:func:`forcenet.plan` with ``row=``)."""
     from forcenet import plan
-    from forcenet.exact.routes import ROW_PRIME_ROUTES
+    from forcenet.exact.routes import ROW_LAYER_ROUTES, ROW_PRIME_ROUTES
 
     if fmt is None:
         raise UsageError("--row gives one row in one format: give --format json|csv|latex or --out FILE "
@@ -131,7 +130,7 @@ def _table_row(args: argparse.Namespace, fmt: str | None) -> int:
     finally:
         if client is not None:
             client.close()
-    if directory is not None and not args.quiet and request.method in ("layers", "floor"):
+    if directory is not None and not args.quiet and request.method in ROW_LAYER_ROUTES:
         report_checkpoints(directory, request.cost.ticks)
     emit({"json": row.to_json, "csv": row.to_csv, "latex": row.to_latex}[fmt](), args.out)
     return 0
@@ -193,6 +192,8 @@ def cmd_maps(args: argparse.Namespace) -> int:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``count``, ``table`` and ``maps`` to the subcommands."""
+    from forcenet import MapCounts  # the range of forcenet.maps, its own (no copy here)
+
     what = ("how many force networks: standard shifted staircase tableaux, d! * normalization (4.1) "
             "(d = N(N-1)/2 free forces; an exact integer)")
     p = sub.add_parser("count", help=what, description=what[0].upper() + what[1:] + ".")
@@ -253,13 +254,13 @@ def register(sub: argparse._SubParsersAction) -> None:
         "with --moments s >= 2, every load's gap law by de Bruijn Pfaffians, layer by layer, polynomial but "
         "steep (notes/fluctuations.md Sec. 6)",
     )
-    add_engine_options(p, "--method pfaffian")
+    add_engine_options(p, over_primes_text())
     add_force(p)
     add_quiet(p)
     p.set_defaults(func=cmd_table)
 
     p = sub.add_parser("maps", help="Z_(N-2) and the number of maps h per bottom row (Sec. 4.6)")
-    add_layers(p, maximum=MAPS_MAX_N, minimum=3, deferred=True)  # N: checked by forcenet.maps
+    add_layers(p, maximum=MapCounts.MAX_N, minimum=3, deferred=True)  # N: checked by forcenet.maps
     p.add_argument("--format", choices=["text", "json"], default="text", help="output format (default text)")
     p.add_argument("--out", help="write the output to this file (atomically; its directory must exist)")
     p.set_defaults(func=cmd_maps)

@@ -70,6 +70,7 @@ import sys
 import tempfile
 import time
 from collections.abc import Callable, Collection
+from dataclasses import replace
 from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
@@ -446,8 +447,6 @@ def run_distrusting(checkpoint: CheckpointStore | str | os.PathLike[str] | None,
     >>> run_distrusting(None, 12, lambda: 42)
     42
     """
-    import time
-
     started = time.time()
 
     def fresh() -> T:
@@ -475,8 +474,6 @@ def resumed_plan(plan: Plan, directory: str | os.PathLike[str], N: int, routes: 
     >>> p.seconds, p.what.startswith("x; 1 of 4 primes recorded in ")
     (7.5, True)
     """
-    from dataclasses import replace
-
     ticks = max(int(plan.ticks), 1)
     held = min(records_held(directory, N, routes), ticks)
     if not held:

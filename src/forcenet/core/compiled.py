@@ -29,12 +29,20 @@ True
 
 from __future__ import annotations
 
+import atexit
 import os
+import shutil
 import sys
+import tempfile
 from collections.abc import Callable
 from typing import Any
 
 from .errors import ArgumentError
+
+try:
+    import resource
+except ImportError:  # Windows: no limit on open files to read
+    resource = None  # type: ignore[assignment]
 
 __all__ = ["cache_directory", "cache_home", "check_environment", "compile_features", "host_features", "njit",
            "prefer_wide_vectors"]
@@ -101,9 +109,7 @@ def check_environment(environ: dict[str, str] | None = None) -> None:
 
 def _enough_open_files() -> None:
     """Raise the soft limit on open files to at least :data:`MIN_OPEN_FILES` (up to the hard limit), or refuse."""
-    try:
-        import resource
-    except ImportError:  # not on this platform: nothing to check
+    if resource is None:  # not on this platform: nothing to check
         return
     soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
     if soft == resource.RLIM_INFINITY or soft >= MIN_OPEN_FILES:
@@ -145,10 +151,6 @@ def _usable_cache_directory() -> str:
     if os.path.isabs(os.environ.get("XDG_CACHE_HOME", "")) or os.path.isdir(os.path.expanduser("~")):
         return cache_directory()
     if not _PRIVATE_CACHE:
-        import atexit
-        import shutil
-        import tempfile
-
         _PRIVATE_CACHE.append(tempfile.mkdtemp(prefix="forcenet-numba-"))
         atexit.register(shutil.rmtree, _PRIVATE_CACHE[0], True)
     return _PRIVATE_CACHE[0]

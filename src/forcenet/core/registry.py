@@ -11,9 +11,16 @@ computes as planned and trusts the request (it never checks it again).
 
 A new model enters by registering its engines (:meth:`Registry.register`,
 or a loader named in :meth:`Registry.add_loader` that registers them on
-first use, so ``import forcenet`` stays light); nothing else of the house
+first use, so ``import forcenet`` stays light: the module registers them
+itself, or lists them in its ``ENGINES``); nothing else of the house
 changes.  ``method="auto"`` chooses the fastest runnable engine by the
-engines' own plans (:meth:`Registry.choose`).
+engines' own plans (:meth:`Registry.decide`); an engine may state its
+``options`` (the keywords beyond the request it takes: ``auto`` then
+chooses among the engines taking the options given) and its
+``min_plan_seconds`` (its start-up: not planned when another plan already
+runs within it).  A model whose choice is more than "the fastest plan"
+(one quantity's engines choosing among routes of their own) registers its
+policy for that quantity (:meth:`Registry.set_policy`).
 
 Examples
 --------
@@ -48,14 +55,29 @@ from __future__ import annotations
 import importlib
 from collections.abc import Callable
 from concurrent.futures import Executor
-from typing import Any, Protocol, runtime_checkable
+from typing import Any, NamedTuple, Protocol, runtime_checkable
 
 from .errors import ArgumentError, ArgumentTypeError
 from .plan import Plan
 
-__all__ = ["Engine", "Registry", "AUTO"]
+__all__ = ["Engine", "Registry", "Decision", "Policy", "AUTO", "REGISTRY"]
 
 AUTO = "auto"
+
+
+class Decision(NamedTuple):
+    """The registry's answer to a request: the ``engine`` that runs it, its ``plan`` (possibly refused), ``plans``
+    (every candidate's plan, by name, in registration order: ``auto``'s comparison) and ``skipped`` (candidates
+    not planned: their ``min_plan_seconds`` alone exceeds a runnable plan's time); ``why``, a policy's reason."""
+
+    engine: Engine
+    plan: Plan
+    plans: dict[str, Plan]
+    skipped: dict[str, float]
+    why: str = ""
+
+
+Policy = Callable[["Registry", Any], Decision]  # a model's own choice for one quantity (set_policy)
 
 
 @runtime_checkable
@@ -83,6 +105,7 @@ class Registry:
     def __init__(self) -> None:
         self._engines: dict[tuple[str, str], dict[str, Engine]] = {}
         self._loaders: dict[str, list[str]] = {}
+        self._policies: dict[tuple[str, str], Policy] = {}
 
     def add_loader(self, model: str, module: str) -> None:
         """Import ``module`` (which registers ``model``'s engines) the first time ``model`` is asked for."""
@@ -102,9 +125,15 @@ class Registry:
             slot[engine.name] = engine
         return engine
 
+    def set_policy(self, model: str, quantity: str, policy: Policy) -> None:
+        """``policy(registry, request) -> Decision`` decides every request of ``model`` and ``quantity`` (a named
+        method included), instead of :meth:`decide`'s fastest plan."""
+        self._policies[(model, quantity)] = policy
+
     def _load(self, model: str) -> None:
         for module in self._loaders.pop(model, []):
-            importlib.import_module(module)
+            for engine in getattr(importlib.import_module(module), "ENGINES", ()):
+                self.register(engine)
 
     def models(self) -> tuple[str, ...]:
         """Every model registered or loadable."""
@@ -125,28 +154,65 @@ class Registry:
                                 f"{', '.join((*names, AUTO))}")
         return self._engines[(model, quantity)][method]
 
+    def takes(self, model: str, quantity: str, method: str, option: str) -> bool:
+        """Whether engine ``method`` takes the keyword ``option`` beyond the request (its ``options``)."""
+        return option in getattr(self.engine(model, quantity, method), "options", ())
+
     def choose(self, request: Any) -> tuple[Engine, Plan]:
+        """The engine and its plan for a checked ``request`` (:meth:`decide`)."""
+        decision = self.decide(request)
+        return decision.engine, decision.plan
+
+    def decide(self, request: Any, candidates: tuple[str, ...] | None = None) -> Decision:
         """The engine and its plan for a checked ``request`` (``model``, ``quantity``, ``method``).
 
-        ``method="auto"``: every engine's plan, the fastest runnable one; if none runs, the first refusal
-        (the engines' registration order) with the others' reasons. A named method: its plan as it is
-        (possibly refused: the caller decides whether to raise or announce).
+        The model's policy for the quantity if it set one (:meth:`set_policy`); else, a named method: its plan
+        as it is (possibly refused: the caller decides whether to raise or announce); ``method="auto"``: among
+        ``candidates`` (default: every engine; those taking the request's ``options``), every plan, the
+        fastest runnable one (ties: registration order); an engine whose ``min_plan_seconds`` a runnable plan
+        already beats is not planned. If none runs, the first candidate's refusal (the caller may join the
+        others' from ``plans``).
         """
+        self._load(request.model)
+        policy = self._policies.get((request.model, request.quantity))
+        if policy is not None and candidates is None:
+            return policy(self, request)
         if request.method != AUTO:
             engine = self.engine(request.model, request.quantity, request.method)
-            return engine, engine.plan(request)
+            plan = engine.plan(request)
+            return Decision(engine, plan, {engine.name: plan}, {})
+        return self.fastest(request, candidates)
+
+    def fastest(self, request: Any, candidates: tuple[str, ...] | None = None) -> Decision:
+        """``auto`` by the plans alone (:meth:`decide` without a policy): the fastest runnable candidate."""
         names = self.methods(request.model, request.quantity)
         if not names:
             raise ArgumentError(f"no engine computes {request.quantity!r} for model {request.model!r}")
         engines = self._engines[(request.model, request.quantity)]
-        plans = [(engines[name], engines[name].plan(request)) for name in names]
-        runnable = [pair for pair in plans if pair[1].runnable]
-        if runnable:
-            return min(runnable, key=lambda pair: pair[1].seconds)
-        return plans[0]
+        given = tuple(getattr(request, "options", None) or ())
+        names = tuple(n for n in (names if candidates is None else candidates)
+                      if all(k in getattr(engines[n], "options", ()) for k in given))
+        if not names:
+            raise ArgumentError(f"{', '.join(f'{k}=' for k in given)} applies to no engine of {request.quantity!r} "
+                                f"for model {request.model!r}")
+        plans: dict[str, Plan] = {}
+        skipped: dict[str, float] = {}
+        for name in sorted(names, key=lambda n: getattr(engines[n], "min_plan_seconds", 0.0)):
+            floor = getattr(engines[name], "min_plan_seconds", 0.0)
+            if floor and any(p.runnable and p.seconds <= floor for p in plans.values()):
+                skipped[name] = floor
+                continue
+            plans[name] = engines[name].plan(request)
+        plans = {n: plans[n] for n in names if n in plans}
+        runnable = [n for n in plans if plans[n].runnable]
+        best = min(runnable, key=lambda n: plans[n].seconds) if runnable else names[0]
+        return Decision(engines[best], plans[best], plans, skipped)
 
     def run(self, request: Any, *, progress: Callable[..., Any] | None = None,
             executor: Executor | None = None) -> Any:
         """Choose, check the plan (:meth:`~forcenet.core.plan.Plan.check`) and run."""
         engine, plan = self.choose(request)
         return engine.run(request, plan.check(), progress=progress, executor=executor)
+
+
+REGISTRY = Registry()  # the one instance (named for users by forcenet.registry; the models' engines register in it)

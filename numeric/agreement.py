@@ -78,6 +78,7 @@ False
 from __future__ import annotations
 
 import math
+import textwrap
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -243,6 +244,17 @@ class TableAgreement:
         lines.append(self._verdict_line())
         return "".join(lines)
 
+    def plain(self) -> str:
+        """The verdict in plain words, lines of at most 78 columns (:meth:`summary`: the statistics' details)."""
+        n = max(range(len(self.z)), key=lambda m: abs(self.z[m]), default=None)
+        worst = "" if n is None else (f"the largest deviation is {abs(self.z[n]):.1f} standard errors, at {self.keys[n]} "
+                                      f"(sampled {self.mean[n]:.4g}, exact {self.exact[n]:.4g})")
+        text = {"cannot judge": f"cannot judge: {self.reason}",
+                "DISAGREES": f"DISAGREES with the exact values: {worst or 'a fixed value differs'}",
+                "agrees": "agrees with the exact values within the statistical errors" + (f"; {worst}" if worst else "")
+                }[self.verdict] + f" (a correct sampler fails this check at most {self.alpha:.2%} of the time)"
+        return textwrap.fill(text, 78, break_on_hyphens=False)
+
     def message(self, k: int = 3) -> str:
         """The failure message: the worst values with their z (and tau), then the summary."""
         head = {"agrees": "sampled means agree with the exact values",
@@ -263,8 +275,7 @@ class TableAgreement:
         lines += ["  " + line for line in self.summary().splitlines()]
         return "\n".join(lines)
 
-    def __str__(self) -> str:
-        return self.message()
+    __str__ = message
 
 
 def _same(a: float, b: float) -> bool:
@@ -286,14 +297,12 @@ def varying_columns(x: np.ndarray) -> np.ndarray:
 def _split(x: np.ndarray, mu: np.ndarray, keys: list) -> tuple[np.ndarray, tuple[tuple[Any, float, float], ...]]:
     """Separate the columns that never vary (compared exactly) from the others."""
     fixed = ~varying_columns(x)
-    fixed_report = tuple((keys[g], float(x[0, g]), float(mu[g])) for g in np.flatnonzero(fixed))
-    return ~fixed, fixed_report
+    return ~fixed, tuple((keys[g], float(x[0, g]), float(mu[g])) for g in np.flatnonzero(fixed))
 
 
 def _z_scores(rows: np.ndarray, mu: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Means, ``(mean - exact) / stderr`` (infinite where a constant column differs) and the stderrs."""
-    K = rows.shape[0]
-    mean = rows.mean(axis=0)
+    K, mean = rows.shape[0], rows.mean(axis=0)
     dev = mean - mu
     stderr = rows.std(axis=0, ddof=1) / math.sqrt(K) if K > 1 else np.full(mean.shape, np.inf)
     with np.errstate(divide="ignore", invalid="ignore"):

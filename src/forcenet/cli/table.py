@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import textwrap
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, cast
 
@@ -66,9 +67,13 @@ def _refuse_ignored(args: argparse.Namespace) -> None:
     """What the main job alone uses, refused beside --format or --out (it would be ignored)."""
     single = next((name for name in ("format", "out") if given(args, name)), None)
     if single is not None:
-        for name in ("out_dir", "samples", "seed"):
+        for name in ("out_dir", "samples", "seed", "verbose"):
             refuse_together(args, name, single, f"--{name.replace('_', '-')} belongs to the main job (three files "
                             "and a Monte Carlo cross-check), which --format and --out replace by one exact table")
+        if _output_format(args) != "latex":
+            for name in ("digits", "rows"):
+                refuse_together(args, name, single, f"--{name} shapes the LaTeX table only (--format latex, an "
+                                ".tex file, or the main job's .tex)")
     elif args.samples == 0:
         refuse_together(args, "seed", "samples", "the seed drives the cross-check's samples, and --samples 0 asks for none")
 
@@ -108,6 +113,16 @@ def cmd_table(args: argparse.Namespace) -> int:
             client.close()
 
 
+def _rows(text: str | None) -> list[int] | None:
+    """``--rows 1,2,40`` as a list (each layer checked by the table's ``to_latex``)."""
+    if text is None:
+        return None
+    try:
+        return [int(part) for part in text.split(",")]
+    except ValueError:
+        raise UsageError(f"--rows={text}: give layers as integers separated by commas, e.g. --rows 1,2,40") from None
+
+
 def _table_row(args: argparse.Namespace, fmt: str | None) -> int:
     """``--row i``: row ``i`` of ``<W^s>``, ``s <= --moments``, by the fastest exact route for that row, announced
     (:func:`forcenet.plan` with ``row=``)."""
@@ -117,6 +132,8 @@ def _table_row(args: argparse.Namespace, fmt: str | None) -> int:
     if fmt is None:
         raise UsageError("--row gives one row in one format: give --format json|csv|latex or --out FILE "
                          "(the main job's three files and cross-check are for the whole table)")
+    for name in ("digits", "rows"):
+        refuse_together(args, name, "row", f"--{name} shapes a whole table's LaTeX; --row gives one row exactly")
     memory = available_memory()
     request = plan(args.N, args.moments, args.method, memory_bytes=memory, row=args.row).check()
     explicit = args.scheduler is not None or args.checkpoint is not None  # then only the routes that take them
@@ -160,7 +177,8 @@ def _table(args: argparse.Namespace, fmt: str | None, memory: int | None, reques
     table, check = run_planned(plan, run, force=args.force, quiet=args.quiet)
     if request.checkpoint is not None and not args.quiet:
         report_checkpoints(request.checkpoint, plans[0].ticks)
-    render = {"json": table.to_json, "csv": table.to_csv, "latex": table.to_latex}
+    render = {"json": table.to_json, "csv": table.to_csv,
+              "latex": lambda: table.to_latex(digits=args.digits, rows=_rows(args.rows))}
     if fmt is not None:
         emit(render[fmt](), args.out)
         return 0
@@ -169,13 +187,17 @@ def _table(args: argparse.Namespace, fmt: str | None, memory: int | None, reques
     stem = os.path.join(args.out_dir, f"mean_W_N{N}")
     files = {f"{stem}.{ext}": render[fmt_name]() for ext, fmt_name in (("json", "json"), ("csv", "csv"), ("tex", "latex"))}
     lines = table.summary().splitlines()
-    lines.append(f"  exact tables written: {stem}.json, {stem}.csv, {stem}.tex")
+    lines.append(f"  exact tables written: {stem}.json, .csv, .tex")
     if check is not None:
-        lines.append(f"Monte Carlo cross-check: {args.samples} independent exact samples (seed {args.seed}) "
-                     f"of the {check.values} free grains against the exact table:")
-        lines += ["  " + line for line in check.summary().splitlines()]  # its last line: the verdict or "cannot judge: ..."
-        if check.verdict != "cannot judge":
-            lines.append(f"  RMS of (sampled - exact)/stderr = {check.rms_z:.2f} (about 1 expected)")
+        lines += textwrap.wrap(f"Monte Carlo cross-check: {args.samples} independent exact samples (seed "
+                               f"{args.seed}) of the {check.values} free grains against the exact table:", 78,
+                               subsequent_indent="  ")
+        if args.verbose:  # the statistics' details; its last line: the verdict or "cannot judge: ..."
+            lines += ["  " + line for line in check.summary().splitlines()]
+            if check.verdict != "cannot judge":
+                lines.append(f"  RMS of (sampled - exact)/stderr = {check.rms_z:.2f} (about 1 expected)")
+        else:
+            lines += ["  " + line for line in check.plain().splitlines()]
     # the summary is printed once the files are in place; if standard output fails, they are taken back
     write_files(files, name="--out-dir", make_dir=args.out_dir, then=lambda: write_stdout("\n".join(lines) + "\n"))
     if check is None or check.passed:
@@ -232,6 +254,13 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "for s = 2 the rows 2, 3 and N-1 are one-time (each cell uniform between its covers, the "
                         "price of the mean; notes/fluctuations.md Sec. 3.1), other rows one layer's de Bruijn "
                         "Pfaffians; needs --format or --out")
+    p.add_argument("--digits", type=integer("digits", 0, 1000), default=None,
+                   help="the LaTeX table (.tex, --format latex) in decimals, correctly rounded "
+                        "(default: exact fractions)")
+    p.add_argument("--rows", default=None,
+                   help="the LaTeX table's layers only, e.g. --rows 1,2,40 (default: all)")
+    p.add_argument("--verbose", action="store_true",
+                   help="the cross-check's statistics in full (z, p-values, the test used)")
     defer(p, "moments", "--moments")  # N, moments and row: checked once, by the request (forcenet.plan)
     defer(p, "row", "--row")
     p.add_argument("--out-dir", default="forcenet-tables",

@@ -107,3 +107,19 @@ def test_the_main_job_speaks_plainly_and_details_under_verbose(tmp_path):
     bad = run("--format", "latex", "--rows", "1,x")
     assert bad.returncode == 2 and "--rows" in bad.stderr
     assert run("--format", "csv", "--digits", "3").returncode == 2
+
+
+def test_dir_shows_the_front_door_only():
+    names = dir(forcenet)
+    assert {"table", "Table", "law", "testing", "__version__"} <= set(names)
+    assert not {"Any", "TYPE_CHECKING", "annotations", "version", "PackageNotFoundError", "_FRONT_DOOR"} & set(names)
+
+
+def test_plots_read_as_a_paper_figure():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    ax = forcenet.table(10).plot()
+    assert type(ax.collections[0].norm).__name__ == "LogNorm"
+    ax = forcenet.law(8, (8, 4)).plot()
+    assert ax.get_title() == "N = 8: $W_{8,4}$" and ax.get_legend() is not None

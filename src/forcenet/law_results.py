@@ -15,6 +15,7 @@ Examples
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any
@@ -449,16 +450,30 @@ class Law(_Rendered):
         >>> import matplotlib
         >>> matplotlib.use("Agg")
         >>> import forcenet
-        >>> forcenet.law(8, layer=8).plot().get_xlabel()
-        'f'
+        >>> ax = forcenet.law(12, (12, 6)).plot()
+        >>> ax.get_title(), ax.get_legend_handles_labels()[1]
+        ('N = 12: $W_{12,6}$', ['exact density of $W_{12,6}$'])
         """
         import matplotlib.pyplot as plt
 
         if ax is None:
             _, ax = plt.subplots(figsize=(5, 3.5))
         x, p, _ = self.grid(points)
-        ax.plot(x, p)
+        ax.plot(x, p, label=f"exact density of {_mathtext(self.quantity)}")
         ax.set_xlabel(self.variable)
         ax.set_ylabel(f"p({self.variable})")
-        ax.set_title(f"N = {self.N}: {self.quantity}")
+        ax.set_title(f"N = {self.N}: {_mathtext(self.quantity)}")
+        ax.legend(loc="best", fontsize="small")
         return ax
+
+
+def _mathtext(text: str) -> str:
+    """A quantity's name for matplotlib: its TeX-like pieces (``W_{12,6}``, ``F1^{(5,2)}``) set as math.
+
+    Examples
+    --------
+    >>> _mathtext("W_{12,6}"), _mathtext("F1^{(5,2)} of grain 2")
+    ('$W_{12,6}$', '$F1^{(5,2)}$ of grain 2')
+    """
+    text = text.replace("(sqrt3/2)", r"$(\sqrt{3}/2)$")
+    return re.sub(r"\b([A-Za-z][A-Za-z0-9]*(?:[_^]\{[^}]*\})+)", r"$\1$", text)

@@ -442,6 +442,9 @@ class Table(_Rendered):
     def plot(self, s: int = 1, ax: Axes | None = None) -> Axes:
         """The triangle drawn as it stands: grain ``(i, j)`` at ``(j - (i + 1)/2, -i)``, coloured by ``<W_ij^s>``.
 
+        The colour scale is logarithmic (the loads span decades between the
+        apex and the bottom row's edges; issue 53).
+
         Parameters
         ----------
         s : int
@@ -458,8 +461,9 @@ class Table(_Rendered):
         >>> import matplotlib
         >>> matplotlib.use("Agg")
         >>> import forcenet
-        >>> forcenet.table(8).plot().get_title()
-        'N = 8'
+        >>> ax = forcenet.table(8).plot()
+        >>> ax.get_title(), type(ax.collections[0].norm).__name__
+        ('N = 8', 'LogNorm')
         """
         import matplotlib.pyplot as plt
 
@@ -471,8 +475,11 @@ class Table(_Rendered):
                 xs.append(j - (i + 1) / 2)
                 ys.append(-i)
                 cs.append(float(value))
+        from matplotlib.colors import LogNorm
+
         size = max(4.0, 2400 / self.N**2)
-        points = ax.scatter(xs, ys, c=cs, s=size, cmap="viridis")
+        positive = min(cs) > 0  # a log scale: the small loads near the edges and deep layers stay distinct
+        points = ax.scatter(xs, ys, c=cs, s=size, cmap="viridis", norm=LogNorm() if positive else None)
         ax.figure.colorbar(points, ax=ax, label=r"$\langle W_{ij}\rangle$" if s == 1 else rf"$\langle W_{{ij}}^{s}\rangle$")
         ax.set_aspect("equal")
         ax.set_axis_off()

@@ -227,21 +227,24 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "table", help="exact table of <W_ij> (and higher moments): the main job",
         formatter_class=argparse.RawDescriptionHelpFormatter,
-        description="The exact mean weight <W_ij> of every grain of the fully mobilized triangle of N layers\n"
-                    "(Sec. 4.2), as exact fractions.",
-        epilog="the main job (no --format, no --out) writes three files into ./forcenet-tables/ (--out-dir):\n"
-               "  mean_W_N<N>.json, mean_W_N<N>.csv and mean_W_N<N>.tex, the same exact table in three formats,\n"
-               "prints a summary (the count, the normalization, the bottom row) and checks the table against\n"
-               "20000 independent exact-sampler samples (--samples; --seed 2006 fixes them): a Monte Carlo\n"
-               "cross-check with a stated false-alarm rate (exit code 3 if it disagrees, 4 if the samples are\n"
-               "too few to judge; 1 is only ever a bug). --seed affects only\n"
-               "that cross-check, never the exact table.\n"
-               "with --format or --out: one format of the exact table only, no files in ./forcenet-tables/,\n"
-               "no cross-check.\n\n"
+        description="The exact mean weight <W_ij> of every grain of the fully mobilized\n"
+                    "triangle of N layers (Sec. 4.2), as exact fractions.",
+        epilog="the main job (no --format, no --out) writes three files into\n"
+               "./forcenet-tables/ (--out-dir): mean_W_N<N>.json, .csv and .tex, the same\n"
+               "exact table in three formats; prints a summary (the count, the\n"
+               "normalization, the bottom row) and checks the table against 20000\n"
+               "independent exact-sampler samples (--samples; --seed 2006 fixes them):\n"
+               "a Monte Carlo cross-check with a stated false-alarm rate (exit code 3 if\n"
+               "it disagrees, 4 if the samples are too few to judge; 1 is only ever a\n"
+               "bug). --seed affects only that cross-check, never the exact table.\n"
+               "with --format or --out: one format of the exact table only, no files in\n"
+               "./forcenet-tables/, no cross-check.\n\n"
                "examples:\n"
-               "  forcenet table --N 12                   # the main job (~2 s)\n"
-               "  forcenet table --N 9 --out table.csv    # one CSV file, the format from the extension\n"
-               "  forcenet table --N 40 --method pfaffian --moments 2 --row 39 --format json   # <W>, <W^2> of layer 39")
+               "  forcenet table --N 12                 # the main job (~2 s)\n"
+               "  forcenet table --N 9 --out table.csv  # one CSV file (format: extension)\n"
+               "  forcenet table --N 40 --format latex --digits 4 --rows 1,2,40\n"
+               "  forcenet table --N 40 --moments 2 --row 39 --format json\n"
+               "                                        # <W>, <W^2> of layer 39")
     add_layers(p, deferred=True)  # N: checked once, by the request (forcenet.plan)
     p.add_argument("--format", choices=["json", "csv", "latex"], help="print one format of the exact table instead of "
                                                                        "the main job (no files, no cross-check)")

@@ -1,0 +1,29 @@
+"""What a new user meets first (issue 53): help that fits 80 columns, however wide the terminal."""
+
+from __future__ import annotations
+
+import argparse
+
+import pytest
+
+from forcenet.cli import build_parser
+
+
+def _parsers() -> dict[str, argparse.ArgumentParser]:
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return {"": parser, **sub.choices}
+
+
+@pytest.mark.parametrize("columns", ["80", "200"])
+def test_every_help_fits_80_columns(monkeypatch, columns):
+    monkeypatch.setenv("COLUMNS", columns)
+    for name, parser in _parsers().items():
+        wide = [line for line in parser.format_help().splitlines() if len(line) > 80]
+        assert not wide, (name, wide)
+
+
+def test_a_narrow_terminal_still_narrows_the_help(monkeypatch):
+    monkeypatch.setenv("COLUMNS", "60")
+    lines = _parsers()["sample"].format_help().splitlines()
+    assert max(len(line) for line in lines if not line.startswith("usage")) <= 62

@@ -27,3 +27,14 @@ def test_a_narrow_terminal_still_narrows_the_help(monkeypatch):
     monkeypatch.setenv("COLUMNS", "60")
     lines = _parsers()["sample"].format_help().splitlines()
     assert max(len(line) for line in lines if not line.startswith("usage")) <= 62
+
+
+def test_plans_read_as_their_announcement_and_a_refused_plan_says_so():
+    import forcenet
+
+    refused = forcenet.plan(300)
+    assert refused.describe().startswith("refused: no method can run it") and "~0 s" not in refused.describe()
+    assert repr(refused).startswith("TablePlan(exact table N=300") and "refused:" in repr(refused)
+    big = forcenet.plan(100)
+    assert repr(big).startswith("TablePlan(exact table N=100 (Pfaffians): ~") and "seconds=" not in repr(big)
+    assert big.describe() in repr(big) and len(repr(forcenet.sample_plan(8, 2000))) < 80

@@ -76,6 +76,10 @@ class _Costed:
         with ticks(self.cost, progress, desc) as tick:
             yield tick
 
+    def __repr__(self) -> str:
+        """The plan's own words (:meth:`forcenet.core.plan.Plan.__repr__`), under this class's name."""
+        return type(self).__name__ + repr(self.cost)[len("Plan"):]
+
     @property
     def runnable(self) -> bool:
         """True when the request can run (in range, within memory).
@@ -162,7 +166,7 @@ class _Costed:
         return self
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the plan's own words: _Costed.__repr__
 class TablePlan(_Costed):
     """A checked request for an exact table, with its cost: what :func:`plan` returns (make it with :func:`plan`).
 

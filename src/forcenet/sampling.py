@@ -47,7 +47,7 @@ MOVES = ("metropolis", "slice")
 MAX_WORKERS = 64
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the plan's own words: _Costed.__repr__
 class SamplePlan(_Costed):
     """A checked Monte Carlo request with its cost: what :func:`sample_plan` returns (make it with :func:`sample_plan`).
 

@@ -278,7 +278,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--method", choices=list(METHODS), default="auto",
         help="auto: the fastest exact route for the request by the routes' plans, announced with the reason (default); "
         "fast: order-ideal DP, a dynamic program over the 2^(N-1) order ideals (sets of grains closed "
-        "upwards), exact, up to N ~ 30; thesis: the nested-matrix integration of Secs. 4.3-4.5; "
+        "upwards), exact, as far as memory allows (forcenet.plan(N, method='fast') says); thesis: the nested-matrix integration of Secs. 4.3-4.5; "
         "lambda: the integer recursions Lambda (4.50) and Gamma (4.73)-(4.77); "
         "maps: the map-counting formulas (4.67), (4.90)-(4.91) of Sec. 4.6; "
         "pfaffian: Schur Pfaffians and minor summation, polynomial in N, for large N (notes/free_fermions.md); "

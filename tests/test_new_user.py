@@ -38,3 +38,14 @@ def test_plans_read_as_their_announcement_and_a_refused_plan_says_so():
     big = forcenet.plan(100)
     assert repr(big).startswith("TablePlan(exact table N=100 (Pfaffians): ~") and "seconds=" not in repr(big)
     assert big.describe() in repr(big) and len(repr(forcenet.sample_plan(8, 2000))) < 80
+
+
+def test_exact_samples_do_not_depend_on_the_number_of_workers():
+    """Issue 53 item 7: streams of the seed and their index, shared by the workers, pooled in stream order."""
+    import forcenet
+
+    one = forcenet.sample(6, 21000, seed=3, workers=1)
+    for workers in (2, 3):
+        other = forcenet.sample(6, 21000, seed=3, workers=workers)
+        assert (one.mean == other.mean).all() and (one.stderr == other.stderr).all()
+    assert not (forcenet.sample(6, 21000, seed=4).mean == one.mean).all()

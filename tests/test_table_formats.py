@@ -54,9 +54,9 @@ def test_latex_is_booktabs_with_digits_and_rows():
 def test_a_long_row_is_one_cell_per_line():
     from forcenet.exact import mean_W
 
-    table = {"N": 22, "mean_W": mean_W(22)}
+    table = {"N": 16, "mean_W": mean_W(16)}
     text = latex(table)
-    assert max(map(len, text.splitlines())) < 200 and text.count("\n  & ") > 21
+    assert max(map(len, text.splitlines())) < 120 and text.count("\n  & ") > 100
     assert max(map(len, latex(table, digits=4).splitlines())) < 600
 
 
@@ -83,8 +83,8 @@ def test_to_pandas():
 
 
 def test_the_summary_of_a_large_table_is_abbreviated():
-    """N = 22: the first and last three values of the bottom row, decimals, the fractions' sizes; 80 columns."""
-    summary = forcenet.table(22).summary()
+    """N = 16: the first and last three values of the bottom row, decimals, the fractions' sizes; 80 columns."""
+    summary = forcenet.table(16).summary()
     lines = summary.splitlines()
     assert "    ..." in lines and sum(line.startswith("    j =") for line in lines) == 6
     assert max(map(len, lines)) <= 80 and "digits" in summary

@@ -60,17 +60,17 @@ def test_the_variance_bound_shrinks_as_its_degrees_of_freedom_grow():
     assert chain_dof(1000, np.array([1.0]))[0] == pytest.approx(1000 / 11)
 
 
-def test_no_false_alarm_of_the_bound_on_correct_rows_it_judges_alone():
-    """Level: 400 tables of 40 exponential rows (skewness 2, always below the size rule): the bound alone
-    decides, and never fires (its rate is at most alpha = 1e-3 by Chebyshev; measured rates in
-    notes/testing_against_exact.md)."""
+def test_the_bounds_level_holds_where_it_binds():
+    """Level at alpha = 0.2, where the bound fires at z ~ 1.6 and so can be seen to hold: 1500 tables of 10
+    lognormal rows (skewness 6.2, the variance often underestimated; always below the size rule) are DISAGREES
+    at most alpha of the time (measured 0.04; notes/testing_against_exact.md)."""
     rng = np.random.default_rng(11)
-    fired, refused = 0, 0
-    for _ in range(400):
-        report = compare_samples(rng.exponential(size=(40, 5)), np.ones(5))
+    refused = fired = 0
+    for _ in range(1500):
+        report = compare_samples(rng.lognormal(0.0, 1.0, size=(10, 1)), [math.exp(0.5)], alpha=0.2)
         refused += not report.judged
-        fired += report.disagrees
-    assert refused == 400 and fired == 0
+        fired += (not report.judged) and report.disagrees
+    assert refused == 1500 and 0 < fired <= 0.2 * refused
 
 
 @pytest.mark.parametrize("bias", [1.6, 3.0])

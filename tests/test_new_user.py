@@ -49,3 +49,16 @@ def test_exact_samples_do_not_depend_on_the_number_of_workers():
         other = forcenet.sample(6, 21000, seed=3, workers=workers)
         assert (one.mean == other.mean).all() and (one.stderr == other.stderr).all()
     assert not (forcenet.sample(6, 21000, seed=4).mean == one.mean).all()
+
+
+@pytest.mark.parametrize("argv", [["sample", "--N", "9", "--samples", "500", "--seed", "1"],
+                                  ["dist", "--N", "8", "--grain", "8,4"],
+                                  ["table", "--N", "16", "--samples", "300"]])
+def test_terminal_output_fits_80_columns(tmp_path, argv):
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-m", "forcenet", *argv, "--quiet"], capture_output=True, text=True,
+                          cwd=tmp_path, timeout=300, check=False)
+    assert done.returncode == 0, done.stderr
+    assert max(map(len, done.stdout.splitlines())) <= 80, done.stdout

@@ -16,6 +16,7 @@ Examples
 from __future__ import annotations
 
 import re
+import textwrap
 from collections.abc import Callable
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any
@@ -355,12 +356,13 @@ class Law(_Rendered):
           on [0, 1]: polynomial of degree 2 in w; lowest coefficients 0, 6, -6, ...
         """
         var = self.variable
-        lines = [f"N = {self.N}: exact density of {self.quantity} (exact rationals; --format json for all "
-                 "coefficients)"]
-        for p in self.density:
+        lines = textwrap.wrap(f"N = {self.N}: exact density of {self.quantity} (exact; all coefficients: "
+                              "--format json)", 80, subsequent_indent="  ", break_on_hyphens=False)
+        for p in self.density:  # lines of at most 80 columns (issue 53), a long coefficient on its own
             lead = ", ".join(str(c) for c in list(reversed(p.poly.all_coeffs()))[:3])
-            lines.append(f"  on [{p.lo}, {p.hi}]: polynomial of degree {p.poly.degree()} in {var}; lowest "
-                         f"coefficients {lead}, ...")
+            lines += textwrap.wrap(f"on [{p.lo}, {p.hi}]: polynomial of degree {p.poly.degree()} in {var}; lowest "
+                                   f"coefficients {lead}, ...", 78, initial_indent="  ", subsequent_indent="    ",
+                                   break_on_hyphens=False, break_long_words=False)
         lines += [f"  {k} = {v}" for k, v in self.extra.items()]
         lines.append(f"  density at {var} = 0: {self.density[0].poly.eval(0)}")
         if grid is not None:

@@ -123,3 +123,13 @@ def test_plots_read_as_a_paper_figure():
     assert type(ax.collections[0].norm).__name__ == "LogNorm"
     ax = forcenet.law(8, (8, 4)).plot()
     assert ax.get_title() == "N = 8: $W_{8,4}$" and ax.get_legend() is not None
+
+
+def test_a_rows_latex_takes_digits_too(tmp_path):
+    row = forcenet.table(5, moments=2, row=4)
+    text = row.to_latex(digits=4)
+    assert r"\toprule" in text and "$0.1818$" in text and text.splitlines()[-3].startswith("2 & $")
+    assert row.to_latex().count(r"\frac") == 8
+    done = subprocess.run([sys.executable, "-m", "forcenet", "table", "--N", "5", "--row", "4", "--format", "latex",
+                           "--digits", "2", "--quiet"], capture_output=True, text=True, cwd=tmp_path, check=False)
+    assert done.returncode == 0 and "$0.18$" in done.stdout

@@ -81,25 +81,6 @@ class _Rendered:
 
         return to_csv(self.to_dict())
 
-    def to_latex(self) -> str:
-        """The LaTeX ``tabular`` of ``forcenet table --row i --format latex`` (a whole table: :meth:`Table.to_latex`).
-
-        Returns
-        -------
-        str
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> print(forcenet.table(3, row=3).to_latex().splitlines()[-2])
-        1 & $\\frac{1}{4}$ & $\\frac{1}{2}$ & $\\frac{1}{4}$ \\\\
-        >>> forcenet.table(3, row=3).to_latex().count("frac")
-        3
-        """
-        from forcenet.exact.triangle.tables import to_latex
-
-        return to_latex(self.to_dict())
-
 
 class Table(_Rendered):
     """An exact table of the fully mobilized triangle: ``<W_ij^s>`` for ``s = 1..moments``.
@@ -573,6 +554,28 @@ class Row(_Rendered):
             raise ArgumentError(f"s={s} is out of range: this row holds s = 1..{self.moments} "
                                 f"(ask forcenet.table({self.N}, moments={s}, row={self.row}))")
         return self._rows[s]
+
+    def to_latex(self, digits: int | None = None) -> str:
+        """A paper-ready LaTeX table (``booktabs``) of this row, a line per moment: ``forcenet table --row i``'s.
+
+        Parameters
+        ----------
+        digits : int, optional
+            Decimals, correctly rounded from the exact values; default the exact fractions.
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> print(forcenet.table(3, row=3).to_latex().splitlines()[-3])
+        1 & $\\frac{1}{4}$ & $\\frac{1}{2}$ & $\\frac{1}{4}$ \\\\
+        """
+        from forcenet.table_formats import row_latex
+
+        return row_latex(self.to_dict(), digits)
 
     def to_dict(self) -> dict[str, Any]:
         """``{"N", "row", "count", "normalization", "mean_W", "mean_W2", ...}`` with exact values.

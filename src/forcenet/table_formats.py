@@ -41,7 +41,7 @@ from typing import Any
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.validation import check_int
 
-__all__ = ["abbreviated", "decimal", "from_json", "latex", "read", "scientific", "to_pandas"]
+__all__ = ["abbreviated", "decimal", "from_json", "latex", "read", "row_latex", "scientific", "to_pandas"]
 
 _LINE = 120  # a LaTeX row longer than this is written one cell per line
 SHORT = 24  # a fraction longer than this is abbreviated on the terminal
@@ -132,6 +132,27 @@ def latex(table: dict[str, Any], key: str = "mean_W", digits: int | None = None,
     for i in chosen:
         values = table[key][i - 1]
         lines.append(_line(str(i), [_latex_value(x, digits) for x in values] + [""] * (width - len(values))))
+    lines += [r"\bottomrule", r"\end{tabular}"]
+    return "\n".join(lines) + "\n"
+
+
+def row_latex(row: dict[str, Any], digits: int | None = None) -> str:
+    """The ``booktabs`` LaTeX of one row ``i`` (a :meth:`~forcenet.Row.to_dict`): a line per moment ``s``.
+
+    Examples
+    --------
+    >>> import forcenet
+    >>> print(row_latex(forcenet.table(4, moments=2, row=3).to_dict(), digits=3).splitlines()[6])
+    2 & $0.107$ & $0.214$ & $0.107$ \\\\
+    """
+    if digits is not None:
+        digits = check_int(digits, "digits", 0, 1000)
+    i = row["row"]
+    keys = sorted((k for k in row if k.startswith("mean_W")), key=lambda k: int(k[6:] or 1))
+    lines = [rf"% \langle W_{{{i},j}}^s\rangle for the fully mobilized triangle, N = {row['N']} (forcenet; needs "
+             r"\usepackage{booktabs})", r"\begin{tabular}{r" + "c" * i + "}", r"\toprule",
+             r"$s \backslash j$ & " + " & ".join(str(j) for j in range(1, i + 1)) + r" \\", r"\midrule"]
+    lines += [_line(k[6:] or "1", [_latex_value(x, digits) for x in row[k]]) for k in keys]
     lines += [r"\bottomrule", r"\end{tabular}"]
     return "\n".join(lines) + "\n"
 

@@ -132,8 +132,9 @@ def _table_row(args: argparse.Namespace, fmt: str | None) -> int:
     if fmt is None:
         raise UsageError("--row gives one row in one format: give --format json|csv|latex or --out FILE "
                          "(the main job's three files and cross-check are for the whole table)")
-    for name in ("digits", "rows"):
-        refuse_together(args, name, "row", f"--{name} shapes a whole table's LaTeX; --row gives one row exactly")
+    refuse_together(args, "rows", "row", "--rows chooses a whole table's layers; --row gives one layer")
+    if fmt != "latex":
+        refuse_together(args, "digits", "row", "--digits shapes the LaTeX only (--format latex or a .tex file)")
     memory = available_memory()
     request = plan(args.N, args.moments, args.method, memory_bytes=memory, row=args.row).check()
     explicit = args.scheduler is not None or args.checkpoint is not None  # then only the routes that take them
@@ -150,7 +151,8 @@ def _table_row(args: argparse.Namespace, fmt: str | None) -> int:
             client.close()
     if directory is not None and not args.quiet and request.method in ("layers", "floor"):
         report_checkpoints(directory, request.cost.ticks)
-    emit({"json": row.to_json, "csv": row.to_csv, "latex": row.to_latex}[fmt](), args.out)
+    emit({"json": row.to_json, "csv": row.to_csv, "latex": lambda: row.to_latex(digits=args.digits)}[fmt](),
+         args.out)
     return 0
 
 

@@ -194,7 +194,7 @@ def test_the_main_jobs_summary_is_the_tables(capsys, tmp_path, monkeypatch):
     assert "units of the overload" in lines[1]  # what W is (issue 53)
     assert lines[2].endswith(f": {forcenet.count(7)}") and lines[3].endswith(f"1/{1 / forcenet.normalization(7)}")
     assert os.path.exists(tmp_path / "forcenet-tables" / "mean_W_N7.json")
-    for j, line in enumerate(lines[4:], start=1):
+    for j, line in enumerate(lines[5:], start=1):
         value = table.mean_W[-1][j - 1]
         assert line == f"    j = {j:2d}: {float(value):.10f}  = {value}"
 

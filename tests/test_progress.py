@@ -213,3 +213,27 @@ def test_a_script_in_a_pipe_prints_no_progress(tmp_path):
     code = "import forcenet\nprint(forcenet.table(12).N)\n"
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, check=False)
     assert (done.returncode, done.stdout, done.stderr) == (0, "12\n", "")
+
+
+def test_the_command_line_owns_its_progress(monkeypatch):
+    """``--quiet`` (or a short run) hands the front door no tick: its own policy must not draw a bar then."""
+    from forcenet.core.progress import ticks
+
+    master, slave = _terminal(80)
+    terminal = os.fdopen(slave, "w", buffering=1)
+    monkeypatch.setattr(sys, "stderr", terminal)
+    seen = []
+
+    def run(progress):
+        with ticks(Plan("x", 30.0, ticks=3), progress, "x") as tick:
+            seen.append(tick)
+        return "done"
+
+    try:
+        assert run_planned(Plan("x", 30.0, ticks=3), run, quiet=True) == "done"
+        terminal.flush()
+        shown = _read_all(master, 0.5)
+    finally:
+        terminal.close()
+        os.close(master)
+    assert seen == [None] and shown == ""

@@ -339,10 +339,18 @@ def run_planned(plan: Plan, run: Callable[[Callable[..., None] | None], T], *, f
     bar's label is short (:func:`progress_label`); the estimate is restated
     once from the measured rate when it is off (:class:`_Reviser`).
     """
+    from forcenet.core.progress import owned
+
     if not plan.runnable:
         raise UsageError(plan.refusal)
     if plan.seconds > FORCE_SECONDS and not force:
         raise UsageError(f"{plan.what} takes {plan.describe()}; add --force to run it")
+    with owned():  # the front door's own progress policy stays silent: this function shows the progress
+        return _announced(plan, run, quiet)
+
+
+def _announced(plan: Plan, run: Callable[[Callable[..., None] | None], T], quiet: bool) -> T:
+    """``run(progress)``: announced, under a bar, unless quiet or short."""
     if quiet or plan.seconds <= ANNOUNCE_SECONDS:
         return run(None)
     what, _, why = plan.what.partition("; ")

@@ -28,13 +28,35 @@ import sys
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from contextvars import ContextVar
 from typing import Any
 
-__all__ = ["SHOWN_SECONDS", "Bar", "left_text", "ticks", "watched"]
+__all__ = ["SHOWN_SECONDS", "Bar", "left_text", "owned", "ticks", "watched"]
 
 SHOWN_SECONDS = 2.0  # a run planned at most this long shows no bar unasked (the command line's announcement rule)
 _HEADROOM = 0.99  # a bar whose count reaches its total re-estimates the total so that it stands at 99 %
 COLUMNS = 80  # a bar's line at most
+
+
+_OWNED: ContextVar[bool] = ContextVar("forcenet_progress_owned", default=False)
+
+
+@contextmanager
+def owned() -> Iterator[None]:
+    """Inside, ``progress=None`` shows nothing: the caller (the command line's ``run_planned``) owns the progress.
+
+    Examples
+    --------
+    >>> from forcenet.core.plan import Plan
+    >>> with owned(), ticks(Plan("x", 30.0, ticks=3), None, "x") as tick:
+    ...     tick is None
+    True
+    """
+    token = _OWNED.set(True)
+    try:
+        yield
+    finally:
+        _OWNED.reset(token)
 
 
 def watched(stream: Any = None) -> bool:
@@ -177,7 +199,8 @@ def ticks(plan: Any, progress: Callable[..., Any] | bool | None, desc: str,
         yield progress
         return
     stream = sys.stderr if file is None else file
-    show = progress is True or (progress is None and plan.seconds > SHOWN_SECONDS and watched(stream))
+    show = progress is True or (progress is None and not _OWNED.get() and plan.seconds > SHOWN_SECONDS
+                                and watched(stream))
     if not show or not plan.runnable or not plan.ticks:
         yield None
         return

@@ -133,3 +133,13 @@ def test_a_rows_latex_takes_digits_too(tmp_path):
     done = subprocess.run([sys.executable, "-m", "forcenet", "table", "--N", "5", "--row", "4", "--format", "latex",
                            "--digits", "2", "--quiet"], capture_output=True, text=True, cwd=tmp_path, check=False)
     assert done.returncode == 0 and "$0.18$" in done.stdout
+
+
+@pytest.mark.slow
+def test_the_issues_latex_at_n_40():
+    """The acceptance: ``forcenet.table(40).to_latex(digits=4)`` has no line over 600 characters (the exact one
+    was 416 KB with lines of 20,009), and the JSON reads back equal."""
+    t = forcenet.table(40)
+    assert max(map(len, t.to_latex(digits=4).splitlines())) <= 600
+    assert max(map(len, t.to_latex().splitlines())) <= 1000
+    assert forcenet.Table.from_json(t.to_json()) == t

@@ -89,7 +89,7 @@ from numpy.typing import ArrayLike
 from forcenet.core.errors import ArgumentError
 
 from .autocorr import batch_means, integrated_time
-from .chebyshev import chain_dof, chebyshev_pvalue, rows_dof, threshold
+from .chebyshev import chain_dof, chebyshev_pvalue, rows_dof
 from .size_rule import U_MAX, charged_skewness, size_rule, skewness, t_rows_needed
 from .size_rule import bonferroni as _bonferroni
 from .size_rule import hotelling as _hotelling
@@ -238,9 +238,8 @@ class TableAgreement:
                          + ("all equal\n" if not bad else f"{len(bad)} differ\n"))
         lines.append(self._chain_line())
         if self.p_bound is not None:
-            lines.append(f"distribution-free bound (Chebyshev, the error's variance bounded above): largest "
-                         f"z = {self.z_bound:.3g}, Bonferroni p = {self.p_bound:.3g} (overwhelming from z = "
-                         f"{threshold(self.alpha, self.values):.0f})\n")
+            lines.append(f"distribution-free bound (Markov on the error's second or, within bounds, fourth moment, "
+                         f"its variance bounded above): largest z = {self.z_bound:.3g}, p = {self.p_bound:.3g}\n")
         lines.append(self._verdict_line())
         return "".join(lines)
 
@@ -319,7 +318,7 @@ def _report(keys: Sequence[Any], mean: np.ndarray, mu: np.ndarray, stderr: np.nd
 def _rows_test(rows: np.ndarray, mu: np.ndarray, keys: Sequence[Any], alpha: float, hotelling: bool | None, fixed: Any,
                reason: str | None = None, gamma: np.ndarray | None = None,
                too_few: Callable[[Any, Any, float], str] | None = None, floor: bool = False,
-               error: tuple[np.ndarray, np.ndarray] | None = None, **extra: Any) -> TableAgreement:
+               error: tuple[Any, ...] | None = None, **extra: Any) -> TableAgreement:
     """The t route: t per value, Bonferroni maximum, Hotelling, on rows ``(K, G)``.
 
     ``gamma`` (one per value): the skewness the size rule charges the rows' t statistics with; below the size
@@ -339,8 +338,8 @@ def _rows_test(rows: np.ndarray, mu: np.ndarray, keys: Sequence[Any], alpha: flo
         reason = too_few(u, worst, level_max) + ("" if reason is None else f"; besides, {reason}")
     max_z = float(np.abs(z).max()) if G else 0.0
     if not judged:
-        se, dof = error if error is not None else (stderr, rows_dof(rows))
-        extra["p_bound"], extra["z_bound"], _ = chebyshev_pvalue(dev, se, dof, alpha)
+        se, dof, *fourth = error if error is not None else (stderr, rows_dof(rows))  # fourth: (reach, blocks)
+        extra["p_bound"], extra["z_bound"], _ = chebyshev_pvalue(dev, se, dof, alpha, *fourth)
     return _report(keys, mean, mu, stderr, z, df=K - 1, alpha=alpha,
                    p_max=min(1.0, factor * _bonferroni(max_z, G, K - 1)),
                    level_max=level_max, chi2=None if hot is None else hot[0], dof=0 if hot is None else hot[1],
@@ -552,7 +551,10 @@ def compare_chain(chain: ArrayLike, exact: Any, keys: list[Any] | None = None, a
     names = [k for k, v in zip(keys, vary) if v]
     steps = np.abs(skewness(x[:, vary]))
     whole = integrated_time(x[:, vary], tol=0.0)  # the autocorrelation-corrected error, for the bound
-    error = (np.sqrt(x[:, vary].var(axis=0, ddof=1) * whole / x.shape[0]), chain_dof(x.shape[0], whole))
+    error: tuple[Any, ...] = (np.sqrt(x[:, vary].var(axis=0, ddof=1) * whole / x.shape[0]),
+                              chain_dof(x.shape[0], whole))
+    if certain:  # within bounds: the fourth moment of the batches' mean, bounded by the range (.chebyshev)
+        error += (np.maximum(mu - lo, hi - mu)[vary], means.shape[0])
     gamma = steps * np.sqrt(1.5 * np.asarray(tau, dtype=float) / layout["length"])  # a batch: length / (1.5 tau) rows
 
     def too_few(u: Any, worst: Any, level: float) -> str:

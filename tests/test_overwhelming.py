@@ -25,8 +25,10 @@ def test_the_issues_biased_chain_disagrees_and_the_correct_one_agrees():
         assert_agrees(heat_bath_W(6, 20000, seed=1, bias=1.3), exact, chain=True)
     report = caught.value.report
     assert not report.judged and report.p_bound is not None and report.p_bound <= 1e-3
-    assert report.z_bound >= threshold(1e-3, report.values)
+    assert report.z_bound >= threshold(1e-3, report.values)  # Chebyshev alone would decide too
     assert "distribution-free bound" in report.summary()
+    without = compare(heat_bath_W(6, 20000, seed=1, bias=1.3), exact, chain=True, bounds=False)
+    assert without.verdict == "DISAGREES" and without.p_bound > report.p_bound  # Chebyshev: the weaker bound
     assert assert_agrees(heat_bath_W(6, 20000, seed=2), exact, chain=True).passed
 
 
@@ -73,7 +75,25 @@ def test_the_bounds_level_holds_where_it_binds():
     assert refused == 1500 and 0 < fired <= 0.2 * refused
 
 
-@pytest.mark.parametrize("bias", [1.6, 3.0])
+@pytest.mark.parametrize("bias", [1.05, 1.2, 3.0])
 def test_larger_biases_stay_disagreements(bias):
-    """The verdict does not weaken as the bias grows: every chain from u**1.3 on DISAGREES."""
-    assert compare(heat_bath_W(6, 20000, seed=4, bias=bias), mean_W(6), chain=True).verdict == "DISAGREES"
+    """The verdict does not weaken as the bias grows: the t route where the size rule judges (u**1.05), the
+    fourth-moment bound within the bounds [0, 1] where it refuses (u**1.2: z ~ 90, below Chebyshev's 149)."""
+    report = compare(heat_bath_W(6, 20000, seed=4, bias=bias), mean_W(6), chain=True)
+    assert report.verdict == "DISAGREES"
+    if bias == 1.2:
+        assert not report.judged and report.z_bound < threshold(1e-3, report.values)
+
+
+def test_the_fourth_moment_bound_is_markovs_inequality():
+    """Two routes: the p-value's tail against the formula for B independent blocks of variance v within reach r;
+    and no stronger than Chebyshev where the range is wide against the error."""
+    dev, se, dof = np.array([0.05]), np.array([0.001]), np.array([1e9])  # dof huge: no inflation
+    p, z, inflation = chebyshev_pvalue(dev, se, dof, 1e-3, reach=np.array([0.9]), blocks=50)
+    v = 50 * (se[0] * inflation) ** 2
+    assert p == pytest.approx((0.81 * v + 3 * 49 * v**2) / (50**3 * 0.05**4) + 1e-4)
+    wide, _, inflation = chebyshev_pvalue(np.array([0.002]), np.array([1e-5]), dof, 1e-3, reach=np.array([1.0]),
+                                          blocks=10)
+    v = 10 * (1e-5 * inflation) ** 2
+    assert wide == pytest.approx((v + 27 * v**2) / (1000 * 0.002**4) + 1e-4)
+    assert wide > 1e-3 > 1 / (0.002 / 1e-5) ** 2 + 1e-4  # z = 200: Chebyshev would decide, the range is too wide

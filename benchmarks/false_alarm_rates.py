@@ -16,6 +16,12 @@ with the refusal switched off (the behaviour before it, issue 28).
 Power rows: a wrong sampler (a shift of +-0.05 on two grains of N = 6, the
 q-model) and the fraction of tables it fails.
 
+Bound rows (``--only bound``, issue 53): the distribution-free bound
+(:mod:`forcenet.numeric.chebyshev`) decides alone where the size rule
+refuses: its false alarms on correct tables the t route cannot judge
+(``bound fired``: DISAGREES among them), and the power on heat-bath chains
+whose uniform draw is biased to ``u**bias`` (:mod:`forcenet.testing.chains`).
+
 Usage::
 
     OMP_NUM_THREADS=1 python benchmarks/false_alarm_rates.py            # ~40 min on the 2-core machine
@@ -164,7 +170,8 @@ CONTROLS = {  # unbounded skewed single values: (draw(rng, n), exact mean, skewn
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--quick", action="store_true")
-    parser.add_argument("--only", choices=["level", "t", "controls", "power", "chains"], help="one part of the table")
+    parser.add_argument("--only", choices=["level", "t", "controls", "power", "chains", "bound"],
+                        help="one part of the table")
     parser.add_argument("--seed", type=int, default=4500, help="base of the seeds (fresh seeds: another base)")
     args = parser.parse_args()
     k = 8 if args.quick else 1
@@ -277,6 +284,49 @@ def main():
             return chain
         power("Metropolis N = 4, W_41 + 0.02", "t, batch means", "10-50",
               rate((biased(s) for s in range(200 // k)), mean_W(4), 1e-3, chain=True, bounds=False), t0)
+
+    if args.only in (None, "bound"):
+        bound(seed, k, row, power)
+
+
+def bound(seed, k, row, power):
+    """The bound's rows: level where only it speaks, power on heat-bath chains with large biases."""
+    from forcenet.testing.chains import heat_bath_W
+
+    def fired(samples, exact, alpha, **options):
+        """(bound fired: DISAGREES while the size rule refuses, tables the size rule refused, judged tables)."""
+        hits = refused = judged = 0
+        for x in samples:
+            try:
+                report = compare(x, exact, alpha=alpha, **options)
+            except AutocorrError:  # a chain too short for its guard: no verdict at all
+                continue
+            refused += not report.judged
+            judged += report.judged
+            hits += (not report.judged) and report.disagrees
+        return hits, refused, judged
+
+    for N, K in ((6, 20), (6, 100), (6, 1000)):
+        for alpha in (1e-3, 0.01):
+            t0 = time.time()
+            row(f"triangle W, N = {N} (bound alone)", "t + bound", K, alpha,
+                fired(tables(triangle(N, seed + 900 + K), K, 2000 // k), mean_W(N), alpha, bounds=False), t0)
+    for name, (draw, exact, skew) in CONTROLS.items():
+        rng = np.random.default_rng(seed + 950 + len(name))
+        for K in (10, 100):
+            t0 = time.time()
+            row(f"{name} (skewness {skew:g}) (bound alone)", "t + bound", K, 1e-3,
+                fired(tables(lambda n, draw=draw, rng=rng: draw(rng, n), K, 4000 // k), exact, 1e-3), t0)
+    for sweeps in (5000, 20000):
+        t0 = time.time()
+        chains = (heat_bath_W(6, sweeps, seed + 1000 + s) for s in range(160 // k))
+        row(f"heat bath N = 6, {sweeps} sweeps, correct", "t + bound", "10-50", 1e-3,
+            fired(chains, mean_W(6), 1e-3, chain=True), t0)
+    for bias in (1.03, 1.1, 1.2, 1.3, 1.6, 2.0):
+        t0 = time.time()
+        chains = (heat_bath_W(6, 20000, seed + 1100 + s, bias) for s in range(80 // k))
+        power(f"heat bath N = 6, 20000 sweeps, u**{bias:g}", "t + bound", "10-50",
+              rate(chains, mean_W(6), 1e-3, chain=True), t0)
 
 
 if __name__ == "__main__":

@@ -36,8 +36,11 @@ skewed value; the Bonferroni p-value is charged ``cosh(u)``. Independent
 rows are charged ``|g1| + 2 sqrt(6 / K)``, a chain's batch means of ``L``
 steps ``|g1 of the steps| sqrt(1.5 tau / L)`` (measured: 0.48 against 0.53
 on a Beta(1, 8) AR(1) chain, 0.29 against 0.37 on W_51 of the Metropolis
-chain, N = 5). Below the rule: ``cannot judge`` (``judged`` False), no t
-verdict, DISAGREES included; the reason gives the rows (or steps) needed.
+chain, N = 5). Below the rule (``judged`` False) no t verdict: only a
+deviation overwhelming without any distribution (:mod:`.chebyshev`:
+Chebyshev on the autocorrelation-corrected error, its variance bounded
+above) is DISAGREES; else ``cannot judge``, the reason giving the rows (or
+steps) needed. No verdict weakens as the evidence grows (issue 53).
 
 **Cannot judge.** A report whose statistics cannot support a verdict says
 ``verdict == "cannot judge"`` with its ``reason`` (``passed`` is False):
@@ -75,9 +78,9 @@ False
 from __future__ import annotations
 
 import math
+import textwrap
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -85,7 +88,8 @@ from numpy.typing import ArrayLike
 
 from forcenet.core.errors import ArgumentError
 
-from .autocorr import batch_means
+from .autocorr import batch_means, integrated_time
+from .chebyshev import chain_dof, chebyshev_pvalue, rows_dof
 from .size_rule import U_MAX, charged_skewness, size_rule, skewness, t_rows_needed
 from .size_rule import bonferroni as _bonferroni
 from .size_rule import hotelling as _hotelling
@@ -93,10 +97,6 @@ from .size_rule import hotelling as _hotelling
 __all__ = ["TableAgreement", "batch_means", "compare_samples", "compare_chain", "compare_means", "varying_columns"]
 
 _FIXED_RTOL = 1e-12  # a column is "fixed" when it varies by less than this (relative)
-
-
-def _fmt_key(key: object) -> str:
-    return str(key)
 
 
 @dataclass(frozen=True)
@@ -134,6 +134,8 @@ class TableAgreement:
     fixed_certain: bool = False
     judged: bool = True
     skew_term: float | None = None
+    p_bound: float | None = None
+    z_bound: float | None = None
 
     @property
     def values(self) -> int:
@@ -172,8 +174,8 @@ class TableAgreement:
         """
         if self.fixed_failures and self.fixed_certain:
             return True
-        if not self.judged:
-            return False
+        if not self.judged:  # only what is overwhelming without a distribution (.chebyshev)
+            return self.p_bound is not None and self.p_bound <= self.alpha
         if self.p_max <= self.level_max:
             return True
         return self.p_chi2 is not None and self.p_chi2 <= self.level_chi2
@@ -217,7 +219,7 @@ class TableAgreement:
             lines.append(
                 f"bounded test (betting, valid at any number of rows): Bonferroni p = {self.p_max:.3g} "
                 f"over {self.values} values, tested at {self.level_max:g}; max |z| = {self.max_z:.2f} at "
-                f"{_fmt_key(self.worst)}; Hotelling chi2 not run (its level is only asymptotic)\n")
+                f"{str(self.worst)}; Hotelling chi2 not run (its level is only asymptotic)\n")
         else:
             if self.p_chi2 is not None:
                 lines.append(
@@ -227,7 +229,7 @@ class TableAgreement:
             else:
                 lines.append("Hotelling chi2 not run (too few rows for the covariance); ")
             lines[-1] += (
-                f"max |z| = {self.max_z:.2f} at {_fmt_key(self.worst)} "
+                f"max |z| = {self.max_z:.2f} at {str(self.worst)} "
                 f"(Bonferroni p = {self.p_max:.3g} over {self.values} values, tested at {self.level_max:g})\n"
             )
         if self.fixed:
@@ -235,8 +237,22 @@ class TableAgreement:
             lines.append(f"{len(self.fixed)} fixed values compared exactly: "
                          + ("all equal\n" if not bad else f"{len(bad)} differ\n"))
         lines.append(self._chain_line())
+        if self.p_bound is not None:
+            lines.append(f"distribution-free bound (Markov on the error's second or, within bounds, fourth moment, "
+                         f"its variance bounded above): largest z = {self.z_bound:.3g}, p = {self.p_bound:.3g}\n")
         lines.append(self._verdict_line())
         return "".join(lines)
+
+    def plain(self) -> str:
+        """The verdict in plain words, lines of at most 78 columns (:meth:`summary`: the statistics' details)."""
+        n = max(range(len(self.z)), key=lambda m: abs(self.z[m]), default=None)
+        worst = "" if n is None else (f"the largest deviation is {abs(self.z[n]):.1f} standard errors, at {self.keys[n]} "
+                                      f"(sampled {self.mean[n]:.4g}, exact {self.exact[n]:.4g})")
+        text = {"cannot judge": f"cannot judge: {self.reason}",
+                "DISAGREES": f"DISAGREES with the exact values: {worst or 'a fixed value differs'}",
+                "agrees": "agrees with the exact values within the statistical errors" + (f"; {worst}" if worst else "")
+                }[self.verdict] + f" (a correct sampler fails this check at most {self.alpha:.2%} of the time)"
+        return textwrap.fill(text, 78, break_on_hyphens=False)
 
     def message(self, k: int = 3) -> str:
         """The failure message: the worst values with their z (and tau), then the summary."""
@@ -247,19 +263,18 @@ class TableAgreement:
         index = {key: n for n, key in enumerate(self.keys)}
         for z, key in self.worst_values(k):
             n = index[key]
-            text = f"{_fmt_key(key)}: mean {self.mean[n]:.4g} vs exact {self.exact[n]:.4g}, z = {z:+.2f}"
+            text = f"{str(key)}: mean {self.mean[n]:.4g} vs exact {self.exact[n]:.4g}, z = {z:+.2f}"
             if self.tau is not None:
                 text += f", tau = {self.tau[n]:.3g}"
             parts.append(text)
         lines = [f"{head} at level {self.alpha:g}", "  worst values: " + "; ".join(parts)]
         for key, sampled, exact in self.fixed_failures[:k]:
             why = "its exact mean is an end of its range" if self.fixed_certain else "never varies"
-            lines.append(f"  fixed value {_fmt_key(key)}: sampled {sampled!r} ({why}), exact {exact!r}")
+            lines.append(f"  fixed value {str(key)}: sampled {sampled!r} ({why}), exact {exact!r}")
         lines += ["  " + line for line in self.summary().splitlines()]
         return "\n".join(lines)
 
-    def __str__(self) -> str:
-        return self.message()
+    __str__ = message
 
 
 def _same(a: float, b: float) -> bool:
@@ -281,14 +296,12 @@ def varying_columns(x: np.ndarray) -> np.ndarray:
 def _split(x: np.ndarray, mu: np.ndarray, keys: list) -> tuple[np.ndarray, tuple[tuple[Any, float, float], ...]]:
     """Separate the columns that never vary (compared exactly) from the others."""
     fixed = ~varying_columns(x)
-    fixed_report = tuple((keys[g], float(x[0, g]), float(mu[g])) for g in np.flatnonzero(fixed))
-    return ~fixed, fixed_report
+    return ~fixed, tuple((keys[g], float(x[0, g]), float(mu[g])) for g in np.flatnonzero(fixed))
 
 
 def _z_scores(rows: np.ndarray, mu: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Means, ``(mean - exact) / stderr`` (infinite where a constant column differs) and the stderrs."""
-    K = rows.shape[0]
-    mean = rows.mean(axis=0)
+    K, mean = rows.shape[0], rows.mean(axis=0)
     dev = mean - mu
     stderr = rows.std(axis=0, ddof=1) / math.sqrt(K) if K > 1 else np.full(mean.shape, np.inf)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -305,11 +318,13 @@ def _report(keys: Sequence[Any], mean: np.ndarray, mu: np.ndarray, stderr: np.nd
 def _rows_test(rows: np.ndarray, mu: np.ndarray, keys: Sequence[Any], alpha: float, hotelling: bool | None, fixed: Any,
                reason: str | None = None, gamma: np.ndarray | None = None,
                too_few: Callable[[Any, Any, float], str] | None = None, floor: bool = False,
-               **extra: Any) -> TableAgreement:
+               error: tuple[Any, ...] | None = None, **extra: Any) -> TableAgreement:
     """The t route: t per value, Bonferroni maximum, Hotelling, on rows ``(K, G)``.
 
     ``gamma`` (one per value): the skewness the size rule charges the rows' t statistics with; below the size
-    where they keep their level the report carries ``judged=False`` and ``too_few(u, worst, level)`` as its reason.
+    where they keep their level the report carries ``judged=False`` and ``too_few(u, worst, level)`` as its reason,
+    and the distribution-free bound (:mod:`.chebyshev`) on ``error = (stderr, dof)`` (default: the rows') decides
+    what is overwhelming.
     """
     K = rows.shape[0]
     mean, dev, stderr, z = _z_scores(rows, mu)
@@ -322,6 +337,9 @@ def _rows_test(rows: np.ndarray, mu: np.ndarray, keys: Sequence[Any], alpha: flo
     if not judged and too_few is not None:
         reason = too_few(u, worst, level_max) + ("" if reason is None else f"; besides, {reason}")
     max_z = float(np.abs(z).max()) if G else 0.0
+    if not judged:
+        se, dof, *fourth = error if error is not None else (stderr, rows_dof(rows))  # fourth: (reach, blocks)
+        extra["p_bound"], extra["z_bound"], _ = chebyshev_pvalue(dev, se, dof, alpha, *fourth)
     return _report(keys, mean, mu, stderr, z, df=K - 1, alpha=alpha,
                    p_max=min(1.0, factor * _bonferroni(max_z, G, K - 1)),
                    level_max=level_max, chi2=None if hot is None else hot[0], dof=0 if hot is None else hot[1],
@@ -352,33 +370,18 @@ def _inside(rows: np.ndarray, mu: np.ndarray, keys: Sequence[Any], bounds: Any) 
     bad = ~(np.isfinite(lo) & np.isfinite(hi) & (lo < hi))
     if bad.any():
         n = int(np.argmax(bad))
-        raise ArgumentError(f"bounds of {_fmt_key(keys[n])}: [{lo[n]:g}, {hi[n]:g}] must be finite with lo < hi")
+        raise ArgumentError(f"bounds of {str(keys[n])}: [{lo[n]:g}, {hi[n]:g}] must be finite with lo < hi")
     bad = (mu < lo - tol) | (mu > hi + tol)
     if bad.any():
         n = int(np.argmax(bad))
-        raise ArgumentError(f"exact value of {_fmt_key(keys[n])} = {mu[n]:.6g} lies outside its bounds "
+        raise ArgumentError(f"exact value of {str(keys[n])} = {mu[n]:.6g} lies outside its bounds "
                          f"[{lo[n]:g}, {hi[n]:g}]")
     out = (rows < lo - tol) | (rows > hi + tol)
     if out.any():
         r, n = (int(v) for v in np.argwhere(out)[0])
-        raise ArgumentError(f"samples of {_fmt_key(keys[n])}: row {r} = {rows[r, n]:.6g} lies outside the bounds "
+        raise ArgumentError(f"samples of {str(keys[n])}: row {r} = {rows[r, n]:.6g} lies outside the bounds "
                          f"[{lo[n]:g}, {hi[n]:g}] (wrong bounds, or a sampler outside the model)")
     return lo, hi, tol
-
-
-@lru_cache(maxsize=64)
-def _blind(K: int, mu: tuple[float, ...], lo: tuple[float, ...], hi: tuple[float, ...], share: float) -> np.ndarray:
-    """The values no sample of ``K`` rows could fail (cached: tests and benchmarks repeat one table)."""
-    from .betting import extreme_pvalues
-
-    return extreme_pvalues(K, np.array(mu), np.array(lo), np.array(hi), share) > share
-
-
-@lru_cache(maxsize=64)
-def _rows_needed(mu: tuple[float, ...], lo: tuple[float, ...], hi: tuple[float, ...], share: float) -> int:
-    from .betting import rows_needed
-
-    return rows_needed(np.array(mu), np.array(lo), np.array(hi), share)
 
 
 def _bounded_test(rows: np.ndarray, mu: np.ndarray, keys: Any, alpha: float, bounds: Any,
@@ -387,7 +390,7 @@ def _bounded_test(rows: np.ndarray, mu: np.ndarray, keys: Any, alpha: float, bou
 
     A value whose exact mean is an end of its range is that end almost surely: compared exactly.
     """
-    from .betting import betting_pvalues
+    from .betting import betting_pvalues, blind_values, cached_rows_needed
 
     K, G = rows.shape
     lo, hi, tol = _inside(rows, mu, keys, bounds)
@@ -404,13 +407,13 @@ def _bounded_test(rows: np.ndarray, mu: np.ndarray, keys: Any, alpha: float, bou
     share = alpha / max(G, 1)  # Bonferroni share of each value
     p = betting_pvalues(rows, mu, lo, hi, share) if G else np.ones(0)
     reason = None
-    blind = _blind(K, tuple(mu), tuple(lo), tuple(hi), share) if G else np.zeros(0, bool)
+    blind = blind_values(K, tuple(mu), tuple(lo), tuple(hi), share) if G else np.zeros(0, bool)
     if blind.any():
         n = int(np.flatnonzero(blind)[0])
         others = f" (and {int(blind.sum()) - 1} other values)" if blind.sum() > 1 else ""
-        reason = (f"{K} rows are too few: no sample of {K} rows could reveal a wrong mean of {_fmt_key(keys[n])}"
+        reason = (f"{K} rows are too few: no sample of {K} rows could reveal a wrong mean of {str(keys[n])}"
                   f"{others} at level {alpha:g} over {G} values; "
-                  f"the bounded test needs at least {_rows_needed(tuple(mu), tuple(lo), tuple(hi), share)} rows")
+                  f"the bounded test needs at least {cached_rows_needed(tuple(mu), tuple(lo), tuple(hi), share)} rows")
     return _report(keys, mean, mu, stderr, z, df=K - 1, alpha=alpha,
                    p_max=float(min(1.0, G * p.min())) if G else 1.0, level_max=alpha, fixed=fixed,
                    method="bounded", reason=reason, fixed_certain=True, **extra)
@@ -445,7 +448,7 @@ def _t_reason(K: int | None, fixed: Any) -> str | None:
     """Why the t route cannot judge a constant value off its exact mean (``K`` rows, or a chain: None)."""
     for key, sampled, exact in fixed:
         if not _same(sampled, exact):
-            return (f"{_fmt_key(key)} never varies in {K} rows ({sampled!r}) but its exact mean is {exact!r}: "
+            return (f"{str(key)} never varies in {K} rows ({sampled!r}) but its exact mean is {exact!r}: "
                     f"a wrong fixed value, or too few rows to see it vary; pass bounds=(lo, hi) to decide")
     return None
 
@@ -489,7 +492,7 @@ def compare_samples(samples: ArrayLike, exact: Any, keys: list[Any] | None = Non
 
     def too_few(u: Any, worst: Any, level: float) -> str:
         g = float(abs(skewness(rows[:, worst:worst + 1])[0]))
-        return (f"{K} rows are too few for the t statistics without bounds: {_fmt_key(names[worst])} is skewed "
+        return (f"{K} rows are too few for the t statistics without bounds: {str(names[worst])} is skewed "
                 f"(sample skewness {g:.2g}) and at level {alpha:g} over {rows.shape[1]} values their tail is trusted "
                 f"from about {t_rows_needed(g, level, rows.shape[1])} rows on (skewness term {u:.2g}, trusted to "
                 f"{U_MAX:g}; Wang's error term (1 + s)/sqrt(K), trusted to 1/4); "
@@ -547,16 +550,21 @@ def compare_chain(chain: ArrayLike, exact: Any, keys: list[Any] | None = None, a
     means, tau, layout = batch_means(x[:, vary], **batching)
     names = [k for k, v in zip(keys, vary) if v]
     steps = np.abs(skewness(x[:, vary]))
+    whole = integrated_time(x[:, vary], tol=0.0)  # the autocorrelation-corrected error, for the bound
+    error: tuple[Any, ...] = (np.sqrt(x[:, vary].var(axis=0, ddof=1) * whole / x.shape[0]),
+                              chain_dof(x.shape[0], whole))
+    if certain:  # within bounds: the fourth moment of the batches' mean, bounded by the range (.chebyshev)
+        error += (np.maximum(mu - lo, hi - mu)[vary], means.shape[0])
     gamma = steps * np.sqrt(1.5 * np.asarray(tau, dtype=float) / layout["length"])  # a batch: length / (1.5 tau) rows
 
     def too_few(u: Any, worst: Any, level: float) -> str:
         return (f"the chain's {means.shape[0]} batch means of {layout['length']} steps are too few for the t "
-                f"statistics: {_fmt_key(names[worst])} is skewed (steps: {steps[worst]:.2g}, batch means: about "
+                f"statistics: {str(names[worst])} is skewed (steps: {steps[worst]:.2g}, batch means: about "
                 f"{gamma[worst]:.2g}) and at level {alpha:g} over {len(names)} values their tail is trusted from "
                 f"about {int(math.ceil(x.shape[0] * (u / U_MAX) ** 2))} steps on (skewness term {u:.2g} > "
                 f"{U_MAX:g}); run a longer chain")
 
-    return _rows_test(means, mu[vary], names, alpha, hotelling, fixed, gamma=gamma, too_few=too_few,
+    return _rows_test(means, mu[vary], names, alpha, hotelling, fixed, gamma=gamma, too_few=too_few, error=error,
                       reason=reason, fixed_certain=certain, samples=x.shape[0], tau=tuple(map(float, tau)),
                       batches=means.shape[0], batch_length=layout["length"], batch_gap=layout["gap"],
                       pilot=layout["pilot"])

@@ -36,11 +36,12 @@ Examples
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-__all__ = ["betting_pvalues", "extreme_pvalues", "rows_needed"]
+__all__ = ["betting_pvalues", "blind_values", "cached_rows_needed", "extreme_pvalues", "rows_needed"]
 
 _C = 0.9  # largest fraction of the capital at stake in one row
 _PRIOR = 0.1  # weight, in rows, of the starting variance m (1 - m)
@@ -140,3 +141,28 @@ def rows_needed(mean: ArrayLike, lo: ArrayLike, hi: ArrayLike, level: float, lim
         mid = (low + high) // 2
         low, high = (low, mid) if enough(mid) else (mid, high)
     return high
+
+
+@lru_cache(maxsize=64)
+def blind_values(K: int, mean: tuple[float, ...], lo: tuple[float, ...], hi: tuple[float, ...],
+                 level: float) -> np.ndarray:
+    """The values no sample of ``K`` rows could fail at ``level`` (cached: tests and benchmarks repeat one table).
+
+    Examples
+    --------
+    >>> blind_values(3, (0.5,), (0.0,), (1.0,), 1e-3).tolist()
+    [True]
+    """
+    return extreme_pvalues(K, np.array(mean), np.array(lo), np.array(hi), level) > level
+
+
+@lru_cache(maxsize=64)
+def cached_rows_needed(mean: tuple[float, ...], lo: tuple[float, ...], hi: tuple[float, ...], level: float) -> int:
+    """:func:`rows_needed` of tuples, cached.
+
+    Examples
+    --------
+    >>> cached_rows_needed((0.5,), (0.0,), (1.0,), 1e-3) == rows_needed(np.array([0.5]), 0.0, 1.0, 1e-3)
+    True
+    """
+    return rows_needed(np.array(mean), np.array(lo), np.array(hi), level)

@@ -1,12 +1,16 @@
 """Independent chains (or batches of exact samples) in parallel processes, pooled into one estimate.
 
-What ``forcenet sample --workers K`` runs: the samples are split into ``K``
-shares differing by at most one, each share drawn by its own process from
-its own seed (``SeedSequence(seed).spawn(K)``; the seed itself for one
-worker), and the results pooled: exact samples by their raw sums of ``W`` and
-``W^2``, Markov chains by :func:`forcenet.numeric.autocorr.pool_chains` (each
-chain's error bar from its integrated autocorrelation time).  The result is
-a function of the arguments, the seed and ``K`` alone: the tasks run through
+What ``forcenet sample --workers K`` runs. **Exact samples** come in
+streams of at most :data:`STREAM_SAMPLES` (``ceil(samples / STREAM_SAMPLES)``
+streams, differing by at most one sample; stream ``i`` drawn from
+``SeedSequence(seed).spawn(streams)[i]``, the seed itself for one stream),
+whatever the number of workers: the ``K`` workers share the streams, and the
+raw sums of ``W`` and ``W^2`` are pooled in stream order, so the result is
+the same, bit for bit, for any ``K`` (issue 53). **Markov chains** are one
+chain per worker (``K`` shares of the sweeps, ``SeedSequence(seed).spawn(K)``),
+pooled by :func:`forcenet.numeric.autocorr.pool_chains` (each chain's error
+bar from its integrated autocorrelation time): their result is a function
+of the arguments, the seed and ``K`` (``K`` chains each burn in). The tasks run through
 :func:`forcenet.core.execution.run_tasks`, which returns them in task order
 whatever the completion order, and whose Ctrl-C terminates the workers at
 once (every worker dies with its parent).
@@ -33,6 +37,7 @@ from .autocorr import AutocorrError
 
 __all__ = ["ChainsResult", "shares", "seeds", "parallel_plan", "sample_in_parallel"]
 
+STREAM_SAMPLES = 10_000  # exact samples per random stream (stream i: SeedSequence(seed).spawn(streams)[i])
 WORKER_BYTES = 100 * 2**20  # each further worker process: its interpreter, numpy and the compiled kernels
 
 
@@ -191,7 +196,7 @@ def _run(func: Callable[..., Any], tasks: list[tuple[Any, ...]], workers: int, w
          progress: Callable[[int], None] | None) -> list[Any]:
     """``func(*task)`` for every task: in this process for one worker, else in ``workers`` processes."""
     if workers == 1:
-        return [func(*tasks[0], progress=progress)]
+        return [func(*task, progress=progress) for task in tasks]
     import multiprocessing
 
     from forcenet.core.execution import run_tasks
@@ -259,9 +264,10 @@ def sample_in_parallel(sampler: str, N: int, samples: int, *, seed: int, workers
     """
     parts_seeds = seeds(seed, workers)
     split = shares(samples, workers)
-    if sampler == "exact":
-        tasks: list[tuple[Any, ...]] = [(N, k, s) for k, s in zip(split, parts_seeds)]
-        parts = _run(_exact_task, tasks, workers, [t[1] for t in tasks], progress)
+    if sampler == "exact":  # streams of the seed and their index, whatever the workers: the same samples
+        streams = -(-samples // STREAM_SAMPLES)
+        tasks: list[tuple[Any, ...]] = [(N, k, s) for k, s in zip(shares(samples, streams), seeds(seed, streams))]
+        parts = _run(_exact_task, tasks, min(workers, streams), [t[1] for t in tasks], progress)
         from forcenet.numeric.triangle.exact_sampler import mean_and_error
 
         mean, stderr = mean_and_error(sum(p[0][0] for p in parts), sum(p[0][1] for p in parts), samples)

@@ -97,7 +97,10 @@ def test_main_job_writes_three_files_and_cross_checks(tmp_path, capsys):
     data = json.loads((tmp_path / "mean_W_N6.json").read_text())
     assert [[Fraction(x) for x in r] for r in data["mean_W"]] == mean_W(6)
     assert "413/2288" in out  # <W_{6,2}>, Ostojic (2006)
-    assert "agrees at level 0.001" in out and "Hotelling" in out
+    assert "agrees with the exact values" in out and "Hotelling" not in out  # plain words; --verbose: the details
+    code, out, _ = run(["table", "--N", "6", "--out-dir", str(tmp_path), "--samples", "4000", "--seed", "7",
+                        "--verbose"], capsys)
+    assert code == 0 and "agrees at level 0.001" in out and "Hotelling" in out
 
 
 def test_interrupted_write_leaves_nothing(tmp_path, monkeypatch):

@@ -347,6 +347,9 @@ def test_13_every_documented_command_states_its_cost():
 
 def test_14_the_cross_check_has_a_stated_false_alarm_rate(sandbox, capsys, monkeypatch):
     code, out, _ = run(["table", "--N", "6", "--samples", "4000", "--seed", "2006", "--out-dir", "t"], capsys)
+    assert code == 0 and "fails this check at most 0.10% of the time" in out  # in plain words (issue 53)
+    code, out, _ = run(["table", "--N", "6", "--samples", "4000", "--seed", "2006", "--out-dir", "t", "--verbose"],
+                       capsys)
     assert code == 0 and "Hotelling chi2" in out and "Bonferroni p" in out and "fails at most" in out
     # a wrong table is caught
     from fractions import Fraction

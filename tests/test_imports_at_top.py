@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-MOST = 161  # imports inside functions now; lower it as modules move theirs to the top
+MOST = 160  # imports inside functions now; lower it as modules move theirs to the top
 
 
 def _count(source: str) -> int:

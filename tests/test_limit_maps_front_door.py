@@ -191,11 +191,12 @@ def test_the_main_jobs_summary_is_the_tables(capsys, tmp_path, monkeypatch):
     table = forcenet.table(7)
     code, out, _ = _cli(capsys, "table", "--N", "7", "--samples", "0")
     lines = table.summary().splitlines()
-    assert code == 0 and out.splitlines()[:len(lines)] == lines and len(lines) == 4 + 7
+    assert code == 0 and out.splitlines()[:len(lines)] == lines and len(lines) == 5 + 7
     assert lines[0] == "Fully mobilized triangle, N = 7 layers, d = 21 free forces"
-    assert lines[1].endswith(f": {forcenet.count(7)}") and lines[2].endswith(f"1/{1 / forcenet.normalization(7)}")
+    assert "units of the overload" in lines[1]  # what W is (issue 53)
+    assert lines[2].endswith(f": {forcenet.count(7)}") and lines[3].endswith(f"1/{1 / forcenet.normalization(7)}")
     assert os.path.exists(tmp_path / "forcenet-tables" / "mean_W_N7.json")
-    for j, line in enumerate(lines[4:], start=1):
+    for j, line in enumerate(lines[5:], start=1):
         value = table.mean_W[-1][j - 1]
         assert line == f"    j = {j:2d}: {float(value):.10f}  = {value}"
 

@@ -154,3 +154,86 @@ def test_the_estimate_is_not_restated_from_a_rate_that_includes_compiling(monkey
     for _ in range(5):
         reviser(1)
     assert ("at the measured rate" in capsys.readouterr().err) is restated
+
+
+def test_the_bar_never_passes_100_percent_and_says_the_time_left(monkeypatch):
+    """Issue 53: twice the planned ticks (a slow machine, an estimate in seconds): the bar re-estimates its total
+    instead of counting past it; its time left reads "~N s left", never "est. s"."""
+    from forcenet.core.progress import Bar
+
+    master, slave = _terminal(80)
+    terminal = os.fdopen(slave, "w", buffering=1)
+    try:
+        bar = Bar(10, "exact table N=40", "s", file=terminal)
+        for _ in range(20):
+            time.sleep(0.11)
+            bar.update(1)
+        bar.close()
+        terminal.flush()
+        frames = _frames(_read_all(master))
+    finally:
+        terminal.close()
+        os.close(master)
+    percents = [int(p) for f in frames for p in re.findall(r"\b(\d{1,3})%", f)]
+    assert percents and max(percents) <= 100 and max(percents) >= 90, frames
+    assert any(re.search(r"~\d+ s left", f) for f in frames) and not any("est. s" in f for f in frames), frames
+    assert all(len(f) <= 80 for f in frames)
+
+
+def test_the_front_door_shows_progress_where_a_person_watches():
+    """``progress=None``: on a terminal, the plan's line and a bar; in a pipe, nothing; ``False`` never."""
+    import io
+
+    from forcenet.core.progress import ticks
+
+    plan = Plan("exact table N=40 (Pfaffians)", 30.0, ticks=4, unit="prime")
+    master, slave = _terminal(80)
+    terminal = os.fdopen(slave, "w", buffering=1)
+    try:
+        with ticks(plan, None, "table N=40", terminal) as tick:
+            assert tick is not None
+            tick(4)
+        with ticks(plan, False, "table N=40", terminal) as tick:
+            assert tick is None
+        terminal.flush()
+        frames = _frames(_read_all(master))
+    finally:
+        terminal.close()
+        os.close(master)
+    assert frames[0] == "forcenet: exact table N=40 (Pfaffians): estimated ~30 s" and len(frames) >= 2
+    pipe = io.StringIO()
+    with ticks(plan, None, "table N=40", pipe) as tick:
+        assert tick is None
+    assert pipe.getvalue() == ""
+    with ticks(Plan("x", 1.0, ticks=4), None, "x", terminal) as tick:  # a short run: no bar unasked
+        assert tick is None
+
+
+def test_a_script_in_a_pipe_prints_no_progress(tmp_path):
+    code = "import forcenet\nprint(forcenet.table(12).N)\n"
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, check=False)
+    assert (done.returncode, done.stdout, done.stderr) == (0, "12\n", "")
+
+
+def test_the_command_line_owns_its_progress(monkeypatch):
+    """``--quiet`` (or a short run) hands the front door no tick: its own policy must not draw a bar then."""
+    from forcenet.core.progress import ticks
+
+    master, slave = _terminal(80)
+    terminal = os.fdopen(slave, "w", buffering=1)
+    monkeypatch.setattr(sys, "stderr", terminal)
+    seen = []
+
+    def run(progress):
+        with ticks(Plan("x", 30.0, ticks=3), progress, "x") as tick:
+            seen.append(tick)
+        return "done"
+
+    try:
+        assert run_planned(Plan("x", 30.0, ticks=3), run, quiet=True) == "done"
+        terminal.flush()
+        shown = _read_all(master, 0.5)
+    finally:
+        terminal.close()
+        os.close(master)
+    assert seen == [None] and shown == ""

@@ -308,7 +308,7 @@ def test_the_main_job_says_cannot_judge(tmp_path, capsys):
     code = main(["table", "--N", "12", "--samples", "2", "--out-dir", str(tmp_path), "--quiet"])
     out = capsys.readouterr().out
     assert code == 4 and "cannot judge: 2 rows are too few" in out and "agrees" not in out  # 4: cannot judge
-    code = main(["table", "--N", "6", "--samples", "400", "--out-dir", str(tmp_path), "--quiet"])
+    code = main(["table", "--N", "6", "--samples", "400", "--out-dir", str(tmp_path), "--quiet", "--verbose"])
     assert code == 0 and "agrees at level 0.001" in capsys.readouterr().out
 
 

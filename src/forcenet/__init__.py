@@ -195,4 +195,5 @@ def __getattr__(name: str) -> Any:
 
 
 def __dir__() -> list[str]:
-    return sorted({*globals(), *_FRONT_DOOR, *_SUBPACKAGES})
+    """The front door's names, its subpackages and ``__version__``: no helper of this module (issue 53)."""
+    return sorted({*_FRONT_DOOR, *_SUBPACKAGES, "__version__"})

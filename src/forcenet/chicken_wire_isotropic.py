@@ -48,7 +48,7 @@ __all__ = ["IsotropicPlan", "isotropic_point_plan", "isotropic_point", "isotropi
 SERIES_TOLERANCE = 0.01
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the plan's own words: _Costed.__repr__
 class IsotropicPlan(_Costed):
     """A checked request for the quantities on the isotropic line, with its cost.
 

@@ -42,7 +42,7 @@ Progress = Callable[..., Any]
 # ------------------------------------------------------------------------ transfer matrix
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the plan's own words: _Costed.__repr__
 class TransferSpectrumPlan(_Costed):
     """A checked request for the transfer spectrum of a cylinder, with its cost: what :func:`transfer_spectrum_plan` returns.
 
@@ -185,7 +185,7 @@ def transfer_spectrum(L: int, particles: int | None = None, *,
 # ------------------------------------------------------------------------ Bethe ansatz
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the plan's own words: _Costed.__repr__
 class BetheGroundStatePlan(_Costed):
     """A checked request for one sector's Bethe ground state, with its cost: what :func:`bethe_ground_state_plan` returns.
 

@@ -69,18 +69,16 @@ class _Costed:
 
     @contextmanager
     def _ticks(self, progress: Callable[..., Any] | bool | None, desc: str) -> Iterator[Callable[..., Any] | None]:
-        """``progress`` as the run's tick: itself if callable, a tqdm bar for ``True`` (closed at the end; none for
-        a refused plan), else None."""
-        if progress is not True or not self.runnable:
-            yield progress if callable(progress) else None
-            return
-        from tqdm.auto import tqdm
+        """``progress`` as the run's tick: itself if callable, a bar for ``True``, and for ``None`` where a person
+        watches (a terminal, a notebook; :func:`forcenet.core.progress.ticks`); none for a refused plan."""
+        from forcenet.core.progress import ticks  # None: a bar where a person watches (the one policy)
 
-        bar = tqdm(total=self.cost.ticks or None, desc=desc, unit=self.cost.unit)
-        try:
-            yield bar.update
-        finally:
-            bar.close()
+        with ticks(self.cost, progress, desc) as tick:
+            yield tick
+
+    def __repr__(self) -> str:
+        """The plan's own words (:meth:`forcenet.core.plan.Plan.__repr__`), under this class's name."""
+        return type(self).__name__ + repr(self.cost)[len("Plan"):]
 
     @property
     def runnable(self) -> bool:
@@ -168,7 +166,7 @@ class _Costed:
         return self
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the plan's own words: _Costed.__repr__
 class TablePlan(_Costed):
     """A checked request for an exact table, with its cost: what :func:`plan` returns (make it with :func:`plan`).
 

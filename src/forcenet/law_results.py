@@ -15,6 +15,8 @@ Examples
 
 from __future__ import annotations
 
+import re
+import textwrap
 from collections.abc import Callable
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any
@@ -354,12 +356,13 @@ class Law(_Rendered):
           on [0, 1]: polynomial of degree 2 in w; lowest coefficients 0, 6, -6, ...
         """
         var = self.variable
-        lines = [f"N = {self.N}: exact density of {self.quantity} (exact rationals; --format json for all "
-                 "coefficients)"]
-        for p in self.density:
+        lines = textwrap.wrap(f"N = {self.N}: exact density of {self.quantity} (exact; all coefficients: "
+                              "--format json)", 80, subsequent_indent="  ", break_on_hyphens=False)
+        for p in self.density:  # lines of at most 80 columns (issue 53), a long coefficient on its own
             lead = ", ".join(str(c) for c in list(reversed(p.poly.all_coeffs()))[:3])
-            lines.append(f"  on [{p.lo}, {p.hi}]: polynomial of degree {p.poly.degree()} in {var}; lowest "
-                         f"coefficients {lead}, ...")
+            lines += textwrap.wrap(f"on [{p.lo}, {p.hi}]: polynomial of degree {p.poly.degree()} in {var}; lowest "
+                                   f"coefficients {lead}, ...", 78, initial_indent="  ", subsequent_indent="    ",
+                                   break_on_hyphens=False, break_long_words=False)
         lines += [f"  {k} = {v}" for k, v in self.extra.items()]
         lines.append(f"  density at {var} = 0: {self.density[0].poly.eval(0)}")
         if grid is not None:
@@ -449,16 +452,30 @@ class Law(_Rendered):
         >>> import matplotlib
         >>> matplotlib.use("Agg")
         >>> import forcenet
-        >>> forcenet.law(8, layer=8).plot().get_xlabel()
-        'f'
+        >>> ax = forcenet.law(12, (12, 6)).plot()
+        >>> ax.get_title(), ax.get_legend_handles_labels()[1]
+        ('N = 12: $W_{12,6}$', ['exact density of $W_{12,6}$'])
         """
         import matplotlib.pyplot as plt
 
         if ax is None:
             _, ax = plt.subplots(figsize=(5, 3.5))
         x, p, _ = self.grid(points)
-        ax.plot(x, p)
+        ax.plot(x, p, label=f"exact density of {_mathtext(self.quantity)}")
         ax.set_xlabel(self.variable)
         ax.set_ylabel(f"p({self.variable})")
-        ax.set_title(f"N = {self.N}: {self.quantity}")
+        ax.set_title(f"N = {self.N}: {_mathtext(self.quantity)}")
+        ax.legend(loc="best", fontsize="small")
         return ax
+
+
+def _mathtext(text: str) -> str:
+    """A quantity's name for matplotlib: its TeX-like pieces (``W_{12,6}``, ``F1^{(5,2)}``) set as math.
+
+    Examples
+    --------
+    >>> _mathtext("W_{12,6}"), _mathtext("F1^{(5,2)} of grain 2")
+    ('$W_{12,6}$', '$F1^{(5,2)}$ of grain 2')
+    """
+    text = text.replace("(sqrt3/2)", r"$(\sqrt{3}/2)$")
+    return re.sub(r"\b([A-Za-z][A-Za-z0-9]*(?:[_^]\{[^}]*\})+)", r"$\1$", text)

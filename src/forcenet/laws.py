@@ -49,7 +49,7 @@ __all__ = ["Law", "LawPlan", "law", "law_plan"]  # Law: forcenet.law_results
 Progress = Callable[..., Any]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the plan's own words: _Costed.__repr__
 class LawPlan(_Costed):
     """A checked request for one load's law, with its route and cost: what :func:`law_plan` returns.
 

@@ -15,6 +15,7 @@ Examples
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any
@@ -27,6 +28,8 @@ if TYPE_CHECKING:  # pragma: no cover - annotations only
     from matplotlib.axes import Axes
 
 __all__ = ["Row", "Table"]
+
+_SHOWN = 12  # a bottom row longer than this: its first and last three values in the summary
 
 
 class _Rendered:
@@ -78,25 +81,6 @@ class _Rendered:
 
         return to_csv(self.to_dict())
 
-    def to_latex(self) -> str:
-        """The LaTeX ``tabular`` of ``forcenet table --format latex``.
-
-        Returns
-        -------
-        str
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> print(forcenet.table(3).to_latex().splitlines()[-2])
-        3 & $\\frac{1}{4}$ & $\\frac{1}{2}$ & $\\frac{1}{4}$ \\\\
-        >>> forcenet.table(3, row=3).to_latex().count("frac")
-        3
-        """
-        from forcenet.exact.triangle.tables import to_latex
-
-        return to_latex(self.to_dict())
-
 
 class Table(_Rendered):
     """An exact table of the fully mobilized triangle: ``<W_ij^s>`` for ``s = 1..moments``.
@@ -138,6 +122,116 @@ class Table(_Rendered):
 
     def __repr__(self) -> str:
         return f"Table(N={self.N}, moments={self.moments}, method={self.method!r})"
+
+    def __eq__(self, other: object) -> bool:
+        """Equal values: the same ``N`` and the same exact moment tables (the route that made them aside)."""
+        if not isinstance(other, Table):
+            return NotImplemented
+        return self.N == other.N and {s: list(t) for s, t in self._tables.items()} == {
+            s: list(t) for s, t in other._tables.items()}
+
+    __hash__ = None  # type: ignore[assignment]  # mutable lists inside: not hashable
+
+    @classmethod
+    def from_json(cls, text: str) -> Table:
+        """The table whose :meth:`to_json` is ``text`` (``forcenet table``'s ``.json`` file read back).
+
+        Parameters
+        ----------
+        text : str
+
+        Returns
+        -------
+        Table
+            ``method`` is ``"json"``.
+
+        Raises
+        ------
+        ArgumentError
+            If ``text`` is not a whole table's JSON.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> t = forcenet.table(5, moments=2)
+        >>> forcenet.Table.from_json(t.to_json()) == t
+        True
+        """
+        N, tables = _formats().from_json(text)
+        return cls(N, "json", "", tables)
+
+    @classmethod
+    def read(cls, path: str | os.PathLike[str]) -> Table:
+        """A table saved by ``forcenet table`` (its ``.json`` or ``.csv`` file) or by :meth:`to_json`.
+
+        Parameters
+        ----------
+        path : str or path-like
+
+        Returns
+        -------
+        Table
+            ``method`` is ``"json"`` or ``"csv"``.
+
+        Examples
+        --------
+        >>> import os, tempfile, forcenet
+        >>> path = os.path.join(tempfile.mkdtemp(), "N6.json")
+        >>> _ = open(path, "w").write(forcenet.table(6).to_json())
+        >>> forcenet.Table.read(path) == forcenet.table(6)
+        True
+        """
+        N, tables = _formats().read(path)
+        return cls(N, "csv" if os.fspath(path).endswith(".csv") else "json", "", tables)
+
+    def to_pandas(self, exact: bool = False) -> Any:
+        """A :class:`pandas.DataFrame`, one row per grain ``(i, j)``, one column per moment (needs pandas).
+
+        Parameters
+        ----------
+        exact : bool
+            Keep the :class:`~fractions.Fraction` values (default: correctly rounded floats).
+
+        Returns
+        -------
+        pandas.DataFrame
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.table(4, moments=2).to_pandas().loc[4].round(4)
+           mean_W  mean_W2
+        j...
+        1  0.1429   0.0357
+        2  0.3571   0.1607
+        3  0.3571   0.1607
+        4  0.1429   0.0357
+        """
+        return _formats().to_pandas(self._tables, exact)
+
+    def to_latex(self, digits: int | None = None, rows: Any = None) -> str:
+        """A paper-ready LaTeX table (``booktabs``) of ``<W_ij>``: what ``forcenet table`` writes as ``.tex``.
+
+        Parameters
+        ----------
+        digits : int, optional
+            Decimals, correctly rounded from the exact values; default the exact fractions.
+        rows : sequence of int, optional
+            The layers ``i`` to include (default all).
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> print(forcenet.table(3).to_latex().splitlines()[-3])
+        3 & $\\frac{1}{4}$ & $\\frac{1}{2}$ & $\\frac{1}{4}$ \\\\
+        >>> print(forcenet.table(8).to_latex(digits=3, rows=[8]).splitlines()[5][:46])
+        8 & $0.034$ & $0.104$ & $0.164$ & $0.197$ & $0
+        """
+        return _formats().latex(self.to_dict(), digits=digits, rows=rows)
 
     @property
     def mean_W(self) -> list[list[Fraction]]:
@@ -241,6 +335,7 @@ class Table(_Rendered):
         >>> import forcenet
         >>> print(forcenet.table(4).summary())
         Fully mobilized triangle, N = 4 layers, d = 6 free forces
+          W_ij: load on grain j of layer i in units of the overload; rows sum to 1
           tableaux count (d! * normalization): 2
           normalization (Eq. 4.1):             1/360
           <W_N,j> on the bottom row:
@@ -254,16 +349,17 @@ class Table(_Rendered):
         Ostojic (2006), Eq. (4.1) (count and normalization), Eq. (4.3) (``d = N (N - 1)/2``), Sec. 4.2.
         """
         from forcenet.exact.triangle.staircase import free_force_count
-        from forcenet.exact.triangle.tables import fraction_str, integer_text
-
         lines = [
             f"Fully mobilized triangle, N = {self.N} layers, d = {free_force_count(self.N)} free forces",
-            f"  tableaux count (d! * normalization): {integer_text(self.count)}",
-            f"  normalization (Eq. 4.1):             {fraction_str(self.normalization)}",
+            "  W_ij: load on grain j of layer i in units of the overload; rows sum to 1",
+            f"  tableaux count (d! * normalization): {_formats().abbreviated(Fraction(self.count))}",
+            f"  normalization (Eq. 4.1):             {_short(self.normalization)}",
             "  <W_N,j> on the bottom row:",
         ]
-        lines += [f"    j = {j:2d}: {float(value):.10f}  = {fraction_str(value)}"
-                  for j, value in enumerate(self.mean_W[-1], start=1)]
+        bottom = list(enumerate(self.mean_W[-1], start=1))
+        shown = bottom if self.N <= _SHOWN else [*bottom[:3], None, *bottom[-3:]]  # the files hold every value
+        lines += ["    ..." if item is None else f"    j = {item[0]:2d}: {float(item[1]):.10f}  = {_formats().abbreviated(item[1])}"
+                  for item in shown]
         return "\n".join(lines)
 
     def to_numpy(self, s: int = 1) -> np.ndarray:
@@ -317,6 +413,9 @@ class Table(_Rendered):
     def plot(self, s: int = 1, ax: Axes | None = None) -> Axes:
         """The triangle drawn as it stands: grain ``(i, j)`` at ``(j - (i + 1)/2, -i)``, coloured by ``<W_ij^s>``.
 
+        The colour scale is logarithmic (the loads span decades between the
+        apex and the bottom row's edges; issue 53).
+
         Parameters
         ----------
         s : int
@@ -333,8 +432,9 @@ class Table(_Rendered):
         >>> import matplotlib
         >>> matplotlib.use("Agg")
         >>> import forcenet
-        >>> forcenet.table(8).plot().get_title()
-        'N = 8'
+        >>> ax = forcenet.table(8).plot()
+        >>> ax.get_title(), type(ax.collections[0].norm).__name__
+        ('N = 8', 'LogNorm')
         """
         import matplotlib.pyplot as plt
 
@@ -346,13 +446,23 @@ class Table(_Rendered):
                 xs.append(j - (i + 1) / 2)
                 ys.append(-i)
                 cs.append(float(value))
+        from matplotlib.colors import LogNorm
+
         size = max(4.0, 2400 / self.N**2)
-        points = ax.scatter(xs, ys, c=cs, s=size, cmap="viridis")
+        positive = min(cs) > 0  # a log scale: the small loads near the edges and deep layers stay distinct
+        points = ax.scatter(xs, ys, c=cs, s=size, cmap="viridis", norm=LogNorm() if positive else None)
         ax.figure.colorbar(points, ax=ax, label=r"$\langle W_{ij}\rangle$" if s == 1 else rf"$\langle W_{{ij}}^{s}\rangle$")
         ax.set_aspect("equal")
         ax.set_axis_off()
         ax.set_title(f"N = {self.N}")
         return ax
+
+
+def _short(x: Fraction) -> str:
+    """An exact value for the terminal: the fraction when short, else its decimal (scientific) and its size."""
+    formats = _formats()
+    text = formats.abbreviated(x)
+    return text if "digits" not in text else f"{formats.scientific(x)} ({text})"
 
 
 class Row(_Rendered):
@@ -434,6 +544,26 @@ class Row(_Rendered):
                                 f"(ask forcenet.table({self.N}, moments={s}, row={self.row}))")
         return self._rows[s]
 
+    def to_latex(self, digits: int | None = None) -> str:
+        """A paper-ready LaTeX table (``booktabs``) of this row, a line per moment: ``forcenet table --row i``'s.
+
+        Parameters
+        ----------
+        digits : int, optional
+            Decimals, correctly rounded from the exact values; default the exact fractions.
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> print(forcenet.table(3, row=3).to_latex().splitlines()[-3])
+        1 & $\\frac{1}{4}$ & $\\frac{1}{2}$ & $\\frac{1}{4}$ \\\\
+        """
+        return _formats().row_latex(self.to_dict(), digits)
+
     def to_dict(self) -> dict[str, Any]:
         """``{"N", "row", "count", "normalization", "mean_W", "mean_W2", ...}`` with exact values.
 
@@ -450,3 +580,11 @@ class Row(_Rendered):
         from forcenet.exact.triangle.tables import exact_row
 
         return exact_row(self.N, self.row, self._rows)
+
+
+def _formats() -> Any:
+    """:mod:`forcenet.table_formats`, imported on first use: it needs the exact tables' text helpers (numba's
+    modules), which a sampler's front door (:func:`forcenet.sample_plan`) must not load."""
+    from forcenet import table_formats
+
+    return table_formats

@@ -18,6 +18,7 @@ Examples
 from __future__ import annotations
 
 import json
+import textwrap
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover - annotations only
@@ -220,11 +221,13 @@ class Samples:
         """
         where = "triangle" if self.scene is None else f"{self.scene.name} packing, P = {self.scene.P}"
         lines = [f"{self.sampler} sampler, N = {self.N} ({where}), {self.samples} samples, "
-                 f"{self.effective_samples:.0f} effective",
-                 "  bottom row <W_N,j>: " + " ".join(_plus_minus(m, e) for m, e in zip(self.mean[-1], self.stderr[-1]))]
+                 f"{self.effective_samples:.0f} effective"]
+        rows = [("  bottom row <W_N,j>: ", self.mean[-1], self.stderr[-1])]
         if self.G is not None and self.stderr_G is not None:
-            lines.append("  bottom row G(N,j): " + " ".join(_plus_minus(m, e) for m, e in
-                                                           zip(self.G[-1], self.stderr_G[-1])))
+            rows.append(("  bottom row G(N,j): ", self.G[-1], self.stderr_G[-1]))
+        for head, means, errors in rows:  # at most 80 columns: the values wrap under the first (issue 53)
+            lines += textwrap.wrap(" ".join(_plus_minus(m, e) for m, e in zip(means, errors)), 80,
+                                   initial_indent=head, subsequent_indent=" " * len(head))
         return "\n".join(lines)
 
     def _repr_html_(self) -> str:

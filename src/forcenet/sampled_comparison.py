@@ -171,7 +171,7 @@ class SampledComparison(Generic[L]):
         return self.png()
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the plan's own words: _Costed.__repr__
 class SampledComparisonPlan(_Costed, Generic[L]):
     """A checked comparison of an exact pooled ``P(f)`` with sampled histograms, with its cost (the law's too when it
     is still to be computed): what :meth:`forcenet.LawPlan.with_sampled_comparison` returns.

@@ -5,10 +5,12 @@ computes, by the same engine and to the same bytes: independent exact
 samples of the fully mobilized triangle (the hook walk, uniform tableaux of
 Sec. 4.2), or the thesis's Markov chain of single-``q`` moves (Sec. 3.2.4,
 Eqs. (3.8)-(3.10)) on the triangle or on the full ``N x P`` packing of
-Sec. 3.2 (``scene=forcenet.Scene(...)``).  ``workers`` processes draw
-``SeedSequence(seed).spawn(workers)`` shares that are pooled
-(:func:`forcenet.numeric.parallel_chains.sample_in_parallel`): the result
-depends on the arguments, ``seed`` and ``workers`` alone.
+Sec. 3.2 (``scene=forcenet.Scene(...)``).  ``workers`` processes share
+the work (:func:`forcenet.numeric.parallel_chains.sample_in_parallel`):
+exact samples come in streams of the seed and the stream's index, so their
+result depends on the arguments and ``seed`` alone, whatever ``workers``;
+Markov chains are one per worker, their result fixed by ``seed`` and
+``workers``.
 ``forcenet.sample_plan(...)`` validates the same request once and answers
 what it will cost without doing the work; :meth:`SamplePlan.run` runs it.
 
@@ -47,7 +49,7 @@ MOVES = ("metropolis", "slice")
 MAX_WORKERS = 64
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the plan's own words: _Costed.__repr__
 class SamplePlan(_Costed):
     """A checked Monte Carlo request with its cost: what :func:`sample_plan` returns (make it with :func:`sample_plan`).
 
@@ -204,10 +206,10 @@ def sample_plan(N: int, samples: int, *, sampler: str = "exact", seed: int = 0, 
         ``"exact"``: independent exact samples of the fully mobilized triangle (the default);
         ``"metropolis"``: the thesis's Markov chain (also the packing, ``scene``).
     seed : int
-        The seed, ``0 <= seed < 2**63``; the result depends on it and on ``workers`` only.
+        The seed, ``0 <= seed < 2**63``: exact samples depend on it alone, chains on it and ``workers``.
     workers : int
-        Processes, ``1..64`` and at most ``samples``: independent chains (metropolis) or batches (exact), the
-        samples split evenly, seeds ``SeedSequence(seed).spawn(workers)``.
+        Processes, ``1..64`` and at most ``samples``: independent chains (metropolis, seeds
+        ``SeedSequence(seed).spawn(workers)``), or the exact sampler's streams of 10,000 samples shared out.
     F : float, optional
         The overload on grain ``(1, j0)``, a finite number ``> 0`` (default 1; with ``scene``: the scene's).
     ph : float, optional

@@ -102,7 +102,7 @@ class TableauxCount:
         return str(flint.fmpz(self.value))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # the plan's own words: _Costed.__repr__
 class CountPlan(_Costed):
     """The checked request for the tableaux count of ``N`` layers and its cost: what :func:`count_plan` returns.
 

@@ -55,17 +55,19 @@ Each command has its own help: forcenet COMMAND --help."""
 
 _EXAMPLES = """\
 examples, one per command (each takes a few seconds at most):
-  forcenet count --N 12                       # how many force networks (tableaux) the triangle has
-  forcenet table --N 12                       # the main job: 3 files in ./forcenet-tables/, a summary, a Monte Carlo check
-  forcenet table --N 12 --format json         # just the exact table of <W_ij>, on stdout
-  forcenet maps --N 7                         # the thesis's map counting (Sec. 4.6)
-  forcenet limit --x 0.2 --z 0.6              # N <W> far from the top, in the scaling limit
-  forcenet sample --N 10 --samples 2000       # Monte Carlo <W> with error bars
-  forcenet transfer --L 6                     # chicken-wire model: transfer matrix of a cylinder of width 6
-  forcenet bethe --L 6 --n 2 --m 1            # chicken-wire model: one sector by the Bethe ansatz
-  forcenet entropy --phi 0.3                  # chicken-wire entropy on the isotropic line, Eq. (7.1)
-  forcenet dist --N 12 --grain 12,6           # exact probability density of one force
-  forcenet scaling --model percolation --sizes 16,24,32,48 --samples 200   # clusters of large forces, Table 7.1
+  forcenet count --N 12              # how many force networks (tableaux)
+  forcenet table --N 12              # the main job: 3 files in
+                                     # ./forcenet-tables/, a summary, a check
+  forcenet table --N 12 --format json        # just the exact <W_ij>
+  forcenet maps --N 7                # the thesis's map counting (Sec. 4.6)
+  forcenet limit --x 0.2 --z 0.6     # N <W> in the scaling limit
+  forcenet sample --N 10 --samples 2000      # Monte Carlo <W>, error bars
+  forcenet transfer --L 6            # chicken wire: a cylinder's transfer
+  forcenet bethe --L 6 --n 2 --m 1   # chicken wire: one Bethe-ansatz sector
+  forcenet entropy --phi 0.3         # chicken-wire entropy, Eq. (7.1)
+  forcenet dist --N 12 --grain 12,6  # exact density of one force
+  forcenet scaling --model percolation --sizes 16,24,32,48 --samples 200
+                                     # clusters of large forces (Table 7.1)
 
 Results go to stdout (or to --out FILE, written atomically); costs, progress
 and errors go to stderr. Runs announced at over a minute need --force.
@@ -80,7 +82,7 @@ def build_parser() -> Parser:
     parser.add_argument("--version", action="version", version=f"%(prog)s {version('forcenet')}")
     parser.add_argument("--debug", action="store_true",
                         help="on an internal error (a bug), print the traceback on stderr instead of to a file")
-    sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser, metavar="COMMAND")
     for family in (table, limit, sample, chicken_wire, dist, force_chains):
         family.register(sub)
     return parser

@@ -16,13 +16,16 @@ from __future__ import annotations
 
 import argparse
 import functools
+import shutil
 import sys
+import textwrap
 import time
 from collections.abc import Callable, Sequence
 from typing import Any, NoReturn, TypeVar
 
 from forcenet.core.errors import ArgumentError, ForcenetError
 from forcenet.core.plan import Plan, duration_text
+from forcenet.core.progress import Bar, left_text, owned, watched
 from forcenet.core.validation import check_int, check_real
 
 __all__ = [
@@ -62,6 +65,10 @@ class Parser(argparse.ArgumentParser):
     (their ``dest``): :func:`given` tells an explicit value from a default.
     """
 
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        kwargs["formatter_class"] = _narrow(kwargs.get("formatter_class", argparse.HelpFormatter))
+        super().__init__(*args, **kwargs)
+
     def error(self, message: str) -> NoReturn:
         self.exit(2, usage_error_line(self.prog, message))
 
@@ -70,6 +77,22 @@ class Parser(argparse.ArgumentParser):
         if action.option_strings and not isinstance(action, (argparse._HelpAction, argparse._VersionAction)):
             action.__class__ = _once(type(action))  # type: ignore[arg-type]  # a class is hashable
         return action
+
+
+HELP_COLUMNS = 80  # help is wrapped to at most this many columns, however wide the terminal (issue 53)
+
+
+@functools.cache
+def _narrow(cls: Any) -> Any:
+    """The help formatter ``cls`` wrapping at ``min(terminal, HELP_COLUMNS) - 2`` columns (argparse's margin)."""
+
+    class Narrow(cls):
+        def __init__(self, prog: str, indent_increment: int = 2, max_help_position: int = 24,
+                     width: int | None = None) -> None:
+            columns = min(width + 2 if width else shutil.get_terminal_size().columns, HELP_COLUMNS)
+            super().__init__(prog, indent_increment, max_help_position, columns - 2)
+
+    return Narrow
 
 
 @functools.cache
@@ -234,9 +257,10 @@ class _PlainProgress:
     def update(self, k: float = 1) -> None:
         self.n += k
         while self.next_tenth < 10 and self.n >= self.total * self.next_tenth / 10:
-            unit = "estimated s" if self.unit == "s" else self.unit
-            print(f"forcenet: {self.desc}: {10 * self.next_tenth} % ({self.n:.0f}/{self.total:.0f} {unit}) after "
-                  f"{time.perf_counter() - self.t0:.0f} s", file=sys.stderr, flush=True)
+            elapsed = time.perf_counter() - self.t0
+            count = "" if self.unit == "s" else f" ({self.n:.0f}/{self.total:.0f} {self.unit})"
+            print(f"forcenet: {self.desc}: {10 * self.next_tenth} %{count} after {elapsed:.0f} s, "
+                  f"{left_text(elapsed * (self.total - self.n) / self.n)}", file=sys.stderr, flush=True)
             self.next_tenth += 1
 
     def close(self) -> None:
@@ -246,6 +270,7 @@ class _PlainProgress:
 LABEL_CHARACTERS = 30  # a bar's label at most: the quantity and N, so the percentage shows at 80 columns
 REVISE_FACTOR = 1.5  # a measured rate this far from the plan's restates the estimate (once)
 REVISE_SECONDS = 2.0  # ... measured over at least this long, after the first finished tick
+REVISE_SHARE = 0.15  # ... and over at least this share of the ticks
 
 
 def progress_label(what: str) -> str:
@@ -263,14 +288,9 @@ def progress_label(what: str) -> str:
 
 def _progress_bar(total: int, desc: str, unit: str, seconds: float = 0.0) -> Any:
     """An animated bar on a terminal; elsewhere plain lines (over a minute) or nothing."""
-    if not (sys.stderr is not None and sys.stderr.isatty()):
+    if not watched(sys.stderr):
         return _PlainProgress(total, desc, unit) if seconds > PLAIN_PROGRESS_SECONDS else None
-    from tqdm import tqdm
-
-    # a bar counted in estimated seconds (phases of different units, core.plan.combine_by_time) moves by fractions
-    fmt = "{l_bar}{bar}| {n:.0f}/{total_fmt} est. s [{elapsed}<{remaining}]" if unit == "s" else None
-    return tqdm(total=total, desc=desc, unit=unit, unit_scale=total >= 10_000, file=sys.stderr, leave=False,
-                bar_format=fmt)
+    return Bar(total, desc, unit)  # never past 100 %, the time left in words (forcenet.core.progress)
 
 
 class _Reviser:
@@ -292,7 +312,8 @@ class _Reviser:
             return
         t1, n1 = self.first
         if (self.revised or self.plan.compiling or now - t1 < REVISE_SECONDS or self.done <= n1
-                or self.done >= self.plan.ticks):  # compiling (a later phase's kernels too) is no rate of the run
+                or self.done >= self.plan.ticks  # compiling (a later phase's kernels too) is no rate of the run
+                or self.done - n1 < REVISE_SHARE * self.plan.ticks):  # a rate of a few ticks is noise
             return
         total = (t1 - self.t0) + (now - t1) * (self.plan.ticks - n1) / (self.done - n1)
         if not 1 / REVISE_FACTOR <= total / max(self.plan.seconds, 1e-9) <= REVISE_FACTOR:
@@ -300,7 +321,7 @@ class _Reviser:
             line = (f"forcenet: {self.label}: at the measured rate ~{duration_text(total)} in all "
                     f"({self.done / self.plan.ticks:.0%} after {duration_text(now - self.t0)})")
             if hasattr(self.bar, "write"):
-                self.bar.write(line, file=sys.stderr)
+                self.bar.write(line)
             else:
                 print(line, file=sys.stderr, flush=True)
 
@@ -319,12 +340,17 @@ def run_planned(plan: Plan, run: Callable[[Callable[..., None] | None], T], *, f
         raise UsageError(plan.refusal)
     if plan.seconds > FORCE_SECONDS and not force:
         raise UsageError(f"{plan.what} takes {plan.describe()}; add --force to run it")
+    with owned():  # the front door's own progress policy stays silent: this function shows the progress
+        return _announced(plan, run, quiet)
+
+
+def _announced(plan: Plan, run: Callable[[Callable[..., None] | None], T], quiet: bool) -> T:
+    """``run(progress)``: announced, under a bar, unless quiet or short."""
     if quiet or plan.seconds <= ANNOUNCE_SECONDS:
         return run(None)
     what, _, why = plan.what.partition("; ")
-    print(f"forcenet: {what}: estimated {plan.describe()}", file=sys.stderr)
-    if why:
-        print(f"forcenet: {why}", file=sys.stderr)
+    for line in [f"forcenet: {what}: estimated {plan.describe()}", *([f"forcenet: {why}"] if why else [])]:
+        print(textwrap.fill(line, 80, subsequent_indent="  ", break_on_hyphens=False), file=sys.stderr)
     label = progress_label(plan.what)
     t0 = time.perf_counter()
     bar = _progress_bar(plan.ticks, label, plan.unit, plan.seconds) if plan.ticks else None

@@ -38,9 +38,10 @@ __all__ = ["Destination", "destination", "check_output_path", "check_output_dir"
 EXIT_DISAGREES = 3  # the main job's Monte Carlo cross-check found the table and the samples in disagreement
 EXIT_CANNOT_JUDGE = 4  # the cross-check's samples cannot support a verdict (too few to reveal a wrong mean)
 EXIT_CODES = """\
-exit codes: 0 done (the cross-check agrees); 1 internal error (a bug: please report it);
-2 bad input, a refused run or a file-system error (one line on stderr); 3 the main job's
-cross-check DISAGREES; 4 the cross-check cannot judge (too few samples); 130 interrupted."""
+exit codes: 0 done (the cross-check agrees); 1 internal error (a bug: please
+report it); 2 bad input, a refused run or a file-system error (one line on
+stderr); 3 the main job's cross-check DISAGREES; 4 the cross-check cannot
+judge (too few samples); 130 interrupted."""
 
 STDOUT = "standard output"
 

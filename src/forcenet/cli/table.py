@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import textwrap
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, cast
 
@@ -65,9 +66,13 @@ def _refuse_ignored(args: argparse.Namespace) -> None:
     """What the main job alone uses, refused beside --format or --out (it would be ignored)."""
     single = next((name for name in ("format", "out") if given(args, name)), None)
     if single is not None:
-        for name in ("out_dir", "samples", "seed"):
+        for name in ("out_dir", "samples", "seed", "verbose"):
             refuse_together(args, name, single, f"--{name.replace('_', '-')} belongs to the main job (three files "
                             "and a Monte Carlo cross-check), which --format and --out replace by one exact table")
+        if _output_format(args) != "latex":
+            for name in ("digits", "rows"):
+                refuse_together(args, name, single, f"--{name} shapes the LaTeX table only (--format latex, an "
+                                ".tex file, or the main job's .tex)")
     elif args.samples == 0:
         refuse_together(args, "seed", "samples", "the seed drives the cross-check's samples, and --samples 0 asks for none")
 
@@ -107,6 +112,16 @@ def cmd_table(args: argparse.Namespace) -> int:
             client.close()
 
 
+def _rows(text: str | None) -> list[int] | None:
+    """``--rows 1,2,40`` as a list (each layer checked by the table's ``to_latex``)."""
+    if text is None:
+        return None
+    try:
+        return [int(part) for part in text.split(",")]
+    except ValueError:
+        raise UsageError(f"--rows={text}: give layers as integers separated by commas, e.g. --rows 1,2,40") from None
+
+
 def _table_row(args: argparse.Namespace, fmt: str | None) -> int:
     """``--row i``: row ``i`` of ``<W^s>``, ``s <= --moments``, by the fastest exact route for that row, announced
     (:func:`forcenet.plan` with ``row=``)."""
@@ -116,6 +131,9 @@ def _table_row(args: argparse.Namespace, fmt: str | None) -> int:
     if fmt is None:
         raise UsageError("--row gives one row in one format: give --format json|csv|latex or --out FILE "
                          "(the main job's three files and cross-check are for the whole table)")
+    refuse_together(args, "rows", "row", "--rows chooses a whole table's layers; --row gives one layer")
+    if fmt != "latex":
+        refuse_together(args, "digits", "row", "--digits shapes the LaTeX only (--format latex or a .tex file)")
     memory = available_memory()
     request = plan(args.N, args.moments, args.method, memory_bytes=memory, row=args.row).check()
     explicit = args.scheduler is not None or args.checkpoint is not None  # then only the routes that take them
@@ -132,7 +150,8 @@ def _table_row(args: argparse.Namespace, fmt: str | None) -> int:
             client.close()
     if directory is not None and not args.quiet and request.method in ROW_LAYER_ROUTES:
         report_checkpoints(directory, request.cost.ticks)
-    emit({"json": row.to_json, "csv": row.to_csv, "latex": row.to_latex}[fmt](), args.out)
+    emit({"json": row.to_json, "csv": row.to_csv, "latex": lambda: row.to_latex(digits=args.digits)}[fmt](),
+         args.out)
     return 0
 
 
@@ -159,7 +178,8 @@ def _table(args: argparse.Namespace, fmt: str | None, memory: int | None, reques
     table, check = run_planned(plan, run, force=args.force, quiet=args.quiet)
     if request.checkpoint is not None and not args.quiet:
         report_checkpoints(request.checkpoint, plans[0].ticks)
-    render = {"json": table.to_json, "csv": table.to_csv, "latex": table.to_latex}
+    render = {"json": table.to_json, "csv": table.to_csv,
+              "latex": lambda: table.to_latex(digits=args.digits, rows=_rows(args.rows))}
     if fmt is not None:
         emit(render[fmt](), args.out)
         return 0
@@ -168,13 +188,17 @@ def _table(args: argparse.Namespace, fmt: str | None, memory: int | None, reques
     stem = os.path.join(args.out_dir, f"mean_W_N{N}")
     files = {f"{stem}.{ext}": render[fmt_name]() for ext, fmt_name in (("json", "json"), ("csv", "csv"), ("tex", "latex"))}
     lines = table.summary().splitlines()
-    lines.append(f"  exact tables written: {stem}.json, {stem}.csv, {stem}.tex")
+    lines.append(f"  exact tables written: {stem}.json, .csv, .tex")
     if check is not None:
-        lines.append(f"Monte Carlo cross-check: {args.samples} independent exact samples (seed {args.seed}) "
-                     f"of the {check.values} free grains against the exact table:")
-        lines += ["  " + line for line in check.summary().splitlines()]  # its last line: the verdict or "cannot judge: ..."
-        if check.verdict != "cannot judge":
-            lines.append(f"  RMS of (sampled - exact)/stderr = {check.rms_z:.2f} (about 1 expected)")
+        lines += textwrap.wrap(f"Monte Carlo cross-check: {args.samples} independent exact samples (seed "
+                               f"{args.seed}) of the {check.values} free grains against the exact table:", 78,
+                               subsequent_indent="  ")
+        if args.verbose:  # the statistics' details; its last line: the verdict or "cannot judge: ..."
+            lines += ["  " + line for line in check.summary().splitlines()]
+            if check.verdict != "cannot judge":
+                lines.append(f"  RMS of (sampled - exact)/stderr = {check.rms_z:.2f} (about 1 expected)")
+        else:
+            lines += ["  " + line for line in check.plain().splitlines()]
     # the summary is printed once the files are in place; if standard output fails, they are taken back
     write_files(files, name="--out-dir", make_dir=args.out_dir, then=lambda: write_stdout("\n".join(lines) + "\n"))
     if check is None or check.passed:
@@ -206,21 +230,24 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "table", help="exact table of <W_ij> (and higher moments): the main job",
         formatter_class=argparse.RawDescriptionHelpFormatter,
-        description="The exact mean weight <W_ij> of every grain of the fully mobilized triangle of N layers\n"
-                    "(Sec. 4.2), as exact fractions.",
-        epilog="the main job (no --format, no --out) writes three files into ./forcenet-tables/ (--out-dir):\n"
-               "  mean_W_N<N>.json, mean_W_N<N>.csv and mean_W_N<N>.tex, the same exact table in three formats,\n"
-               "prints a summary (the count, the normalization, the bottom row) and checks the table against\n"
-               "20000 independent exact-sampler samples (--samples; --seed 2006 fixes them): a Monte Carlo\n"
-               "cross-check with a stated false-alarm rate (exit code 3 if it disagrees, 4 if the samples are\n"
-               "too few to judge; 1 is only ever a bug). --seed affects only\n"
-               "that cross-check, never the exact table.\n"
-               "with --format or --out: one format of the exact table only, no files in ./forcenet-tables/,\n"
-               "no cross-check.\n\n"
+        description="The exact mean weight <W_ij> of every grain of the fully mobilized\n"
+                    "triangle of N layers (Sec. 4.2), as exact fractions.",
+        epilog="the main job (no --format, no --out) writes three files into\n"
+               "./forcenet-tables/ (--out-dir): mean_W_N<N>.json, .csv and .tex, the same\n"
+               "exact table in three formats; prints a summary (the count, the\n"
+               "normalization, the bottom row) and checks the table against 20000\n"
+               "independent exact-sampler samples (--samples; --seed 2006 fixes them):\n"
+               "a Monte Carlo cross-check with a stated false-alarm rate (exit code 3 if\n"
+               "it disagrees, 4 if the samples are too few to judge; 1 is only ever a\n"
+               "bug). --seed affects only that cross-check, never the exact table.\n"
+               "with --format or --out: one format of the exact table only, no files in\n"
+               "./forcenet-tables/, no cross-check.\n\n"
                "examples:\n"
-               "  forcenet table --N 12                   # the main job (~2 s)\n"
-               "  forcenet table --N 9 --out table.csv    # one CSV file, the format from the extension\n"
-               "  forcenet table --N 40 --method pfaffian --moments 2 --row 39 --format json   # <W>, <W^2> of layer 39")
+               "  forcenet table --N 12                 # the main job (~2 s)\n"
+               "  forcenet table --N 9 --out table.csv  # one CSV file (format: extension)\n"
+               "  forcenet table --N 40 --format latex --digits 4 --rows 1,2,40\n"
+               "  forcenet table --N 40 --moments 2 --row 39 --format json\n"
+               "                                        # <W>, <W^2> of layer 39")
     add_layers(p, deferred=True)  # N: checked once, by the request (forcenet.plan)
     p.add_argument("--format", choices=["json", "csv", "latex"], help="print one format of the exact table instead of "
                                                                        "the main job (no files, no cross-check)")
@@ -233,6 +260,13 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "for s = 2 the rows 2, 3 and N-1 are one-time (each cell uniform between its covers, the "
                         "price of the mean; notes/fluctuations.md Sec. 3.1), other rows one layer's de Bruijn "
                         "Pfaffians; needs --format or --out")
+    p.add_argument("--digits", type=integer("digits", 0, 1000), default=None,
+                   help="the LaTeX table (.tex, --format latex) in decimals, correctly rounded "
+                        "(default: exact fractions)")
+    p.add_argument("--rows", default=None,
+                   help="the LaTeX table's layers only, e.g. --rows 1,2,40 (default: all)")
+    p.add_argument("--verbose", action="store_true",
+                   help="the cross-check's statistics in full (z, p-values, the test used)")
     defer(p, "moments", "--moments")  # N, moments and row: checked once, by the request (forcenet.plan)
     defer(p, "row", "--row")
     p.add_argument("--out-dir", default="forcenet-tables",
@@ -247,7 +281,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--method", choices=list(METHODS), default="auto",
         help="auto: the fastest exact route for the request by the routes' plans, announced with the reason (default); "
         "fast: order-ideal DP, a dynamic program over the 2^(N-1) order ideals (sets of grains closed "
-        "upwards), exact, up to N ~ 30; thesis: the nested-matrix integration of Secs. 4.3-4.5; "
+        "upwards), exact, as far as memory allows (forcenet.plan(N, method='fast') says); thesis: the nested-matrix integration of Secs. 4.3-4.5; "
         "lambda: the integer recursions Lambda (4.50) and Gamma (4.73)-(4.77); "
         "maps: the map-counting formulas (4.67), (4.90)-(4.91) of Sec. 4.6; "
         "pfaffian: Schur Pfaffians and minor summation, polynomial in N, for large N (notes/free_fermions.md); "

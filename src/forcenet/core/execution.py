@@ -19,6 +19,10 @@ cluster.  No scheduler is written here; this module only
   128 KiB were mapped, page-faulted and unmapped again: 35 000 page faults
   and a sixth more CPU per prime at N = 64, ``notes/benchmarks.md``), and
   the BLAS/OpenMP pools to one thread (a task is one core's work);
+* starts a local pool's workers without the caller's main module
+  (:func:`~forcenet.core.lifetime.workers_without_main`), so a script
+  without ``if __name__ == "__main__":``, stdin, ``python -c``, IPython
+  and Jupyter all work;
 * is interruptible: on ``KeyboardInterrupt`` (or a failed task) the pending
   futures are cancelled and the workers of a pool it started are terminated
   at once, so Ctrl-C ends the run within a second or two even while workers
@@ -44,12 +48,13 @@ import time
 import weakref
 from collections.abc import Callable, Iterable
 from concurrent.futures import FIRST_COMPLETED, BrokenExecutor, CancelledError, Executor, wait
+from contextlib import nullcontext
 from math import ceil
 from typing import TYPE_CHECKING, Any, TypeVar
 
 from forcenet.core.compiled import prefer_wide_vectors
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ClusterError
-from forcenet.core.lifetime import die_with_parent
+from forcenet.core.lifetime import die_with_parent, workers_without_main
 from forcenet.core.validation import check_int
 
 if TYPE_CHECKING:
@@ -460,11 +465,10 @@ def _collect_from_cluster(futures: dict, finish: Callable[[int, Any], object], c
                                "or the scheduler is gone); start workers and rerun")
 
 
-# a local pool's worker that died: killed (the OOM killer, a signal), or it could not start; spawned workers
-# import the caller's main script again, so a script must start the work under `if __name__ == "__main__":`
+# a local pool's worker that died: killed (the OOM killer, a signal), or it could not start (its workers never
+# import the caller's script: workers_without_main)
 LOST_WORKER = ("a worker process of the local pool ended abruptly: killed (out of memory, or by a signal), or "
-               "it could not start; a Python script must make forcenet's calls under "
-               "'if __name__ == \"__main__\":' (Python's rule for spawned worker processes), then run it again")
+               "it could not start; rerun with fewer workers (workers=1 runs in this process)")
 
 
 def run_tasks(function: Callable[..., Any], tasks: Iterable[Any], *, executor: Any = None, workers: int = 1,
@@ -549,8 +553,9 @@ def run_tasks(function: Callable[..., Any], tasks: Iterable[Any], *, executor: A
     pool = local_pool(min(workers, len(pending)), start_method) if own else executor
     futures = {}
     try:
-        for i in pending:
-            futures[pool.submit(_worker_call, os.getpid(), function, *tasks[i])] = i
+        with workers_without_main() if own else nullcontext():  # a pool's workers start in its submit calls
+            for i in pending:
+                futures[pool.submit(_worker_call, os.getpid(), function, *tasks[i])] = i
         client = _dask_client(pool)  # a Dask cluster's executor
         if client is None:
             waiting = set(futures)

@@ -1,4 +1,8 @@
-"""Worker processes that never outlive their parent: the initializer of every local pool of the package.
+"""Worker processes that never outlive their parent and never run the caller's script.
+
+:func:`die_with_parent` is the initializer of every local pool of the
+package; :func:`workers_without_main` is the context in which a pool starts
+its workers.
 
 A module of the standard library alone: a spawned worker imports it (to run
 the initializer) within a fraction of a second, long before the seconds it
@@ -22,9 +26,12 @@ import signal
 import sys
 import threading
 import time
+import types
+from collections.abc import Iterator
+from contextlib import contextmanager
 from typing import Any
 
-__all__ = ["die_with_parent"]
+__all__ = ["die_with_parent", "workers_without_main"]
 
 _PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
 _WATCH_SECONDS = 0.5  # elsewhere: how often a worker's watchdog looks for its parent
@@ -73,3 +80,48 @@ def die_with_parent(parent: int, started: Any = None) -> None:
         threading.Thread(target=watch, name="forcenet-parent-watch", daemon=True).start()
     if started is not None:
         started.put(os.getpid())
+
+
+_MAIN_LOCK = threading.Lock()  # one pool at a time starts its workers without the caller's main module
+
+
+@contextmanager
+def workers_without_main() -> Iterator[None]:
+    """While a pool starts its workers, ``sys.modules["__main__"]`` is a bare module: no worker runs the script.
+
+    A spawned (or forkserver) worker of :mod:`multiprocessing` first rebuilds
+    the parent's ``__main__`` from that module's ``__spec__`` or ``__file__``
+    (``multiprocessing.spawn.get_preparation_data``): it runs the caller's
+    script again, so a script without ``if __name__ == "__main__":`` ran its
+    top level in every worker and crashed (issue 53), and a script read from
+    stdin (``__file__ == "<stdin>"``) could not start a worker at all. A
+    module with neither is not rebuilt, as for ``python -c``. forcenet's
+    workers run forcenet's own module-level functions only, which they import
+    by name, so they need nothing of the caller's script. The swap lasts while
+    the pool starts processes (its ``submit`` calls: milliseconds per worker),
+    under a lock; forked workers copy the parent as it is.
+
+    Yields
+    ------
+    None
+
+    Examples
+    --------
+    >>> import sys
+    >>> main = sys.modules["__main__"]
+    >>> with workers_without_main():
+    ...     hasattr(sys.modules["__main__"], "__file__")
+    False
+    >>> sys.modules["__main__"] is main
+    True
+    """
+    with _MAIN_LOCK:
+        main = sys.modules.get("__main__")
+        sys.modules["__main__"] = types.ModuleType("__main__")
+        try:
+            yield
+        finally:
+            if main is None:  # pragma: no cover - an interpreter always has a __main__
+                sys.modules.pop("__main__", None)
+            else:
+                sys.modules["__main__"] = main

@@ -61,9 +61,14 @@ def duration_text(seconds: float) -> str:
     return f"{seconds / 86400:.0f} days"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Plan:
     """The announced cost of a run.
+
+    Its ``repr`` reads as the announcement does (``Plan(exact table N=100
+    (Pfaffians): ~30 min, ~0.68 GiB, 866 primes)``; a refused plan says
+    ``refused`` and why): the plan is the one source of every number a
+    person reads about a run (issue 53).
 
     Attributes
     ----------
@@ -103,19 +108,39 @@ class Plan:
         return sum(seconds for _, seconds in self.compiling)
 
     def describe(self) -> str:
-        """``'~12 min, ~3.2 GiB'``; with a cold cache ``'~40 s (compiling the kernels, once: ~25 s)'``.
+        """``'~12 min, ~3.2 GiB'``; with a cold cache ``'~40 s (compiling the kernels, once: ~25 s)'``; refused:
+        ``'refused: <why>'`` (never a cost for a run that cannot be done).
 
         Examples
         --------
         >>> Plan("x", 40, compiling=(("sampler", 25.0),)).describe()
         '~40 s (compiling the kernels, once: ~25 s)'
+        >>> Plan("x", 0, refusal="N=300 is out of range").describe()
+        'refused: N=300 is out of range'
         """
+        if self.refusal is not None:
+            return f"refused: {self.refusal}"
         text = f"~{duration_text(self.seconds)}"
         if self.nbytes:
             text += f", ~{self.nbytes / 2**30:.2g} GiB"
         if self.compiling:
             text += f" (compiling the kernels, once: ~{duration_text(self.compile_seconds)})"
         return text
+
+    def __repr__(self) -> str:
+        """``Plan(what: ~30 min, ~0.68 GiB, 866 primes)`` or ``Plan(what: refused: why)``.
+
+        Examples
+        --------
+        >>> Plan("exact table N=12 (order ideals)", 2.0, 2**20, ticks=2048, unit="ideal")
+        Plan(exact table N=12 (order ideals): ~2 s, ~0.00098 GiB, 2048 ideals)
+        >>> Plan("exact table N=300", 0, refusal="N must be an integer in 2..40")
+        Plan(exact table N=300: refused: N must be an integer in 2..40)
+        """
+        what, _, why = self.what.partition("; ")
+        ticks = f", {self.ticks} {self.unit}{'s' if self.ticks != 1 else ''}" if (
+            self.ticks and self.runnable and self.unit != "s") else ""  # ticks in seconds: the estimate says it
+        return f"Plan({what}: {self.describe()}{ticks}{'; ' + why if why else ''})"
 
     def refuse(self, reason: str) -> Plan:
         """The same plan, refused (the first reason wins)."""
@@ -152,8 +177,9 @@ def combine(what: str, plans: Iterable[Plan], unit: str = "step") -> Plan:
 
     Examples
     --------
-    >>> combine("both", [Plan("a", 2, 10, 3), Plan("b", 5, 30, 4)])
-    Plan(what='both', seconds=7, nbytes=30, ticks=7, unit='step', refusal=None, compiling=())
+    >>> p = combine("both", [Plan("a", 2, 10, 3), Plan("b", 5, 30, 4)])
+    >>> p.what, p.seconds, p.nbytes, p.ticks, p.unit, p.refusal, p.compiling
+    ('both', 7, 30, 7, 'step', None, ())
 
     A kernel group compiled by several runs is compiled (and counted) once:
 
@@ -183,8 +209,9 @@ def combine_by_time(what: str, plans: Iterable[Plan]) -> Plan:
 
     Examples
     --------
-    >>> combine_by_time("both", [Plan("a", 20, 10, 4, "prime"), Plan("b", 5, 30, 1000, "sample")])
-    Plan(what='both', seconds=25, nbytes=30, ticks=25, unit='s', refusal=None, compiling=())
+    >>> p = combine_by_time("both", [Plan("a", 20, 10, 4, "prime"), Plan("b", 5, 30, 1000, "sample")])
+    >>> p.what, p.seconds, p.nbytes, p.ticks, p.unit, p.refusal, p.compiling
+    ('both', 25, 30, 25, 's', None, ())
     """
     plans = list(plans)
     plan = combine(what, plans, "s")

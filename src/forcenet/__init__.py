@@ -22,6 +22,9 @@ The front door (one flat namespace, loaded on first use so ``import forcenet`` s
   (each with its ``..._plan``) — the chicken-wire model's transfer spectrum, Bethe ground states and the
   quantities on its isotropic line, Eqs. (7.1)-(7.4) (:mod:`forcenet.chicken_wire_sectors`,
   :mod:`forcenet.chicken_wire_isotropic`);
+* :func:`network` / :func:`network_plan` — any contact network's force network ensemble (Sec. 2.3): every
+  contact force's exact moments (Normaliz) or sampled ones (hit-and-run), :func:`network_response`
+  (:func:`contact_network` builds one; :mod:`forcenet.contact_networks`);
 * :mod:`forcenet.testing` — test your own sampler or formula against the exact ensemble;
 * the exception family (:mod:`forcenet.core.errors`): :class:`ForcenetError`, the base of every
   expected failure, :class:`ArgumentError` (also a ``ValueError``), :class:`ArgumentTypeError`
@@ -65,6 +68,15 @@ if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ lo
         bethe_ground_state_plan,
         transfer_spectrum,
         transfer_spectrum_plan,
+    )
+    from forcenet.contact_network_results import NetworkResult
+    from forcenet.contact_networks import (
+        ContactNetwork,
+        NetworkPlan,
+        contact_network,
+        network,
+        network_plan,
+        network_response,
     )
     from forcenet.core.errors import (
         ArgumentError,
@@ -144,6 +156,13 @@ _FRONT_DOOR = {
     "ConvergenceError": "forcenet.core.errors",
     "ClusterError": "forcenet.core.errors",
     "PrecisionWarning": "forcenet.core.errors",
+    "network": "forcenet.contact_networks",
+    "network_plan": "forcenet.contact_networks",
+    "network_response": "forcenet.contact_networks",
+    "NetworkPlan": "forcenet.contact_networks",
+    "NetworkResult": "forcenet.contact_network_results",
+    "ContactNetwork": "forcenet.contact_networks",
+    "contact_network": "forcenet.contact_networks",
 }
 
 _SUBPACKAGES = frozenset({"exact", "numeric", "testing"})
@@ -160,6 +179,7 @@ __all__ = [  # the keys of _FRONT_DOOR (tests/test_front_door.py), written out f
     "IsotropicPlan",
     "ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError", "ClusterError", "PrecisionWarning",
     "__version__",
+    "network", "network_plan", "network_response", "NetworkPlan", "NetworkResult", "ContactNetwork", "contact_network",
 ]
 
 try:

@@ -20,3 +20,4 @@ from forcenet.core.registry import Registry
 __all__ = ["REGISTRY"]
 
 REGISTRY = Registry()
+REGISTRY.add_loader("contact-network", "forcenet.contact_network_engines")

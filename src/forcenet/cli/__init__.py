@@ -1,4 +1,4 @@
-"""Command line interface: ``forcenet count|table|maps|limit|sample|transfer|bethe|entropy|dist``.
+"""Command line interface: ``forcenet count|table|maps|limit|sample|transfer|bethe|entropy|dist|network``.
 
 A small parser; one module per command family (:mod:`.table`, :mod:`.sample`,
 :mod:`.limit`, :mod:`.chicken_wire`), the shared arguments and the policy in
@@ -40,6 +40,7 @@ from forcenet.core.errors import ForcenetError
 from forcenet.core.plan import interruptible_compilation
 
 from . import chicken_wire, dist, limit, sample, table
+from . import network as network_command
 from .common import Parser, UsageError, deferred_option, given, usage_error_line
 from .output import EXIT_CODES, check_stdout, destination
 
@@ -65,6 +66,7 @@ examples, one per command (each takes a few seconds at most):
   forcenet bethe --L 6 --n 2 --m 1            # chicken-wire model: one sector by the Bethe ansatz
   forcenet entropy --phi 0.3                  # chicken-wire entropy on the isotropic line, Eq. (7.1)
   forcenet dist --N 12 --grain 12,6           # exact probability density of one force
+  forcenet network packing.json --exact       # your own contact network: every force's exact mean
 
 Results go to stdout (or to --out FILE, written atomically); costs, progress
 and errors go to stderr. Runs announced at over a minute need --force.
@@ -80,7 +82,7 @@ def build_parser() -> Parser:
     parser.add_argument("--debug", action="store_true",
                         help="on an internal error (a bug), print the traceback on stderr instead of to a file")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
-    for family in (table, limit, sample, chicken_wire, dist):
+    for family in (table, limit, sample, chicken_wire, dist, network_command):
         family.register(sub)
     return parser
 

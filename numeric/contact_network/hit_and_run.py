@@ -1,0 +1,249 @@
+"""Uniform samples of the force network ensemble on any contact network: coordinate hit-and-run.
+
+The ensemble is the uniform measure on the polytope ``{z : A z = b, G z >= 0}``
+(thesis Sec. 2.3.2; :mod:`forcenet.exact.contact_network.polytope`).  The
+thesis walks through it "after finding a basis of Ker A", which it calls a
+difficult problem for an arbitrary packing; here the basis is an orthonormal
+one from the singular value decomposition of ``A`` (``scipy.linalg.null_space``),
+so coordinates ``x`` with ``z = z* + K x`` are an isometry of the affine
+subspace and the uniform measure in ``x`` is the uniform measure on the
+force networks.
+
+The move (hit-and-run along the basis directions, "coordinate hit-and-run"):
+pick a basis direction ``k`` uniformly, intersect the line ``z + t K_k`` with
+every facet ``g_r . z >= 0`` exactly (``t`` between the largest ``-s_r/a_r``
+over ``a_r > 0`` and the smallest over ``a_r < 0``, ``s = G z``,
+``a = G K_k``), and jump to a uniform point of that chord.  Each move draws
+from the uniform measure's exact conditional law on the line, so it leaves
+the uniform measure invariant (a Gibbs step, reversible); with directions
+spanning the space and a convex body, the chain is irreducible and converges
+to the uniform measure (Smith 1984, Oper. Res. 32:1296; Belisle, Romeijn and
+Smith 1993 for general direction laws; Lovasz 1999 for hit-and-run's mixing).
+A recorded sample is one sweep (``d`` moves); error bars come from the
+integrated autocorrelation time of each force's chain
+(:func:`forcenet.numeric.autocorr.mean_and_stderr`).
+
+Each move costs ``O(contacts)`` (one column of ``K`` and ``G K``), so a
+sweep costs ``O(d * contacts)``.  Rounding drift off ``A z = b`` is removed
+between compiled calls by projecting back onto the affine subspace.
+
+Examples
+--------
+>>> from forcenet.exact.contact_network.model import contact_network
+>>> net = contact_network(1, [[0, None, "-3/5", "-4/5"], [0, None, "3/5", "-4/5"], [0, None, 0, -1]], [[0, 0, -1]])
+>>> walk = HitAndRun(net)
+>>> walk.dimension
+1
+>>> chain = walk.run(4000, seed=1)
+>>> mean, err, tau = chain.statistics()
+>>> bool(abs(mean[2] - 0.5) < 5 * err[2])  # the exact mean of the floor's force is 1/2
+True
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from scipy import linalg
+
+from forcenet.core.errors import ArgumentError
+from forcenet.exact.contact_network.model import ContactNetwork
+from forcenet.exact.contact_network.polytope import Balance, balance, check_polytope, float_system
+
+from ..autocorr import mean_and_stderr
+from ..jit import chunks, first_chunk, njit
+
+__all__ = ["HitAndRun", "Chain", "hit_and_run_sweeps", "SECONDS_PER_FLOP", "sweep_seconds"]
+
+SECONDS_PER_FLOP = 1.2e-9  # one move's inner loops per contact and direction entry, measured on the 2-core machine
+
+
+def sweep_seconds(dimension: int, variables: int, inequalities: int) -> float:
+    """Estimated seconds of one sweep (``d`` moves, each over a column of ``K`` and of ``G K``).
+
+    Examples
+    --------
+    >>> sweep_seconds(100, 300, 300) > 0
+    True
+    """
+    return max(1, dimension) * (variables + inequalities) * SECONDS_PER_FLOP + 2e-8 * dimension
+
+
+@njit
+def hit_and_run_sweeps(z: np.ndarray, s: np.ndarray, KT: np.ndarray, GKT: np.ndarray, same: bool,
+                       rng: np.random.Generator, sweeps: int, out: np.ndarray, record: bool) -> None:  # pragma: no cover
+    """``sweeps`` sweeps of ``d`` coordinate hit-and-run moves; row ``k`` of ``out`` is ``z`` after sweep ``k``.
+
+    ``KT[k]`` and ``GKT[k]`` are the direction ``k`` in forces and in slacks (``same``: the slacks are the forces,
+    ``s`` is ``z``, frictionless networks).
+    """
+    d = KT.shape[0]
+    m = z.shape[0]
+    r_count = s.shape[0]
+    for sweep in range(sweeps):
+        for _ in range(d):
+            k = rng.integers(0, d)
+            lo = -np.inf
+            hi = np.inf
+            slack = z if same else s
+            direction = KT[k] if same else GKT[k]
+            for r in range(r_count if not same else m):
+                a = direction[r]
+                value = slack[r] if slack[r] > 0.0 else 0.0
+                if a > 1e-300:
+                    bound = -value / a
+                    if bound > lo:
+                        lo = bound
+                elif a < -1e-300:
+                    bound = -value / a
+                    if bound < hi:
+                        hi = bound
+            if not (hi > lo):  # a chord of length zero (on a facet): stay
+                continue
+            t = lo + (hi - lo) * rng.random()
+            row = KT[k]
+            for j in range(m):
+                z[j] += t * row[j]
+            if not same:
+                grow = GKT[k]
+                for r in range(r_count):
+                    s[r] += t * grow[r]
+        if record:
+            for j in range(m):
+                out[sweep, j] = z[j]
+
+
+@dataclass(frozen=True)
+class Chain:
+    """The recorded forces, one row per sweep, with the labels of :class:`~forcenet.exact.contact_network.polytope.Balance`.
+
+    Attributes
+    ----------
+    samples : numpy.ndarray
+        ``(samples, variables)``.
+    labels : tuple of str
+    seconds : float
+        The sampling's wall time.
+    """
+
+    samples: np.ndarray
+    labels: tuple[str, ...]
+    seconds: float
+
+    def statistics(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(mean, standard error, tau)`` per variable, from the integrated autocorrelation time.
+
+        Examples
+        --------
+        >>> Chain(np.arange(200.0).reshape(100, 2) % 7, ("f0", "f1"), 0.0).statistics()[0].shape
+        (2,)
+        """
+        return mean_and_stderr(self.samples)
+
+    def second_moments(self) -> tuple[np.ndarray, np.ndarray]:
+        """``<z^2>`` per variable and its standard error (the autocorrelation time of ``z^2``).
+
+        Examples
+        --------
+        >>> Chain(np.arange(200.0).reshape(100, 2) % 7, ("f0", "f1"), 0.0).second_moments()[0].shape
+        (2,)
+        """
+        mean, err, _ = mean_and_stderr(self.samples**2)
+        return mean, err
+
+
+class HitAndRun:
+    """Coordinate hit-and-run on a contact network's ensemble (module docstring: why it is uniform).
+
+    Parameters
+    ----------
+    network : ContactNetwork
+        Checked at construction (:func:`~forcenet.exact.contact_network.polytope.check_polytope`): not balanced,
+        infeasible or unbounded networks are refused before any sampling.
+
+    Attributes
+    ----------
+    dimension : int
+        ``dim Ker A``.
+    start : numpy.ndarray
+        The maximin network (an interior point), where every chain starts.
+    """
+
+    def __init__(self, network: ContactNetwork, bal: Balance | None = None) -> None:
+        self.network = network
+        self.balance = balance(network) if bal is None else bal
+        A, b, G = float_system(self.balance)
+        self.start, margin = check_polytope(network, self.balance)
+        scale = max(1.0, float(np.abs(b).max(initial=0.0)))
+        if margin <= 1e-9 * scale:
+            raise ArgumentError("degenerate: some contact carries no force (or its friction cone is saturated) in "
+                                "every force network of this packing, so the polytope is flat; remove those "
+                                "contacts or use the exact route (--exact), which handles it")
+        dense = A.toarray()
+        self.K = linalg.null_space(dense) if dense.size else np.eye(self.balance.variables)
+        self.dimension = int(self.K.shape[1])
+        self.G = G
+        self.same = not network.frictional
+        self.KT = np.ascontiguousarray(self.K.T)
+        self.GKT = self.KT if self.same else np.ascontiguousarray((G @ self.K).T)
+
+    def sweep_seconds(self) -> float:
+        """Estimated seconds per sweep (:func:`sweep_seconds`)."""
+        return sweep_seconds(self.dimension, self.balance.variables, 0 if self.same else self.balance.inequalities)
+
+    def _project(self, z: np.ndarray) -> np.ndarray:
+        """Back onto ``A z = b`` (the start satisfies it; ``K`` spans the kernel)."""
+        delta = z - self.start
+        return self.start + self.K @ (self.K.T @ delta)
+
+    def run(self, samples: int, seed: int | None = None, burn_in: int | None = None,
+            progress: Callable[..., Any] | None = None) -> Chain:
+        """``samples`` sweeps recorded after ``burn_in`` sweeps (default: a tenth, at least 100).
+
+        Parameters
+        ----------
+        samples : int
+            Recorded sweeps.
+        seed : int, optional
+            The seed of ``numpy.random.default_rng``: same seed, same chain.
+        burn_in : int, optional
+            Sweeps discarded first.
+        progress : callable, optional
+            Called with the number of recorded sweeps done, per compiled call.
+
+        Returns
+        -------
+        Chain
+
+        Examples
+        --------
+        >>> from forcenet.exact.contact_network.geometries import triangle
+        >>> chain = HitAndRun(triangle(3).network).run(50, seed=0)
+        >>> chain.samples.shape
+        (50, 15)
+        """
+        rng = np.random.default_rng(seed)
+        burn = max(100, samples // 10) if burn_in is None else burn_in
+        z = self.start.copy()
+        s = np.asarray(self.G @ z).ravel() if not self.same else np.zeros(0)
+        out = np.empty((samples, self.balance.variables))
+        scratch = np.empty((1, self.balance.variables))
+        t0 = time.perf_counter()
+        per = self.sweep_seconds()
+        for start, stop in chunks(burn, first_chunk(per)):
+            hit_and_run_sweeps(z, s, self.KT, self.GKT, self.same, rng, stop - start, scratch, False)
+            z = self._project(z)
+            if not self.same:
+                s = np.asarray(self.G @ z).ravel()
+        for start, stop in chunks(samples, first_chunk(per)):
+            hit_and_run_sweeps(z, s, self.KT, self.GKT, self.same, rng, stop - start, out[start:stop], True)
+            z = self._project(z)
+            if not self.same:
+                s = np.asarray(self.G @ z).ravel()
+            if progress is not None:
+                progress(stop - start)
+        return Chain(out, self.balance.labels, time.perf_counter() - t0)

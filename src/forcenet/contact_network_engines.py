@@ -1,0 +1,181 @@
+"""The contact-network model's engines (:class:`forcenet.core.registry.Engine`), registered in ``REGISTRY``.
+
+Model ``"contact-network"``; quantities ``"exact-moments"`` (every force's
+exact ``<f>`` and ``<f^2>``: ``triangulation``, ``volumes``, both through
+Normaliz, :mod:`forcenet.exact.contact_network.triangulation_moments`) and
+``"sampled-moments"`` (``hit-and-run``, the uniform sampler of
+:mod:`forcenet.numeric.contact_network.hit_and_run`).  Imported by the
+registry on the first request for the model (``REGISTRY.add_loader``).
+
+The cost models are measured on the 2-core reference machine: Normaliz's
+triangulation of the triangle's polytope (d = 21, 77 forces) with the
+moments takes about 1 s, d = 15 about 0.1 s; a volume about 0.1 s at
+d = 21. Beyond ``MAX_EXACT_DIMENSION`` the exact routes refuse and name
+``--samples``.
+
+Examples
+--------
+>>> from forcenet.registry import REGISTRY
+>>> REGISTRY.methods("contact-network", "exact-moments")
+('triangulation', 'volumes')
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from concurrent.futures import Executor
+from typing import Any
+
+from forcenet.core.errors import ArgumentError
+from forcenet.core.plan import Plan
+from forcenet.registry import REGISTRY
+
+__all__ = ["MODEL", "MAX_EXACT_DIMENSION", "TriangulationEngine", "VolumesEngine", "HitAndRunEngine",
+           "triangulation_seconds", "volume_seconds"]
+
+MODEL = "contact-network"
+MAX_EXACT_DIMENSION = 26  # beyond it a triangulation's size is out of reach (sampling has no such limit)
+COMPILE_SECONDS = 3.0  # the hit-and-run kernel's first compilation (measured: 2-3 s)
+_FIX = "sample it instead (--samples K, or samples=K)"
+
+
+def triangulation_seconds(dimension: int, variables: int) -> float:
+    """Estimated seconds of the triangulation route (the simplex count grows like ``2^(0.55 d)`` on the thesis's
+    packings; measured: d = 21, 77 forces, ~1 s).
+
+    Examples
+    --------
+    >>> triangulation_seconds(21, 77) < 5
+    True
+    """
+    return 0.05 + 3e-6 * variables * 2 ** (0.55 * dimension)
+
+
+def volume_seconds(dimension: int, variables: int, moments: int) -> float:
+    """Estimated seconds of the volume route (``1 + moments * variables`` Normaliz volumes).
+
+    Examples
+    --------
+    >>> volume_seconds(21, 77, 2) > triangulation_seconds(21, 77)
+    True
+    """
+    return (1 + moments * variables) * (0.01 + 3e-5 * 2 ** (0.5 * dimension))
+
+
+def _exact_plan(request: Any, name: str) -> tuple[Any, Plan | None]:
+    """The exact polytope of the request, or a refused plan (floats, irrational mixtures, too large)."""
+    what = f"exact moments of {request.network.grains} grains ({name})"
+    try:
+        import PyNormaliz  # noqa: F401  (its presence is the question)
+    except ImportError:
+        return None, Plan(what, 0, refusal="the exact route needs Normaliz: pip install 'forcenet[networks]' "
+                                           f"(pynormaliz); or {_FIX}")
+    try:
+        poly = request.polytope
+    except ArgumentError as exc:
+        return None, Plan(what, 0, refusal=str(exc))
+    if poly.dimension > MAX_EXACT_DIMENSION:
+        return None, Plan(what, 0, refusal=f"the polytope has dimension {poly.dimension}, beyond the exact "
+                                           f"route's {MAX_EXACT_DIMENSION}: {_FIX}")
+    return poly, None
+
+
+class TriangulationEngine:
+    """Exact moments from Normaliz's triangulation and the simplex formulas (every force, one pass).
+
+    Examples
+    --------
+    >>> TriangulationEngine().name
+    'triangulation'
+    """
+
+    name = "triangulation"
+    model = MODEL
+    quantities = frozenset({"exact-moments"})
+
+    def plan(self, request: Any) -> Plan:
+        poly, refused = _exact_plan(request, self.name)
+        if refused is not None:
+            return refused
+        seconds = triangulation_seconds(poly.dimension, len(poly.z0))
+        return Plan(f"exact moments, dimension {poly.dimension} (Normaliz triangulation)", seconds, ticks=0,
+                    unit="simplex")
+
+    def run(self, request: Any, plan: Plan, *, progress: Callable[..., Any] | None = None,
+            executor: Executor | None = None) -> Any:
+        from forcenet.exact.contact_network.triangulation_moments import moments_by_triangulation
+
+        return moments_by_triangulation(request.polytope, request.moments)
+
+
+class VolumesEngine:
+    """Exact moments as ratios of Normaliz volumes of lifted polytopes (normal forces only).
+
+    Examples
+    --------
+    >>> VolumesEngine().quantities
+    frozenset({'exact-moments'})
+    """
+
+    name = "volumes"
+    model = MODEL
+    quantities = frozenset({"exact-moments"})
+
+    def plan(self, request: Any) -> Plan:
+        poly, refused = _exact_plan(request, self.name)
+        if refused is not None:
+            return refused
+        if request.network.frictional:
+            return Plan("exact moments (volumes)", 0, refusal="method='volumes' needs forces that are never "
+                        "negative; a tangential force is not: use method='triangulation'")
+        seconds = volume_seconds(poly.dimension, len(poly.z0), request.moments)
+        return Plan(f"exact moments, dimension {poly.dimension} (Normaliz volumes)", seconds,
+                    ticks=len(poly.z0), unit="force")
+
+    def run(self, request: Any, plan: Plan, *, progress: Callable[..., Any] | None = None,
+            executor: Executor | None = None) -> Any:
+        from forcenet.exact.contact_network.triangulation_moments import moments_by_volumes
+
+        return moments_by_volumes(request.polytope, request.moments, progress=progress)
+
+
+class HitAndRunEngine:
+    """Uniform samples by coordinate hit-and-run (compiled), error bars from autocorrelation times.
+
+    Examples
+    --------
+    >>> HitAndRunEngine().quantities
+    frozenset({'sampled-moments'})
+    """
+
+    name = "hit-and-run"
+    model = MODEL
+    quantities = frozenset({"sampled-moments"})
+
+    def plan(self, request: Any) -> Plan:
+        from forcenet.core.plan import with_compilation
+        from forcenet.numeric.contact_network.hit_and_run import hit_and_run_sweeps, sweep_seconds
+
+        bal = request.balance
+        rows, m = bal.rows, bal.variables
+        dimension = max(1, m - min(rows, m))  # a bound; the walk computes the kernel exactly
+        sweeps = request.samples + (request.burn_in if request.burn_in is not None else max(100, request.samples // 10))
+        inequalities = bal.inequalities if request.network.frictional else 0
+        setup = 4e-9 * rows * m * min(rows, m) + 1e-6 * (m + rows) * 20
+        seconds = setup + sweeps * sweep_seconds(dimension, m, inequalities)
+        nbytes = 8 * m * (request.samples * 4 + dimension + rows)
+        plan = Plan(f"{request.samples} hit-and-run sweeps on {request.network.grains} grains", seconds, nbytes,
+                    ticks=request.samples, unit="sweep")
+        return with_compilation(plan, "hit-and-run", COMPILE_SECONDS, [hit_and_run_sweeps])
+
+    def run(self, request: Any, plan: Plan, *, progress: Callable[..., Any] | None = None,
+            executor: Executor | None = None) -> Any:
+        from forcenet.numeric.contact_network.hit_and_run import HitAndRun
+
+        walk = HitAndRun(request.network, request.balance)
+        return walk.run(request.samples, request.seed, request.burn_in, progress=progress), walk.dimension
+
+
+REGISTRY.register(TriangulationEngine())
+REGISTRY.register(VolumesEngine())
+REGISTRY.register(HitAndRunEngine())

@@ -94,3 +94,70 @@ def test_the_response_of_the_hexagonal_geometry_is_exact_and_balanced():
     response = forcenet.network_response(geo.network, geo.grain[(1, 2)], (0, -1), exact=True)
     floors = [response[geo.contact[("floor", 2, j)]] for j in (1, 2, 3)]
     assert sum(floors) == 1  # the floor takes the whole extra load
+
+
+def test_the_frictional_rectangular_packing_exact_equals_reference_and_sampler():
+    """Chapter 5's rectangular packing with friction (normal and tangential forces, torque balance): the
+    triangulation equals the reference route, and the sampler agrees within its error bars."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from test_contact_network import _reference
+
+    from forcenet.exact.contact_network.geometries import rectangular_packing
+    from forcenet.exact.contact_network.polytope import exact_polytope
+
+    geo = rectangular_packing(2, 2, friction="1/2")
+    poly = exact_polytope(geo.network)
+    result = forcenet.network(geo.network, exact=True, moments=2, samples=20000, seed=3)
+    mean, second = _reference(poly)
+    assert list(result.exact_mean) == mean and list(result.exact_second) == second
+    assert any(label.startswith("t") for label in result.labels)
+    exact = np.array([float(x) for x in result.exact_mean])
+    varying = result.sampled_error > 0
+    assert np.abs((result.sampled_mean - exact)[varying] / result.sampled_error[varying]).max() < 4.0
+    assert np.allclose(result.sampled_mean[~varying], exact[~varying])
+    assert "tangential" in result.to_dict()["contacts"][0]
+
+
+def _delaunay(n: int, seed: int):
+    from scipy.spatial import ConvexHull, Delaunay
+
+    rng = np.random.default_rng(seed)
+    pts = rng.random((n, 2))
+    edges = sorted({tuple(sorted((int(s[a]), int(s[b])))) for s in Delaunay(pts).simplices
+                    for a in range(3) for b in range(a + 1, 3)})
+    contacts = [[i, j, *((pts[j] - pts[i]) / np.linalg.norm(pts[j] - pts[i])).tolist()] for i, j in edges]
+    loads = []
+    for a, b in ConvexHull(pts).simplices:  # a uniform pressure on the hull, each edge's share on its ends
+        edge = pts[b] - pts[a]
+        normal = np.array([edge[1], -edge[0]])
+        normal = normal if normal @ (pts[a] - pts.mean(axis=0)) > 0 else -normal
+        loads += [[int(a), *(-normal / 2).tolist()], [int(b), *(-normal / 2).tolist()]]
+    return forcenet.contact_network(n, contacts, loads)
+
+
+def test_delaunay_contacts_of_random_points_are_refused_plainly():
+    """Most Delaunay networks of random points under a uniform pressure on their hull have no compressive
+    force network (the issue's warning): the refusal says what the network is not and what to do."""
+    refused = 0
+    for seed in range(10):
+        try:
+            forcenet.network_plan(_delaunay(10, seed), samples=100)
+        except forcenet.ArgumentError as exc:
+            refused += 1
+            assert "not a packing in mechanical equilibrium" in str(exc) and "relaxed_packing" in str(exc)
+    assert refused >= 3
+
+
+def test_a_relaxed_soft_disk_packing_is_sampled_with_error_bars():
+    from forcenet.numeric.contact_network.soft_disks import relaxed_packing
+
+    packing = relaxed_packing(40, seed=3)
+    assert packing.residual < 1e-9
+    result = forcenet.network(packing.network(), samples=3000, seed=1)
+    assert result.dimension > 0 and np.isfinite(result.sampled_error).all()
+    assert (result.sampled_mean > -1e-12).all()
+    edges, density, error = result.force_distribution(20)
+    assert abs((density * np.diff(edges)).sum() - 1) < 1e-9

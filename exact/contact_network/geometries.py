@@ -33,7 +33,7 @@ from forcenet.core.validation import check_int
 
 from .model import ContactNetwork, contact_network, exact_number
 
-__all__ = ["Geometry", "triangle", "hexagonal_packing", "SQRT3"]
+__all__ = ["Geometry", "triangle", "hexagonal_packing", "rectangular_packing", "SQRT3"]
 
 SQRT3 = sympy.sqrt(3)
 _DOWN_LEFT = (-sympy.Rational(1, 2), -SQRT3 / 2)  # the unit normal from (i, j) to (i+1, j), Fig. 3.1
@@ -155,3 +155,45 @@ def hexagonal_packing(N: Any, P: Any, *, F: Any = 1, j0: Any = None, p_v: Any = 
         add("wall", i, P, None, (1, 0))
     return Geometry(contact_network(N * P, contacts, loads), grain, contact)
 
+
+
+def rectangular_packing(N: Any, P: Any, *, friction: Any = "1/2", F: Any = 1, j0: Any = None, p_v: Any = 0,
+                        p_h: Any = 1, g: Any = 0) -> Geometry:
+    """The rectangular packing of frictional grains of chapter 5 as a contact network.
+
+    ``N`` rows of ``P`` grains of radius 1/2 on a square lattice: grain ``(i, j)`` touches ``(i+1, j)`` below
+    (``"down"``) and ``(i, j+1)`` on its right (``"side"``); the floor carries row ``N`` (``"floor"``), the right
+    wall holds every row (``"wall"``), the left wall pushes it with ``p_h`` (a load). Every contact has a normal
+    and a tangential force with ``|t| <= mu f`` (Coulomb) and every grain balances force and torque (Sec. 5.1).
+    Loads: ``p_v`` on every top grain, the overload ``F`` on ``(1, j0)``, the weight ``g`` of every grain.
+
+    Examples
+    --------
+    >>> geo = rectangular_packing(2, 2)
+    >>> geo.network.frictional, len(geo.network.contacts)
+    (True, 8)
+    """
+    N = check_int(N, "N", 1)
+    P = check_int(P, "P", 1)
+    j0 = (P + 1) // 2 if j0 is None else check_int(j0, "j0", 1, P)
+    push, top, weight, overload = (exact_number(v, name) for v, name in ((p_h, "p_h"), (p_v, "p_v"), (g, "g"),
+                                                                          (F, "F")))
+    grain = {(i, j): (i - 1) * P + (j - 1) for i in range(1, N + 1) for j in range(1, P + 1)}
+    contacts: list[list[Any]] = []
+    contact: dict[tuple[str, int, int], int] = {}
+
+    def add(kind: str, i: int, j: int, other: int | None, normal: tuple[Any, Any]) -> None:
+        contact[(kind, i, j)] = len(contacts)
+        contacts.append([grain[(i, j)], other, *normal])
+
+    loads: list[list[Any]] = []
+    for i in range(1, N + 1):
+        for j in range(1, P + 1):
+            fy = -weight - ((top + (overload if j == j0 else 0)) if i == 1 else 0)
+            loads.append([grain[(i, j)], push if j == 1 else 0, fy])
+            add("down" if i < N else "floor", i, j, grain[(i + 1, j)] if i < N else None, (0, -1))
+            if j < P:
+                add("side", i, j, grain[(i, j + 1)], (1, 0))
+        add("wall", i, P, None, (1, 0))
+    network = contact_network(N * P, contacts, loads, friction=friction, radii=[sympy.Rational(1, 2)] * (N * P))
+    return Geometry(network, grain, contact)

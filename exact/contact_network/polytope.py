@@ -212,6 +212,12 @@ def check_polytope(net: ContactNetwork, bal: Balance | None = None) -> tuple[np.
     result = optimize.linprog(cost, A_ub=A_ub, b_ub=np.zeros(G.shape[0]), A_eq=A_eq, b_eq=b, bounds=bounds,
                               method="highs")
     if result.status == 2 or (result.status == 0 and -result.fun < -TOLERANCE * scale):
+        if len(net.contacts) > 3 * net.grains // 2 and net.grains > 3:
+            raise ArgumentError("infeasible: no network of repulsive contact forces balances these loads: this "
+                                "contact network is not a packing in mechanical equilibrium under them (contacts of "
+                                "random points, e.g. Delaunay's, are not one); relax the grains under the load first "
+                                "(forcenet.numeric.contact_network.soft_disks.relaxed_packing) or take the contacts "
+                                "from a simulation")
         raise ArgumentError("infeasible: no network of repulsive contact forces balances these loads (a load "
                             "pulls a grain away from its contacts, i.e. a tensile load?); the sampler and the "
                             "exact route need one")

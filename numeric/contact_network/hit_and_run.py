@@ -133,16 +133,25 @@ class Chain:
     samples: np.ndarray
     labels: tuple[str, ...]
     seconds: float
+    fixed: np.ndarray | None = None
+
+    def _moments(self, values: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        fixed = np.zeros(values.shape[1], dtype=bool) if self.fixed is None else self.fixed
+        mean, err, tau = values.mean(axis=0), np.zeros(values.shape[1]), np.ones(values.shape[1])
+        if (~fixed).any():
+            mean[~fixed], err[~fixed], tau[~fixed] = mean_and_stderr(values[:, ~fixed])
+        return mean, err, tau
 
     def statistics(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``(mean, standard error, tau)`` per variable, from the integrated autocorrelation time.
+        """``(mean, standard error, tau)`` per variable, from the integrated autocorrelation time (a force that
+        balance alone fixes has error 0 and tau 1).
 
         Examples
         --------
         >>> Chain(np.arange(200.0).reshape(100, 2) % 7, ("f0", "f1"), 0.0).statistics()[0].shape
         (2,)
         """
-        return mean_and_stderr(self.samples)
+        return self._moments(self.samples)
 
     def second_moments(self) -> tuple[np.ndarray, np.ndarray]:
         """``<z^2>`` per variable and its standard error (the autocorrelation time of ``z^2``).
@@ -152,7 +161,7 @@ class Chain:
         >>> Chain(np.arange(200.0).reshape(100, 2) % 7, ("f0", "f1"), 0.0).second_moments()[0].shape
         (2,)
         """
-        mean, err, _ = mean_and_stderr(self.samples**2)
+        mean, err, _ = self._moments(self.samples**2)
         return mean, err
 
 
@@ -173,6 +182,8 @@ class HitAndRun:
         The maximin network (an interior point), where every chain starts.
     """
 
+    rounding_rounds = 2  # pilot runs whose principal axes become the directions (burn-in only)
+
     def __init__(self, network: ContactNetwork, bal: Balance | None = None) -> None:
         self.network = network
         self.balance = balance(network) if bal is None else bal
@@ -185,6 +196,9 @@ class HitAndRun:
                                 "contacts or use the exact route (--exact), which handles it")
         dense = A.toarray()
         self.K = linalg.null_space(dense) if dense.size else np.eye(self.balance.variables)
+        # forces that Ker A does not move are fixed by balance alone (a grain with two contacts): exactly constant
+        self.fixed = np.linalg.norm(self.K, axis=1) < 1e-10
+        self.K[self.fixed] = 0.0
         self.dimension = int(self.K.shape[1])
         self.G = G
         self.same = not network.frictional
@@ -201,8 +215,9 @@ class HitAndRun:
         return self.start + self.K @ (self.K.T @ delta)
 
     def run(self, samples: int, seed: int | None = None, burn_in: int | None = None,
-            progress: Callable[..., Any] | None = None) -> Chain:
-        """``samples`` sweeps recorded after ``burn_in`` sweeps (default: a tenth, at least 100).
+            progress: Callable[..., Any] | None = None, thin: int = 1) -> Chain:
+        """``samples`` states recorded, ``thin`` sweeps apart, after ``burn_in`` sweeps (default: a tenth of the
+        sweeps, at least 100).
 
         Parameters
         ----------
@@ -213,7 +228,9 @@ class HitAndRun:
         burn_in : int, optional
             Sweeps discarded first.
         progress : callable, optional
-            Called with the number of recorded sweeps done, per compiled call.
+            Called with the number of recorded states done, per compiled call.
+        thin : int
+            Sweeps between two recorded states (memory: ``samples * contacts`` floats).
 
         Returns
         -------
@@ -227,23 +244,43 @@ class HitAndRun:
         (50, 15)
         """
         rng = np.random.default_rng(seed)
-        burn = max(100, samples // 10) if burn_in is None else burn_in
+        burn = max(100, samples * thin // 10) if burn_in is None else burn_in
         z = self.start.copy()
         s = np.asarray(self.G @ z).ravel() if not self.same else np.zeros(0)
         out = np.empty((samples, self.balance.variables))
         scratch = np.empty((1, self.balance.variables))
         t0 = time.perf_counter()
         per = self.sweep_seconds()
+        KT, GKT = self.KT, self.GKT
+        for _ in range(self.rounding_rounds if self.dimension > 1 else 0):
+            # rounding (during burn-in only): the directions become the principal axes of a pilot run, so a long
+            # thin polytope is crossed along its length; the directions are fixed afterwards (the chain recorded
+            # is a Gibbs sampler with one fixed orthonormal direction set: uniform)
+            pilot = np.empty((max(50, 2 * self.dimension), self.balance.variables))
+            for start, stop in chunks(pilot.shape[0], first_chunk(per)):
+                for k in range(start, stop):
+                    hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, 1, pilot[k:k + 1], True)
+                z = self._project(z)
+                if not self.same:
+                    s = np.asarray(self.G @ z).ravel()
+            coordinates = (pilot - self.start) @ self.K
+            _, axes = np.linalg.eigh(np.cov(coordinates.T))
+            directions = self.K @ axes
+            KT = np.ascontiguousarray(directions.T)
+            GKT = KT if self.same else np.ascontiguousarray(np.asarray(self.G @ directions).T)
         for start, stop in chunks(burn, first_chunk(per)):
-            hit_and_run_sweeps(z, s, self.KT, self.GKT, self.same, rng, stop - start, scratch, False)
+            hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, stop - start, scratch, False)
             z = self._project(z)
             if not self.same:
                 s = np.asarray(self.G @ z).ravel()
-        for start, stop in chunks(samples, first_chunk(per)):
-            hit_and_run_sweeps(z, s, self.KT, self.GKT, self.same, rng, stop - start, out[start:stop], True)
+        for start, stop in chunks(samples, first_chunk(per * thin)):
+            for k in range(start, stop):  # thin - 1 sweeps unrecorded, then one recorded
+                if thin > 1:
+                    hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, thin - 1, scratch, False)
+                hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, 1, out[k:k + 1], True)
             z = self._project(z)
             if not self.same:
                 s = np.asarray(self.G @ z).ravel()
             if progress is not None:
                 progress(stop - start)
-        return Chain(out, self.balance.labels, time.perf_counter() - t0)
+        return Chain(out, self.balance.labels, time.perf_counter() - t0, self.fixed)

@@ -159,13 +159,14 @@ class HitAndRunEngine:
         bal = request.balance
         rows, m = bal.rows, bal.variables
         dimension = max(1, m - min(rows, m))  # a bound; the walk computes the kernel exactly
-        sweeps = request.samples + (request.burn_in if request.burn_in is not None else max(100, request.samples // 10))
+        recorded = request.samples * request.thin
+        sweeps = recorded + (request.burn_in if request.burn_in is not None else max(100, recorded // 10))
         inequalities = bal.inequalities if request.network.frictional else 0
         setup = 4e-9 * rows * m * min(rows, m) + 1e-6 * (m + rows) * 20
         seconds = setup + sweeps * sweep_seconds(dimension, m, inequalities)
         nbytes = 8 * m * (request.samples * 4 + dimension + rows)
-        plan = Plan(f"{request.samples} hit-and-run sweeps on {request.network.grains} grains", seconds, nbytes,
-                    ticks=request.samples, unit="sweep")
+        plan = Plan(f"{sweeps} hit-and-run sweeps on {request.network.grains} grains", seconds, nbytes,
+                    ticks=request.samples, unit="sample")
         return with_compilation(plan, "hit-and-run", COMPILE_SECONDS, [hit_and_run_sweeps])
 
     def run(self, request: Any, plan: Plan, *, progress: Callable[..., Any] | None = None,
@@ -173,7 +174,8 @@ class HitAndRunEngine:
         from forcenet.numeric.contact_network.hit_and_run import HitAndRun
 
         walk = HitAndRun(request.network, request.balance)
-        return walk.run(request.samples, request.seed, request.burn_in, progress=progress), walk.dimension
+        chain = walk.run(request.samples, request.seed, request.burn_in, progress=progress, thin=request.thin)
+        return chain, walk.dimension
 
 
 REGISTRY.register(TriangulationEngine())

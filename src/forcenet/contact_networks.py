@@ -66,6 +66,8 @@ class NetworkRequest:
         Recorded sweeps of the sampler (0 for the exact route).
     seed : int or None
     burn_in : int or None
+    thin : int
+        Sweeps between two recorded samples.
     method : str
         An engine's name or ``"auto"``.
     """
@@ -77,6 +79,7 @@ class NetworkRequest:
     seed: int | None = None
     burn_in: int | None = None
     method: str = "auto"
+    thin: int = 1
     model: ClassVar[str] = "contact-network"
 
     @cached_property
@@ -178,7 +181,8 @@ class NetworkPlan(_Costed):
 
 
 def network_plan(source: Any, *, exact: bool | None = None, moments: int = 1, samples: int | None = None,
-                 seed: int | None = None, burn_in: int | None = None, method: str = "auto") -> NetworkPlan:
+                 seed: int | None = None, burn_in: int | None = None, method: str = "auto",
+                 thin: int = 1) -> NetworkPlan:
     """Check a request on a contact network once and plan it (the exact route, the sampler, or both).
 
     Parameters
@@ -198,6 +202,8 @@ def network_plan(source: Any, *, exact: bool | None = None, moments: int = 1, sa
         Sweeps discarded first (default ``max(100, samples / 10)``).
     method : {"auto", "triangulation", "volumes"}
         The exact route.
+    thin : int
+        Sweeps between two recorded samples (default 1; large networks: memory is ``samples * contacts``).
 
     Returns
     -------
@@ -226,6 +232,7 @@ def network_plan(source: Any, *, exact: bool | None = None, moments: int = 1, sa
         samples = check_int(samples, "samples", 2)
     if burn_in is not None:
         burn_in = check_int(burn_in, "burn_in", 0)
+    thin = check_int(thin, "thin", 1)
     seed = None if seed is None else int(check_seed(seed))
     if method not in EXACT_METHODS:
         raise ArgumentError(f"method={method!r} is out of range: method must be one of {', '.join(EXACT_METHODS)}",
@@ -239,7 +246,7 @@ def network_plan(source: Any, *, exact: bool | None = None, moments: int = 1, sa
     if exact:
         requests.append(NetworkRequest(net, "exact-moments", moments, method=method))
     if samples is not None:
-        requests.append(NetworkRequest(net, "sampled-moments", moments, samples, seed, burn_in))
+        requests.append(NetworkRequest(net, "sampled-moments", moments, samples, seed, burn_in, thin=thin))
     chosen = [REGISTRY.choose(request) for request in requests]
     engines = tuple(engine for engine, _ in chosen)
     plans = tuple(plan for _, plan in chosen)
@@ -249,7 +256,7 @@ def network_plan(source: Any, *, exact: bool | None = None, moments: int = 1, sa
 
 
 def network(source: Any, *, exact: bool | None = None, moments: int = 1, samples: int | None = None,
-            seed: int | None = None, burn_in: int | None = None, method: str = "auto",
+            seed: int | None = None, burn_in: int | None = None, method: str = "auto", thin: int = 1,
             progress: Progress | bool | None = None) -> NetworkResult:
     """Every contact force's moments over the force network ensemble of a contact network (Sec. 2.3).
 
@@ -259,7 +266,7 @@ def network(source: Any, *, exact: bool | None = None, moments: int = 1, samples
     ----------
     source : ContactNetwork, path or dict
         The network.
-    exact, moments, samples, seed, burn_in, method
+    exact, moments, samples, seed, burn_in, method, thin
         As :func:`network_plan`.
     progress : callable, bool or None
         ``progress(k)`` per recorded sweep; ``True``: a progress bar.
@@ -284,7 +291,7 @@ def network(source: Any, *, exact: bool | None = None, moments: int = 1, samples
     (3, 'sqrt(3)/3')
     """
     return network_plan(source, exact=exact, moments=moments, samples=samples, seed=seed, burn_in=burn_in,
-                        method=method).run(progress)
+                        method=method, thin=thin).run(progress)
 
 
 def network_response(source: Any, grain: int, load: tuple[Any, Any] = (0, -1), **options: Any) -> tuple[Any, ...]:

@@ -27,7 +27,7 @@ def cmd_network(args: argparse.Namespace) -> int:
 
     plan = forcenet.network_plan(args.file, exact=True if args.exact else None if args.samples is None else False,
                                  moments=args.moments, samples=args.samples, seed=args.seed, burn_in=args.burn_in,
-                                 method=args.method)
+                                 method=args.method, thin=args.thin)
 
     def run(tick: Callable[..., None] | None) -> NetworkResult:
         return plan.run(progress=tick)
@@ -50,6 +50,8 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p.add_argument("--seed", type=integer("seed", 0, 2**63 - 1), default=0, help="random seed (default 0)")
     p.add_argument("--burn-in", type=integer("burn-in", 0), default=None,
                    help="sweeps discarded first (default max(100, samples/10))")
+    p.add_argument("--thin", type=integer("thin", 1), default=1,
+                   help="sweeps between two recorded samples (default 1; memory is samples x contacts)")
     p.add_argument("--method", choices=["auto", "triangulation", "volumes"], default="auto",
                    help="the exact route (default auto: the faster by the plans)")
     add_format(p, choices=("text", "json", "csv"))

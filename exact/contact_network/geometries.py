@@ -33,7 +33,7 @@ from forcenet.core.validation import check_int
 
 from .model import ContactNetwork, contact_network, exact_number
 
-__all__ = ["Geometry", "triangle", "hexagonal_packing", "rectangular_packing", "SQRT3"]
+__all__ = ["Geometry", "triangle", "hexagonal_packing", "rectangular_packing", "snooker", "SQRT3"]
 
 SQRT3 = sympy.sqrt(3)
 _DOWN_LEFT = (-sympy.Rational(1, 2), -SQRT3 / 2)  # the unit normal from (i, j) to (i+1, j), Fig. 3.1
@@ -197,3 +197,48 @@ def rectangular_packing(N: Any, P: Any, *, friction: Any = "1/2", F: Any = 1, j0
         add("wall", i, P, None, (1, 0))
     network = contact_network(N * P, contacts, loads, friction=friction, radii=[sympy.Rational(1, 2)] * (N * P))
     return Geometry(network, grain, contact)
+
+
+def snooker(N: Any, pressure: Any = 1) -> Geometry:
+    """The snooker packing of Sec. 7.2.1 (Fig. 2.7): ``N`` layers of disks in an equilateral triangle.
+
+    Hexagonal contacts as in :func:`triangle` (``"left"``, ``"right"`` down the lattice directions, ``"side"``
+    within a layer); an isotropic ``pressure`` on the three sides: on the left side it is a prescribed load
+    ``pressure * (sqrt(3)/2, -1/2)`` on each grain ``(i, 1)`` (the thesis's choice of the boundary whose forces
+    are known), the right side (``"rightwall"``, normal ``(sqrt(3)/2, 1/2)``) and the floor (``"floor"``) are
+    walls. The polytope has the thesis's dimension ``N(N-1)/2`` (Sec. 7.3). (The thesis calls the network of
+    equal forces the centre of mass of the polytope; at the corners, where a grain meets two walls, equal
+    forces do not balance, so this holds in the bulk only: the exact means say how far.)
+
+    Examples
+    --------
+    >>> geo = snooker(3)
+    >>> geo.network.grains, len(geo.network.contacts)
+    (6, 15)
+    """
+    N = check_int(N, "N", 2)
+    p = exact_number(pressure, "pressure")
+    grain: dict[tuple[int, int], int] = {}
+    for i in range(1, N + 1):
+        for j in range(1, i + 1):
+            grain[(i, j)] = len(grain)
+    contacts: list[list[Any]] = []
+    contact: dict[tuple[str, int, int], int] = {}
+
+    def add(kind: str, i: int, j: int, other: int | None, normal: tuple[Any, Any]) -> None:
+        contact[(kind, i, j)] = len(contacts)
+        contacts.append([grain[(i, j)], other, *normal])
+
+    loads: list[list[Any]] = []
+    for i in range(1, N + 1):
+        for j in range(1, i + 1):
+            if i < N:
+                add("left", i, j, grain[(i + 1, j)], _DOWN_LEFT)
+                add("right", i, j, grain[(i + 1, j + 1)], _DOWN_RIGHT)
+            else:
+                add("floor", i, j, None, (0, -1))
+            if j < i:
+                add("side", i, j, grain[(i, j + 1)], (1, 0))
+        add("rightwall", i, i, None, (SQRT3 / 2, sympy.Rational(1, 2)))
+        loads.append([grain[(i, 1)], p * SQRT3 / 2, -p / 2])
+    return Geometry(contact_network(len(grain), contacts, loads), grain, contact)

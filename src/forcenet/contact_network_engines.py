@@ -39,27 +39,30 @@ COMPILE_SECONDS = 3.0  # the hit-and-run kernel's first compilation (measured: 2
 _FIX = "sample it instead (--samples K, or samples=K)"
 
 
-def triangulation_seconds(dimension: int, variables: int) -> float:
-    """Estimated seconds of the triangulation route (the simplex count grows like ``2^(0.55 d)`` on the thesis's
-    packings; measured: d = 21, 77 forces, ~1 s).
+def triangulation_seconds(dimension: int, variables: int, vertices: int = 0) -> float:
+    """Estimated seconds of the triangulation route: a rough model of two measured families, the triangle's
+    order polytopes (few vertices: d = 21, 64 vertices, 77 forces, ~1 s) and the snooker's (many: d = 6, 68
+    vertices, 0.04 s; d = 10, 1505 vertices, Normaliz not done after 2 minutes), ``~ 2^(0.55 d)`` per force plus
+    ``~ vertices^3``.
 
     Examples
     --------
-    >>> triangulation_seconds(21, 77) < 5
-    True
+    >>> triangulation_seconds(21, 77, 64) < 5, triangulation_seconds(10, 75, 1505) > 60
+    (True, True)
     """
-    return 0.05 + 3e-6 * variables * 2 ** (0.55 * dimension)
+    return 0.05 + 3e-6 * variables * 2 ** (0.55 * dimension) + 1e-7 * vertices**3
 
 
-def volume_seconds(dimension: int, variables: int, moments: int) -> float:
-    """Estimated seconds of the volume route (``1 + moments * variables`` Normaliz volumes).
+def volume_seconds(dimension: int, variables: int, moments: int, vertices: int = 0) -> float:
+    """Estimated seconds of the volume route (``1 + moments * variables`` Normaliz volumes; one volume of the
+    snooker's d = 10 polytope with 1505 vertices took 60 s on the loaded machine).
 
     Examples
     --------
-    >>> volume_seconds(21, 77, 2) > triangulation_seconds(21, 77)
+    >>> volume_seconds(21, 77, 2, 64) > triangulation_seconds(21, 77, 64)
     True
     """
-    return (1 + moments * variables) * (0.01 + 3e-5 * 2 ** (0.5 * dimension))
+    return (1 + moments * variables) * (0.01 + 3e-5 * 2 ** (0.5 * dimension) + 2e-8 * vertices**3)
 
 
 def _exact_plan(request: Any, name: str) -> tuple[Any, Plan | None]:
@@ -80,6 +83,11 @@ def _exact_plan(request: Any, name: str) -> tuple[Any, Plan | None]:
     return poly, None
 
 
+def _vertices(request: Any) -> int:
+    """The polytope's vertex count (Normaliz, exact; refuses an empty or unbounded polytope), asked once."""
+    return int(request.facts[1])
+
+
 class TriangulationEngine:
     """Exact moments from Normaliz's triangulation and the simplex formulas (every force, one pass).
 
@@ -97,9 +105,10 @@ class TriangulationEngine:
         poly, refused = _exact_plan(request, self.name)
         if refused is not None:
             return refused
-        seconds = triangulation_seconds(poly.dimension, len(poly.z0))
-        return Plan(f"exact moments, dimension {poly.dimension} (Normaliz triangulation)", seconds, ticks=0,
-                    unit="simplex")
+        vertices = _vertices(request)
+        seconds = triangulation_seconds(poly.dimension, len(poly.z0), vertices)
+        return Plan(f"exact moments, dimension {poly.dimension}, {vertices} vertices (Normaliz triangulation)",
+                    seconds, ticks=0, unit="simplex")
 
     def run(self, request: Any, plan: Plan, *, progress: Callable[..., Any] | None = None,
             executor: Executor | None = None) -> Any:
@@ -128,8 +137,9 @@ class VolumesEngine:
         if request.network.frictional:
             return Plan("exact moments (volumes)", 0, refusal="method='volumes' needs forces that are never "
                         "negative; a tangential force is not: use method='triangulation'")
-        seconds = volume_seconds(poly.dimension, len(poly.z0), request.moments)
-        return Plan(f"exact moments, dimension {poly.dimension} (Normaliz volumes)", seconds,
+        vertices = _vertices(request)
+        seconds = volume_seconds(poly.dimension, len(poly.z0), request.moments, vertices)
+        return Plan(f"exact moments, dimension {poly.dimension}, {vertices} vertices (Normaliz volumes)", seconds,
                     ticks=len(poly.z0), unit="force")
 
     def run(self, request: Any, plan: Plan, *, progress: Callable[..., Any] | None = None,

@@ -96,6 +96,13 @@ class NetworkRequest:
 
         return exact_polytope(self.network, self.balance)
 
+    @cached_property
+    def facts(self) -> tuple[int, int, int]:
+        """``(dimension, vertices, facets)`` of the polytope (Normaliz), made once."""
+        from forcenet.exact.contact_network.triangulation_moments import polytope_facts
+
+        return polytope_facts(self.polytope)
+
 
 def _network(source: Any) -> ContactNetwork:
     if isinstance(source, ContactNetwork):
@@ -250,7 +257,7 @@ def network_plan(source: Any, *, exact: bool | None = None, moments: int = 1, sa
     chosen = [REGISTRY.choose(request) for request in requests]
     engines = tuple(engine for engine, _ in chosen)
     plans = tuple(plan for _, plan in chosen)
-    cost = combine("contact network", plans, "sweep")
+    cost = combine("; ".join(plan.what for plan in plans), plans, plans[-1].unit)
     return NetworkPlan(requests[0] if exact else None, requests[-1] if samples is not None else None, engines, plans,
                        cost, start)
 

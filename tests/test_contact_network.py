@@ -158,3 +158,33 @@ def test_sqrt3_needs_scaling_and_irrational_mixtures_are_refused():
     floats = contact_network(1, [[0, None, 0.0, -1.0], [0, None, 0, -1]], [[0, 0, -1]])
     with pytest.raises(ArgumentError, match="exact data"):
         exact_polytope(floats)
+
+
+def test_random_networks_exact_route_and_sampler_agree_by_forcenet_testing():
+    """Random small rational networks (hypothesis): the sampler's chain agrees with the exact means by
+    forcenet.testing (spaced batch means of a Markov chain, a correct sampler fails at most at alpha)."""
+    hypothesis = pytest.importorskip("hypothesis")
+    from hypothesis import strategies as st
+
+    import numpy as np
+
+    from forcenet.numeric.contact_network.hit_and_run import HitAndRun
+    from forcenet.testing import assert_agrees
+
+    @hypothesis.settings(max_examples=4, deadline=None, derandomize=True)
+    @hypothesis.given(seed=st.integers(0, 10**6), grains=st.integers(1, 3), extra=st.integers(1, 4))
+    def check(seed, grains, extra):
+        net = random_network(seed, grains, 2 * grains + extra)
+        try:
+            check_polytope(net)
+        except ArgumentError:
+            hypothesis.assume(False)
+        walk = HitAndRun(net)
+        hypothesis.assume(walk.dimension >= 1)
+        exact = [float(x) for x in moments_by_triangulation(exact_polytope(net), 1).mean]
+        chain = walk.run(6000, seed=seed)
+        varying = ~walk.fixed
+        assert np.allclose(chain.samples[:, ~varying].mean(axis=0), np.array(exact)[~varying])
+        assert_agrees(chain.samples[:, varying], list(np.array(exact)[varying]), chain=True, alpha=1e-3, bounds=False)
+
+    check()

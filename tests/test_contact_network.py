@@ -164,9 +164,8 @@ def test_random_networks_exact_route_and_sampler_agree_by_forcenet_testing():
     """Random small rational networks (hypothesis): the sampler's chain agrees with the exact means by
     forcenet.testing (spaced batch means of a Markov chain, a correct sampler fails at most at alpha)."""
     hypothesis = pytest.importorskip("hypothesis")
-    from hypothesis import strategies as st
-
     import numpy as np
+    from hypothesis import strategies as st
 
     from forcenet.numeric.contact_network.hit_and_run import HitAndRun
     from forcenet.testing import assert_agrees

@@ -161,3 +161,16 @@ def test_a_relaxed_soft_disk_packing_is_sampled_with_error_bars():
     assert (result.sampled_mean > -1e-12).all()
     edges, density, error = result.force_distribution(20)
     assert abs((density * np.diff(edges)).sum() - 1) < 1e-9
+
+
+@pytest.mark.slow
+def test_independent_chains_on_an_executor_are_pooled():
+    """chains=K on an executor (here threads; a Dask client's executor the same way): K seeds, one pooled
+    result within its error bars of the exact means."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(2) as pool:
+        result = forcenet.network(triangle(4).network, exact=True, samples=6000, chains=2, seed=5, executor=pool)
+    exact = np.array([float(x) for x in result.exact_mean])
+    assert result.samples.shape[0] == 6000
+    assert np.abs((result.sampled_mean - exact) / result.sampled_error).max() < 4.0

@@ -54,10 +54,11 @@ from forcenet.core.errors import ArgumentError
 from forcenet.exact.contact_network.model import ContactNetwork
 from forcenet.exact.contact_network.polytope import Balance, balance, check_polytope, float_system
 
-from ..autocorr import mean_and_stderr
+from ..autocorr import mean_and_stderr, pool_means
 from ..jit import chunks, first_chunk, njit
 
-__all__ = ["HitAndRun", "Chain", "hit_and_run_sweeps", "SECONDS_PER_FLOP", "sweep_seconds"]
+__all__ = ["HitAndRun", "Chain", "hit_and_run_sweeps", "SECONDS_PER_FLOP", "sweep_seconds", "chain_task",
+           "run_chains"]
 
 SECONDS_PER_FLOP = 1.2e-9  # one move's inner loops per contact and direction entry, measured on the 2-core machine
 
@@ -128,18 +129,28 @@ class Chain:
     labels : tuple of str
     seconds : float
         The sampling's wall time.
+    fixed : numpy.ndarray or None
+        The variables balance alone fixes (constant).
+    lengths : tuple of int
+        The independent chains' lengths, in order (empty: one chain).
     """
 
     samples: np.ndarray
     labels: tuple[str, ...]
     seconds: float
     fixed: np.ndarray | None = None
+    lengths: tuple[int, ...] = ()
 
     def _moments(self, values: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         fixed = np.zeros(values.shape[1], dtype=bool) if self.fixed is None else self.fixed
         mean, err, tau = values.mean(axis=0), np.zeros(values.shape[1]), np.ones(values.shape[1])
-        if (~fixed).any():
-            mean[~fixed], err[~fixed], tau[~fixed] = mean_and_stderr(values[:, ~fixed])
+        if not (~fixed).any():
+            return mean, err, tau
+        lengths = self.lengths or (values.shape[0],)
+        stats = [mean_and_stderr(part[:, ~fixed]) for part in np.split(values, np.cumsum(lengths)[:-1])]
+        pooled_mean, pooled_err = pool_means(lengths, [m for m, _, _ in stats], [e for _, e, _ in stats])
+        mean[~fixed], err[~fixed] = pooled_mean, pooled_err
+        tau[~fixed] = np.mean([t for _, _, t in stats], axis=0)
         return mean, err, tau
 
     def statistics(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -284,3 +295,39 @@ class HitAndRun:
             if progress is not None:
                 progress(stop - start)
         return Chain(out, self.balance.labels, time.perf_counter() - t0, self.fixed)
+
+
+def chain_task(network: ContactNetwork, samples: int, seed: int, burn_in: int | None, thin: int) -> Chain:
+    """One independent chain (a task of :func:`run_chains`, run in a worker process or a Dask worker).
+
+    Examples
+    --------
+    >>> from forcenet.exact.contact_network.geometries import triangle
+    >>> chain_task(triangle(3).network, 20, 1, 10, 1).samples.shape
+    (20, 15)
+    """
+    return HitAndRun(network).run(samples, seed, burn_in, thin=thin)
+
+
+def run_chains(network: ContactNetwork, samples: int, seed: int | None, burn_in: int | None, thin: int, chains: int,
+               executor: Any = None, progress: Callable[..., Any] | None = None) -> Chain:
+    """``chains`` independent chains of ``samples // chains`` states each (seeds ``SeedSequence(seed).spawn``),
+    run by :func:`forcenet.core.execution.run_tasks` (a local process pool, or ``executor``: a Dask client's),
+    joined into one :class:`Chain` whose statistics pool the chains (:meth:`Chain.statistics`).
+
+    Examples
+    --------
+    >>> from forcenet.exact.contact_network.geometries import triangle
+    >>> chain = run_chains(triangle(3).network, 400, 1, 50, 1, 2)
+    >>> chain.samples.shape, chain.lengths
+    ((400, 15), (200, 200))
+    """
+    from forcenet.core.execution import run_tasks
+
+    seeds = [int(s.generate_state(1)[0]) for s in np.random.SeedSequence(seed).spawn(chains)]
+    shares = [samples // chains + (1 if k < samples % chains else 0) for k in range(chains)]
+    t0 = time.perf_counter()
+    parts = run_tasks(chain_task, [(network, share, s, burn_in, thin) for share, s in zip(shares, seeds)],
+                      executor=executor, workers=chains, progress=progress, weights=shares)
+    return Chain(np.concatenate([part.samples for part in parts]), parts[0].labels, time.perf_counter() - t0,
+                 parts[0].fixed, tuple(shares))

@@ -173,7 +173,8 @@ class HitAndRunEngine:
         sweeps = recorded + (request.burn_in if request.burn_in is not None else max(100, recorded // 10))
         inequalities = bal.inequalities if request.network.frictional else 0
         setup = 4e-9 * rows * m * min(rows, m) + 1e-6 * (m + rows) * 20
-        seconds = setup + sweeps * sweep_seconds(dimension, m, inequalities)
+        parallel = min(request.chains, 2)  # the reference machine's cores
+        seconds = setup * (1 if request.chains == 1 else 2) + sweeps * sweep_seconds(dimension, m, inequalities) / parallel
         nbytes = 8 * m * (request.samples * 4 + dimension + rows)
         plan = Plan(f"{sweeps} hit-and-run sweeps on {request.network.grains} grains", seconds, nbytes,
                     ticks=request.samples, unit="sample")
@@ -181,10 +182,14 @@ class HitAndRunEngine:
 
     def run(self, request: Any, plan: Plan, *, progress: Callable[..., Any] | None = None,
             executor: Executor | None = None) -> Any:
-        from forcenet.numeric.contact_network.hit_and_run import HitAndRun
+        from forcenet.numeric.contact_network.hit_and_run import HitAndRun, run_chains
 
         walk = HitAndRun(request.network, request.balance)
-        chain = walk.run(request.samples, request.seed, request.burn_in, progress=progress, thin=request.thin)
+        if request.chains == 1 and executor is None:
+            chain = walk.run(request.samples, request.seed, request.burn_in, progress=progress, thin=request.thin)
+        else:  # independent chains in worker processes (or on a Dask cluster), pooled
+            chain = run_chains(request.network, request.samples, request.seed, request.burn_in, request.thin,
+                               request.chains, executor, progress)
         return chain, walk.dimension
 
 

@@ -68,6 +68,8 @@ class NetworkRequest:
     burn_in : int or None
     thin : int
         Sweeps between two recorded samples.
+    chains : int
+        Independent chains (run in worker processes, or on ``executor``), pooled.
     method : str
         An engine's name or ``"auto"``.
     """
@@ -80,6 +82,7 @@ class NetworkRequest:
     burn_in: int | None = None
     method: str = "auto"
     thin: int = 1
+    chains: int = 1
     model: ClassVar[str] = "contact-network"
 
     @cached_property
@@ -136,6 +139,7 @@ class NetworkPlan(_Costed):
     plans: tuple[Plan, ...]
     cost: Plan
     start: Any = field(default=None, repr=False)
+    executor: Any = field(default=None, repr=False)
 
     @property
     def methods(self) -> tuple[str, ...]:
@@ -177,7 +181,7 @@ class NetworkPlan(_Costed):
                     result["exact_mean"] = moments.mean
                     result["exact_second"] = moments.second or None
                 else:
-                    chain, dimension = engine.run(request, plan, progress=tick)
+                    chain, dimension = engine.run(request, plan, progress=tick, executor=self.executor)
                     mean, error, tau = chain.statistics()
                     result.update(sampled_mean=mean, sampled_error=error, tau=tau, samples=chain.samples)
                     if request.moments >= 2:
@@ -189,7 +193,7 @@ class NetworkPlan(_Costed):
 
 def network_plan(source: Any, *, exact: bool | None = None, moments: int = 1, samples: int | None = None,
                  seed: int | None = None, burn_in: int | None = None, method: str = "auto",
-                 thin: int = 1) -> NetworkPlan:
+                 thin: int = 1, chains: int = 1, executor: Any = None) -> NetworkPlan:
     """Check a request on a contact network once and plan it (the exact route, the sampler, or both).
 
     Parameters
@@ -211,6 +215,11 @@ def network_plan(source: Any, *, exact: bool | None = None, moments: int = 1, sa
         The exact route.
     thin : int
         Sweeps between two recorded samples (default 1; large networks: memory is ``samples * contacts``).
+    chains : int
+        Independent chains sharing the samples (default 1), each in a worker process (or on ``executor``);
+        their statistics are pooled.
+    executor : concurrent.futures.Executor or Dask Client, optional
+        Where the chains run (default: a local process pool when ``chains > 1``).
 
     Returns
     -------
@@ -240,6 +249,7 @@ def network_plan(source: Any, *, exact: bool | None = None, moments: int = 1, sa
     if burn_in is not None:
         burn_in = check_int(burn_in, "burn_in", 0)
     thin = check_int(thin, "thin", 1)
+    chains = check_int(chains, "chains", 1, samples if samples is not None else 1)
     seed = None if seed is None else int(check_seed(seed))
     if method not in EXACT_METHODS:
         raise ArgumentError(f"method={method!r} is out of range: method must be one of {', '.join(EXACT_METHODS)}",
@@ -253,18 +263,19 @@ def network_plan(source: Any, *, exact: bool | None = None, moments: int = 1, sa
     if exact:
         requests.append(NetworkRequest(net, "exact-moments", moments, method=method))
     if samples is not None:
-        requests.append(NetworkRequest(net, "sampled-moments", moments, samples, seed, burn_in, thin=thin))
+        requests.append(NetworkRequest(net, "sampled-moments", moments, samples, seed, burn_in, thin=thin,
+                                       chains=chains))
     chosen = [REGISTRY.choose(request) for request in requests]
     engines = tuple(engine for engine, _ in chosen)
     plans = tuple(plan for _, plan in chosen)
     cost = combine("; ".join(plan.what for plan in plans), plans, plans[-1].unit)
     return NetworkPlan(requests[0] if exact else None, requests[-1] if samples is not None else None, engines, plans,
-                       cost, start)
+                       cost, start, executor)
 
 
 def network(source: Any, *, exact: bool | None = None, moments: int = 1, samples: int | None = None,
             seed: int | None = None, burn_in: int | None = None, method: str = "auto", thin: int = 1,
-            progress: Progress | bool | None = None) -> NetworkResult:
+            chains: int = 1, executor: Any = None, progress: Progress | bool | None = None) -> NetworkResult:
     """Every contact force's moments over the force network ensemble of a contact network (Sec. 2.3).
 
     ``network_plan(...)`` then ``.run(progress)``.
@@ -273,7 +284,7 @@ def network(source: Any, *, exact: bool | None = None, moments: int = 1, samples
     ----------
     source : ContactNetwork, path or dict
         The network.
-    exact, moments, samples, seed, burn_in, method, thin
+    exact, moments, samples, seed, burn_in, method, thin, chains, executor
         As :func:`network_plan`.
     progress : callable, bool or None
         ``progress(k)`` per recorded sweep; ``True``: a progress bar.
@@ -298,7 +309,7 @@ def network(source: Any, *, exact: bool | None = None, moments: int = 1, samples
     (3, 'sqrt(3)/3')
     """
     return network_plan(source, exact=exact, moments=moments, samples=samples, seed=seed, burn_in=burn_in,
-                        method=method, thin=thin).run(progress)
+                        method=method, thin=thin, chains=chains, executor=executor).run(progress)
 
 
 def network_response(source: Any, grain: int, load: tuple[Any, Any] = (0, -1), **options: Any) -> tuple[Any, ...]:

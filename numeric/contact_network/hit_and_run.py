@@ -54,7 +54,7 @@ from forcenet.core.errors import ArgumentError
 from forcenet.exact.contact_network.model import ContactNetwork
 from forcenet.exact.contact_network.polytope import Balance, balance, check_polytope, float_system
 
-from ..autocorr import mean_and_stderr, pool_means
+from ..autocorr import AutocorrError, mean_and_stderr, pool_means
 from ..jit import chunks, first_chunk, njit
 
 __all__ = ["HitAndRun", "Chain", "hit_and_run_sweeps", "SECONDS_PER_FLOP", "sweep_seconds", "chain_task",
@@ -147,7 +147,11 @@ class Chain:
         if not (~fixed).any():
             return mean, err, tau
         lengths = self.lengths or (values.shape[0],)
-        stats = [mean_and_stderr(part[:, ~fixed]) for part in np.split(values, np.cumsum(lengths)[:-1])]
+        try:
+            stats = [mean_and_stderr(part[:, ~fixed]) for part in np.split(values, np.cumsum(lengths)[:-1])]
+        except AutocorrError as exc:  # the fix, in the words of the front door and the command line
+            raise AutocorrError(f"{exc}; the sampler needs a longer chain: raise samples (--samples) or thin "
+                                "(--thin)", exc.tau) from None
         pooled_mean, pooled_err = pool_means(lengths, [m for m, _, _ in stats], [e for _, e, _ in stats])
         mean[~fixed], err[~fixed] = pooled_mean, pooled_err
         tau[~fixed] = np.mean([t for _, _, t in stats], axis=0)

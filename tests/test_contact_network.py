@@ -187,3 +187,17 @@ def test_random_networks_exact_route_and_sampler_agree_by_forcenet_testing():
         assert_agrees(chain.samples[:, varying], list(np.array(exact)[varying]), chain=True, alpha=1e-3, bounds=False)
 
     check()
+
+
+@pytest.mark.parametrize("N", [2, 3, 4])
+def test_the_snooker_packing_has_the_thesis_dimension_and_the_reference_moments(N):
+    """Sec. 7.2.1's snooker triangle: dimension N(N-1)/2 (the thesis's), exact moments = the reference route."""
+    from forcenet.exact.contact_network.geometries import snooker
+
+    poly = exact_polytope(snooker(N).network)
+    assert poly.dimension == N * (N - 1) // 2
+    tri = moments_by_triangulation(poly)
+    if N <= 3:
+        assert (list(tri.mean), list(tri.second)) == _reference(poly)
+    vol = moments_by_volumes(poly, 2, [0])
+    assert (vol.mean[0], vol.second[0]) == (tri.mean[0], tri.second[0])

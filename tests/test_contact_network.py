@@ -201,3 +201,19 @@ def test_the_snooker_packing_has_the_thesis_dimension_and_the_reference_moments(
         assert (list(tri.mean), list(tri.second)) == _reference(poly)
     vol = moments_by_volumes(poly, 2, [0])
     assert (vol.mean[0], vol.second[0]) == (tri.mean[0], tri.second[0])
+
+
+def test_one_force_exact_density_equals_forcenet_law():
+    """The exact density by slice volumes equals forcenet.law's (an independent exact route): a floor load and
+    a contact force of the triangle (in units of 2/sqrt(3), as forcenet.law gives contact forces)."""
+    from forcenet.exact.contact_network.triangulation_moments import density_at
+
+    geo = triangle(4)
+    poly = exact_polytope(geo.network)
+    points = [Fraction(1, 5), Fraction(1, 3), Fraction(1, 2)]
+    floor = density_at(poly, geo.contact[("floor", 4, 2)], points)
+    assert floor == [sympy.Rational(forcenet.law(4, (4, 2)).density_at(x)) for x in points]
+    unit = 2 / sympy.sqrt(3)
+    force = density_at(poly, geo.contact[("left", 3, 2)], [x * unit for x in points])
+    expected = [sympy.Rational(forcenet.law(4, (3, 2), contact="F6").density_at(x)) for x in points]
+    assert [sympy.radsimp(f * unit) for f in force] == expected

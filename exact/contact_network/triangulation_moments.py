@@ -51,7 +51,8 @@ from forcenet.core.errors import ArgumentError
 
 from .polytope import ExactPolytope
 
-__all__ = ["Moments", "normaliz_rows", "moments_by_triangulation", "moments_by_volumes", "polytope_facts"]
+__all__ = ["Moments", "normaliz_rows", "moments_by_triangulation", "moments_by_volumes", "polytope_facts",
+           "density_at"]
 
 
 @dataclass(frozen=True)
@@ -294,3 +295,56 @@ def moments_by_volumes(poly: ExactPolytope, moments: int = 2, variables: list[in
         if progress is not None:
             progress(1)
     return Moments(tuple(mean), tuple(second) if moments >= 2 else (), dimension, done)
+
+
+def density_at(poly: ExactPolytope, k: int, values: list[Any]) -> list[Any]:
+    """The exact density of variable ``k`` (a contact force) at each of ``values``, by Normaliz slice volumes.
+
+    The density of an affine ``u(x)`` over the uniform polytope is the ``(d-1)``-volume of the slice
+    ``{u = s}`` over ``|grad u| vol(P)``; with ``u = (g/L) a.x + c`` (``a`` primitive integer), Normaliz's
+    normalized volumes give ``density(s) = d * NV(slice) / NV(P) * L / g``: the lattice covolume ``|a|`` of
+    the slice cancels the gradient's norm. Each value costs one Normaliz volume of dimension ``d - 1``.
+
+    Parameters
+    ----------
+    poly : ExactPolytope
+    k : int
+        The variable (``f{c}`` of contact ``c`` is variable ``c`` without friction).
+    values : list
+        Points, exact (int, Fraction, sympy numbers in the variable's units).
+
+    Returns
+    -------
+    list
+        Exact densities (sympy numbers).
+
+    Examples
+    --------
+    >>> from forcenet.exact.contact_network.geometries import triangle
+    >>> from forcenet.exact.contact_network.polytope import exact_polytope
+    >>> geo = triangle(4)
+    >>> density_at(exact_polytope(geo.network), geo.contact[("floor", 4, 2)], [Fraction(1, 3)])  # forcenet.law
+    [160/81]
+    """
+    d = poly.dimension
+    a = list(poly.K[k])
+    if d == 0 or not any(a):
+        raise ArgumentError(f"variable {k} is constant on the polytope: it has no density (a point mass)")
+    base = _volume(normaliz_rows(poly))
+    common = math.lcm(*(x.denominator for x in a))
+    divisor = math.gcd(*(int(x * common) for x in a))
+    out = []
+    for value in values:
+        scaled = sympy.radsimp(sympy.sympify(value) / poly.scale[k])
+        if not scaled.is_Rational:
+            raise ArgumentError(f"the density at {value} needs a point that is rational in the force's unit "
+                                f"({poly.scale[k]})")
+        s = Fraction(int(scaled.p), int(scaled.q))
+        equation = _integer_row([*a, poly.z0[k] - s])
+        from PyNormaliz import Cone  # optional dependency: the "networks" extra
+
+        cone = Cone(inhom_inequalities=normaliz_rows(poly), inhom_equations=[equation])
+        slice_volume = Fraction(str(cone.Volume())) if cone.AffineDim() == d - 1 else Fraction(0)
+        density = slice_volume * d / base * Fraction(common, divisor)
+        out.append(sympy.radsimp(sympy.Rational(density.numerator, density.denominator) / poly.scale[k]))
+    return out

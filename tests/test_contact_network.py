@@ -217,3 +217,25 @@ def test_one_force_exact_density_equals_forcenet_law():
     force = density_at(poly, geo.contact[("left", 3, 2)], [x * unit for x in points])
     expected = [sympy.Rational(forcenet.law(4, (3, 2), contact="F6").density_at(x)) for x in points]
     assert [sympy.radsimp(f * unit) for f in force] == expected
+
+
+@pytest.mark.parametrize("loads", [{"F": 1, "g": 1}, {"F": 0, "p_v": 1, "g": "1/2"}, {"F": 2, "p_v": 1}])
+def test_the_hexagonal_packing_equals_todays_packing_route(loads):
+    """The N x P packing of Secs. 3.2-3.3 as a contact network (left wall's p_h large: fully mobilized) has
+    the <W_ij> of forcenet.exact.packing.mobilized (integration of prod W over the q-cube, Eq. (3.10))."""
+    from forcenet.exact.contact_network.geometries import hexagonal_packing
+    from forcenet.exact.packing.mobilized import mean_W_mobilized
+
+    N, P = 3, 3
+    geo = hexagonal_packing(N, P, p_h="100*sqrt(3)", **loads)
+    m = moments_by_triangulation(exact_polytope(geo.network), 1).mean
+
+    def W(i, j):
+        if i == N:
+            return m[geo.contact[("floor", i, j)]]
+        right = m[geo.contact[("right", i, j)]] if j < P else 0
+        return sympy.radsimp(sympy.sqrt(3) / 2 * (m[geo.contact[("left", i, j)]] + right))
+
+    reference = mean_W_mobilized(N, P, F=loads.get("F", 1), pv=loads.get("p_v", 0), mg=loads.get("g", 0))
+    assert [[W(i, j) for j in range(1, P + 1)] for i in range(1, N + 1)] == [
+        [sympy.Rational(x) for x in row] for row in reference]

@@ -174,3 +174,20 @@ def test_independent_chains_on_an_executor_are_pooled():
     exact = np.array([float(x) for x in result.exact_mean])
     assert result.samples.shape[0] == 6000
     assert np.abs((result.sampled_mean - exact) / result.sampled_error).max() < 4.0
+
+
+def test_the_response_on_the_hexagonal_packing_is_chapter_3s():
+    """Ch. 3's response (the mean loads with an overload minus without) from network_response equals the
+    difference of today's packing route's exact means."""
+    import sympy
+
+    from forcenet.exact.contact_network.geometries import hexagonal_packing
+    from forcenet.exact.packing.mobilized import mean_W_mobilized
+
+    N, P = 3, 3
+    geo = hexagonal_packing(N, P, F=0, p_v=1, p_h="100*sqrt(3)")
+    response = forcenet.network_response(geo.network, geo.grain[(1, 2)], (0, -1), exact=True)
+    with_load, without = mean_W_mobilized(N, P, F=1, j0=2, pv=1), mean_W_mobilized(N, P, F=0, pv=1)
+    for j in range(1, P + 1):
+        expected = with_load[N - 1][j - 1] - without[N - 1][j - 1]
+        assert response[geo.contact[("floor", N, j)]] == sympy.Rational(expected)

@@ -168,6 +168,44 @@ class NetworkResult:
                 lines.append(f"  {kind}{c} ({i}-{other}): " + ", ".join(parts))
         return "\n".join(lines) + "\n"
 
+    def density(self, contact: int, points: list[Any]) -> list[Any]:
+        """The exact density of contact ``contact``'s normal force at ``points`` (exact data; Normaliz slice
+        volumes, :func:`forcenet.exact.contact_network.triangulation_moments.density_at`).
+
+        Parameters
+        ----------
+        contact : int
+            The contact's index in the input.
+        points : list
+            Exact values of the force (int, Fraction, sympy numbers such as ``sqrt(3)/3``).
+
+        Returns
+        -------
+        list
+            Exact densities.
+
+        Raises
+        ------
+        ArgumentError
+            Floats in the network, a force that balance fixes (no density), or a point that is not rational in
+            the force's unit.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> from fractions import Fraction
+        >>> net = forcenet.contact_network(1, [[0, None, "-3/5", "-4/5"], [0, None, "3/5", "-4/5"],
+        ...                                    [0, None, 0, -1]], [[0, 0, -1]])
+        >>> forcenet.network(net).density(2, [Fraction(1, 2)])  # the floor's force is uniform on [0, 1]
+        [1]
+        """
+        from forcenet.core.validation import check_int
+        from forcenet.exact.contact_network.polytope import exact_polytope
+        from forcenet.exact.contact_network.triangulation_moments import density_at
+
+        contact = check_int(contact, "contact", 0, len(self.network.contacts) - 1)
+        return density_at(exact_polytope(self.network), self.labels.index(f"f{contact}"), list(points))
+
     def force_distribution(self, bins: int = 30) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``P(f)`` of the normal forces pooled, ``f = F / <F>`` per contact (thesis Sec. 2.4), from the samples.
 

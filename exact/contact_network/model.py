@@ -421,10 +421,14 @@ def read_csv(source: str | Path, grains: int, loads: Iterable[Sequence[Any]] = (
         columns = {name: header.index(name) for name in columns}
         rows = rows[1:]
     contacts = []
-    for row in rows:
-        j = row[columns["j"]].strip()
-        contacts.append([int(row[columns["i"]]), None if j in ("", "-1", "wall") else int(j),
-                         row[columns["nx"]].strip(), row[columns["ny"]].strip()])
+    for number, row in enumerate(rows, start=1):
+        try:
+            j = row[columns["j"]].strip()
+            contacts.append([int(row[columns["i"]]), None if j in ("", "-1", "wall") else int(j),
+                             row[columns["nx"]].strip(), row[columns["ny"]].strip()])
+        except (ValueError, IndexError):
+            raise ArgumentError(f"the CSV's contact row {number} ({','.join(row)}) is not i, j, nx, ny with "
+                                "integer grains") from None
     return contact_network(grains, contacts, loads, friction=friction, radii=radii)
 
 

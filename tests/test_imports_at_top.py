@@ -17,7 +17,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-MOST = 160  # imports inside functions now; lower it as modules move theirs to the top
+MOST = 164  # imports inside functions now (160 + the contact networks' optional PyNormaliz and matplotlib, lazy on
+# purpose); lower it as modules move theirs to the top
 
 
 def _count(source: str) -> int:

@@ -25,6 +25,9 @@ The front door (one flat namespace, loaded on first use so ``import forcenet`` s
 * :func:`clusters`, :func:`scaling` / :func:`scaling_plan` — clusters of large forces and their finite-size
   scaling (Part III, Eqs. 6.8, 6.12): users' force networks, or percolation and the q-models of Sec. 7.3
   generated at several sizes (:mod:`forcenet.force_chains`, :class:`ForceChainScaling`);
+* :func:`network` / :func:`network_plan` — any contact network's force network ensemble (Sec. 2.3): every
+  contact force's exact moments (Normaliz) or sampled ones (hit-and-run), :func:`network_response`
+  (:func:`contact_network` builds one; :mod:`forcenet.contact_networks`);
 * :mod:`forcenet.testing` — test your own sampler or formula against the exact ensemble;
 * the exception family (:mod:`forcenet.core.errors`): :class:`ForcenetError`, the base of every
   expected failure, :class:`ArgumentError` (also a ``ValueError``), :class:`ArgumentTypeError`
@@ -68,6 +71,15 @@ if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ lo
         bethe_ground_state_plan,
         transfer_spectrum,
         transfer_spectrum_plan,
+    )
+    from forcenet.contact_network_results import NetworkResult
+    from forcenet.contact_networks import (
+        ContactNetwork,
+        NetworkPlan,
+        contact_network,
+        network,
+        network_plan,
+        network_response,
     )
     from forcenet.core.errors import (
         ArgumentError,
@@ -154,6 +166,13 @@ _FRONT_DOOR = {
     "scaling_plan": "forcenet.force_chains",
     "ScalingPlan": "forcenet.force_chains",
     "ForceChainScaling": "forcenet.force_chains_results",
+    "network": "forcenet.contact_networks",
+    "network_plan": "forcenet.contact_networks",
+    "network_response": "forcenet.contact_networks",
+    "NetworkPlan": "forcenet.contact_networks",
+    "NetworkResult": "forcenet.contact_network_results",
+    "ContactNetwork": "forcenet.contact_networks",
+    "contact_network": "forcenet.contact_networks",
 }
 
 _SUBPACKAGES = frozenset({"exact", "numeric", "testing"})
@@ -171,6 +190,7 @@ __all__ = [  # the keys of _FRONT_DOOR (tests/test_front_door.py), written out f
     "ForcenetError", "ArgumentError", "ArgumentTypeError", "ConvergenceError", "ClusterError", "PrecisionWarning",
     "clusters", "scaling", "scaling_plan", "ScalingPlan", "ForceChainScaling",
     "__version__",
+    "network", "network_plan", "network_response", "NetworkPlan", "NetworkResult", "ContactNetwork", "contact_network",
 ]
 
 try:

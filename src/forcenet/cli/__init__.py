@@ -1,4 +1,4 @@
-"""Command line interface: ``forcenet count|table|maps|limit|sample|transfer|bethe|entropy|dist``.
+"""Command line interface: ``forcenet count|table|maps|limit|sample|transfer|bethe|entropy|dist|network``.
 
 A small parser; one module per command family (:mod:`.table`, :mod:`.sample`,
 :mod:`.limit`, :mod:`.chicken_wire`), the shared arguments and the policy in
@@ -40,6 +40,7 @@ from forcenet.core.errors import ForcenetError
 from forcenet.core.plan import interruptible_compilation
 
 from . import chicken_wire, dist, force_chains, limit, sample, table
+from . import network as network_command
 from .common import Parser, UsageError, deferred_option, given, usage_error_line
 from .output import EXIT_CODES, check_stdout, destination
 
@@ -68,6 +69,8 @@ examples, one per command (each takes a few seconds at most):
   forcenet dist --N 12 --grain 12,6  # exact density of one force
   forcenet scaling --model percolation --sizes 16,24,32,48 --samples 200
                                      # clusters of large forces (Table 7.1)
+  forcenet network packing.json --exact  # your own contact network: every
+                                     # force's exact mean
 
 Results go to stdout (or to --out FILE, written atomically); costs, progress
 and errors go to stderr. Runs announced at over a minute need --force.
@@ -83,7 +86,7 @@ def build_parser() -> Parser:
     parser.add_argument("--debug", action="store_true",
                         help="on an internal error (a bug), print the traceback on stderr instead of to a file")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser, metavar="COMMAND")
-    for family in (table, limit, sample, chicken_wire, dist, force_chains):
+    for family in (table, limit, sample, chicken_wire, dist, force_chains, network_command):
         family.register(sub)
     return parser
 

@@ -1,0 +1,1 @@
+"""Samplers of the force network ensemble on any contact network (hit-and-run)."""

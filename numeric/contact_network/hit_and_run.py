@@ -1,0 +1,336 @@
+"""Uniform samples of the force network ensemble on any contact network: coordinate hit-and-run.
+
+The ensemble is the uniform measure on the polytope ``{z : A z = b, G z >= 0}``
+(thesis Sec. 2.3.2; :mod:`forcenet.exact.contact_network.polytope`).  The
+thesis walks through it "after finding a basis of Ker A", which it calls a
+difficult problem for an arbitrary packing; here the basis is an orthonormal
+one from the singular value decomposition of ``A`` (``scipy.linalg.null_space``),
+so coordinates ``x`` with ``z = z* + K x`` are an isometry of the affine
+subspace and the uniform measure in ``x`` is the uniform measure on the
+force networks.
+
+The move (hit-and-run along the basis directions, "coordinate hit-and-run"):
+pick a basis direction ``k`` uniformly, intersect the line ``z + t K_k`` with
+every facet ``g_r . z >= 0`` exactly (``t`` between the largest ``-s_r/a_r``
+over ``a_r > 0`` and the smallest over ``a_r < 0``, ``s = G z``,
+``a = G K_k``), and jump to a uniform point of that chord.  Each move draws
+from the uniform measure's exact conditional law on the line, so it leaves
+the uniform measure invariant (a Gibbs step, reversible); with directions
+spanning the space and a convex body, the chain is irreducible and converges
+to the uniform measure (Smith 1984, Oper. Res. 32:1296; Belisle, Romeijn and
+Smith 1993 for general direction laws; Lovasz 1999 for hit-and-run's mixing).
+A recorded sample is one sweep (``d`` moves); error bars come from the
+integrated autocorrelation time of each force's chain
+(:func:`forcenet.numeric.autocorr.mean_and_stderr`).
+
+Each move costs ``O(contacts)`` (one column of ``K`` and ``G K``), so a
+sweep costs ``O(d * contacts)``.  Rounding drift off ``A z = b`` is removed
+between compiled calls by projecting back onto the affine subspace.
+
+Examples
+--------
+>>> from forcenet.exact.contact_network.model import contact_network
+>>> net = contact_network(1, [[0, None, "-3/5", "-4/5"], [0, None, "3/5", "-4/5"], [0, None, 0, -1]], [[0, 0, -1]])
+>>> walk = HitAndRun(net)
+>>> walk.dimension
+1
+>>> chain = walk.run(4000, seed=1)
+>>> mean, err, tau = chain.statistics()
+>>> bool(abs(mean[2] - 0.5) < 5 * err[2])  # the exact mean of the floor's force is 1/2
+True
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from scipy import linalg
+
+from forcenet.core.errors import ArgumentError
+from forcenet.core.execution import run_tasks
+from forcenet.exact.contact_network.model import ContactNetwork
+from forcenet.exact.contact_network.polytope import Balance, balance, check_polytope, float_system
+
+from ..autocorr import AutocorrError, mean_and_stderr, pool_means
+from ..jit import chunks, first_chunk, njit
+
+__all__ = ["HitAndRun", "Chain", "hit_and_run_sweeps", "SECONDS_PER_FLOP", "sweep_seconds", "chain_task",
+           "run_chains"]
+
+SECONDS_PER_FLOP = 1.2e-9  # one move's inner loops per contact and direction entry, measured on the 2-core machine
+
+
+def sweep_seconds(dimension: int, variables: int, inequalities: int) -> float:
+    """Estimated seconds of one sweep (``d`` moves, each over a column of ``K`` and of ``G K``).
+
+    Examples
+    --------
+    >>> sweep_seconds(100, 300, 300) > 0
+    True
+    """
+    return max(1, dimension) * (variables + inequalities) * SECONDS_PER_FLOP + 2e-8 * dimension
+
+
+@njit
+def hit_and_run_sweeps(z: np.ndarray, s: np.ndarray, KT: np.ndarray, GKT: np.ndarray, same: bool,
+                       rng: np.random.Generator, sweeps: int, out: np.ndarray, record: bool) -> None:  # pragma: no cover
+    """``sweeps`` sweeps of ``d`` coordinate hit-and-run moves; row ``k`` of ``out`` is ``z`` after sweep ``k``.
+
+    ``KT[k]`` and ``GKT[k]`` are the direction ``k`` in forces and in slacks (``same``: the slacks are the forces,
+    ``s`` is ``z``, frictionless networks).
+    """
+    d = KT.shape[0]
+    m = z.shape[0]
+    r_count = s.shape[0]
+    for sweep in range(sweeps):
+        for _ in range(d):
+            k = rng.integers(0, d)
+            lo = -np.inf
+            hi = np.inf
+            slack = z if same else s
+            direction = KT[k] if same else GKT[k]
+            for r in range(r_count if not same else m):
+                a = direction[r]
+                value = slack[r] if slack[r] > 0.0 else 0.0
+                if a > 1e-300:
+                    bound = -value / a
+                    if bound > lo:
+                        lo = bound
+                elif a < -1e-300:
+                    bound = -value / a
+                    if bound < hi:
+                        hi = bound
+            if not (hi > lo):  # a chord of length zero (on a facet): stay
+                continue
+            t = lo + (hi - lo) * rng.random()
+            row = KT[k]
+            for j in range(m):
+                z[j] += t * row[j]
+            if not same:
+                grow = GKT[k]
+                for r in range(r_count):
+                    s[r] += t * grow[r]
+        if record:
+            for j in range(m):
+                out[sweep, j] = z[j]
+
+
+@dataclass(frozen=True)
+class Chain:
+    """The recorded forces, one row per sweep, with the labels of :class:`~forcenet.exact.contact_network.polytope.Balance`.
+
+    Attributes
+    ----------
+    samples : numpy.ndarray
+        ``(samples, variables)``.
+    labels : tuple of str
+    seconds : float
+        The sampling's wall time.
+    fixed : numpy.ndarray or None
+        The variables balance alone fixes (constant).
+    lengths : tuple of int
+        The independent chains' lengths, in order (empty: one chain).
+    """
+
+    samples: np.ndarray
+    labels: tuple[str, ...]
+    seconds: float
+    fixed: np.ndarray | None = None
+    lengths: tuple[int, ...] = ()
+
+    def _moments(self, values: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        fixed = np.zeros(values.shape[1], dtype=bool) if self.fixed is None else self.fixed
+        mean, err, tau = values.mean(axis=0), np.zeros(values.shape[1]), np.ones(values.shape[1])
+        if not (~fixed).any():
+            return mean, err, tau
+        lengths = self.lengths or (values.shape[0],)
+        try:
+            stats = [mean_and_stderr(part[:, ~fixed]) for part in np.split(values, np.cumsum(lengths)[:-1])]
+        except AutocorrError as exc:  # the fix, in the words of the front door and the command line
+            raise AutocorrError(f"{exc}; the sampler needs a longer chain: raise samples (--samples) or thin "
+                                "(--thin)", exc.tau) from None
+        pooled_mean, pooled_err = pool_means(lengths, [m for m, _, _ in stats], [e for _, e, _ in stats])
+        mean[~fixed], err[~fixed] = pooled_mean, pooled_err
+        tau[~fixed] = np.mean([t for _, _, t in stats], axis=0)
+        return mean, err, tau
+
+    def statistics(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(mean, standard error, tau)`` per variable, from the integrated autocorrelation time (a force that
+        balance alone fixes has error 0 and tau 1).
+
+        Examples
+        --------
+        >>> Chain(np.arange(200.0).reshape(100, 2) % 7, ("f0", "f1"), 0.0).statistics()[0].shape
+        (2,)
+        """
+        return self._moments(self.samples)
+
+    def second_moments(self) -> tuple[np.ndarray, np.ndarray]:
+        """``<z^2>`` per variable and its standard error (the autocorrelation time of ``z^2``).
+
+        Examples
+        --------
+        >>> Chain(np.arange(200.0).reshape(100, 2) % 7, ("f0", "f1"), 0.0).second_moments()[0].shape
+        (2,)
+        """
+        mean, err, _ = self._moments(self.samples**2)
+        return mean, err
+
+
+class HitAndRun:
+    """Coordinate hit-and-run on a contact network's ensemble (module docstring: why it is uniform).
+
+    Parameters
+    ----------
+    network : ContactNetwork
+        Checked at construction (:func:`~forcenet.exact.contact_network.polytope.check_polytope`): not balanced,
+        infeasible or unbounded networks are refused before any sampling.
+
+    Attributes
+    ----------
+    dimension : int
+        ``dim Ker A``.
+    start : numpy.ndarray
+        The maximin network (an interior point), where every chain starts.
+    """
+
+    rounding_rounds = 2  # pilot runs whose principal axes become the directions (burn-in only)
+
+    def __init__(self, network: ContactNetwork, bal: Balance | None = None) -> None:
+        self.network = network
+        self.balance = balance(network) if bal is None else bal
+        A, b, G = float_system(self.balance)
+        self.start, margin = check_polytope(network, self.balance)
+        scale = max(1.0, float(np.abs(b).max(initial=0.0)))
+        if margin <= 1e-9 * scale:
+            raise ArgumentError("degenerate: some contact carries no force (or its friction cone is saturated) in "
+                                "every force network of this packing, so the polytope is flat; remove those "
+                                "contacts or use the exact route (--exact), which handles it")
+        dense = A.toarray()
+        self.K = linalg.null_space(dense) if dense.size else np.eye(self.balance.variables)
+        # forces that Ker A does not move are fixed by balance alone (a grain with two contacts): exactly constant
+        self.fixed = np.linalg.norm(self.K, axis=1) < 1e-10
+        self.K[self.fixed] = 0.0
+        self.dimension = int(self.K.shape[1])
+        self.G = G
+        self.same = not network.frictional
+        self.KT = np.ascontiguousarray(self.K.T)
+        self.GKT = self.KT if self.same else np.ascontiguousarray((G @ self.K).T)
+
+    def sweep_seconds(self) -> float:
+        """Estimated seconds per sweep (:func:`sweep_seconds`)."""
+        return sweep_seconds(self.dimension, self.balance.variables, 0 if self.same else self.balance.inequalities)
+
+    def _project(self, z: np.ndarray) -> np.ndarray:
+        """Back onto ``A z = b`` (the start satisfies it; ``K`` spans the kernel)."""
+        delta = z - self.start
+        return self.start + self.K @ (self.K.T @ delta)
+
+    def run(self, samples: int, seed: int | None = None, burn_in: int | None = None,
+            progress: Callable[..., Any] | None = None, thin: int = 1) -> Chain:
+        """``samples`` states recorded, ``thin`` sweeps apart, after ``burn_in`` sweeps (default: a tenth of the
+        sweeps, at least 100).
+
+        Parameters
+        ----------
+        samples : int
+            Recorded sweeps.
+        seed : int, optional
+            The seed of ``numpy.random.default_rng``: same seed, same chain.
+        burn_in : int, optional
+            Sweeps discarded first.
+        progress : callable, optional
+            Called with the number of recorded states done, per compiled call.
+        thin : int
+            Sweeps between two recorded states (memory: ``samples * contacts`` floats).
+
+        Returns
+        -------
+        Chain
+
+        Examples
+        --------
+        >>> from forcenet.exact.contact_network.geometries import triangle
+        >>> chain = HitAndRun(triangle(3).network).run(50, seed=0)
+        >>> chain.samples.shape
+        (50, 15)
+        """
+        rng = np.random.default_rng(seed)
+        burn = max(100, samples * thin // 10) if burn_in is None else burn_in
+        z = self.start.copy()
+        s = np.asarray(self.G @ z).ravel() if not self.same else np.zeros(0)
+        out = np.empty((samples, self.balance.variables))
+        scratch = np.empty((1, self.balance.variables))
+        t0 = time.perf_counter()
+        per = self.sweep_seconds()
+        KT, GKT = self.KT, self.GKT
+        for _ in range(self.rounding_rounds if self.dimension > 1 else 0):
+            # rounding (during burn-in only): the directions become the principal axes of a pilot run, so a long
+            # thin polytope is crossed along its length; the directions are fixed afterwards (the chain recorded
+            # is a Gibbs sampler with one fixed orthonormal direction set: uniform)
+            pilot = np.empty((max(50, 2 * self.dimension), self.balance.variables))
+            for start, stop in chunks(pilot.shape[0], first_chunk(per)):
+                for k in range(start, stop):
+                    hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, 1, pilot[k:k + 1], True)
+                z = self._project(z)
+                if not self.same:
+                    s = np.asarray(self.G @ z).ravel()
+            coordinates = (pilot - self.start) @ self.K
+            _, axes = np.linalg.eigh(np.cov(coordinates.T))
+            directions = self.K @ axes
+            KT = np.ascontiguousarray(directions.T)
+            GKT = KT if self.same else np.ascontiguousarray(np.asarray(self.G @ directions).T)
+        for start, stop in chunks(burn, first_chunk(per)):
+            hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, stop - start, scratch, False)
+            z = self._project(z)
+            if not self.same:
+                s = np.asarray(self.G @ z).ravel()
+        for start, stop in chunks(samples, first_chunk(per * thin)):
+            for k in range(start, stop):  # thin - 1 sweeps unrecorded, then one recorded
+                if thin > 1:
+                    hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, thin - 1, scratch, False)
+                hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, 1, out[k:k + 1], True)
+            z = self._project(z)
+            if not self.same:
+                s = np.asarray(self.G @ z).ravel()
+            if progress is not None:
+                progress(stop - start)
+        return Chain(out, self.balance.labels, time.perf_counter() - t0, self.fixed)
+
+
+def chain_task(network: ContactNetwork, samples: int, seed: int, burn_in: int | None, thin: int) -> Chain:
+    """One independent chain (a task of :func:`run_chains`, run in a worker process or a Dask worker).
+
+    Examples
+    --------
+    >>> from forcenet.exact.contact_network.geometries import triangle
+    >>> chain_task(triangle(3).network, 20, 1, 10, 1).samples.shape
+    (20, 15)
+    """
+    return HitAndRun(network).run(samples, seed, burn_in, thin=thin)
+
+
+def run_chains(network: ContactNetwork, samples: int, seed: int | None, burn_in: int | None, thin: int, chains: int,
+               executor: Any = None, progress: Callable[..., Any] | None = None) -> Chain:
+    """``chains`` independent chains of ``samples // chains`` states each (seeds ``SeedSequence(seed).spawn``),
+    run by :func:`forcenet.core.execution.run_tasks` (a local process pool, or ``executor``: a Dask client's),
+    joined into one :class:`Chain` whose statistics pool the chains (:meth:`Chain.statistics`).
+
+    Examples
+    --------
+    >>> from forcenet.exact.contact_network.geometries import triangle
+    >>> chain = run_chains(triangle(3).network, 400, 1, 50, 1, 2)
+    >>> chain.samples.shape, chain.lengths
+    ((400, 15), (200, 200))
+    """
+    seeds = [int(s.generate_state(1)[0]) for s in np.random.SeedSequence(seed).spawn(chains)]
+    shares = [samples // chains + (1 if k < samples % chains else 0) for k in range(chains)]
+    t0 = time.perf_counter()
+    parts = run_tasks(chain_task, [(network, share, s, burn_in, thin) for share, s in zip(shares, seeds)],
+                      executor=executor, workers=chains, progress=progress, weights=shares)
+    return Chain(np.concatenate([part.samples for part in parts]), parts[0].labels, time.perf_counter() - t0,
+                 parts[0].fixed, tuple(shares))

@@ -1,0 +1,191 @@
+"""The contact-network model's engines (:class:`forcenet.core.registry.Engine`), registered in ``REGISTRY``.
+
+Model ``"contact-network"``; quantities ``"exact-moments"`` (every force's
+exact ``<f>`` and ``<f^2>``: ``triangulation``, ``volumes``, both through
+Normaliz, :mod:`forcenet.exact.contact_network.triangulation_moments`) and
+``"sampled-moments"`` (``hit-and-run``, the uniform sampler of
+:mod:`forcenet.numeric.contact_network.hit_and_run`).  Imported by the
+registry on the first request for the model (``REGISTRY.add_loader``).
+
+The cost models are measured on the 2-core reference machine: Normaliz's
+triangulation of the triangle's polytope (d = 21, 77 forces) with the
+moments takes about 1 s, d = 15 about 0.1 s; a volume about 0.1 s at
+d = 21. Beyond ``MAX_EXACT_DIMENSION`` the exact routes refuse and name
+``--samples``.
+
+Examples
+--------
+>>> from forcenet.registry import REGISTRY
+>>> REGISTRY.methods("contact-network", "exact-moments")
+('triangulation', 'volumes')
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from concurrent.futures import Executor
+from typing import Any
+
+from forcenet.core.errors import ArgumentError
+from forcenet.core.plan import Plan, with_compilation
+from forcenet.exact.contact_network.triangulation_moments import moments_by_triangulation, moments_by_volumes
+from forcenet.numeric.contact_network.hit_and_run import HitAndRun, hit_and_run_sweeps, run_chains, sweep_seconds
+from forcenet.registry import REGISTRY
+
+__all__ = ["MODEL", "MAX_EXACT_DIMENSION", "TriangulationEngine", "VolumesEngine", "HitAndRunEngine",
+           "triangulation_seconds", "volume_seconds"]
+
+MODEL = "contact-network"
+MAX_EXACT_DIMENSION = 26  # beyond it a triangulation's size is out of reach (sampling has no such limit)
+COMPILE_SECONDS = 3.0  # the hit-and-run kernel's first compilation (measured: 2-3 s)
+_FIX = "sample it instead (--samples K, or samples=K)"
+
+
+def triangulation_seconds(dimension: int, variables: int, vertices: int = 0) -> float:
+    """Estimated seconds of the triangulation route: a rough model of two measured families, the triangle's
+    order polytopes (few vertices: d = 21, 64 vertices, 77 forces, ~1 s) and the snooker's (many: d = 6, 68
+    vertices, 0.04 s; d = 10, 1505 vertices, Normaliz not done after 2 minutes), ``~ 2^(0.55 d)`` per force plus
+    ``~ vertices^3``.
+
+    Examples
+    --------
+    >>> triangulation_seconds(21, 77, 64) < 5, triangulation_seconds(10, 75, 1505) > 60
+    (True, True)
+    """
+    return 0.05 + 3e-6 * variables * 2 ** (0.55 * dimension) + 1e-7 * vertices**3
+
+
+def volume_seconds(dimension: int, variables: int, moments: int, vertices: int = 0) -> float:
+    """Estimated seconds of the volume route (``1 + moments * variables`` Normaliz volumes; one volume of the
+    snooker's d = 10 polytope with 1505 vertices took 60 s on the loaded machine).
+
+    Examples
+    --------
+    >>> volume_seconds(21, 77, 2, 64) > triangulation_seconds(21, 77, 64)
+    True
+    """
+    return (1 + moments * variables) * (0.01 + 3e-5 * 2 ** (0.5 * dimension) + 2e-8 * vertices**3)
+
+
+def _exact_plan(request: Any, name: str) -> tuple[Any, Plan | None]:
+    """The exact polytope of the request, or a refused plan (floats, irrational mixtures, too large)."""
+    what = f"exact moments of {request.network.grains} grains ({name})"
+    try:
+        import PyNormaliz  # noqa: F401  (its presence is the question)
+    except ImportError:
+        return None, Plan(what, 0, refusal="the exact route needs Normaliz: pip install 'forcenet[networks]' "
+                                           f"(pynormaliz); or {_FIX}")
+    try:
+        poly = request.polytope
+    except ArgumentError as exc:
+        return None, Plan(what, 0, refusal=str(exc))
+    if poly.dimension > MAX_EXACT_DIMENSION:
+        return None, Plan(what, 0, refusal=f"the polytope has dimension {poly.dimension}, beyond the exact "
+                                           f"route's {MAX_EXACT_DIMENSION}: {_FIX}")
+    return poly, None
+
+
+def _vertices(request: Any) -> int:
+    """The polytope's vertex count (Normaliz, exact; refuses an empty or unbounded polytope), asked once."""
+    return int(request.facts[1])
+
+
+class TriangulationEngine:
+    """Exact moments from Normaliz's triangulation and the simplex formulas (every force, one pass).
+
+    Examples
+    --------
+    >>> TriangulationEngine().name
+    'triangulation'
+    """
+
+    name = "triangulation"
+    model = MODEL
+    quantities = frozenset({"exact-moments"})
+
+    def plan(self, request: Any) -> Plan:
+        poly, refused = _exact_plan(request, self.name)
+        if refused is not None:
+            return refused
+        vertices = _vertices(request)
+        seconds = triangulation_seconds(poly.dimension, len(poly.z0), vertices)
+        return Plan(f"exact moments, dimension {poly.dimension}, {vertices} vertices (Normaliz triangulation)",
+                    seconds, ticks=0, unit="simplex")
+
+    def run(self, request: Any, plan: Plan, *, progress: Callable[..., Any] | None = None,
+            executor: Executor | None = None) -> Any:
+        return moments_by_triangulation(request.polytope, request.moments)
+
+
+class VolumesEngine:
+    """Exact moments as ratios of Normaliz volumes of lifted polytopes (normal forces only).
+
+    Examples
+    --------
+    >>> VolumesEngine().quantities
+    frozenset({'exact-moments'})
+    """
+
+    name = "volumes"
+    model = MODEL
+    quantities = frozenset({"exact-moments"})
+
+    def plan(self, request: Any) -> Plan:
+        poly, refused = _exact_plan(request, self.name)
+        if refused is not None:
+            return refused
+        if request.network.frictional:
+            return Plan("exact moments (volumes)", 0, refusal="method='volumes' needs forces that are never "
+                        "negative; a tangential force is not: use method='triangulation'")
+        vertices = _vertices(request)
+        seconds = volume_seconds(poly.dimension, len(poly.z0), request.moments, vertices)
+        return Plan(f"exact moments, dimension {poly.dimension}, {vertices} vertices (Normaliz volumes)", seconds,
+                    ticks=len(poly.z0), unit="force")
+
+    def run(self, request: Any, plan: Plan, *, progress: Callable[..., Any] | None = None,
+            executor: Executor | None = None) -> Any:
+        return moments_by_volumes(request.polytope, request.moments, progress=progress)
+
+
+class HitAndRunEngine:
+    """Uniform samples by coordinate hit-and-run (compiled), error bars from autocorrelation times.
+
+    Examples
+    --------
+    >>> HitAndRunEngine().quantities
+    frozenset({'sampled-moments'})
+    """
+
+    name = "hit-and-run"
+    model = MODEL
+    quantities = frozenset({"sampled-moments"})
+
+    def plan(self, request: Any) -> Plan:
+        bal = request.balance
+        rows, m = bal.rows, bal.variables
+        dimension = max(1, m - min(rows, m))  # a bound; the walk computes the kernel exactly
+        recorded = request.samples * request.thin
+        sweeps = recorded + (request.burn_in if request.burn_in is not None else max(100, recorded // 10))
+        inequalities = bal.inequalities if request.network.frictional else 0
+        setup = 4e-9 * rows * m * min(rows, m) + 1e-6 * (m + rows) * 20
+        parallel = min(request.chains, 2)  # the reference machine's cores
+        seconds = setup * (1 if request.chains == 1 else 2) + sweeps * sweep_seconds(dimension, m, inequalities) / parallel
+        nbytes = 8 * m * (request.samples * 4 + dimension + rows)
+        plan = Plan(f"{sweeps} hit-and-run sweeps on {request.network.grains} grains", seconds, nbytes,
+                    ticks=request.samples, unit="sample")
+        return with_compilation(plan, "hit-and-run", COMPILE_SECONDS, [hit_and_run_sweeps])
+
+    def run(self, request: Any, plan: Plan, *, progress: Callable[..., Any] | None = None,
+            executor: Executor | None = None) -> Any:
+        walk = HitAndRun(request.network, request.balance)
+        if request.chains == 1 and executor is None:
+            chain = walk.run(request.samples, request.seed, request.burn_in, progress=progress, thin=request.thin)
+        else:  # independent chains in worker processes (or on a Dask cluster), pooled
+            chain = run_chains(request.network, request.samples, request.seed, request.burn_in, request.thin,
+                               request.chains, executor, progress)
+        return chain, walk.dimension
+
+
+REGISTRY.register(TriangulationEngine())
+REGISTRY.register(VolumesEngine())
+REGISTRY.register(HitAndRunEngine())

@@ -132,7 +132,7 @@ def check_table_request(N: Any, moments: Any = 1, method: Any = "auto", *, row: 
                   executor: Executor | None = None, methods: Sequence[str] | None = None,
                   **options: Any) -> TableRequest:
     """The one check of a table request: ``N >= 2``, ``moments`` in ``1..50``, ``method`` a string (one of
-    ``methods`` when given: the registry's names), ``row`` in ``1..N``, ``memory_bytes >= 0``; the options given
+    ``methods`` when given: the registry's names), ``row`` in ``1..N``, ``memory_bytes >= 1`` (as ``law_request``, ``count_plan``); the options given
     (not None) kept.
 
     Raises
@@ -156,7 +156,7 @@ def check_table_request(N: Any, moments: Any = 1, method: Any = "auto", *, row: 
     if methods is not None and method not in methods:
         raise ArgumentError(f"method={method!r} is out of range: method must be {choices}")
     row = None if row is None else check_int(row, "row", 1, N)
-    memory_bytes = None if memory_bytes is None else check_int(memory_bytes, "memory_bytes", 0)
+    memory_bytes = None if memory_bytes is None else check_int(memory_bytes, "memory_bytes", 1)
     given = {k: v for k, v in options.items() if v is not None}
     return TableRequest(N, moments, method, memory_bytes, executor, given, row)
 

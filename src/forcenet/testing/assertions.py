@@ -433,10 +433,15 @@ def compare(samples: ArrayLike, exact: Any, *, chain: bool = False, alpha: float
     """
     chain = _flag(chain, "chain")
     hotelling = _flag(hotelling, "hotelling", none_ok=True)
+    if hasattr(exact, "mean_W") and hasattr(exact, "moments"):  # a forcenet.Table: its <W_ij>, with their bounds
+        exact = exact.mean_W
     alpha = _alpha(alpha)
     x = samples_array(samples)
     shape = x.shape[1:]
     mu = exact_array(exact, shape)
+    if getattr(exact, "bounds", None) is not None and shape and len(exact) < shape[0]:  # a whole project table
+        raise ArgumentError(f"exact is a table of {len(exact)} rows, fewer than the samples' first axis of length "
+                            f"{shape[0]} (one sample has shape {shape}): give samples and exact of the same table")
     tested = ~np.isnan(mu)
     if not tested.any():
         raise ArgumentError("exact has no value to test: give at least one number (None marks a value not to test)")

@@ -53,7 +53,7 @@ from typing import Any, ClassVar, ParamSpec
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.execution import run_tasks
 from forcenet.core.plan import Plan
-from forcenet.core.validation import check_int, check_layers, check_moments
+from forcenet.core.validation import check_executor, check_int, check_layers, check_moments
 
 __all__ = ["BoundedTable", "Progress", "Table", "TableEngine", "TableRequest", "bounded_result", "run_independent",
            "check_table_request"]
@@ -158,7 +158,7 @@ def check_table_request(N: Any, moments: Any = 1, method: Any = "auto", *, row: 
     row = None if row is None else check_int(row, "row", 1, N)
     memory_bytes = None if memory_bytes is None else check_int(memory_bytes, "memory_bytes", 1)
     given = {k: v for k, v in options.items() if v is not None}
-    return TableRequest(N, moments, method, memory_bytes, executor, given, row)
+    return TableRequest(N, moments, method, memory_bytes, check_executor(executor), given, row)
 
 
 class TableEngine(ABC):

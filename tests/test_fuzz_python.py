@@ -312,3 +312,65 @@ def test_out_naming_the_checkpoint_folder_refused_before_the_run(out, checkpoint
     err = capsys.readouterr().err
     assert code == 2 and len(err.splitlines()) == 1 and "--out" in err, err
     assert not (sandbox / "r.json").exists() or not os.listdir(sandbox / "r.json")  # no record written
+
+
+# --- 5. the other arguments: limit_shape's coordinates, progress=, a shut-down executor --------------------------
+
+@pytest.mark.parametrize("x, z, kind, piece", [
+    ("0", float("inf"), ArgumentError, "z=inf"), ("0", float("-inf"), ArgumentError, "z=-inf"),
+    (float("nan"), "1/2", ArgumentError, "x=nan"), (float("inf"), "1/2", ArgumentError, "x=inf"),
+    ("0", np.float64("nan"), ArgumentError, "z=nan"), ("1e99999999", "1/2", ArgumentError, "exponent"),
+    ("0", "-1e-99999999", ArgumentError, "exponent"), ("0", "1/0", ArgumentTypeError, "z='1/0'"),
+    ("abc", "1/2", ArgumentTypeError, "x='abc'"), (None, "1/2", ArgumentTypeError, "x=None"),
+    ("0", 1j, ArgumentTypeError, "z=1j"), (True, "1/2", ArgumentTypeError, "x"),
+])
+def test_limit_shape_coordinates_in_the_family(x, z, kind, piece):
+    _refused(lambda: forcenet.limit_shape(x, z), kind, piece)
+
+
+PROGRESS_CALLS = {
+    "table": lambda p: forcenet.table(5, progress=p),
+    "law": lambda p: forcenet.law(4, layer=4, progress=p),
+    "plan.run": lambda p: forcenet.plan(5).run(p),
+}
+
+
+@pytest.mark.parametrize("progress", ["yes", 5, 1.0, [], object()])
+@pytest.mark.parametrize("call", sorted(PROGRESS_CALLS))
+def test_progress_neither_callable_nor_bool_refused(call, progress):
+    _refused(lambda: PROGRESS_CALLS[call](progress), ArgumentTypeError, "progress=")
+
+
+@pytest.mark.parametrize("progress", [None, False])
+@pytest.mark.parametrize("call", sorted(PROGRESS_CALLS))
+def test_progress_off_runs(call, progress):
+    assert PROGRESS_CALLS[call](progress) is not None
+
+
+def test_a_callable_progress_counts_ticks():
+    ticks = []
+    forcenet.table(6, method="fast", progress=lambda k=1: ticks.append(k))
+    assert ticks
+
+
+EXECUTOR_CALLS = {
+    "plan": lambda e: forcenet.plan(12, method="pfaffian", executor=e),
+    "table": lambda e: forcenet.table(12, method="pfaffian", executor=e),
+    "law_plan": lambda e: forcenet.law_plan(40, layer=40, executor=e),
+}
+
+
+@pytest.mark.parametrize("pool", ["threads", "processes"])
+@pytest.mark.parametrize("call", sorted(EXECUTOR_CALLS))
+def test_a_shut_down_executor_is_refused_before_the_run(call, pool):
+    from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
+
+    executor = (ThreadPoolExecutor if pool == "threads" else ProcessPoolExecutor)(1)
+    executor.shutdown()
+    _refused(lambda: EXECUTOR_CALLS[call](executor), ArgumentError, "is shut down")
+
+
+@pytest.mark.parametrize("value", [3, "localhost:8786", object()])
+@pytest.mark.parametrize("call", sorted(EXECUTOR_CALLS))
+def test_what_is_not_an_executor_is_refused(call, value):
+    _refused(lambda: EXECUTOR_CALLS[call](value), ArgumentTypeError, "is not a concurrent.futures.Executor")

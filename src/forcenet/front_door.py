@@ -39,7 +39,7 @@ from typing import TYPE_CHECKING, Any, Self
 from forcenet.core.atomic_files import check_directory
 from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan, duration_text
-from forcenet.core.validation import available_memory
+from forcenet.core.validation import available_memory, check_progress
 from forcenet.results import Row, Table
 
 if TYPE_CHECKING:
@@ -69,6 +69,7 @@ class _Costed:
     def _ticks(self, progress: Callable[..., Any] | bool | None, desc: str) -> Iterator[Callable[..., Any] | None]:
         """``progress`` as the run's tick: itself if callable, a tqdm bar for ``True`` (closed at the end; none for
         a refused plan), else None."""
+        check_progress(progress)
         if progress is not True or not self.runnable:
             yield progress if callable(progress) else None
             return

@@ -21,7 +21,7 @@ from fractions import Fraction
 from typing import TYPE_CHECKING, Any
 
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
-from forcenet.core.validation import check_int, check_rational, is_binary_float
+from forcenet.core.validation import check_exponent, check_int, check_rational, is_binary_float
 from forcenet.results import _Rendered
 
 if TYPE_CHECKING:  # pragma: no cover - annotations only
@@ -34,7 +34,6 @@ __all__ = ["GRID_MAX", "MOMENT_MAX", "Law"]
 
 GRID_MAX = 100000  # points of a grid (``grid=``, ``K``, ``points``; ``forcenet dist --grid``): ~40 s at N = 12
 MOMENT_MAX = 10000  # ``moment(s)``: exact integrals of x^s grow with s (s = 10**5 takes ~2 s at N = 20)
-_EXPONENT_MAX = 4000  # a ``"1e-5"`` string's decimal exponent: Fraction would build 10**exponent
 
 
 def _point(x: Any, name: str = "x") -> tuple[Fraction, bool]:
@@ -45,9 +44,7 @@ def _point(x: Any, name: str = "x") -> tuple[Fraction, bool]:
             raise ArgumentError(f"{name}={x} is out of range: {name} must be a finite number")
         return Fraction(float(x)), True
     if isinstance(x, str):
-        mantissa, _, exponent = x.strip().lower().partition("e")
-        if exponent and exponent.lstrip("+-").isdigit() and abs(int(exponent)) > _EXPONENT_MAX:
-            raise ArgumentError(f"{name}={x!r} is out of range: a decimal exponent beyond +-{_EXPONENT_MAX}")
+        check_exponent(x, name)
         try:
             return Fraction(x), False
         except ZeroDivisionError:

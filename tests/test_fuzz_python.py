@@ -374,3 +374,40 @@ def test_a_shut_down_executor_is_refused_before_the_run(call, pool):
 @pytest.mark.parametrize("call", sorted(EXECUTOR_CALLS))
 def test_what_is_not_an_executor_is_refused(call, value):
     _refused(lambda: EXECUTOR_CALLS[call](value), ArgumentTypeError, "is not a concurrent.futures.Executor")
+
+
+# --- 9. a closed terminal's SIGHUP; Dask's internal class names ------------------------------------------------
+
+_TRACKER_PROBE = """
+import signal, multiprocessing.resource_tracker as rt
+from forcenet.core.execution import local_pool
+mine = lambda *a: None
+signal.signal(signal.SIGHUP, mine)
+with local_pool(1) as pool:
+    pool.submit(abs, -1).result()
+    status = open(f"/proc/{rt._resource_tracker._pid}/status").read()
+    ignored = int(next(l for l in status.splitlines() if l.startswith("SigIgn:")).split()[1], 16)
+    print(ignored & 1, signal.getsignal(signal.SIGHUP) is mine)
+"""
+
+
+@pytest.mark.skipif(not os.path.exists("/proc/self/status"), reason="reads /proc")
+def test_the_resource_tracker_outlives_a_hangup_and_the_handler_is_restored():
+    """The tracker ignores SIGHUP (a group's hang-up would kill it and the shutdown print KeyError tracebacks
+    from a relaunched one); this process's own SIGHUP handler is left as it was."""
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-c", _TRACKER_PROBE], capture_output=True, text=True, timeout=60, check=False)
+    assert done.returncode == 0 and "Traceback" not in done.stderr, done.stderr
+    assert done.stdout.split() == ["1", "True"], done.stdout
+
+
+def test_a_dask_executor_is_named_as_a_cluster_not_by_its_class():
+    from concurrent.futures import Executor
+
+    from forcenet.core.execution import executor_label
+
+    fake = type("ClientExecutor", (Executor,), {"__module__": "distributed.client"})()
+    label = executor_label(fake)
+    assert "ClientExecutor" not in label and "Dask" in label

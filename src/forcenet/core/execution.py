@@ -197,7 +197,10 @@ def executor_label(executor: Any) -> str:
     """
     executor = as_executor(executor)
     address = getattr(getattr(_dask_client(executor), "scheduler", None), "address", None)
-    return f"Dask scheduler {address}" if address else type(executor).__name__
+    if address:
+        return f"Dask scheduler {address}"
+    # Dask's own executor class (ClientExecutor) is internal: name the cluster instead
+    return "a Dask cluster" if type(executor).__module__.startswith("distributed") else type(executor).__name__
 
 
 # The probe: a builtin (``eval``, unpickled by any Python) evaluating an import of forcenet on the worker. A task
@@ -311,9 +314,10 @@ def local_pool(workers: int, start_method: str = "spawn") -> ProcessPoolExecutor
     ...     pool.submit(abs, -3).result()
     3
     """
-    import multiprocessing
+    import multiprocessing.resource_tracker
     from concurrent.futures import ProcessPoolExecutor
 
+    _deaf_to_hangups(multiprocessing.resource_tracker.ensure_running)
     context = multiprocessing.get_context(start_method)
     started = context.SimpleQueue()  # each worker's pid, put by its initializer: the workers we stop
     pool = ProcessPoolExecutor(workers, mp_context=context, initializer=_start_worker,
@@ -321,6 +325,24 @@ def local_pool(workers: int, start_method: str = "spawn") -> ProcessPoolExecutor
     _WORKERS[pool] = workers
     _PIDS[pool] = started
     return pool
+
+
+def _deaf_to_hangups(start: Callable[[], None]) -> None:
+    """``start()`` (multiprocessing's resource tracker) with SIGHUP ignored, which the child keeps: the tracker
+    shares this process group, and a closed terminal's SIGHUP would kill it, then this process's shutdown would
+    unregister its semaphores with a relaunched tracker, printing a ``KeyError`` traceback for each."""
+    hangup = getattr(signal, "SIGHUP", None)
+    changed, previous = False, None
+    if hangup is not None:
+        try:
+            previous, changed = signal.signal(hangup, signal.SIG_IGN), True
+        except ValueError:  # not the main thread: signals cannot be changed here
+            pass
+    try:
+        start()
+    finally:
+        if changed and hangup is not None:  # a handler not set from Python reads None: the default is restored
+            signal.signal(hangup, signal.SIG_DFL if previous is None else previous)
 
 
 def _start_worker(parent: int, started: Any) -> None:

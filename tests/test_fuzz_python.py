@@ -411,3 +411,25 @@ def test_a_dask_executor_is_named_as_a_cluster_not_by_its_class():
     fake = type("ClientExecutor", (Executor,), {"__module__": "distributed.client"})()
     label = executor_label(fake)
     assert "ClientExecutor" not in label and "Dask" in label
+
+
+# --- 10. estimates count only the work measured in this run ----------------------------------------------------
+
+def _triple(a):
+    return np.array([3 * a], dtype=np.int64)
+
+
+@pytest.mark.parametrize("held", [0, 1, 3, 5])
+def test_reused_records_tick_once_before_the_measured_work(held, tmp_path):
+    """The records taken from a checkpoint come in one progress call before any computed task: a rate measured
+    from the first call on (the command line's restated estimate) counts only the work of this run."""
+    from forcenet.core.checkpoints import CheckpointStore
+    from forcenet.core.execution import run_tasks
+
+    store = CheckpointStore(tmp_path, "fuzz-test", N=5)
+    for key in range(held):
+        store.save(key, _triple(key))
+    calls = []
+    results = run_tasks(_triple, [(k,) for k in range(5)], progress=calls.append, store=store, keys=list(range(5)))
+    assert [int(r[0]) for r in results] == [0, 3, 6, 9, 12]
+    assert calls == ([held] if held else []) + [1] * (5 - held)

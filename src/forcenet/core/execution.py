@@ -49,7 +49,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 from forcenet.core.compiled import prefer_wide_vectors
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ClusterError
-from forcenet.core.lifetime import die_with_parent
+from forcenet.core.lifetime import deaf_to_hangups, die_with_parent
 from forcenet.core.validation import check_int
 
 if TYPE_CHECKING:
@@ -317,7 +317,7 @@ def local_pool(workers: int, start_method: str = "spawn") -> ProcessPoolExecutor
     import multiprocessing.resource_tracker
     from concurrent.futures import ProcessPoolExecutor
 
-    _deaf_to_hangups(multiprocessing.resource_tracker.ensure_running)
+    deaf_to_hangups(multiprocessing.resource_tracker.ensure_running)
     context = multiprocessing.get_context(start_method)
     started = context.SimpleQueue()  # each worker's pid, put by its initializer: the workers we stop
     pool = ProcessPoolExecutor(workers, mp_context=context, initializer=_start_worker,
@@ -325,24 +325,6 @@ def local_pool(workers: int, start_method: str = "spawn") -> ProcessPoolExecutor
     _WORKERS[pool] = workers
     _PIDS[pool] = started
     return pool
-
-
-def _deaf_to_hangups(start: Callable[[], None]) -> None:
-    """``start()`` (multiprocessing's resource tracker) with SIGHUP ignored, which the child keeps: the tracker
-    shares this process group, and a closed terminal's SIGHUP would kill it, then this process's shutdown would
-    unregister its semaphores with a relaunched tracker, printing a ``KeyError`` traceback for each."""
-    hangup = getattr(signal, "SIGHUP", None)
-    changed, previous = False, None
-    if hangup is not None:
-        try:
-            previous, changed = signal.signal(hangup, signal.SIG_IGN), True
-        except ValueError:  # not the main thread: signals cannot be changed here
-            pass
-    try:
-        start()
-    finally:
-        if changed and hangup is not None:  # a handler not set from Python reads None: the default is restored
-            signal.signal(hangup, signal.SIG_DFL if previous is None else previous)
 
 
 def _start_worker(parent: int, started: Any) -> None:
@@ -508,7 +490,8 @@ def run_tasks(function: Callable[..., Any], tasks: Iterable[Any], *, executor: A
         Processes of the local pool (ignored when ``executor`` is given).
     progress : callable, optional
         Called as ``progress(weight)`` once per task when its result is
-        available (at once for results taken from ``store``).
+        available; the results taken from ``store`` in one call, at once
+        (a rate measured from the first call on counts only work done).
     weights : sequence, optional
         The progress weight of each task (default 1 each).
     store : object with ``load(key)`` and ``save(key, value)``, optional
@@ -542,15 +525,17 @@ def run_tasks(function: Callable[..., Any], tasks: Iterable[Any], *, executor: A
         raise ArgumentError("keys must give one store key per task when a store is given")
     weights = [1] * len(tasks) if weights is None else list(weights)
     results: list = [None] * len(tasks)
-    pending = []
+    pending: list[int] = []
+    reused: float = 0
     for i in range(len(tasks)):
         value = store.load(keys[i]) if store is not None else None
         if value is None:
             pending.append(i)
             continue
         results[i] = value
-        if progress is not None:
-            progress(weights[i])
+        reused += weights[i]
+    if progress is not None and reused:  # one tick for every record reused: no rate is measured on them
+        progress(reused)
 
     def finish(i: int, value: Any) -> None:
         results[i] = value

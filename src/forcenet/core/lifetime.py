@@ -22,9 +22,10 @@ import signal
 import sys
 import threading
 import time
+from collections.abc import Callable
 from typing import Any
 
-__all__ = ["die_with_parent"]
+__all__ = ["deaf_to_hangups", "die_with_parent"]
 
 _PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
 _WATCH_SECONDS = 0.5  # elsewhere: how often a worker's watchdog looks for its parent
@@ -73,3 +74,28 @@ def die_with_parent(parent: int, started: Any = None) -> None:
         threading.Thread(target=watch, name="forcenet-parent-watch", daemon=True).start()
     if started is not None:
         started.put(os.getpid())
+
+
+def deaf_to_hangups(start: Callable[[], None]) -> None:
+    """``start()`` (multiprocessing's resource tracker) with SIGHUP ignored, which the child keeps: the tracker
+    shares this process group, and a closed terminal's SIGHUP would kill it, then this process's shutdown would
+    unregister its semaphores with a relaunched tracker, printing a ``KeyError`` traceback for each.
+
+    Examples
+    --------
+    >>> deaf_to_hangups(lambda: None)
+    >>> signal.getsignal(signal.SIGHUP) != signal.SIG_IGN
+    True
+    """
+    hangup = getattr(signal, "SIGHUP", None)
+    changed, previous = False, None
+    if hangup is not None:
+        try:
+            previous, changed = signal.signal(hangup, signal.SIG_IGN), True
+        except ValueError:  # not the main thread: signals cannot be changed here
+            pass
+    try:
+        start()
+    finally:
+        if changed and hangup is not None:  # a handler not set from Python reads None: the default is restored
+            signal.signal(hangup, signal.SIG_DFL if previous is None else previous)

@@ -433,3 +433,21 @@ def test_reused_records_tick_once_before_the_measured_work(held, tmp_path):
     results = run_tasks(_triple, [(k,) for k in range(5)], progress=calls.append, store=store, keys=list(range(5)))
     assert [int(r[0]) for r in results] == [0, 3, 6, 9, 12]
     assert calls == ([held] if held else []) + [1] * (5 - held)
+
+
+@pytest.fixture(scope="module")
+def law20():
+    return forcenet.law(20, layer=20)
+
+
+def test_a_grid_too_long_for_its_degree_is_refused_naming_what_fits(law20):
+    """``grid(100000)`` of a degree-189 law would take minutes: refused at once, naming the ``K`` that fits, which
+    then runs within the planned time (``GRID_SECONDS``)."""
+    from forcenet.law_results import GRID_SECONDS
+
+    message = _refused(lambda: law20.to_json(grid=GRID_MAX), ArgumentError, "for this law", bound=2.0)
+    fits = int(message.rsplit("1..", 1)[1].split()[0])
+    assert 1 <= fits < GRID_MAX
+    small = max(1, fits // 100)  # a hundredth of it: well inside the plan, quick here
+    x, p, F = _bounded(lambda: law20.grid(small), GRID_SECONDS / 100 * 3)
+    assert len(x) == small + 1 and F[-1] == 1.0

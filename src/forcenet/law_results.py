@@ -30,9 +30,11 @@ if TYPE_CHECKING:  # pragma: no cover - annotations only
 
     from forcenet.sampled_comparison import SampledComparison
 
-__all__ = ["GRID_MAX", "MOMENT_MAX", "Law"]
+__all__ = ["GRID_MAX", "GRID_SECONDS", "MOMENT_MAX", "Law"]
 
 GRID_MAX = 100000  # points of a grid (``grid=``, ``K``, ``points``; ``forcenet dist --grid``): ~40 s at N = 12
+GRID_SECONDS = 60.0  # a grid planned longer than this is refused, naming the K that fits
+GRID_POINT_SECONDS = 1e-7  # measured: a point of a degree-d law takes ~(6-10)e-8 d^2 s (N = 8..24, both curves)
 MOMENT_MAX = 10000  # ``moment(s)``: exact integrals of x^s grow with s (s = 10**5 takes ~2 s at N = 20)
 
 
@@ -238,6 +240,13 @@ class Law(_Rendered):
         from forcenet.numeric.triangle.force_distribution import density_grid
 
         K = check_int(K, name, 1, GRID_MAX)  # as forcenet dist --grid: 1..GRID_MAX
+        # planned: each point is an exact evaluation of degree d at a float's exact value, ~d^2 big-integer work
+        degree = max(max(p.poly.degree() for p in pieces) for pieces in (self.density, self.cdf))
+        per_point = GRID_POINT_SECONDS * max(degree, 1) ** 2
+        if (K + 1) * per_point > GRID_SECONDS:
+            fits = max(1, int(GRID_SECONDS / per_point) - 1)
+            raise ArgumentError(f"{name}={K} is out of range here: {K + 1} exact evaluations of degree {degree} take "
+                                f"~{(K + 1) * per_point:.0f} s; {name} must be an integer in 1..{fits} for this law")
         return density_grid(self.density, self.cdf, K)
 
     def to_dict(self, grid: int | None = None) -> dict[str, Any]:

@@ -372,8 +372,10 @@ def compare(samples: ArrayLike, exact: Any, *, chain: bool = False, alpha: float
     ----------
     samples : array_like, shape (K, ...)
         Independent samples, or the steps of a Markov chain (``chain=True``).
-    exact : scalar, array or nested (ragged) sequence
-        The exact means, shaped like one sample; ``None``/missing: not tested.
+    exact : scalar, array, nested (ragged) sequence or forcenet.Table
+        The exact means, shaped like one sample; ``None``/missing: not tested. A
+        :class:`forcenet.Table` stands for its ``mean_W``; a project table
+        (carrying its bounds) with fewer rows than the samples is refused.
     chain : bool
         The rows are successive states of a Markov chain: spaced batch means
         (:func:`forcenet.numeric.autocorr.batch_means`; ``batching`` passes
@@ -493,8 +495,10 @@ def assert_agrees(samples: ArrayLike, exact: Any, **options: Any) -> TableAgreem
     ----------
     samples : array_like, shape (K, ...)
         Independent samples, or the steps of a Markov chain (``chain=True``).
-    exact : scalar, array or nested (ragged) sequence
-        The exact means, shaped like one sample; ``None``/missing: not tested.
+    exact : scalar, array, nested (ragged) sequence or forcenet.Table
+        The exact means, shaped like one sample; ``None``/missing: not tested. A
+        :class:`forcenet.Table` stands for its ``mean_W``; a project table
+        (carrying its bounds) with fewer rows than the samples is refused.
     **options
         ``chain``, ``alpha``, ``keys``, ``bounds``, ``hotelling`` and the batch
         options of :func:`compare`.

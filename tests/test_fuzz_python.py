@@ -96,6 +96,7 @@ PYTHON_CHECKPOINT_CALLS = {
     "table": lambda d: forcenet.table(12, method="pfaffian", checkpoint=d),
     "law_plan": lambda d: forcenet.law_plan(40, layer=40, checkpoint=d),
     "law": lambda d: forcenet.law(40, layer=40, checkpoint=d),
+    "scaling_plan": lambda d: forcenet.scaling_plan("percolation", checkpoint=d),
 }
 
 
@@ -121,6 +122,17 @@ def test_cli_checkpoint_refused_alike(kind, sandbox, capsys):
 
 
 @pytest.mark.parametrize("kind", DIRECTORY_KINDS)
+@pytest.mark.parametrize("command", [["scaling", "--model", "percolation"], ["dist", "--N", "40", "--layer", "40"]])
+def test_cli_checkpoint_refused_by_every_command(command, kind, sandbox, capsys):
+    directory, reason = _bad_directory(kind, sandbox)
+    if kind == "nul":
+        pytest.skip("a command line cannot hold a NUL byte")
+    code = _bounded(lambda: main([*command, "--checkpoint", str(directory)]))
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.splitlines()) == 1 and reason in err and "--checkpoint=" in err, err
+
+
+@pytest.mark.parametrize("kind", DIRECTORY_KINDS)
 def test_one_check_same_reason(kind, sandbox, capsys):
     """The Python message and the command line's give the same reason after the argument."""
     directory, _ = _bad_directory(kind, sandbox)
@@ -134,7 +146,7 @@ def test_one_check_same_reason(kind, sandbox, capsys):
 
 
 @pytest.mark.parametrize("value", [5, 1.5, b"records", ["a"], object(), True])
-@pytest.mark.parametrize("call", ["plan", "law_plan"])
+@pytest.mark.parametrize("call", ["plan", "law_plan", "scaling_plan"])
 def test_checkpoint_of_the_wrong_type(call, value, sandbox):
     _refused(lambda: PYTHON_CHECKPOINT_CALLS[call](value), ArgumentTypeError, "is not a directory path")
 

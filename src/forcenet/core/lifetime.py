@@ -79,7 +79,8 @@ def die_with_parent(parent: int, started: Any = None) -> None:
 def deaf_to_hangups(start: Callable[[], None]) -> None:
     """``start()`` (multiprocessing's resource tracker) with SIGHUP ignored, which the child keeps: the tracker
     shares this process group, and a closed terminal's SIGHUP would kill it, then this process's shutdown would
-    unregister its semaphores with a relaunched tracker, printing a ``KeyError`` traceback for each.
+    unregister its semaphores with a relaunched tracker, printing a ``KeyError`` traceback for each.  Its
+    "leaked semaphore" warnings (after a SIGKILL of this process, it cleans them up) are not printed.
 
     Examples
     --------
@@ -94,8 +95,14 @@ def deaf_to_hangups(start: Callable[[], None]) -> None:
             previous, changed = signal.signal(hangup, signal.SIG_IGN), True
         except ValueError:  # not the main thread: signals cannot be changed here
             pass
+    quiet = "ignore:resource_tracker:UserWarning"  # passed on to the tracker (its -W): after a SIGKILL of this
+    added = quiet not in sys.warnoptions  # process it cleans the semaphores up, without a "leaked" warning line
+    if added:
+        sys.warnoptions.append(quiet)
     try:
         start()
     finally:
+        if added:
+            sys.warnoptions.remove(quiet)
         if changed and hangup is not None:  # a handler not set from Python reads None: the default is restored
             signal.signal(hangup, signal.SIG_DFL if previous is None else previous)

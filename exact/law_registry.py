@@ -36,7 +36,7 @@ from forcenet.core.checkpoints import resumed_plan
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan, duration_text
 from forcenet.core.registry import Decision
-from forcenet.core.validation import check_grain, check_int, check_layers
+from forcenet.core.validation import check_executor, check_grain, check_int, check_layers
 
 from .protocol import Progress
 from .triangle import distribution as D
@@ -149,7 +149,7 @@ def law_request(N: int, grain: Any = None, layer: Any = None, contact: Any = Non
     else:
         target = LawRequest(N)
     memory = None if memory_bytes is None else check_int(memory_bytes, "memory_bytes", 1)
-    return target._replace(method=_check_method(method), memory_bytes=memory, executor=executor)
+    return target._replace(method=_check_method(method), memory_bytes=memory, executor=check_executor(executor))
 
 
 def _check_method(method: Any) -> str:

@@ -53,7 +53,7 @@ from typing import Any, ClassVar, ParamSpec
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.execution import run_tasks
 from forcenet.core.plan import Plan
-from forcenet.core.validation import check_int, check_layers, check_moments
+from forcenet.core.validation import check_executor, check_int, check_layers, check_moments
 
 __all__ = ["BoundedTable", "Progress", "Table", "TableEngine", "TableRequest", "bounded_result", "run_independent",
            "check_table_request"]
@@ -132,7 +132,7 @@ def check_table_request(N: Any, moments: Any = 1, method: Any = "auto", *, row: 
                   executor: Executor | None = None, methods: Sequence[str] | None = None,
                   **options: Any) -> TableRequest:
     """The one check of a table request: ``N >= 2``, ``moments`` in ``1..50``, ``method`` a string (one of
-    ``methods`` when given: the registry's names), ``row`` in ``1..N``, ``memory_bytes >= 0``; the options given
+    ``methods`` when given: the registry's names), ``row`` in ``1..N``, ``memory_bytes >= 1`` (as ``law_request``, ``count_plan``); the options given
     (not None) kept.
 
     Raises
@@ -156,9 +156,9 @@ def check_table_request(N: Any, moments: Any = 1, method: Any = "auto", *, row: 
     if methods is not None and method not in methods:
         raise ArgumentError(f"method={method!r} is out of range: method must be {choices}")
     row = None if row is None else check_int(row, "row", 1, N)
-    memory_bytes = None if memory_bytes is None else check_int(memory_bytes, "memory_bytes", 0)
+    memory_bytes = None if memory_bytes is None else check_int(memory_bytes, "memory_bytes", 1)
     given = {k: v for k, v in options.items() if v is not None}
-    return TableRequest(N, moments, method, memory_bytes, executor, given, row)
+    return TableRequest(N, moments, method, memory_bytes, check_executor(executor), given, row)
 
 
 class TableEngine(ABC):

@@ -183,9 +183,10 @@ def _mean_plan(N: int, memory_bytes: int | None) -> Plan:
     est = estimate_survival_cost(N, budget)
     plan = Plan(what, est.seconds, est.nbytes, est.ticks, "ideal")
     if est.nbytes > budget:
-        top = max(M for M in range(2, N) if estimate_survival_cost(M, budget).nbytes <= budget)
+        fits = [M for M in range(2, N) if estimate_survival_cost(M, budget).nbytes <= budget]
+        where = f"N must be an integer in 2..{fits[-1]} here" if fits else "no N fits it: give more memory_bytes"
         return plan.refuse(f"N={N} is out of range for the exact table here: it needs ~{est.nbytes / 2**30:.1f} GiB "
-                           f"but {budget / 2**30:.1f} GiB is available; N must be an integer in 2..{top} here")
+                           f"but {budget / 2**30:.1f} GiB is available; {where}")
     return plan
 
 

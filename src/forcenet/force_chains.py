@@ -36,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from forcenet.core.atomic_files import check_directory
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_int, check_seed
@@ -197,7 +198,7 @@ def scaling_plan(model: str, sizes: Sequence[int] | None = None, samples: int | 
         seed=check_int(check_seed(seed), "seed", 0), lattice=lattice,
         thresholds=check_int(thresholds, "thresholds", 20, 20000), replicas=check_int(replicas, "replicas", 0, 10000),
         blocks=check_int(blocks, "blocks", 2, 10000), workers=check_int(workers, "workers", 1, 256),
-        checkpoint=None if checkpoint is None else os.fspath(checkpoint), method=str(method))
+        checkpoint=None if checkpoint is None else check_directory(checkpoint, "checkpoint"), method=str(method))
     _, cost = REGISTRY.choose(request)
     return ScalingPlan(request, cost)
 

@@ -36,9 +36,10 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, Self
 
-from forcenet.core.errors import ArgumentError, ArgumentTypeError
+from forcenet.core.atomic_files import check_directory
+from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan, duration_text
-from forcenet.core.validation import available_memory
+from forcenet.core.validation import available_memory, check_progress
 from forcenet.results import Row, Table
 
 if TYPE_CHECKING:
@@ -55,11 +56,8 @@ def _available_memory() -> int:
 
 
 def _checkpoint(checkpoint: object) -> str | None:
-    if checkpoint is None:
-        return None
-    if not isinstance(checkpoint, (str, os.PathLike)):
-        raise ArgumentTypeError(f"checkpoint={checkpoint!r} is not a directory path: give a str or os.PathLike")
-    return os.fspath(checkpoint)
+    """``checkpoint=`` checked as the command line checks ``--checkpoint`` (one shared check)."""
+    return None if checkpoint is None else check_directory(checkpoint, "checkpoint")
 
 
 class _Costed:
@@ -71,6 +69,7 @@ class _Costed:
     def _ticks(self, progress: Callable[..., Any] | bool | None, desc: str) -> Iterator[Callable[..., Any] | None]:
         """``progress`` as the run's tick: itself if callable, a bar for ``True``, and for ``None`` where a person
         watches (a terminal, a notebook; :func:`forcenet.core.progress.ticks`); none for a refused plan."""
+        check_progress(progress)
         from forcenet.core.progress import ticks  # None: a bar where a person watches (the one policy)
 
         with ticks(self.cost, progress, desc) as tick:

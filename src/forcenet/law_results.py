@@ -15,13 +15,15 @@ Examples
 
 from __future__ import annotations
 
+import math
 import re
 import textwrap
 from collections.abc import Callable
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any
 
-from forcenet.core.validation import check_int
+from forcenet.core.errors import ArgumentError, ArgumentTypeError
+from forcenet.core.validation import check_exponent, check_int, check_rational, is_binary_float
 from forcenet.results import _Rendered
 
 if TYPE_CHECKING:  # pragma: no cover - annotations only
@@ -30,7 +32,31 @@ if TYPE_CHECKING:  # pragma: no cover - annotations only
 
     from forcenet.sampled_comparison import SampledComparison
 
-__all__ = ["Law"]
+__all__ = ["GRID_MAX", "GRID_SECONDS", "MOMENT_MAX", "Law"]
+
+GRID_MAX = 100000  # points of a grid (``grid=``, ``K``, ``points``; ``forcenet dist --grid``): ~40 s at N = 12
+GRID_SECONDS = 60.0  # a grid planned longer than this is refused, naming the K that fits
+GRID_POINT_SECONDS = 1e-7  # measured: a point of a degree-d law takes ~(6-10)e-8 d^2 s (N = 8..24, both curves)
+MOMENT_MAX = 10000  # ``moment(s)``: exact integrals of x^s grow with s (s = 10**5 takes ~2 s at N = 20)
+
+
+def _point(x: Any, name: str = "x") -> tuple[Fraction, bool]:
+    """``x`` checked as a point: ``(its exact value, True for a binary float)``; NaN, infinities, non-numbers and
+    booleans refused in the exception family."""
+    if is_binary_float(x):
+        if not math.isfinite(x):
+            raise ArgumentError(f"{name}={x} is out of range: {name} must be a finite number")
+        return Fraction(float(x)), True
+    if isinstance(x, str):
+        check_exponent(x, name)
+        try:
+            return Fraction(x), False
+        except ZeroDivisionError:
+            raise ArgumentError(f"{name}={x!r} is out of range: a zero denominator") from None
+        except ValueError:
+            raise ArgumentTypeError(f"{name}={x!r} is not a number: {name} must be an int, a Fraction, a 'p/q' "
+                                    "string or a finite float") from None
+    return check_rational(x, name), False
 
 
 def _fraction(x: Any) -> Fraction:
@@ -70,6 +96,9 @@ class Law(_Rendered):
     >>> law.density[0].poly.as_expr(), law.mean
     (-15*w**5 + 30*w**4 - 30*w**2 + 15*w, Fraction(5, 14))
     """
+
+    GRID_MAX = GRID_MAX  # the cap of grid=, K, points (and of forcenet dist --grid)
+    MOMENT_MAX = MOMENT_MAX  # the cap of moment(s)
 
     def __init__(self, N: int, quantity: str, variable: str, density: list[Any], cdf: list[Any], method: str,
                  why: str = "", extra: dict[str, Any] | None = None, pool: str | int | None = None):
@@ -112,7 +141,7 @@ class Law(_Rendered):
         >>> forcenet.law(6, layer=5).moment(0)
         Fraction(1, 1)
         """
-        s = check_int(s, "s", 0)
+        s = check_int(s, "s", 0, MOMENT_MAX)  # capped: the integrals' numerators grow with s
         total = Fraction(0)
         for piece in self.density:
             lo, hi = _fraction(piece.lo), _fraction(piece.hi)
@@ -134,9 +163,9 @@ class Law(_Rendered):
         return self.moment(1)
 
     def _at(self, pieces: list[Any], x: Any, below: int, above: int) -> Fraction | float:
-        if isinstance(x, float):  # a binary float: its exact value, the answer rounded once
-            return float(self._at(pieces, Fraction(x), below, above))
-        x = Fraction(x)
+        x, binary = _point(x)
+        if binary:  # a binary float: its exact value, the answer rounded once
+            return float(self._at(pieces, x, below, above))
         lo, hi = self.support
         if x < lo or x > hi:
             return Fraction(below if x < lo else above)
@@ -206,8 +235,20 @@ class Law(_Rendered):
         >>> forcenet.law(3, layer=3).grid(3)[2].tolist()
         [0.0, 0.5555555555555556, 0.8888888888888888, 1.0]
         """
+        return self._grid(K, "K")
+
+    def _grid(self, K: Any, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`grid` with ``K`` checked as the argument ``name`` (``K``, ``grid``, ``points``), capped."""
         from forcenet.numeric.triangle.force_distribution import density_grid
 
+        K = check_int(K, name, 1, GRID_MAX)  # as forcenet dist --grid: 1..GRID_MAX
+        # planned: each point is an exact evaluation of degree d at a float's exact value, ~d^2 big-integer work
+        degree = max(max(p.poly.degree() for p in pieces) for pieces in (self.density, self.cdf))
+        per_point = GRID_POINT_SECONDS * max(degree, 1) ** 2
+        if (K + 1) * per_point > GRID_SECONDS:
+            fits = max(1, int(GRID_SECONDS / per_point) - 1)
+            raise ArgumentError(f"{name}={K} is out of range here: {K + 1} exact evaluations of degree {degree} take "
+                                f"~{(K + 1) * per_point:.0f} s; {name} must be an integer in 1..{fits} for this law")
         return density_grid(self.density, self.cdf, K)
 
     def to_dict(self, grid: int | None = None) -> dict[str, Any]:
@@ -238,7 +279,7 @@ class Law(_Rendered):
             "coefficients": "constant term first, exact rationals"}
         out.update({k: str(v) for k, v in self.extra.items()})
         if grid is not None:
-            x, p, F = self.grid(grid)
+            x, p, F = self._grid(grid, "grid")
             out["grid"] = [{self.variable: float(a), "density": float(b), "cdf": float(c)} for a, b, c in zip(x, p, F)]
         return out
 
@@ -290,7 +331,7 @@ class Law(_Rendered):
 
         var = self.variable
         if grid is not None:
-            x, p, F = self.grid(grid)
+            x, p, F = self._grid(grid, "grid")
             return "\n".join([f"{var},density,cdf"] + [f"{a!r},{b!r},{c!r}" for a, b, c in
                                                          zip(x.tolist(), p.tolist(), F.tolist())])
         lines = ["lo,hi,power,density,cdf"]
@@ -331,7 +372,7 @@ class Law(_Rendered):
         lines = [f"% {self.quantity}", r"\begin{align*}", rf"p({var}) &= {self._cases(self.density)} \\",
                  rf"P(\le {var}) &= {self._cases(self.cdf)}", r"\end{align*}"]
         if grid is not None:
-            x, p, F = self.grid(grid)
+            x, p, F = self._grid(grid, "grid")
             lines += [r"\begin{tabular}{rrr}", rf"${var}$ & density & CDF \\ \hline"]
             lines += [rf"{a:.6g} & {b:.10g} & {c:.10g} \\" for a, b, c in zip(x, p, F)]
             lines += [r"\end{tabular}"]
@@ -367,7 +408,7 @@ class Law(_Rendered):
         lines.append(f"  density at {var} = 0: {self.density[0].poly.eval(0)}")
         if grid is not None:
             lines.append(f"  {var:>10}  {'density':>14}  {'cdf':>14}")
-            lines += [f"  {a:10.6g}  {b:14.8g}  {c:14.8g}" for a, b, c in zip(*self.grid(grid))]
+            lines += [f"  {a:10.6g}  {b:14.8g}  {c:14.8g}" for a, b, c in zip(*self._grid(grid, "grid"))]
         return "\n".join(lines)
 
     def _repr_latex_(self) -> str | None:
@@ -458,9 +499,11 @@ class Law(_Rendered):
         """
         import matplotlib.pyplot as plt
 
+        if ax is not None and not isinstance(ax, plt.Axes):
+            raise ArgumentTypeError(f"ax={ax!r} is not a matplotlib Axes: give one, or None for a new figure")
+        x, p, _ = self._grid(points, "points")
         if ax is None:
             _, ax = plt.subplots(figsize=(5, 3.5))
-        x, p, _ = self.grid(points)
         ax.plot(x, p, label=f"exact density of {_mathtext(self.quantity)}")
         ax.set_xlabel(self.variable)
         ax.set_ylabel(f"p({self.variable})")

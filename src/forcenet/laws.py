@@ -34,8 +34,9 @@ from concurrent.futures import Executor
 from dataclasses import dataclass, field, replace
 from typing import Any
 
+from forcenet.core.atomic_files import check_directory
 from forcenet.core.checkpoints import run_distrusting
-from forcenet.core.errors import ArgumentError, ArgumentTypeError
+from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan
 from forcenet.core.validation import available_memory
 from forcenet.exact.routes import LAW_PRIME_ROUTES, LawRequest, law_checkpoint, law_request, law_resumed
@@ -155,9 +156,7 @@ class LawPlan(_Costed):
             if self.checkpoint is not None:
                 raise ArgumentError(f"checkpoint={checkpoint!r}: this plan keeps its checkpoint already; make the "
                                     "request again with forcenet.law_plan(..., checkpoint=...)")
-            if not isinstance(checkpoint, (str, os.PathLike)):
-                raise ArgumentTypeError(f"checkpoint={checkpoint!r} is not a directory path: give a str or "
-                                        "os.PathLike")
+            checkpoint = check_directory(checkpoint, "checkpoint")  # the one check, as --checkpoint's
             store = law_checkpoint(self.request, self.method, checkpoint)
             cost = law_resumed(cost, self.request, store)
         return replace(self, cost=cost, executor=executor if executor is not None else self.executor,

@@ -22,6 +22,7 @@ scaling limit at x = 0.2, z = 0.6 (15 digits)
 from __future__ import annotations
 
 import json
+import math
 import numbers
 from decimal import Decimal
 from fractions import Fraction
@@ -30,7 +31,7 @@ from typing import Any
 import mpmath
 
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
-from forcenet.core.validation import check_dps, check_float_digits, check_not_bool, is_binary_float
+from forcenet.core.validation import check_dps, check_exponent, check_float_digits, check_not_bool, is_binary_float
 
 __all__ = ["LimitShape", "limit_shape"]
 
@@ -212,10 +213,12 @@ def _coordinate(value: Any, name: str, dps: int) -> tuple[str, Fraction, Any]:
     """``(text, exact value, what the engines take)`` of a coordinate; a binary float meets the one rule."""
     check_not_bool(value, name)
     if is_binary_float(value):
+        if not math.isfinite(value):
+            raise ArgumentError(f"{name}={value} is out of range: {name} must be a finite number")
         check_float_digits(value, name, dps, stacklevel=4)
         return repr(float(value)), Fraction(float(value)), Fraction(float(value))
     if isinstance(value, str):
-        text = value.strip()
+        text = check_exponent(value, name).strip()
         try:
             exact = Fraction(text)
         except (ValueError, ZeroDivisionError):

@@ -340,6 +340,7 @@ def engine_options(args: argparse.Namespace, applies: bool, what: str, plan_seco
         check_output_dir(directory, "--checkpoint")
     elif not args.no_checkpoint and plan_seconds > FORCE_SECONDS:
         directory = default_directory()
+    _check_apart(getattr(args, "out", None), directory)
     store = None if directory is None else store_for(directory)
     if args.scheduler is None:
         return None, store
@@ -348,6 +349,16 @@ def engine_options(args: argparse.Namespace, applies: bool, what: str, plan_seco
     except ImportError:
         raise UsageError(DISTRIBUTED_MISSING) from None
     return connect_scheduler(args.scheduler, security), store
+
+
+def _check_apart(out: str | None, directory: str | None) -> None:
+    """Refuse, before the run, an ``--out`` file that is the checkpoint folder or a folder holding it."""
+    if out is None or directory is None:
+        return
+    file, folder = os.path.realpath(out), os.path.realpath(directory)
+    if folder == file or folder.startswith(file.rstrip(os.sep) + os.sep):
+        raise UsageError(f"--out={out} names the checkpoint folder {directory} (or a folder holding it): give "
+                         "--out a file outside it")
 
 
 def report_checkpoints(store: CheckpointStore | str, ticks: int) -> None:

@@ -124,7 +124,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     which.add_argument("--layer", type=integer("layer", 2), help="P(f) of layer i, f = i W_ij pooled over j (2..N)")
     which.add_argument("--ensemble", action="store_true", help="P(f) pooled over every grain of layers 2..N, f = i W_ij")
     p.add_argument("--contact", choices=list(LAW_CONTACTS), help="with --grain: a contact force, in units of 2/sqrt3 (Eq. 3.8)")
-    p.add_argument("--grid", type=integer("grid", 1, 100000), help="also the values on K + 1 equally spaced points (K in 1..100000)")
+    grid_max = forcenet.Law.GRID_MAX  # Law's grid=: one cap
+    p.add_argument("--grid", type=integer("grid", 1, grid_max),
+                   help=f"also the values on K + 1 equally spaced points (K in 1..{grid_max})")
     add_format(p, ("text", "json", "csv", "latex"))
     p.add_argument("--plot", help="with --ensemble or --layer: a PNG comparing the exact P(f) with sampled histograms (atomic)")
     p.add_argument("--samples", type=integer("samples", 2), default=None, help="exact samples for --plot (default 20000)")

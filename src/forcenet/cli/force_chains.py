@@ -63,6 +63,8 @@ def cmd_clusters(args: argparse.Namespace) -> int:
 
 def cmd_scaling(args: argparse.Namespace) -> int:
     _check_plot(args)
+    if args.checkpoint is not None:  # the one check, named as the command line's option
+        check_output_dir(args.checkpoint, "--checkpoint")
     executor: Any = None
     plan = forcenet.scaling_plan(args.model, args.sizes, args.samples, args.seed, lattice=args.lattice,
                                  thresholds=args.thresholds, replicas=args.replicas, workers=args.workers,

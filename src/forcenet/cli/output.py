@@ -28,6 +28,7 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 from forcenet.core import atomic_files
+from forcenet.core.errors import ArgumentError
 
 from .common import UsageError
 
@@ -94,22 +95,13 @@ def check_output_dir(directory: str, name: str = "--out-dir", files: Iterable[st
 
     ``files``: the names that will be written inside it, checked as destinations if the directory exists.
     """
-    if directory == "":
-        raise UsageError(f"{name}='': an empty directory name; give a directory (e.g. {name}=.)")
-    absolute = os.path.abspath(directory)
-    if os.path.exists(absolute):
-        if not os.path.isdir(absolute):
-            raise UsageError(f"{name}={directory}: exists and is not a directory")
-        if not os.access(absolute, os.W_OK | os.X_OK):
-            raise UsageError(f"{name}={directory}: the directory is not writable")
+    try:  # the one check, shared with Python's checkpoint= (forcenet.core.atomic_files.check_directory)
+        atomic_files.check_directory(directory, name)
+    except ArgumentError as exc:
+        raise UsageError(str(exc)) from None
+    if os.path.isdir(directory):
         for file in files:
             destination(os.path.join(directory, file), name)
-        return
-    parent = os.path.dirname(absolute)
-    if not os.path.isdir(parent):
-        raise UsageError(f"{name}={directory}: its parent {parent} does not exist or is not a directory")
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise UsageError(f"{name}={directory}: cannot be created, {parent} is not writable")
 
 
 def check_stdout() -> None:

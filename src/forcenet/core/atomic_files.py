@@ -41,9 +41,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import cast
 
-from .errors import ArgumentError, ForcenetError
+from .errors import ArgumentError, ArgumentTypeError, ForcenetError
 
-__all__ = ["TEMP_PREFIX", "DestinationError", "Target", "resolve", "write_all", "write_atomic", "sync_directory"]
+__all__ = ["TEMP_PREFIX", "DestinationError", "Target", "check_directory", "resolve", "write_all", "write_atomic", "sync_directory"]
 
 _MAX_LINKS = 40  # symbolic links followed, as the kernel does
 TEMP_PREFIX = ".tmp-"
@@ -353,3 +353,84 @@ def _unlink(path: str) -> None:
         os.unlink(path)
     except FileNotFoundError:
         pass
+
+
+_NAME_MAX = 255  # bytes in one file name (Linux, macOS); the real limit is asked of the folder when it exists
+
+
+def _name_max(folder: str) -> int:
+    try:
+        return int(os.pathconf(folder, "PC_NAME_MAX"))
+    except (OSError, ValueError, AttributeError):  # no such folder, or a platform without pathconf
+        return _NAME_MAX
+
+
+def check_directory(directory: object, name: str) -> str:
+    """The one check of a directory to write into (``checkpoint=`` in Python, ``--checkpoint`` and ``--out-dir``
+    at the command line): a path, not empty, that is or can become a writable directory.
+
+    Parameters
+    ----------
+    directory : object
+        What the caller gave.
+    name : str
+        The argument as the caller spelled it (``"checkpoint"``, ``"--checkpoint"``): an option (``--...``) is
+        shown as ``--name=value``, a keyword as ``name='value'``.
+
+    Returns
+    -------
+    str
+        The path (``os.fspath``); nothing is created.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``directory`` is not a ``str`` or ``os.PathLike`` of ``str``.
+    ArgumentError
+        If it is empty, a file or a device, a symbolic link that leads nowhere (a loop, a missing target), a
+        name longer than the file system takes, or in (or under) a folder missing or not writable.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> d = tempfile.mkdtemp()
+    >>> check_directory(d, "checkpoint") == d
+    True
+    >>> check_directory("", "checkpoint")
+    Traceback (most recent call last):
+    ...
+    forcenet.core.errors.ArgumentError: checkpoint='': an empty directory name; give a directory (e.g. checkpoint='.')
+    >>> check_directory(os.devnull, "--checkpoint")
+    Traceback (most recent call last):
+    ...
+    forcenet.core.errors.ArgumentError: --checkpoint=/dev/null: exists and is not a directory
+    """
+    option = name.startswith("-")
+    if isinstance(directory, os.PathLike):
+        directory = os.fspath(directory)
+    if not isinstance(directory, str):
+        raise ArgumentTypeError(f"{name}={directory!r} is not a directory path: give a str or os.PathLike")
+    shown = f"{name}={directory}" if option and directory else f"{name}={directory!r}"
+    if directory == "":
+        raise ArgumentError(f"{shown}: an empty directory name; give a directory (e.g. {name}="
+                            f"{'.' if option else repr('.')})")
+    if "\0" in directory:
+        raise ArgumentError(f"{shown}: a directory name with a NUL character; give a directory path")
+    absolute = os.path.abspath(directory)
+    if os.path.lexists(absolute) and not os.path.exists(absolute):  # a link to nowhere, or a loop of links
+        raise ArgumentError(f"{shown}: a symbolic link that leads to no directory (a loop or a missing target)")
+    if os.path.exists(absolute):
+        if not os.path.isdir(absolute):
+            raise ArgumentError(f"{shown}: exists and is not a directory")
+        if not os.access(absolute, os.W_OK | os.X_OK):
+            raise ArgumentError(f"{shown}: the directory is not writable")
+        return directory
+    parent = os.path.dirname(absolute)
+    if not os.path.isdir(parent):
+        raise ArgumentError(f"{shown}: its parent {parent} does not exist or is not a directory")
+    limit = _name_max(parent)
+    if len(os.fsencode(os.path.basename(absolute))) > limit:
+        raise ArgumentError(f"{shown}: the name is longer than the {limit} bytes a file name may have here")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise ArgumentError(f"{shown}: cannot be created, {parent} is not writable")
+    return directory

@@ -239,7 +239,8 @@ class CheckpointStore:
             if problem is not None:
                 self.failed = problem
                 _once(self.report, self.directory, problem, f"checkpoints disabled: {problem}; continuing without "
-                      "checkpoints (give --checkpoint DIR, or --no-checkpoint)")
+                      "checkpoints (give another directory: checkpoint= in Python, --checkpoint DIR at the command "
+                      "line; or none)")
         return self._usable
 
     def load(self, key: int) -> np.ndarray | None:

@@ -54,7 +54,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 from forcenet.core.compiled import prefer_wide_vectors
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ClusterError
-from forcenet.core.lifetime import die_with_parent, workers_without_main
+from forcenet.core.lifetime import deaf_to_hangups, die_with_parent, workers_without_main
 from forcenet.core.validation import check_int
 
 if TYPE_CHECKING:
@@ -202,7 +202,10 @@ def executor_label(executor: Any) -> str:
     """
     executor = as_executor(executor)
     address = getattr(getattr(_dask_client(executor), "scheduler", None), "address", None)
-    return f"Dask scheduler {address}" if address else type(executor).__name__
+    if address:
+        return f"Dask scheduler {address}"
+    # Dask's own executor class (ClientExecutor) is internal: name the cluster instead
+    return "a Dask cluster" if type(executor).__module__.startswith("distributed") else type(executor).__name__
 
 
 # The probe: a builtin (``eval``, unpickled by any Python) evaluating an import of forcenet on the worker. A task
@@ -316,9 +319,10 @@ def local_pool(workers: int, start_method: str = "spawn") -> ProcessPoolExecutor
     ...     pool.submit(abs, -3).result()
     3
     """
-    import multiprocessing
+    import multiprocessing.resource_tracker
     from concurrent.futures import ProcessPoolExecutor
 
+    deaf_to_hangups(multiprocessing.resource_tracker.ensure_running)
     context = multiprocessing.get_context(start_method)
     started = context.SimpleQueue()  # each worker's pid, put by its initializer: the workers we stop
     pool = ProcessPoolExecutor(workers, mp_context=context, initializer=_start_worker,
@@ -490,7 +494,8 @@ def run_tasks(function: Callable[..., Any], tasks: Iterable[Any], *, executor: A
         Processes of the local pool (ignored when ``executor`` is given).
     progress : callable, optional
         Called as ``progress(weight)`` once per task when its result is
-        available (at once for results taken from ``store``).
+        available; the results taken from ``store`` in one call, at once
+        (a rate measured from the first call on counts only work done).
     weights : sequence, optional
         The progress weight of each task (default 1 each).
     store : object with ``load(key)`` and ``save(key, value)``, optional
@@ -524,15 +529,17 @@ def run_tasks(function: Callable[..., Any], tasks: Iterable[Any], *, executor: A
         raise ArgumentError("keys must give one store key per task when a store is given")
     weights = [1] * len(tasks) if weights is None else list(weights)
     results: list = [None] * len(tasks)
-    pending = []
+    pending: list[int] = []
+    reused: float = 0
     for i in range(len(tasks)):
         value = store.load(keys[i]) if store is not None else None
         if value is None:
             pending.append(i)
             continue
         results[i] = value
-        if progress is not None:
-            progress(weights[i])
+        reused += weights[i]
+    if progress is not None and reused:  # one tick for every record reused: no rate is measured on them
+        progress(reused)
 
     def finish(i: int, value: Any) -> None:
         results[i] = value

@@ -27,11 +27,11 @@ import sys
 import threading
 import time
 import types
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from typing import Any
 
-__all__ = ["die_with_parent", "workers_without_main"]
+__all__ = ["deaf_to_hangups", "die_with_parent", "workers_without_main"]
 
 _PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
 _WATCH_SECONDS = 0.5  # elsewhere: how often a worker's watchdog looks for its parent
@@ -125,3 +125,35 @@ def workers_without_main() -> Iterator[None]:
                 sys.modules.pop("__main__", None)
             else:
                 sys.modules["__main__"] = main
+
+
+def deaf_to_hangups(start: Callable[[], None]) -> None:
+    """``start()`` (multiprocessing's resource tracker) with SIGHUP ignored, which the child keeps: the tracker
+    shares this process group, and a closed terminal's SIGHUP would kill it, then this process's shutdown would
+    unregister its semaphores with a relaunched tracker, printing a ``KeyError`` traceback for each.  Its
+    "leaked semaphore" warnings (after a SIGKILL of this process, it cleans them up) are not printed.
+
+    Examples
+    --------
+    >>> deaf_to_hangups(lambda: None)
+    >>> signal.getsignal(signal.SIGHUP) != signal.SIG_IGN
+    True
+    """
+    hangup = getattr(signal, "SIGHUP", None)
+    changed, previous = False, None
+    if hangup is not None:
+        try:
+            previous, changed = signal.signal(hangup, signal.SIG_IGN), True
+        except ValueError:  # not the main thread: signals cannot be changed here
+            pass
+    quiet = "ignore:resource_tracker:UserWarning"  # passed on to the tracker (its -W): after a SIGKILL of this
+    added = quiet not in sys.warnoptions  # process it cleans the semaphores up, without a "leaked" warning line
+    if added:
+        sys.warnoptions.append(quiet)
+    try:
+        start()
+    finally:
+        if added:
+            sys.warnoptions.remove(quiet)
+        if changed and hangup is not None:  # a handler not set from Python reads None: the default is restored
+            signal.signal(hangup, signal.SIG_DFL if previous is None else previous)

@@ -36,6 +36,7 @@ from __future__ import annotations
 import math
 import numbers
 import warnings
+from concurrent.futures import Executor
 from fractions import Fraction
 from typing import Any, TypeVar
 
@@ -56,9 +57,12 @@ __all__ = [
     "float_digits",
     "check_float_digits",
     "check_rational",
+    "check_exponent",
     "available_memory",
     "check_fits_memory",
     "check_seed",
+    "check_executor",
+    "check_progress",
 ]
 
 T = TypeVar("T")  # a value returned unchanged by its check
@@ -393,6 +397,28 @@ def check_float_digits(value: Any, name: str, dps: int | None = None, *, stackle
                             f"were asked: pass {fix} (a string or a Fraction keeps every digit)")
 
 
+MAX_EXPONENT = 4000  # a number string's decimal exponent: Fraction("1e999999999") would build 10**999999999
+
+
+def check_exponent(text: str, name: str) -> str:
+    """``text`` unchanged unless its decimal exponent (``"1e-5"``) passes ``+-MAX_EXPONENT``: parsing it would
+    build an integer of that many digits (no answer in minutes, or out of memory).
+
+    Examples
+    --------
+    >>> check_exponent("2.5e-3", "x")
+    '2.5e-3'
+    >>> check_exponent("1e99999999", "x")
+    Traceback (most recent call last):
+    ...
+    forcenet.core.errors.ArgumentError: x='1e99999999' is out of range: its decimal exponent passes +-4000
+    """
+    _, _, exponent = text.strip().lower().partition("e")
+    if exponent.lstrip("+-").isdigit() and abs(int(exponent)) > MAX_EXPONENT:
+        raise ArgumentError(f"{name}={text!r} is out of range: its decimal exponent passes +-{MAX_EXPONENT}")
+    return text
+
+
 def check_rational(value: Any, name: str) -> Fraction:
     """An exact rational argument as a ``Fraction``: an int, a ``Fraction``, a string such as ``'1/6'`` or
     ``'0.3'``, a sympy Rational; a binary float only when it is exactly its decimal (:func:`check_float_digits`).
@@ -415,6 +441,8 @@ def check_rational(value: Any, name: str) -> Fraction:
     try:
         if hasattr(value, "p") and hasattr(value, "q") and not isinstance(value, str):  # sympy Rational/Integer
             return Fraction(int(value.p), int(value.q))
+        if isinstance(value, str):
+            check_exponent(value, name)
         return Fraction(float(value)) if is_binary_float(value) else Fraction(value)
     except (TypeError, ValueError, ZeroDivisionError):
         raise ArgumentTypeError(f"{name}={value!r} is not a number: {name} must be {kind}") from None
@@ -472,3 +500,50 @@ def check_seed(seed: T, name: str = "seed") -> T | int:
     if seed is None or type(seed).__name__ in ("Generator", "SeedSequence", "BitGenerator") or hasattr(seed, "bit_generator"):
         return seed
     return check_int(seed, name, 0)
+
+
+def check_executor(executor: T, name: str = "executor") -> T:
+    """``executor`` unchanged when it can run tasks: None, a ``concurrent.futures.Executor`` not shut down, or a
+    Dask ``Client`` (``get_executor()``) not closed.
+
+    Examples
+    --------
+    >>> from concurrent.futures import ThreadPoolExecutor
+    >>> pool = ThreadPoolExecutor(1)
+    >>> check_executor(pool) is pool
+    True
+    >>> pool.shutdown()
+    >>> check_executor(pool)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    forcenet.core.errors.ArgumentError: executor=<...ThreadPoolExecutor...> is shut down: give a running executor, or None (this machine's processes)
+    """
+    if executor is None:
+        return executor
+    if not isinstance(executor, Executor) and not callable(getattr(executor, "get_executor", None)):
+        raise ArgumentTypeError(f"{name}={executor!r} is not a concurrent.futures.Executor (nor a Dask Client)")
+    # the standard pools' flags (ProcessPoolExecutor, ThreadPoolExecutor), a Dask Client's status
+    if getattr(executor, "_shutdown_thread", False) is True or getattr(executor, "_shutdown", False) is True \
+            or getattr(executor, "status", None) in ("closing", "closed"):
+        raise ArgumentError(f"{name}={executor!r} is shut down: give a running executor, or None (this machine's "
+                            "processes)")
+    return executor
+
+
+def check_progress(progress: T, name: str = "progress") -> T:
+    """``progress`` unchanged when a run can report to it: None, a bool (``True``: a progress bar) or a callable
+    (``progress(k)``).
+
+    Examples
+    --------
+    >>> check_progress(True), check_progress(print) is print
+    (True, True)
+    >>> check_progress("yes")
+    Traceback (most recent call last):
+    ...
+    forcenet.core.errors.ArgumentTypeError: progress='yes' is neither a callable nor a bool: give progress(k), True (a progress bar) or None
+    """
+    if progress is not None and not isinstance(progress, bool) and not callable(progress):
+        raise ArgumentTypeError(f"{name}={progress!r} is neither a callable nor a bool: give progress(k), True (a "
+                                "progress bar) or None")
+    return progress

@@ -372,8 +372,10 @@ def compare(samples: ArrayLike, exact: Any, *, chain: bool = False, alpha: float
     ----------
     samples : array_like, shape (K, ...)
         Independent samples, or the steps of a Markov chain (``chain=True``).
-    exact : scalar, array or nested (ragged) sequence
-        The exact means, shaped like one sample; ``None``/missing: not tested.
+    exact : scalar, array, nested (ragged) sequence or forcenet.Table
+        The exact means, shaped like one sample; ``None``/missing: not tested. A
+        :class:`forcenet.Table` stands for its ``mean_W``; a project table
+        (carrying its bounds) with fewer rows than the samples is refused.
     chain : bool
         The rows are successive states of a Markov chain: spaced batch means
         (:func:`forcenet.numeric.autocorr.batch_means`; ``batching`` passes
@@ -433,10 +435,15 @@ def compare(samples: ArrayLike, exact: Any, *, chain: bool = False, alpha: float
     """
     chain = _flag(chain, "chain")
     hotelling = _flag(hotelling, "hotelling", none_ok=True)
+    if hasattr(exact, "mean_W") and hasattr(exact, "moments"):  # a forcenet.Table: its <W_ij>, with their bounds
+        exact = exact.mean_W
     alpha = _alpha(alpha)
     x = samples_array(samples)
     shape = x.shape[1:]
     mu = exact_array(exact, shape)
+    if getattr(exact, "bounds", None) is not None and shape and len(exact) < shape[0]:  # a whole project table
+        raise ArgumentError(f"exact is a table of {len(exact)} rows, fewer than the samples' first axis of length "
+                            f"{shape[0]} (one sample has shape {shape}): give samples and exact of the same table")
     tested = ~np.isnan(mu)
     if not tested.any():
         raise ArgumentError("exact has no value to test: give at least one number (None marks a value not to test)")
@@ -488,8 +495,10 @@ def assert_agrees(samples: ArrayLike, exact: Any, **options: Any) -> TableAgreem
     ----------
     samples : array_like, shape (K, ...)
         Independent samples, or the steps of a Markov chain (``chain=True``).
-    exact : scalar, array or nested (ragged) sequence
-        The exact means, shaped like one sample; ``None``/missing: not tested.
+    exact : scalar, array, nested (ragged) sequence or forcenet.Table
+        The exact means, shaped like one sample; ``None``/missing: not tested. A
+        :class:`forcenet.Table` stands for its ``mean_W``; a project table
+        (carrying its bounds) with fewer rows than the samples is refused.
     **options
         ``chain``, ``alpha``, ``keys``, ``bounds``, ``hotelling`` and the batch
         options of :func:`compare`.

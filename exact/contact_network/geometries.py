@@ -59,6 +59,59 @@ class Geometry:
     contact: dict[tuple[str, int, int], int]
 
 
+class _Builder:
+    """The lists :func:`contact_network` takes, with names: grains ``(i, j)`` numbered in order, contacts
+    ``(kind, i, j)``, loads."""
+
+    def __init__(self, cells: list[tuple[int, int]]) -> None:
+        self.grain = {cell: k for k, cell in enumerate(cells)}
+        self.contacts: list[list[Any]] = []
+        self.contact: dict[tuple[str, int, int], int] = {}
+        self.loads: list[list[Any]] = []
+
+    def add(self, kind: str, i: int, j: int, other: tuple[int, int] | None, normal: tuple[Any, Any]) -> None:
+        """The contact of grain ``(i, j)`` with grain ``other`` (None: a wall) along ``normal``."""
+        self.contact[(kind, i, j)] = len(self.contacts)
+        self.contacts.append([self.grain[(i, j)], None if other is None else self.grain[other], *normal])
+
+    def geometry(self, **options: Any) -> Geometry:
+        """The network made of the lists, with the names."""
+        network = contact_network(len(self.grain), self.contacts, self.loads, **options)
+        return Geometry(network, self.grain, self.contact)
+
+
+def _triangle_of_disks(N: int, wall: str, wall_normal: tuple[Any, Any]) -> _Builder:
+    """``N`` layers of disks in a triangle, hexagonal contacts (Fig. 2.7): down the two lattice directions, within
+    a layer, the floor under layer ``N`` and the right-hand ``wall`` of every layer; no loads yet."""
+    b = _Builder([(i, j) for i in range(1, N + 1) for j in range(1, i + 1)])
+    for i in range(1, N + 1):
+        for j in range(1, i + 1):
+            if i < N:
+                b.add("left", i, j, (i + 1, j), _DOWN_LEFT)
+                b.add("right", i, j, (i + 1, j + 1), _DOWN_RIGHT)
+            else:
+                b.add("floor", i, j, None, (0, -1))
+            if j < i:
+                b.add("side", i, j, (i, j + 1), (1, 0))
+        b.add(wall, i, i, None, wall_normal)
+    return b
+
+
+def _rows_of_grains(N: Any, P: Any, j0: Any, loads: tuple[Any, Any, Any, Any]) -> tuple[int, int, _Builder]:
+    """``N`` rows of ``P`` grains and their loads ``(p_h, p_v, g, F)``: a push on the left column, a load on the
+    top row, the weight of every grain, the overload on ``(1, j0)``; no contacts yet."""
+    N = check_int(N, "N", 1)
+    P = check_int(P, "P", 1)
+    j0 = (P + 1) // 2 if j0 is None else check_int(j0, "j0", 1, P)
+    push, top, weight, overload = (exact_number(v, name) for v, name in zip(loads, ("p_h", "p_v", "g", "F")))
+    b = _Builder([(i, j) for i in range(1, N + 1) for j in range(1, P + 1)])
+    for i in range(1, N + 1):
+        for j in range(1, P + 1):
+            fy = -weight - ((top + (overload if j == j0 else 0)) if i == 1 else 0)
+            b.loads.append([b.grain[(i, j)], push if j == 1 else 0, fy])
+    return N, P, b
+
+
 def triangle(N: Any, p_h: Any = "sqrt(3)") -> Geometry:
     """The fully mobilized triangle of ``N`` layers (chapter 4) as a contact network.
 
@@ -84,30 +137,10 @@ def triangle(N: Any, p_h: Any = "sqrt(3)") -> Geometry:
     """
     N = check_int(N, "N", 2)
     push = exact_number(p_h, "p_h")
-    grain: dict[tuple[int, int], int] = {}
-    for i in range(1, N + 1):
-        for j in range(1, i + 1):
-            grain[(i, j)] = len(grain)
-    contacts: list[list[Any]] = []
-    contact: dict[tuple[str, int, int], int] = {}
-
-    def add(kind: str, i: int, j: int, other: int | None, normal: tuple[Any, Any]) -> None:
-        contact[(kind, i, j)] = len(contacts)
-        contacts.append([grain[(i, j)], other, *normal])
-
-    loads: list[list[Any]] = [[grain[(1, 1)], 0, -1]]  # the overload W_11 = 1
-    for i in range(1, N + 1):
-        for j in range(1, i + 1):
-            if i < N:
-                add("left", i, j, grain[(i + 1, j)], _DOWN_LEFT)
-                add("right", i, j, grain[(i + 1, j + 1)], _DOWN_RIGHT)
-            else:
-                add("floor", i, j, None, (0, -1))
-            if j < i:
-                add("side", i, j, grain[(i, j + 1)], (1, 0))
-        add("wall", i, i, None, (1, 0))
-        loads.append([grain[(i, 1)], push, 0])
-    return Geometry(contact_network(len(grain), contacts, loads), grain, contact)
+    b = _triangle_of_disks(N, "wall", (1, 0))
+    b.loads.append([b.grain[(1, 1)], 0, -1])  # the overload W_11 = 1
+    b.loads += [[b.grain[(i, 1)], push, 0] for i in range(1, N + 1)]
+    return b.geometry()
 
 
 def hexagonal_packing(N: Any, P: Any, *, F: Any = 1, j0: Any = None, p_v: Any = 0, p_h: Any = "sqrt(3)",
@@ -126,34 +159,21 @@ def hexagonal_packing(N: Any, P: Any, *, F: Any = 1, j0: Any = None, p_v: Any = 
     >>> geo.network.grains, len(geo.network.contacts)
     (6, 14)
     """
-    N = check_int(N, "N", 2)
-    P = check_int(P, "P", 2)
-    j0 = (P + 1) // 2 if j0 is None else check_int(j0, "j0", 1, P)
-    push, top, weight, overload = (exact_number(v, name) for v, name in ((p_h, "p_h"), (p_v, "p_v"), (g, "g"),
-                                                                          (F, "F")))
-    grain = {(i, j): (i - 1) * P + (j - 1) for i in range(1, N + 1) for j in range(1, P + 1)}
-    contacts: list[list[Any]] = []
-    contact: dict[tuple[str, int, int], int] = {}
-
-    def add(kind: str, i: int, j: int, other: int | None, normal: tuple[Any, Any]) -> None:
-        contact[(kind, i, j)] = len(contacts)
-        contacts.append([grain[(i, j)], other, *normal])
-
-    loads: list[list[Any]] = []
+    check_int(N, "N", 2)
+    check_int(P, "P", 2)
+    N, P, b = _rows_of_grains(N, P, j0, (p_h, p_v, g, F))
     for i in range(1, N + 1):
         for j in range(1, P + 1):
-            fy = -weight - (top + (overload if j == j0 else 0) if i == 1 else 0)
-            loads.append([grain[(i, j)], push if j == 1 else 0, fy])
             if i < N:
-                add("left", i, j, grain[(i + 1, j)], _DOWN_LEFT)
+                b.add("left", i, j, (i + 1, j), _DOWN_LEFT)
                 if j < P:
-                    add("right", i, j, grain[(i + 1, j + 1)], _DOWN_RIGHT)
+                    b.add("right", i, j, (i + 1, j + 1), _DOWN_RIGHT)
             else:
-                add("floor", i, j, None, (0, -1))
+                b.add("floor", i, j, None, (0, -1))
             if j < P:
-                add("side", i, j, grain[(i, j + 1)], (1, 0))
-        add("wall", i, P, None, (1, 0))
-    return Geometry(contact_network(N * P, contacts, loads), grain, contact)
+                b.add("side", i, j, (i, j + 1), (1, 0))
+        b.add("wall", i, P, None, (1, 0))
+    return b.geometry()
 
 
 
@@ -173,30 +193,14 @@ def rectangular_packing(N: Any, P: Any, *, friction: Any = "1/2", F: Any = 1, j0
     >>> geo.network.frictional, len(geo.network.contacts)
     (True, 8)
     """
-    N = check_int(N, "N", 1)
-    P = check_int(P, "P", 1)
-    j0 = (P + 1) // 2 if j0 is None else check_int(j0, "j0", 1, P)
-    push, top, weight, overload = (exact_number(v, name) for v, name in ((p_h, "p_h"), (p_v, "p_v"), (g, "g"),
-                                                                          (F, "F")))
-    grain = {(i, j): (i - 1) * P + (j - 1) for i in range(1, N + 1) for j in range(1, P + 1)}
-    contacts: list[list[Any]] = []
-    contact: dict[tuple[str, int, int], int] = {}
-
-    def add(kind: str, i: int, j: int, other: int | None, normal: tuple[Any, Any]) -> None:
-        contact[(kind, i, j)] = len(contacts)
-        contacts.append([grain[(i, j)], other, *normal])
-
-    loads: list[list[Any]] = []
+    N, P, b = _rows_of_grains(N, P, j0, (p_h, p_v, g, F))
     for i in range(1, N + 1):
         for j in range(1, P + 1):
-            fy = -weight - ((top + (overload if j == j0 else 0)) if i == 1 else 0)
-            loads.append([grain[(i, j)], push if j == 1 else 0, fy])
-            add("down" if i < N else "floor", i, j, grain[(i + 1, j)] if i < N else None, (0, -1))
+            b.add("down" if i < N else "floor", i, j, (i + 1, j) if i < N else None, (0, -1))
             if j < P:
-                add("side", i, j, grain[(i, j + 1)], (1, 0))
-        add("wall", i, P, None, (1, 0))
-    network = contact_network(N * P, contacts, loads, friction=friction, radii=[sympy.Rational(1, 2)] * (N * P))
-    return Geometry(network, grain, contact)
+                b.add("side", i, j, (i, j + 1), (1, 0))
+        b.add("wall", i, P, None, (1, 0))
+    return b.geometry(friction=friction, radii=[sympy.Rational(1, 2)] * (N * P))
 
 
 def snooker(N: Any, pressure: Any = 1) -> Geometry:
@@ -218,27 +222,6 @@ def snooker(N: Any, pressure: Any = 1) -> Geometry:
     """
     N = check_int(N, "N", 2)
     p = exact_number(pressure, "pressure")
-    grain: dict[tuple[int, int], int] = {}
-    for i in range(1, N + 1):
-        for j in range(1, i + 1):
-            grain[(i, j)] = len(grain)
-    contacts: list[list[Any]] = []
-    contact: dict[tuple[str, int, int], int] = {}
-
-    def add(kind: str, i: int, j: int, other: int | None, normal: tuple[Any, Any]) -> None:
-        contact[(kind, i, j)] = len(contacts)
-        contacts.append([grain[(i, j)], other, *normal])
-
-    loads: list[list[Any]] = []
-    for i in range(1, N + 1):
-        for j in range(1, i + 1):
-            if i < N:
-                add("left", i, j, grain[(i + 1, j)], _DOWN_LEFT)
-                add("right", i, j, grain[(i + 1, j + 1)], _DOWN_RIGHT)
-            else:
-                add("floor", i, j, None, (0, -1))
-            if j < i:
-                add("side", i, j, grain[(i, j + 1)], (1, 0))
-        add("rightwall", i, i, None, (SQRT3 / 2, sympy.Rational(1, 2)))
-        loads.append([grain[(i, 1)], p * SQRT3 / 2, -p / 2])
-    return Geometry(contact_network(len(grain), contacts, loads), grain, contact)
+    b = _triangle_of_disks(N, "rightwall", (SQRT3 / 2, sympy.Rational(1, 2)))
+    b.loads += [[b.grain[(i, 1)], p * SQRT3 / 2, -p / 2] for i in range(1, N + 1)]
+    return b.geometry()

@@ -33,7 +33,8 @@ def test_the_table_walk_checks_the_request_once(walk, method):
     assert checks.get("check_layers", 0) + checks.get("check_int", 0) == 0, checks
     assert checks.get("check_request", 0) == 1, checks  # N, moments, method, memory once (delegations not counted)
     assert checks.get("check_moments", 0) == 0, checks  # moments: checked in the request only
-    assert result["check_calls"] == 3, checks  # and the two destination checks of standard output; 21 (auto) before
+    assert checks.get("check_progress", 0) == 1, checks  # the run's progress= once, where the plan runs
+    assert result["check_calls"] == 4, checks  # and the two destination checks of standard output; 21 (auto) before
 
 
 @pytest.mark.parametrize("argv, line", [
@@ -115,4 +116,6 @@ def test_the_entropy_walk_checks_dps_once_per_public_function(walk):
     result = walk(["entropy", "--phi", "0.3", "--dps", "30"])
     assert result["exit"] == 0
     assert result["checks"].get("check_dps", 0) <= 9, result["checks"]  # one per closed form the command prints
-    assert result["check_calls"] <= 29, result["checks"]  # 37 before the renovation, 30 before --dps was deferred
+    assert result["checks"].get("check_progress", 0) <= 1, result["checks"]  # progress= once, where it runs
+    assert result["check_calls"] <= 30, result["checks"]  # 37 before the renovation, 30 before --dps was deferred,
+    # 29 then, and one check of progress= since issue 56

@@ -138,7 +138,7 @@ def _is_unit(nx: Number, ny: Number) -> bool:
 class ContactNetwork:
     """A contact network in the force network ensemble's sense (Sec. 2.3), checked once.
 
-    Attributes
+    Parameters
     ----------
     grains : int
         The number of grains, numbered ``0 .. grains - 1``.
@@ -173,11 +173,22 @@ class ContactNetwork:
 
     @property
     def frictional(self) -> bool:
-        """True when ``mu > 0``."""
+        """True when ``mu > 0``.
+
+        Examples
+        --------
+        >>> contact_network(1, [[0, None, 0, -1]], [[0, 0, -1]]).frictional
+        False
+        """
         return bool(self.friction > 0)
 
     def describe(self) -> str:
         """One line: grains, contacts, walls, friction.
+
+        Returns
+        -------
+        str
+            The line.
 
         Examples
         --------

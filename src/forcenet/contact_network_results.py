@@ -41,11 +41,12 @@ def _exact_text(value: Any) -> str:
 
 @dataclass(frozen=True)
 class NetworkResult:
-    """Moments of every contact force of a contact network's ensemble.
+    """Moments of every contact force of a contact network's ensemble: what :func:`forcenet.network` returns.
 
-    Attributes
+    Parameters
     ----------
     network : forcenet.exact.contact_network.model.ContactNetwork
+        The network.
     labels : tuple of str
         ``f{c}`` (contact ``c``'s normal force), ``t{c}`` (its tangential force, with friction).
     dimension : int
@@ -58,6 +59,14 @@ class NetworkResult:
         The chain (one row per sweep), kept for ``P(f)`` and figures.
     methods : tuple of str
         The engines that ran.
+
+    Examples
+    --------
+    >>> import forcenet
+    >>> net = forcenet.contact_network(1, [[0, None, 0, -1]], [[0, 0, -1]])  # one grain on the floor
+    >>> result = forcenet.network(net, exact=True)
+    >>> result.dimension, result.exact_mean
+    (0, (1,))
     """
 
     network: Any
@@ -92,6 +101,11 @@ class NetworkResult:
     def to_dict(self) -> dict[str, Any]:
         """The JSON document as Python values.
 
+        Returns
+        -------
+        dict
+            ``dimension``, ``grains``, ``methods`` and one entry per contact, in the input's order.
+
         Examples
         --------
         >>> import forcenet
@@ -112,6 +126,11 @@ class NetworkResult:
     def to_json(self) -> str:
         """``forcenet network --format json``.
 
+        Returns
+        -------
+        str
+            :meth:`to_dict` as indented JSON, with a final newline.
+
         Examples
         --------
         >>> import forcenet
@@ -123,6 +142,11 @@ class NetworkResult:
 
     def to_csv(self) -> str:
         """One row per force: ``contact,kind,i,j,mean,second,error,second_error`` (sampled with exact: extra columns).
+
+        Returns
+        -------
+        str
+            The CSV text.
 
         Examples
         --------
@@ -145,6 +169,11 @@ class NetworkResult:
 
     def to_text(self) -> str:
         """A readable table: one line per contact force.
+
+        Returns
+        -------
+        str
+            The table, one line per contact force.
 
         Examples
         --------
@@ -210,6 +239,11 @@ class NetworkResult:
     def force_distribution(self, bins: int = 30) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``P(f)`` of the normal forces pooled, ``f = F / <F>`` per contact (thesis Sec. 2.4), from the samples.
 
+        Parameters
+        ----------
+        bins : int, optional
+            Equal bins from 0 to the largest ``f``.
+
         Returns
         -------
         (edges, density, error)
@@ -239,6 +273,18 @@ class NetworkResult:
 
     def plot_force_distribution(self, bins: int = 30, ax: Any = None) -> Any:
         """A matplotlib figure of :meth:`force_distribution` with its error bars.
+
+        Parameters
+        ----------
+        bins : int, optional
+            As in :meth:`force_distribution`.
+        ax : matplotlib.axes.Axes, optional
+            Where to draw (default: a new figure).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure drawn on.
 
         Examples
         --------

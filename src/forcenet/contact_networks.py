@@ -120,6 +120,21 @@ def _network(source: Any) -> ContactNetwork:
 class NetworkPlan(_Costed):
     """A checked request on a contact network with its engines and cost: what :func:`network_plan` returns.
 
+    Parameters
+    ----------
+    exact, sampled : NetworkRequest or None
+        The exact and the sampled request (None: not asked for).
+    engines : tuple
+        The engines that will run, exact first (``forcenet.core.registry.Engine`` objects).
+    plans : tuple of Plan
+        Each engine's plan.
+    cost : Plan
+        The whole run's cost (or its refusal).
+    start : optional
+        The sampler's starting point (a strictly feasible force network), found with the refusals.
+    executor : concurrent.futures.Executor, optional
+        Where independent chains run.
+
     Examples
     --------
     >>> import forcenet
@@ -139,11 +154,37 @@ class NetworkPlan(_Costed):
 
     @property
     def methods(self) -> tuple[str, ...]:
-        """The engines that will run, in order (exact first)."""
+        """The engines that will run, in order (exact first).
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> from forcenet.exact.contact_network.geometries import triangle
+        >>> forcenet.network_plan(triangle(3).network, exact=True).methods
+        ('triangulation',)
+        """
         return tuple(engine.name for engine in self.engines)
 
     def check(self) -> NetworkPlan:
-        """The plan itself when it runs; else :class:`~forcenet.core.errors.ArgumentError` with its refusal."""
+        """The plan itself when it runs; else :class:`~forcenet.core.errors.ArgumentError` with its refusal.
+
+        Returns
+        -------
+        NetworkPlan
+            This plan.
+
+        Raises
+        ------
+        ArgumentError
+            The plan's refusal.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> from forcenet.exact.contact_network.geometries import triangle
+        >>> forcenet.network_plan(triangle(3).network, exact=True).check().runnable
+        True
+        """
         self.cost.check()
         return self
 

@@ -414,7 +414,7 @@ class Table(_Rendered):
         """The triangle drawn as it stands: grain ``(i, j)`` at ``(j - (i + 1)/2, -i)``, coloured by ``<W_ij^s>``.
 
         The colour scale is logarithmic (the loads span decades between the
-        apex and the bottom row's edges; issue 53).
+        apex and the bottom row's edges).
 
         Parameters
         ----------

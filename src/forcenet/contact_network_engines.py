@@ -90,7 +90,29 @@ def _vertices(request: Any) -> int:
     return int(request.facts[1])
 
 
-class TriangulationEngine:
+class _ExactMomentsEngine:
+    """What the two exact engines share: the model, the quantity, and the plan's refusals before the cost (no
+    Normaliz, no exact polytope, a dimension beyond the route) and the vertex count the cost is priced by."""
+
+    name = ""
+    model = MODEL
+    quantities = frozenset({"exact-moments"})
+
+    def plan(self, request: Any) -> Plan:
+        poly, refused = _exact_plan(request, self.name)
+        if refused is not None:
+            return refused
+        return self._refusal(request) or self._cost(request, poly, _vertices(request))
+
+    def _refusal(self, request: Any) -> Plan | None:
+        """A refusal of this engine's own, decided before Normaliz is asked for the vertices (None: none)."""
+        return None
+
+    def _cost(self, request: Any, poly: Any, vertices: int) -> Plan:
+        raise NotImplementedError  # each engine prices its own algorithm
+
+
+class TriangulationEngine(_ExactMomentsEngine):
     """Exact moments from Normaliz's triangulation and the simplex formulas (every force, one pass).
 
     Examples
@@ -100,14 +122,8 @@ class TriangulationEngine:
     """
 
     name = "triangulation"
-    model = MODEL
-    quantities = frozenset({"exact-moments"})
 
-    def plan(self, request: Any) -> Plan:
-        poly, refused = _exact_plan(request, self.name)
-        if refused is not None:
-            return refused
-        vertices = _vertices(request)
+    def _cost(self, request: Any, poly: Any, vertices: int) -> Plan:
         seconds = triangulation_seconds(poly.dimension, len(poly.z0), vertices)
         return Plan(f"exact moments, dimension {poly.dimension}, {vertices} vertices (Normaliz triangulation)",
                     seconds, ticks=0, unit="simplex")
@@ -117,7 +133,7 @@ class TriangulationEngine:
         return moments_by_triangulation(request.polytope, request.moments)
 
 
-class VolumesEngine:
+class VolumesEngine(_ExactMomentsEngine):
     """Exact moments as ratios of Normaliz volumes of lifted polytopes (normal forces only).
 
     Examples
@@ -127,17 +143,14 @@ class VolumesEngine:
     """
 
     name = "volumes"
-    model = MODEL
-    quantities = frozenset({"exact-moments"})
 
-    def plan(self, request: Any) -> Plan:
-        poly, refused = _exact_plan(request, self.name)
-        if refused is not None:
-            return refused
-        if request.network.frictional:
-            return Plan("exact moments (volumes)", 0, refusal="method='volumes' needs forces that are never "
-                        "negative; a tangential force is not: use method='triangulation'")
-        vertices = _vertices(request)
+    def _refusal(self, request: Any) -> Plan | None:
+        if not request.network.frictional:
+            return None
+        return Plan("exact moments (volumes)", 0, refusal="method='volumes' needs forces that are never "
+                    "negative; a tangential force is not: use method='triangulation'")
+
+    def _cost(self, request: Any, poly: Any, vertices: int) -> Plan:
         seconds = volume_seconds(poly.dimension, len(poly.z0), request.moments, vertices)
         return Plan(f"exact moments, dimension {poly.dimension}, {vertices} vertices (Normaliz volumes)", seconds,
                     ticks=len(poly.z0), unit="force")

@@ -444,7 +444,8 @@ def fit_collapse(data: Sequence[SizeBlocks], start: Sequence[float], nu_starts: 
     f_window = default_window(data, LEVEL)
     min_span = MIN_SPAN * (f_window[1] - f_window[0])
     best: tuple[tuple[float, float, float], tuple[float, float], float, float] | None = None
-    f_top = peak(max(data, key=lambda d: d.S).thresholds, max(data, key=lambda d: d.S).s2())[0]
+    largest = max(data, key=lambda d: d.S)
+    f_top = peak(largest.thresholds, largest.s2())[0]
     starts = [(start[0], nu0, fc0) for fc0 in dict.fromkeys((start[2], f_top)) for nu0 in (start[1], *nu_starts)]
     for p in starts:
         try:

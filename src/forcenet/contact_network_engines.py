@@ -22,6 +22,7 @@ Examples
 
 from __future__ import annotations
 
+from abc import ABC, abstractmethod
 from collections.abc import Callable
 from concurrent.futures import Executor
 from typing import Any
@@ -90,7 +91,7 @@ def _vertices(request: Any) -> int:
     return int(request.facts[1])
 
 
-class _ExactMomentsEngine:
+class _ExactMomentsEngine(ABC):
     """What the two exact engines share: the model, the quantity, and the plan's refusals before the cost (no
     Normaliz, no exact polytope, a dimension beyond the route) and the vertex count the cost is priced by."""
 
@@ -108,8 +109,9 @@ class _ExactMomentsEngine:
         """A refusal of this engine's own, decided before Normaliz is asked for the vertices (None: none)."""
         return None
 
+    @abstractmethod
     def _cost(self, request: Any, poly: Any, vertices: int) -> Plan:
-        raise NotImplementedError  # each engine prices its own algorithm
+        """The engine's plan for the checked polytope with ``vertices`` vertices: each prices its own algorithm."""
 
 
 class TriangulationEngine(_ExactMomentsEngine):

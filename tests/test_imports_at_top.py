@@ -38,7 +38,7 @@ def _count(source: str) -> int:
 
 def _inner_imports() -> dict[str, int]:
     found = {str(path.relative_to(ROOT)): _count(path.read_text())
-             for folder in ("src/forcenet", "exact", "numeric") for path in sorted((ROOT / folder).rglob("*.py"))}
+             for folder in ("src/forcenet", "core", "exact", "numeric") for path in sorted((ROOT / folder).rglob("*.py"))}
     return {name: n for name, n in found.items() if n}
 
 

@@ -28,7 +28,7 @@ from installed import ROOT, installed_modules, packages, setuptools_config, sour
 
 import forcenet
 
-SOURCE_TOPS = ("src", "exact", "numeric")  # the folders that install (pyproject.toml's package-dir)
+SOURCE_TOPS = ("src", "core", "exact", "numeric")  # the folders that install (pyproject.toml's package-dir)
 SKIP_DIRS = {".git", "build", "dist", "__pycache__", ".hypothesis", ".pytest_cache", ".mypy_cache"}
 
 

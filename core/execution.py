@@ -41,16 +41,20 @@ from __future__ import annotations
 
 import ctypes
 import ctypes.util
+import multiprocessing
+import multiprocessing.resource_tracker
 import os
 import signal
 import sys
 import time
 import weakref
 from collections.abc import Callable, Iterable
-from concurrent.futures import FIRST_COMPLETED, BrokenExecutor, CancelledError, Executor, wait
+from concurrent.futures import FIRST_COMPLETED, BrokenExecutor, CancelledError, Executor, ProcessPoolExecutor, wait
 from contextlib import nullcontext
 from math import ceil
 from typing import TYPE_CHECKING, Any, TypeVar
+
+from threadpoolctl import threadpool_info, threadpool_limits
 
 from forcenet.core.compiled import prefer_wide_vectors
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ClusterError
@@ -319,8 +323,6 @@ def local_pool(workers: int, start_method: str = "spawn") -> ProcessPoolExecutor
     ...     pool.submit(abs, -3).result()
     3
     """
-    import multiprocessing.resource_tracker
-    from concurrent.futures import ProcessPoolExecutor
 
     deaf_to_hangups(multiprocessing.resource_tracker.ensure_running)
     context = multiprocessing.get_context(start_method)
@@ -350,7 +352,6 @@ def _terminate(pool: Any) -> None:
     The workers are the children of this process (``multiprocessing.active_children``) whose pid the pool's
     initializer reported; those that had not reported yet die with ``shutdown`` (or with this process).
     """
-    import multiprocessing
 
     started = _PIDS.get(pool)
     pids = set()
@@ -400,7 +401,6 @@ def _ready_worker() -> dict:
         BLAS/OpenMP pool of the process keeps, and how often the pools were
         pinned.
     """
-    from threadpoolctl import threadpool_info, threadpool_limits
 
     if "allocator" not in _READY:
         _READY["allocator"] = _steady_allocator()

@@ -35,6 +35,7 @@ from stat import S_ISREG
 from types import FrameType
 from typing import Any, cast
 
+from .compiled import compile_features
 from .errors import ArgumentError
 
 __all__ = ["Plan", "duration_text", "combine", "combine_by_time", "phase_progress", "first_moment_only", "table_range", "chunks",
@@ -355,7 +356,6 @@ def kernels_cached(kernels: Iterable[Any], in_workers: bool = False) -> bool:
     kernels = list(kernels)
     if not kernels:
         return True
-    from .compiled import compile_features
 
     features = compile_features(workers=in_workers)
     return all((kernel.signatures and not in_workers) or _cache_index_is_fresh(kernel, features)

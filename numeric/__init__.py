@@ -11,6 +11,5 @@ One subpackage per model, named as in :mod:`forcenet.exact`:
 ``forcenet.numeric`` may import :mod:`forcenet.exact`; never the other way.
 """
 
-from .triangle import ExactSampler, TriangleMetropolis
 
-__all__ = ["ExactSampler", "TriangleMetropolis"]
+__all__: list[str] = []  # the samplers live in the subpackages; importing one module stays light

@@ -87,8 +87,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from forcenet.core.errors import ArgumentError
+from forcenet.core.validation import check_real
 
 from .autocorr import batch_means, integrated_time
+from .betting import betting_pvalues, blind_values, cached_rows_needed
 from .chebyshev import chain_dof, chebyshev_pvalue, rows_dof
 from .size_rule import U_MAX, charged_skewness, size_rule, skewness, t_rows_needed
 from .size_rule import bonferroni as _bonferroni
@@ -390,7 +392,6 @@ def _bounded_test(rows: np.ndarray, mu: np.ndarray, keys: Any, alpha: float, bou
 
     A value whose exact mean is an end of its range is that end almost surely: compared exactly.
     """
-    from .betting import betting_pvalues, blind_values, cached_rows_needed
 
     K, G = rows.shape
     lo, hi, tol = _inside(rows, mu, keys, bounds)
@@ -439,8 +440,6 @@ def _prepare(samples: ArrayLike, exact: ArrayLike, keys: Sequence[Any] | None,
 
 
 def _check_alpha(alpha: Any) -> float:
-    from forcenet.core.validation import check_real
-
     return check_real(alpha, "alpha", 0, 1, low_open=True, high_open=True)
 
 

@@ -21,6 +21,7 @@ True
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Iterable, Sequence
 from typing import NamedTuple
 
@@ -28,6 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from forcenet.core.errors import ArgumentError, ForcenetError
+from forcenet.core.validation import check_int, check_real
 
 __all__ = ["AutocorrError", "autocorr_function", "batch_means", "integrated_time", "mean_and_stderr",
            "PooledChains", "pool_means", "pool_chains", "all_finite"]
@@ -110,7 +112,6 @@ def integrated_time(x: np.ndarray, c: float = 5.0, tol: float = 50.0, quiet: boo
         )
         if not quiet:
             raise AutocorrError(message, tau)
-        import warnings
 
         warnings.warn(message, RuntimeWarning, stacklevel=2)
     return tau
@@ -297,7 +298,6 @@ def batch_means(chain: ArrayLike, batch_factor: float = 10.0, gap_factor: float 
     >>> means.shape, layout
     ((50, 2), {'pilot': 500, 'length': 27, 'gap': 3})
     """
-    from forcenet.core.validation import check_int, check_real
 
     batch_factor = check_real(batch_factor, "batch_factor", 0, low_open=True)
     gap_factor = check_real(gap_factor, "gap_factor", 0)

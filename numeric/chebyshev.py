@@ -47,6 +47,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy.stats import chi2
 
 __all__ = ["VARIANCE_SHARE", "chebyshev_pvalue", "chain_dof", "rows_dof", "threshold"]
 
@@ -126,7 +127,6 @@ def chebyshev_pvalue(dev: np.ndarray, stderr: np.ndarray, dof: np.ndarray, alpha
     inflation : float
         ``sigma_up / stderr`` of that value.
     """
-    from scipy.stats import chi2
 
     G = int(np.size(dev))
     if G == 0:

@@ -31,23 +31,21 @@ True
 
 from __future__ import annotations
 
+import importlib.util
 from collections.abc import Callable
 from typing import Any
 
+from forcenet.core.compiled import njit as compiled_njit
 from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import CHUNK_SECONDS, chunks, first_chunk
 
 __all__ = ["HAVE_NUMBA", "njit", "kernel_choice", "chunks", "first_chunk", "CHUNK_SECONDS"]
 
-try:  # pragma: no branch
-    import numba  # noqa: F401  (its presence is the question)
+HAVE_NUMBA = importlib.util.find_spec("numba") is not None  # asked without importing it (a kernel's decoration does)
 
-    HAVE_NUMBA = True
-
-    from forcenet.core.compiled import njit  # cache=True by default, outside the package
-
-except ImportError:  # pragma: no cover - numba is a declared dependency
-    HAVE_NUMBA = False
+if HAVE_NUMBA:
+    njit = compiled_njit  # cache=True by default, outside the package
+else:  # pragma: no cover - numba is a declared dependency
 
     def njit(function: Callable[..., Any] | None = None, **options: Any) -> Any:
         """Without numba: the Python function itself (the reference kernels run instead)."""

@@ -24,14 +24,22 @@ Examples
 
 from __future__ import annotations
 
+import multiprocessing
+import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 
+from forcenet.core.execution import run_tasks
 from forcenet.core.plan import Plan
 from forcenet.core.validation import is_integer
+from forcenet.numeric.autocorr import mean_and_stderr, pool_chains, pool_means
+from forcenet.numeric.packing.metropolis import PackingMetropolis
+from forcenet.numeric.packing.metropolis import response as packing_response
+from forcenet.numeric.triangle.exact_sampler import ExactSampler, mean_and_error
+from forcenet.numeric.triangle.metropolis import TriangleMetropolis
 
 from .autocorr import AutocorrError
 
@@ -120,7 +128,6 @@ def parallel_plan(plan: Plan, workers: int, memory: int | None, cores: int | Non
     >>> p.what, p.seconds
     ('x, 2 workers', 6.0)
     """
-    import os
 
     if workers == 1 or not plan.runnable:
         return plan
@@ -133,7 +140,6 @@ def parallel_plan(plan: Plan, workers: int, memory: int | None, cores: int | Non
 def _exact_task(N: int, samples: int, seed: Any, progress: Callable[[int], None] | None = None
                 ) -> tuple[Any, str]:
     """Worker: raw sums of W and W^2 over ``samples`` exact draws, and the kernel used."""
-    from forcenet.numeric.triangle.exact_sampler import ExactSampler
 
     sampler = ExactSampler(N, seed=np.random.default_rng(seed))
     return sampler.moment_sums(samples, (1,), progress)[1], sampler.kernel
@@ -146,20 +152,14 @@ def _metropolis_task(N: int, F: float, ph: float | None, scene: Any, sweeps: int
 
     Returns a dict, or ``{"error": message}`` when the chain is too short to trust.
     """
-    from forcenet.numeric.autocorr import mean_and_stderr
 
     rng = np.random.default_rng(seed)
     out: dict[str, Any] = {}
     try:
         if scene is None:
-            from forcenet.numeric.triangle.metropolis import TriangleMetropolis
-
             sampler: Any = TriangleMetropolis(N, seed=rng, ph=None if ph is None else ph / F, move=move)
             chain = sampler.run(sweeps, burn_in=burn, progress=progress)  # in units of F (scaled at the end)
         else:
-            from forcenet.numeric.packing.metropolis import PackingMetropolis
-            from forcenet.numeric.packing.metropolis import response as packing_response
-
             sampler = PackingMetropolis(scene, seed=rng, move=move)
             chain = sampler.run(sweeps, burn_in=burn, progress=progress)
         mean, stderr, tau = mean_and_stderr(chain)
@@ -177,7 +177,6 @@ def _metropolis_task(N: int, F: float, ph: float | None, scene: Any, sweeps: int
 
 def _combine_chains(parts: Sequence[dict[str, Any]]) -> tuple[np.ndarray, np.ndarray, dict[str, Any]]:
     """Means, error bars, spread and effective sample size of independent chains (:func:`pool_chains`)."""
-    from forcenet.numeric.autocorr import pool_chains, pool_means
 
     n = [p["n"] for p in parts]
     pooled = pool_chains(n, *([p[k] for p in parts] for k in ("mean", "stderr", "std", "tau")))
@@ -197,9 +196,6 @@ def _run(func: Callable[..., Any], tasks: list[tuple[Any, ...]], workers: int, w
     """``func(*task)`` for every task: in this process for one worker, else in ``workers`` processes."""
     if workers == 1:
         return [func(*task, progress=progress) for task in tasks]
-    import multiprocessing
-
-    from forcenet.core.execution import run_tasks
 
     method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
     return run_tasks(func, tasks, workers=workers, progress=progress, weights=weights, start_method=method)
@@ -268,7 +264,6 @@ def sample_in_parallel(sampler: str, N: int, samples: int, *, seed: int, workers
         streams = -(-samples // STREAM_SAMPLES)
         tasks: list[tuple[Any, ...]] = [(N, k, s) for k, s in zip(shares(samples, streams), seeds(seed, streams))]
         parts = _run(_exact_task, tasks, min(workers, streams), [t[1] for t in tasks], progress)
-        from forcenet.numeric.triangle.exact_sampler import mean_and_error
 
         mean, stderr = mean_and_error(sum(p[0][0] for p in parts), sum(p[0][1] for p in parts), samples)
         return ChainsResult(mean * F, stderr * F, {"kernel": parts[0][1], "effective_samples": float(samples)})

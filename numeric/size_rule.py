@@ -27,6 +27,8 @@ import math
 from functools import lru_cache
 
 import numpy as np
+from scipy.special import stdtr, stdtrit
+from scipy.stats import f as f_dist
 
 __all__ = ["U_MAX", "bonferroni", "charged_skewness", "hotelling", "size_rule", "skew_term", "skewness", "t_rows_needed"]
 
@@ -78,7 +80,6 @@ def skew_term(gamma: float, n: int, level: float, values: int) -> float:
 @lru_cache(maxsize=4096)
 def _cubed(n: int, level: float, values: int) -> float:
     """``s^3`` at the critical value (cached: the rule and its reason ask it often)."""
-    from scipy.special import stdtrit
 
     x = -float(stdtrit(n - 1, level / (2 * values * math.cosh(U_MAX))))  # Student t's upper quantile
     return (x * math.sqrt(n / (n - 1 + x * x))) ** 3
@@ -183,8 +184,6 @@ def bonferroni(max_z: float, values: int, df: int | None) -> float:
     if df is None:
         tail = math.erfc(max_z / math.sqrt(2))  # 2 (1 - Phi(|z|))
     else:
-        from scipy.special import stdtr
-
         tail = 2.0 * float(stdtr(df, -max_z))  # Student t's two tails
     return min(1.0, values * tail)
 
@@ -198,7 +197,6 @@ def hotelling(rows: np.ndarray, dev: np.ndarray) -> tuple[float, int, float] | N
     >>> hotelling(rows, rows.mean(axis=0))[1]
     3
     """
-    from scipy.stats import f as f_dist
 
     K, G = rows.shape
     if G < 2:

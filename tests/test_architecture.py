@@ -216,6 +216,42 @@ def test_the_map_is_read():
         "forcenet.exact.chicken_wire"].bullets)
 
 
+def _rules_section(text: str | None = None) -> list[str]:
+    """The bullets of the map's "The rules, each with its test", one string each."""
+    text = MAP.read_text() if text is None else text
+    section = text.split("\n## The rules, each with its test\n", 1)[1].split("\n## ", 1)[0]
+    return [" ".join(b.split()) for b in ("\n" + section).split("\n- ")[1:]]
+
+
+def _test_names() -> set[str]:
+    """Every test function defined in tests/."""
+    names: set[str] = set()
+    for path in (ROOT / "tests").glob("test_*.py"):
+        names |= {n.name for n in ast.walk(ast.parse(path.read_text())) if isinstance(n, ast.FunctionDef)
+                  and n.name.startswith("test_")}
+    return names
+
+
+def test_every_rule_names_a_test():
+    """Every rule of the map is a test: each bullet of its rules names at least one, and every name is defined."""
+    rules, defined = _rules_section(), _test_names()
+    assert len(rules) >= 10
+    for rule in rules:
+        named = re.findall(r"`(test_\w+)`", rule)
+        assert named, f"the rule names no test: {rule[:100]}"
+        assert set(named) <= defined, (set(named) - defined, rule[:100])
+
+
+def test_the_rule_check_sees_a_rule_without_its_test():
+    text = "\n## The rules, each with its test\n\n- A rule (`test_x`).\n- Another rule, untested.\n## Next\n"
+    assert [re.findall(r"`(test_\w+)`", r) for r in _rules_section(text)] == [["test_x"], []]
+
+
+def test_the_map_stays_short():
+    """The map says what is, in at most 400 lines; the history of the house is notes/architecture_history.md."""
+    assert len(MAP.read_text().splitlines()) <= 400
+
+
 def test_the_parser_reads_each_kind_of_rule():
     """A control: a small map with each kind of line, parsed back."""
     text = ("## Prose\nMay import: `ignored`.\n## `exact/x` — a package\n\nMay import: `forcenet.core`, `numpy`.\n"

@@ -428,7 +428,7 @@ def test_api_summaries_survive_abbreviations():
 
 def test_every_derivation_is_on_the_site_without_issue_numbers():
     conf = runpy.run_path(str(DOCS / "conf.py"))
-    notes = {p.stem for p in (ROOT / "notes").glob("*.md")} - {"architecture"}
+    notes = {p.stem for p in (ROOT / "notes").glob("*.md")} - {"architecture", "architecture_history"}  # the house's map
     pages = {p.stem for p in (DOCS / "derivations").glob("*.md")} - {"index"}
     assert notes == pages, notes ^ pages
     index = (DOCS / "derivations" / "index.md").read_text()

@@ -1,6 +1,6 @@
 """Validate once, plan once (issues 25, 44): the checks and plans a command's arguments meet on their way.
 
-The map (notes/architecture.md, "How far an argument travels") states the rule: the command line's parser
+The map (notes/architecture.md, "The seam" and "The rules, each with its test") states the rule: the command line's parser
 checks the text it reads, the registry (``forcenet.exact.routes.check_request``) checks the request once,
 and everything behind it (the engine objects' ``plan``/``run``) trusts it.  ``benchmarks/walks.py``
 counts the checks of a command run in this process; these tests hold the walks to one check of ``N``, the

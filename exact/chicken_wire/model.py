@@ -48,6 +48,8 @@ from functools import cache
 from itertools import product
 from typing import TYPE_CHECKING
 
+import sympy
+
 from forcenet.core.errors import ArgumentError
 from forcenet.core.validation import check_int
 
@@ -185,7 +187,6 @@ def transfer_matrix(L: int, weights: dict[str, object] | None = None) -> sympy.M
     >>> transfer_matrix(2).trace()  # torus of 2 x 1 sites (with the skew of the lattice)
     6
     """
-    import sympy
 
     w: dict[str, object] = {name: 1 for name in VERTICES}
     if weights is not None:

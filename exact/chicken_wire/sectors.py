@@ -18,6 +18,8 @@ from __future__ import annotations
 
 from itertools import product
 
+import flint
+
 from forcenet.core.validation import check_int
 
 from .model import EMPTY, LEFT, RIGHT, row_transitions
@@ -64,7 +66,6 @@ def sector_polynomial_factors(L: int, particles: int | None = None) -> list[tupl
     for D in states:
         for nxt, _ in row_transitions(L)[D]:
             T[index[nxt]][index[D]] += 1
-    import flint
 
     _, factors = flint.fmpz_mat(T).charpoly().factor()
     out = [([int(c) for c in f.coeffs()], int(e)) for f, e in factors]

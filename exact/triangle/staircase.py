@@ -25,6 +25,7 @@ from functools import lru_cache
 from math import factorial, prod
 from typing import Any
 
+import flint
 import numpy as np
 
 from forcenet.core.errors import ArgumentError
@@ -287,8 +288,6 @@ def _prime_power_product(factorisation: Any) -> int:
     """``prod p**e`` by binary splitting of the exponents (python-flint if installed)."""
     make: Callable[[int], Any]
     try:
-        import flint
-
         make = flint.fmpz
     except ImportError:  # pure Python fallback
         make = int

@@ -41,11 +41,13 @@ from functools import lru_cache
 from typing import Any
 
 import mpmath
+import sympy
 
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan
 from forcenet.core.precision import GUARD, RealLike, converged, to_mpf, within_pi
 from forcenet.core.validation import check_dps, check_float_digits, check_int, is_binary_float
+from forcenet.exact.chicken_wire.closed_form import EPS, entropy_Q, entropy_series_eps, series_coefficients
 
 __all__ = [
     "phi_within_range",
@@ -137,7 +139,6 @@ def _Q_of_phi(x: mpmath.mpf) -> mpmath.mpf:
 @lru_cache(maxsize=4)
 def _series_rationals(order: int) -> tuple[Fraction, ...]:
     """``[a_3, ..., a_order]`` of :func:`forcenet.exact.chicken_wire.closed_form.entropy_series_Q` (rationals)."""
-    from forcenet.exact.chicken_wire.closed_form import series_coefficients
 
     coeffs = series_coefficients(order)
     return tuple(Fraction(int(c.p), int(c.q)) for c in coeffs[3:])
@@ -179,9 +180,6 @@ def _closed_form(derivative: int) -> Callable[[mpmath.mpf], mpmath.mpf]:
     symbol carries no assumptions: sympy then builds and differentiates the
     expression several times faster, and the expression is the same.
     """
-    import sympy
-
-    from forcenet.exact.chicken_wire.closed_form import entropy_Q
 
     q = sympy.Symbol("q")
     expr = entropy_Q(q)
@@ -288,7 +286,6 @@ def leading_series_at(eps: mpmath.mpf, dps: int, Q: RealLike | None = None) -> m
     >>> mpmath.nstr(leading_series_at(mpmath.mpf("0.1"), 15), 10)
     '0.00349294523'
     """
-    from fractions import Fraction
 
     dps = check_dps(dps)
     return _series_7_3(mpmath.pi if Q is not None and Q == Fraction(1, 3) else eps, 2, dps)  # order 2: no argument
@@ -482,9 +479,6 @@ def _series_7_3(eps: Any, order: int, dps: int) -> mpmath.mpf:
 @lru_cache(maxsize=8)
 def _series_eps_function(order: int) -> Callable[[mpmath.mpf], mpmath.mpf]:
     """The exact series (7.3) to ``eps^order`` as an mpmath function (sympy, once per order)."""
-    import sympy
-
-    from forcenet.exact.chicken_wire.closed_form import EPS, entropy_series_eps
 
     return sympy.lambdify(EPS, entropy_series_eps(order), "mpmath")
 

@@ -28,6 +28,8 @@ from forcenet.core.errors import ArgumentError, ConvergenceError
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_int, check_rational
 
+from .bethe import isotropic_sequence
+
 __all__ = [
     "extrapolate",
     "IsotropicLimit",
@@ -82,7 +84,6 @@ def isotropic_limit(Q: Fraction | int | str | float, L_max: int = 240, L_min: in
     loses the ground state (reported, never silent).
 
     """
-    from .bethe import isotropic_sequence
 
     Q = check_rational(Q, "Q")  # a binary float is refused: the widths are multiples of Q's denominator
     if not (0 < Q < Fraction(1, 3)):

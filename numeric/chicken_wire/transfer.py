@@ -26,9 +26,15 @@ Examples
 from __future__ import annotations
 
 import math
+from itertools import combinations
 from typing import TYPE_CHECKING, Any
 
+import flint
+import mpmath
 import numpy as np
+from scipy.optimize import brentq
+from scipy.sparse import csr_matrix
+from scipy.sparse.linalg import LinearOperator, eigs
 
 from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan
@@ -37,6 +43,7 @@ from forcenet.exact.chicken_wire.model import EMPTY as _E
 from forcenet.exact.chicken_wire.model import LEFT as _L
 from forcenet.exact.chicken_wire.model import RIGHT as _R
 from forcenet.exact.chicken_wire.model import SITE_CHOICES, VERTICES
+from forcenet.exact.chicken_wire.sectors import sector_polynomial_factors
 
 if TYPE_CHECKING:
     import mpmath
@@ -184,7 +191,6 @@ def largest_eigenvalue(L: int, weights: dict[str, float] | None = None, particle
     >>> round(largest_eigenvalue(8, particles=4), 12)  # the golden ratio
     1.61803398875
     """
-    from scipy.sparse.linalg import LinearOperator, eigs
 
     L = check_int(L, "L", 2, 14)
     op = _Operator(L, weights)
@@ -247,10 +253,6 @@ def perron_root(L: int, particles: int | None = None, dps: int = 50) -> tuple[li
     >>> poly, mpmath.nstr(lam, 30)  # 2^(1/3)
     ([-2, 0, 0, 1], '1.25992104989487316476721060728')
     """
-    import flint
-    import mpmath
-
-    from forcenet.exact.chicken_wire.sectors import sector_polynomial_factors
 
     dps = check_dps(dps)
     factors = sector_polynomial_factors(L, particles)
@@ -322,7 +324,6 @@ def tiling_entropy(L: int, bracket: tuple[float, float] = (0.01, 1.0), xtol: flo
     ``sigma = max_v s(v)/v``: the maximal entropy per vertex of the
     square-triangle tiling (in the limit ``L -> infinity``).
     """
-    from scipy.optimize import brentq
 
     return brentq(lambda s: free_energy(L, tiling_weights(s)), *bracket, xtol=xtol)
 
@@ -344,9 +345,6 @@ def sector_matrix(L: int, n: int, m: int, photon_fugacity: float = 1.0, hop_fuga
     -------
     scipy.sparse.csr_matrix
     """
-    from itertools import combinations
-
-    from scipy.sparse import csr_matrix
 
     L = check_int(L, "L", 2)
     n = check_int(n, "n", 0, L)

@@ -16,20 +16,31 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from dataclasses import replace
+from types import ModuleType
 from typing import Literal, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
-from forcenet.core.plan import Plan
+from forcenet.core.plan import Plan, with_compilation
 from forcenet.core.validation import check_int
 
+from ..autocorr import mean_and_stderr
+from ..jit import chunks, first_chunk, kernel_choice
 from .networks import maximin_network
 from .scene import Scene, forces_from_lateral, forces_from_q, lateral_forces
 
 __all__ = ["PackingMetropolis", "response", "packing_plan"]
 
+
+
+def _kernels() -> ModuleType:
+    """The compiled kernels' module, imported when first needed (its numba decorations import numba)."""
+    from . import kernels
+
+    return kernels
 
 class PackingMetropolis:
     """Metropolis sampler of Sec. 3.2.4 on the N x P packing.
@@ -89,7 +100,6 @@ class PackingMetropolis:
 
     def __init__(self, scene: Scene, seed: int | np.random.Generator | None = None, q0: ArrayLike | None = None, step: float | None = None,
                  kernel: str | None = None, move: str = "metropolis") -> None:
-        from ..jit import kernel_choice
 
         self.kernel = kernel_choice(kernel)
         if move not in ("metropolis", "slice"):
@@ -191,11 +201,10 @@ class PackingMetropolis:
         """``units`` records of ``thin`` sweeps into ``out`` (and ``qs`` if non-empty), or (``out`` empty) ``units``
         sweeps, compiled, in calls of ~0.15 s cut between sweeps (:func:`forcenet.numeric.jit.chunks`): Ctrl-C
         is seen between two calls, and the chain is the one a single call gives; ``progress(k)`` per call."""
-        from ..jit import chunks, first_chunk
-        from .kernels import packing_slice_sweeps, packing_state, packing_sweeps
 
         scene = self.scene
-        cs, dd = packing_state(self.q, self.W, scene)
+        kernels = _kernels()
+        cs, dd = kernels.packing_state(self.q, self.W, scene)
         gi = np.array([g[0] for g in self.grains], dtype=np.int64)
         gj = np.array([g[1] for g in self.grains], dtype=np.int64)
         counters = np.array([self.attempted, self.accepted, self.rejected_by_constraint, self.evaluations, 0],
@@ -212,10 +221,10 @@ class PackingMetropolis:
                 W_part = out[start:stop] if record else out
                 q_part = qs[start:stop] if qs.shape[0] else qs
                 if self.move == "slice":
-                    packing_slice_sweeps(self.q, self.W, cs, dd, gi, gj, self.rng, sweeps, ph, scene.ph is not None,
+                    kernels.packing_slice_sweeps(self.q, self.W, cs, dd, gi, gj, self.rng, sweeps, ph, scene.ph is not None,
                                          tol, top, float(scene.mg), W_part, q_part, counters, thin)
                 else:
-                    packing_sweeps(self.q, self.W, cs, dd, gi, gj, self.rng, sweeps, ph, scene.ph is not None, tol,
+                    kernels.packing_sweeps(self.q, self.W, cs, dd, gi, gj, self.rng, sweeps, ph, scene.ph is not None, tol,
                                    step, top, float(scene.mg), W_part, q_part, counters, thin)
                 if progress is not None and record:
                     progress(stop - start)
@@ -314,9 +323,6 @@ def response(scene: Scene, sweeps: int, burn_in: int, seed: int | np.random.Seed
     >>> bool(abs(G[-1].sum() - 1) < 1e-9)  # the floor carries the whole overload
     True
     """
-    from dataclasses import replace
-
-    from ..autocorr import mean_and_stderr
 
     if scene.F <= 0:
         raise ArgumentError(f"F={scene.F}: the response needs an overload F > 0")
@@ -369,9 +375,6 @@ def packing_plan(scene: Scene, sweeps: int, burn_in: int = 0, chains: int = 1, m
     ...     compiled.seconds - compiled.compile_seconds - 1.5)
     True
     """
-    from forcenet.core.plan import with_compilation
-
-    from ..jit import kernel_choice
 
     sweeps, burn_in = check_int(sweeps, "sweeps", 1), check_int(burn_in, "burn_in", 0)
     if move not in COMPILE_SECONDS:
@@ -386,8 +389,7 @@ def packing_plan(scene: Scene, sweeps: int, burn_in: int = 0, chains: int = 1, m
                 per_move * moves + start,
                 sweeps * scene.N * scene.P * 8 + 150 * 2**20, sweeps * chains, "sweep")
     if compiled:  # a first run (numba's cache lacks the kernel) compiles it
-        from . import kernels
-
+        kernels = _kernels()
         entry = kernels.packing_slice_sweeps if move == "slice" else kernels.packing_sweeps
         plan = with_compilation(plan, f"packing {move}", COMPILE_SECONDS[move], [entry])
     return plan.within_memory(memory_bytes)

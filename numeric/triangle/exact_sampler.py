@@ -23,12 +23,15 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from forcenet.core.plan import Plan, with_compilation
 from forcenet.core.validation import check_fits_memory, check_int, check_layers, check_seed
 from forcenet.exact.triangle.staircase import dimension
+
+from ..jit import chunks, first_chunk, kernel_choice
 
 if TYPE_CHECKING:
     from forcenet.core.plan import Plan
@@ -125,7 +128,7 @@ def sample_tableaux(N: int, size: int, rng: np.random.Generator, refresh: int | 
     """
     N = check_layers(N)
     n = N - 1
-    d = dimension(n + 1)
+    d = dimension(N)
     refresh = refresh or 10 * n
     logtab = np.log(np.maximum(np.arange(2 * n + 2, dtype=np.float64), 1.0))
     parts = np.tile(np.arange(n, 0, -1, dtype=np.int64), (size, 1))
@@ -178,7 +181,7 @@ def tableaux_to_W(T: np.ndarray, rng: np.random.Generator) -> np.ndarray:
     B, n1, _ = T.shape
     n = n1 - 1
     N = n + 1
-    d = dimension(n + 1)
+    d = dimension(N)
     U = np.sort(rng.random((B, d)), axis=1)
     U = np.concatenate([np.zeros((B, 1)), U], axis=1)  # U[:, k] = k-th order statistic
     S = np.zeros((B, N, N + 1))  # S[:, i-1, j] = S_{i,j}, S_{i,0} = 0
@@ -222,6 +225,13 @@ def mean_and_error(total: np.ndarray, squares: np.ndarray, samples: int) -> tupl
     return mean, np.sqrt(var / samples)
 
 
+
+def _hook_walk() -> Callable[..., Any]:
+    """The compiled hook walk, imported when first needed (its numba decoration imports numba)."""
+    from .hook_walk import hook_walk_W
+
+    return hook_walk_W
+
 class ExactSampler:
     """Exact (independent, uniform) sampler of the fully mobilized triangle.
 
@@ -252,8 +262,6 @@ class ExactSampler:
     """
 
     def __init__(self, N: int, seed: int | np.random.Generator | None = None, batch: int = 4096, kernel: str | None = None) -> None:
-        from ..jit import kernel_choice
-
         self.kernel = kernel_choice(kernel)
         self.N = check_layers(N)
         check_fits_memory(16 * self.N * (self.N + 1), f"one sample of N={self.N}", "N up to a few 10^4 fits "
@@ -272,8 +280,6 @@ class ExactSampler:
         (:func:`forcenet.numeric.jit.chunks`) change nothing but when Ctrl-C is
         seen; ``progress(k)`` after each call of ``k`` samples.
         """
-        from ..jit import chunks, first_chunk
-        from .hook_walk import hook_walk_W
 
         N = self.N
         empty = np.zeros((0, N, N))
@@ -284,7 +290,7 @@ class ExactSampler:
         per_sample = _SECONDS_PER_SQUARE_LOG * N * N * math.log(max(N, 2))
         for start, stop in chunks(size, first_chunk(per_sample)):
             out = empty if W_out is None else W_out[start:stop]
-            hook_walk_W(self.rng, N, stop - start, out, sums, squares, orders, stats)
+            _hook_walk()(self.rng, N, stop - start, out, sums, squares, orders, stats)
             if progress is not None:
                 progress(stop - start)
 
@@ -437,9 +443,6 @@ def sample_plan(N: int, samples: int, memory_bytes: int | None = None, kernel: s
     >>> sample_plan(100000, 2, memory_bytes=24 * 2**30).runnable
     False
     """
-    from forcenet.core.plan import Plan, with_compilation
-
-    from ..jit import kernel_choice
 
     N, samples = check_layers(N), check_int(samples, "samples", 1)
     compiled = kernel_choice(kernel) == "compiled"
@@ -452,7 +455,6 @@ def sample_plan(N: int, samples: int, memory_bytes: int | None = None, kernel: s
         seconds = _SECONDS_PER_CUBE * N**3 * samples + 0.3
     plan = Plan(f"{samples} exact samples N={N}", seconds, nbytes, samples, "sample")
     if compiled:  # a first run (numba's cache lacks the hook walk) compiles it
-        from .hook_walk import hook_walk_W
 
-        plan = with_compilation(plan, "exact sampler", COMPILE_SECONDS, [hook_walk_W])
+        plan = with_compilation(plan, "exact sampler", COMPILE_SECONDS, [_hook_walk()])
     return plan.within_memory(memory_bytes)

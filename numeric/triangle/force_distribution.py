@@ -21,6 +21,7 @@ layer ``i`` alone.
 
 from __future__ import annotations
 
+import io
 import math
 import warnings
 from collections.abc import Callable, Sequence
@@ -29,9 +30,15 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
+from scipy.stats import binom, chi2
 
 from forcenet.core.errors import ArgumentError
 from forcenet.core.validation import check_int, check_real
+from forcenet.exact.triangle.distribution import as_pieces
+
+from ..autocorr import integrated_time
+from .exact_sampler import ExactSampler
+from .metropolis import TriangleMetropolis
 
 if TYPE_CHECKING:
     from forcenet.exact.triangle.gaps import GapCounts
@@ -68,7 +75,6 @@ def density_values(gaps: GapCounts, w: ArrayLike) -> np.ndarray:
     >>> round(float(density_values(grain_gap_counts(3, (3, 2)), 0.5)), 12)
     1.5
     """
-    from scipy.stats import binom
 
     w = np.asarray(w, dtype=np.float64)
     d, g, prob = _gap_probabilities(gaps)
@@ -85,7 +91,6 @@ def cdf_values(gaps: GapCounts, w: ArrayLike) -> np.ndarray:
     >>> float(cdf_values(grain_gap_counts(3, (3, 2)), 0.5))
     0.5
     """
-    from scipy.stats import binom
 
     w = np.asarray(w, dtype=np.float64)
     _, g, prob = _gap_probabilities(gaps)
@@ -120,7 +125,6 @@ def piecewise_values(pieces: Any, f: ArrayLike, support: Any = None) -> np.ndarr
     >>> round(float(piecewise_values(triangle_force_density(3), 1.0)), 12)
     0.566666666667
     """
-    from forcenet.exact.triangle.distribution import as_pieces
 
     pieces = as_pieces(pieces, support)
     f = np.asarray(f, dtype=np.float64)
@@ -288,7 +292,6 @@ def exact_sampler_histogram(N: int, samples: int, edges: ArrayLike, pool: str | 
     >>> bool(abs(h.density @ np.diff(h.edges) - 1) < 1e-12), h.tau
     (True, 1.0)
     """
-    from .exact_sampler import ExactSampler
 
     samples = check_int(samples, "samples", 2)
     edges = _check_edges(edges)
@@ -324,8 +327,6 @@ def metropolis_histogram(N: int, sweeps: int, edges: ArrayLike, pool: str | int 
     >>> h.samples, bool(h.tau >= 1)
     (400, True)
     """
-    from ..autocorr import integrated_time
-    from .metropolis import TriangleMetropolis
 
     sweeps = check_int(sweeps, "sweeps", 2)  # N: validated by TriangleMetropolis
     burn_in = max(100, sweeps // 10) if burn_in is None else check_int(burn_in, "burn_in", 0)
@@ -356,7 +357,6 @@ def chi_square(hist: Histogram, exact_bins: Sequence[Fraction | float]) -> tuple
     >>> round(value, 12), bins, round(p, 4)
     (2.0, 2, 0.3679)
     """
-    from scipy.stats import chi2
 
     e = np.array([float(x) for x in exact_bins]) / np.diff(hist.edges)
     use = hist.stderr > 0
@@ -371,7 +371,6 @@ def comparison_png(pieces: Any, exact_bins: Sequence[Fraction | float], histogra
     ``histograms`` maps a label to a :class:`Histogram`; two panels, linear and
     logarithmic.  Uses the Agg backend and never touches the file system.
     """
-    import io
 
     import matplotlib
 

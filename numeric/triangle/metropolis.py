@@ -30,14 +30,17 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from forcenet.core.errors import ArgumentError
+from forcenet.core.plan import Plan, with_compilation
 from forcenet.core.validation import check_fits_memory, check_int, check_layers, check_seed
 from forcenet.exact.triangle.staircase import dimension
+
+from ..jit import chunks, first_chunk, kernel_choice
 
 if TYPE_CHECKING:
     from forcenet.core.plan import Plan
@@ -86,6 +89,20 @@ def lateral_forces(q: np.ndarray, W: np.ndarray, ph: float) -> np.ndarray:
     return np.tril(F4[:, : N - 1])
 
 
+
+def _kernel(move: str) -> Callable[..., Any]:
+    """The compiled sweep kernel of ``move``, imported when first needed (its numba decoration imports numba)."""
+    from . import metropolis_kernel, slice_kernel
+
+    return slice_kernel.triangle_slice_sweeps if move == "slice" else metropolis_kernel.triangle_sweeps
+
+
+def _state(q: np.ndarray, W: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The compiled kernels' running state (:func:`forcenet.numeric.triangle.cone.triangle_state`), loaded with them."""
+    from .cone import triangle_state
+
+    return triangle_state(q, W)  # type: ignore[no-any-return]
+
 class TriangleMetropolis:
     """Metropolis sampler in q for the fully mobilized triangle (Sec. 3.2.4).
 
@@ -132,7 +149,6 @@ class TriangleMetropolis:
 
     def __init__(self, N: int, seed: int | np.random.Generator | None = None, ph: float | None = None, q0: ArrayLike | None = None,
                  kernel: str | None = None, move: str = "metropolis") -> None:
-        from ..jit import kernel_choice
 
         self.kernel = kernel_choice(kernel)
         if move not in ("metropolis", "slice"):
@@ -222,18 +238,14 @@ class TriangleMetropolis:
         is the one a single call gives.  ``progress(k)`` after each call that
         recorded ``k`` records.
         """
-        from ..jit import chunks, first_chunk
-        from .cone import triangle_state
-        from .metropolis_kernel import triangle_sweeps
-        from .slice_kernel import triangle_slice_sweeps
 
-        flux, zeros = triangle_state(self.q, self.W)
+        flux, zeros = _state(self.q, self.W)
         gi = np.array([g[0] for g in self.grains], dtype=np.int64)
         gj = np.array([g[1] for g in self.grains], dtype=np.int64)
         counters = np.array([self.attempted, self.accepted, self.rejected_by_constraint, self.evaluations, 0],
                             dtype=np.int64)
         ph = 0.0 if self.ph is None else float(self.ph)
-        kernel = triangle_slice_sweeps if self.move == "slice" else triangle_sweeps
+        kernel = _kernel(self.move)
         record = out.shape[0] > 0
         per_unit = _compiled_seconds_per_move(self.N, self.ph is not None) * len(self.grains) * (thin if record else 1)
         try:
@@ -395,9 +407,6 @@ def metropolis_plan(N: int, sweeps: int, burn_in: int = 0, memory_bytes: int | N
     >>> plan.seconds - plan.compile_seconds < 5
     True
     """
-    from forcenet.core.plan import Plan, with_compilation
-
-    from ..jit import kernel_choice
 
     N = check_layers(N)
     sweeps, burn_in = check_int(sweeps, "sweeps", 1), check_int(burn_in, "burn_in", 0)
@@ -412,9 +421,6 @@ def metropolis_plan(N: int, sweeps: int, burn_in: int = 0, memory_bytes: int | N
     plan = Plan(f"Metropolis N={N}, {sweeps} sweeps", per_move * moves + start,
                 sweeps * N * N * 8 + 100 * 2**20, sweeps, "sweep")
     if compiled:
-        from .metropolis_kernel import triangle_sweeps
-        from .slice_kernel import triangle_slice_sweeps
-
-        entry = triangle_slice_sweeps if move == "slice" else triangle_sweeps
-        plan = with_compilation(plan, f"triangle {move}", COMPILE_SECONDS[move], [entry])
+  # a first run (numba's cache lacks the kernel) compiles it
+        plan = with_compilation(plan, f"triangle {move}", COMPILE_SECONDS[move], [_kernel(move)])
     return plan.within_memory(memory_bytes)

@@ -52,6 +52,7 @@ True
 
 from __future__ import annotations
 
+import importlib
 from importlib.metadata import PackageNotFoundError, version
 from typing import TYPE_CHECKING, Any
 
@@ -202,13 +203,10 @@ except PackageNotFoundError:  # imported from a tree that was never installed (n
 def __getattr__(name: str) -> Any:
     """The front door's names, imported on first use."""
     if name in _FRONT_DOOR:
-        import importlib
-
         value = getattr(importlib.import_module(_FRONT_DOOR[name]), name)
         globals()[name] = value
         return value
     if name in _SUBPACKAGES:  # forcenet.testing.compare without a separate import
-        import importlib
 
         return importlib.import_module(f"forcenet.{name}")
     raise AttributeError(f"module 'forcenet' has no attribute {name!r}")

@@ -14,13 +14,13 @@ import signal
 import sys
 from types import FrameType
 
+from forcenet.core.compiled import check_environment, prefer_wide_vectors
 from forcenet.core.errors import ArgumentError  # the standard library only: numba is not imported yet
 
 
 def run() -> int:
     """The ``forcenet`` command: wide vectors where the machine has them, SIGTERM and SIGHUP as Ctrl-C, then the
     command line."""
-    from forcenet.core.compiled import check_environment, prefer_wide_vectors
 
     try:
         check_environment()  # before numba is imported: some settings abort the process inside LLVM

@@ -34,7 +34,7 @@ from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceEr
 from forcenet.core.plan import Plan, combine
 from forcenet.core.precision import check_within_pi, to_mpf, within_pi
 from forcenet.core.validation import check_float_digits, check_not_bool, is_binary_float, is_integer
-from forcenet.front_door import _Costed
+from forcenet.costed_plans import CostedPlan
 from forcenet.numeric.chicken_wire import isotropic as iso
 from forcenet.numeric.chicken_wire.isotropic import closed_form_plan
 from forcenet.numeric.chicken_wire.isotropic_bethe import isotropic_entropy, isotropic_entropy_plan
@@ -48,8 +48,8 @@ __all__ = ["IsotropicPlan", "isotropic_point_plan", "isotropic_point", "isotropi
 SERIES_TOLERANCE = 0.01
 
 
-@dataclass(frozen=True, repr=False)  # the plan's own words: _Costed.__repr__
-class IsotropicPlan(_Costed):
+@dataclass(frozen=True, repr=False)  # the plan's own words: CostedPlan.__repr__
+class IsotropicPlan(CostedPlan):
     """A checked request for the quantities on the isotropic line, with its cost.
 
     What :func:`isotropic_point_plan` and :func:`isotropic_maximum_plan` return.

@@ -27,7 +27,7 @@ from typing import Any
 from forcenet.chicken_wire_results import BetheGroundState, Sector, TransferSpectrum
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_int
-from forcenet.front_door import _Costed
+from forcenet.costed_plans import CostedPlan
 from forcenet.numeric.chicken_wire.bethe_sector import MAX_WIDTH, default_sector, ground_state, ground_state_plan
 from forcenet.numeric.chicken_wire.transfer import sector_entropy, transfer_plan
 
@@ -42,8 +42,8 @@ Progress = Callable[..., Any]
 # ------------------------------------------------------------------------ transfer matrix
 
 
-@dataclass(frozen=True, repr=False)  # the plan's own words: _Costed.__repr__
-class TransferSpectrumPlan(_Costed):
+@dataclass(frozen=True, repr=False)  # the plan's own words: CostedPlan.__repr__
+class TransferSpectrumPlan(CostedPlan):
     """A checked request for the transfer spectrum of a cylinder, with its cost: what :func:`transfer_spectrum_plan` returns.
 
     Parameters
@@ -185,8 +185,8 @@ def transfer_spectrum(L: int, particles: int | None = None, *,
 # ------------------------------------------------------------------------ Bethe ansatz
 
 
-@dataclass(frozen=True, repr=False)  # the plan's own words: _Costed.__repr__
-class BetheGroundStatePlan(_Costed):
+@dataclass(frozen=True, repr=False)  # the plan's own words: CostedPlan.__repr__
+class BetheGroundStatePlan(CostedPlan):
     """A checked request for one sector's Bethe ground state, with its cost: what :func:`bethe_ground_state_plan` returns.
 
     Parameters

@@ -43,10 +43,10 @@ from forcenet.contact_network_results import NetworkResult
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan, combine
 from forcenet.core.validation import check_int, check_seed
+from forcenet.costed_plans import CostedPlan
 from forcenet.exact.contact_network import polytope as polytope_module
 from forcenet.exact.contact_network import triangulation_moments
 from forcenet.exact.contact_network.model import ContactNetwork, contact_network, parse_json, read_json
-from forcenet.front_door import _Costed
 from forcenet.registry import REGISTRY
 
 __all__ = ["network", "network_plan", "NetworkPlan", "NetworkRequest", "NetworkResult", "ContactNetwork",
@@ -117,7 +117,7 @@ def _network(source: Any) -> ContactNetwork:
 
 
 @dataclass(frozen=True)
-class NetworkPlan(_Costed):
+class NetworkPlan(CostedPlan):
     """A checked request on a contact network with its engines and cost: what :func:`network_plan` returns.
 
     Parameters

@@ -40,8 +40,8 @@ from forcenet.core.atomic_files import check_directory
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_int, check_seed
+from forcenet.costed_plans import CostedPlan
 from forcenet.force_chains_results import ForceChainScaling
-from forcenet.front_door import _Costed
 from forcenet.numeric.force_chains.engines import DEFAULTS, MODELS, ScalingRequest
 from forcenet.numeric.force_chains.finite_size_scaling import SizeBlocks, analyse
 from forcenet.numeric.force_chains.newman_ziff import LATTICES, size_distribution, sweep_samples
@@ -53,7 +53,7 @@ MAX_SIZE = 4096
 
 
 @dataclass(frozen=True)
-class ScalingPlan(_Costed):
+class ScalingPlan(CostedPlan):
     """A checked :func:`scaling` request with its cost (make it with :func:`scaling_plan`); :meth:`run` runs it.
 
     Parameters

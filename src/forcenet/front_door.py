@@ -30,16 +30,25 @@ Examples
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Iterator
 from concurrent.futures import Executor
-from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Any, Self
+from typing import TYPE_CHECKING, Any
 
-from forcenet.core.atomic_files import check_directory
+from forcenet.core.checkpoints import resumed_plan, run_distrusting
 from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan, duration_text
-from forcenet.core.validation import available_memory, check_progress
+from forcenet.costed_plans import CostedPlan, Progress, available_memory_or_default, checkpoint_directory
+from forcenet.exact.routes import (
+    METHODS,
+    Choice,
+    RowChoice,
+    check_request,
+    plan_request,
+    plan_row,
+    run_request,
+    run_row,
+    takes,
+)
 from forcenet.results import Row, Table
 
 if TYPE_CHECKING:
@@ -47,126 +56,8 @@ if TYPE_CHECKING:
 
 __all__ = ["Row", "Table", "TablePlan", "plan", "table"]  # Row and Table: forcenet.results
 
-Progress = Callable[..., Any]
-
-
-def _available_memory() -> int:
-    """Bytes of memory available now, 16 GiB if unknown (the command line's figure)."""
-    return available_memory() or 16 * 2**30
-
-
-def _checkpoint(checkpoint: object) -> str | None:
-    """``checkpoint=`` checked as the command line checks ``--checkpoint`` (one shared check)."""
-    return None if checkpoint is None else check_directory(checkpoint, "checkpoint")
-
-
-class _Costed:
-    """What a front door's plan (:class:`TablePlan`, :class:`~forcenet.LawPlan`) says of its ``cost``."""
-
-    cost: Plan
-
-    @contextmanager
-    def _ticks(self, progress: Callable[..., Any] | bool | None, desc: str) -> Iterator[Callable[..., Any] | None]:
-        """``progress`` as the run's tick: itself if callable, a bar for ``True``, and for ``None`` where a person
-        watches (a terminal, a notebook; :func:`forcenet.core.progress.ticks`); none for a refused plan."""
-        check_progress(progress)
-        from forcenet.core.progress import ticks  # None: a bar where a person watches (the one policy)
-
-        with ticks(self.cost, progress, desc) as tick:
-            yield tick
-
-    def __repr__(self) -> str:
-        """The plan's own words (:meth:`forcenet.core.plan.Plan.__repr__`), under this class's name."""
-        return type(self).__name__ + repr(self.cost)[len("Plan"):]
-
-    @property
-    def runnable(self) -> bool:
-        """True when the request can run (in range, within memory).
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> forcenet.plan(40).runnable, forcenet.plan(40, method="lambda").runnable
-        (True, False)
-        """
-        return self.cost.runnable
-
-    @property
-    def refusal(self) -> str | None:
-        """Why it cannot run, and what would; None when it can.
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> print(forcenet.plan(13, method="lambda").refusal)  # doctest: +ELLIPSIS
-        N=13 is out of range for --method lambda: ...; method='auto' runs it by fast (~0 s)
-        """
-        return self.cost.refusal
-
-    @property
-    def seconds(self) -> float:
-        """Estimated wall time on the 2-core reference machine.
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> forcenet.plan(5).seconds < 1
-        True
-        """
-        return self.cost.seconds
-
-    @property
-    def nbytes(self) -> int:
-        """Estimated peak memory in bytes.
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> forcenet.plan(64).nbytes < 2**31
-        True
-        """
-        return self.cost.nbytes
-
-    def describe(self) -> str:
-        """The cost in words: ``'~1 min, ~0.25 GiB'``.
-
-        Returns
-        -------
-        str
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> forcenet.plan(6, method="fast").describe()  # doctest: +ELLIPSIS
-        '~0 s, ~...GiB'
-        """
-        return self.cost.describe()
-
-    def check(self) -> Self:
-        """The plan itself when it can run; else :class:`~forcenet.ArgumentError` with its refusal.
-
-        Returns
-        -------
-        TablePlan or LawPlan
-            This plan.
-
-        Raises
-        ------
-        ArgumentError
-            If the plan is refused.
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> forcenet.plan(7).check().method
-        'fast'
-        """
-        self.cost.check()
-        return self
-
-
-@dataclass(frozen=True, repr=False)  # the plan's own words: _Costed.__repr__
-class TablePlan(_Costed):
+@dataclass(frozen=True, repr=False)  # the plan's own words: CostedPlan.__repr__
+class TablePlan(CostedPlan):
     """A checked request for an exact table, with its cost: what :func:`plan` returns (make it with :func:`plan`).
 
     Parameters
@@ -236,8 +127,6 @@ class TablePlan(_Costed):
         >>> forcenet.plan(4, method="thesis").run().mean_W[-1]
         [Fraction(1, 7), Fraction(5, 14), Fraction(5, 14), Fraction(1, 7)]
         """
-        from forcenet.core.checkpoints import run_distrusting  # numpy: not before a run
-        from forcenet.exact.routes import Choice, RowChoice, run_request, run_row  # the engines, on first use
 
         request = self.request  # checked once by plan(); the registry checks the plan before the run
         if request is None:
@@ -301,13 +190,11 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
     >>> print(forcenet.plan(40, method="fast").refusal)  # doctest: +ELLIPSIS
     N=40 is out of range for the exact table here: ...; method='auto' runs it by pfaffian (~...)
     """
-    from forcenet.core.checkpoints import resumed_plan  # numpy: not before a plan
-    from forcenet.exact.routes import METHODS, check_request, plan_request, takes  # the engines: not before a plan
 
     request = check_request(N, moments, method, row=row, memory_bytes=memory_bytes, executor=executor)  # the check
-    directory = _checkpoint(checkpoint)
+    directory = checkpoint_directory(checkpoint)
     if request.memory_bytes is None:
-        request = replace(request, memory_bytes=_available_memory())
+        request = replace(request, memory_bytes=available_memory_or_default())
     if row is not None:
         return _row_plan(replace(request, options={} if directory is None else {"checkpoint": directory}))
     request = replace(request, directory=directory)
@@ -330,7 +217,6 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
 
 def _row_plan(request: Request) -> TablePlan:
     """One row's plan: its route by :func:`forcenet.exact.routes.choose_row`, planned once with the options."""
-    from forcenet.exact.routes import plan_row
 
     choice = plan_row(request)
     cost = choice.plan if not choice.why else replace(choice.plan, what=f"{choice.plan.what}; {choice.why}")

@@ -15,16 +15,23 @@ Examples
 
 from __future__ import annotations
 
+import json
 import math
 import re
 import textwrap
 from collections.abc import Callable
 from fractions import Fraction
+from html import escape
 from typing import TYPE_CHECKING, Any
+
+import sympy
 
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.validation import check_exponent, check_int, check_rational, is_binary_float
+from forcenet.exact.triangle.distribution import poly_strings
+from forcenet.numeric.triangle.force_distribution import density_grid
 from forcenet.results import _Rendered
+from forcenet.sampled_comparison import comparison_plan
 
 if TYPE_CHECKING:  # pragma: no cover - annotations only
     import numpy as np
@@ -239,7 +246,6 @@ class Law(_Rendered):
 
     def _grid(self, K: Any, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """:meth:`grid` with ``K`` checked as the argument ``name`` (``K``, ``grid``, ``points``), capped."""
-        from forcenet.numeric.triangle.force_distribution import density_grid
 
         K = check_int(K, name, 1, GRID_MAX)  # as forcenet dist --grid: 1..GRID_MAX
         # planned: each point is an exact evaluation of degree d at a float's exact value, ~d^2 big-integer work
@@ -270,7 +276,6 @@ class Law(_Rendered):
         >>> forcenet.law(3, (3, 2)).to_dict()["pieces"]
         [{'lo': '0', 'hi': '1', 'degree': 2, 'density': ['0', '6', '-6'], 'cdf': ['0', '0', '3', '-2']}]
         """
-        from forcenet.exact.triangle.distribution import poly_strings
 
         out: dict[str, Any] = {
             "N": self.N, "quantity": self.quantity, "variable": self.variable,
@@ -301,7 +306,6 @@ class Law(_Rendered):
         >>> forcenet.law(2, (2, 1)).to_json()  # doctest: +ELLIPSIS
         '{"N": 2, "quantity": "W_{2,1}", "variable": "w", "pieces": [{"lo": "0", "hi": "1", "degree": 0, ...}'
         """
-        import json
 
         return json.dumps(self.to_dict(grid), allow_nan=False)
 
@@ -327,7 +331,6 @@ class Law(_Rendered):
         0,1,2,-6,3
         0,1,3,0,-2
         """
-        from forcenet.exact.triangle.distribution import poly_strings
 
         var = self.variable
         if grid is not None:
@@ -342,8 +345,6 @@ class Law(_Rendered):
         return "\n".join(lines)
 
     def _cases(self, pieces: list[Any]) -> str:
-        import sympy
-
         var = self.variable
         if len(pieces) == 1:
             return sympy.latex(pieces[0].poly.as_expr()) + rf" \qquad ({pieces[0].lo} \le {var} \le {pieces[0].hi})"
@@ -417,8 +418,6 @@ class Law(_Rendered):
         return rf"$p({self.variable}) = {self._cases(self.density)}$"
 
     def _repr_html_(self) -> str:
-        from html import escape
-
         head = f"<p>{escape(self.quantity)}, N = {self.N} ({escape(self.method)}): mean {self.mean}</p>"
         rows = "".join(f"<tr><td>[{p.lo}, {p.hi}]</td><td>{p.poly.degree()}</td></tr>" for p in self.density)
         return head + "<table><tr><th>piece</th><th>degree</th></tr>" + rows + "</table>"
@@ -469,7 +468,6 @@ class Law(_Rendered):
         ...
         forcenet.core.errors.ArgumentError: compare_with_samples compares a pooled P(f) with sampled histograms: ...
         """
-        from forcenet.sampled_comparison import comparison_plan
 
         return comparison_plan(self.N, self.pool, samples=samples, sweeps=sweeps, bins=bins, f_max=f_max, seed=seed,
                                law=self).check().run(progress)
@@ -497,11 +495,11 @@ class Law(_Rendered):
         >>> ax.get_title(), ax.get_legend_handles_labels()[1]
         ('N = 12: $W_{12,6}$', ['exact density of $W_{12,6}$'])
         """
+        x, p, _ = self._grid(points, "points")  # the points checked before matplotlib is loaded
         import matplotlib.pyplot as plt
 
         if ax is not None and not isinstance(ax, plt.Axes):
             raise ArgumentTypeError(f"ax={ax!r} is not a matplotlib Axes: give one, or None for a new figure")
-        x, p, _ = self._grid(points, "points")
         if ax is None:
             _, ax = plt.subplots(figsize=(5, 3.5))
         ax.plot(x, p, label=f"exact density of {_mathtext(self.quantity)}")

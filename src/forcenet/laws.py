@@ -39,8 +39,8 @@ from forcenet.core.checkpoints import run_distrusting
 from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan
 from forcenet.core.validation import available_memory
+from forcenet.costed_plans import CostedPlan
 from forcenet.exact.routes import LAW_PRIME_ROUTES, LawRequest, law_checkpoint, law_request, law_resumed
-from forcenet.front_door import _Costed
 from forcenet.law_results import Law
 from forcenet.registry import REGISTRY
 from forcenet.sampled_comparison import SampledComparisonPlan, comparison_plan
@@ -50,8 +50,8 @@ __all__ = ["Law", "LawPlan", "law", "law_plan"]  # Law: forcenet.law_results
 Progress = Callable[..., Any]
 
 
-@dataclass(frozen=True, repr=False)  # the plan's own words: _Costed.__repr__
-class LawPlan(_Costed):
+@dataclass(frozen=True, repr=False)  # the plan's own words: CostedPlan.__repr__
+class LawPlan(CostedPlan):
     """A checked request for one load's law, with its route and cost: what :func:`law_plan` returns.
 
     Parameters

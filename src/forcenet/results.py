@@ -18,10 +18,17 @@ from __future__ import annotations
 import os
 from collections.abc import Callable
 from fractions import Fraction
+from html import escape
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
+from forcenet import table_formats
 from forcenet.core.errors import ArgumentError
 from forcenet.core.validation import check_int
+from forcenet.exact.protocol import BoundedTable
+from forcenet.exact.triangle.staircase import ensemble_volume, free_force_count, tableau_count
+from forcenet.exact.triangle.tables import _latex_fraction, exact_row, fraction_str, to_csv, to_json
 
 if TYPE_CHECKING:  # pragma: no cover - annotations only
     import numpy as np
@@ -52,7 +59,6 @@ class _Rendered:
         >>> forcenet.table(3, row=2).to_json()
         '{"N": 3, "row": 2, "count": "1", "normalization": "1/6", "mean_W": ["1/2", "1/2"]}'
         """
-        from forcenet.exact.triangle.tables import to_json
 
         return to_json(self.to_dict())
 
@@ -77,7 +83,6 @@ class _Rendered:
         3,2,1/2
         3,3,1/4
         """
-        from forcenet.exact.triangle.tables import to_csv
 
         return to_csv(self.to_dict())
 
@@ -111,8 +116,6 @@ class Table(_Rendered):
     """
 
     def __init__(self, N: int, method: str, why: str, tables: dict[int, list[list[Fraction]]]):
-        from forcenet.exact.protocol import BoundedTable
-
         self.N, self.method, self.why = N, method, why
         # every W_ij lies in [0, 1], so W^s too: forcenet.testing.compare then uses the bounded test by default
         self._tables = {s: BoundedTable(rows, (0, 1), "every W^s of the triangle lies in [0, 1]" if s > 1
@@ -285,7 +288,6 @@ class Table(_Rendered):
         >>> forcenet.table(6).count
         286
         """
-        from forcenet.exact.triangle.staircase import tableau_count
 
         return tableau_count(self.N)  # N checked once, by the request (forcenet.exact.routes.check_request)
 
@@ -299,7 +301,6 @@ class Table(_Rendered):
         >>> forcenet.table(4).normalization
         Fraction(1, 360)
         """
-        from forcenet.exact.triangle.staircase import ensemble_volume
 
         return ensemble_volume(self.N)
 
@@ -348,7 +349,6 @@ class Table(_Rendered):
         ----------
         Ostojic (2006), Eq. (4.1) (count and normalization), Eq. (4.3) (``d = N (N - 1)/2``), Sec. 4.2.
         """
-        from forcenet.exact.triangle.staircase import free_force_count
         lines = [
             f"Fully mobilized triangle, N = {self.N} layers, d = {free_force_count(self.N)} free forces",
             "  W_ij: load on grain j of layer i in units of the overload; rows sum to 1",
@@ -380,7 +380,6 @@ class Table(_Rendered):
         >>> forcenet.table(3).to_numpy()[2]
         array([0.25, 0.5 , 0.25])
         """
-        import numpy as np
 
         out = np.full((self.N, self.N), np.nan)
         for i, row in enumerate(self.moment(s)):
@@ -390,17 +389,12 @@ class Table(_Rendered):
     def _repr_latex_(self) -> str | None:
         if self.N > 10:
             return None
-        from forcenet.exact.triangle.tables import _latex_fraction
 
         rows = [" & ".join(_latex_fraction(x) for x in row) + " & " * (self.N - len(row)) for row in self.mean_W]
         body = r" \\ ".join(rows)
         return rf"$\langle W_{{ij}}\rangle,\ N={self.N}:\ \left(\begin{{array}}{{{'c' * self.N}}}{body}\end{{array}}\right)$"
 
     def _repr_html_(self) -> str:
-        from html import escape
-
-        from forcenet.exact.triangle.tables import fraction_str
-
         rows = range(1, self.N + 1) if self.N <= 12 else [*range(1, 7), *range(self.N - 2, self.N + 1)]
         cells = []
         for i in rows:
@@ -493,8 +487,6 @@ class Row(_Rendered):
     """
 
     def __init__(self, N: int, row: int, method: str, why: str, rows: dict[int, list[Fraction]]):
-        from forcenet.exact.protocol import BoundedTable
-
         self.N, self.row, self.method, self.why = N, row, method, why
         self._rows = {s: BoundedTable(values, (0, 1), "every W^s of the triangle lies in [0, 1]")
                       for s, values in rows.items()}
@@ -577,7 +569,6 @@ class Row(_Rendered):
         >>> forcenet.table(4, row=2).to_dict()["mean_W"]
         [Fraction(1, 2), Fraction(1, 2)]
         """
-        from forcenet.exact.triangle.tables import exact_row
 
         return exact_row(self.N, self.row, self._rows)
 
@@ -585,6 +576,5 @@ class Row(_Rendered):
 def _formats() -> Any:
     """:mod:`forcenet.table_formats`, imported on first use: it needs the exact tables' text helpers (numba's
     modules), which a sampler's front door (:func:`forcenet.sample_plan`) must not load."""
-    from forcenet import table_formats
 
     return table_formats

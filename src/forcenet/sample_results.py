@@ -19,7 +19,10 @@ from __future__ import annotations
 
 import json
 import textwrap
+from html import escape
 from typing import TYPE_CHECKING, Any
+
+import numpy as np
 
 if TYPE_CHECKING:  # pragma: no cover - annotations only
     import numpy as np
@@ -174,7 +177,6 @@ class Samples:
         >>> list(d), d["mean_W"][0]
         (['N', 'sampler', 'samples', 'seed', 'workers', 'kernel', 'effective_samples', 'mean_W', 'stderr_W'], [1.0])
         """
-        import numpy as np
 
         out: dict[str, Any] = {"N": self.N, "sampler": self.sampler, "samples": self.samples, "seed": self.seed,
                                "workers": self.workers}
@@ -231,6 +233,4 @@ class Samples:
         return "\n".join(lines)
 
     def _repr_html_(self) -> str:
-        from html import escape
-
         return f"<pre>{escape(self.to_text())}</pre>"

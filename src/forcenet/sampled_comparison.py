@@ -29,8 +29,8 @@ from typing import TYPE_CHECKING, Any, Generic, Protocol, TypeVar
 from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan, combine
 from forcenet.core.validation import available_memory, check_int, check_real
+from forcenet.costed_plans import CostedPlan
 from forcenet.exact.triangle.distribution import bin_probabilities
-from forcenet.front_door import _Costed
 from forcenet.numeric.triangle.exact_sampler import sample_plan
 from forcenet.numeric.triangle.force_distribution import (
     chi_square,
@@ -171,8 +171,8 @@ class SampledComparison(Generic[L]):
         return self.png()
 
 
-@dataclass(frozen=True, repr=False)  # the plan's own words: _Costed.__repr__
-class SampledComparisonPlan(_Costed, Generic[L]):
+@dataclass(frozen=True, repr=False)  # the plan's own words: CostedPlan.__repr__
+class SampledComparisonPlan(CostedPlan, Generic[L]):
     """A checked comparison of an exact pooled ``P(f)`` with sampled histograms, with its cost (the law's too when it
     is still to be computed): what :meth:`forcenet.LawPlan.with_sampled_comparison` returns.
 

@@ -34,7 +34,13 @@ from typing import TYPE_CHECKING, Any, ClassVar
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceError
 from forcenet.core.plan import Plan
 from forcenet.core.validation import available_memory, check_int, check_real
-from forcenet.front_door import _Costed
+from forcenet.costed_plans import CostedPlan
+from forcenet.numeric.autocorr import AutocorrError, all_finite
+from forcenet.numeric.packing.metropolis import packing_plan
+from forcenet.numeric.packing.scene import Scene
+from forcenet.numeric.parallel_chains import parallel_plan, sample_in_parallel
+from forcenet.numeric.triangle.exact_sampler import sample_plan as exact_plan
+from forcenet.numeric.triangle.metropolis import metropolis_plan
 from forcenet.sample_results import Samples
 
 if TYPE_CHECKING:  # pragma: no cover - annotations only
@@ -49,8 +55,8 @@ MOVES = ("metropolis", "slice")
 MAX_WORKERS = 64
 
 
-@dataclass(frozen=True, repr=False)  # the plan's own words: _Costed.__repr__
-class SamplePlan(_Costed):
+@dataclass(frozen=True, repr=False)  # the plan's own words: CostedPlan.__repr__
+class SamplePlan(CostedPlan):
     """A checked Monte Carlo request with its cost: what :func:`sample_plan` returns (make it with :func:`sample_plan`).
 
     Parameters
@@ -133,8 +139,6 @@ class SamplePlan(_Costed):
         >>> forcenet.sample_plan(4, 300, seed=7).run().effective_samples
         300.0
         """
-        from forcenet.numeric.autocorr import AutocorrError, all_finite
-        from forcenet.numeric.parallel_chains import sample_in_parallel
 
         self.check()
         try:
@@ -177,7 +181,6 @@ def _check_loads(F: float, ph: float | None, scene: Scene | None) -> None:
 
 def _scene_loads(scene: Any, F: Any, ph: Any) -> tuple[float, float | None]:
     """The packing's loads are its scene's: ``F``/``ph`` given beside ``scene`` must equal them."""
-    from forcenet.numeric.packing.scene import Scene
 
     if not isinstance(scene, Scene):
         raise ArgumentTypeError(f"scene={scene!r} is not a scene: give forcenet.Scene(N=..., P=..., ...)")
@@ -280,19 +283,12 @@ def sample_plan(N: int, samples: int, *, sampler: str = "exact", seed: int = 0, 
 def _cost(N: int, samples: int, sampler: str, workers: int, ph: float | None, scene: Scene | None,
           burn: int | None, response: bool, move: str, memory: int) -> Plan:
     """The sampler's plan for every sample in one process, spread over ``workers`` processes."""
-    from forcenet.numeric.parallel_chains import parallel_plan
 
     if burn is None:
-        from forcenet.numeric.triangle.exact_sampler import sample_plan as exact_plan
-
         plan = exact_plan(N, samples, memory)
     elif scene is None:
-        from forcenet.numeric.triangle.metropolis import metropolis_plan
-
         plan = metropolis_plan(N, samples, burn * workers, memory, ph=ph is not None, move=move)
     else:
-        from forcenet.numeric.packing.metropolis import packing_plan
-
         plan = packing_plan(scene, samples, burn * workers, 2 if response else 1, memory, move=move)
     return parallel_plan(plan, workers, memory)  # the processes on the machine's cores, each with its own share
 

@@ -32,6 +32,8 @@ import mpmath
 
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.validation import check_dps, check_exponent, check_float_digits, check_not_bool, is_binary_float
+from forcenet.numeric.limit_shape.edge import EDGE_EXPONENT, edge_amplitude, edge_sd_amplitude
+from forcenet.numeric.limit_shape.surface import bulk_response, lattice_response
 
 __all__ = ["LimitShape", "limit_shape"]
 
@@ -119,7 +121,6 @@ class LimitShape:
             return None
         if self.corner:
             return Fraction(2)
-        from forcenet.numeric.limit_shape.edge import EDGE_EXPONENT
 
         return EDGE_EXPONENT
 
@@ -325,9 +326,6 @@ def limit_shape(x: str | Fraction | int | float | Decimal, z: str | Fraction | i
         raise ArgumentError(f"x={x_text} is out of range: x must lie in [-z, z] = [-{z_text}, {z_text}]")
     on_lattice = abs(x_exact) == z_exact and z_exact < 1  # the bulk density diverges there
     corner = abs(x_exact) == z_exact == 1  # W_(N,1) ~ Beta(1, d): <W> = 1/(d + 1) = 2 N^(-2) + O(N^(-3)), the same sd
-
-    from forcenet.numeric.limit_shape.edge import edge_amplitude, edge_sd_amplitude
-    from forcenet.numeric.limit_shape.surface import bulk_response, lattice_response
 
     if on_lattice:
         dps = check_dps(dps, maximum=EDGE_MAX_DPS)

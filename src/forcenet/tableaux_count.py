@@ -28,11 +28,13 @@ from dataclasses import dataclass
 from functools import cached_property
 from typing import Any
 
+import flint
+
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_int, check_layers
+from forcenet.costed_plans import CostedPlan, available_memory_or_default
 from forcenet.exact.triangle.staircase import count_plan as staircase_plan
 from forcenet.exact.triangle.staircase import tableau_count
-from forcenet.front_door import _available_memory, _Costed
 
 __all__ = ["CountPlan", "TableauxCount", "count_plan"]
 
@@ -97,13 +99,11 @@ class TableauxCount:
 
     @cached_property
     def _decimal(self) -> str:
-        import flint
-
         return str(flint.fmpz(self.value))
 
 
-@dataclass(frozen=True, repr=False)  # the plan's own words: _Costed.__repr__
-class CountPlan(_Costed):
+@dataclass(frozen=True, repr=False)  # the plan's own words: CostedPlan.__repr__
+class CountPlan(CostedPlan):
     """The checked request for the tableaux count of ``N`` layers and its cost: what :func:`count_plan` returns.
 
     Parameters
@@ -191,5 +191,5 @@ def count_plan(N: int, *, memory_bytes: int | None = None) -> CountPlan:
     Ostojic (2006), Eq. (4.1) (``d! * normalization``); OEIS A003121.
     """
     N = check_layers(N)
-    memory = _available_memory() if memory_bytes is None else check_int(memory_bytes, "memory_bytes", 1)
+    memory = available_memory_or_default() if memory_bytes is None else check_int(memory_bytes, "memory_bytes", 1)
     return CountPlan(N, staircase_plan(N, memory))

@@ -26,6 +26,7 @@ from typing import Any, NoReturn, TypeVar
 from forcenet.core.errors import ArgumentError, ForcenetError
 from forcenet.core.plan import Plan, duration_text
 from forcenet.core.progress import Bar, left_text, owned, watched
+from forcenet.core.validation import available_memory as memory_now
 from forcenet.core.validation import check_int, check_real
 
 __all__ = [
@@ -239,7 +240,6 @@ def add_seed(p: argparse.ArgumentParser, default: int = 0) -> None:
 
 def available_memory() -> int:
     """Bytes of memory available now (:func:`forcenet.core.validation.available_memory`), 16 GiB if unknown."""
-    from forcenet.core.validation import available_memory as memory_now
 
     return memory_now() or 16 * 2**30
 

@@ -8,7 +8,18 @@ import textwrap
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, cast
 
-from forcenet.exact.routes import MAX_MOMENTS, METHODS, over_primes, over_primes_text, takes
+from forcenet import MapCounts, count_plan, maps, plan
+from forcenet.core.plan import combine_by_time, phase_progress
+from forcenet.exact.routes import (
+    MAX_MOMENTS,
+    METHODS,
+    ROW_LAYER_ROUTES,
+    ROW_PRIME_ROUTES,
+    over_primes,
+    over_primes_text,
+    takes,
+)
+from forcenet.testing import cross_check, cross_check_plan
 
 from .cluster import add_engine_options, engine_options, report_checkpoints
 from .common import (
@@ -35,8 +46,6 @@ _EXTENSIONS = {".json": "json", ".csv": "csv", ".tex": "latex"}
 
 
 def cmd_count(args: argparse.Namespace) -> int:
-    from forcenet import count_plan
-
     request = count_plan(args.N, memory_bytes=available_memory())
     text = run_planned(request.cost, lambda tick: request.run(progress=tick).to_text(), force=args.force,
                        quiet=args.quiet)
@@ -81,7 +90,6 @@ def _request(args: argparse.Namespace, memory: int | None, client: Any = None,
              directory: str | None = None) -> TablePlan:
     """The front door's plan of the request (:func:`forcenet.plan`); ``auto`` with ``--scheduler`` or
     ``--checkpoint`` chooses among the routes that take them."""
-    from forcenet import plan
 
     method = args.method
     if client is None and directory is None and (args.scheduler or args.checkpoint):
@@ -125,8 +133,6 @@ def _rows(text: str | None) -> list[int] | None:
 def _table_row(args: argparse.Namespace, fmt: str | None) -> int:
     """``--row i``: row ``i`` of ``<W^s>``, ``s <= --moments``, by the fastest exact route for that row, announced
     (:func:`forcenet.plan` with ``row=``)."""
-    from forcenet import plan
-    from forcenet.exact.routes import ROW_LAYER_ROUTES, ROW_PRIME_ROUTES
 
     if fmt is None:
         raise UsageError("--row gives one row in one format: give --format json|csv|latex or --out FILE "
@@ -156,9 +162,6 @@ def _table_row(args: argparse.Namespace, fmt: str | None) -> int:
 
 
 def _table(args: argparse.Namespace, fmt: str | None, memory: int | None, request: TablePlan) -> int:
-    from forcenet.core.plan import combine_by_time, phase_progress
-    from forcenet.testing import cross_check, cross_check_plan
-
     plans = [request.cost]
     cross = fmt is None and args.samples > 0
     if cross:
@@ -207,8 +210,6 @@ def _table(args: argparse.Namespace, fmt: str | None, memory: int | None, reques
 
 
 def cmd_maps(args: argparse.Namespace) -> int:
-    from forcenet import maps
-
     result = maps(args.N)  # maps per bottom row h(N-2, .), Eq. (4.88)
     emit(result.to_json() if args.format == "json" else result.to_text(), args.out)
     return 0
@@ -216,7 +217,6 @@ def cmd_maps(args: argparse.Namespace) -> int:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``count``, ``table`` and ``maps`` to the subcommands."""
-    from forcenet import MapCounts  # the range of forcenet.maps, its own (no copy here)
 
     what = ("how many force networks: standard shifted staircase tableaux, d! * normalization (4.1) "
             "(d = N(N-1)/2 free forces; an exact integer)")

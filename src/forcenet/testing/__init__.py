@@ -30,6 +30,7 @@ Examples
 True
 """
 
+import importlib
 from types import ModuleType
 
 from .assertions import (
@@ -61,7 +62,6 @@ __all__ = [
 
 def __getattr__(name: str) -> ModuleType:
     if name == "strategies":  # imported on first use: it needs hypothesis
-        import importlib
 
         return importlib.import_module(f"{__name__}.strategies")
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -59,7 +59,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ForcenetError
+from forcenet.core.validation import check_real
 from forcenet.numeric.agreement import TableAgreement, compare_chain, compare_means, compare_samples, varying_columns
+from forcenet.numeric.autocorr import integrated_time
 
 __all__ = ["CannotJudgeError", "DisagreementError", "TableAgreement", "assert_agrees", "assert_means_agree", "compare",
            "exact_array", "samples_array"]
@@ -255,7 +257,6 @@ def _autocorrelated(flat: np.ndarray) -> float | None:
     refused independent rows about once in 1000 tables, as often as a
     false alarm at the default level); it catches chains, not all of them.
     """
-    from forcenet.numeric.autocorr import integrated_time
 
     n = min(flat.shape[0], 4096)
     if n < 500:
@@ -286,7 +287,6 @@ def _flag(value: object, name: str, none_ok: bool = False) -> Any:
 
 def _alpha(alpha: Any) -> float:
     """The level: a number strictly between 0 and 1, never a string."""
-    from forcenet.core.validation import check_real
 
     if isinstance(alpha, (str, bytes)):
         raise ArgumentTypeError(f"alpha={alpha!r} is a string: give a number in (0, 1), e.g. alpha=1e-3")

@@ -13,7 +13,10 @@ from functools import lru_cache
 from typing import TYPE_CHECKING
 
 from forcenet.core.errors import ArgumentError
+from forcenet.exact import mean_W
+from forcenet.exact.packing.mobilized import mean_W_mobilized
 from forcenet.exact.protocol import BoundedTable
+from forcenet.numeric.packing import Scene
 
 if TYPE_CHECKING:
     from forcenet.numeric.packing import Scene
@@ -23,8 +26,6 @@ __all__ = ["exact_mean_W"]
 
 @lru_cache(maxsize=128)
 def _packing(N: int, P: int, F: Fraction, j0: int | None, pv: Fraction, mg: Fraction) -> list[list[Fraction]]:
-    from forcenet.exact.packing.mobilized import mean_W_mobilized
-
     return mean_W_mobilized(N, P, F=F, j0=j0, pv=pv, mg=mg)
 
 
@@ -63,7 +64,6 @@ def exact_mean_W(target: int | Scene) -> BoundedTable:
     ...
     forcenet.core.errors.ArgumentError: scene.ph=2.0: exact means are known when every q is allowed (ph=None)
     """
-    from forcenet.numeric.packing import Scene
 
     if isinstance(target, Scene):
         if target.ph is not None:
@@ -72,6 +72,5 @@ def exact_mean_W(target: int | Scene) -> BoundedTable:
         loads = [[F + target.P * pv + (i + 1) * target.P * mg] * target.P for i in range(target.N)]
         return BoundedTable(_packing(target.N, target.P, F, target.j0, pv, mg), (0, loads),
                             "every W of a packing's row lies in [0, the row's load F + P pv + i P mg]")
-    from forcenet.exact import mean_W
 
     return mean_W(target)

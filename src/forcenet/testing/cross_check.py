@@ -22,8 +22,11 @@ from dataclasses import replace
 from fractions import Fraction
 from typing import Any
 
+import numpy as np
+
 from forcenet.core.plan import Plan
 from forcenet.exact.triangle.staircase import dimension
+from forcenet.numeric.triangle.exact_sampler import ExactSampler, sample_plan
 
 from .assertions import TableAgreement, compare
 
@@ -59,7 +62,6 @@ def cross_check_plan(N: int, samples: int, memory_bytes: int | None = None) -> P
     >>> cross_check_plan(40, 20000, memory_bytes=2**20).runnable
     False
     """
-    from forcenet.numeric.triangle.exact_sampler import sample_plan
 
     plan = sample_plan(N, samples)
     grains = dimension(N)
@@ -96,9 +98,6 @@ def cross_check(N: int, means: Sequence[Sequence[Fraction]], samples: int, seed:
     >>> cross_check(3, mean_W(3), 100, seed=2).values
     3
     """
-    import numpy as np
-
-    from forcenet.numeric.triangle.exact_sampler import ExactSampler
 
     grains = [(i, j) for i in range(2, N + 1) for j in range(1, i)]  # W_{i,i} = 1 - the others
     sampler = ExactSampler(N, seed=seed)

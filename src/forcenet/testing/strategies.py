@@ -40,6 +40,10 @@ except ImportError as exc:  # pragma: no cover - hypothesis is in the testing ex
     raise ImportError("forcenet.testing.strategies needs hypothesis: pip install 'forcenet[testing]'") from exc
 
 from forcenet.core.validation import check_int, check_real
+from forcenet.exact.chicken_wire.model import torus_configurations
+from forcenet.numeric.chicken_wire.monte_carlo import ChickenWire
+from forcenet.numeric.packing import Scene, maximin_network
+from forcenet.numeric.triangle.exact_sampler import ExactSampler
 
 __all__ = [
     "layers",
@@ -121,7 +125,6 @@ def force_networks(N: int | st.SearchStrategy[int] | None = None, size: int | No
     >>> find(force_networks(layers(3, 6), size=10), lambda W: W.shape[1] > 4).shape
     (10, 5, 5)
     """
-    from forcenet.numeric.triangle.exact_sampler import ExactSampler
 
     count = None if size is None else check_int(size, "size", 1)
 
@@ -174,7 +177,6 @@ def packing_scenes(*, min_layers: int = 2, max_layers: int = 5, min_width: int =
     >>> scene.N, scene.ph is not None
     (3, True)
     """
-    from forcenet.numeric.packing import Scene, maximin_network
 
     lo_n = check_int(min_layers, "min_layers", 2)
     hi_n = check_int(max_layers, "max_layers", lo_n)
@@ -230,8 +232,6 @@ def torus_sizes(max_sites: int = 12, min_L: int = 2, max_L: int | None = None) -
 
 @lru_cache(maxsize=64)
 def _configurations(L: int, M: int) -> tuple:
-    from forcenet.exact.chicken_wire.model import torus_configurations
-
     return tuple(torus_configurations(L, M))
 
 
@@ -257,7 +257,6 @@ def chicken_wire_configurations(L: int | None = None, M: int | None = None, *, m
     >>> sorted(v for v in c.occ.values() if v), c.invalid_sites()    # the smallest: one straight line
     ([frozenset({0, 180}), frozenset({0, 180}), frozenset({0, 180})], [])
     """
-    from forcenet.numeric.chicken_wire.monte_carlo import ChickenWire
 
     if L is None and M is None:
         sizes = torus_sizes(max_sites, max_L=max_L)

@@ -354,6 +354,7 @@ def test_14_the_cross_check_has_a_stated_false_alarm_rate(sandbox, capsys, monke
     # a wrong table is caught
     from fractions import Fraction
 
+    from forcenet import front_door
     from forcenet.exact import routes
 
     real_run = routes.run_request
@@ -364,6 +365,6 @@ def test_14_the_cross_check_has_a_stated_false_alarm_rate(sandbox, capsys, monke
         tables[1][request.N - 1][1] -= Fraction(1, 50)
         return tables
 
-    monkeypatch.setattr(routes, "run_request", biased)
+    monkeypatch.setattr(front_door, "run_request", biased)  # the name the front door runs
     code, out, _ = run(["table", "--N", "6", "--samples", "4000", "--seed", "2006", "--out-dir", "t2"], capsys)
     assert code == 3 and "DISAGREES" in out  # 3: DISAGREES, never confused with a bug (1)

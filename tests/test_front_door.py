@@ -100,7 +100,9 @@ def test_a_plan_computes_nothing_and_runs_as_planned(monkeypatch):
     calls, plans = [], []
     engine = routes.TABLE_ENGINES[1]  # thesis
     real, real_plan = routes.run_request, engine.table_plan
-    monkeypatch.setattr(routes, "run_request", lambda *a, **k: calls.append(a) or real(*a, **k))
+    from forcenet import front_door
+
+    monkeypatch.setattr(front_door, "run_request", lambda *a, **k: calls.append(a) or real(*a, **k))  # its name there
     monkeypatch.setattr(engine, "table_plan", lambda *a, **k: plans.append(a) or real_plan(*a, **k))
     request = forcenet.plan(6, method="thesis")
     assert calls == [] and len(plans) == 1
@@ -152,3 +154,31 @@ def test_the_table_carries_its_bounds_to_compare():
     samples = ExactSampler(5, seed=3).sample_W(30)  # 30 samples: the bounded test, valid at any size
     assert compare(samples, t.mean_W).method == "bounded"
     assert compare(samples, [list(row) for row in t.mean_W]).method == "t"  # a plain table carries no bounds
+
+
+# ------------------------------------------------------------------ one return type per function: a row has its own
+
+
+@pytest.mark.parametrize("N, i, moments", [(5, 3, 1), (7, 6, 2), (6, 1, 2), (6, 6, 1)])
+def test_a_row_is_the_tables_row_by_its_own_function(N, i, moments):
+    r, t = forcenet.row(N, i, moments), forcenet.table(N, moments)
+    assert isinstance(r, forcenet.Row) and isinstance(t, forcenet.Table)
+    assert r.mean_W == t.mean_W[i - 1]
+    assert all(r.moment(s) == t.moment(s)[i - 1] for s in range(1, moments + 1))
+    p = forcenet.row_plan(N, i, moments)
+    assert isinstance(p, forcenet.RowPlan) and not isinstance(p, forcenet.TablePlan)
+    assert p.run().to_json() == r.to_json()
+
+
+def test_the_row_argument_still_works_with_a_deprecation_warning():
+    with pytest.warns(DeprecationWarning, match=r"forcenet\.row\(N, i"):
+        old = forcenet.table(6, 2, row=5)
+    assert old.to_json() == forcenet.row(6, 5, 2).to_json()
+    with pytest.warns(DeprecationWarning, match=r"forcenet\.row_plan\(N, i"):
+        old_plan = forcenet.plan(6, 2, row=5)
+    assert isinstance(old_plan, forcenet.RowPlan) and old_plan.method == forcenet.row_plan(6, 5, 2).method
+
+
+def test_a_row_out_of_range_is_refused_naming_it():
+    with pytest.raises(forcenet.ArgumentError, match="row=9"):
+        forcenet.row_plan(6, 9)

@@ -164,7 +164,7 @@ MEMORY_CALLS = {
     "plan": lambda m: forcenet.plan(6, memory_bytes=m),
     "table": lambda m: forcenet.table(6, memory_bytes=m),
     "plan-moments": lambda m: forcenet.plan(6, moments=3, memory_bytes=m),
-    "plan-row": lambda m: forcenet.plan(6, row=3, memory_bytes=m),
+    "plan-row": lambda m: forcenet.row_plan(6, 3, memory_bytes=m),
     "law_plan": lambda m: forcenet.law_plan(6, layer=6, memory_bytes=m),
 }
 

@@ -72,7 +72,7 @@ def test_from_json_and_read_give_the_table_back(tmp_path):
     with pytest.raises(forcenet.ArgumentError, match="not JSON"):
         forcenet.Table.from_json("{")
     with pytest.raises(forcenet.ArgumentError, match="one row's"):
-        forcenet.Table.from_json(forcenet.table(4, row=2).to_json())
+        forcenet.Table.from_json(forcenet.row(4, 2).to_json())
 
 
 def test_to_pandas():
@@ -126,7 +126,7 @@ def test_plots_read_as_a_paper_figure():
 
 
 def test_a_rows_latex_takes_digits_too(tmp_path):
-    row = forcenet.table(5, moments=2, row=4)
+    row = forcenet.row(5, 4, moments=2)
     text = row.to_latex(digits=4)
     assert r"\toprule" in text and "$0.1818$" in text and text.splitlines()[-3].startswith("2 & $")
     assert row.to_latex().count(r"\frac") == 8

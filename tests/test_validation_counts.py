@@ -25,12 +25,12 @@ LIMIT = 12
 CASES = [
     "forcenet.plan(40)",
     "forcenet.plan(40, moments=2)",
-    "forcenet.plan(40, moments=2, row=20)",
+    "forcenet.row_plan(40, 20, moments=2)",
     "forcenet.plan(24, method='pfaffian')",
     "forcenet.law_plan(36, (36, 18))",
     "forcenet.law_plan(40, layer=40)",
     "forcenet.law_plan(12)",
-    "forcenet.plan(12, moments=2, row=11)",
+    "forcenet.row_plan(12, 11, moments=2)",
 ]
 
 _COUNT = textwrap.dedent("""
@@ -91,7 +91,8 @@ def test_a_plan_checks_its_request_once_cold(expression):
 @given(N=st.sampled_from([2, 5, 9, 13, 28, 40, 129]), moments=st.integers(1, 3),
        method=st.sampled_from(["auto", "fast", "thesis", "lambda", "maps", "pfaffian"]), row=st.integers(0, 129))
 def test_every_table_plan_checks_its_request_once(N, moments, method, row):
-    expression = f"forcenet.plan({N}, {moments}, {method!r}" + (f", row={row})" if 1 <= row <= N else ")")
+    expression = f"forcenet.row_plan({N}, {row}, {moments}, {method!r})" if 1 <= row <= N else \
+        f"forcenet.plan({N}, {moments}, {method!r})"
     eval(expression, {"forcenet": forcenet})
     assert len(_counted(expression)) <= LIMIT, expression
 

@@ -455,6 +455,5 @@ def sample_plan(N: int, samples: int, memory_bytes: int | None = None, kernel: s
         seconds = _SECONDS_PER_CUBE * N**3 * samples + 0.3
     plan = Plan(f"{samples} exact samples N={N}", seconds, nbytes, samples, "sample")
     if compiled:  # a first run (numba's cache lacks the hook walk) compiles it
-
         plan = with_compilation(plan, "exact sampler", COMPILE_SECONDS, [_hook_walk()])
     return plan.within_memory(memory_bytes)

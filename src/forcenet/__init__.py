@@ -94,7 +94,7 @@ if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ lo
     from forcenet.exact.triangle.staircase import count, normalization
     from forcenet.force_chains import ScalingPlan, clusters, scaling, scaling_plan
     from forcenet.force_chains_results import ForceChainScaling
-    from forcenet.front_door import TablePlan, plan, table
+    from forcenet.front_door import RowPlan, TablePlan, plan, row, row_plan, table
     from forcenet.law_results import Law
     from forcenet.laws import LawPlan, law, law_plan
     from forcenet.map_counts import MapCounts, maps
@@ -114,6 +114,9 @@ _FRONT_DOOR = {
     "plan": "forcenet.front_door",
     "Table": "forcenet.results",
     "TablePlan": "forcenet.front_door",
+    "row": "forcenet.front_door",
+    "row_plan": "forcenet.front_door",
+    "RowPlan": "forcenet.front_door",
     "Row": "forcenet.results",
     "law": "forcenet.laws",
     "law_plan": "forcenet.laws",
@@ -179,7 +182,7 @@ _FRONT_DOOR = {
 _SUBPACKAGES = frozenset({"exact", "numeric", "testing"})
 
 __all__ = [  # the keys of _FRONT_DOOR (tests/test_front_door.py), written out for the linters
-    "table", "plan", "Table", "TablePlan", "Row", "law", "law_plan", "Law", "LawPlan",
+    "table", "plan", "Table", "TablePlan", "Row", "row", "row_plan", "RowPlan", "law", "law_plan", "Law", "LawPlan",
     "count", "normalization", "count_plan", "CountPlan", "TableauxCount", "maps", "MapCounts",
     "limit_shape", "LimitShape", "density", "cdf", "contact_density",
     "sample", "sample_plan", "Samples", "SamplePlan", "Scene", "SampledComparison", "SampledComparisonPlan",
@@ -207,7 +210,6 @@ def __getattr__(name: str) -> Any:
         globals()[name] = value
         return value
     if name in _SUBPACKAGES:  # forcenet.testing.compare without a separate import
-
         return importlib.import_module(f"forcenet.{name}")
     raise AttributeError(f"module 'forcenet' has no attribute {name!r}")
 

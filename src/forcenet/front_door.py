@@ -30,9 +30,10 @@ Examples
 from __future__ import annotations
 
 import os
+import warnings
 from concurrent.futures import Executor
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, overload
 
 from forcenet.core.checkpoints import resumed_plan, run_distrusting
 from forcenet.core.errors import ArgumentError
@@ -54,10 +55,34 @@ from forcenet.results import Row, Table
 if TYPE_CHECKING:
     from forcenet.exact.routes import Request
 
-__all__ = ["Row", "Table", "TablePlan", "plan", "table"]  # Row and Table: forcenet.results
+__all__ = ["Row", "RowPlan", "Table", "TablePlan", "plan", "row", "row_plan", "table"]  # Row and Table: forcenet.results
+
 
 @dataclass(frozen=True, repr=False)  # the plan's own words: CostedPlan.__repr__
-class TablePlan(CostedPlan):
+class _ExactPlan(CostedPlan):
+    """What a table's and a row's plans hold: the checked request and the chosen route's cost."""
+
+    N: int
+    moments: int
+    method: str
+    why: str
+    cost: Plan
+    executor: Executor | None = field(default=None, repr=False)
+    checkpoint: Any = field(default=None, repr=False)
+    memory_bytes: int | None = field(default=None, repr=False)
+    row: int | None = None
+    request: Request | None = field(default=None, repr=False)  # the checked request it was planned for
+
+    def _checked_request(self) -> Request:
+        """The request :func:`plan` checked (the registry checks the plan before the run)."""
+        if self.request is None:
+            raise ArgumentError(f"this {type(self).__name__} was not made by forcenet.plan or forcenet.row_plan: "
+                                "make it with one of them")
+        return self.request
+
+
+@dataclass(frozen=True, repr=False)  # the plan's own words: CostedPlan.__repr__
+class TablePlan(_ExactPlan):
     """A checked request for an exact table, with its cost: what :func:`plan` returns (make it with :func:`plan`).
 
     Parameters
@@ -91,19 +116,8 @@ class TablePlan(CostedPlan):
     ('fast', True, None)
     """
 
-    N: int
-    moments: int
-    method: str
-    why: str
-    cost: Plan
-    executor: Executor | None = field(default=None, repr=False)
-    checkpoint: Any = field(default=None, repr=False)
-    memory_bytes: int | None = field(default=None, repr=False)
-    row: int | None = None
-    request: Request | None = field(default=None, repr=False)  # the checked request it was planned for
-
-    def run(self, progress: Progress | bool | None = None) -> Table | Row:
-        """Compute the table (or the row) this plan describes (the plan is not made again).
+    def run(self, progress: Progress | bool | None = None) -> Table:
+        """Compute the table this plan describes (the plan is not made again).
 
         Parameters
         ----------
@@ -113,8 +127,7 @@ class TablePlan(CostedPlan):
 
         Returns
         -------
-        Table or Row
-            :class:`Row` when the plan was made with ``row=``.
+        Table
 
         Raises
         ------
@@ -127,23 +140,72 @@ class TablePlan(CostedPlan):
         >>> forcenet.plan(4, method="thesis").run().mean_W[-1]
         [Fraction(1, 7), Fraction(5, 14), Fraction(5, 14), Fraction(1, 7)]
         """
-
-        request = self.request  # checked once by plan(); the registry checks the plan before the run
-        if request is None:
-            raise ArgumentError("this TablePlan was not made by forcenet.plan: make it with forcenet.plan(N, ...)")
+        request = self._checked_request()
         with self._ticks(progress, f"table N={self.N}") as tick:  # a reused record that fails the route's
-            if self.row is not None:                                 # exact checks is named, dropped, recomputed
-                rows = run_distrusting(self.checkpoint, self.N, lambda: run_row(
-                    request, RowChoice(self.method, self.cost, self.why), tick))
-                return Row(self.N, self.row, self.method, self.why, rows)
-            tables = run_distrusting(self.checkpoint, self.N, lambda: run_request(
+            tables = run_distrusting(self.checkpoint, self.N, lambda: run_request(  # exact checks is recomputed
                 request, Choice(self.method, self.cost, self.why), tick))
         return Table(self.N, self.method, self.why, tables)
 
 
+@dataclass(frozen=True, repr=False)  # the plan's own words: CostedPlan.__repr__
+class RowPlan(_ExactPlan):
+    """A checked request for one row of the exact tables, with its cost: what :func:`row_plan` returns.
+
+    The fields are :class:`TablePlan`'s; ``row`` is the layer and ``method`` the row's route.
+
+    Examples
+    --------
+    >>> import forcenet
+    >>> p = forcenet.row_plan(12, 11, moments=2)
+    >>> p.row, p.runnable
+    (11, True)
+    """
+
+    def run(self, progress: Progress | bool | None = None) -> Row:
+        """Compute the row this plan describes (the plan is not made again).
+
+        Parameters
+        ----------
+        progress : callable, bool or None
+            ``progress(k)`` with the plan's ticks; ``True``: a progress bar.
+
+        Returns
+        -------
+        Row
+
+        Raises
+        ------
+        ArgumentError
+            If the plan is refused.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.row_plan(4, 4).run().mean_W
+        [Fraction(1, 7), Fraction(5, 14), Fraction(5, 14), Fraction(1, 7)]
+        """
+        request = self._checked_request()
+        with self._ticks(progress, f"table N={self.N}") as tick:
+            rows = run_distrusting(self.checkpoint, self.N, lambda: run_row(
+                request, RowChoice(self.method, self.cost, self.why), tick))
+        return Row(self.N, request.row, self.method, self.why, rows)
+
+
+@overload
 def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor | None = None,
          checkpoint: str | os.PathLike[str] | None = None, memory_bytes: int | None = None,
-         row: int | None = None) -> TablePlan:
+         row: None = None) -> TablePlan: ...
+
+
+@overload
+def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor | None = None,
+         checkpoint: str | os.PathLike[str] | None = None, memory_bytes: int | None = None,
+         row: int) -> RowPlan: ...  # deprecated: row_plan
+
+
+def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor | None = None,
+         checkpoint: str | os.PathLike[str] | None = None, memory_bytes: int | None = None,
+         row: int | None = None) -> TablePlan | RowPlan:
     """What :func:`table` will cost for this request, or why it cannot run and what would; nothing is computed.
 
     Parameters
@@ -167,10 +229,7 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
     memory_bytes : int, optional
         Memory the run may use; default: what the machine has available now.
     row : int, optional
-        Only row (layer) ``i``, ``1..N``, by the fastest exact route for that row
-        (:func:`forcenet.exact.routes.choose_row`: for ``moments=2`` the one-time
-        cover identity on the rows 2, 3 and ``N - 1``, the lattice route, one
-        layer's de Bruijn Pfaffians, or a whole table's row).
+        Deprecated: use :func:`row_plan`.
 
     Returns
     -------
@@ -191,12 +250,14 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
     N=40 is out of range for the exact table here: ...; method='auto' runs it by pfaffian (~...)
     """
 
-    request = check_request(N, moments, method, row=row, memory_bytes=memory_bytes, executor=executor)  # the check
+    if row is not None:  # one row has its own function now
+        warnings.warn("plan(..., row=i) is deprecated: use forcenet.row_plan(N, i, ...)", DeprecationWarning,
+                      stacklevel=2)
+        return row_plan(N, row, moments, method, executor=executor, checkpoint=checkpoint, memory_bytes=memory_bytes)
+    request = check_request(N, moments, method, memory_bytes=memory_bytes, executor=executor)  # the check
     directory = checkpoint_directory(checkpoint)
     if request.memory_bytes is None:
         request = replace(request, memory_bytes=available_memory_or_default())
-    if row is not None:
-        return _row_plan(replace(request, options={} if directory is None else {"checkpoint": directory}))
     request = replace(request, directory=directory)
     over_primes = executor is not None or directory is not None  # the routes over independent primes use them
     choice = plan_request(request, [m for m in METHODS[:-1] if takes(m, "checkpoint")] if over_primes else None)
@@ -215,13 +276,120 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
                      request=request)
 
 
-def _row_plan(request: Request) -> TablePlan:
-    """One row's plan: its route by :func:`forcenet.exact.routes.choose_row`, planned once with the options."""
+def row_plan(N: int, row: int, moments: int = 1, method: str = "auto", *, executor: Executor | None = None,
+             checkpoint: str | os.PathLike[str] | None = None, memory_bytes: int | None = None) -> RowPlan:
+    """What :func:`row` will cost: one row (layer) of the exact tables by its fastest route; nothing is computed.
 
+    Parameters
+    ----------
+    N : int
+        Number of layers of the triangle, ``>= 2``.
+    row : int
+        The row (layer) ``i``, ``1..N``.
+    moments : int
+        Highest moment ``s`` of ``<W^s>``, ``1..50``.
+    method : str
+        ``"auto"`` (the fastest of the row's routes and the whole tables' methods, by their plans), a table
+        method (:func:`plan`) or a row's route (``"covers"``: the one-time cover identity on rows 2, 3 and
+        ``N - 1`` for ``moments=2``; ``"lattice"``; ``"layers"``: one layer's de Bruijn Pfaffians; ...).
+    executor : concurrent.futures.Executor or Dask Client, optional
+        Runs the route's independent primes.
+    checkpoint : str or os.PathLike, optional
+        A directory recording every finished prime of the routes over primes.
+    memory_bytes : int, optional
+        Memory the run may use; default: what the machine has available now.
+
+    Returns
+    -------
+    RowPlan
+        The chosen route, its estimated cost, or its refusal naming what would work.
+
+    Raises
+    ------
+    ArgumentError
+        If ``N``, ``row``, ``moments`` or ``method`` is out of range.
+
+    Examples
+    --------
+    >>> import forcenet
+    >>> p = forcenet.row_plan(40, 39, moments=2)
+    >>> p.method, p.runnable
+    ('covers', True)
+    """
+
+    request = check_request(N, moments, method, row=row, memory_bytes=memory_bytes, executor=executor)  # the check
+    directory = checkpoint_directory(checkpoint)
+    if request.memory_bytes is None:
+        request = replace(request, memory_bytes=available_memory_or_default())
+    request = replace(request, options={} if directory is None else {"checkpoint": directory})
     choice = plan_row(request)
     cost = choice.plan if not choice.why else replace(choice.plan, what=f"{choice.plan.what}; {choice.why}")
-    return TablePlan(request.N, request.moments, choice.route, choice.why, cost, request.executor,
-                     request.options.get("checkpoint"), request.memory_bytes, request.row, request)
+    return RowPlan(request.N, request.moments, choice.route, choice.why, cost, request.executor,
+                   request.options.get("checkpoint"), request.memory_bytes, request.row, request)
+
+
+def row(N: int, row: int, moments: int = 1, method: str = "auto", *, executor: Executor | None = None,
+        checkpoint: str | os.PathLike[str] | None = None, progress: Progress | bool | None = None,
+        memory_bytes: int | None = None) -> Row:
+    """One row (layer) ``i`` of the exact tables ``<W_ij>`` (and ``<W_ij^s>``), by the fastest route for that row.
+
+    What ``forcenet table --N N --row i`` computes, to the same bytes. A row can be far cheaper than its table:
+    layer ``N - 1`` of ``<W^2>`` from the cover identity, the lattice directions from their level polynomial.
+
+    Parameters
+    ----------
+    N : int
+        Number of layers, ``>= 2``.
+    row : int
+        The row (layer) ``i``, ``1..N``.
+    moments : int
+        Highest moment ``s`` of ``<W^s>``, ``1..50``.
+    method : str
+        ``"auto"`` (default) or a route (see :func:`row_plan`).
+    executor : concurrent.futures.Executor or Dask Client, optional
+        Runs the route's independent primes.
+    checkpoint : str or os.PathLike, optional
+        A directory recording every finished prime (resumable runs).
+    progress : callable, bool or None
+        ``progress(k)`` with the plan's ticks; ``True``: a progress bar.
+    memory_bytes : int, optional
+        Memory the run may use; default: what the machine has available now.
+
+    Returns
+    -------
+    Row
+        The row's exact :class:`~fractions.Fraction` values, the route used and why.
+
+    Raises
+    ------
+    ArgumentError
+        If the request is out of range, or its plan is refused.
+
+    Examples
+    --------
+    >>> import forcenet
+    >>> r = forcenet.row(7, 6, moments=2, method="pfaffian")  # layer N - 1: the cover identity
+    >>> r.method, r.moment(2)[0]
+    ('covers', Fraction(3, 253))
+
+    References
+    ----------
+    Ostojic (2006), Sec. 4.2 (the triangle) and Eq. (4.3); ``notes/fluctuations.md`` Sec. 3.1 (the covers).
+    """
+    return row_plan(N, row, moments, method, executor=executor, checkpoint=checkpoint,
+                    memory_bytes=memory_bytes).run(progress)
+
+
+@overload
+def table(N: int, moments: int = 1, method: str = "auto", *, executor: Executor | None = None,
+          checkpoint: str | os.PathLike[str] | None = None, progress: Progress | bool | None = None,
+          memory_bytes: int | None = None, row: None = None) -> Table: ...
+
+
+@overload
+def table(N: int, moments: int = 1, method: str = "auto", *, executor: Executor | None = None,
+          checkpoint: str | os.PathLike[str] | None = None, progress: Progress | bool | None = None,
+          memory_bytes: int | None = None, row: int) -> Row: ...  # deprecated: row
 
 
 def table(N: int, moments: int = 1, method: str = "auto", *, executor: Executor | None = None,
@@ -258,7 +426,7 @@ def table(N: int, moments: int = 1, method: str = "auto", *, executor: Executor 
     memory_bytes : int, optional
         Memory the run may use; default: what the machine has available now.
     row : int, optional
-        Only row (layer) ``i`` by the fastest route for that row (see :func:`plan`): a :class:`Row`.
+        Deprecated: use :func:`row` (one row, a :class:`Row`).
 
     Returns
     -------
@@ -284,9 +452,10 @@ def table(N: int, moments: int = 1, method: str = "auto", *, executor: Executor 
     Traceback (most recent call last):
     ...
     forcenet.core.errors.ArgumentError: N=40 is out of range for the exact table here: ...; method='auto' runs it by pfaffian (~...)
-    >>> r = forcenet.table(7, moments=2, row=6, method="pfaffian")  # layer N - 1: the cover identity
-    >>> r.method, r.moment(2)[0]
-    ('covers', Fraction(3, 253))
     """
+    if row is not None:  # one row has its own function now
+        warnings.warn("table(..., row=i) is deprecated: use forcenet.row(N, i, ...)", DeprecationWarning, stacklevel=2)
+        return row_plan(N, row, moments, method, executor=executor, checkpoint=checkpoint,
+                        memory_bytes=memory_bytes).run(progress)
     return plan(N, moments, method, executor=executor, checkpoint=checkpoint,
-                memory_bytes=memory_bytes, row=row).run(progress)
+                memory_bytes=memory_bytes).run(progress)

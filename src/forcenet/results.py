@@ -56,7 +56,7 @@ class _Rendered:
         >>> import forcenet
         >>> forcenet.table(3).to_json()
         '{"N": 3, "count": "1", "normalization": "1/6", "mean_W": [["1"], ["1/2", "1/2"], ["1/4", "1/2", "1/4"]]}'
-        >>> forcenet.table(3, row=2).to_json()
+        >>> forcenet.row(3, 2).to_json()
         '{"N": 3, "row": 2, "count": "1", "normalization": "1/6", "mean_W": ["1/2", "1/2"]}'
         """
 
@@ -77,7 +77,7 @@ class _Rendered:
         1,1,1
         2,1,1/2
         2,2,1/2
-        >>> print(forcenet.table(3, row=3).to_csv(), end="")
+        >>> print(forcenet.row(3, 3).to_csv(), end="")
         i,j,mean_W
         3,1,1/4
         3,2,1/2
@@ -481,7 +481,7 @@ class Row(_Rendered):
     Examples
     --------
     >>> import forcenet
-    >>> r = forcenet.table(5, moments=2, row=4)
+    >>> r = forcenet.row(5, 4, moments=2)
     >>> r.mean_W, r.moment(2) == forcenet.table(5, moments=2).moment(2)[3]
     ([Fraction(2, 11), Fraction(7, 22), Fraction(7, 22), Fraction(2, 11)], True)
     """
@@ -502,7 +502,7 @@ class Row(_Rendered):
         Examples
         --------
         >>> import forcenet
-        >>> forcenet.table(4, row=4).mean_W
+        >>> forcenet.row(4, 4).mean_W
         [Fraction(1, 7), Fraction(5, 14), Fraction(5, 14), Fraction(1, 7)]
         """
         return self._rows[1]
@@ -527,7 +527,7 @@ class Row(_Rendered):
         Examples
         --------
         >>> import forcenet
-        >>> forcenet.table(4, moments=2, row=3).moment(2)
+        >>> forcenet.row(4, 3, moments=2).moment(2)
         [Fraction(3, 28), Fraction(3, 14), Fraction(3, 28)]
         """
         s = check_int(s, "s", 1)
@@ -551,7 +551,7 @@ class Row(_Rendered):
         Examples
         --------
         >>> import forcenet
-        >>> print(forcenet.table(3, row=3).to_latex().splitlines()[-3])
+        >>> print(forcenet.row(3, 3).to_latex().splitlines()[-3])
         1 & $\\frac{1}{4}$ & $\\frac{1}{2}$ & $\\frac{1}{4}$ \\\\
         """
         return _formats().row_latex(self.to_dict(), digits)
@@ -566,7 +566,7 @@ class Row(_Rendered):
         Examples
         --------
         >>> import forcenet
-        >>> forcenet.table(4, row=2).to_dict()["mean_W"]
+        >>> forcenet.row(4, 2).to_dict()["mean_W"]
         [Fraction(1, 2), Fraction(1, 2)]
         """
 

@@ -141,7 +141,7 @@ def row_latex(row: dict[str, Any], digits: int | None = None) -> str:
     Examples
     --------
     >>> import forcenet
-    >>> print(row_latex(forcenet.table(4, moments=2, row=3).to_dict(), digits=3).splitlines()[6])
+    >>> print(row_latex(forcenet.row(4, 3, moments=2).to_dict(), digits=3).splitlines()[6])
     2 & $0.107$ & $0.214$ & $0.107$ \\\\
     """
     if digits is not None:

@@ -8,7 +8,7 @@ import textwrap
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, cast
 
-from forcenet import MapCounts, count_plan, maps, plan
+from forcenet import MapCounts, count_plan, maps, plan, row_plan
 from forcenet.core.plan import combine_by_time, phase_progress
 from forcenet.exact.routes import (
     MAX_MOMENTS,
@@ -132,7 +132,7 @@ def _rows(text: str | None) -> list[int] | None:
 
 def _table_row(args: argparse.Namespace, fmt: str | None) -> int:
     """``--row i``: row ``i`` of ``<W^s>``, ``s <= --moments``, by the fastest exact route for that row, announced
-    (:func:`forcenet.plan` with ``row=``)."""
+    (:func:`forcenet.row_plan`)."""
 
     if fmt is None:
         raise UsageError("--row gives one row in one format: give --format json|csv|latex or --out FILE "
@@ -141,15 +141,15 @@ def _table_row(args: argparse.Namespace, fmt: str | None) -> int:
     if fmt != "latex":
         refuse_together(args, "digits", "row", "--digits shapes the LaTeX only (--format latex or a .tex file)")
     memory = available_memory()
-    request = plan(args.N, args.moments, args.method, memory_bytes=memory, row=args.row).check()
+    request = row_plan(args.N, args.row, args.moments, args.method, memory_bytes=memory).check()
     explicit = args.scheduler is not None or args.checkpoint is not None  # then only the routes that take them
     applies = explicit or request.method in ROW_PRIME_ROUTES
     client, directory = engine_options(args, applies, f"a row's routes over primes ({', '.join(ROW_PRIME_ROUTES[:3])})",
                                        request.seconds, lambda directory: directory)
     try:
         if client is not None or directory is not None:  # a cluster or a checkpoint store changes the plan
-            request = plan(args.N, args.moments, args.method, executor=client, checkpoint=directory,
-                           memory_bytes=memory, row=args.row).check()
+            request = row_plan(args.N, args.row, args.moments, args.method, executor=client, checkpoint=directory,
+                               memory_bytes=memory).check()
         row = run_planned(request.cost, lambda tick: request.run(progress=tick), force=args.force, quiet=args.quiet)
     finally:
         if client is not None:

@@ -62,6 +62,5 @@ __all__ = [
 
 def __getattr__(name: str) -> ModuleType:
     if name == "strategies":  # imported on first use: it needs hypothesis
-
         return importlib.import_module(f"{__name__}.strategies")
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

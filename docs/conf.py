@@ -59,19 +59,11 @@ numpydoc_validation_checks = {
     "RT01",  # a Returns section
     "EX01",  # an Examples section
 }
-# Docstrings that need work before they pass these checks (each listed, so the list can only shrink; the
-# others are validated). The exceptions' shared example is on the family's page (api/errors.rst).
-NEEDS_WORK = [
-    "forcenet.testing.TableAgreement", "forcenet.testing.TableAgreement.*",
-    "forcenet.testing.strategies.*",
-    "forcenet.numeric.packing.PackingMetropolis.*", "forcenet.numeric.packing.Scene.name",
-    "forcenet.numeric.packing.Scene.top_load",
-    "forcenet.numeric.triangle.force_distribution.*",
-]
+# Every public name passes them (tests/test_api_examples.py checks the same without Sphinx); only dunder
+# methods and private names are not validated.
 numpydoc_validation_exclude = {
     r"\.__\w+__$",  # dunder methods
     r"\._\w+$",  # private names
-    *("^" + re.escape(name).replace(r"\*", r"\w+") + "$" for name in NEEDS_WORK),
 }
 
 # ------------------------------------------------------------------ MyST and the executed notebooks

@@ -418,6 +418,33 @@ def test_the_command_line_reference_is_the_parser():
         assert f"   * - {code}\n" in table, code
 
 
+def test_the_command_line_costs_come_from_the_performance_data():
+    """The command line page types no cost: its list is rendered from docs/_data/performance.json, the
+    performance page's file, and a cost both pages give is one cell of it; every listed command parses."""
+    import shlex
+
+    pytest.importorskip("docutils", reason="the docs extra (pip install '.[docs]'); .ci/run installs it for this file")
+
+    from forcenet.cli import build_parser
+
+    page = (DOCS / "command_line.rst").read_text()
+    assert ".. forcenet-command-costs::" in page
+    assert not re.search(r"^\s+forcenet \w+ .*#", page, re.M), "a command with a typed cost on the page"
+    extension = runpy.run_path(str(DOCS / "_ext" / "cli_reference.py"))
+    data = json.loads((DOCS / "_data" / "performance.json").read_text())
+    lines = extension["command_cost_lines"](data)
+    assert len(lines) == len(data["commands"]["rows"]) + 3 and not any("{pfaffian." in line for line in lines)
+    table_64 = next(r[4] for r in data["pfaffian"]["rows"] if r[0] == 64)
+    assert any("--N 64 --force" in line and extension["duration"](table_64) in line for line in lines)
+    assert [extension["duration"](s) for s in (0.51, 21, 95, 2082, 4300)] == ["0.5 s", "21 s", "1.6 min", "35 min",
+                                                                              "1.2 h"]
+    with pytest.raises(KeyError, match="no pfaffian.table_seconds at N = 7"):
+        extension["cell"](data, "pfaffian", "table_seconds", 7)
+    parser = build_parser()
+    for command, _ in data["commands"]["rows"]:
+        parser.parse_args(shlex.split(command)[1:])  # argparse exits (code 2) on a command it does not know
+
+
 def test_api_summaries_survive_abbreviations():
     first_sentence = runpy.run_path(str(DOCS / "conf.py"))["first_sentence"]
     assert first_sentence(["The maps of Sec. 4.6 per bottom row, Eq. (4.88). More."]) == \

@@ -1,8 +1,7 @@
 """The command-line reference, generated from the parser (``forcenet.cli.build_parser``) at build time.
 
 Also ``forcenet-command-costs``: the command line page's list of commands with their costs, read from
-``docs/_data/performance.json`` (its ``commands``), the file the performance page's tables and plot come
-from; a cost written ``{pfaffian.table_seconds@64}`` is that cell of the file, so a number lives in one place.
+``docs/_data/performance.json`` by :mod:`performance_data`.
 
 The directive ``forcenet-cli`` renders, for every command the parser knows (the commands other modules add
 appear by themselves), its one-line summary, its description, a table of its options (flags, values,
@@ -15,11 +14,11 @@ from __future__ import annotations
 import argparse
 import json
 import re
-from pathlib import Path
 from typing import Any
 
 from docutils import nodes
 from docutils.statemachine import StringList
+from performance_data import DATA, command_cost_lines  # docs/_ext, on the path as this module is
 from sphinx.application import Sphinx
 from sphinx.util.docutils import SphinxDirective
 from sphinx.util.nodes import nested_parse_with_titles
@@ -146,55 +145,18 @@ class CommandLineReference(SphinxDirective):
         return list(container.children)
 
 
-DATA = Path(__file__).resolve().parents[1] / "_data" / "performance.json"
-_CELL = re.compile(r"\{(\w+)\.(\w+)@(\d+)\}")
-
-
-def duration(seconds: float) -> str:
-    """A measured time as the pages write it: ``2 s``, ``21 s``, ``1.6 min``, ``35 min``, ``1.2 h``.
-
-    >>> [duration(s) for s in (2, 0.51, 21, 95, 444, 2082, 4300)]
-    ['2 s', '0.5 s', '21 s', '1.6 min', '7.4 min', '35 min', '1.2 h']
-    """
-    if seconds < 1:
-        return f"{seconds:.1f} s"
-    if seconds < 90:
-        return f"{seconds:.0f} s"
-    if seconds < 3600:
-        minutes = seconds / 60
-        return f"{minutes:.1f} min" if minutes < 10 else f"{minutes:.0f} min"
-    return f"{seconds / 3600:.1f} h"
-
-
-def cell(data: dict[str, Any], table: str, column: str, N: int) -> str:
-    """The cell ``column`` of the row ``N`` of ``data[table]``: a time (a ``*seconds`` column) or as written."""
-    columns = data[table]["columns"]
-    row = next((r for r in data[table]["rows"] if r[0] == N), None)
-    if row is None or column not in columns:
-        raise KeyError(f"performance.json has no {table}.{column} at N = {N}")
-    value = row[columns.index(column)]
-    return duration(value) if column.endswith("seconds") else str(value)
-
-
-def command_cost_lines(data: dict[str, Any]) -> list[str]:
-    """The commands with their costs as an rST code block, every ``{table.column@N}`` filled from ``data``."""
-    rows = [(command, _CELL.sub(lambda m: cell(data, m[1], m[2], int(m[3])), comment))
-            for command, comment in data["commands"]["rows"]]
-    width = min(48, max(len(command) for command, _ in rows))
-    return [".. code-block:: bash", "",
-            *(f"   {command.ljust(width)}  # {comment}" for command, comment in rows), ""]
-
-
 class CommandCosts(SphinxDirective):
-    """``.. forcenet-command-costs::``: every example command with its measured cost."""
+    """``.. forcenet-command-costs::``: every example command with its measured cost; with content, only the
+    commands listed there (one a line, as written in the data file)."""
 
-    has_content = False
+    has_content = True
 
     def run(self) -> list[nodes.Node]:
         self.env.note_dependency(str(DATA))
         container = nodes.section()
         container.document = self.state.document
-        lines = command_cost_lines(json.loads(DATA.read_text(encoding="utf-8")))
+        only = [line.strip() for line in self.content if line.strip()] or None
+        lines = command_cost_lines(json.loads(DATA.read_text(encoding="utf-8")), only)
         nested_parse_with_titles(self.state, StringList(lines, source=str(DATA)), container)
         return list(container.children)
 

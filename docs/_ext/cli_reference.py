@@ -153,12 +153,11 @@ class CommandCosts(SphinxDirective):
 
     def run(self) -> list[nodes.Node]:
         self.env.note_dependency(str(DATA))
-        container = nodes.section()
-        container.document = self.state.document
         only = [line.strip() for line in self.content if line.strip()] or None
-        lines = command_cost_lines(json.loads(DATA.read_text(encoding="utf-8")), only)
-        nested_parse_with_titles(self.state, StringList(lines, source=str(DATA)), container)
-        return list(container.children)
+        text = "\n".join(command_cost_lines(json.loads(DATA.read_text(encoding="utf-8")), only))
+        block = nodes.literal_block(text, text)  # a node, not markup: the same in rST and MyST pages
+        block["language"] = "bash"
+        return [block]
 
 
 def setup(app: Sphinx) -> dict[str, Any]:

@@ -50,12 +50,12 @@ def performance_substitutions(data: dict[str, Any]) -> dict[str, str]:
 
 
 def command_cost_lines(data: dict[str, Any], only: list[str] | None = None) -> list[str]:
-    """The commands with their costs as an rST code block, every ``{table.column@N}`` filled from ``data``."""
+    """The commands with their costs, one a line (``command  # comment``), every ``{table.column@N}`` filled from
+    ``data``; ``only``: just those commands, as written in the data."""
     rows = [(command, _CELL.sub(lambda m: cell(data, m[1], m[2], int(m[3])), comment))
             for command, comment in data["commands"]["rows"] if only is None or command in only]
     missing = set(only or ()) - {command for command, _ in rows}
     if missing:
         raise KeyError(f"performance.json lists no command {sorted(missing)}")
     width = min(48, max(len(command) for command, _ in rows))
-    return [".. code-block:: bash", "",
-            *(f"   {command.ljust(width)}  # {comment}" for command, comment in rows), ""]
+    return [f"{command.ljust(width)}  # {comment}" for command, comment in rows]

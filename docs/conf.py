@@ -11,6 +11,7 @@ the theme ships its own assets, and no inventory is fetched (no intersphinx).
 
 from __future__ import annotations
 
+import json
 import re
 import sys
 from pathlib import Path
@@ -18,6 +19,7 @@ from pathlib import Path
 import forcenet
 
 sys.path.insert(0, str(Path(__file__).resolve().parent / "_ext"))  # the site's own extensions
+from performance_data import performance_substitutions
 
 project = "forcenet"
 author = "The forcenet developers"
@@ -59,23 +61,19 @@ numpydoc_validation_checks = {
     "RT01",  # a Returns section
     "EX01",  # an Examples section
 }
-# Docstrings that need work before they pass these checks (each listed, so the list can only shrink; the
-# others are validated). The exceptions' shared example is on the family's page (api/errors.rst).
-NEEDS_WORK = [
-    "forcenet.testing.TableAgreement", "forcenet.testing.TableAgreement.*",
-    "forcenet.testing.strategies.*",
-    "forcenet.numeric.packing.PackingMetropolis.*", "forcenet.numeric.packing.Scene.name",
-    "forcenet.numeric.packing.Scene.top_load",
-    "forcenet.numeric.triangle.force_distribution.*",
-]
+# Every public name passes them (tests/test_api_examples.py checks the same without Sphinx); only dunder
+# methods and private names are not validated.
 numpydoc_validation_exclude = {
     r"\.__\w+__$",  # dunder methods
     r"\._\w+$",  # private names
-    *("^" + re.escape(name).replace(r"\*", r"\w+") + "$" for name in NEEDS_WORK),
 }
 
 # ------------------------------------------------------------------ MyST and the executed notebooks
-myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence", "deflist"]
+myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence", "deflist", "substitution"]
+# Measured costs in prose are substitutions from docs/_data/performance.json, the performance page's file:
+# {{ pfaffian_table_seconds_64 }} is its pfaffian table's table_seconds at N = 64, as the pages write a time.
+myst_substitutions = performance_substitutions(json.loads((Path(__file__).resolve().parent / "_data"
+                                                           / "performance.json").read_text(encoding="utf-8")))
 myst_heading_anchors = 3
 nb_execution_mode = "force"  # every build runs every notebook: the pages show what today's code does
 nb_execution_timeout = 300

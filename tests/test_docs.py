@@ -396,11 +396,12 @@ def test_the_tutorials_and_the_how_tos_call_the_front_door():
         assert FRONT_DOOR_CALL.search((DOCS / page).read_text()), page
 
 
-def test_the_command_line_reference_is_the_parser():
+def test_the_command_line_reference_is_the_parser(monkeypatch):
     """Every command and every option the parser knows is on the generated page, and every exit code."""
     import argparse
 
     pytest.importorskip("docutils", reason="the docs extra (pip install '.[docs]'); .ci/run installs it for this file")
+    monkeypatch.syspath_prepend(str(DOCS / "_ext"))  # as docs/conf.py does: the extension imports performance_data
 
     from forcenet.cli import build_parser
     from forcenet.cli.output import EXIT_CODES
@@ -416,6 +417,45 @@ def test_the_command_line_reference_is_the_parser():
     table = (DOCS / "command_line.rst").read_text()
     for code in {int(c) for c in re.findall(r"\b(\d+) ", EXIT_CODES)} | {129, 143}:
         assert f"   * - {code}\n" in table, code
+
+
+def test_the_command_line_costs_come_from_the_performance_data():
+    """The command line page types no cost: its list is rendered from docs/_data/performance.json, the
+    performance page's file, and a cost both pages give is one cell of it; every listed command parses."""
+    import shlex
+
+    from forcenet.cli import build_parser
+
+    page = (DOCS / "command_line.rst").read_text()
+    assert ".. forcenet-command-costs::" in page
+    assert not re.search(r"^\s+forcenet \w+ .*#", page, re.M), "a command with a typed cost on the page"
+    extension = runpy.run_path(str(DOCS / "_ext" / "performance_data.py"))
+    data = json.loads((DOCS / "_data" / "performance.json").read_text())
+    lines = extension["command_cost_lines"](data)
+    assert len(lines) == len(data["commands"]["rows"]) and not any("{pfaffian." in line for line in lines)
+    table_64 = next(r[4] for r in data["pfaffian"]["rows"] if r[0] == 64)
+    assert any("--N 64 --force" in line and extension["duration"](table_64) in line for line in lines)
+    assert [extension["duration"](s) for s in (0.51, 2.5, 21, 95, 2082, 4300)] == ["0.51 s", "2.5 s", "21 s",
+                                                                                   "1.6 min", "35 min", "1.2 h"]
+    substitutions = extension["performance_substitutions"](data)
+    assert substitutions["pfaffian_table_seconds_64"] == extension["duration"](table_64)
+    assert substitutions["dp_memory_28"] == next(r[4] for r in data["dp"]["rows"] if r[0] == 28)
+    only = ["forcenet table --N 100 --force"]
+    assert len(extension["command_cost_lines"](data, only)) == 1
+    with pytest.raises(KeyError, match="lists no command"):
+        extension["command_cost_lines"](data, ["forcenet table --N 101"])
+    for page in ("howto/large_n.md", "howto/choosing_a_method.md"):  # the costs both pages give, from the data
+        text = (DOCS / page).read_text()
+        for key in re.findall(r"\{\{ (\w+) \}\}", text):
+            assert key in substitutions, (page, key)
+        assert "{{ pfaffian_table_seconds_64 }}" in text or (
+            "```{forcenet-command-costs}" in text and "forcenet table --N 64 --force --format json\n" in text), page
+        assert not re.search(r"^forcenet .*# .*~?\d+(?:\.\d+)? (?:s|min|h)\b", text, re.M), page
+    with pytest.raises(KeyError, match="no pfaffian.table_seconds at N = 7"):
+        extension["cell"](data, "pfaffian", "table_seconds", 7)
+    parser = build_parser()
+    for command, _ in data["commands"]["rows"]:
+        parser.parse_args(shlex.split(command)[1:])  # argparse exits (code 2) on a command it does not know
 
 
 def test_api_summaries_survive_abbreviations():

@@ -1,5 +1,8 @@
 """The command-line reference, generated from the parser (``forcenet.cli.build_parser``) at build time.
 
+Also ``forcenet-command-costs``: the command line page's list of commands with their costs, read from
+``docs/_data/performance.json`` by :mod:`performance_data`.
+
 The directive ``forcenet-cli`` renders, for every command the parser knows (the commands other modules add
 appear by themselves), its one-line summary, its description, a table of its options (flags, values,
 default, help as ``forcenet COMMAND --help`` prints it) and its epilog; then the top-level options and the
@@ -9,11 +12,13 @@ exit codes of ``forcenet --help``. Nothing is written by hand, so the page canno
 from __future__ import annotations
 
 import argparse
+import json
 import re
 from typing import Any
 
 from docutils import nodes
 from docutils.statemachine import StringList
+from performance_data import DATA, command_cost_lines  # docs/_ext, on the path as this module is
 from sphinx.application import Sphinx
 from sphinx.util.docutils import SphinxDirective
 from sphinx.util.nodes import nested_parse_with_titles
@@ -140,6 +145,22 @@ class CommandLineReference(SphinxDirective):
         return list(container.children)
 
 
+class CommandCosts(SphinxDirective):
+    """``.. forcenet-command-costs::``: every example command with its measured cost; with content, only the
+    commands listed there (one a line, as written in the data file)."""
+
+    has_content = True
+
+    def run(self) -> list[nodes.Node]:
+        self.env.note_dependency(str(DATA))
+        only = [line.strip() for line in self.content if line.strip()] or None
+        text = "\n".join(command_cost_lines(json.loads(DATA.read_text(encoding="utf-8")), only))
+        block = nodes.literal_block(text, text)  # a node, not markup: the same in rST and MyST pages
+        block["language"] = "bash"
+        return [block]
+
+
 def setup(app: Sphinx) -> dict[str, Any]:
     app.add_directive("forcenet-cli", CommandLineReference)
+    app.add_directive("forcenet-command-costs", CommandCosts)
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}

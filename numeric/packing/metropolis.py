@@ -166,6 +166,15 @@ class PackingMetropolis:
 
     @property
     def acceptance_rate(self) -> float:
+        """Accepted over attempted moves so far (NaN before the first move).
+
+        Examples
+        --------
+        >>> m = PackingMetropolis(Scene(N=3, P=4, pv=1.0), seed=0)
+        >>> m.sweep(20)
+        >>> 0 < m.acceptance_rate <= 1
+        True
+        """
         return self.accepted / self.attempted if self.attempted else float("nan")
 
     def _propose(self, i: int, j: int, new: float) -> bool:
@@ -235,7 +244,20 @@ class PackingMetropolis:
             raise ArithmeticError("slice move: an interval shrank 200 times without a point under the density")
 
     def sweep(self, count: int = 1) -> None:
-        """``count`` sweeps of ``(N-1)(P-1)`` single-grain updates."""
+        """``count`` sweeps of ``(N-1)(P-1)`` single-grain updates (Sec. 3.2.4), the state kept in ``q`` and ``W``.
+
+        Parameters
+        ----------
+        count : int, default 1
+            Sweeps to run; each attempts one move per free grain.
+
+        Examples
+        --------
+        >>> m = PackingMetropolis(Scene(N=3, P=4, pv=1.0), seed=0)
+        >>> m.sweep(5)
+        >>> m.attempted  # 5 sweeps of (3 - 1)(4 - 1) moves
+        30
+        """
         if self.kernel == "compiled":
             if count > 0:
                 N, P = self.scene.N, self.scene.P
@@ -264,7 +286,30 @@ class PackingMetropolis:
             record_q: bool = False, thin: int = 1) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
         """Burn in, then record ``W`` (and ``q`` if asked) after every ``thin``-th of ``sweeps * thin`` sweeps.
 
-        Returns ``W`` of shape ``(sweeps, N, P)``, or ``(W, q)``; ``progress`` ticks once per record.
+        Parameters
+        ----------
+        sweeps : int
+            Records to keep (``>= 1``).
+        burn_in : int, default 0
+            Sweeps run first and not recorded.
+        progress : callable, optional
+            Called with the number of new records (once per record, or per compiled call).
+        record_q : bool, default False
+            Also return the ``q`` of every record.
+        thin : int, default 1
+            Sweeps between two records.
+
+        Returns
+        -------
+        numpy.ndarray or tuple of numpy.ndarray
+            ``W`` of shape ``(sweeps, N, P)`` (Eq. 3.9), or ``(W, q)`` with ``q`` of shape ``(sweeps, N-1, P)``.
+
+        Examples
+        --------
+        >>> m = PackingMetropolis(Scene(N=3, P=4, pv=1.0), seed=0)
+        >>> W, q = m.run(sweeps=10, burn_in=5, record_q=True)
+        >>> W.shape, q.shape
+        ((10, 3, 4), (10, 2, 4))
         """
         sweeps, burn_in = check_int(sweeps, "sweeps", 1), check_int(burn_in, "burn_in", 0)
         thin = check_int(thin, "thin", 1)

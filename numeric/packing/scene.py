@@ -116,7 +116,13 @@ class Scene:
 
     @property
     def top_load(self) -> np.ndarray:
-        """``W_ext,j = p_v + F delta_{j,j0}``."""
+        """The load on the top layer, ``W_ext,j = p_v + F delta_{j,j0}`` (Fig. 3.1).
+
+        Examples
+        --------
+        >>> Scene(N=3, P=5, F=10.0, pv=1.0).top_load.tolist()
+        [1.0, 1.0, 11.0, 1.0, 1.0]
+        """
         w = np.full(self.P, self.pv)
         j0 = self.j0 if self.j0 is not None else (self.P + 1) // 2  # set by __post_init__
         w[j0 - 1] += self.F
@@ -124,6 +130,13 @@ class Scene:
 
     @property
     def name(self) -> str:
+        """The kind of scene: ``"gravity"`` (``mg > 0``, no top pressure), ``"isotropic"`` (no weight, ``ph = pv``) or ``"general"``.
+
+        Examples
+        --------
+        >>> Scene(N=3, P=5, mg=1.0).name, Scene(N=3, P=5, pv=1.0, ph=1.0).name, Scene(N=3, P=5, pv=1.0).name
+        ('gravity', 'isotropic', 'general')
+        """
         if self.mg > 0 and self.pv == 0:
             return "gravity"
         if self.mg == 0 and self.ph is not None and self.ph == self.pv:

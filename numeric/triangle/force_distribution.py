@@ -69,6 +69,18 @@ def _gap_probabilities(gaps: Any) -> tuple[int, np.ndarray, np.ndarray]:
 def density_values(gaps: GapCounts, w: ArrayLike) -> np.ndarray:
     """Density of the spacing with gap law ``gaps`` at floats ``w`` (Bernstein form).
 
+    Parameters
+    ----------
+    gaps : forcenet.exact.triangle.gaps.GapCounts
+        The exact gap law of a spacing (e.g. :func:`forcenet.exact.triangle.gaps.grain_gap_counts`).
+    w : array_like of float
+        Where to evaluate, in ``[0, 1]``.
+
+    Returns
+    -------
+    numpy.ndarray
+        The density at ``w``, same shape as ``w``: ``d sum_g p_g Bin(g - 1; d - 1, w)``.
+
     Examples
     --------
     >>> from forcenet.exact.triangle.gaps import grain_gap_counts
@@ -118,6 +130,20 @@ def _exact_eval(nums: Sequence[int], den: int, x: float) -> float:
 
 def piecewise_values(pieces: Any, f: ArrayLike, support: Any = None) -> np.ndarray:
     """A piecewise exact density at floats ``f``, 0 outside: a list of ``Piece``, or one ``Poly`` with its ``support``.
+
+    Parameters
+    ----------
+    pieces : list of Piece or sympy.Poly
+        The exact density (:mod:`forcenet.exact.triangle.distribution`).
+    f : array_like of float
+        Where to evaluate.
+    support : tuple, optional
+        ``(lo, hi)``, needed when ``pieces`` is one polynomial.
+
+    Returns
+    -------
+    numpy.ndarray
+        The density at ``f`` (same shape), each value the exact rational rounded once.
 
     Examples
     --------
@@ -286,6 +312,26 @@ def exact_sampler_histogram(N: int, samples: int, edges: ArrayLike, pool: str | 
     histograms, so the correlations between the grains of one configuration
     are included.
 
+    Parameters
+    ----------
+    N : int
+        Layers of the triangle (Sec. 4.2).
+    samples : int
+        Independent configurations, ``>= 2``.
+    edges : array_like of float
+        Increasing bin edges.
+    pool : "ensemble" or int, default "ensemble"
+        Every grain of layers ``2..N`` with ``f = i W_{i,j}``, or layer ``i`` alone.
+    seed : int or numpy.random.Generator or None, default 0
+        The sampler's random stream.
+    progress : callable, optional
+        Called with the number of configurations drawn in each batch.
+
+    Returns
+    -------
+    Histogram
+        ``density +- stderr`` per bin, ``tau = 1``, ``reliable`` True.
+
     Examples
     --------
     >>> h = exact_sampler_histogram(4, 2000, [0, 1, 2, 4], seed=1)
@@ -320,6 +366,28 @@ def metropolis_histogram(N: int, sweeps: int, edges: ArrayLike, pool: str | int 
     Error bars: ``sqrt(var tau / sweeps)`` per bin with ``tau`` its integrated
     autocorrelation time.  If the chain is shorter than ``50 tau`` the
     estimate is kept but ``reliable`` is False (an honest flag, not an error).
+
+    Parameters
+    ----------
+    N : int
+        Layers of the triangle (Sec. 4.2).
+    sweeps : int
+        Recorded sweeps, ``>= 2``.
+    edges : array_like of float
+        Increasing bin edges.
+    pool : "ensemble" or int, default "ensemble"
+        Every grain of layers ``2..N`` with ``f = i W_{i,j}``, or layer ``i`` alone.
+    burn_in : int, optional
+        Sweeps discarded first (default ``max(100, sweeps // 10)``).
+    seed : int or numpy.random.Generator or None, default 0
+        The chain's random stream.
+    progress : callable, optional
+        Ticks with the records made.
+
+    Returns
+    -------
+    Histogram
+        ``density +- stderr`` per bin, the largest ``tau`` over the bins and the ``reliable`` flag.
 
     Examples
     --------

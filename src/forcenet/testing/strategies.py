@@ -70,8 +70,23 @@ def _strategy(value: int | st.SearchStrategy[int] | None, name: str,
 def layers(min_value: int = 2, max_value: int = 10) -> st.SearchStrategy[int]:
     """Numbers of layers ``N`` of the triangle, ``min_value..max_value`` (shrinks to ``min_value``).
 
+    Parameters
+    ----------
+    min_value : int, default 2
+        The smallest ``N`` (``>= 2``).
+    max_value : int, default 10
+        The largest ``N`` (``>= min_value``).
+
+    Returns
+    -------
+    hypothesis.strategies.SearchStrategy of int
+        The numbers of layers.
+
     Examples
     --------
+    >>> from hypothesis import find
+    >>> find(layers(3, 8), lambda N: N % 2 == 0)
+    4
     >>> layers(1)
     Traceback (most recent call last):
     ...
@@ -84,6 +99,16 @@ def layers(min_value: int = 2, max_value: int = 10) -> st.SearchStrategy[int]:
 def grains(N: int) -> st.SearchStrategy[tuple[int, int]]:
     """Grains ``(i, j)``, ``1 <= j <= i <= N``, of the ``N``-layer triangle (shrinks to ``(1, 1)``).
 
+    Parameters
+    ----------
+    N : int
+        Layers of the triangle (``>= 1``).
+
+    Returns
+    -------
+    hypothesis.strategies.SearchStrategy of (int, int)
+        Grains ``(i, j)``, layer first (the indexing of Sec. 4.2).
+
     Examples
     --------
     >>> from hypothesis import find
@@ -95,12 +120,41 @@ def grains(N: int) -> st.SearchStrategy[tuple[int, int]]:
 
 
 def layers_and_grains(min_layers: int = 2, max_layers: int = 10) -> st.SearchStrategy[tuple[int, tuple[int, int]]]:
-    """``(N, (i, j))``: a triangle and one of its grains."""
+    """``(N, (i, j))``: a triangle and one of its grains.
+
+    Parameters
+    ----------
+    min_layers, max_layers : int
+        The range of ``N``, as in :func:`layers`.
+
+    Returns
+    -------
+    hypothesis.strategies.SearchStrategy of (int, (int, int))
+        ``N`` drawn by :func:`layers`, then a grain by :func:`grains`.
+
+    Examples
+    --------
+    >>> from hypothesis import find
+    >>> find(layers_and_grains(4, 6), lambda g: g[1][1] == 2)
+    (4, (2, 2))
+    """
     return layers(min_layers, max_layers).flatmap(lambda N: st.tuples(st.just(N), grains(N)))
 
 
 def seeds() -> st.SearchStrategy[int]:
-    """Seeds for numpy generators, drawn by hypothesis (so that failures reproduce and shrink)."""
+    """Seeds for numpy generators, drawn by hypothesis (so that failures reproduce and shrink).
+
+    Returns
+    -------
+    hypothesis.strategies.SearchStrategy of int
+        Integers in ``0..2**32 - 1`` (shrinking to 0).
+
+    Examples
+    --------
+    >>> from hypothesis import find
+    >>> find(seeds(), lambda s: s > 1000)
+    1001
+    """
     return st.integers(0, 2**32 - 1)
 
 
@@ -116,8 +170,11 @@ def force_networks(N: int | st.SearchStrategy[int] | None = None, size: int | No
         W_{i,j}``, zero above the diagonal); an integer: ``size`` independent
         networks, shape ``(size, N, N)``.
 
-    The networks come from :class:`~forcenet.numeric.triangle.exact_sampler.ExactSampler`
-    seeded from hypothesis.
+    Returns
+    -------
+    hypothesis.strategies.SearchStrategy of numpy.ndarray
+        Networks drawn by :class:`~forcenet.numeric.triangle.exact_sampler.ExactSampler`,
+        seeded from hypothesis.
 
     Examples
     --------
@@ -170,6 +227,11 @@ def packing_scenes(*, min_layers: int = 2, max_layers: int = 5, min_width: int =
     min_slack : float
         Required smallest force of the maximin network, relative to the total load.
 
+    Returns
+    -------
+    hypothesis.strategies.SearchStrategy of Scene
+        Scenes (:class:`forcenet.numeric.packing.Scene`).
+
     Examples
     --------
     >>> from hypothesis import find
@@ -218,6 +280,20 @@ def packing_scenes(*, min_layers: int = 2, max_layers: int = 5, min_width: int =
 def torus_sizes(max_sites: int = 12, min_L: int = 2, max_L: int | None = None) -> st.SearchStrategy[tuple[int, int]]:
     """``(L, M)`` with ``min_L <= L <= max_L``, ``M >= 1``, ``L M <= max_sites`` (at most 20: enumeration).
 
+    Parameters
+    ----------
+    max_sites : int, default 12
+        The largest ``L M`` (``2..20``).
+    min_L : int, default 2
+        The fewest sites per row.
+    max_L : int, optional
+        The most sites per row (default ``max_sites``).
+
+    Returns
+    -------
+    hypothesis.strategies.SearchStrategy of (int, int)
+        Tori ``(L, M)`` of the chicken-wire model (Sec. 7.4.1).
+
     Examples
     --------
     >>> from hypothesis import find
@@ -244,11 +320,18 @@ def chicken_wire_configurations(L: int | None = None, M: int | None = None, *, m
     L, M : int, optional
         The torus (``L >= 2`` sites per row, ``M >= 1`` rows); default any
         size from :func:`torus_sizes` with ``L M <= max_sites`` and ``L <= max_L``.
+    max_sites : int, default 12
+        With ``L`` and ``M`` not given: the largest ``L M``.
+    max_L : int, optional
+        With ``L`` and ``M`` not given: the most sites per row.
 
-    Returns a strategy of :class:`forcenet.numeric.chicken_wire.monte_carlo.ChickenWire`.
-    The configurations of a torus are enumerated once
-    (:func:`forcenet.exact.chicken_wire.model.torus_configurations`) and one
-    is picked by index; index 0 is the empty configuration.
+    Returns
+    -------
+    hypothesis.strategies.SearchStrategy of ChickenWire
+        Configurations (:class:`forcenet.numeric.chicken_wire.monte_carlo.ChickenWire`).
+        The configurations of a torus are enumerated once
+        (:func:`forcenet.exact.chicken_wire.model.torus_configurations`) and one
+        is picked by index; index 0 is the empty configuration.
 
     Examples
     --------

@@ -104,7 +104,7 @@ class TablePlan(_ExactPlan):
     memory_bytes : int, optional
         The memory the plan was checked against.
     row : int, optional
-        One row (layer) ``i`` of the tables instead of the whole table; ``method`` then names the row's route.
+        For a row's plan, the row (layer) ``i``; ``None`` for a whole table.
     request : forcenet.exact.routes.Request, optional
         The checked request the plan was made for (what :meth:`run` hands to the registry).
 
@@ -151,7 +151,28 @@ class TablePlan(_ExactPlan):
 class RowPlan(_ExactPlan):
     """A checked request for one row of the exact tables, with its cost: what :func:`row_plan` returns.
 
-    The fields are :class:`TablePlan`'s; ``row`` is the layer and ``method`` the row's route.
+    Parameters
+    ----------
+    N : int
+        Number of layers.
+    moments : int
+        Highest moment ``s`` of ``<W^s>``.
+    method : str
+        The row's route (``auto`` resolved to the fastest by the plans).
+    why : str
+        Why ``auto`` chose ``method`` (empty for an explicit method).
+    cost : forcenet.core.plan.Plan
+        Estimated seconds, peak bytes, progress ticks, or the refusal.
+    executor : concurrent.futures.Executor or Dask Client, optional
+        Runs the route's independent tasks.
+    checkpoint : CheckpointStore or str, optional
+        Where the route records finished tasks.
+    memory_bytes : int, optional
+        The memory the plan was checked against.
+    row : int, optional
+        The row (layer) ``i``, ``1..N``.
+    request : forcenet.exact.routes.Request, optional
+        The checked request the plan was made for.
 
     Examples
     --------
@@ -188,7 +209,13 @@ class RowPlan(_ExactPlan):
         with self._ticks(progress, f"table N={self.N}") as tick:
             rows = run_distrusting(self.checkpoint, self.N, lambda: run_row(
                 request, RowChoice(self.method, self.cost, self.why), tick))
-        return Row(self.N, request.row, self.method, self.why, rows)
+        return Row(self.N, self._row(), self.method, self.why, rows)
+
+    def _row(self) -> int:
+        """The layer this plan is for (:func:`row_plan` always sets it)."""
+        if self.row is None:
+            raise ArgumentError("this RowPlan names no row: make it with forcenet.row_plan(N, i)")
+        return self.row
 
 
 @overload

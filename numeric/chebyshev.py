@@ -47,7 +47,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.stats import chi2
 
 __all__ = ["VARIANCE_SHARE", "chebyshev_pvalue", "chain_dof", "rows_dof", "threshold"]
 
@@ -127,6 +126,7 @@ def chebyshev_pvalue(dev: np.ndarray, stderr: np.ndarray, dof: np.ndarray, alpha
     inflation : float
         ``sigma_up / stderr`` of that value.
     """
+    from scipy.stats import chi2  # scipy.stats is heavy: loaded when a verdict needs it
 
     G = int(np.size(dev))
     if G == 0:

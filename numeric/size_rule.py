@@ -28,7 +28,6 @@ from functools import lru_cache
 
 import numpy as np
 from scipy.special import stdtr, stdtrit
-from scipy.stats import f as f_dist
 
 __all__ = ["U_MAX", "bonferroni", "charged_skewness", "hotelling", "size_rule", "skew_term", "skewness", "t_rows_needed"]
 
@@ -197,6 +196,7 @@ def hotelling(rows: np.ndarray, dev: np.ndarray) -> tuple[float, int, float] | N
     >>> hotelling(rows, rows.mean(axis=0))[1]
     3
     """
+    from scipy.stats import f as f_dist  # scipy.stats is heavy: loaded when a verdict needs it
 
     K, G = rows.shape
     if G < 2:

@@ -16,7 +16,6 @@ from collections.abc import Iterable, Sequence
 from typing import NamedTuple
 
 import numpy as np
-from scipy.sparse import csr_matrix
 
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.validation import check_int
@@ -118,6 +117,8 @@ def transport(rows: np.ndarray, cols: np.ndarray, size: int, src: np.ndarray) ->
     >>> transport(np.array([0, 0, 1]), np.array([0, 1, 1]), 2, np.array([[1], [10]])).tolist()
     [[11], [10]]
     """
+
+    from scipy.sparse import csr_matrix  # a second of start-up for every command otherwise (scipy.sparse is heavy)
 
     A = csr_matrix((np.ones(rows.size, dtype=np.int64), (rows, cols)), shape=(size, src.shape[0]))
     return (A @ src.reshape(src.shape[0], -1)).reshape((size,) + src.shape[1:])

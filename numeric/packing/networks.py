@@ -10,7 +10,6 @@ smallest contact force (a feasible start, or a proof that none exists).
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import linprog
 
 from forcenet.core.errors import ArgumentError, ConvergenceError
 
@@ -74,6 +73,7 @@ def uniform_networks(scene: Scene, size: int, rng: np.random.Generator, batch: i
     >>> W.shape, 0 < rate <= 1
     ((100, 2, 2), True)
     """
+    from scipy.optimize import linprog  # scipy.optimize is heavy: loaded when a packing is solved
 
     N, P = scene.N, scene.P
     n = (N - 1) * (P - 1)
@@ -141,6 +141,7 @@ def maximin_network(scene: Scene) -> tuple[np.ndarray, float]:
     >>> x.shape, bool(slack > 0)
     ((1, 1), True)
     """
+    from scipy.optimize import linprog  # scipy.optimize is heavy: loaded when a packing is solved
 
     if scene.ph is None:
         raise ArgumentError("scene.ph is None: every q is allowed, no linear program is needed")

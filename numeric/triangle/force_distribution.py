@@ -30,7 +30,6 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.stats import binom, chi2
 
 from forcenet.core.errors import ArgumentError
 from forcenet.core.validation import check_int, check_real
@@ -87,6 +86,7 @@ def density_values(gaps: GapCounts, w: ArrayLike) -> np.ndarray:
     >>> round(float(density_values(grain_gap_counts(3, (3, 2)), 0.5)), 12)
     1.5
     """
+    from scipy.stats import binom  # scipy.stats is heavy: loaded when a law is drawn
 
     w = np.asarray(w, dtype=np.float64)
     d, g, prob = _gap_probabilities(gaps)
@@ -103,6 +103,7 @@ def cdf_values(gaps: GapCounts, w: ArrayLike) -> np.ndarray:
     >>> float(cdf_values(grain_gap_counts(3, (3, 2)), 0.5))
     0.5
     """
+    from scipy.stats import binom  # scipy.stats is heavy: loaded when a law is drawn
 
     w = np.asarray(w, dtype=np.float64)
     _, g, prob = _gap_probabilities(gaps)
@@ -425,6 +426,7 @@ def chi_square(hist: Histogram, exact_bins: Sequence[Fraction | float]) -> tuple
     >>> round(value, 12), bins, round(p, 4)
     (2.0, 2, 0.3679)
     """
+    from scipy.stats import chi2  # scipy.stats is heavy: loaded when a law is drawn
 
     e = np.array([float(x) for x in exact_bins]) / np.diff(hist.edges)
     use = hist.stderr > 0

@@ -23,12 +23,10 @@ machines, bound to loopback or a private interface, with TLS.
 
 from __future__ import annotations
 
-import asyncio
 import json
 import logging
 import os
 import socket
-import ssl
 import sys
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
@@ -159,6 +157,8 @@ def _quiet_dask() -> None:
 
 def _probe(address: str, scheme: str, host: str, port: int, security: Any) -> dict:
     """Dask's ``identity`` of the scheduler at ``address``, each step within :data:`CONNECT_SECONDS`."""
+    import asyncio  # only for --scheduler: 10 ms of every command's start otherwise
+    import ssl
 
     try:
         raw = socket.create_connection((host, port), timeout=CONNECT_SECONDS)

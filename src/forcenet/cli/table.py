@@ -8,7 +8,7 @@ import textwrap
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, cast
 
-from forcenet import MapCounts, count_plan, maps, plan, row_plan
+import forcenet
 from forcenet.core.plan import combine_by_time, phase_progress
 from forcenet.exact.routes import (
     MAX_MOMENTS,
@@ -19,7 +19,6 @@ from forcenet.exact.routes import (
     over_primes_text,
     takes,
 )
-from forcenet.testing import cross_check, cross_check_plan
 
 from .cluster import add_engine_options, engine_options, report_checkpoints
 from .common import (
@@ -46,7 +45,7 @@ _EXTENSIONS = {".json": "json", ".csv": "csv", ".tex": "latex"}
 
 
 def cmd_count(args: argparse.Namespace) -> int:
-    request = count_plan(args.N, memory_bytes=available_memory())
+    request = forcenet.count_plan(args.N, memory_bytes=available_memory())
     text = run_planned(request.cost, lambda tick: request.run(progress=tick).to_text(), force=args.force,
                        quiet=args.quiet)
     emit(text, args.out)
@@ -94,7 +93,7 @@ def _request(args: argparse.Namespace, memory: int | None, client: Any = None,
     method = args.method
     if client is None and directory is None and (args.scheduler or args.checkpoint):
         method = over_primes(method)  # not yet connected: the registry's routes that take the options
-    return plan(args.N, args.moments, method, executor=client, checkpoint=directory, memory_bytes=memory).check()
+    return forcenet.plan(args.N, args.moments, method, executor=client, checkpoint=directory, memory_bytes=memory).check()
 
 
 def cmd_table(args: argparse.Namespace) -> int:
@@ -141,14 +140,14 @@ def _table_row(args: argparse.Namespace, fmt: str | None) -> int:
     if fmt != "latex":
         refuse_together(args, "digits", "row", "--digits shapes the LaTeX only (--format latex or a .tex file)")
     memory = available_memory()
-    request = row_plan(args.N, args.row, args.moments, args.method, memory_bytes=memory).check()
+    request = forcenet.row_plan(args.N, args.row, args.moments, args.method, memory_bytes=memory).check()
     explicit = args.scheduler is not None or args.checkpoint is not None  # then only the routes that take them
     applies = explicit or request.method in ROW_PRIME_ROUTES
     client, directory = engine_options(args, applies, f"a row's routes over primes ({', '.join(ROW_PRIME_ROUTES[:3])})",
                                        request.seconds, lambda directory: directory)
     try:
         if client is not None or directory is not None:  # a cluster or a checkpoint store changes the plan
-            request = row_plan(args.N, args.row, args.moments, args.method, executor=client, checkpoint=directory,
+            request = forcenet.row_plan(args.N, args.row, args.moments, args.method, executor=client, checkpoint=directory,
                                memory_bytes=memory).check()
         row = run_planned(request.cost, lambda tick: request.run(progress=tick), force=args.force, quiet=args.quiet)
     finally:
@@ -165,7 +164,7 @@ def _table(args: argparse.Namespace, fmt: str | None, memory: int | None, reques
     plans = [request.cost]
     cross = fmt is None and args.samples > 0
     if cross:
-        plans.append(cross_check_plan(args.N, args.samples, memory))
+        plans.append(forcenet.testing.cross_check_plan(args.N, args.samples, memory))
     if len(plans) == 1:
         plan = plans[0]
     else:  # primes or ideals, then samples: one bar in estimated seconds
@@ -175,7 +174,7 @@ def _table(args: argparse.Namespace, fmt: str | None, memory: int | None, reques
     def run(tick: Callable[..., None] | None) -> tuple[Table, TableAgreement | None]:
         phase = [tick] * len(plans) if len(plans) == 1 else [phase_progress(tick, p) for p in plans]
         table = cast("Table", request.run(progress=phase[0]))  # a plan without row=: a whole table
-        check = cross_check(args.N, table.mean_W, args.samples, args.seed, phase[-1]) if cross else None
+        check = forcenet.testing.cross_check(args.N, table.mean_W, args.samples, args.seed, phase[-1]) if cross else None
         return table, check
 
     table, check = run_planned(plan, run, force=args.force, quiet=args.quiet)
@@ -210,7 +209,7 @@ def _table(args: argparse.Namespace, fmt: str | None, memory: int | None, reques
 
 
 def cmd_maps(args: argparse.Namespace) -> int:
-    result = maps(args.N)  # maps per bottom row h(N-2, .), Eq. (4.88)
+    result = forcenet.maps(args.N)  # maps per bottom row h(N-2, .), Eq. (4.88)
     emit(result.to_json() if args.format == "json" else result.to_text(), args.out)
     return 0
 
@@ -294,7 +293,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=cmd_table)
 
     p = sub.add_parser("maps", help="Z_(N-2) and the number of maps h per bottom row (Sec. 4.6)")
-    add_layers(p, maximum=MapCounts.MAX_N, minimum=3, deferred=True)  # N: checked by forcenet.maps
+    add_layers(p, maximum=forcenet.MapCounts.MAX_N, minimum=3, deferred=True)  # N: checked by forcenet.maps
     p.add_argument("--format", choices=["text", "json"], default="text", help="output format (default text)")
     p.add_argument("--out", help="write the output to this file (atomically; its directory must exist)")
     p.set_defaults(func=cmd_maps)

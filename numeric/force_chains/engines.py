@@ -212,7 +212,8 @@ class _ScalingEngine(ABC):
                 owners.append(index)
         store = None
         if request.checkpoint is not None:
-            store = CheckpointStore(request.checkpoint, f"scaling-{request.model}-{request.key()}", max(request.sizes))
+            store = CheckpointStore(request.checkpoint, f"scaling-{request.model}-{request.key()}", max(request.sizes),
+                                    shape=(3 * thresholds.size + 1,))  # block_task's sums: a record of another shape is recomputed
         results = run_tasks(block_task, tasks, executor=executor, workers=request.workers, progress=progress,
                             store=store, keys=list(range(len(tasks))) if store is not None else None)
         T = thresholds.size

@@ -238,7 +238,9 @@ def _laws(N: int, grains: bool, workers: int | None, progress: Callable[..., Any
           executor: Executor | None, checkpoint: str | PathLike | CheckpointStore | None) -> list[GapCounts]:
     total = count(N)
     primes = floor_primes(N)
-    store = checkpoint_store(checkpoint, "floor-grains" if grains else "floor", N)
+    # a record: one gap law (gaps 0..d + 1) per grain of the floor, or the pooled one
+    store = checkpoint_store(checkpoint, "floor-grains" if grains else "floor", N,
+                             shape=(N if grains else 1, dimension(N) + 2))
     nworkers = workers_for(workers, len(primes), floor_prime_seconds(N, grains) * len(primes), executor)
     residues = run_primes(floor_prime_residues, [(N, p, grains) for p in primes], executor, nworkers, progress, store)
     return exact_gap_laws(residues, primes, N, total * (N if not grains else 1), "the floor")

@@ -180,7 +180,9 @@ def _laws(N: int, i: int, grains: bool, workers: int | None, progress: Callable[
           executor: Executor | None, checkpoint: str | PathLike | CheckpointStore | None) -> list[GapCounts]:
     total = count(N)
     primes = floor_primes(N)
-    store = checkpoint_store(checkpoint, "layer-grains" if grains else "layer", N, layer=i)
+    # a record: one gap law (gaps 0..d + 1) per grain of layer i, or the pooled one
+    store = checkpoint_store(checkpoint, "layer-grains" if grains else "layer", N, layer=i,
+                             shape=(i if grains else 1, dimension(N) + 2))
     nworkers = workers_for(workers, len(primes), layer_prime_seconds(N, i, grains) * len(primes), executor)
     residues = run_primes(_prime_task, [(N, p, i, grains) for p in primes], executor, nworkers, progress, store)
     return exact_gap_laws(residues, primes, N, total * (i if not grains else 1), f"layer {i}")

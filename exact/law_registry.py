@@ -50,7 +50,7 @@ from .triangle.law_routes import (
     layer_route,
     single_grain_gap_law,
 )
-from .triangle.prime_tasks import checkpoint_store
+from .triangle.prime_tasks import STARTUP_SECONDS, checkpoint_store
 from .triangle.staircase import dimension
 
 __all__ = ["LAW_METHODS", "LAW_MAX_N", "LAW_DP_MAX_N", "LAW_CONTACTS", "LAW_PRIME_ROUTES", "LAW_ROUTES", "LawRequest",
@@ -297,7 +297,8 @@ def law_resumed(plan: Plan, request: LawRequest, checkpoint: Any) -> Plan:
     """
     if not isinstance(checkpoint, str):
         return plan
-    return resumed_plan(plan, checkpoint, request.N, ("pfaffian-layer", "pfaffian-floor"))
+    # the process's start-up is paid whatever the records (the layers' pooled laws cost about alike per prime)
+    return resumed_plan(plan, checkpoint, request.N, ("pfaffian-layer", "pfaffian-floor"), fixed=STARTUP_SECONDS)
 
 
 class LawPieces(NamedTuple):

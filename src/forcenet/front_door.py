@@ -301,7 +301,6 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
     >>> print(forcenet.plan(40, method="fast").refusal)  # doctest: +ELLIPSIS
     N=40 is out of range for the exact table here: ...; method='auto' runs it by pfaffian (~...)
     """
-    from forcenet.core.checkpoints import resumed_plan  # numpy: not before a plan
     from forcenet.exact.routes import METHODS, check_request, plan_request, takes  # the engines: not before a plan
 
     request = check_request(N, moments, method, row=row, memory_bytes=memory_bytes, executor=executor)  # the check
@@ -313,9 +312,8 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
     request = replace(request, directory=directory)
     over_primes = executor is not None or directory is not None  # the routes over independent primes use them
     choice = plan_request(request, [m for m in METHODS[:-1] if takes(m, "checkpoint")] if over_primes else None)
+    # one request per layer (a directory): the route's plan counts each layer's own held records
     cost, why, store = choice.plan, choice.why, request.stores.get(choice.method)
-    if isinstance(store, str):  # one request per layer: the records every layer already holds count
-        cost = resumed_plan(cost, store, request.N, ("pfaffian-layer-grains", "pfaffian-floor-grains"))
     if why:
         cost = replace(cost, what=f"{cost.what}; {why}")
     elif not cost.runnable and request.method != "auto":  # an explicit method out of reach: name what runs it

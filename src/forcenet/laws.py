@@ -119,19 +119,19 @@ class LawPlan(_Costed):
         Parameters
         ----------
         K : int
-            The grid's intervals (``forcenet dist --grid``).
+            The grid's intervals (``forcenet dist --grid``), ``K + 1`` points.
         name : str
-            The argument's name in the refusal.
+            How the refusal names ``K`` (``grid`` at the command line).
 
         Returns
         -------
         int
-            ``K``.
+            The checked ``K``, unchanged.
 
         Raises
         ------
         ArgumentError
-            If the grid would take longer than ``GRID_SECONDS`` or ``K`` is out of ``1..GRID_MAX``.
+            A grid planned over ``GRID_SECONDS`` (naming the largest ``K`` within it), or ``K`` outside ``1..GRID_MAX``.
 
         Examples
         --------

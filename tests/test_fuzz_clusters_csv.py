@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 
 import forcenet
+import forcenet.force_chains as front
 from forcenet.cli import main
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ForcenetError
 from forcenet.force_chains import MAX_CSV_BYTES, read_networks
@@ -310,3 +311,22 @@ def test_the_command_line_reads_a_hostile_but_valid_file(clean, tmp_path, capsys
         return text[text.index('"f_c"'):text.index('"seconds"')] if '"seconds"' in text else text
 
     assert fit(out).replace(str(variant), paths[0]) == fit(clean_out).replace(str(variant), paths[0])
+
+
+def test_a_table_read_in_pieces_is_the_whole_and_names_the_right_line(clean, tmp_path, monkeypatch):
+    """A large table is parsed in pieces (bounded memory): the same rows, and a bad line's number counted over
+    the whole file."""
+    paths, rows = clean
+    whole = read_networks(paths[0])
+    monkeypatch.setattr(front, "_PIECE", 100)  # ~3 lines a piece
+    assert all(np.array_equal(a, b) for a, b in zip(read_networks(paths[0]), whole, strict=True))
+    text = _csv(rows[:50], end="\r\n").splitlines()
+    text[37] = "1,2,x,0.5"  # data line 37 (line 38 of the file, after the header)
+    bad = tmp_path / "bad.csv"
+    bad.write_text("\n\n" + "\n".join(text) + "\n")
+    with pytest.raises(ArgumentError, match="data line 37: 'x' is not a number"):
+        read_networks(str(bad))
+    text[37] = "1,2,3"
+    bad.write_text("\n".join(text) + "\n")
+    with pytest.raises(ArgumentError, match="data line 37 .* has 3 columns"):
+        read_networks(str(bad))

@@ -245,6 +245,7 @@ def scaling(model: str, sizes: Sequence[int] | None = None, samples: int | Seque
 MAX_CSV_BYTES = 2**30  # a force table larger than this is refused before it is read (~40 million bonds)
 MAX_ID = 2**53  # sample and grain numbers beyond this are not exact in float64: two grains could merge
 _COLUMNS = ("sample", "i", "j", "f")
+_PIECE = 2**22  # characters of a CSV parsed at once (~100000 lines)
 _KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO"), (stat.S_ISCHR, "a character device"),
           (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
 
@@ -291,29 +292,36 @@ def _read_text(path: str) -> str:
 
 def _parse_csv(text: str, path: str) -> np.ndarray:
     """Rows ``sample,i,j,f`` of a CSV text (a header naming the four columns, in any order, optional; blank lines
-    and CRLF line ends allowed) as float64 ``(n, 4)``; any other line is named."""
-    lines = [line for line in text.splitlines() if line.strip()]
-    order = list(range(4))
-    if lines and not _is_number(lines[0].split(",")[0]):  # a header: its first field names a column
-        header = [name.strip().lower() for name in lines[0].split(",")]
+    and CRLF line ends allowed) as float64 ``(n, 4)``; any other line is named.  Read in pieces of about
+    :data:`_PIECE` characters: the parse holds a piece's lines and numbers as Python objects, not the file's."""
+    first = next((line for line in text.split("\n", 64)[:64] if line.strip()), "")
+    order, skip, number = list(range(4)), 0, 0
+    if first and not _is_number(first.split(",")[0]):  # a header: its first field names a column
+        header = [name.strip().lower() for name in first.split(",")]
         if sorted(header) != sorted(_COLUMNS):
-            raise ArgumentError(f"{path}: the header {lines[0].strip()!r} must name the columns sample,i,j,f")
-        order = [header.index(name) for name in _COLUMNS]
-        lines = lines[1:]
-    if not lines:
+            raise ArgumentError(f"{path}: the header {first.strip()!r} must name the columns sample,i,j,f")
+        order, skip = [header.index(name) for name in _COLUMNS], 1
+    pieces, start = [], 0
+    while start < len(text):
+        stop = text.find("\n", start + _PIECE)
+        stop = len(text) if stop < 0 else stop + 1
+        lines = [line for line in text[start:stop].splitlines() if line.strip()][skip:]
+        start, skip = stop, 0
+        for k, line in enumerate(lines, start=number + 1):
+            if line.count(",") != 3:
+                raise ArgumentError(f"{path}: data line {k} ({line.strip()[:60]!r}) has {line.count(',') + 1} "
+                                    "columns: expected 4, sample,i,j,f")
+        tokens = ",".join(lines).split(",") if lines else []  # spaces around a number are read; "1 2" is not one
+        try:
+            pieces.append(np.array(tokens, dtype=np.float64).reshape(-1, 4))
+        except ValueError:
+            bad = next(k for k, token in enumerate(tokens) if not _is_number(token))
+            raise ArgumentError(f"{path}: data line {number + bad // 4 + 1}: {tokens[bad][:40]!r} is not a number "
+                                "(a CSV of numbers sample,i,j,f)") from None
+        number += len(lines)
+    if not number:
         raise ArgumentError(f"{path}: no bonds (give one line sample,i,j,f per bond)")
-    for number, line in enumerate(lines, start=1):
-        if line.count(",") != 3:
-            raise ArgumentError(f"{path}: data line {number} ({line.strip()[:60]!r}) has {line.count(',') + 1} "
-                                "columns: expected 4, sample,i,j,f")
-    tokens = ",".join(lines).split(",")  # numbers with spaces around them are read; "1 2" is not a number
-    try:
-        values = np.array(tokens, dtype=np.float64)
-    except ValueError:
-        bad = next(k for k, token in enumerate(tokens) if not _is_number(token))
-        raise ArgumentError(f"{path}: data line {bad // 4 + 1}: {tokens[bad][:40]!r} is not a number "
-                            "(a CSV of numbers sample,i,j,f)") from None
-    return values.reshape(-1, 4)[:, order]
+    return np.concatenate(pieces)[:, order]
 
 
 def _is_number(token: str) -> bool:

@@ -294,9 +294,13 @@ def _parse_csv(text: str, path: str) -> np.ndarray:
     """Rows ``sample,i,j,f`` of a CSV text (a header naming the four columns, in any order, optional; blank lines
     and CRLF line ends allowed) as float64 ``(n, 4)``; any other line is named.  Read in pieces of about
     :data:`_PIECE` characters: the parse holds a piece's lines and numbers as Python objects, not the file's."""
-    first = next((line for line in text.split("\n", 64)[:64] if line.strip()), "")
+    first, at = "", 0
+    while at < len(text) and not first.strip():  # the first line that is not blank (no copy of the text)
+        end = text.find("\n", at)
+        end = len(text) if end < 0 else end + 1
+        first, at = text[at:end], end
     order, skip, number = list(range(4)), 0, 0
-    if first and not _is_number(first.split(",")[0]):  # a header: its first field names a column
+    if first.strip() and not _is_number(first.split(",")[0]):  # a header: its first field names a column
         header = [name.strip().lower() for name in first.split(",")]
         if sorted(header) != sorted(_COLUMNS):
             raise ArgumentError(f"{path}: the header {first.strip()!r} must name the columns sample,i,j,f")

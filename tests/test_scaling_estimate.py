@@ -14,7 +14,7 @@ import time
 import pytest
 
 import forcenet
-from forcenet.numeric.force_chains.engines import analysis_seconds
+from forcenet.numeric.force_chains.engines import WORKER_START_SECONDS, analysis_seconds
 
 
 def test_the_plan_counts_the_fit_and_the_bootstrap():
@@ -42,3 +42,10 @@ def test_the_estimate_follows_the_cpu_seconds(model, sizes, samples, replicas):
     plan.run()
     spent = time.process_time() - start
     assert 0.5 < spent / plan.cost.seconds < 2.0, f"{model}: planned {plan.cost.seconds:.2f} s, spent {spent:.2f} s"
+
+
+def test_local_workers_share_the_blocks_and_pay_their_start_up():
+    one = forcenet.scaling_plan("percolation", workers=1).cost.seconds
+    two = forcenet.scaling_plan("percolation", workers=2).cost.seconds
+    analysis = analysis_seconds(7, 100)
+    assert two == pytest.approx((one - analysis) / 2 + analysis + WORKER_START_SECONDS)

@@ -459,9 +459,14 @@ def run_distrusting(checkpoint: CheckpointStore | str | os.PathLike[str] | None,
     return distrust_reused(fresh, directory, N, started)
 
 
-def resumed_plan(plan: Plan, directory: str | os.PathLike[str], N: int, routes: Collection[str]) -> Plan:
+def resumed_plan(plan: Plan, directory: str | os.PathLike[str], N: int, routes: Collection[str],
+                 fixed: float = 0.0) -> Plan:
     """``plan`` (one tick per prime) with the records already held in ``directory`` counted: its time without
-    the compilation scaled by the share still to compute, and the reuse stated in its description.
+    the compilation and without the ``fixed`` seconds every run pays whatever it reuses (the start-up of the
+    process) scaled by the share still to compute, and the reuse stated in its description.
+
+    For requests of about equal cost per prime (the pooled layers of the ensemble); a route whose requests
+    differ plans each with its own held records instead (the table's moments, layer by layer).
 
     Examples
     --------
@@ -474,13 +479,15 @@ def resumed_plan(plan: Plan, directory: str | os.PathLike[str], N: int, routes: 
     >>> p = resumed_plan(Plan("x", 10.0, 0, 4, "prime"), d, 5, ("pfaffian-floor-grains",))
     >>> p.seconds, p.what.startswith("x; 1 of 4 primes recorded in ")
     (7.5, True)
+    >>> resumed_plan(Plan("x", 10.0, 0, 4, "prime"), d, 5, ("pfaffian-floor-grains",), fixed=2.0).seconds
+    8.0
     """
     ticks = max(int(plan.ticks), 1)
     held = min(records_held(directory, N, routes), ticks)
     if not held:
         return plan
-    compiling = sum(seconds for _, seconds in plan.compiling)
-    seconds = compiling + (plan.seconds - compiling) * (ticks - held) / ticks
+    kept = sum(seconds for _, seconds in plan.compiling) + min(fixed, plan.seconds)  # paid by every run
+    seconds = kept + (plan.seconds - kept) * (ticks - held) / ticks
     return replace(plan, what=f"{plan.what}; {held} of {ticks} primes recorded in {os.fspath(directory)}", seconds=seconds)
 
 

@@ -50,7 +50,8 @@ from .triangle.law_routes import (
     layer_route,
     single_grain_gap_law,
 )
-from .triangle.prime_tasks import checkpoint_store
+from .triangle.prime_tasks import STARTUP_SECONDS, checkpoint_store
+from .triangle.staircase import dimension
 
 __all__ = ["LAW_METHODS", "LAW_MAX_N", "LAW_DP_MAX_N", "LAW_CONTACTS", "LAW_PRIME_ROUTES", "LAW_ROUTES", "LawRequest",
            "law_request", "LawChoice", "choose_law", "law_policy", "law_checkpoint", "law_resumed", "LawPieces",
@@ -93,6 +94,19 @@ class LawRequest(NamedTuple):
     def quantity(self) -> str:
         """``"law"``."""
         return "law"
+
+    @property
+    def degree(self) -> int:
+        """A bound on the degree of the law's polynomial pieces, known before the law is computed: ``d``, the free
+        forces (Eq. (4.3)); the CDF of a linear function of the forces on the ``d``-dimensional force space
+        (Eq. (4.1)) is piecewise polynomial of degree at most ``d`` (``Law.grid``'s cost is planned by it).
+
+        Examples
+        --------
+        >>> law_request(6, (5, 3), contact="F1").degree
+        15
+        """
+        return dimension(self.N)
 
     @property
     def kind(self) -> str:
@@ -283,7 +297,8 @@ def law_resumed(plan: Plan, request: LawRequest, checkpoint: Any) -> Plan:
     """
     if not isinstance(checkpoint, str):
         return plan
-    return resumed_plan(plan, checkpoint, request.N, ("pfaffian-layer", "pfaffian-floor"))
+    # the process's start-up is paid whatever the records (the layers' pooled laws cost about alike per prime)
+    return resumed_plan(plan, checkpoint, request.N, ("pfaffian-layer", "pfaffian-floor"), fixed=STARTUP_SECONDS)
 
 
 class LawPieces(NamedTuple):

@@ -38,7 +38,7 @@ from fractions import Fraction
 from os import PathLike
 from typing import Any
 
-from forcenet.core.checkpoints import CheckpointStore
+from forcenet.core.checkpoints import CheckpointStore, records_held
 from forcenet.core.execution import as_executor
 from forcenet.core.plan import Plan, combine
 from forcenet.core.validation import check_int, check_layers, check_moments
@@ -132,7 +132,7 @@ class PfaffianEngine(TableEngine):
         N, moments, memory_bytes, executor = request.N, request.moments, request.memory_bytes, request.executor
         workers, checkpoint = request.options.get("workers"), request.options.get("checkpoint")
         if moments > 1:  # every load's gap law, layer by layer (de Bruijn Pfaffians)
-            return _moments_plan(N, moments, memory_bytes, workers, executor)
+            return _moments_plan(N, moments, memory_bytes, workers, executor, checkpoint)
         return mean_plan(N, memory_bytes=memory_bytes, executor=executor, workers=workers, checkpoint=checkpoint)
 
     def tables(self, request: TableRequest, plan: Plan, progress: Progress | None,
@@ -213,17 +213,30 @@ def moments_plan(N: int, moments: int = 2, *, memory_bytes: int | None = None,
 
 
 def _moments_plan(N: int, moments: int, memory_bytes: int | None, workers: int | None,
-                  executor: Executor | None) -> Plan:
+                  executor: Executor | None, checkpoint: Checkpoint = None) -> Plan:
     """:func:`moments_plan` of checked arguments: every layer's every-load plan (Sec. 5-6 of
-    ``notes/fluctuations.md``), each layer's start-up paid once."""
+    ``notes/fluctuations.md``), each layer's start-up paid once.
+
+    A resumed run (``checkpoint``, the directory of one request per layer) counts each layer's own held primes:
+    a layer wholly recorded costs nothing, a layer begun pays its workers' start-up and its remaining primes at
+    its own cost per prime (the layers run in order and cost more with ``i``: the held records are the cheap
+    ones, so discounting the whole plan by the share of primes held was ~1.4x low at half of N = 40).
+    """
     what = f"exact <W^s> tables s <= {moments} N={N} (de Bruijn Pfaffians, every layer's gap laws)"
     if N > MAX_MOMENTS_N:
         return Plan(what, 0, refusal=f"N={N} is out of range for --method pfaffian --moments {moments}: N must be an "
                                      f"integer in 2..{MAX_MOMENTS_N}")
-    plans = [layer_cost(N, i, True, memory_bytes, workers, executor=executor) for i in range(2, N)]
-    plans.append(floor_cost(N, True, memory_bytes, workers, executor=executor))
+    directory = checkpoint.directory if isinstance(checkpoint, CheckpointStore) else checkpoint
+    plans = [layer_cost(N, i, True, memory_bytes, workers, executor=executor,
+                        store=checkpoint_store(directory, "layer-grains", N, layer=i)) for i in range(2, N)]
+    plans.append(floor_cost(N, True, memory_bytes, workers, executor=executor,
+                            store=checkpoint_store(directory, "floor-grains", N)))
     plan = combine(what, plans, "prime")
-    return replace(plan, seconds=plan.seconds - (len(plans) - 1) * STARTUP_SECONDS)  # one process starts once
+    plan = replace(plan, seconds=plan.seconds - (len(plans) - 1) * STARTUP_SECONDS)  # one process starts once
+    held = records_held(directory, N, ("pfaffian-layer-grains", "pfaffian-floor-grains")) if directory else 0
+    if held:
+        plan = replace(plan, what=f"{what}; {held} of {plan.ticks} primes recorded in {directory}")
+    return plan
 
 
 def every_load_gap_law(N: int, i: int, **options: Any) -> dict[int, GapCounts]:

@@ -38,7 +38,7 @@ from forcenet.core.plan import Plan
 from forcenet.core.validation import check_int
 
 __all__ = ["STARTUP_SECONDS", "WORKER_BASE_BYTES", "WORKER_TASK_SECONDS", "CLIENT_TASK_SECONDS",
-           "PARALLEL_MIN_SECONDS", "ROUTES", "checkpoint_store", "run_primes", "workers_for", "primes_plan"]
+           "PARALLEL_MIN_SECONDS", "ROUTES", "record_shape", "checkpoint_store", "run_primes", "workers_for", "primes_plan"]
 
 STARTUP_SECONDS = 1.5  # numba import and loading the cached kernels (first compilation ever: ~10 s more)
 WORKER_BASE_BYTES = 160 * 2**20  # a worker process: the interpreter, numpy and the loaded kernels
@@ -55,11 +55,30 @@ ROUTES = {"count": "pfaffian-count", "table": "pfaffian-table", "table2": "pfaff
           "layer": "pfaffian-layer", "layer-grains": "pfaffian-layer-grains"}  # checkpoint names (a layer's: + i)
 
 
+def record_shape(route: str, N: int) -> tuple[int, ...] | None:
+    """The shape of every checkpoint record of the free-fermion ``route`` (a key of :data:`ROUTES`) at ``N``: one
+    prime's residues as its task returns them; None for the de Bruijn routes, whose stores are given their
+    shape by their callers (``floor.py``, ``layers.py``: a gap law of ``d + 2`` gaps per row).
+
+    ``count``: one residue; ``table``: ``S[m][k] mod p``, ``m, k = 0..n``
+    (Eqs. (4.63)-(4.77)); ``table2``: that and the second level; ``lattice``:
+    the first column.  A record of another shape (a valid checksum on the
+    wrong content) is named and recomputed
+    (:class:`~forcenet.core.checkpoints.CheckpointStore`).
+
+    Examples
+    --------
+    >>> record_shape("table", 5), record_shape("table2", 5), record_shape("lattice", 5), record_shape("floor", 5)
+    ((5, 5), (2, 5, 5), (5,), None)
+    """
+    return {"count": (), "table": (N, N), "table2": (2, N, N), "lattice": (N,)}.get(route)
+
+
 def checkpoint_store(checkpoint: str | PathLike | CheckpointStore | None, route: str, N: int,
                      layer: int | None = None, shape: tuple[int, ...] | None = None) -> CheckpointStore | None:
     """The checkpoint store of one request of ``route`` (a key of :data:`ROUTES`, with the ``layer`` of a layer's
     route): None, from a directory, or a given store (reused when it is this request's, else its directory and
-    report).
+    report); its records' ``shape`` is the route's (:func:`record_shape`) unless given.
 
     Examples
     --------
@@ -69,6 +88,7 @@ def checkpoint_store(checkpoint: str | PathLike | CheckpointStore | None, route:
     if checkpoint is None:
         return None
     name = ROUTES[route] + ("" if layer is None else f"{int(layer)}")
+    shape = record_shape(route, N) if shape is None else shape
     if isinstance(checkpoint, CheckpointStore):
         if checkpoint.request["route"] == name and checkpoint.request["N"] == N:
             if shape is not None:

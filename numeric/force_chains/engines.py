@@ -53,8 +53,8 @@ from .finite_size_scaling import ScalingFit, SizeBlocks, analyse
 from .newman_ziff import Lattice, periodic_lattice, sweep_lattice
 from .q_models import independent_samples, microcanonical_chain, q_lattice
 
-__all__ = ["ScalingRequest", "ScalingOutcome", "MODELS", "DEFAULTS", "UnionFindEngine", "HeatBathEngine",
-           "block_task", "thresholds_for", "scaling_size"]
+__all__ = ["analysis_seconds", "ScalingRequest", "ScalingOutcome", "MODELS", "DEFAULTS", "UnionFindEngine",
+           "HeatBathEngine", "block_task", "thresholds_for", "scaling_size"]
 
 MODELS = ("percolation", "q-independent", "q-microcanonical")
 # default sizes and samples per size: the whole default run of each model within ~2-5 minutes on one core
@@ -63,9 +63,14 @@ DEFAULTS: dict[str, tuple[tuple[int, ...], tuple[int, ...]]] = {
     "q-independent": ((20, 28, 40, 56, 80, 112), (19200, 9600, 4800, 2400, 1200, 640)),
     "q-microcanonical": ((12, 16, 24, 32, 48, 64), (1280, 1280, 640, 640, 320, 192)),
 }
-BONDS_PER_SECOND = 6.0e6  # the cluster pass with wrapping, one core (notes/benchmarks.md), sorting included
+# the cost model: CPU seconds of forcenet.scaling measured on one core (each model's default run, and L = 8..512;
+# notes/benchmarks.md):
+BONDS_PER_SECOND = 1.3e7  # the cluster pass with wrapping, sorting included (1.3e7 at L <= 128, 0.8e7 at L = 512)
 GENERATE_PER_SECOND = 3.0e7  # uniform forces or q-model forces per second
-MOVES_PER_SECOND = 5.0e7  # heat-bath moves per second, one core
+MOVES_PER_SECOND = 2.4e8  # heat-bath moves per second (2.4-2.5e8 at L = 16..64; 5e7 before: 4-5x high)
+FIT_SECONDS = (0.6, 0.1)  # the collapse fit (Eq. 6.12) from its starting points: a constant and a share per size
+REPLICA_SECONDS = (0.02, 0.003)  # one bootstrap replica's refit: a constant and a share per size
+WORKER_START_SECONDS = 2.0  # local workers start in parallel: interpreter, numpy, cached kernels (2.3 CPU s under load)
 
 
 @dataclass(frozen=True)
@@ -176,6 +181,19 @@ def block_task(model: str, lattice_name: str, L: int, count: int, seed: int, siz
     return np.concatenate([stats.total.sum(0), stats.largest.sum(0), stats.wraps.sum(0), [count]]).astype(np.int64)
 
 
+def analysis_seconds(sizes: int, replicas: int) -> float:
+    """Seconds of the finite-size scaling after the blocks, in this process: the collapse fit (Eq. 6.12) and its
+    bootstrap ``replicas``, for ``sizes`` sizes (measured at 3-6 sizes, 100-2000 thresholds, 0-100 replicas:
+    0.5-1.4 s for the fit, 0.023-0.043 s a replica).
+
+    Examples
+    --------
+    >>> round(analysis_seconds(3, 0), 2), round(analysis_seconds(6, 100), 2)
+    (0.9, 5.0)
+    """
+    return FIT_SECONDS[0] + FIT_SECONDS[1] * sizes + replicas * (REPLICA_SECONDS[0] + REPLICA_SECONDS[1] * sizes)
+
+
 def _split(samples: int, blocks: int) -> list[int]:
     blocks = max(1, min(blocks, samples))
     return [samples // blocks + (1 if b < samples % blocks else 0) for b in range(blocks)]
@@ -198,7 +216,8 @@ class _ScalingEngine(ABC):
                       for L, k in zip(request.sizes, request.samples, strict=True))
         workers = max(1, request.workers)
         return Plan(f"{request.model} finite-size scaling at L = {', '.join(map(str, request.sizes))}",
-                    seconds=self.seconds(request) / workers + 0.02 * request.replicas * len(request.sizes),
+                    seconds=self.seconds(request) / workers + analysis_seconds(len(request.sizes), request.replicas)
+                    + (WORKER_START_SECONDS if workers > 1 else 0.0),
                     nbytes=16 * biggest * workers + 64 * 2**20, ticks=tasks, unit="block")
 
     def run(self, request: ScalingRequest, plan: Plan, *, progress: Callable[..., Any] | None = None,
@@ -212,7 +231,8 @@ class _ScalingEngine(ABC):
                 owners.append(index)
         store = None
         if request.checkpoint is not None:
-            store = CheckpointStore(request.checkpoint, f"scaling-{request.model}-{request.key()}", max(request.sizes))
+            store = CheckpointStore(request.checkpoint, f"scaling-{request.model}-{request.key()}", max(request.sizes),
+                                    shape=(3 * thresholds.size + 1,))  # block_task's sums: a record of another shape is recomputed
         results = run_tasks(block_task, tasks, executor=executor, workers=request.workers, progress=progress,
                             store=store, keys=list(range(len(tasks))) if store is not None else None)
         T = thresholds.size

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import functools
 import os
+import stat
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -39,7 +40,7 @@ import numpy as np
 from forcenet.core.atomic_files import check_directory
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan
-from forcenet.core.validation import check_int, check_seed
+from forcenet.core.validation import check_int, check_real, check_seed
 from forcenet.costed_plans import CostedPlan
 from forcenet.force_chains_results import ForceChainScaling
 from forcenet.numeric.force_chains.engines import DEFAULTS, MODELS, ScalingRequest
@@ -241,30 +242,116 @@ def scaling(model: str, sizes: Sequence[int] | None = None, samples: int | Seque
     return scaling_plan(model, sizes, samples, seed, **options).run(progress=progress, executor=executor)
 
 
+MAX_CSV_BYTES = 2**30  # a force table larger than this is refused before it is read (~40 million bonds)
+MAX_ID = 2**53  # sample and grain numbers beyond this are not exact in float64: two grains could merge
+_COLUMNS = ("sample", "i", "j", "f")
+_PIECE = 2**22  # characters of a CSV parsed at once (~100000 lines)
+_KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO"), (stat.S_ISCHR, "a character device"),
+          (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
+
+
+def _file_problem(path: str) -> str | None:
+    """Why ``path`` cannot be a force table (a directory, a FIFO, a device, too large, missing), or None."""
+    try:
+        info = os.stat(path)
+    except OSError as exc:
+        return f"cannot read it ({exc.strerror})"
+    if not stat.S_ISREG(info.st_mode):
+        kind = next((text for test, text in _KINDS if test(info.st_mode)), "not a regular file")
+        return f"{kind}, not a CSV file (give a regular file sample,i,j,f)"
+    if info.st_size > MAX_CSV_BYTES:
+        return (f"{info.st_size} bytes, more than the {MAX_CSV_BYTES} bytes read here "
+                "(give fewer samples per file, or arrays)")
+    return None
+
+
+def _read_text(path: str) -> str:
+    """The text of a regular file of at most :data:`MAX_CSV_BYTES` (never opened if it is a FIFO or a device;
+    a UTF-8 byte-order mark dropped)."""
+    problem = _file_problem(path)
+    if problem is None:
+        try:  # non-blocking and checked on the handle: a FIFO put in its place meanwhile is never waited on
+            fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+            with os.fdopen(fd, "rb") as handle:
+                if not stat.S_ISREG(os.fstat(handle.fileno()).st_mode):
+                    problem = "not a regular file, not a CSV file (give a regular file sample,i,j,f)"
+                    data = b""
+                else:
+                    data = handle.read(MAX_CSV_BYTES + 1)
+        except OSError as exc:
+            problem = f"cannot read it ({exc.strerror})"
+    if problem is None and len(data) > MAX_CSV_BYTES:
+        problem = f"more than the {MAX_CSV_BYTES} bytes read here (give fewer samples per file)"
+    if problem is not None:
+        raise ArgumentError(f"{path}: {problem}")
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise ArgumentError(f"{path}: not UTF-8 text at byte {exc.start} (a CSV of numbers sample,i,j,f)") from None
+
+
+def _parse_csv(text: str, path: str) -> np.ndarray:
+    """Rows ``sample,i,j,f`` of a CSV text (a header naming the four columns, in any order, optional; blank lines
+    and CRLF line ends allowed) as float64 ``(n, 4)``; any other line is named.  Read in pieces of about
+    :data:`_PIECE` characters: the parse holds a piece's lines and numbers as Python objects, not the file's."""
+    first, at = "", 0
+    while at < len(text) and not first.strip():  # the first line that is not blank (no copy of the text)
+        end = text.find("\n", at)
+        end = len(text) if end < 0 else end + 1
+        first, at = text[at:end], end
+    order, skip, number = list(range(4)), 0, 0
+    if first.strip() and not _is_number(first.split(",")[0]):  # a header: its first field names a column
+        header = [name.strip().lower() for name in first.split(",")]
+        if sorted(header) != sorted(_COLUMNS):
+            raise ArgumentError(f"{path}: the header {first.strip()!r} must name the columns sample,i,j,f")
+        order, skip = [header.index(name) for name in _COLUMNS], 1
+    pieces, start = [], 0
+    while start < len(text):
+        stop = text.find("\n", start + _PIECE)
+        stop = len(text) if stop < 0 else stop + 1
+        lines = [line for line in text[start:stop].splitlines() if line.strip()][skip:]
+        start, skip = stop, 0
+        for k, line in enumerate(lines, start=number + 1):
+            if line.count(",") != 3:
+                raise ArgumentError(f"{path}: data line {k} ({line.strip()[:60]!r}) has {line.count(',') + 1} "
+                                    "columns: expected 4, sample,i,j,f")
+        tokens = ",".join(lines).split(",") if lines else []  # spaces around a number are read; "1 2" is not one
+        try:
+            pieces.append(np.array(tokens, dtype=np.float64).reshape(-1, 4))
+        except ValueError:
+            bad = next(k for k, token in enumerate(tokens) if not _is_number(token))
+            raise ArgumentError(f"{path}: data line {number + bad // 4 + 1}: {tokens[bad][:40]!r} is not a number "
+                                "(a CSV of numbers sample,i,j,f)") from None
+        number += len(lines)
+    if not number:
+        raise ArgumentError(f"{path}: no bonds (give one line sample,i,j,f per bond)")
+    return np.concatenate(pieces)[:, order]
+
+
+def _is_number(token: str) -> bool:
+    try:
+        float(token)
+    except ValueError:
+        return False
+    return True
+
+
 def _table(source: Any) -> np.ndarray:
     """Columns ``sample, i, j, f`` of a CSV path, an array or a DataFrame, as float64 ``(n, 4)``."""
     if isinstance(source, str | os.PathLike):
         path = os.fspath(source)
-        try:
-            with open(path, encoding="utf-8") as handle:
-                text = handle.read()
-        except OSError as exc:
-            raise ArgumentError(f"{path}: cannot read it ({exc.strerror})") from exc
-        first, _, rest = text.partition("\n")
-        body = rest if first.replace(" ", "").lower().startswith("sample,") else text
-        try:
-            values = np.array(body.replace(",", " ").split(), dtype=np.float64)
-        except ValueError as exc:
-            raise ArgumentError(f"{path}: not a CSV of numbers with columns sample,i,j,f ({exc})") from exc
-        if values.size % 4:
-            raise ArgumentError(f"{path}: expected 4 columns sample,i,j,f on every line")
-        return values.reshape(-1, 4)
-    if hasattr(source, "columns") and hasattr(source, "to_numpy"):  # a DataFrame: by column names
-        try:
-            return np.asarray(source[["sample", "i", "j", "f"]].to_numpy(), dtype=np.float64)
-        except KeyError as exc:
-            raise ArgumentError("a DataFrame needs the columns sample, i, j, f") from exc
-    array = np.asarray(source, dtype=np.float64)
+        return _parse_csv(_read_text(path), path)
+    if isinstance(source, bytes):
+        raise ArgumentTypeError(f"sources: {source[:40]!r} is bytes; give a path as str, an array or a DataFrame")
+    try:
+        if hasattr(source, "columns") and hasattr(source, "to_numpy"):  # a DataFrame: by column names
+            return np.asarray(source[list(_COLUMNS)].to_numpy(), dtype=np.float64)
+        array = np.asarray(source, dtype=np.float64)
+    except KeyError as exc:
+        raise ArgumentError("a DataFrame needs the columns sample, i, j, f") from exc
+    except (ValueError, TypeError) as exc:
+        raise ArgumentTypeError(f"sources: a {type(source).__name__} that is not a table of numbers sample, i, j, f "
+                                f"({str(exc)[:80]})") from None
     if array.ndim != 2 or array.shape[1] != 4:
         raise ArgumentError(f"an array of force networks must have shape (bonds, 4): sample, i, j, f; got {array.shape}")
     return array
@@ -291,10 +378,23 @@ def read_networks(source: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.n
     ([0, 1, 3], [2, 3], [0, 0, 1], [1, 1, 2])
     """
     table = _table(source)
-    if table.shape[0] == 0 or not np.all(np.isfinite(table)):
-        raise ArgumentError("force networks: no bonds, or a value that is not a finite number")
-    if np.any(table[:, :3] != np.round(table[:, :3])):
-        raise ArgumentError("force networks: sample, i and j must be integers")
+    name = os.fspath(source) if isinstance(source, str | os.PathLike) else "force networks"
+    if table.shape[0] == 0:
+        raise ArgumentError(f"{name}: no bonds (give one row sample, i, j, f per bond)")
+    finite = np.isfinite(table)
+    if not finite.all():
+        row, column = np.argwhere(~finite)[0]
+        raise ArgumentError(f"{name}: bond {row + 1} has {_COLUMNS[column]}={table[row, column]}: every value must be a "
+                            "finite number")
+    ids = table[:, :3]
+    if np.any(ids != np.round(ids)) or np.any(np.abs(ids) >= MAX_ID):
+        row = int(np.argwhere((ids != np.round(ids)) | (np.abs(ids) >= MAX_ID))[0][0])
+        raise ArgumentError(f"{name}: bond {row + 1} has sample, i, j = {ids[row].tolist()}: they must be integers "
+                            f"of magnitude below 2**53")
+    loops = np.flatnonzero(table[:, 1] == table[:, 2])
+    if loops.size:
+        raise ArgumentError(f"{name}: bond {loops[0] + 1} joins grain {table[loops[0], 1]:.0f} to itself "
+                            f"(sample {table[loops[0], 0]:.0f}): a contact joins two grains")
     table = table[np.argsort(table[:, 0], kind="stable")]
     labels, starts = np.unique(table[:, 0], return_index=True)
     starts = np.append(starts, table.shape[0])
@@ -361,6 +461,14 @@ def clusters(sources: Sequence[Any], *, thresholds: int = 600, replicas: int = 1
     thresholds = check_int(thresholds, "thresholds", 20, 20000)
     replicas = check_int(replicas, "replicas", 0, 10000)
     seed = check_int(seed, "seed", 0)
+    for source in sources:  # every file checked before any is read: a FIFO, a device or a folder named at once
+        problem = _file_problem(os.fspath(source)) if isinstance(source, str | os.PathLike) else None
+        if problem is not None:
+            raise ArgumentError(f"{os.fspath(source)}: {problem}")
+    if labels is not None:
+        if isinstance(labels, str | bytes) or not isinstance(labels, Sequence) or len(labels) != len(sources):
+            raise ArgumentError(f"labels: give one number per source ({len(sources)}), e.g. the linear sizes L")
+        labels = [check_real(label, "labels") for label in labels]
     started = time.perf_counter()
     rng = np.random.default_rng(seed)
     pooled = []

@@ -35,7 +35,7 @@ from concurrent.futures import Executor
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, overload
 
-from forcenet.core.checkpoints import resumed_plan, run_distrusting
+from forcenet.core.checkpoints import run_distrusting
 from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan, duration_text
 from forcenet.costed_plans import CostedPlan, Progress, available_memory_or_default, checkpoint_directory
@@ -288,9 +288,8 @@ def plan(N: int, moments: int = 1, method: str = "auto", *, executor: Executor |
     request = replace(request, directory=directory)
     over_primes = executor is not None or directory is not None  # the routes over independent primes use them
     choice = plan_request(request, [m for m in METHODS[:-1] if takes(m, "checkpoint")] if over_primes else None)
+    # one request per layer (a directory): the route's plan counts each layer's own held records
     cost, why, store = choice.plan, choice.why, request.stores.get(choice.method)
-    if isinstance(store, str):  # one request per layer: the records every layer already holds count
-        cost = resumed_plan(cost, store, request.N, ("pfaffian-layer-grains", "pfaffian-floor-grains"))
     if why:
         cost = replace(cost, what=f"{cost.what}; {why}")
     elif not cost.runnable and request.method != "auto":  # an explicit method out of reach: name what runs it

@@ -39,12 +39,57 @@ if TYPE_CHECKING:  # pragma: no cover - annotations only
 
     from forcenet.sampled_comparison import SampledComparison
 
-__all__ = ["GRID_MAX", "GRID_SECONDS", "MOMENT_MAX", "Law"]
+__all__ = ["GRID_MAX", "GRID_SECONDS", "MOMENT_MAX", "Law", "check_grid"]
 
 GRID_MAX = 100000  # points of a grid (``grid=``, ``K``, ``points``; ``forcenet dist --grid``): ~40 s at N = 12
 GRID_SECONDS = 60.0  # a grid planned longer than this is refused, naming the K that fits
 GRID_POINT_SECONDS = 1e-7  # measured: a point of a degree-d law takes ~(6-10)e-8 d^2 s (N = 8..24, both curves)
 MOMENT_MAX = 10000  # ``moment(s)``: exact integrals of x^s grow with s (s = 10**5 takes ~2 s at N = 20)
+
+
+def check_grid(K: Any, degree: int, name: str = "grid") -> int:
+    """``K`` checked as a grid of ``K + 1`` points of a law of polynomial ``degree``: an integer in ``1..GRID_MAX``
+    whose planned cost is at most :data:`GRID_SECONDS`, else refused naming the ``K`` that fits.
+
+    Each point is an exact evaluation of degree ``d`` at a float's exact value, ~``d^2`` big-integer work
+    (:data:`GRID_POINT_SECONDS`).  The command line checks ``--grid`` with the request's bound on the degree
+    (``LawRequest.degree``) before the law is computed; :meth:`Law.grid` with the law's own degree.
+
+    Parameters
+    ----------
+    K : int
+        The grid's intervals.
+    degree : int
+        The degree of the law's pieces (or a bound on it).
+    name : str
+        The argument's name in the refusal.
+
+    Returns
+    -------
+    int
+        ``K``.
+
+    Raises
+    ------
+    ArgumentError, ArgumentTypeError
+        ``K`` not an integer in range, or its grid planned over :data:`GRID_SECONDS`.
+
+    Examples
+    --------
+    >>> check_grid(100, 15)
+    100
+    >>> check_grid(10**5, 1000)
+    Traceback (most recent call last):
+    ...
+    forcenet.core.errors.ArgumentError: grid=100000 is out of range here: 100001 exact evaluations of degree 1000 take ~10000 s; grid must be an integer in 1..599 for this law
+    """
+    K = check_int(K, name, 1, GRID_MAX)  # as forcenet dist --grid: 1..GRID_MAX
+    per_point = GRID_POINT_SECONDS * max(degree, 1) ** 2
+    if (K + 1) * per_point > GRID_SECONDS:
+        fits = max(1, int(GRID_SECONDS / per_point) - 1)
+        raise ArgumentError(f"{name}={K} is out of range here: {K + 1} exact evaluations of degree {degree} take "
+                            f"~{(K + 1) * per_point:.0f} s; {name} must be an integer in 1..{fits} for this law")
+    return K
 
 
 def _point(x: Any, name: str = "x") -> tuple[Fraction, bool]:
@@ -247,15 +292,8 @@ class Law(_Rendered):
     def _grid(self, K: Any, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """:meth:`grid` with ``K`` checked as the argument ``name`` (``K``, ``grid``, ``points``), capped."""
 
-        K = check_int(K, name, 1, GRID_MAX)  # as forcenet dist --grid: 1..GRID_MAX
-        # planned: each point is an exact evaluation of degree d at a float's exact value, ~d^2 big-integer work
         degree = max(max(p.poly.degree() for p in pieces) for pieces in (self.density, self.cdf))
-        per_point = GRID_POINT_SECONDS * max(degree, 1) ** 2
-        if (K + 1) * per_point > GRID_SECONDS:
-            fits = max(1, int(GRID_SECONDS / per_point) - 1)
-            raise ArgumentError(f"{name}={K} is out of range here: {K + 1} exact evaluations of degree {degree} take "
-                                f"~{(K + 1) * per_point:.0f} s; {name} must be an integer in 1..{fits} for this law")
-        return density_grid(self.density, self.cdf, K)
+        return density_grid(self.density, self.cdf, check_grid(K, degree, name))
 
     def to_dict(self, grid: int | None = None) -> dict[str, Any]:
         """What ``forcenet dist --format json`` writes, exact values as ``"p/q"`` strings (``grid``: ``--grid``).

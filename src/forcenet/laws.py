@@ -41,7 +41,7 @@ from forcenet.core.plan import Plan
 from forcenet.core.validation import available_memory
 from forcenet.costed_plans import CostedPlan
 from forcenet.exact.routes import LAW_PRIME_ROUTES, LawRequest, law_checkpoint, law_request, law_resumed
-from forcenet.law_results import Law
+from forcenet.law_results import Law, check_grid
 from forcenet.registry import REGISTRY
 from forcenet.sampled_comparison import SampledComparisonPlan, comparison_plan
 
@@ -110,6 +110,40 @@ class LawPlan(CostedPlan):
         (True, False)
         """
         return self.method in LAW_PRIME_ROUTES
+
+    def check_grid(self, K: Any, name: str = "grid") -> int:
+        """``K`` checked as the law's grid (:meth:`Law.grid`) before the law is computed: an integer in
+        ``1..GRID_MAX`` whose ``K + 1`` exact evaluations, of the degree the request bounds (``d``, Eq. (4.3)),
+        are planned within ``GRID_SECONDS``; else refused naming the ``K`` that fits.
+
+        Parameters
+        ----------
+        K : int
+            The grid's intervals (``forcenet dist --grid``), ``K + 1`` points.
+        name : str
+            How the refusal names ``K`` (``grid`` at the command line).
+
+        Returns
+        -------
+        int
+            The checked ``K``, unchanged.
+
+        Raises
+        ------
+        ArgumentError
+            A grid planned over ``GRID_SECONDS`` (naming the largest ``K`` within it), or ``K`` outside ``1..GRID_MAX``.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.law_plan(6, layer=6).check_grid(50)
+        50
+        >>> forcenet.law_plan(120, layer=120).check_grid(100)  # doctest: +ELLIPSIS
+        Traceback (most recent call last):
+        ...
+        forcenet.core.errors.ArgumentError: grid=100 is out of range here: 101 exact evaluations of degree 7140 ...
+        """
+        return check_grid(K, self.request.degree, name)
 
     def with_options(self, *, executor: Executor | None = None,
                      checkpoint: str | os.PathLike[str] | None = None) -> LawPlan:

@@ -238,7 +238,9 @@ def _laws(N: int, grains: bool, workers: int | None, progress: Callable[..., Any
           executor: Executor | None, checkpoint: str | PathLike | CheckpointStore | None) -> list[GapCounts]:
     total = count(N)
     primes = floor_primes(N)
-    store = checkpoint_store(checkpoint, "floor-grains" if grains else "floor", N)
+    # a record: one gap law (gaps 0..d + 1) per grain of the floor, or the pooled one
+    store = checkpoint_store(checkpoint, "floor-grains" if grains else "floor", N,
+                             shape=(N if grains else 1, dimension(N) + 2))
     nworkers = workers_for(workers, len(primes), floor_prime_seconds(N, grains) * len(primes), executor)
     residues = run_primes(floor_prime_residues, [(N, p, grains) for p in primes], executor, nworkers, progress, store)
     return exact_gap_laws(residues, primes, N, total * (N if not grains else 1), "the floor")
@@ -373,8 +375,9 @@ def floor_plan(N: int, grains: bool = False, memory_bytes: int | None = None, wo
 
 
 def floor_cost(N: int, grains: bool = False, memory_bytes: int | None = None, workers: int | None = None, *,
-               executor: Executor | None = None) -> Plan:
-    """:func:`floor_plan` of a checked request's ``N``: what the engines plan with, nothing checked again.
+               executor: Executor | None = None, store: CheckpointStore | None = None) -> Plan:
+    """:func:`floor_plan` of a checked request's ``N``: what the engines plan with, nothing checked again;
+    with the floor's ``store``, only the primes it does not hold yet.
 
     Examples
     --------
@@ -387,7 +390,9 @@ def floor_cost(N: int, grains: bool = False, memory_bytes: int | None = None, wo
     per_worker = grid_worker_bytes(N)
     kernels = [grid_pairs if grains else grid, bordered_pfaffians, monomials, gap_residues, pfaffian_mod]
     name = "floor-grains" if grains else "floor"
-    return primes_plan(what, floor_prime_seconds(N, grains), len(floor_primes(N)), per_worker, workers=workers,
-                       executor=executor, memory_bytes=memory_bytes,
+    primes = floor_primes(N)
+    reused = sum(store.holds(p) for p in primes) if store is not None else 0  # a resumed run: only the rest
+    return primes_plan(what, floor_prime_seconds(N, grains), len(primes), per_worker, workers=workers,
+                       executor=executor, store=store, reused=reused, memory_bytes=memory_bytes,
                        compile=lambda plan, in_workers: with_compilation(plan, f"Pfaffian {name}", COMPILE_SECONDS[name],
                                                                           kernels, in_workers=in_workers))

@@ -180,7 +180,9 @@ def _laws(N: int, i: int, grains: bool, workers: int | None, progress: Callable[
           executor: Executor | None, checkpoint: str | PathLike | CheckpointStore | None) -> list[GapCounts]:
     total = count(N)
     primes = floor_primes(N)
-    store = checkpoint_store(checkpoint, "layer-grains" if grains else "layer", N, layer=i)
+    # a record: one gap law (gaps 0..d + 1) per grain of layer i, or the pooled one
+    store = checkpoint_store(checkpoint, "layer-grains" if grains else "layer", N, layer=i,
+                             shape=(i if grains else 1, dimension(N) + 2))
     nworkers = workers_for(workers, len(primes), layer_prime_seconds(N, i, grains) * len(primes), executor)
     residues = run_primes(_prime_task, [(N, p, i, grains) for p in primes], executor, nworkers, progress, store)
     return exact_gap_laws(residues, primes, N, total * (i if not grains else 1), f"layer {i}")
@@ -281,9 +283,11 @@ def layer_plan(N: int, i: int, grains: bool = False, memory_bytes: int | None = 
 
 
 def layer_cost(N: int, i: int, grains: bool = False, memory_bytes: int | None = None,
-               workers: int | None = None, *, executor: Executor | None = None) -> Plan:
+               workers: int | None = None, *, executor: Executor | None = None,
+               store: CheckpointStore | None = None) -> Plan:
     """:func:`layer_plan` of a checked request's numbers (``2 <= i < N <= 128``): what the engines plan with, every
-    layer of a table or of the ensemble, nothing checked again.
+    layer of a table or of the ensemble, nothing checked again; with the layer's ``store``, only the primes it does
+    not hold yet.
 
     Examples
     --------
@@ -293,7 +297,9 @@ def layer_cost(N: int, i: int, grains: bool = False, memory_bytes: int | None = 
     what = f"layer {i}'s {'gap laws' if grains else 'pooled gap law'} N={N} (de Bruijn Pfaffians)"
     per_worker = grid_worker_bytes(N)
     kernels = [layer_grid, layer_fill, pfaffian_lazy, monomials, gap_residues, pfaffian_mod]
-    return primes_plan(what, layer_prime_seconds(N, i, grains), len(floor_primes(N)), per_worker, workers=workers,
-                       executor=executor, memory_bytes=memory_bytes,
+    primes = floor_primes(N)
+    reused = sum(store.holds(p) for p in primes) if store is not None else 0  # a resumed run: only the rest
+    return primes_plan(what, layer_prime_seconds(N, i, grains), len(primes), per_worker, workers=workers,
+                       executor=executor, store=store, reused=reused, memory_bytes=memory_bytes,
                        compile=lambda plan, in_workers: with_compilation(plan, "Pfaffian layers", COMPILE_SECONDS["floor"],
                                                                           kernels, in_workers=in_workers))

@@ -108,7 +108,7 @@ def count(N: int, *, checkpoint: Checkpoint = None) -> int:
     N = check_layers(N, maximum=MAX_N)
     primes = route_primes(N, factorial(dimension(N)))
     residues = run_primes(count_residue, [(N, p) for p in primes], None, 1, None,
-                          checkpoint_store(checkpoint, "count", N, shape=()))
+                          checkpoint_store(checkpoint, "count", N))
     return crt_many([residues], primes)[0]
 
 
@@ -212,8 +212,7 @@ def survival_tables(N: int, workers: int | None, progress: Progress | None, exec
     tasks = [(N, p, total % p, True) if second else (N, p, total % p) for p in primes]
     nworkers = workers_for(workers, len(tasks), prime_seconds(N) * len(primes), executor)
     residues = run_primes(prime_residues, tasks, executor, nworkers, progress,
-                          checkpoint_store(checkpoint, "table2" if second else "table", N,
-                                           shape=(levels, n + 1, n + 1) if second else (n + 1, n + 1)))
+                          checkpoint_store(checkpoint, "table2" if second else "table", N))
     residues = [r.reshape((levels, n + 1, n + 1)) for r in residues]
     cells = [(h, m, k) for h in range(levels) for m in range(1, n + 1) for k in range(n + 1)]
     entries = dict(zip(cells, crt_many([[r[cell] for r in residues] for cell in cells], primes)))

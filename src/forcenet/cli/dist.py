@@ -57,8 +57,11 @@ def _request(args: argparse.Namespace) -> LawPlan:
     """The front door's plan of the request (:func:`forcenet.law_plan`): validated, its route chosen, once."""
     if args.contact is not None and args.grain is None:
         raise UsageError("--contact needs --grain i,j (the grain whose contact force is wanted)")
-    return forcenet.law_plan(args.N, args.grain, layer=args.layer, contact=args.contact,
-                             memory_bytes=available_memory())
+    request = forcenet.law_plan(args.N, args.grain, layer=args.layer, contact=args.contact,
+                                memory_bytes=available_memory())
+    if args.grid is not None:  # the grid's degree-based refusal with the request's, before any law is computed
+        request.check_grid(args.grid)
+    return request
 
 
 def cmd_dist(args: argparse.Namespace) -> int:

@@ -53,8 +53,8 @@ def _check_plot(args: argparse.Namespace) -> None:
 
 def cmd_clusters(args: argparse.Namespace) -> int:
     _check_plot(args)
-    for path in args.files:
-        if not os.path.isfile(path):
+    for path in args.files:  # a folder, a FIFO or a device: the front door's check names what it is
+        if not os.path.lexists(path):
             raise UsageError(f"{path}: no such file (give one CSV file sample,i,j,f per system size)")
     result = forcenet.clusters(args.files, thresholds=args.thresholds, replicas=args.replicas, seed=args.seed)
     _render(result, args)

@@ -28,6 +28,8 @@ The front door (one flat namespace, loaded on first use so ``import forcenet`` s
 * :func:`network` / :func:`network_plan` — any contact network's force network ensemble (Sec. 2.3): every
   contact force's exact moments (Normaliz) or sampled ones (hit-and-run), :func:`network_response`
   (:func:`contact_network` builds one; :mod:`forcenet.contact_networks`);
+* :func:`yield_stress`, :func:`shear_scaling` / :func:`shear_scaling_plan` — force networks under shear
+  (Ch. 8): the yield stress exactly, the anisotropic scaling of Eqs. (8.2)-(8.9) (:mod:`forcenet.shear`);
 * :mod:`forcenet.testing` — test your own sampler or formula against the exact ensemble;
 * the exception family (:mod:`forcenet.core.errors`): :class:`ForcenetError`, the base of every
   expected failure, :class:`ArgumentError` (also a ``ValueError``), :class:`ArgumentTypeError`
@@ -105,6 +107,14 @@ if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ lo
     from forcenet.sampled_comparison import SampledComparison, SampledComparisonPlan
     from forcenet.sampling import SamplePlan, sample, sample_plan
     from forcenet.scaling_limit import LimitShape, limit_shape
+    from forcenet.shear import (
+        ShearPlan,
+        ShearScaling,
+        YieldStressResult,
+        shear_scaling,
+        shear_scaling_plan,
+        yield_stress,
+    )
     from forcenet.tableaux_count import CountPlan, TableauxCount, count_plan
 
 # name -> the module that defines it, imported on first use (forcenet.exact costs about a second to import)
@@ -173,6 +183,12 @@ _FRONT_DOOR = {
     "NetworkResult": "forcenet.contact_network_results",
     "ContactNetwork": "forcenet.contact_networks",
     "contact_network": "forcenet.contact_networks",
+    "yield_stress": "forcenet.shear",
+    "shear_scaling": "forcenet.shear",
+    "shear_scaling_plan": "forcenet.shear",
+    "ShearScaling": "forcenet.shear",
+    "ShearPlan": "forcenet.shear",
+    "YieldStressResult": "forcenet.shear",
 }
 
 _SUBPACKAGES = frozenset({"exact", "numeric", "testing"})
@@ -191,6 +207,7 @@ __all__ = [  # the keys of _FRONT_DOOR (tests/test_front_door.py), written out f
     "clusters", "scaling", "scaling_plan", "ScalingPlan", "ForceChainScaling",
     "__version__",
     "network", "network_plan", "network_response", "NetworkPlan", "NetworkResult", "ContactNetwork", "contact_network",
+    "yield_stress", "shear_scaling", "shear_scaling_plan", "ShearScaling", "ShearPlan", "YieldStressResult",
 ]
 
 try:

@@ -93,8 +93,9 @@ def rectangle(L: int, LM: float, Lm: float, origin: tuple[float, float]) -> tupl
         raise ArgumentError(f"a {LM} x {Lm} rectangle does not fit in the {L} x {L} torus: its diagonal "
                             f"{math.hypot(LM, Lm):.2f} must be shorter than L = {L}")
     reach = int(math.ceil(2 * (LM + Lm))) + 2
-    j = np.arange(-reach, reach + 1)
-    I, J = np.meshgrid(j, j, indexing="ij")
+    j0 = int(round(origin[1] / (_ROOT3 / 2)))  # the grid of unwrapped grains (i, j) around the corner
+    i0 = int(round(origin[0] - j0 / 2))
+    I, J = np.meshgrid(i0 + np.arange(-reach, reach + 1), j0 + np.arange(-reach, reach + 1), indexing="ij")
     x = I + J / 2.0 - origin[0]
     y = J * _ROOT3 / 2 - origin[1]
     u, v = (x + y) / math.sqrt(2), (y - x) / math.sqrt(2)

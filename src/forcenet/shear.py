@@ -83,6 +83,11 @@ class YieldStressResult:
         The floating linear program's (HiGHS) value.
     witness_zeros : int or None
         Contacts carrying no force in the exact witness network at ``tau_max``.
+
+    Examples
+    --------
+    >>> yield_stress("hexagonal", 5, exact=False).value > 0.577
+    True
     """
 
     geometry: str
@@ -243,6 +248,11 @@ class ShearScaling:
         The exponent of Eq. (8.9) (``2 gamma_2``), shared by every ``tau``.
     details : dict
         What was run, the peak heights per shape and ``tau``, the fit's residual, the time.
+
+    Examples
+    --------
+    >>> example().details["L"]
+    16
     """
 
     taus: tuple[float, ...]
@@ -332,7 +342,20 @@ def _forces(request: ShearRequest, tau: float, seed: int) -> np.ndarray:
 
 @dataclass(frozen=True)
 class ShearPlan:
-    """A planned :func:`shear_scaling` run: its ``cost`` (a :class:`~forcenet.core.plan.Plan`) and :meth:`run`."""
+    """A planned :func:`shear_scaling` run: its ``cost`` (a :class:`~forcenet.core.plan.Plan`) and :meth:`run`.
+
+    Parameters
+    ----------
+    request : ShearRequest
+        The validated request.
+    cost : Plan
+        Its estimated time and memory (the command line announces it, refuses it over a minute without ``--force``).
+
+    Examples
+    --------
+    >>> shear_scaling_plan((0.0, 0.2), L=40).cost.ticks
+    2
+    """
 
     request: ShearRequest
     cost: Plan

@@ -240,8 +240,11 @@ def test_cli_subprocess_exit_code() -> None:
 
 @pytest.mark.slow
 def test_isotropy_at_zero_shear_and_the_percolation_control() -> None:
-    """tau = 0: r = 1 within errors (the mirror x -> -x swaps the axes); independent forces: nu near 4/3."""
-    result = forcenet.shear_scaling((0.0,), L=40, samples=120, replicas=20)
-    assert abs(result.r[0] - 1) < 4 * result.r_error[0] + 0.05
-    control = forcenet.shear_scaling((0.0, 0.3), L=40, samples=120, replicas=20, model="independent")
-    assert abs(control.r[0] - 1) < 4 * control.r_error[0] + 0.05
+    """tau = 0: r = 1 within errors (the mirror x -> -x swaps the axes); independent forces (anisotropic bond
+    percolation): r = 1 at tau = 0 and theta near 43/24 (notes/shear.md: biased upwards by ~0.15 at these sizes)."""
+    result = forcenet.shear_scaling((0.0, 0.2), samples=120, replicas=10, strips=())
+    assert abs(result.r[0] - 1) < 4 * result.r_error[0] + 0.03
+    assert result.r[1] < 0.6  # shear makes the clusters anisotropic: xi_m^(0) < xi_M^(0)
+    control = forcenet.shear_scaling((0.0,), samples=120, replicas=10, strips=(), model="independent")
+    assert abs(control.r[0] - 1) < 4 * control.r_error[0] + 0.03
+    assert abs(control.theta - 43 / 24) < 0.25

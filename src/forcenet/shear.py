@@ -59,6 +59,7 @@ MAX_EXACT_SIZE = 6  # the exact simplex's time grows like L^7: about 2 minutes a
 SECONDS_PER_BOND = 2.5e-7  # one bond of one rectangle in the clusters' pass (sort and union-find), measured
 SECONDS_PER_FIT = 0.05  # one fit of Eq. (8.9) (a bootstrap replica)
 SECONDS_PER_COLLAPSE = 0.4  # one collapse (6.12) of a strip family, per bootstrap replica
+SIDES = (8, 12, 16, 24, 32)  # the default rectangles' sides (the pairs that fit); below 8 corrections bias theta (notes)
 
 
 def _json(value: Any) -> str:
@@ -521,8 +522,8 @@ def shear_scaling_plan(taus: Sequence[float] = (0.0, 0.1, 0.2, 0.3), *, L: int =
     strips_t = tuple(check_real(s, "strips", 1.0) for s in strips)
     if 0 < len(strips_t) < 3:
         raise ArgumentError(f"strips={list(strips)!r}: the collapse needs at least 3 strip widths (none: no nu_M, nu_m)")
-    if shapes is None:
-        shapes = [(a, b) for a in (L / 5, 2 * L / 5) for b in (3, 4, 6, 8, 12, 16, 24) if math.hypot(a, b) < L]
+    if shapes is None:  # a symmetric grid: at tau = 0 the data are symmetric and r = 1 tests the mirror symmetry
+        shapes = [(a, b) for a in SIDES for b in SIDES if math.hypot(a, b) < L]
     shapes_t = tuple((check_real(a, "shapes", 1.0), check_real(b, "shapes", 1.0)) for a, b in shapes)
     for a, b in list(shapes_t) + _family(strips_t, aspect)[0]:
         if math.hypot(a, b) >= L:
@@ -565,7 +566,8 @@ def shear_scaling(taus: Sequence[float] = (0.0, 0.1, 0.2, 0.3), **options: Any) 
         Shear stresses, ``|tau| < 1/sqrt(3)`` (the yield stress).
     **options
         ``L`` (torus period, default 40), ``shapes`` (the ``(L_M, L_m)`` rectangles of (8.9); default
-        ``L/5, 2L/5`` by ``3 .. 24``), ``strips`` (short sides, default ``4, 6, 8, 10``; none: no ``nu_M``, ``nu_m``), ``aspect`` (default 3),
+        every pair of sides ``8 .. 32`` that fits), ``strips`` (short sides, default ``4, 6, 8, 10``; none: no
+        ``nu_M``, ``nu_m``), ``aspect`` (default 3),
         ``samples`` (per ``tau``, default 200), ``thin`` (sweeps between samples, default 20), ``blocks`` (the
         bootstrap's, default 20), ``placements`` (rectangles per sample, default 4), ``replicas`` (default 30),
         ``seed``, ``model`` (``"ensemble"`` or ``"independent"``), ``thresholds`` (``(low, high, count)``),

@@ -445,7 +445,8 @@ def _analyse(q: ShearRequest, thresholds: np.ndarray, shapes: list[tuple[float, 
              for k in range(len(q.taus))]
     theta_err = float(np.std([b.theta for b in boot], ddof=1)) if len(boot) > 1 else math.nan
     exps: dict[str, list[float]] = {k: [] for k in ("nu_M", "nu_M_error", "nu_m", "nu_m_error", "g_M", "g_m")}
-    notes = []
+    notes: list[str] = []
+    shifts: dict[str, list[float]] = {}
     for k, (sums, bonds) in enumerate(per_tau):
         for name, lo, g in (("nu_M", n, "g_M"), ("nu_m", n + m, "g_m")):
             if not m:  # no strips asked for: no exponents
@@ -458,10 +459,12 @@ def _analyse(q: ShearRequest, thresholds: np.ndarray, shapes: list[tuple[float, 
                 exps[name].append(fit.value["nu"])
                 exps[name + "_error"].append(fit.error["nu"])
                 exps[g].append(fit.value["gamma_2"])
+                shifts.setdefault(name, []).append(fit.estimators.get("nu", math.nan))  # the peak shift's nu
                 if fit.pinned:
                     notes.append(f"tau={q.taus[k]}: the {name} collapse is pinned at its window's limit")
             except (ConvergenceError, ArgumentError) as exc:
                 notes.append(f"tau={q.taus[k]}: no {name} collapse ({exc})")
+                shifts.setdefault(name, []).append(math.nan)
                 for key in (name, name + "_error", g):
                     exps[key].append(math.nan)
     heights = [peak_heights(sums[:n], bonds[:n], thresholds).tolist() for sums, bonds in per_tau]
@@ -469,7 +472,7 @@ def _analyse(q: ShearRequest, thresholds: np.ndarray, shapes: list[tuple[float, 
                "placements": q.placements, "blocks": q.blocks, "replicas": len(boot), "shapes": [list(s) for s in q.shapes],
                "s2_max": heights, "strips": list(q.strips), "aspect": q.aspect, "k": central.k,
                "b_M": list(central.bM), "b_m": list(central.bm), "fit_residual": central.residual,
-               "notes": notes, "seconds": seconds}
+               "nu_peak_shift": shifts, "notes": notes, "seconds": seconds}
     return ShearScaling(tuple(q.taus), exps["nu_M"], exps["nu_M_error"], exps["nu_m"], exps["nu_m_error"],
                         exps["g_M"], exps["g_m"], list(central.r), r_err, central.theta, theta_err, details)
 

@@ -56,7 +56,7 @@ __all__ = ["yield_stress", "YieldStressResult", "shear_scaling", "shear_scaling_
 
 GEOMETRIES = ("hexagonal",)
 MAX_EXACT_SIZE = 6  # the exact simplex's time grows like L^7: about 2 minutes at L = 6 on the 2-core machine
-SECONDS_PER_BOND = 2.5e-7  # one bond of one rectangle in the clusters' pass (sort and union-find), measured
+SECONDS_PER_BOND = 6e-7  # one bond of one rectangle in the clusters' pass (sort, union-find), measured under load
 SECONDS_PER_FIT = 0.05  # one fit of Eq. (8.9) (a bootstrap replica)
 SECONDS_PER_COLLAPSE = 0.4  # one collapse (6.12) of a strip family, per bootstrap replica
 SIDES = (8, 12, 16, 24, 32)  # the default rectangles' sides (the pairs that fit); below 8 corrections bias theta (notes)

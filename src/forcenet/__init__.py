@@ -107,14 +107,8 @@ if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ lo
     from forcenet.sampled_comparison import SampledComparison, SampledComparisonPlan
     from forcenet.sampling import SamplePlan, sample, sample_plan
     from forcenet.scaling_limit import LimitShape, limit_shape
-    from forcenet.shear import (
-        ShearPlan,
-        ShearScaling,
-        YieldStressResult,
-        shear_scaling,
-        shear_scaling_plan,
-        yield_stress,
-    )
+    from forcenet.shear import ShearPlan, shear_scaling, shear_scaling_plan, yield_stress
+    from forcenet.shear_results import ShearScaling, YieldStressResult
     from forcenet.tableaux_count import CountPlan, TableauxCount, count_plan
 
 # name -> the module that defines it, imported on first use (forcenet.exact costs about a second to import)
@@ -186,9 +180,9 @@ _FRONT_DOOR = {
     "yield_stress": "forcenet.shear",
     "shear_scaling": "forcenet.shear",
     "shear_scaling_plan": "forcenet.shear",
-    "ShearScaling": "forcenet.shear",
+    "ShearScaling": "forcenet.shear_results",
     "ShearPlan": "forcenet.shear",
-    "YieldStressResult": "forcenet.shear",
+    "YieldStressResult": "forcenet.shear_results",
 }
 
 _SUBPACKAGES = frozenset({"exact", "numeric", "testing"})

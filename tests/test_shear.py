@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 import subprocess
 import sys
@@ -212,11 +213,11 @@ def test_s2_curves_sum_over_placements() -> None:
 
 
 def test_front_door_small_run_and_json() -> None:
-    result = forcenet.shear_scaling((0.0, 0.2), L=12, shapes=((4, 3), (4, 6), (8, 3), (8, 6)), strips=(2, 3, 3.5),
-                                    samples=8, thin=2, replicas=0, blocks=4)
+    result = forcenet.shear_scaling((0.0, 0.2), L=12, shapes=((4, 3), (4, 6), (8, 3), (8, 6)), strips=(),
+                                    samples=8, thin=2, replicas=2, blocks=4, thresholds=(0.2, 4.5, 60))
     data = result.to_dict()
     assert data["taus"] == [0.0, 0.2] and len(data["r"]) == 2 and data["details"]["model"] == "ensemble"
-    assert "nu_M" in result.to_text()
+    assert "nu_M" in result.to_text() and all(math.isnan(v) for v in result.nu_M)  # no strips: no nu
     ys = forcenet.yield_stress("hexagonal", 3)
     assert ys.to_dict()["tau_max"] == "sqrt(3)/3" and ys.witness_zeros is not None and ys.witness_zeros > 0
 
@@ -230,12 +231,24 @@ def test_cli(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["yield-stress", "--geometry", "snooker"]) == 2
     assert main(["yield-stress", "--size", "7"]) == 2
     assert "size" in capsys.readouterr().err
+    argv = ["shear", "--L", "20", "--tau", "0", "0.2", "--samples", "8", "--thin", "2", "--replicas", "0", "--quiet"]
+    assert main([*argv, "--format", "json"]) == 0
+    assert json.loads(capsys.readouterr().out)["taus"] == [0.0, 0.2]
+    assert main(["shear", "--L", "12"]) == 2
+    assert "needs at least 4" in capsys.readouterr().err
 
 
 def test_cli_subprocess_exit_code() -> None:
     done = subprocess.run([sys.executable, "-m", "forcenet", "shear", "--tau", "0.6"], capture_output=True, text=True,
                           check=False)
     assert done.returncode == 2 and "beyond the yield stress" in done.stderr
+
+
+@pytest.mark.slow
+def test_strips_give_both_exponents() -> None:
+    result = forcenet.shear_scaling((0.0,), L=12, shapes=((4, 3), (4, 6), (8, 3), (8, 6)), strips=(2, 3, 3.5),
+                                    samples=8, thin=2, replicas=0, blocks=4, thresholds=(0.2, 4.5, 60))
+    assert len(result.nu_M) == len(result.nu_m) == 1 and "nu_peak_shift" in result.details
 
 
 @pytest.mark.slow

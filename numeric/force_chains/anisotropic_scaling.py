@@ -305,14 +305,14 @@ def fit_anisotropy(shapes: Sequence[tuple[float, float]], heights: Sequence[np.n
         return np.concatenate([np.log(crossover(LM, Lm, c, theta, k, bM[t], bm[t])) - logs[t] for t in range(n)])
 
     best = None
-    for k0 in (0.5, 1.0, 2.0, 4.0):
+    for k0 in (1.0, 3.0):
         start = np.concatenate([[float(np.max(logs[0])) - 1.7 * math.log(float(LM.max())), 1.7, math.log(k0)],
                                 np.zeros(n - 1), np.zeros(n)])
         lower = np.full(start.size, -np.inf)
         upper = np.full(start.size, np.inf)
         lower[2], upper[2] = math.log(0.05), math.log(20.0)  # the crossover's sharpness k
         with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
-            result = optimize.least_squares(residuals, start, bounds=(lower, upper), max_nfev=4000)
+            result = optimize.least_squares(residuals, start, bounds=(lower, upper), max_nfev=400)
         if best is None or result.cost < best.cost:
             best = result
     if best is None or not np.isfinite(best.cost):

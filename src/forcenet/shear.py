@@ -59,6 +59,7 @@ MAX_EXACT_SIZE = 6  # the exact simplex's time grows like L^7: about 2 minutes a
 SECONDS_PER_BOND = 6e-7  # one bond of one rectangle in the clusters' pass (sort, union-find), measured under load
 SECONDS_PER_FIT = 0.05  # one fit of Eq. (8.9) (a bootstrap replica)
 SECONDS_PER_COLLAPSE = 0.4  # one collapse (6.12) of a strip family, per bootstrap replica
+STRIPS = (4, 6, 8, 10, 12, 16)  # the default strips' short sides (those that fit)
 SIDES = (8, 12, 16, 24, 32)  # the default rectangles' sides (the pairs that fit); below 8 corrections bias theta (notes)
 
 
@@ -189,7 +190,7 @@ class ShearPlan:
 
         Examples
         --------
-        >>> plan = shear_scaling_plan((0.0,), L=12, shapes=((4, 3), (4, 6), (8, 3)), strips=(),
+        >>> plan = shear_scaling_plan((0.0,), L=12, shapes=((4, 3), (4, 6), (8, 3), (8, 6)), strips=(),
         ...                           samples=8, thin=2, replicas=0, thresholds=(0.2, 4.5, 44))
         >>> plan.run().taus
         (0.0,)
@@ -293,7 +294,7 @@ def _analyse(q: ShearRequest, thresholds: np.ndarray, shapes: list[tuple[float, 
 
 def shear_scaling_plan(taus: Sequence[float] = (0.0, 0.1, 0.2, 0.3), *, L: int = 40,
                        shapes: Sequence[tuple[float, float]] | None = None,
-                       strips: Sequence[float] = (4, 6, 8, 10), aspect: float = 3.0, samples: int = 200,
+                       strips: Sequence[float] | None = None, aspect: float = 3.0, samples: int = 200,
                        thin: int = 20, blocks: int = 20, placements: int = 4, replicas: int = 30, seed: int = 0,
                        model: str = "ensemble", thresholds: tuple[float, float, int] = (0.3, 3.0, 136),
                        checkpoint: str | None = None) -> ShearPlan:
@@ -336,12 +337,18 @@ def shear_scaling_plan(taus: Sequence[float] = (0.0, 0.1, 0.2, 0.3), *, L: int =
         raise ArgumentError(f"model={model!r} is not a shear model: give 'ensemble' (wheel moves) or 'independent' "
                             "(independent exponential forces, the percolation control)")
     aspect = check_real(aspect, "aspect", 1.0)
+    if strips is None:  # the default widths whose strips fit in the torus; fewer than three: no nu
+        fitting = [w for w in STRIPS if math.hypot(w, aspect * w) < L]
+        strips = fitting if len(fitting) >= 3 else []
     strips_t = tuple(check_real(s, "strips", 1.0) for s in strips)
     if 0 < len(strips_t) < 3:
         raise ArgumentError(f"strips={list(strips)!r}: the collapse needs at least 3 strip widths (none: no nu_M, nu_m)")
     if shapes is None:  # a symmetric grid: at tau = 0 the data are symmetric and r = 1 tests the mirror symmetry
         shapes = [(a, b) for a in SIDES for b in SIDES if math.hypot(a, b) < L]
     shapes_t = tuple((check_real(a, "shapes", 1.0), check_real(b, "shapes", 1.0)) for a, b in shapes)
+    if len(shapes_t) < 4:
+        raise ArgumentError(f"L={L} leaves {len(shapes_t)} rectangles for the fit of Eq. (8.9), which needs at least 4: "
+                            "give L >= 20 or more shapes")
     for a, b in list(shapes_t) + _family(strips_t, aspect)[0]:
         if math.hypot(a, b) >= L:
             raise ArgumentError(f"a {a} x {b} rectangle does not fit in the L={L} torus (its diagonal must be "
@@ -383,8 +390,8 @@ def shear_scaling(taus: Sequence[float] = (0.0, 0.1, 0.2, 0.3), **options: Any) 
         Shear stresses, ``|tau| < 1/sqrt(3)`` (the yield stress).
     **options
         ``L`` (torus period, default 40), ``shapes`` (the ``(L_M, L_m)`` rectangles of (8.9); default
-        every pair of sides ``8 .. 32`` that fits), ``strips`` (short sides, default ``4, 6, 8, 10``; none: no
-        ``nu_M``, ``nu_m``), ``aspect`` (default 3),
+        every pair of sides ``8 .. 32`` that fits), ``strips`` (short sides, default those of ``4 .. 16`` that fit;
+        none, or fewer than 3 fitting: no ``nu_M``, ``nu_m``), ``aspect`` (default 3),
         ``samples`` (per ``tau``, default 200), ``thin`` (sweeps between samples, default 20), ``blocks`` (the
         bootstrap's, default 20), ``placements`` (rectangles per sample, default 4), ``replicas`` (default 30),
         ``seed``, ``model`` (``"ensemble"`` or ``"independent"``), ``thresholds`` (``(low, high, count)``),
@@ -396,7 +403,7 @@ def shear_scaling(taus: Sequence[float] = (0.0, 0.1, 0.2, 0.3), **options: Any) 
 
     Examples
     --------
-    >>> result = shear_scaling((0.0,), L=12, shapes=((4, 3), (4, 6), (8, 3)), strips=(), samples=8,
+    >>> result = shear_scaling((0.0,), L=12, shapes=((4, 3), (4, 6), (8, 3), (8, 6)), strips=(), samples=8,
     ...                        thin=2, replicas=0, thresholds=(0.2, 4.5, 44))
     >>> len(result.r), result.details["model"]
     (1, 'ensemble')

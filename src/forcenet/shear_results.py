@@ -29,7 +29,7 @@ def _json(value: Any) -> str:
 class YieldStressResult:
     """The yield stress of a packing (Sec. 8.2): exact and floating.
 
-    Attributes
+    Parameters
     ----------
     geometry : str
         ``"hexagonal"``: the ``size x size`` periodic hexagonal packing.
@@ -113,7 +113,7 @@ class YieldStressResult:
 class ShearScaling:
     """The anisotropic scaling of the clusters of large forces under shear (Sec. 8.3).
 
-    Attributes
+    Parameters
     ----------
     taus : tuple of float
         The shear stresses.

@@ -11,6 +11,8 @@
   polytope in the loads ``W`` (Eq. 4.3) and its means are ``forcenet.table``'s.
 * :func:`hexagonal_packing` -- the N x P packing of Secs. 3.2-3.3 (top
   pressure ``p_v``, overload ``F``, lateral pressure ``p_h``, grain weight ``g``).
+* :func:`hexagonal_torus` -- the periodic hexagonal packing of Sec. 8.2 (no
+  loads: the macroscopic stress is imposed by :mod:`.shear_stress`).
 
 Every grain index is ``grain_index[(i, j)]`` of the returned network's
 geometry (``Geometry.grain``).
@@ -33,7 +35,8 @@ from forcenet.core.validation import check_int
 
 from .model import ContactNetwork, contact_network, exact_number
 
-__all__ = ["Geometry", "triangle", "hexagonal_packing", "rectangular_packing", "snooker", "SQRT3"]
+__all__ = ["Geometry", "triangle", "hexagonal_packing", "rectangular_packing", "snooker", "SQRT3", "hexagonal_torus",
+           "TORUS_DIRECTIONS"]
 
 SQRT3 = sympy.sqrt(3)
 _DOWN_LEFT = (-sympy.Rational(1, 2), -SQRT3 / 2)  # the unit normal from (i, j) to (i+1, j), Fig. 3.1
@@ -225,3 +228,45 @@ def snooker(N: Any, pressure: Any = 1) -> Geometry:
     b = _triangle_of_disks(N, "rightwall", (SQRT3 / 2, sympy.Rational(1, 2)))
     b.loads += [[b.grain[(i, 1)], p * SQRT3 / 2, -p / 2] for i in range(1, N + 1)]
     return b.geometry()
+
+
+TORUS_DIRECTIONS = ((sympy.Integer(1), sympy.Integer(0)), (sympy.Rational(1, 2), SQRT3 / 2),
+                    (-sympy.Rational(1, 2), SQRT3 / 2))
+"""The three bond directions of the hexagonal torus: ``"side"``, ``"up"``, ``"upleft"`` (contact ``3 g + k``)."""
+
+
+def hexagonal_torus(L: Any) -> Geometry:
+    """The periodic hexagonal packing of Sec. 8.2: ``L x L`` monodisperse disks of diameter 1 on a torus.
+
+    Grain ``(i, j)`` (``1 <= i, j <= L``) sits at ``(i + j/2, j sqrt(3)/2)`` and touches ``(i+1, j)``
+    (``"side"``, normal ``(1, 0)``), ``(i, j+1)`` (``"up"``, ``(1/2, sqrt(3)/2)``) and ``(i-1, j+1)``
+    (``"upleft"``, ``(-1/2, sqrt(3)/2)``), indices modulo ``L``: six contacts per grain, ``3 L^2`` in all,
+    contact ``3 g + k`` the ``k``-th kind of grain ``g`` (:data:`TORUS_DIRECTIONS`). No loads and no walls: on its
+    own the polytope is a cone (self-stresses); the macroscopic stress of Eq. (8.1), imposed by
+    :func:`forcenet.exact.contact_network.shear_stress.sheared_balance`, bounds it.
+
+    Parameters
+    ----------
+    L : int
+        Grains per period, ``>= 3`` (with ``L = 2`` two grains would touch twice).
+
+    Returns
+    -------
+    Geometry
+
+    Examples
+    --------
+    >>> geo = hexagonal_torus(3)
+    >>> geo.network.grains, len(geo.network.contacts), geo.contact[("upleft", 1, 1)]
+    (9, 27, 2)
+    """
+    L = check_int(L, "L", 3)
+    b = _Builder([(i, j) for j in range(1, L + 1) for i in range(1, L + 1)])
+    for j in range(1, L + 1):
+        for i in range(1, L + 1):
+            right, up, left = i % L + 1, j % L + 1, (i - 2) % L + 1  # the torus' indices
+            for kind, other, normal in zip(("side", "up", "upleft"), ((right, j), (i, up), (left, up)),
+                                           TORUS_DIRECTIONS):
+                b.add(kind, i, j, other, normal)
+    positions = [(i + sympy.Rational(j, 2), j * SQRT3 / 2) for j in range(1, L + 1) for i in range(1, L + 1)]
+    return b.geometry(positions=positions)

@@ -28,6 +28,8 @@ The front door (one flat namespace, loaded on first use so ``import forcenet`` s
 * :func:`network` / :func:`network_plan` — any contact network's force network ensemble (Sec. 2.3): every
   contact force's exact moments (Normaliz) or sampled ones (hit-and-run), :func:`network_response`
   (:func:`contact_network` builds one; :mod:`forcenet.contact_networks`);
+* :func:`yield_stress`, :func:`shear_scaling` / :func:`shear_scaling_plan` — force networks under shear
+  (Ch. 8): the yield stress exactly, the anisotropic scaling of Eqs. (8.2)-(8.9) (:mod:`forcenet.shear`);
 * :mod:`forcenet.testing` — test your own sampler or formula against the exact ensemble;
 * the exception family (:mod:`forcenet.core.errors`): :class:`ForcenetError`, the base of every
   expected failure, :class:`ArgumentError` (also a ``ValueError``), :class:`ArgumentTypeError`
@@ -106,6 +108,8 @@ if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ lo
     from forcenet.sampled_comparison import SampledComparison, SampledComparisonPlan
     from forcenet.sampling import SamplePlan, sample, sample_plan
     from forcenet.scaling_limit import LimitShape, limit_shape
+    from forcenet.shear import ShearPlan, shear_scaling, shear_scaling_plan, yield_stress
+    from forcenet.shear_results import ShearScaling, YieldStressResult
     from forcenet.tableaux_count import CountPlan, TableauxCount, count_plan
 
 # name -> the module that defines it, imported on first use (forcenet.exact costs about a second to import)
@@ -177,6 +181,12 @@ _FRONT_DOOR = {
     "NetworkResult": "forcenet.contact_network_results",
     "ContactNetwork": "forcenet.contact_networks",
     "contact_network": "forcenet.contact_networks",
+    "yield_stress": "forcenet.shear",
+    "shear_scaling": "forcenet.shear",
+    "shear_scaling_plan": "forcenet.shear",
+    "ShearScaling": "forcenet.shear_results",
+    "ShearPlan": "forcenet.shear",
+    "YieldStressResult": "forcenet.shear_results",
 }
 
 _SUBPACKAGES = frozenset({"exact", "numeric", "testing"})
@@ -195,6 +205,7 @@ __all__ = [  # the keys of _FRONT_DOOR (tests/test_front_door.py), written out f
     "clusters", "scaling", "scaling_plan", "ScalingPlan", "ForceChainScaling",
     "__version__",
     "network", "network_plan", "network_response", "NetworkPlan", "NetworkResult", "ContactNetwork", "contact_network",
+    "yield_stress", "shear_scaling", "shear_scaling_plan", "ShearScaling", "ShearPlan", "YieldStressResult",
 ]
 
 try:

@@ -41,6 +41,7 @@ from forcenet.core.plan import interruptible_compilation
 
 from . import chicken_wire, dist, force_chains, limit, sample, table
 from . import network as network_command
+from . import shear as shear_command
 from .common import Parser, UsageError, deferred_option, given, usage_error_line
 from .output import EXIT_CODES, check_stdout, destination
 
@@ -71,6 +72,7 @@ examples, one per command (each takes a few seconds at most):
                                      # clusters of large forces (Table 7.1)
   forcenet network packing.json --exact  # your own contact network: every
                                      # force's exact mean
+  forcenet yield-stress --size 4     # the largest shear stress, exactly
 
 Results go to stdout (or to --out FILE, written atomically); costs, progress
 and errors go to stderr. Runs announced at over a minute need --force.
@@ -86,7 +88,7 @@ def build_parser() -> Parser:
     parser.add_argument("--debug", action="store_true",
                         help="on an internal error (a bug), print the traceback on stderr instead of to a file")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser, metavar="COMMAND")
-    for family in (table, limit, sample, chicken_wire, dist, force_chains, network_command):
+    for family in (table, limit, sample, chicken_wire, dist, force_chains, network_command, shear_command):
         family.register(sub)
     return parser
 

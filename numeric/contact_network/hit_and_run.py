@@ -57,9 +57,10 @@ from forcenet.exact.contact_network.polytope import Balance, balance, check_poly
 
 from ..autocorr import AutocorrError, mean_and_stderr, pool_means
 from ..jit import chunks, first_chunk, njit
+from .chain_records import block_rows, block_shape, chain_store, decode_block, encode_block
 
 __all__ = ["HitAndRun", "Chain", "hit_and_run_sweeps", "SECONDS_PER_FLOP", "sweep_seconds", "chain_task",
-           "run_chains"]
+           "chain_bits_task", "run_chains"]
 
 SECONDS_PER_FLOP = 1.2e-9  # one move's inner loops per contact and direction entry, measured on the 2-core machine
 
@@ -230,10 +231,40 @@ class HitAndRun:
         delta = z - self.start
         return self.start + self.K @ (self.K.T @ delta)
 
+    def _rounded(self, z: np.ndarray, s: np.ndarray, rng: np.random.Generator) -> tuple[Any, ...]:
+        """Rounding (during burn-in only): the directions become the principal axes of pilot runs, so a long thin
+        polytope is crossed along its length; fixed afterwards (the chain recorded is a Gibbs sampler with one
+        fixed orthonormal direction set: uniform). Returns ``(z, s, KT, GKT)``; deterministic given ``rng``."""
+        KT, GKT = self.KT, self.GKT
+        per = self.sweep_seconds()
+        for _ in range(self.rounding_rounds if self.dimension > 1 else 0):
+            pilot = np.empty((max(50, 2 * self.dimension), self.balance.variables))
+            for start, stop in chunks(pilot.shape[0], first_chunk(per)):
+                for k in range(start, stop):
+                    hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, 1, pilot[k:k + 1], True)
+            z, s = self._projected(z)
+            coordinates = (pilot - self.start) @ self.K
+            _, axes = np.linalg.eigh(np.cov(coordinates.T))
+            directions = self.K @ axes
+            KT = np.ascontiguousarray(directions.T)
+            GKT = KT if self.same else np.ascontiguousarray(np.asarray(self.G @ directions).T)
+        return z, s, KT, GKT
+
+    def _projected(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``z`` back on ``A z = b`` and its slacks ``G z`` (at points fixed by the request: same seed, same bits)."""
+        z = self._project(z)
+        return z, (np.asarray(self.G @ z).ravel() if not self.same else np.zeros(0))
+
     def run(self, samples: int, seed: int | None = None, burn_in: int | None = None,
-            progress: Callable[..., Any] | None = None, thin: int = 1) -> Chain:
+            progress: Callable[..., Any] | None = None, thin: int = 1, checkpoint: str | None = None,
+            block: int | None = None) -> Chain:
         """``samples`` states recorded, ``thin`` sweeps apart, after ``burn_in`` sweeps (default: a tenth of the
         sweeps, at least 100).
+
+        The states are recorded in blocks (:func:`~.chain_records.block_rows`, a function of the request alone);
+        after each the forces are projected back onto ``A z = b`` and, with ``checkpoint``, the block is saved.
+        A rerun with the same arguments and directory resumes after the last finished block and gives the same
+        states, bit for bit, as an uninterrupted run.
 
         Parameters
         ----------
@@ -247,6 +278,10 @@ class HitAndRun:
             Called with the number of recorded states done, per compiled call.
         thin : int
             Sweeps between two recorded states (memory: ``samples * contacts`` floats).
+        checkpoint : str, optional
+            A directory recording every finished block (:mod:`~.chain_records`).
+        block : int, optional
+            States per block (default :func:`~.chain_records.block_rows`); part of the request.
 
         Returns
         -------
@@ -260,45 +295,46 @@ class HitAndRun:
         (50, 15)
         """
         rng = np.random.default_rng(seed)
+        m = self.balance.variables
         burn = max(100, samples * thin // 10) if burn_in is None else burn_in
-        z = self.start.copy()
-        s = np.asarray(self.G @ z).ravel() if not self.same else np.zeros(0)
-        out = np.empty((samples, self.balance.variables))
-        scratch = np.empty((1, self.balance.variables))
+        rows = block_rows(samples, thin, self.dimension, m, block)
+        edges = list(range(0, samples, rows)) + [samples]
+        store = None if checkpoint is None else chain_store(
+            checkpoint, self.network, ("chain", seed, samples, burn_in, thin, rows), block_shape(rows, m))
         t0 = time.perf_counter()
         per = self.sweep_seconds()
-        KT, GKT = self.KT, self.GKT
-        for _ in range(self.rounding_rounds if self.dimension > 1 else 0):
-            # rounding (during burn-in only): the directions become the principal axes of a pilot run, so a long
-            # thin polytope is crossed along its length; the directions are fixed afterwards (the chain recorded
-            # is a Gibbs sampler with one fixed orthonormal direction set: uniform)
-            pilot = np.empty((max(50, 2 * self.dimension), self.balance.variables))
-            for start, stop in chunks(pilot.shape[0], first_chunk(per)):
-                for k in range(start, stop):
-                    hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, 1, pilot[k:k + 1], True)
-                z = self._project(z)
-                if not self.same:
-                    s = np.asarray(self.G @ z).ravel()
-            coordinates = (pilot - self.start) @ self.K
-            _, axes = np.linalg.eigh(np.cov(coordinates.T))
-            directions = self.K @ axes
-            KT = np.ascontiguousarray(directions.T)
-            GKT = KT if self.same else np.ascontiguousarray(np.asarray(self.G @ directions).T)
-        for start, stop in chunks(burn, first_chunk(per)):
-            hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, stop - start, scratch, False)
-            z = self._project(z)
-            if not self.same:
-                s = np.asarray(self.G @ z).ravel()
-        for start, stop in chunks(samples, first_chunk(per * thin)):
-            for k in range(start, stop):  # thin - 1 sweeps unrecorded, then one recorded
-                if thin > 1:
-                    hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, thin - 1, scratch, False)
-                hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, 1, out[k:k + 1], True)
-            z = self._project(z)
-            if not self.same:
-                s = np.asarray(self.G @ z).ravel()
+        z, s = self._projected(self.start.copy())
+        z, s, KT, GKT = self._rounded(z, s, rng)
+        out = np.empty((samples, m))
+        done = 0
+        while store is not None and done < len(edges) - 1:  # the longest run of finished blocks
+            record = store.load(done)
+            if record is None:
+                break
+            out[edges[done]:edges[done + 1]], z, state = decode_block(record, edges[done + 1] - edges[done], m, rows)
+            rng.bit_generator.state = state
+            done += 1
+        scratch = np.empty((1, m))
+        if done:
+            s = np.asarray(self.G @ z).ravel() if not self.same else np.zeros(0)  # z was saved projected
             if progress is not None:
-                progress(stop - start)
+                progress(edges[done])
+        else:
+            for first in range(0, burn, rows * thin):  # projected every block's worth of sweeps, as below
+                for start, stop in chunks(min(burn, first + rows * thin) - first, first_chunk(per)):
+                    hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, stop - start, scratch, False)
+                z, s = self._projected(z)
+        for b in range(done, len(edges) - 1):
+            for start, stop in chunks(edges[b + 1] - edges[b], first_chunk(per * thin)):
+                for k in range(edges[b] + start, edges[b] + stop):  # thin - 1 sweeps unrecorded, then one recorded
+                    if thin > 1:
+                        hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, thin - 1, scratch, False)
+                    hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, 1, out[k:k + 1], True)
+                if progress is not None:
+                    progress(stop - start)
+            z, s = self._projected(z)
+            if store is not None:
+                store.save(b, encode_block(out[edges[b]:edges[b + 1]], z, rng, rows))
         return Chain(out, self.balance.labels, time.perf_counter() - t0, self.fixed)
 
 
@@ -314,11 +350,32 @@ def chain_task(network: ContactNetwork, samples: int, seed: int, burn_in: int | 
     return HitAndRun(network).run(samples, seed, burn_in, thin=thin)
 
 
+def chain_bits_task(network: ContactNetwork, samples: int, seed: int, burn_in: int | None, thin: int,
+                    rows: int) -> np.ndarray:
+    """One chain's states as a checkpoint record: their float64 bit patterns as int64, padded to ``rows`` states.
+
+    Examples
+    --------
+    >>> from forcenet.exact.contact_network.geometries import triangle
+    >>> chain_bits_task(triangle(3).network, 20, 1, 10, 1, 21).shape
+    (21, 15)
+    """
+    states = chain_task(network, samples, seed, burn_in, thin).samples
+    padded = np.zeros((rows, states.shape[1]))
+    padded[:samples] = states
+    return padded.view(np.int64)
+
+
 def run_chains(network: ContactNetwork, samples: int, seed: int | None, burn_in: int | None, thin: int, chains: int,
-               executor: Any = None, progress: Callable[..., Any] | None = None) -> Chain:
+               executor: Any = None, progress: Callable[..., Any] | None = None, checkpoint: str | None = None,
+               fixed: np.ndarray | None = None) -> Chain:
     """``chains`` independent chains of ``samples // chains`` states each (seeds ``SeedSequence(seed).spawn``),
     run by :func:`forcenet.core.execution.run_tasks` (a local process pool, or ``executor``: a Dask client's),
     joined into one :class:`Chain` whose statistics pool the chains (:meth:`Chain.statistics`).
+
+    With ``checkpoint`` (a directory) every finished chain is recorded as it arrives (one record per chain,
+    :mod:`~.chain_records`) and a rerun of the same request runs only the chains missing; ``fixed`` (the forces
+    balance alone fixes, :attr:`HitAndRun.fixed`) then saves rebuilding a walk here.
 
     Examples
     --------
@@ -330,7 +387,19 @@ def run_chains(network: ContactNetwork, samples: int, seed: int | None, burn_in:
     seeds = [int(s.generate_state(1)[0]) for s in np.random.SeedSequence(seed).spawn(chains)]
     shares = [samples // chains + (1 if k < samples % chains else 0) for k in range(chains)]
     t0 = time.perf_counter()
-    parts = run_tasks(chain_task, [(network, share, s, burn_in, thin) for share, s in zip(shares, seeds)],
-                      executor=executor, workers=chains, progress=progress, weights=shares)
-    return Chain(np.concatenate([part.samples for part in parts]), parts[0].labels, time.perf_counter() - t0,
-                 parts[0].fixed, tuple(shares))
+    if checkpoint is None:
+        parts = run_tasks(chain_task, [(network, share, s, burn_in, thin) for share, s in zip(shares, seeds)],
+                          executor=executor, workers=chains, progress=progress, weights=shares)
+        return Chain(np.concatenate([part.samples for part in parts]), parts[0].labels, time.perf_counter() - t0,
+                     parts[0].fixed, tuple(shares))
+    bal = balance(network)
+    rows = max(shares)
+    store = chain_store(checkpoint, network, ("chains", seed, samples, burn_in, thin, chains), (rows, bal.variables))
+    records = run_tasks(chain_bits_task, [(network, share, s, burn_in, thin, rows) for share, s in zip(shares, seeds)],
+                        executor=executor, workers=chains, progress=progress, weights=shares, store=store,
+                        keys=list(range(chains)))
+    states = np.concatenate([np.ascontiguousarray(r, dtype=np.int64).view(np.float64)[:share]
+                             for r, share in zip(records, shares)])
+    if fixed is None:
+        fixed = HitAndRun(network, bal).fixed
+    return Chain(states, bal.labels, time.perf_counter() - t0, fixed, tuple(shares))

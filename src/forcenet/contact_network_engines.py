@@ -194,10 +194,11 @@ class HitAndRunEngine:
             executor: Executor | None = None) -> Any:
         walk = HitAndRun(request.network, request.balance)
         if request.chains == 1 and executor is None:
-            chain = walk.run(request.samples, request.seed, request.burn_in, progress=progress, thin=request.thin)
+            chain = walk.run(request.samples, request.seed, request.burn_in, progress=progress, thin=request.thin,
+                             checkpoint=request.checkpoint)
         else:  # independent chains in worker processes (or on a Dask cluster), pooled
             chain = run_chains(request.network, request.samples, request.seed, request.burn_in, request.thin,
-                               request.chains, executor, progress)
+                               request.chains, executor, progress, checkpoint=request.checkpoint, fixed=walk.fixed)
         return chain, walk.dimension
 
 

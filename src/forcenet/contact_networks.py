@@ -40,6 +40,7 @@ from pathlib import Path
 from typing import Any, ClassVar
 
 from forcenet.contact_network_results import NetworkResult
+from forcenet.core.atomic_files import check_directory
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan, combine
 from forcenet.core.validation import check_int, check_seed
@@ -76,6 +77,8 @@ class NetworkRequest:
         Independent chains (run in worker processes, or on ``executor``), pooled.
     method : str
         An engine's name or ``"auto"``.
+    checkpoint : str or None
+        A checked directory recording the sampler's finished blocks (one chain) or chains (several).
     """
 
     network: ContactNetwork
@@ -87,6 +90,7 @@ class NetworkRequest:
     method: str = "auto"
     thin: int = 1
     chains: int = 1
+    checkpoint: str | None = None
     model: ClassVar[str] = "contact-network"
 
     @cached_property
@@ -230,7 +234,8 @@ class NetworkPlan(_Costed):
 
 def network_plan(source: Any, *, exact: bool | None = None, moments: int = 1, samples: int | None = None,
                  seed: int | None = None, burn_in: int | None = None, method: str = "auto",
-                 thin: int = 1, chains: int = 1, executor: Any = None) -> NetworkPlan:
+                 thin: int = 1, chains: int = 1, executor: Any = None,
+                 checkpoint: str | os.PathLike[str] | None = None) -> NetworkPlan:
     """Check a request on a contact network once and plan it (the exact route, the sampler, or both).
 
     Parameters
@@ -257,6 +262,9 @@ def network_plan(source: Any, *, exact: bool | None = None, moments: int = 1, sa
         their statistics are pooled.
     executor : concurrent.futures.Executor or Dask Client, optional
         Where the chains run (default: a local process pool when ``chains > 1``).
+    checkpoint : str or os.PathLike, optional
+        A directory recording the sampler's finished blocks (or chains, with ``chains > 1``); the same request
+        run again (after Ctrl-C, a crash) resumes there and gives the same samples as an uninterrupted run.
 
     Returns
     -------
@@ -285,6 +293,7 @@ def network_plan(source: Any, *, exact: bool | None = None, moments: int = 1, sa
     thin = check_int(thin, "thin", 1)
     chains = check_int(chains, "chains", 1, samples if samples is not None else 1)
     seed = None if seed is None else int(check_seed(seed))
+    directory = None if checkpoint is None else check_directory(checkpoint, "checkpoint")
     if method not in EXACT_METHODS:
         raise ArgumentError(f"method={method!r} is out of range: method must be one of {', '.join(EXACT_METHODS)}",
                             argument="method")
@@ -298,7 +307,7 @@ def network_plan(source: Any, *, exact: bool | None = None, moments: int = 1, sa
         requests.append(NetworkRequest(net, "exact-moments", moments, method=method))
     if samples is not None:
         requests.append(NetworkRequest(net, "sampled-moments", moments, samples, seed, burn_in, thin=thin,
-                                       chains=chains))
+                                       chains=chains, checkpoint=directory))
     chosen = [REGISTRY.choose(request) for request in requests]
     engines = tuple(engine for engine, _ in chosen)
     plans = tuple(plan for _, plan in chosen)
@@ -309,7 +318,8 @@ def network_plan(source: Any, *, exact: bool | None = None, moments: int = 1, sa
 
 def network(source: Any, *, exact: bool | None = None, moments: int = 1, samples: int | None = None,
             seed: int | None = None, burn_in: int | None = None, method: str = "auto", thin: int = 1,
-            chains: int = 1, executor: Any = None, progress: Progress | bool | None = None) -> NetworkResult:
+            chains: int = 1, executor: Any = None, checkpoint: str | os.PathLike[str] | None = None,
+            progress: Progress | bool | None = None) -> NetworkResult:
     """Every contact force's moments over the force network ensemble of a contact network (Sec. 2.3).
 
     ``network_plan(...)`` then ``.run(progress)``.
@@ -318,7 +328,7 @@ def network(source: Any, *, exact: bool | None = None, moments: int = 1, samples
     ----------
     source : ContactNetwork, path or dict
         The network.
-    exact, moments, samples, seed, burn_in, method, thin, chains, executor
+    exact, moments, samples, seed, burn_in, method, thin, chains, executor, checkpoint
         As :func:`network_plan`.
     progress : callable, bool or None
         ``progress(k)`` per recorded sweep; ``True``: a progress bar.
@@ -343,7 +353,8 @@ def network(source: Any, *, exact: bool | None = None, moments: int = 1, samples
     (3, 'sqrt(3)/3')
     """
     return network_plan(source, exact=exact, moments=moments, samples=samples, seed=seed, burn_in=burn_in,
-                        method=method, thin=thin, chains=chains, executor=executor).run(progress)
+                        method=method, thin=thin, chains=chains, executor=executor,
+                        checkpoint=checkpoint).run(progress)
 
 
 def network_response(source: Any, grain: int, load: tuple[Any, Any] = (0, -1), **options: Any) -> tuple[Any, ...]:

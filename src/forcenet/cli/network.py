@@ -27,7 +27,8 @@ __all__ = ["register"]
 def cmd_network(args: argparse.Namespace) -> int:
     plan = forcenet.network_plan(args.file, exact=True if args.exact else None if args.samples is None else False,
                                  moments=args.moments, samples=args.samples, seed=args.seed, burn_in=args.burn_in,
-                                 method=args.method, thin=args.thin, chains=args.chains)
+                                 method=args.method, thin=args.thin, chains=args.chains,
+                                 checkpoint=args.checkpoint)
 
     def run(tick: Callable[..., None] | None) -> NetworkResult:
         return plan.run(progress=tick)
@@ -54,6 +55,9 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
                    help="sweeps between two recorded samples (default 1; memory is samples x contacts)")
     p.add_argument("--chains", type=integer("chains", 1), default=1,
                    help="independent chains sharing --samples, one worker process each (default 1)")
+    p.add_argument("--checkpoint", metavar="DIR", default=None,
+                   help="record the sampler's finished blocks (or chains) in DIR; the same command run again "
+                        "(after Ctrl-C) resumes there, with the same numbers as an uninterrupted run")
     p.add_argument("--method", choices=["auto", "triangulation", "volumes"], default="auto",
                    help="the exact route (default auto: the faster by the plans)")
     add_format(p, choices=("text", "json", "csv"))

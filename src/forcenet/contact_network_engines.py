@@ -25,11 +25,17 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from collections.abc import Callable
 from concurrent.futures import Executor
+from dataclasses import replace
 from typing import Any
 
 from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan, with_compilation
-from forcenet.exact.contact_network.triangulation_moments import moments_by_triangulation, moments_by_volumes
+from forcenet.exact.contact_network.marginal_density import force_densities
+from forcenet.exact.contact_network.triangulation_moments import (
+    moments_by_triangulation,
+    moments_by_volumes,
+    triangulation,
+)
 from forcenet.numeric.contact_network.hit_and_run import HitAndRun, hit_and_run_sweeps, run_chains, sweep_seconds
 from forcenet.registry import REGISTRY
 
@@ -132,7 +138,12 @@ class TriangulationEngine(_ExactMomentsEngine):
 
     def run(self, request: Any, plan: Plan, *, progress: Callable[..., Any] | None = None,
             executor: Executor | None = None) -> Any:
-        return moments_by_triangulation(request.polytope, request.moments)
+        if not request.density:
+            return moments_by_triangulation(request.polytope, request.moments)
+        # one triangulation for the moments and the densities (piecewise polynomials, marginal_density)
+        tri = triangulation(request.polytope)
+        densities = force_densities(request.polytope, list(request.density), tri)
+        return replace(moments_by_triangulation(request.polytope, request.moments, tri=tri), densities=densities)
 
 
 class VolumesEngine(_ExactMomentsEngine):
@@ -147,6 +158,9 @@ class VolumesEngine(_ExactMomentsEngine):
     name = "volumes"
 
     def _refusal(self, request: Any) -> Plan | None:
+        if request.density:
+            return Plan("exact moments (volumes)", 0, refusal="the exact density (--density) is read off the "
+                        "triangulation: use method='triangulation' (--method triangulation)")
         if not request.network.frictional:
             return None
         return Plan("exact moments (volumes)", 0, refusal="method='volumes' needs forces that are never "

@@ -59,7 +59,7 @@ def test_a_damaged_block_is_recomputed_and_another_request_is_not_reused(tmp_pat
     data[100] ^= 1
     record.write_bytes(bytes(data))
     reports: list[str] = []
-    store = chain_records.chain_store(str(tmp_path), triangle(3).network, ("chain", 1, 300, 20, 1, 100),
+    store = chain_records.chain_store(str(tmp_path), triangle(3).network, ("chain", 1, 300, 20, 1, 100, True),
                                       chain_records.block_shape(100, 15))
     store.report = reports.append
     assert store.load(1) is None and "checksum" in reports[0]

@@ -51,7 +51,7 @@ from forcenet.core.errors import ArgumentError
 
 from .polytope import ExactPolytope
 
-__all__ = ["Moments", "Triangulation", "triangulation", "normaliz_rows", "moments_by_triangulation", "moments_by_volumes", "polytope_facts",
+__all__ = ["Moments", "Triangulation", "triangulation", "normaliz_rows", "normaliz_cone", "moments_by_triangulation", "moments_by_volumes", "polytope_facts",
            "density_at"]
 
 
@@ -108,10 +108,23 @@ def normaliz_rows(poly: ExactPolytope, extra: list[tuple[list[Fraction], Fractio
     return rows
 
 
-def _cone(rows: list[list[int]]) -> Any:
+def normaliz_cone(rows: list[list[Any]], number_field: list[str] | None = None) -> Any:
+    """Normaliz's cone of the polytope ``rows`` (``inhom_inequalities``), over a number field when given.
+
+    Examples
+    --------
+    >>> normaliz_cone([[1, 0], [-1, 1]]).VerticesOfPolyhedron()
+    [[0, 1], [1, 1]]
+    """
     from PyNormaliz import Cone  # optional dependency: the "networks" extra
 
-    return Cone(inhom_inequalities=rows)
+    if number_field is None:
+        return Cone(inhom_inequalities=rows)
+    return Cone(number_field=number_field, inhom_inequalities=rows)
+
+
+def _cone(rows: list[list[int]]) -> Any:
+    return normaliz_cone(rows)
 
 
 def polytope_facts(poly: ExactPolytope) -> tuple[int, int, int]:

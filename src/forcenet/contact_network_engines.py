@@ -36,7 +36,14 @@ from forcenet.exact.contact_network.triangulation_moments import (
     moments_by_volumes,
     triangulation,
 )
-from forcenet.numeric.contact_network.hit_and_run import HitAndRun, hit_and_run_sweeps, run_chains, sweep_seconds
+from forcenet.numeric.contact_network.hit_and_run import (
+    SPARSE_FROM,
+    HitAndRun,
+    hit_and_run_sweeps,
+    run_chains,
+    setup_seconds,
+    sweep_seconds,
+)
 from forcenet.registry import REGISTRY
 
 __all__ = ["MODEL", "MAX_EXACT_DIMENSION", "TriangulationEngine", "VolumesEngine", "HitAndRunEngine",
@@ -196,9 +203,10 @@ class HitAndRunEngine:
         recorded = request.samples * request.thin
         sweeps = recorded + (request.burn_in if request.burn_in is not None else max(100, recorded // 10))
         inequalities = bal.inequalities if request.network.frictional else 0
-        setup = 4e-9 * rows * m * min(rows, m) + 1e-6 * (m + rows) * 20
+        setup = setup_seconds(rows, m)
         parallel = min(request.chains, 2)  # the reference machine's cores
-        seconds = setup * (1 if request.chains == 1 else 2) + sweeps * sweep_seconds(dimension, m, inequalities) / parallel
+        per = sweep_seconds(dimension, m, inequalities, m >= SPARSE_FROM)
+        seconds = setup * (1 if request.chains == 1 else 2) + sweeps * per / parallel
         nbytes = 8 * m * (request.samples * 4 + dimension + rows)
         plan = Plan(f"{sweeps} hit-and-run sweeps on {request.network.grains} grains", seconds, nbytes,
                     ticks=request.samples, unit="sample")

@@ -3,6 +3,7 @@
     python benchmarks/contact_networks.py sampler [--grains 50 150 500]   # paired: compiled vs plain numpy
     python benchmarks/contact_networks.py exact                          # time against the dimension
     python benchmarks/contact_networks.py large [--grains 1000]          # relax, then sample with error bars
+    python benchmarks/contact_networks.py basis --grains 450 --basis dense|sparse  # Ker A: SVD or projection
 
 ``sampler``: soft-disk packings (relaxed_packing) of growing size; in the same run, forcenet's compiled
 coordinate hit-and-run and a plain numpy hit-and-run (a uniformly random direction in Ker A each move, the
@@ -116,9 +117,26 @@ def large(grains: int, samples: int, thin: int) -> None:
           f"total {t2 - t0:.0f} s ({time.process_time():.0f} s CPU)")
 
 
+def basis(grains: int, states: int, thin: int, route: str) -> None:
+    """One network, one route (``dense``: the SVD basis; ``sparse``: projected random directions): relax, build
+    the walk, sample, and print the time per effective sample (for farm-bench's paired runs)."""
+    t0 = time.perf_counter()
+    net = relaxed_packing(grains, seed=1).network()
+    t1 = time.perf_counter()
+    walk = HitAndRun(net, basis=route)
+    t2 = time.perf_counter()
+    chain = walk.run(states, seed=1, thin=thin)
+    effective = ess(chain.samples, walk.fixed)
+    print(f"{route}: {grains} grains, {len(net.contacts)} contacts, d = {walk.dimension}: relax {t1 - t0:.1f} s, "
+          f"walk set up {t2 - t1:.1f} s, {states} states x {thin} sweeps in {chain.seconds:.1f} s, ESS "
+          f"{effective:.1f}, {chain.seconds / effective:.3g} s per effective sample (sampling), "
+          f"{(time.perf_counter() - t1) / effective:.3g} s with the set-up", flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
-    parser.add_argument("what", choices=["sampler", "exact", "large"])
+    parser.add_argument("what", choices=["sampler", "exact", "large", "basis"])
+    parser.add_argument("--basis", choices=["dense", "sparse"], default="sparse")
     parser.add_argument("--grains", type=int, nargs="*", default=None)
     parser.add_argument("--states", type=int, default=2000)
     parser.add_argument("--thin", type=int, default=4)
@@ -127,6 +145,8 @@ def main() -> None:
         sampler(args.grains or [50, 150, 500], args.states)
     elif args.what == "exact":
         exact([5, 8, 11, 14, 17, 20])
+    elif args.what == "basis":
+        basis((args.grains or [450])[0], args.states, args.thin, args.basis)
     else:
         large((args.grains or [1000])[0], args.states, args.thin)
 

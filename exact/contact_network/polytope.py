@@ -165,6 +165,15 @@ def _net_force_refusal(net: ContactNetwork) -> str | None:
     return None
 
 
+def _linprog(cost: np.ndarray, **problem: Any) -> Any:
+    """HiGHS's linear program; on its status 4 (numerical difficulties: its simplex on soft-disk packings of
+    10^4 contacts, where the interior-point method succeeds) solved again by the interior-point method."""
+    result = optimize.linprog(cost, method="highs", **problem)
+    if result.status == 4:
+        result = optimize.linprog(cost, method="highs-ipm", **problem)
+    return result
+
+
 def check_polytope(net: ContactNetwork, bal: Balance | None = None) -> tuple[np.ndarray, float]:
     """Refuse a network whose ensemble does not exist; else a strictly admissible network and its margin.
 
@@ -210,8 +219,7 @@ def check_polytope(net: ContactNetwork, bal: Balance | None = None) -> tuple[np.
     A_eq = sparse.hstack([A, sparse.csr_matrix((A.shape[0], 1))]).tocsr()
     A_ub = sparse.hstack([-G, np.ones((G.shape[0], 1))]).tocsr()
     bounds = [(None, None)] * m + [(None, scale)]
-    result = optimize.linprog(cost, A_ub=A_ub, b_ub=np.zeros(G.shape[0]), A_eq=A_eq, b_eq=b, bounds=bounds,
-                              method="highs")
+    result = _linprog(cost, A_ub=A_ub, b_ub=np.zeros(G.shape[0]), A_eq=A_eq, b_eq=b, bounds=bounds)
     if result.status == 2 or (result.status == 0 and -result.fun < -TOLERANCE * scale):
         if len(net.contacts) > 3 * net.grains // 2 and net.grains > 3:
             raise ArgumentError("infeasible: no network of repulsive contact forces balances these loads: this "
@@ -226,9 +234,9 @@ def check_polytope(net: ContactNetwork, bal: Balance | None = None) -> tuple[np.
         raise ArgumentError(f"the linear program on this network failed: {result.message}")
     z, margin = result.x[:m], float(-result.fun)
     # self-stress: max sum(G y) subject to A y = 0, 0 <= G y <= 1
-    stress = optimize.linprog(-np.asarray(G.sum(axis=0)).ravel(), A_ub=sparse.vstack([G, -G]).tocsr(),
-                              b_ub=np.concatenate([np.ones(G.shape[0]), np.zeros(G.shape[0])]),
-                              A_eq=A, b_eq=np.zeros(A.shape[0]), bounds=[(None, None)] * m, method="highs")
+    stress = _linprog(-np.asarray(G.sum(axis=0)).ravel(), A_ub=sparse.vstack([G, -G]).tocsr(),
+                      b_ub=np.concatenate([np.ones(G.shape[0]), np.zeros(G.shape[0])]),
+                      A_eq=A, b_eq=np.zeros(A.shape[0]), bounds=[(None, None)] * m)
     if stress.status == 0 and -stress.fun > 1e-7:
         y = stress.x
         loaded = [bal.labels[k] for k in range(m) if abs(y[k]) > 1e-7]

@@ -51,7 +51,7 @@ from forcenet.core.errors import ArgumentError
 
 from .polytope import ExactPolytope
 
-__all__ = ["Moments", "normaliz_rows", "moments_by_triangulation", "moments_by_volumes", "polytope_facts",
+__all__ = ["Moments", "Triangulation", "triangulation", "normaliz_rows", "normaliz_cone", "moments_by_triangulation", "moments_by_volumes", "polytope_facts",
            "density_at"]
 
 
@@ -67,12 +67,15 @@ class Moments:
         The polytope's dimension (``dim Ker A`` less any inequality that holds with equality everywhere).
     pieces : int
         Simplices of the triangulation, or Normaliz volume computations.
+    densities : dict or None
+        Exact one-force densities by variable (:mod:`~.marginal_density`), when asked for.
     """
 
     mean: tuple[Any, ...]
     second: tuple[Any, ...]
     dimension: int
     pieces: int
+    densities: dict[int, Any] | None = None
 
 
 def _integer_row(row: list[Fraction]) -> list[int]:
@@ -105,10 +108,23 @@ def normaliz_rows(poly: ExactPolytope, extra: list[tuple[list[Fraction], Fractio
     return rows
 
 
-def _cone(rows: list[list[int]]) -> Any:
+def normaliz_cone(rows: list[list[Any]], number_field: list[str] | None = None) -> Any:
+    """Normaliz's cone of the polytope ``rows`` (``inhom_inequalities``), over a number field when given.
+
+    Examples
+    --------
+    >>> normaliz_cone([[1, 0], [-1, 1]]).VerticesOfPolyhedron()
+    [[0, 1], [1, 1]]
+    """
     from PyNormaliz import Cone  # optional dependency: the "networks" extra
 
-    return Cone(inhom_inequalities=rows)
+    if number_field is None:
+        return Cone(inhom_inequalities=rows)
+    return Cone(number_field=number_field, inhom_inequalities=rows)
+
+
+def _cone(rows: list[list[int]]) -> Any:
+    return normaliz_cone(rows)
 
 
 def polytope_facts(poly: ExactPolytope) -> tuple[int, int, int]:
@@ -162,8 +178,59 @@ def _exact(poly: ExactPolytope, k: int, value: Fraction, power: int) -> Any:
     return sympy.radsimp(poly.scale[k] ** power * sympy.Rational(value.numerator, value.denominator))
 
 
+@dataclass(frozen=True)
+class Triangulation:
+    """Normaliz's triangulation of the polytope with every variable's value at its vertices.
+
+    Attributes
+    ----------
+    simplices : list of tuple of int
+        Each simplex's vertices (indices into ``table``'s rows).
+    table : numpy.ndarray of int (object)
+        ``table[v, k] / denominator`` is the scaled variable ``z'_k`` at vertex ``v``.
+    denominator : int
+    weights : list of int
+        Each simplex's volume, all in one unit (their sum is ``weight``).
+    weight : int
+    dimension : int
+        The polytope's dimension (each simplex has ``dimension + 1`` vertices).
+    """
+
+    simplices: list[tuple[int, ...]]
+    table: Any
+    denominator: int
+    weights: list[int]
+    weight: int
+    dimension: int
+
+
+def triangulation(poly: ExactPolytope) -> Triangulation:
+    """The triangulation (Normaliz) of a polytope of dimension ``>= 1``, weighted in one unit.
+
+    Examples
+    --------
+    >>> from forcenet.exact.contact_network.geometries import triangle
+    >>> from forcenet.exact.contact_network.polytope import exact_polytope
+    >>> tri = triangulation(exact_polytope(triangle(3).network))
+    >>> len(tri.simplices), tri.dimension, len(tri.simplices[0])
+    (1, 3, 4)
+    """
+    polytope_facts(poly)
+    cone = _cone(normaliz_rows(poly))
+    simplices, generators = cone.Triangulation()
+    table, denominator = _vertex_values(poly, generators)
+    degrees = [int(g[-1]) for g in generators]
+    # Normaliz's multiplicity is |det| of the homogenized integer generators (v_i h_i, h_i): the simplex's
+    # normalized volume times the product of the degrees h_i; all weights are brought to one denominator
+    products = [math.prod(degrees[v] for v in key) for key, *_ in simplices]
+    common = math.lcm(*products)
+    weights = [int(m) * (common // p) for (key, m, *_), p in zip(simplices, products)]
+    return Triangulation([tuple(int(v) for v in key) for key, *_ in simplices], table, denominator, weights,
+                         sum(weights), int(cone.AffineDim()))
+
+
 def moments_by_triangulation(poly: ExactPolytope, moments: int = 2,
-                             progress: Callable[..., Any] | None = None) -> Moments:
+                             progress: Callable[..., Any] | None = None, tri: Triangulation | None = None) -> Moments:
     """Every variable's exact ``<z>`` (and ``<z^2>``) from Normaliz's triangulation and the simplex formulas.
 
     Parameters
@@ -173,6 +240,8 @@ def moments_by_triangulation(poly: ExactPolytope, moments: int = 2,
         1 (means) or 2 (means and second moments).
     progress : callable, optional
         Called with the number of simplices done, every 1000.
+    tri : Triangulation, optional
+        The polytope's :func:`triangulation` when made already (e.g. for densities).
 
     Returns
     -------
@@ -190,25 +259,16 @@ def moments_by_triangulation(poly: ExactPolytope, moments: int = 2,
     if poly.dimension == 0:
         polytope_facts(poly)
         return _point_moments(poly, moments)
-    polytope_facts(poly)
-    cone = _cone(normaliz_rows(poly))
-    simplices, generators = cone.Triangulation()
-    dimension = int(cone.AffineDim())
-    table, denominator = _vertex_values(poly, generators)
+    tri = triangulation(poly) if tri is None else tri
+    simplices, table, denominator, weights, weight, dimension = (tri.simplices, tri.table, tri.denominator,
+                                                                tri.weights, tri.weight, tri.dimension)
     n = table.shape[1]
-    degrees = [int(g[-1]) for g in generators]
-    # Normaliz's multiplicity is |det| of the homogenized integer generators (v_i h_i, h_i): the simplex's
-    # normalized volume times the product of the degrees h_i; all weights are brought to one denominator
-    products = [math.prod(degrees[v] for v in key) for key, *_ in simplices]
-    common = math.lcm(*products)
-    weights = [int(m) * (common // p) for (key, m, *_), p in zip(simplices, products)]
-    weight = sum(weights)
     # sum_s w_s sum_{u,v in s} t_u t_v = sum_{u,v} C_uv t_u t_v with C_uv = sum_{s contains u, v} w_s (one pass
     # over the simplices with small integers; machine integers when they cannot overflow)
-    count = len(generators)
+    count = table.shape[0]
     kind: Any = np.int64 if weight < 2**62 else object
     pairs = np.zeros((count, count), dtype=kind)
-    for done, ((key, *_), w) in enumerate(zip(simplices, weights), start=1):
+    for done, (key, w) in enumerate(zip(simplices, weights), start=1):
         index = np.asarray(key)
         pairs[np.ix_(index, index)] += w
         if progress is not None and done % 1000 == 0:

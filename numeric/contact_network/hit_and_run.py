@@ -3,11 +3,19 @@
 The ensemble is the uniform measure on the polytope ``{z : A z = b, G z >= 0}``
 (thesis Sec. 2.3.2; :mod:`forcenet.exact.contact_network.polytope`).  The
 thesis walks through it "after finding a basis of Ker A", which it calls a
-difficult problem for an arbitrary packing; here the basis is an orthonormal
-one from the singular value decomposition of ``A`` (``scipy.linalg.null_space``),
-so coordinates ``x`` with ``z = z* + K x`` are an isometry of the affine
-subspace and the uniform measure in ``x`` is the uniform measure on the
-force networks.
+difficult problem for an arbitrary packing.  Two routes (``basis=``):
+
+* ``"dense"``: an orthonormal basis from the singular value decomposition of
+  ``A`` (``scipy.linalg.null_space``), so coordinates ``x`` with
+  ``z = z* + K x`` are an isometry of the affine subspace and the uniform
+  measure in ``x`` is the uniform measure on the force networks; the moves
+  below run along its columns (after burn-in rounding);
+* ``"sparse"``: no basis at all: each move runs along a fresh uniformly random
+  direction of ``Ker A``, a standard normal vector projected by one sparse
+  solve with ``A A^T`` (:mod:`~.kernel_projection`; Smith's hit-and-run),
+  for networks of 10^4 contacts where the SVD is out of reach;
+* ``"auto"`` (default): sparse from :data:`SPARSE_FROM` variables on, dense
+  below or when ``A A^T`` is singular.
 
 The move (hit-and-run along the basis directions, "coordinate hit-and-run"):
 pick a basis direction ``k`` uniformly, intersect the line ``z + t K_k`` with
@@ -23,8 +31,9 @@ A recorded sample is one sweep (``d`` moves); error bars come from the
 integrated autocorrelation time of each force's chain
 (:func:`forcenet.numeric.autocorr.mean_and_stderr`).
 
-Each move costs ``O(contacts)`` (one column of ``K`` and ``G K``), so a
-sweep costs ``O(d * contacts)``.  Rounding drift off ``A z = b`` is removed
+Each move costs ``O(contacts)`` (one column of ``K`` and ``G K``, or one
+projected direction), so a sweep costs ``O(d * contacts)``; the sparse
+route's set-up is one sparse LU instead of the SVD's ``O(rows * contacts^2)``.  Rounding drift off ``A z = b`` is removed
 between compiled calls by projecting back onto the affine subspace.
 
 Examples
@@ -44,6 +53,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from contextlib import nullcontext
 from dataclasses import dataclass
 from typing import Any
 
@@ -57,22 +67,44 @@ from forcenet.exact.contact_network.polytope import Balance, balance, check_poly
 
 from ..autocorr import AutocorrError, mean_and_stderr, pool_means
 from ..jit import chunks, first_chunk, njit
+from .chain_records import block_rows, block_shape, chain_store, decode_block, encode_block
+from .kernel_projection import BATCH, KernelProjector
 
-__all__ = ["HitAndRun", "Chain", "hit_and_run_sweeps", "SECONDS_PER_FLOP", "sweep_seconds", "chain_task",
-           "run_chains"]
+__all__ = ["HitAndRun", "Chain", "hit_and_run_sweeps", "SECONDS_PER_FLOP", "sweep_seconds", "setup_seconds",
+           "SPARSE_FROM", "BASES", "chain_task",
+           "chain_bits_task", "run_chains"]
 
+BASES = ("auto", "dense", "sparse")
+SPARSE_FROM = 4000  # variables from which "auto" projects sparsely (below, the SVD and its cheaper sweeps win; notes/benchmarks.md)
+SECONDS_PER_PROJECTED = 5e-8  # a projected move per variable: normals, the solve's share (980 contacts: 45 us)
 SECONDS_PER_FLOP = 1.2e-9  # one move's inner loops per contact and direction entry, measured on the 2-core machine
 
 
-def sweep_seconds(dimension: int, variables: int, inequalities: int) -> float:
-    """Estimated seconds of one sweep (``d`` moves, each over a column of ``K`` and of ``G K``).
+def sweep_seconds(dimension: int, variables: int, inequalities: int, projected: bool = False) -> float:
+    """Estimated seconds of one sweep (``d`` moves, each over a column of ``K`` and of ``G K``; ``projected``:
+    each along a fresh direction, a normal vector and its share of a sparse solve, :mod:`.kernel_projection`).
 
     Examples
     --------
-    >>> sweep_seconds(100, 300, 300) > 0
-    True
+    >>> sweep_seconds(100, 300, 300) > 0, sweep_seconds(100, 300, 300, True) > sweep_seconds(100, 300, 300)
+    (True, True)
     """
-    return max(1, dimension) * (variables + inequalities) * SECONDS_PER_FLOP + 2e-8 * dimension
+    per = SECONDS_PER_PROJECTED if projected else SECONDS_PER_FLOP
+    return max(1, dimension) * (variables + inequalities) * per + 2e-8 * dimension
+
+
+def setup_seconds(rows: int, variables: int) -> float:
+    """Estimated seconds of the walk's set-up: the SVD's ``O(rows * variables * min)`` below
+    :data:`SPARSE_FROM` variables, a sparse LU and a few null vectors of ``A A^T`` from it on.
+
+    Examples
+    --------
+    >>> setup_seconds(9000, 9961) < 5, setup_seconds(500, 590) > 0.5
+    (True, True)
+    """
+    if variables >= SPARSE_FROM:
+        return 2e-4 * (rows + variables)
+    return 4e-9 * rows * variables * min(rows, variables) + 2e-5 * (variables + rows)
 
 
 @njit
@@ -200,7 +232,7 @@ class HitAndRun:
 
     rounding_rounds = 2  # pilot runs whose principal axes become the directions (burn-in only)
 
-    def __init__(self, network: ContactNetwork, bal: Balance | None = None) -> None:
+    def __init__(self, network: ContactNetwork, bal: Balance | None = None, basis: str = "auto") -> None:
         self.network = network
         self.balance = balance(network) if bal is None else bal
         A, b, G = float_system(self.balance)
@@ -210,30 +242,98 @@ class HitAndRun:
             raise ArgumentError("degenerate: some contact carries no force (or its friction cone is saturated) in "
                                 "every force network of this packing, so the polytope is flat; remove those "
                                 "contacts or use the exact route (--exact), which handles it")
+        self.G, self.b = G, b
+        self.same = not network.frictional
+        self.projector: KernelProjector | None = None
+        if basis not in BASES:
+            raise ArgumentError(f"basis={basis!r} is out of range: basis must be one of {', '.join(BASES)}",
+                                argument="basis")
+        if basis == "sparse" or (basis == "auto" and self.balance.variables >= SPARSE_FROM and A.shape[0]):
+            try:  # directions by sparse projection (kernel_projection): no basis, 10^4 contacts
+                self.projector = KernelProjector(A, b, 3 if network.frictional else 2)
+            except ArgumentError:
+                if basis == "sparse":
+                    raise
+        if self.projector is not None:
+            self.dimension = self.projector.dimension
+            self.fixed = self.projector.fixed(np.random.default_rng(0))
+            self.K = self.KT = self.GKT = np.zeros((0, self.balance.variables))
+            return
         dense = A.toarray()
         self.K = linalg.null_space(dense) if dense.size else np.eye(self.balance.variables)
         # forces that Ker A does not move are fixed by balance alone (a grain with two contacts): exactly constant
         self.fixed = np.linalg.norm(self.K, axis=1) < 1e-10
         self.K[self.fixed] = 0.0
         self.dimension = int(self.K.shape[1])
-        self.G = G
-        self.same = not network.frictional
         self.KT = np.ascontiguousarray(self.K.T)
         self.GKT = self.KT if self.same else np.ascontiguousarray((G @ self.K).T)
 
+    def _sweeps(self, z: np.ndarray, s: np.ndarray, KT: np.ndarray, GKT: np.ndarray, rng: np.random.Generator,
+                count: int, out: np.ndarray, record: bool) -> None:
+        """``count`` sweeps of ``d`` moves (row ``k`` of ``out`` is ``z`` after sweep ``k`` when ``record``): along
+        the directions ``KT`` (dense), or along fresh random kernel directions, ``BATCH`` per sparse solve."""
+        if self.projector is None:
+            hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, count, out, record)
+            return
+        for sweep in range(count):
+            if self.dimension == 0 and record:  # nothing moves: the one force network
+                out[sweep] = z
+            left = self.dimension
+            while left > 0:
+                batch = min(BATCH, left)
+                left -= batch
+                D = self.projector.directions(rng, batch)
+                D[:, self.fixed] = 0.0
+                GD = D if self.same else np.ascontiguousarray(np.asarray(self.G @ D.T).T)
+                last = record and left == 0
+                hit_and_run_sweeps(z, s, D, GD, self.same, rng, 1, out[sweep:sweep + 1] if last else out[:0], last)
+
     def sweep_seconds(self) -> float:
         """Estimated seconds per sweep (:func:`sweep_seconds`)."""
-        return sweep_seconds(self.dimension, self.balance.variables, 0 if self.same else self.balance.inequalities)
+        return sweep_seconds(self.dimension, self.balance.variables, 0 if self.same else self.balance.inequalities,
+                             self.projector is not None)
 
     def _project(self, z: np.ndarray) -> np.ndarray:
         """Back onto ``A z = b`` (the start satisfies it; ``K`` spans the kernel)."""
+        if self.projector is not None:
+            return self.projector.project(z)
         delta = z - self.start
         return self.start + self.K @ (self.K.T @ delta)
 
+    def _rounded(self, z: np.ndarray, s: np.ndarray, rng: np.random.Generator) -> tuple[Any, ...]:
+        """Rounding (during burn-in only): the directions become the principal axes of pilot runs, so a long thin
+        polytope is crossed along its length; fixed afterwards (the chain recorded is a Gibbs sampler with one
+        fixed orthonormal direction set: uniform). Returns ``(z, s, KT, GKT)``; deterministic given ``rng``."""
+        KT, GKT = self.KT, self.GKT
+        per = self.sweep_seconds()
+        for _ in range(self.rounding_rounds if self.dimension > 1 and self.projector is None else 0):
+            pilot = np.empty((max(50, 2 * self.dimension), self.balance.variables))
+            for start, stop in chunks(pilot.shape[0], first_chunk(per)):
+                for k in range(start, stop):
+                    hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, 1, pilot[k:k + 1], True)
+            z, s = self._projected(z)
+            coordinates = (pilot - self.start) @ self.K
+            _, axes = np.linalg.eigh(np.cov(coordinates.T))
+            directions = self.K @ axes
+            KT = np.ascontiguousarray(directions.T)
+            GKT = KT if self.same else np.ascontiguousarray(np.asarray(self.G @ directions).T)
+        return z, s, KT, GKT
+
+    def _projected(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``z`` back on ``A z = b`` and its slacks ``G z`` (at points fixed by the request: same seed, same bits)."""
+        z = self._project(z)
+        return z, (np.asarray(self.G @ z).ravel() if not self.same else np.zeros(0))
+
     def run(self, samples: int, seed: int | None = None, burn_in: int | None = None,
-            progress: Callable[..., Any] | None = None, thin: int = 1) -> Chain:
+            progress: Callable[..., Any] | None = None, thin: int = 1, checkpoint: str | None = None,
+            block: int | None = None) -> Chain:
         """``samples`` states recorded, ``thin`` sweeps apart, after ``burn_in`` sweeps (default: a tenth of the
         sweeps, at least 100).
+
+        The states are recorded in blocks (:func:`~.chain_records.block_rows`, a function of the request alone);
+        after each the forces are projected back onto ``A z = b`` and, with ``checkpoint``, the block is saved.
+        A rerun with the same arguments and directory resumes after the last finished block and gives the same
+        states, bit for bit, as an uninterrupted run.
 
         Parameters
         ----------
@@ -247,6 +347,10 @@ class HitAndRun:
             Called with the number of recorded states done, per compiled call.
         thin : int
             Sweeps between two recorded states (memory: ``samples * contacts`` floats).
+        checkpoint : str, optional
+            A directory recording every finished block (:mod:`~.chain_records`).
+        block : int, optional
+            States per block (default :func:`~.chain_records.block_rows`); part of the request.
 
         Returns
         -------
@@ -259,46 +363,54 @@ class HitAndRun:
         >>> chain.samples.shape
         (50, 15)
         """
+        # the sparse route's solves with BLAS in one thread, entered once (threadpoolctl's context costs ms)
+        with self.projector.one_thread() if self.projector is not None else nullcontext():
+            return self._run(samples, seed, burn_in, progress, thin, checkpoint, block)
+
+    def _run(self, samples: int, seed: int | None, burn_in: int | None, progress: Callable[..., Any] | None,
+             thin: int, checkpoint: str | None, block: int | None) -> Chain:
         rng = np.random.default_rng(seed)
+        m = self.balance.variables
         burn = max(100, samples * thin // 10) if burn_in is None else burn_in
-        z = self.start.copy()
-        s = np.asarray(self.G @ z).ravel() if not self.same else np.zeros(0)
-        out = np.empty((samples, self.balance.variables))
-        scratch = np.empty((1, self.balance.variables))
+        rows = block_rows(samples, thin, self.dimension, m, block)
+        edges = list(range(0, samples, rows)) + [samples]
+        store = None if checkpoint is None else chain_store(
+            checkpoint, self.network, ("chain", seed, samples, burn_in, thin, rows, self.projector is None),
+            block_shape(rows, m))
         t0 = time.perf_counter()
         per = self.sweep_seconds()
-        KT, GKT = self.KT, self.GKT
-        for _ in range(self.rounding_rounds if self.dimension > 1 else 0):
-            # rounding (during burn-in only): the directions become the principal axes of a pilot run, so a long
-            # thin polytope is crossed along its length; the directions are fixed afterwards (the chain recorded
-            # is a Gibbs sampler with one fixed orthonormal direction set: uniform)
-            pilot = np.empty((max(50, 2 * self.dimension), self.balance.variables))
-            for start, stop in chunks(pilot.shape[0], first_chunk(per)):
-                for k in range(start, stop):
-                    hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, 1, pilot[k:k + 1], True)
-                z = self._project(z)
-                if not self.same:
-                    s = np.asarray(self.G @ z).ravel()
-            coordinates = (pilot - self.start) @ self.K
-            _, axes = np.linalg.eigh(np.cov(coordinates.T))
-            directions = self.K @ axes
-            KT = np.ascontiguousarray(directions.T)
-            GKT = KT if self.same else np.ascontiguousarray(np.asarray(self.G @ directions).T)
-        for start, stop in chunks(burn, first_chunk(per)):
-            hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, stop - start, scratch, False)
-            z = self._project(z)
-            if not self.same:
-                s = np.asarray(self.G @ z).ravel()
-        for start, stop in chunks(samples, first_chunk(per * thin)):
-            for k in range(start, stop):  # thin - 1 sweeps unrecorded, then one recorded
-                if thin > 1:
-                    hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, thin - 1, scratch, False)
-                hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, 1, out[k:k + 1], True)
-            z = self._project(z)
-            if not self.same:
-                s = np.asarray(self.G @ z).ravel()
+        z, s = self._projected(self.start.copy())
+        z, s, KT, GKT = self._rounded(z, s, rng)
+        out = np.empty((samples, m))
+        done = 0
+        while store is not None and done < len(edges) - 1:  # the longest run of finished blocks
+            record = store.load(done)
+            if record is None:
+                break
+            out[edges[done]:edges[done + 1]], z, state = decode_block(record, edges[done + 1] - edges[done], m, rows)
+            rng.bit_generator.state = state
+            done += 1
+        scratch = np.empty((1, m))
+        if done:
+            s = np.asarray(self.G @ z).ravel() if not self.same else np.zeros(0)  # z was saved projected
             if progress is not None:
-                progress(stop - start)
+                progress(edges[done])
+        else:
+            for first in range(0, burn, rows * thin):  # projected every block's worth of sweeps, as below
+                for start, stop in chunks(min(burn, first + rows * thin) - first, first_chunk(per)):
+                    self._sweeps(z, s, KT, GKT, rng, stop - start, scratch, False)
+                z, s = self._projected(z)
+        for b in range(done, len(edges) - 1):
+            for start, stop in chunks(edges[b + 1] - edges[b], first_chunk(per * thin)):
+                for k in range(edges[b] + start, edges[b] + stop):  # thin - 1 sweeps unrecorded, then one recorded
+                    if thin > 1:
+                        self._sweeps(z, s, KT, GKT, rng, thin - 1, scratch, False)
+                    self._sweeps(z, s, KT, GKT, rng, 1, out[k:k + 1], True)
+                if progress is not None:
+                    progress(stop - start)
+            z, s = self._projected(z)
+            if store is not None:
+                store.save(b, encode_block(out[edges[b]:edges[b + 1]], z, rng, rows))
         return Chain(out, self.balance.labels, time.perf_counter() - t0, self.fixed)
 
 
@@ -314,11 +426,32 @@ def chain_task(network: ContactNetwork, samples: int, seed: int, burn_in: int | 
     return HitAndRun(network).run(samples, seed, burn_in, thin=thin)
 
 
+def chain_bits_task(network: ContactNetwork, samples: int, seed: int, burn_in: int | None, thin: int,
+                    rows: int) -> np.ndarray:
+    """One chain's states as a checkpoint record: their float64 bit patterns as int64, padded to ``rows`` states.
+
+    Examples
+    --------
+    >>> from forcenet.exact.contact_network.geometries import triangle
+    >>> chain_bits_task(triangle(3).network, 20, 1, 10, 1, 21).shape
+    (21, 15)
+    """
+    states = chain_task(network, samples, seed, burn_in, thin).samples
+    padded = np.zeros((rows, states.shape[1]))
+    padded[:samples] = states
+    return padded.view(np.int64)
+
+
 def run_chains(network: ContactNetwork, samples: int, seed: int | None, burn_in: int | None, thin: int, chains: int,
-               executor: Any = None, progress: Callable[..., Any] | None = None) -> Chain:
+               executor: Any = None, progress: Callable[..., Any] | None = None, checkpoint: str | None = None,
+               fixed: np.ndarray | None = None) -> Chain:
     """``chains`` independent chains of ``samples // chains`` states each (seeds ``SeedSequence(seed).spawn``),
     run by :func:`forcenet.core.execution.run_tasks` (a local process pool, or ``executor``: a Dask client's),
     joined into one :class:`Chain` whose statistics pool the chains (:meth:`Chain.statistics`).
+
+    With ``checkpoint`` (a directory) every finished chain is recorded as it arrives (one record per chain,
+    :mod:`~.chain_records`) and a rerun of the same request runs only the chains missing; ``fixed`` (the forces
+    balance alone fixes, :attr:`HitAndRun.fixed`) then saves rebuilding a walk here.
 
     Examples
     --------
@@ -330,7 +463,19 @@ def run_chains(network: ContactNetwork, samples: int, seed: int | None, burn_in:
     seeds = [int(s.generate_state(1)[0]) for s in np.random.SeedSequence(seed).spawn(chains)]
     shares = [samples // chains + (1 if k < samples % chains else 0) for k in range(chains)]
     t0 = time.perf_counter()
-    parts = run_tasks(chain_task, [(network, share, s, burn_in, thin) for share, s in zip(shares, seeds)],
-                      executor=executor, workers=chains, progress=progress, weights=shares)
-    return Chain(np.concatenate([part.samples for part in parts]), parts[0].labels, time.perf_counter() - t0,
-                 parts[0].fixed, tuple(shares))
+    if checkpoint is None:
+        parts = run_tasks(chain_task, [(network, share, s, burn_in, thin) for share, s in zip(shares, seeds)],
+                          executor=executor, workers=chains, progress=progress, weights=shares)
+        return Chain(np.concatenate([part.samples for part in parts]), parts[0].labels, time.perf_counter() - t0,
+                     parts[0].fixed, tuple(shares))
+    bal = balance(network)
+    rows = max(shares)
+    store = chain_store(checkpoint, network, ("chains", seed, samples, burn_in, thin, chains), (rows, bal.variables))
+    records = run_tasks(chain_bits_task, [(network, share, s, burn_in, thin, rows) for share, s in zip(shares, seeds)],
+                        executor=executor, workers=chains, progress=progress, weights=shares, store=store,
+                        keys=list(range(chains)))
+    states = np.concatenate([np.ascontiguousarray(r, dtype=np.int64).view(np.float64)[:share]
+                             for r, share in zip(records, shares)])
+    if fixed is None:
+        fixed = HitAndRun(network, bal).fixed
+    return Chain(states, bal.labels, time.perf_counter() - t0, fixed, tuple(shares))

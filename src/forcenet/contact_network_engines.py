@@ -25,12 +25,25 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from collections.abc import Callable
 from concurrent.futures import Executor
+from dataclasses import replace
 from typing import Any
 
 from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan, with_compilation
-from forcenet.exact.contact_network.triangulation_moments import moments_by_triangulation, moments_by_volumes
-from forcenet.numeric.contact_network.hit_and_run import HitAndRun, hit_and_run_sweeps, run_chains, sweep_seconds
+from forcenet.exact.contact_network.marginal_density import force_densities
+from forcenet.exact.contact_network.triangulation_moments import (
+    moments_by_triangulation,
+    moments_by_volumes,
+    triangulation,
+)
+from forcenet.numeric.contact_network.hit_and_run import (
+    SPARSE_FROM,
+    HitAndRun,
+    hit_and_run_sweeps,
+    run_chains,
+    setup_seconds,
+    sweep_seconds,
+)
 from forcenet.registry import REGISTRY
 
 __all__ = ["MODEL", "MAX_EXACT_DIMENSION", "TriangulationEngine", "VolumesEngine", "HitAndRunEngine",
@@ -132,7 +145,12 @@ class TriangulationEngine(_ExactMomentsEngine):
 
     def run(self, request: Any, plan: Plan, *, progress: Callable[..., Any] | None = None,
             executor: Executor | None = None) -> Any:
-        return moments_by_triangulation(request.polytope, request.moments)
+        if not request.density:
+            return moments_by_triangulation(request.polytope, request.moments)
+        # one triangulation for the moments and the densities (piecewise polynomials, marginal_density)
+        tri = triangulation(request.polytope)
+        densities = force_densities(request.polytope, list(request.density), tri)
+        return replace(moments_by_triangulation(request.polytope, request.moments, tri=tri), densities=densities)
 
 
 class VolumesEngine(_ExactMomentsEngine):
@@ -147,6 +165,9 @@ class VolumesEngine(_ExactMomentsEngine):
     name = "volumes"
 
     def _refusal(self, request: Any) -> Plan | None:
+        if request.density:
+            return Plan("exact moments (volumes)", 0, refusal="the exact density (--density) is read off the "
+                        "triangulation: use method='triangulation' (--method triangulation)")
         if not request.network.frictional:
             return None
         return Plan("exact moments (volumes)", 0, refusal="method='volumes' needs forces that are never "
@@ -182,9 +203,10 @@ class HitAndRunEngine:
         recorded = request.samples * request.thin
         sweeps = recorded + (request.burn_in if request.burn_in is not None else max(100, recorded // 10))
         inequalities = bal.inequalities if request.network.frictional else 0
-        setup = 4e-9 * rows * m * min(rows, m) + 1e-6 * (m + rows) * 20
+        setup = setup_seconds(rows, m)
         parallel = min(request.chains, 2)  # the reference machine's cores
-        seconds = setup * (1 if request.chains == 1 else 2) + sweeps * sweep_seconds(dimension, m, inequalities) / parallel
+        per = sweep_seconds(dimension, m, inequalities, m >= SPARSE_FROM)
+        seconds = setup * (1 if request.chains == 1 else 2) + sweeps * per / parallel
         nbytes = 8 * m * (request.samples * 4 + dimension + rows)
         plan = Plan(f"{sweeps} hit-and-run sweeps on {request.network.grains} grains", seconds, nbytes,
                     ticks=request.samples, unit="sample")
@@ -194,10 +216,11 @@ class HitAndRunEngine:
             executor: Executor | None = None) -> Any:
         walk = HitAndRun(request.network, request.balance)
         if request.chains == 1 and executor is None:
-            chain = walk.run(request.samples, request.seed, request.burn_in, progress=progress, thin=request.thin)
+            chain = walk.run(request.samples, request.seed, request.burn_in, progress=progress, thin=request.thin,
+                             checkpoint=request.checkpoint)
         else:  # independent chains in worker processes (or on a Dask cluster), pooled
             chain = run_chains(request.network, request.samples, request.seed, request.burn_in, request.thin,
-                               request.chains, executor, progress)
+                               request.chains, executor, progress, checkpoint=request.checkpoint, fixed=walk.fixed)
         return chain, walk.dimension
 
 

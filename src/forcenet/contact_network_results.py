@@ -59,6 +59,9 @@ class NetworkResult:
         The chain (one row per sweep), kept for ``P(f)`` and figures.
     methods : tuple of str
         The engines that ran.
+    exact_density : tuple of (int, list of DensityPiece) or None
+        Per variable asked for (``density=``, ``--density``) its exact density, a piecewise polynomial
+        (:mod:`forcenet.exact.contact_network.marginal_density`).
 
     Examples
     --------
@@ -81,6 +84,10 @@ class NetworkResult:
     tau: np.ndarray | None = None
     samples: np.ndarray | None = None
     methods: tuple[str, ...] = ()
+    exact_density: tuple[tuple[int, list[Any]], ...] | None = None
+
+    def _density(self, k: int) -> list[Any] | None:
+        return dict(self.exact_density).get(k) if self.exact_density else None
 
     def _entry(self, k: int) -> dict[str, Any]:
         entry: dict[str, Any] = {}
@@ -96,6 +103,10 @@ class NetworkResult:
             if self.sampled_second is not None and self.second_error is not None:
                 entry[f"{prefix}second"] = float(self.sampled_second[k])
                 entry["second_error"] = float(self.second_error[k])
+        pieces = self._density(k)
+        if pieces is not None:
+            entry["density"] = [{"from": str(p.lo), "to": str(p.hi), "polynomial": str(p.poly.as_expr())}
+                                for p in pieces]
         return entry
 
     def to_dict(self) -> dict[str, Any]:
@@ -162,6 +173,7 @@ class NetworkResult:
                 if label not in index:
                     continue
                 entry = self._entry(index[label])
+                entry.pop("density", None)  # pieces do not fit a row: --format json or text
                 header = header or list(entry)
                 rows.append(",".join([str(c), kind, str(i), "" if j is None else str(j)] +
                                      [str(entry[key]) for key in header]))
@@ -191,7 +203,7 @@ class NetworkResult:
                 entry = self._entry(index[label])
                 parts = []
                 for key, value in entry.items():
-                    if key in ("error", "second_error"):
+                    if key in ("error", "second_error", "density"):
                         continue
                     text = f"{value:.6g}" if isinstance(value, float) else value
                     error_key = "error" if key.endswith("mean") else "second_error"
@@ -200,6 +212,7 @@ class NetworkResult:
                     parts.append(f"{key} {text}")
                 other = "wall" if j is None else str(j)
                 lines.append(f"  {kind}{c} ({i}-{other}): " + ", ".join(parts))
+                lines += [f"    density on [{p['from']}, {p['to']}]: {p['polynomial']}" for p in entry.get("density", [])]
         return "\n".join(lines) + "\n"
 
     def density(self, contact: int, points: list[Any]) -> list[Any]:
@@ -236,6 +249,54 @@ class NetworkResult:
         contact = check_int(contact, "contact", 0, len(self.network.contacts) - 1)
         return density_at(exact_polytope(self.network), self.labels.index(f"f{contact}"), list(points))
 
+    def _pooled(self) -> list[int]:
+        """The normal forces pooled in ``P(f)``: positive mean, not fixed by balance alone (a point mass)."""
+        if self.sampled_mean is None or self.sampled_error is None:
+            return []
+        return [k for k, label in enumerate(self.labels)
+                if label.startswith("f") and self.sampled_mean[k] > 0 and self.sampled_error[k] > 0]
+
+    def exact_force_distribution(self, f: Any) -> np.ndarray:
+        """The exact pooled ``P(f)``, ``f = F / <F>`` (thesis Sec. 2.4), from the exact densities:
+        ``P(f) = (1/n) sum_c <F_c> p_c(<F_c> f)`` over the forces of ``density=True`` (floats: for figures).
+
+        Parameters
+        ----------
+        f : array_like
+            Where to evaluate.
+
+        Returns
+        -------
+        numpy.ndarray
+
+        Raises
+        ------
+        ArgumentError
+            Without exact densities (``exact=True, density=True``).
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> from forcenet.exact.contact_network.geometries import triangle
+        >>> r = forcenet.network(triangle(3).network, exact=True, density=True)
+        >>> grid = np.linspace(0, 8, 20001)
+        >>> bool(abs(np.trapezoid(r.exact_force_distribution(grid), grid) - 1) < 1e-3)  # jumps: trapezoids
+        True
+        """
+        if not self.exact_density or self.exact_mean is None:
+            raise ArgumentError("the exact P(f) needs the exact densities: forcenet.network(..., exact=True, "
+                                "density=True) (--exact --density)")
+        f = np.asarray(f, dtype=float)
+        total = np.zeros_like(f)
+        for k, pieces in self.exact_density:
+            mean = float(self.exact_mean[k])
+            x = mean * f
+            for piece in pieces:
+                inside = (x >= float(piece.lo)) & (x < float(piece.hi))
+                coefficients = [float(c) for c in piece.poly.all_coeffs()]
+                total[inside] += mean * np.polyval(coefficients, x[inside])
+        return total / len(self.exact_density)
+
     def force_distribution(self, bins: int = 30) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``P(f)`` of the normal forces pooled, ``f = F / <F>`` per contact (thesis Sec. 2.4), from the samples.
 
@@ -260,9 +321,7 @@ class NetworkResult:
         """
         if self.samples is None or self.sampled_mean is None:
             raise ArgumentError("force_distribution needs samples: run forcenet.network(..., samples=K)")
-        normal = [k for k, label in enumerate(self.labels) if label.startswith("f")]
-        means = self.sampled_mean[normal]
-        keep = [k for k, m in zip(normal, means) if m > 0]
+        keep = self._pooled()
         scaled = self.samples[:, keep] / self.sampled_mean[keep]
         edges = np.linspace(0.0, max(1e-12, float(scaled.max())), bins + 1)
         density, _ = np.histogram(scaled.ravel(), bins=edges, density=True)
@@ -304,6 +363,9 @@ class NetworkResult:
             fig = ax.figure
         centres = 0.5 * (edges[1:] + edges[:-1])
         ax.errorbar(centres, density, yerr=error, fmt="o", ms=3, label="hit-and-run")
+        if self.exact_density:
+            grid = np.linspace(0.0, float(edges[-1]), 400)
+            ax.plot(grid, self.exact_force_distribution(grid), "-", lw=1.2, label="exact (triangulation)")
         ax.set_xlabel("f = F / <F>")
         ax.set_ylabel("P(f)")
         ax.legend()

@@ -40,6 +40,7 @@ from pathlib import Path
 from typing import Any, ClassVar
 
 from forcenet.contact_network_results import NetworkResult
+from forcenet.core.atomic_files import check_directory
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan, combine
 from forcenet.core.validation import check_int, check_seed
@@ -76,6 +77,10 @@ class NetworkRequest:
         Independent chains (run in worker processes, or on ``executor``), pooled.
     method : str
         An engine's name or ``"auto"``.
+    checkpoint : str or None
+        A checked directory recording the sampler's finished blocks (one chain) or chains (several).
+    density : tuple of int
+        Variables whose exact density the exact route computes too (piecewise polynomials).
     """
 
     network: ContactNetwork
@@ -87,6 +92,8 @@ class NetworkRequest:
     method: str = "auto"
     thin: int = 1
     chains: int = 1
+    checkpoint: str | None = None
+    density: tuple[int, ...] = ()
     model: ClassVar[str] = "contact-network"
 
     @cached_property
@@ -217,6 +224,8 @@ class NetworkPlan(CostedPlan):
                     dimension = moments.dimension
                     result["exact_mean"] = moments.mean
                     result["exact_second"] = moments.second or None
+                    if moments.densities is not None:
+                        result["exact_density"] = tuple(moments.densities.items())
                 else:
                     chain, dimension = engine.run(request, plan, progress=tick, executor=self.executor)
                     mean, error, tau = chain.statistics()
@@ -230,7 +239,8 @@ class NetworkPlan(CostedPlan):
 
 def network_plan(source: Any, *, exact: bool | None = None, moments: int = 1, samples: int | None = None,
                  seed: int | None = None, burn_in: int | None = None, method: str = "auto",
-                 thin: int = 1, chains: int = 1, executor: Any = None) -> NetworkPlan:
+                 thin: int = 1, chains: int = 1, executor: Any = None,
+                 checkpoint: str | os.PathLike[str] | None = None, density: Any = None) -> NetworkPlan:
     """Check a request on a contact network once and plan it (the exact route, the sampler, or both).
 
     Parameters
@@ -257,6 +267,12 @@ def network_plan(source: Any, *, exact: bool | None = None, moments: int = 1, sa
         their statistics are pooled.
     executor : concurrent.futures.Executor or Dask Client, optional
         Where the chains run (default: a local process pool when ``chains > 1``).
+    checkpoint : str or os.PathLike, optional
+        A directory recording the sampler's finished blocks (or chains, with ``chains > 1``); the same request
+        run again (after Ctrl-C, a crash) resumes there and gives the same samples as an uninterrupted run.
+    density : bool or list of int, optional
+        With the exact route: the exact density of these contacts' normal forces (``True``: every contact whose
+        force is not fixed by balance alone), a piecewise polynomial read off the triangulation.
 
     Returns
     -------
@@ -285,6 +301,7 @@ def network_plan(source: Any, *, exact: bool | None = None, moments: int = 1, sa
     thin = check_int(thin, "thin", 1)
     chains = check_int(chains, "chains", 1, samples if samples is not None else 1)
     seed = None if seed is None else int(check_seed(seed))
+    directory = None if checkpoint is None else check_directory(checkpoint, "checkpoint")
     if method not in EXACT_METHODS:
         raise ArgumentError(f"method={method!r} is out of range: method must be one of {', '.join(EXACT_METHODS)}",
                             argument="method")
@@ -293,12 +310,13 @@ def network_plan(source: Any, *, exact: bool | None = None, moments: int = 1, sa
         raise ArgumentError("nothing to compute: ask for the exact moments (exact=True, --exact) or samples "
                             "(samples=K, --samples K)")
     start, _ = polytope_module.check_polytope(net)  # the network's refusals, before any work
+    variables = _density_variables(net, density, exact)
     requests = []
     if exact:
-        requests.append(NetworkRequest(net, "exact-moments", moments, method=method))
+        requests.append(NetworkRequest(net, "exact-moments", moments, method=method, density=variables))
     if samples is not None:
         requests.append(NetworkRequest(net, "sampled-moments", moments, samples, seed, burn_in, thin=thin,
-                                       chains=chains))
+                                       chains=chains, checkpoint=directory))
     chosen = [REGISTRY.choose(request) for request in requests]
     engines = tuple(engine for engine, _ in chosen)
     plans = tuple(plan for _, plan in chosen)
@@ -307,9 +325,27 @@ def network_plan(source: Any, *, exact: bool | None = None, moments: int = 1, sa
                        cost, start, executor)
 
 
+def _density_variables(net: ContactNetwork, density: Any, exact: bool) -> tuple[int, ...]:
+    """The variables (normal forces ``f{c}``) whose exact density is asked for, checked once."""
+    if density is None or density is False:
+        return ()
+    if not exact:
+        raise ArgumentError("density needs the exact route: exact=True (--exact) with density (--density)",
+                            argument="density")
+    labels = polytope_module.balance(net).labels
+    if density is True:
+        poly = polytope_module.exact_polytope(net)
+        return tuple(labels.index(f"f{c}") for c in range(len(net.contacts))
+                     if poly.dimension and any(poly.K[labels.index(f"f{c}")]))
+    if isinstance(density, (str, bytes)) or not hasattr(density, "__iter__"):
+        raise ArgumentTypeError(f"density={density!r}: give True or a list of contact indices")
+    return tuple(labels.index(f"f{check_int(c, 'density', 0, len(net.contacts) - 1)}") for c in density)
+
+
 def network(source: Any, *, exact: bool | None = None, moments: int = 1, samples: int | None = None,
             seed: int | None = None, burn_in: int | None = None, method: str = "auto", thin: int = 1,
-            chains: int = 1, executor: Any = None, progress: Progress | bool | None = None) -> NetworkResult:
+            chains: int = 1, executor: Any = None, checkpoint: str | os.PathLike[str] | None = None,
+            density: Any = None, progress: Progress | bool | None = None) -> NetworkResult:
     """Every contact force's moments over the force network ensemble of a contact network (Sec. 2.3).
 
     ``network_plan(...)`` then ``.run(progress)``.
@@ -318,7 +354,7 @@ def network(source: Any, *, exact: bool | None = None, moments: int = 1, samples
     ----------
     source : ContactNetwork, path or dict
         The network.
-    exact, moments, samples, seed, burn_in, method, thin, chains, executor
+    exact, moments, samples, seed, burn_in, method, thin, chains, executor, checkpoint, density
         As :func:`network_plan`.
     progress : callable, bool or None
         ``progress(k)`` per recorded sweep; ``True``: a progress bar.
@@ -343,7 +379,8 @@ def network(source: Any, *, exact: bool | None = None, moments: int = 1, samples
     (3, 'sqrt(3)/3')
     """
     return network_plan(source, exact=exact, moments=moments, samples=samples, seed=seed, burn_in=burn_in,
-                        method=method, thin=thin, chains=chains, executor=executor).run(progress)
+                        method=method, thin=thin, chains=chains, executor=executor,
+                        checkpoint=checkpoint, density=density).run(progress)
 
 
 def network_response(source: Any, grain: int, load: tuple[Any, Any] = (0, -1), **options: Any) -> tuple[Any, ...]:

@@ -3,8 +3,9 @@
 The file is JSON: ``{"grains": n, "contacts": [[i, j, "nx", "ny"], ...], "loads": [[g, "fx", "fy"], ...]}``
 (``j`` null for a wall; numbers exact as strings such as ``"1/2"`` or ``"sqrt(3)/2"``; optional
 ``"friction"``, ``"radii"``, ``"positions"``).  ``--exact``: every contact force's exact mean (and second
-moment, ``--moments 2``) through Normaliz; ``--samples K --seed S``: hit-and-run samples, means with error
-bars.  A bad network (not balanced, infeasible, unbounded, not JSON, ...) is one line and exit code 2.
+moment, ``--moments 2``) through Normaliz, and with ``--density`` its exact density (piecewise
+polynomials); ``--samples K --seed S``: hit-and-run samples, means with error bars (``--checkpoint DIR``:
+resumable).  A bad network (not balanced, infeasible, unbounded, not JSON, ...) is one line and exit code 2.
 """
 
 from __future__ import annotations
@@ -27,7 +28,9 @@ __all__ = ["register"]
 def cmd_network(args: argparse.Namespace) -> int:
     plan = forcenet.network_plan(args.file, exact=True if args.exact else None if args.samples is None else False,
                                  moments=args.moments, samples=args.samples, seed=args.seed, burn_in=args.burn_in,
-                                 method=args.method, thin=args.thin, chains=args.chains)
+                                 method=args.method, thin=args.thin, chains=args.chains,
+                                 checkpoint=args.checkpoint,
+                                 density=None if args.density is None else (args.density or True))
 
     def run(tick: Callable[..., None] | None) -> NetworkResult:
         return plan.run(progress=tick)
@@ -54,6 +57,13 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
                    help="sweeps between two recorded samples (default 1; memory is samples x contacts)")
     p.add_argument("--chains", type=integer("chains", 1), default=1,
                    help="independent chains sharing --samples, one worker process each (default 1)")
+    p.add_argument("--density", nargs="*", type=integer("density", 0), metavar="C", default=None,
+                   help="with --exact: the exact density of contact C's normal force (several: C C ...; none "
+                        "given: every contact's force that balance does not fix), a piecewise polynomial from "
+                        "the triangulation, in the text and json output")
+    p.add_argument("--checkpoint", metavar="DIR", default=None,
+                   help="record the sampler's finished blocks (or chains) in DIR; the same command run again "
+                        "(after Ctrl-C) resumes there, with the same numbers as an uninterrupted run")
     p.add_argument("--method", choices=["auto", "triangulation", "volumes"], default="auto",
                    help="the exact route (default auto: the faster by the plans)")
     add_format(p, choices=("text", "json", "csv"))

@@ -103,6 +103,7 @@ class ScalingPlan(_Costed):
                    "blocks": r.blocks, "method": engine.name, "checkpoint_records_reused": outcome.reused}
         if r.model == "percolation":
             details["lattice"] = r.lattice
+        details.update(outcome.details)
         return ForceChainScaling(r.model, outcome.data, outcome.fit, outcome.seconds, details)
 
     @property
@@ -121,15 +122,18 @@ class ScalingPlan(_Costed):
 def scaling_plan(model: str, sizes: Sequence[int] | None = None, samples: int | Sequence[int] | None = None,
                  seed: int = 0, *, lattice: str = "square", thresholds: int = 600, replicas: int = 100,
                  blocks: int = 32, workers: int = 1, checkpoint: str | os.PathLike[str] | None = None,
-                 method: str = "auto") -> ScalingPlan:
+                 method: str = "auto", average: int = 4) -> ScalingPlan:
     """Check a finite-size-scaling request once and say what it costs.
 
     Parameters
     ----------
-    model : {"percolation", "q-independent", "q-microcanonical"}
-        The generator of force networks.
+    model : {"percolation", "q-independent", "q-microcanonical", "snooker", "disordered", "averaged"}
+        The generator of force networks (Secs. 7.2-7.3; ``snooker``: the force network ensemble on the snooker
+        triangle, ``disordered``: on soft-disk packings, ``averaged``: snooker networks each the average of
+        ``average`` networks of the ensemble).
     sizes : sequence of int, optional
-        Linear sizes ``L`` (at least 3; default: the model's, ``DEFAULTS``).
+        Linear sizes ``L`` (at least 3; default: the model's, ``DEFAULTS``): the lattice's side, the snooker
+        triangle's layers, ``sqrt`` of a disordered packing's disks.
     samples : int or sequence of int, optional
         Networks per size (one number: the same at every size).
     seed : int
@@ -148,6 +152,8 @@ def scaling_plan(model: str, sizes: Sequence[int] | None = None, samples: int | 
         A directory keeping every finished block (a rerun reuses them).
     method : str
         The engine (``auto``: the registry's choice).
+    average : int
+        ``P`` of the ``averaged`` model (Sec. 7.2.3; 1..64).
 
     Returns
     -------
@@ -169,7 +175,7 @@ def scaling_plan(model: str, sizes: Sequence[int] | None = None, samples: int | 
     >>> forcenet.scaling_plan("ising")
     Traceback (most recent call last):
     ...
-    forcenet.core.errors.ArgumentError: model='ising' is out of range: model must be one of percolation, q-independent, q-microcanonical
+    forcenet.core.errors.ArgumentError: model='ising' is out of range: model must be one of percolation, q-independent, q-microcanonical, snooker, disordered, averaged
     """
     if model not in MODELS:
         raise ArgumentError(f"model={model!r} is out of range: model must be one of {', '.join(MODELS)}")
@@ -198,7 +204,8 @@ def scaling_plan(model: str, sizes: Sequence[int] | None = None, samples: int | 
         seed=check_int(check_seed(seed), "seed", 0), lattice=lattice,
         thresholds=check_int(thresholds, "thresholds", 20, 20000), replicas=check_int(replicas, "replicas", 0, 10000),
         blocks=check_int(blocks, "blocks", 2, 10000), workers=check_int(workers, "workers", 1, 256),
-        checkpoint=None if checkpoint is None else check_directory(checkpoint, "checkpoint"), method=str(method))
+        checkpoint=None if checkpoint is None else check_directory(checkpoint, "checkpoint"), method=str(method),
+        average=check_int(average, "average", 1, 64))
     _, cost = REGISTRY.choose(request)
     return ScalingPlan(request, cost)
 

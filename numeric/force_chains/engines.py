@@ -65,7 +65,7 @@ DEFAULTS: dict[str, tuple[tuple[int, ...], tuple[int, ...]]] = {
     "q-microcanonical": ((12, 16, 24, 32, 48, 64), (1280, 1280, 640, 640, 320, 192)),
     # Sec. 7.2: L = layers of the snooker triangle (M = 3L(L-1)/2 + 2L contacts), L^2 disks when disordered
     "snooker": ((8, 12, 16, 20, 28), (3200, 2400, 1600, 1280, 800)),
-    "disordered": ((6, 8, 10, 12, 14), (640, 640, 640, 640, 640)),
+    "disordered": ((6, 8, 10, 12, 14), (960, 960, 640, 640, 640)),
     "averaged": ((8, 12, 16, 20, 28), (1600, 1200, 800, 640, 400)),
 }
 BONDS_PER_SECOND = 6.0e6  # the cluster pass with wrapping, one core (notes/benchmarks.md), sorting included
@@ -309,7 +309,7 @@ class LocalHitAndRunEngine(_ScalingEngine):
 
     def seconds(self, request: ScalingRequest) -> float:
         setup = sum(network_ensembles.setup_seconds(request.model, L) for L in request.sizes)
-        return setup * min(request.workers, request.blocks) + sum(
+        return setup * min(request.workers, request.blocks) + sum(  # each process builds its own samplers
             network_ensembles.block_seconds(request.model, L, c, request.average)
             for L, k in zip(request.sizes, request.samples, strict=True) for c in _split(k, request.blocks))
 

@@ -229,6 +229,8 @@ class LocalHitAndRun:
         Frictionless, balanced, bounded (refused otherwise, one line).
     dimension : int, optional
         ``dim Ker A`` when known (e.g. ``contacts - 2 grains`` for a rigid packing); computed otherwise.
+    max_radius : int
+        The largest patch radius (:func:`local_directions`).
 
     Attributes
     ----------
@@ -239,7 +241,7 @@ class LocalHitAndRun:
         The maximin network.
     """
 
-    def __init__(self, network: ContactNetwork, dimension: int | None = None) -> None:
+    def __init__(self, network: ContactNetwork, dimension: int | None = None, max_radius: int = 2) -> None:
         if network.frictional:
             raise ArgumentError("the local hit-and-run samples frictionless networks only: use forcenet.network "
                                 "for a frictional one")
@@ -253,7 +255,7 @@ class LocalHitAndRun:
         if dimension is None:
             dense = A.toarray()
             dimension = len(network.contacts) - _rank(dense @ dense.T)
-        self.directions = local_directions(network, A, dimension)
+        self.directions = local_directions(network, A, dimension, max_radius)
         self.dimension = dimension
         self.radius = self.directions.radius
         self.variables = len(network.contacts)

@@ -7,13 +7,13 @@
   :mod:`.local_hit_and_run` (the thesis used a Metropolis walk in its
   q-coordinates; any uniform sampler of the polytope serves).
 * ``disordered`` (Sec. 7.2.2): the ensemble on disordered contact networks.
-  The thesis took fixed networks from Lennard-Jones simulations and
-  generated force networks by simulated annealing (not known to be
-  uniform); here every block of samples has its own packing, ``L^2``
-  bidisperse soft disks relaxed under a piston
-  (:func:`forcenet.numeric.contact_network.soft_disks.relaxed_packing`), and
-  its force networks are drawn uniformly, so the disorder of the contacts
-  is averaged over blocks.
+  The thesis took fixed networks from Lennard-Jones simulations (z = 4.7 to
+  6 contacts per grain) and generated force networks by simulated annealing
+  (not known to be uniform); here each size has ``PACKINGS`` fixed packings
+  of ``L^2`` bidisperse soft disks relaxed under a piston of pressure 0.1
+  (:func:`forcenet.numeric.contact_network.soft_disks.relaxed_packing`; z ~
+  4.7), shared in turn by the blocks, and their force networks are drawn
+  uniformly, so the disorder of the contacts is averaged over 8 packings.
 * ``averaged`` (Sec. 7.2.3, non-uniform sampling): on the snooker packing,
   each network is the average of ``P`` networks of the ensemble (``P``
   consecutive thinned states of the chain), which moves weight from the
@@ -52,13 +52,14 @@ from .local_hit_and_run import MOVE_SECONDS, LocalHitAndRun
 from .newman_ziff import Lattice, sweep_lattice
 
 __all__ = ["NETWORK_MODELS", "THIN_PER_LAYER", "BURN_IN_SWEEPS", "ensemble_networks", "block_task", "network_size",
-           "block_seconds", "setup_seconds", "pilot_thresholds", "FIRE_SECONDS"]
+           "block_seconds", "setup_seconds", "pilot_thresholds", "PACKINGS", "BUILD_SECONDS"]
 
 NETWORK_MODELS = ("snooker", "disordered", "averaged")
 THIN_PER_LAYER = 5  # sweeps between recorded networks per layer (tau of the slowest force ~ 4.5 L sweeps)
 BURN_IN_SWEEPS = 40  # burn-in per layer, in sweeps (~10 tau)
-FIRE_SECONDS = 2.5e-4  # the soft-disk relaxation, per disk and per 100 FIRE steps (measured)
-PRESSURE = 0.01  # the soft disks' piston pressure (overlaps ~1 % of a diameter)
+PACKINGS = 8  # disordered packings per size (blocks share them in turn)
+BUILD_SECONDS = 0.03  # a disordered packing relaxed and its sampler built, per disk (measured, 100 disks ~ 3 s)
+PRESSURE = 0.1  # the soft disks' piston pressure: z ~ 4.7 contacts per disk, the thesis's lowest (Fig. 7.3 a)
 
 
 @functools.lru_cache(maxsize=8)
@@ -77,15 +78,19 @@ def _bonds(net: ContactNetwork, L: int) -> Lattice:
     return Lattice("contacts", L, net.grains, head, tail, zeros, zeros)
 
 
-def _walk(model: str, L: int, rng: np.random.Generator) -> tuple[LocalHitAndRun, Lattice]:
-    if model != "disordered":
-        return _snooker_walk(L)
-    net = relaxed_packing(L * L, pressure=PRESSURE, seed=int(rng.integers(2**63))).network()
-    return LocalHitAndRun(net), _bonds(net, L)
+@functools.lru_cache(maxsize=16)
+def _packing_walk(L: int, packing: int) -> tuple[LocalHitAndRun, Lattice]:
+    """The sampler on the soft-disk packing number ``packing`` of ``L^2`` disks (kept per process)."""
+    net = relaxed_packing(L * L, pressure=PRESSURE, seed=packing).network()
+    return LocalHitAndRun(net, max_radius=1), _bonds(net, L)  # wheels where they exist, the rest dense
 
 
-def ensemble_networks(model: str, L: int, count: int, rng: np.random.Generator, average: int = 1
-                      ) -> tuple[np.ndarray, Lattice, int]:
+def _walk(model: str, L: int, packing: int) -> tuple[LocalHitAndRun, Lattice]:
+    return _packing_walk(L, packing) if model == "disordered" else _snooker_walk(L)
+
+
+def ensemble_networks(model: str, L: int, count: int, rng: np.random.Generator, average: int = 1,
+                      packing: int = 0) -> tuple[np.ndarray, Lattice, int]:
     """``count`` force networks of ``model`` at size ``L``: the grain-grain forces, the bond list, the contacts.
 
     Parameters
@@ -98,6 +103,8 @@ def ensemble_networks(model: str, L: int, count: int, rng: np.random.Generator, 
     rng : numpy.random.Generator
     average : int
         ``P``: networks averaged into one (model ``averaged``).
+    packing : int
+        The seed of the disordered packing.
 
     Returns
     -------
@@ -116,7 +123,7 @@ def ensemble_networks(model: str, L: int, count: int, rng: np.random.Generator, 
     """
     if model not in NETWORK_MODELS:
         raise ArgumentError(f"model={model!r} is out of range: model must be one of {', '.join(NETWORK_MODELS)}")
-    walk, lattice = _walk(model, L, rng)
+    walk, lattice = _walk(model, L, packing)
     P = average if model == "averaged" else 1
     states = walk.run(count * P, THIN_PER_LAYER * L, BURN_IN_SWEEPS * L, rng)
     keep = np.array([c for c, (_, j, _, _) in enumerate(walk.network.contacts) if j is not None], dtype=np.int64)
@@ -142,7 +149,9 @@ def block_task(model: str, L: int, count: int, seed: int, size_index: int, block
     [4.0, 40.0]
     """
     rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(size_index, block)))
-    forces, lattice, M = ensemble_networks(model, L, count, rng, average)
+    # PACKINGS disordered packings per size, each sampled by every PACKINGS-th block's chain
+    packing = int(np.random.SeedSequence(seed, spawn_key=(size_index, 2**30 + block % PACKINGS)).generate_state(1)[0])
+    forces, lattice, M = ensemble_networks(model, L, count, rng, average, packing)
     stats = sweep_lattice(lattice, forces, thresholds, wrapping=False)
     series = (forces**2).mean(axis=1)[:, None]
     tau = float(integrated_time(series, tol=1.0, quiet=True)[0]) if count >= 4 else 1.0
@@ -176,14 +185,13 @@ def block_seconds(model: str, L: int, count: int, average: int) -> float:
     contacts, moves = network_size(model, L)
     P = average if model == "averaged" else 1
     sweeps = BURN_IN_SWEEPS * L + count * P * THIN_PER_LAYER * L
-    setup = FIRE_SECONDS * L * L * 100 if model == "disordered" else 0.0
-    return sweeps * moves * MOVE_SECONDS + setup + count * contacts * 2e-7
+    return sweeps * moves * MOVE_SECONDS + count * contacts * 2e-7
 
 
 def setup_seconds(model: str, L: int) -> float:
-    """Estimated seconds to build the snooker sampler of size ``L`` once per process (the maximin network's linear
-    program, the patches, the Gram matrix's rank): 65 s at ``L = 84``, 9 s at 56, measured; none for a disordered
-    packing (its blocks' setup is in :func:`block_seconds`).
+    """Estimated seconds to build the samplers of size ``L`` once per process (the maximin network's linear
+    program, the patches, the Gram matrix's rank): the snooker packing's, 65 s at ``L = 84``, 9 s at 56,
+    measured; the ``PACKINGS`` disordered packings' (relaxation and sampler).
 
     Examples
     --------
@@ -191,7 +199,7 @@ def setup_seconds(model: str, L: int) -> float:
     65
     """
     if model == "disordered":
-        return 0.0
+        return PACKINGS * BUILD_SECONDS * L * L
     return 65.0 * (network_size(model, L)[0] / network_size(model, 84)[0]) ** 2.4
 
 

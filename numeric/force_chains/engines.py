@@ -63,10 +63,11 @@ DEFAULTS: dict[str, tuple[tuple[int, ...], tuple[int, ...]]] = {
     "percolation": ((32, 48, 64, 96, 128, 192, 256), (3200, 2400, 1600, 1200, 800, 480, 400)),
     "q-independent": ((20, 28, 40, 56, 80, 112), (19200, 9600, 4800, 2400, 1200, 640)),
     "q-microcanonical": ((12, 16, 24, 32, 48, 64), (1280, 1280, 640, 640, 320, 192)),
-    # Sec. 7.2: L = layers of the snooker triangle (M = 3L(L-1)/2 + 2L contacts), L^2 disks when disordered
+    # Sec. 7.2: L = layers of the snooker triangle (M = 3L(L-1)/2 + 2L contacts), L^2 disks when disordered;
+    # planned under the command line's minute (no --force needed)
     "snooker": ((8, 12, 16, 20, 28), (3200, 2400, 1600, 1280, 800)),
-    "disordered": ((6, 8, 10, 12, 14), (960, 960, 640, 640, 640)),
-    "averaged": ((8, 12, 16, 20, 28), (1600, 1200, 800, 640, 400)),
+    "disordered": ((5, 6, 7, 8, 10), (960, 960, 640, 640, 640)),
+    "averaged": ((8, 12, 16, 20, 28), (1200, 800, 480, 320, 200)),
 }
 BONDS_PER_SECOND = 6.0e6  # the cluster pass with wrapping, one core (notes/benchmarks.md), sorting included
 GENERATE_PER_SECOND = 3.0e7  # uniform forces or q-model forces per second

@@ -11,6 +11,8 @@ import json
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import forcenet
 from forcenet.cli import main
@@ -49,6 +51,21 @@ def test_the_wheels_span_the_snooker_kernel():
         d = local_directions(net, float_system(balance(net))[0], len(net.contacts) - 2 * net.grains)
         assert d.radius == 1 and d.count == moves  # the wheel of every grain not on the walls, and 3 more
         assert exact_polytope(net).dimension == d.dimension
+
+
+@settings(max_examples=8, deadline=None)
+@given(st.integers(3, 9), st.integers(0, 2**32 - 1), st.booleans())
+def test_every_direction_is_a_self_stress_and_every_state_is_a_force_network(N, seed, disordered):
+    net = relaxed_packing(N * N, pressure=0.1, seed=seed).network() if disordered else snooker(N).network
+    walk = LocalHitAndRun(net, max_radius=1 if disordered else 2)
+    A, b, _ = float_system(balance(net))
+    d = walk.directions
+    for k in range(d.count):
+        v = np.zeros(len(net.contacts))
+        v[d.index[d.indptr[k]:d.indptr[k + 1]]] = d.value[d.indptr[k]:d.indptr[k + 1]]
+        assert np.abs(A @ v).max() < 1e-9
+    x = walk.run(20, thin=2, burn_in=5, seed=seed)
+    assert np.abs(A @ x.T - b[:, None]).max() < 1e-9 and x.min() >= -1e-12
 
 
 def test_disordered_packing_agrees_with_the_dense_sampler():

@@ -134,3 +134,12 @@ def test_disordered_scaling_runs_and_reports_its_decorrelation():
     r = forcenet.scaling("disordered", sizes=(5, 6, 7), samples=32, replicas=0, blocks=4)
     assert all(t < 3 for t in r.details["tau_recorded"])
     assert [d.M for d in r.data] == sorted(d.M for d in r.data)
+
+
+@pytest.mark.slow
+def test_the_snooker_result_does_not_depend_on_the_workers():
+    options = dict(sizes=(6, 8, 10), samples=32, replicas=3, blocks=4)
+    one = forcenet.scaling("snooker", **options)
+    two = forcenet.scaling("snooker", workers=2, **options)
+    assert [d.total.tolist() for d in one.data] == [d.total.tolist() for d in two.data]
+    assert one.fit.value == two.fit.value

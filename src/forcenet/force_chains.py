@@ -9,8 +9,11 @@
 * :func:`scaling` / :func:`scaling_plan` — a model's networks generated at
   several sizes and scaled: ``percolation`` (independent uniform forces,
   the control with exact exponents 43/48 and 4/3), ``q-independent`` and
-  ``q-microcanonical`` (Sec. 7.3), planned first, run in blocks of samples
-  (local processes or a Dask cluster's executor, checkpointed).
+  ``q-microcanonical`` (Sec. 7.3), the force network ensemble's ``snooker``,
+  ``disordered`` and ``averaged`` (Sec. 7.2, hit-and-run along local
+  self-stresses, :mod:`forcenet.numeric.force_chains.network_ensembles`),
+  planned first, run in blocks of samples (local processes or a Dask
+  cluster's executor, checkpointed).
 
 Both return a :class:`~forcenet.force_chains_results.ForceChainScaling`.
 

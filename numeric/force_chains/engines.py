@@ -39,7 +39,7 @@ import time
 from abc import ABC, abstractmethod
 from collections.abc import Callable
 from concurrent.futures import Executor
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -49,19 +49,25 @@ from forcenet.core.execution import run_tasks
 from forcenet.core.plan import Plan
 from forcenet.core.registry import REGISTRY
 
+from . import network_ensembles
 from .finite_size_scaling import ScalingFit, SizeBlocks, analyse
 from .newman_ziff import Lattice, periodic_lattice, sweep_lattice
 from .q_models import independent_samples, microcanonical_chain, q_lattice
 
 __all__ = ["analysis_seconds", "ScalingRequest", "ScalingOutcome", "MODELS", "DEFAULTS", "UnionFindEngine",
-           "HeatBathEngine", "block_task", "thresholds_for", "scaling_size"]
+           "HeatBathEngine", "block_task", "thresholds_for", "scaling_size", "LocalHitAndRunEngine"]
 
-MODELS = ("percolation", "q-independent", "q-microcanonical")
+MODELS = ("percolation", "q-independent", "q-microcanonical") + network_ensembles.NETWORK_MODELS
 # default sizes and samples per size: the whole default run of each model within ~2-5 minutes on one core
 DEFAULTS: dict[str, tuple[tuple[int, ...], tuple[int, ...]]] = {
     "percolation": ((32, 48, 64, 96, 128, 192, 256), (3200, 2400, 1600, 1200, 800, 480, 400)),
     "q-independent": ((20, 28, 40, 56, 80, 112), (19200, 9600, 4800, 2400, 1200, 640)),
     "q-microcanonical": ((12, 16, 24, 32, 48, 64), (1280, 1280, 640, 640, 320, 192)),
+    # Sec. 7.2: L = layers of the snooker triangle (M = 3L(L-1)/2 + 2L contacts), L^2 disks when disordered;
+    # planned under the command line's minute (no --force needed)
+    "snooker": ((8, 12, 16, 20, 28), (3200, 2400, 1600, 1280, 800)),
+    "disordered": ((5, 6, 7, 8, 10), (960, 960, 640, 640, 640)),
+    "averaged": ((8, 12, 16, 20, 28), (1200, 800, 480, 320, 200)),
 }
 # the cost model: CPU seconds of forcenet.scaling measured on one core (each model's default run, and L = 8..512;
 # notes/benchmarks.md):
@@ -93,10 +99,13 @@ class ScalingRequest:
     workers: int = 1
     method: str = "auto"
     quantity: str = "scaling"
+    average: int = 4
 
     def key(self) -> str:
         """A digest of what determines the numbers (not the workers, nor the checkpoint's place)."""
         text = repr((self.model, self.sizes, self.samples, self.seed, self.lattice, self.thresholds, self.blocks))
+        if self.model == "averaged":  # P, the networks averaged into one (Sec. 7.2.3)
+            text += f"average={self.average}"
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
@@ -109,6 +118,7 @@ class ScalingOutcome:
     fit: ScalingFit
     seconds: float
     reused: int = 0
+    details: dict[str, Any] = field(default_factory=dict)
 
 
 def lattice_for(model: str, lattice: str, L: int) -> Lattice:
@@ -220,32 +230,57 @@ class _ScalingEngine(ABC):
                     + (WORKER_START_SECONDS if workers > 1 else 0.0),
                     nbytes=16 * biggest * workers + 64 * 2**20, ticks=tasks, unit="block")
 
+    def thresholds(self, request: ScalingRequest) -> np.ndarray:
+        """The thresholds of the request (:func:`thresholds_for`)."""
+        return thresholds_for(request)
+
+    def task(self, request: ScalingRequest, L: int, count: int, index: int, block: int,
+             thresholds: np.ndarray) -> tuple[Callable[..., np.ndarray], tuple[Any, ...]]:
+        """One block's function and arguments."""
+        return block_task, (request.model, request.lattice, L, count, request.seed, index, block, thresholds)
+
+    def size_blocks(self, request: ScalingRequest, L: int, rows: np.ndarray, thresholds: np.ndarray) -> SizeBlocks:
+        """One size's blocks from the rows its tasks returned."""
+        T = thresholds.size
+        rows = rows.astype(np.float64)
+        lattice = lattice_for(request.model, request.lattice, L)
+        return SizeBlocks(scaling_size(request.model, lattice), lattice.bonds, thresholds, rows[:, :T],
+                          rows[:, T:2 * T], rows[:, 2 * T:3 * T], rows[:, -1], label=float(L),
+                          has_wraps=request.model == "percolation")
+
     def run(self, request: ScalingRequest, plan: Plan, *, progress: Callable[..., Any] | None = None,
             executor: Executor | None = None) -> ScalingOutcome:
         started = time.perf_counter()
-        thresholds = thresholds_for(request)
+        thresholds = self.thresholds(request)
         tasks, owners = [], []
+        function: Callable[..., np.ndarray] = block_task
         for index, (L, k) in enumerate(zip(request.sizes, request.samples, strict=True)):
             for block, count in enumerate(_split(k, request.blocks)):
-                tasks.append((request.model, request.lattice, L, count, request.seed, index, block, thresholds))
+                function, arguments = self.task(request, L, count, index, block, thresholds)
+                tasks.append(arguments)
                 owners.append(index)
         store = None
         if request.checkpoint is not None:
             store = CheckpointStore(request.checkpoint, f"scaling-{request.model}-{request.key()}", max(request.sizes),
-                                    shape=(3 * thresholds.size + 1,))  # block_task's sums: a record of another shape is recomputed
-        results = run_tasks(block_task, tasks, executor=executor, workers=request.workers, progress=progress,
+                                    shape=self.record_shape(thresholds))  # a record of another shape is recomputed
+        results = run_tasks(function, tasks, executor=executor, workers=request.workers, progress=progress,
                             store=store, keys=list(range(len(tasks))) if store is not None else None)
-        T = thresholds.size
-        data = []
+        data, per_size = [], []
         for index, L in enumerate(request.sizes):
-            rows = np.array([r for r, o in zip(results, owners, strict=True) if o == index], dtype=np.float64)
-            lattice = lattice_for(request.model, request.lattice, L)
-            data.append(SizeBlocks(scaling_size(request.model, lattice), lattice.bonds, thresholds, rows[:, :T],
-                                   rows[:, T:2 * T], rows[:, 2 * T:3 * T], rows[:, -1], label=float(L),
-                                   has_wraps=request.model == "percolation"))
+            rows = np.array([r for r, o in zip(results, owners, strict=True) if o == index])
+            data.append(self.size_blocks(request, L, rows, thresholds))
+            per_size.append(rows)
         fit = analyse(data, replicas=request.replicas, seed=request.seed)
         return ScalingOutcome(request, data, fit, time.perf_counter() - started,
-                              store.reused if store is not None else 0)
+                              store.reused if store is not None else 0, self.details(request, per_size, thresholds))
+
+    def details(self, request: ScalingRequest, rows: list[np.ndarray], thresholds: np.ndarray) -> dict[str, Any]:
+        """What the engine adds to the result's details (nothing by default)."""
+        return {}
+
+    def record_shape(self, thresholds: np.ndarray) -> tuple[int]:
+        """A block's checkpoint record: the three sums over every threshold and the count (:func:`block_task`)."""
+        return (3 * thresholds.size + 1,)
 
 
 class UnionFindEngine(_ScalingEngine):
@@ -277,11 +312,67 @@ class HeatBathEngine(_ScalingEngine):
         return total
 
 
+def _floats(rows: np.ndarray) -> np.ndarray:
+    """A block's float64 numbers from the int64 bits its task returned."""
+    return np.ascontiguousarray(rows, dtype=np.int64).view(np.float64)
+
+
+class LocalHitAndRunEngine(_ScalingEngine):
+    """The force network ensemble's models (Sec. 7.2: ``snooker``, ``disordered``, ``averaged``): one chain of
+    hit-and-run along local self-stresses per block (:mod:`.network_ensembles`, :mod:`.local_hit_and_run`).
+
+    A block's row holds ``total / M`` (each network's own ``M``), multiplied back by the size's mean ``M`` so that
+    ``<s^2>`` is the mean over networks of ``sum s^2 / M``; ``S = M`` (the thesis's scaling size, all contacts).
+    The details name the thinning (sweeps) and the largest integrated autocorrelation time of a block's recorded
+    networks (their mean squared force, in recorded networks: ~1 means decorrelated).
+    """
+
+    name = "local-hit-and-run"
+
+    def __init__(self, model: str) -> None:
+        self.model = model
+
+    def seconds(self, request: ScalingRequest) -> float:
+        setup = sum(network_ensembles.setup_seconds(request.model, L) for L in request.sizes)
+        return setup * min(request.workers, request.blocks) + sum(  # each process builds its own samplers
+            network_ensembles.block_seconds(request.model, L, c, request.average)
+            for L, k in zip(request.sizes, request.samples, strict=True) for c in _split(k, request.blocks))
+
+    def thresholds(self, request: ScalingRequest) -> np.ndarray:
+        return network_ensembles.pilot_thresholds(request.model, request.sizes, request.seed, request.thresholds,
+                                                  request.average)
+
+    def task(self, request: ScalingRequest, L: int, count: int, index: int, block: int,
+             thresholds: np.ndarray) -> tuple[Callable[..., np.ndarray], tuple[Any, ...]]:
+        return network_ensembles.block_task, (request.model, L, count, request.seed, index, block, thresholds,
+                                              request.average)
+
+    def size_blocks(self, request: ScalingRequest, L: int, rows: np.ndarray, thresholds: np.ndarray) -> SizeBlocks:
+        T = thresholds.size
+        rows = _floats(rows)
+        count, contacts = rows[:, 3 * T], rows[:, 3 * T + 1]
+        M = int(round(float(contacts @ count / count.sum())))  # sums of s^2 / M_block, times M: <s^2>/M exactly
+        return SizeBlocks(float(M), M, thresholds, rows[:, :T] * M, rows[:, T:2 * T] * M, rows[:, 2 * T:3 * T],
+                          count, label=float(L))
+
+    def record_shape(self, thresholds: np.ndarray) -> tuple[int]:
+        """A block's record: the three sums, the count, the contacts ``M`` and the autocorrelation time, as bits."""
+        return (3 * thresholds.size + 3,)
+
+    def details(self, request: ScalingRequest, rows: list[np.ndarray], thresholds: np.ndarray) -> dict[str, Any]:
+        T = thresholds.size
+        return {"thin_sweeps": [network_ensembles.THIN_PER_LAYER * L for L in request.sizes],
+                "tau_recorded": [round(float(_floats(r)[:, 3 * T + 2].max()), 2) for r in rows],
+                "average": request.average if request.model == "averaged" else 1}
+
+
 def _register() -> None:
-    """Register the three models' engines (this module is the registry's loader for them)."""
+    """Register the models' engines (this module is the registry's loader for them)."""
     REGISTRY.register(UnionFindEngine("percolation"))
     REGISTRY.register(UnionFindEngine("q-independent"))
     REGISTRY.register(HeatBathEngine())
+    for model in network_ensembles.NETWORK_MODELS:
+        REGISTRY.register(LocalHitAndRunEngine(model))
 
 
 _register()

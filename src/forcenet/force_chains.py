@@ -9,8 +9,11 @@
 * :func:`scaling` / :func:`scaling_plan` — a model's networks generated at
   several sizes and scaled: ``percolation`` (independent uniform forces,
   the control with exact exponents 43/48 and 4/3), ``q-independent`` and
-  ``q-microcanonical`` (Sec. 7.3), planned first, run in blocks of samples
-  (local processes or a Dask cluster's executor, checkpointed).
+  ``q-microcanonical`` (Sec. 7.3), the force network ensemble's ``snooker``,
+  ``disordered`` and ``averaged`` (Sec. 7.2, hit-and-run along local
+  self-stresses, :mod:`forcenet.numeric.force_chains.network_ensembles`),
+  planned first, run in blocks of samples (local processes or a Dask
+  cluster's executor, checkpointed).
 
 Both return a :class:`~forcenet.force_chains_results.ForceChainScaling`.
 
@@ -104,6 +107,7 @@ class ScalingPlan(CostedPlan):
                    "blocks": r.blocks, "method": engine.name, "checkpoint_records_reused": outcome.reused}
         if r.model == "percolation":
             details["lattice"] = r.lattice
+        details.update(outcome.details)
         return ForceChainScaling(r.model, outcome.data, outcome.fit, outcome.seconds, details)
 
     @property
@@ -122,15 +126,18 @@ class ScalingPlan(CostedPlan):
 def scaling_plan(model: str, sizes: Sequence[int] | None = None, samples: int | Sequence[int] | None = None,
                  seed: int = 0, *, lattice: str = "square", thresholds: int = 600, replicas: int = 100,
                  blocks: int = 32, workers: int = 1, checkpoint: str | os.PathLike[str] | None = None,
-                 method: str = "auto") -> ScalingPlan:
+                 method: str = "auto", average: int = 4) -> ScalingPlan:
     """Check a finite-size-scaling request once and say what it costs.
 
     Parameters
     ----------
-    model : {"percolation", "q-independent", "q-microcanonical"}
-        The generator of force networks.
+    model : {"percolation", "q-independent", "q-microcanonical", "snooker", "disordered", "averaged"}
+        The generator of force networks (Secs. 7.2-7.3; ``snooker``: the force network ensemble on the snooker
+        triangle, ``disordered``: on soft-disk packings, ``averaged``: snooker networks each the average of
+        ``average`` networks of the ensemble).
     sizes : sequence of int, optional
-        Linear sizes ``L`` (at least 3; default: the model's, ``DEFAULTS``).
+        Linear sizes ``L`` (at least 3; default: the model's, ``DEFAULTS``): the lattice's side, the snooker
+        triangle's layers, ``sqrt`` of a disordered packing's disks.
     samples : int or sequence of int, optional
         Networks per size (one number: the same at every size).
     seed : int
@@ -149,6 +156,8 @@ def scaling_plan(model: str, sizes: Sequence[int] | None = None, samples: int | 
         A directory keeping every finished block (a rerun reuses them).
     method : str
         The engine (``auto``: the registry's choice).
+    average : int
+        ``P`` of the ``averaged`` model (Sec. 7.2.3; 1..64).
 
     Returns
     -------
@@ -170,7 +179,7 @@ def scaling_plan(model: str, sizes: Sequence[int] | None = None, samples: int | 
     >>> forcenet.scaling_plan("ising")
     Traceback (most recent call last):
     ...
-    forcenet.core.errors.ArgumentError: model='ising' is out of range: model must be one of percolation, q-independent, q-microcanonical
+    forcenet.core.errors.ArgumentError: model='ising' is out of range: model must be one of percolation, q-independent, q-microcanonical, snooker, disordered, averaged
     """
     if model not in MODELS:
         raise ArgumentError(f"model={model!r} is out of range: model must be one of {', '.join(MODELS)}")
@@ -199,7 +208,8 @@ def scaling_plan(model: str, sizes: Sequence[int] | None = None, samples: int | 
         seed=check_int(check_seed(seed), "seed", 0), lattice=lattice,
         thresholds=check_int(thresholds, "thresholds", 20, 20000), replicas=check_int(replicas, "replicas", 0, 10000),
         blocks=check_int(blocks, "blocks", 2, 10000), workers=check_int(workers, "workers", 1, 256),
-        checkpoint=None if checkpoint is None else check_directory(checkpoint, "checkpoint"), method=str(method))
+        checkpoint=None if checkpoint is None else check_directory(checkpoint, "checkpoint"), method=str(method),
+        average=check_int(average, "average", 1, 64))
     _, cost = REGISTRY.choose(request)
     return ScalingPlan(request, cost)
 

@@ -22,6 +22,6 @@ __all__ = ["REGISTRY"]
 REGISTRY.add_loader("triangle", "forcenet.exact.routes")  # tables, rows, laws (forcenet.exact.routes.ENGINES)
 
 # the force-chain models (Part III, issue 52): finite-size scaling of the clusters of large forces
-for _model in ("percolation", "q-independent", "q-microcanonical"):
+for _model in ("percolation", "q-independent", "q-microcanonical", "snooker", "disordered", "averaged"):
     REGISTRY.add_loader(_model, "forcenet.numeric.force_chains.engines")
 REGISTRY.add_loader("contact-network", "forcenet.contact_network_engines")

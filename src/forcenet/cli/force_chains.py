@@ -24,7 +24,7 @@ if TYPE_CHECKING:
 
 __all__ = ["register"]
 
-MODELS = ("percolation", "q-independent", "q-microcanonical")
+MODELS = ("percolation", "q-independent", "q-microcanonical", "snooker", "disordered", "averaged")
 
 
 def _sizes(text: str) -> tuple[int, ...]:
@@ -68,7 +68,7 @@ def cmd_scaling(args: argparse.Namespace) -> int:
     executor: Any = None
     plan = forcenet.scaling_plan(args.model, args.sizes, args.samples, args.seed, lattice=args.lattice,
                                  thresholds=args.thresholds, replicas=args.replicas, workers=args.workers,
-                                 checkpoint=args.checkpoint)
+                                 checkpoint=args.checkpoint, average=args.average)
     if args.scheduler is not None:
         executor = connect_scheduler(args.scheduler)
 
@@ -104,13 +104,16 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p = sub.add_parser("scaling", help="finite-size scaling of the clusters of large forces of a model (Table 7.1)")
     p.add_argument("--model", choices=list(MODELS), required=True,
                    help="percolation (independent uniform forces: the control, exact 43/48 and 4/3), q-independent, "
-                        "q-microcanonical (Sec. 7.3)")
+                        "q-microcanonical (Sec. 7.3), snooker, disordered, averaged (the force network ensemble, "
+                        "Sec. 7.2)")
     p.add_argument("--sizes", type=_sizes, default=None, help="linear sizes L, e.g. 32,64,128 (default: the model's)")
     p.add_argument("--samples", type=integer("samples", 2, deferred=True), default=None,
                    help="networks per size (default: the model's, fewer at larger sizes)")
     defer(p, "samples", "--samples")
     p.add_argument("--lattice", choices=["square", "triangular", "honeycomb"], default="square",
                    help="percolation's periodic lattice (default square)")
+    p.add_argument("--average", type=integer("average", 1, 64), default=4,
+                   help="the averaged model's P: each network the average of P networks of the ensemble (default 4)")
     p.add_argument("--workers", type=integer("workers", 1, 256), default=1, help="local processes (default 1)")
     p.add_argument("--checkpoint", default=None, help="a folder keeping every finished block (a rerun reuses them)")
     p.add_argument("--scheduler", default=None, help="a running Dask scheduler's address: the blocks run there")

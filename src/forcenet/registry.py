@@ -25,3 +25,4 @@ REGISTRY.add_loader("triangle", "forcenet.exact.routes")  # tables, rows, laws (
 for _model in ("percolation", "q-independent", "q-microcanonical", "snooker", "disordered", "averaged"):
     REGISTRY.add_loader(_model, "forcenet.numeric.force_chains.engines")
 REGISTRY.add_loader("contact-network", "forcenet.contact_network_engines")
+REGISTRY.add_loader("shear", "forcenet.numeric.force_chains.sheared_ensembles")  # Ch. 8: the sheared ensemble

@@ -25,40 +25,27 @@ Examples
 
 from __future__ import annotations
 
-import hashlib
 import math
-import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-import numpy as np
-
-from forcenet.core.checkpoints import CheckpointStore
-from forcenet.core.errors import ArgumentError, ConvergenceError
+from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_int, check_real
+from forcenet.costed_plans import CostedPlan, Progress
 from forcenet.exact.contact_network.geometries import hexagonal_torus
 from forcenet.exact.contact_network.shear_stress import float_yield_stress
 from forcenet.exact.contact_network.shear_stress import yield_stress as exact_yield_stress
-from forcenet.numeric.contact_network.wheel_moves import SECONDS_PER_MOVE, YIELD_HEXAGONAL, WheelMoves
-from forcenet.numeric.force_chains.anisotropic_scaling import (
-    AnisotropyFit,
-    fit_anisotropy,
-    peak_heights,
-    s2_curves,
-    strip_blocks,
-)
-from forcenet.numeric.force_chains.finite_size_scaling import analyse
+from forcenet.numeric.contact_network.wheel_moves import YIELD_HEXAGONAL
+from forcenet.numeric.force_chains.sheared_ensembles import ShearRequest, shear_family
+from forcenet.registry import REGISTRY
 from forcenet.shear_results import ShearScaling, YieldStressResult
 
 __all__ = ["yield_stress", "YieldStressResult", "shear_scaling", "shear_scaling_plan", "ShearScaling", "ShearPlan"]
 
 GEOMETRIES = ("hexagonal",)
 MAX_EXACT_SIZE = 6  # the exact simplex's time grows like L^7: about 2 minutes at L = 6 on the 2-core machine
-SECONDS_PER_BOND = 6e-7  # one bond of one rectangle in the clusters' pass (sort, union-find), measured under load
-SECONDS_PER_FIT = 0.05  # one fit of Eq. (8.9) (a bootstrap replica)
-SECONDS_PER_COLLAPSE = 0.4  # one collapse (6.12) of a strip family, per bootstrap replica
 STRIPS = (4, 6, 8, 10, 12, 16)  # the default strips' short sides (those that fit)
 SIDES = (8, 12, 16, 24, 32)  # the default rectangles' sides (the pairs that fit); below 8 corrections bias theta (notes)
 
@@ -116,48 +103,8 @@ def yield_stress(geometry: str = "hexagonal", size: int = 3, *, exact: bool = Tr
                              sum(1 for f in proof.witness if f == 0))
 
 
-@dataclass(frozen=True)
-class ShearRequest:
-    """A validated request of :func:`shear_scaling_plan` (the front door checks it once)."""
-
-    taus: tuple[float, ...]
-    L: int
-    shapes: tuple[tuple[float, float], ...]
-    strips: tuple[float, ...]
-    aspect: float
-    samples: int
-    thin: int
-    blocks: int
-    placements: int
-    replicas: int
-    seed: int
-    model: str
-    thresholds: tuple[float, float, int]
-    checkpoint: str | None
-
-    def key(self) -> str:
-        """A digest naming the request in checkpoints."""
-        text = repr((self.L, self.shapes, self.strips, self.aspect, self.samples, self.thin, self.placements,
-                     self.seed, self.model, self.thresholds))
-        return hashlib.sha256(text.encode()).hexdigest()[:16]
-
-
-def _family(strips: Sequence[float], aspect: float) -> tuple[list[tuple[float, float]], list[tuple[float, float]]]:
-    along = [(l, aspect * l) for l in strips]  # short side along M: nu_M
-    across = [(aspect * l, l) for l in strips]  # short side along m: nu_m
-    return along, across
-
-
-def _forces(request: ShearRequest, tau: float, seed: int) -> np.ndarray:
-    if request.model == "ensemble":
-        return WheelMoves(request.L, tau).run(request.samples, seed=seed, thin=request.thin)
-    rng = np.random.default_rng(seed)  # the control: independent exponential forces, the ensemble's mean per direction
-    means = np.tile([1.0, 1 + math.sqrt(3) * tau, 1 - math.sqrt(3) * tau], request.L ** 2)
-    return rng.exponential(size=(request.samples, means.size)) * means
-
-
-@dataclass(frozen=True)
-class ShearPlan:
+@dataclass(frozen=True, repr=False)  # the plan's own words: CostedPlan.__repr__
+class ShearPlan(CostedPlan):
     """A planned :func:`shear_scaling` run: its ``cost`` (a :class:`~forcenet.core.plan.Plan`) and :meth:`run`.
 
     Parameters
@@ -176,17 +123,22 @@ class ShearPlan:
     request: ShearRequest
     cost: Plan
 
-    def run(self, progress: Callable[..., Any] | None = None) -> ShearScaling:
-        """Run as planned (``progress`` ticks once per ``tau``).
+    def run(self, progress: Progress | bool | None = None) -> ShearScaling:
+        """Run as planned by the model's registered engine (``progress`` ticks once per ``tau``).
 
         Parameters
         ----------
-        progress : callable, optional
-            Called with 1 after every ``tau``.
+        progress : callable, bool or None
+            ``progress(k)`` after every ``tau``; ``True``: a progress bar.
 
         Returns
         -------
         ShearScaling
+
+        Raises
+        ------
+        ArgumentError
+            If the plan is refused.
 
         Examples
         --------
@@ -195,101 +147,11 @@ class ShearPlan:
         >>> plan.run().taus
         (0.0,)
         """
-        if not self.cost.runnable:
-            raise ArgumentError(str(self.cost.refusal))
-        q = self.request
-        t0 = time.perf_counter()
-        thresholds = np.linspace(*q.thresholds)
-        along, across = _family(q.strips, q.aspect)
-        shapes = list(q.shapes) + along + across
-        seeds = [int(s.generate_state(1)[0]) for s in np.random.SeedSequence(q.seed).spawn(len(q.taus))]
-        store = (CheckpointStore(q.checkpoint, f"shear-{q.key()}", q.L, shape=(len(shapes), q.samples,
-                                                                                 len(thresholds)))
-                 if q.checkpoint is not None else None)
-        per_tau: list[tuple[list[np.ndarray], list[int]]] = []
-        for k, tau in enumerate(q.taus):
-            saved = store.load(k) if store is not None else None
-            bonds = None
-            if saved is None:
-                sums, bonds = s2_curves(_forces(q, tau, seeds[k]), q.L, shapes, thresholds, q.placements, q.seed)
-                if store is not None:
-                    store.save(k, np.stack(sums))
-            else:
-                sums = list(saved)
-            if bonds is None:
-                bonds = s2_curves(np.ones((1, 3 * q.L ** 2)), q.L, shapes, thresholds[:1], q.placements, q.seed)[1]
-            per_tau.append((sums, bonds))
-            if progress is not None:
-                progress(1)
-        return _analyse(q, thresholds, shapes, along, across, per_tau, time.perf_counter() - t0)
-
-
-def _blocks(samples: int, blocks: int) -> list[np.ndarray]:
-    return np.array_split(np.arange(samples), min(blocks, samples))
-
-
-def _fit(q: ShearRequest, thresholds: np.ndarray, per_tau: list[tuple[list[np.ndarray], list[int]]],
-         weights: list[np.ndarray] | None) -> AnisotropyFit:
-    n = len(q.shapes)
-    heights = [peak_heights(sums[:n], bonds[:n], thresholds, None if weights is None else weights[k])
-               for k, (sums, bonds) in enumerate(per_tau)]
-    return fit_anisotropy(q.shapes, heights)
-
-
-def _analyse(q: ShearRequest, thresholds: np.ndarray, shapes: list[tuple[float, float]],
-             along: list[tuple[float, float]], across: list[tuple[float, float]],
-             per_tau: list[tuple[list[np.ndarray], list[int]]], seconds: float) -> ShearScaling:
-    n, m = len(q.shapes), len(along)
-    central = _fit(q, thresholds, per_tau, None)
-    rng = np.random.default_rng(q.seed + 1)
-    parts = _blocks(q.samples, q.blocks)
-    boot: list[AnisotropyFit] = []
-    for _ in range(q.replicas):  # blocks of consecutive samples with replacement, every tau
-        weights = []
-        for _tau in q.taus:
-            counts = np.bincount(rng.integers(0, len(parts), len(parts)), minlength=len(parts))
-            w = np.zeros(q.samples)
-            for part, c in zip(parts, counts):
-                w[part] = c
-            weights.append(w)
-        try:
-            boot.append(_fit(q, thresholds, per_tau, weights))
-        except ConvergenceError:
-            continue
-    r_err = [float(np.std([b.r[k] for b in boot], ddof=1)) if len(boot) > 1 else math.nan
-             for k in range(len(q.taus))]
-    theta_err = float(np.std([b.theta for b in boot], ddof=1)) if len(boot) > 1 else math.nan
-    exps: dict[str, list[float]] = {k: [] for k in ("nu_M", "nu_M_error", "nu_m", "nu_m_error", "g_M", "g_m")}
-    notes: list[str] = []
-    shifts: dict[str, list[float]] = {}
-    for k, (sums, bonds) in enumerate(per_tau):
-        for name, lo, g in (("nu_M", n, "g_M"), ("nu_m", n + m, "g_m")):
-            if not m:  # no strips asked for: no exponents
-                for key in (name, name + "_error", g):
-                    exps[key].append(math.nan)
-                continue
-            data = strip_blocks(sums[lo:lo + m], bonds[lo:lo + m], q.strips, thresholds, q.blocks)
-            try:
-                fit = analyse(data, replicas=q.replicas, seed=q.seed)
-                exps[name].append(fit.value["nu"])
-                exps[name + "_error"].append(fit.error["nu"])
-                exps[g].append(fit.value["gamma_2"])
-                shifts.setdefault(name, []).append(fit.estimators.get("nu", math.nan))  # the peak shift's nu
-                if fit.pinned:
-                    notes.append(f"tau={q.taus[k]}: the {name} collapse is pinned at its window's limit")
-            except (ConvergenceError, ArgumentError) as exc:
-                notes.append(f"tau={q.taus[k]}: no {name} collapse ({exc})")
-                shifts.setdefault(name, []).append(math.nan)
-                for key in (name, name + "_error", g):
-                    exps[key].append(math.nan)
-    heights = [peak_heights(sums[:n], bonds[:n], thresholds).tolist() for sums, bonds in per_tau]
-    details = {"model": q.model, "L": q.L, "samples": q.samples, "thin": q.thin, "seed": q.seed,
-               "placements": q.placements, "blocks": q.blocks, "replicas": len(boot), "shapes": [list(s) for s in q.shapes],
-               "s2_max": heights, "strips": list(q.strips), "aspect": q.aspect, "k": central.k,
-               "b_M": list(central.bM), "b_m": list(central.bm), "fit_residual": central.residual,
-               "nu_peak_shift": shifts, "notes": notes, "seconds": seconds}
-    return ShearScaling(tuple(q.taus), exps["nu_M"], exps["nu_M_error"], exps["nu_m"], exps["nu_m_error"],
-                        exps["g_M"], exps["g_m"], list(central.r), r_err, central.theta, theta_err, details)
+        self.cost.check()
+        engine = REGISTRY.engine("shear", "scaling", "wheel-moves")
+        with self._ticks(progress, "shear") as tick:
+            outcome = engine.run(self.request, self.cost, progress=tick)
+        return ShearScaling(*outcome)
 
 
 def shear_scaling_plan(taus: Sequence[float] = (0.0, 0.1, 0.2, 0.3), *, L: int = 40,
@@ -349,7 +211,7 @@ def shear_scaling_plan(taus: Sequence[float] = (0.0, 0.1, 0.2, 0.3), *, L: int =
     if len(shapes_t) < 4:
         raise ArgumentError(f"L={L} leaves {len(shapes_t)} rectangles for the fit of Eq. (8.9), which needs at least 4: "
                             "give L >= 20 or more shapes")
-    for a, b in list(shapes_t) + _family(strips_t, aspect)[0]:
+    for a, b in list(shapes_t) + shear_family(strips_t, aspect)[0]:
         if math.hypot(a, b) >= L:
             raise ArgumentError(f"a {a} x {b} rectangle does not fit in the L={L} torus (its diagonal must be "
                                 f"shorter than L): give a larger L or smaller shapes and strips")
@@ -363,15 +225,7 @@ def shear_scaling_plan(taus: Sequence[float] = (0.0, 0.1, 0.2, 0.3), *, L: int =
                            check_int(placements, "placements", 1), check_int(replicas, "replicas", 0),
                            check_int(seed, "seed", 0), model, (lo, hi, count),
                            None if checkpoint is None else str(checkpoint))
-    along, across = _family(strips_t, aspect)
-    bonds = sum(3.5 * a * b for a, b in list(shapes_t) + along + across) * request.placements
-    per_tau = (request.samples * request.thin + max(100, L * L)) * L * L * SECONDS_PER_MOVE \
-        + request.samples * bonds * SECONDS_PER_BOND * math.log2(max(2.0, bonds / request.placements)) / 10
-    fits = (request.replicas + 1) * (SECONDS_PER_FIT + 2 * SECONDS_PER_COLLAPSE * len(checked) * bool(strips_t))
-    nbytes = int(request.samples * 3 * L * L * 8 + len(checked) * (len(shapes_t) + 2 * len(strips_t))
-                 * request.samples * count * 8)
-    cost = Plan(f"anisotropic scaling under shear ({model}, L={L}, {len(checked)} taus, {request.samples} samples)",
-                len(checked) * per_tau + fits, nbytes, len(checked), "tau")
+    cost = REGISTRY.engine("shear", "scaling", "wheel-moves").plan(request)
     return ShearPlan(request, cost)
 
 

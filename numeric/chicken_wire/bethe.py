@@ -31,7 +31,6 @@ from dataclasses import dataclass
 from typing import Any, TypeVar
 
 import numpy as np
-from scipy.optimize import root
 from threadpoolctl import threadpool_limits
 
 from forcenet.core.errors import ArgumentError, ConvergenceError
@@ -146,6 +145,7 @@ def _second_level(u: np.ndarray, L: int, n: int, w0: np.ndarray | None = None) -
 
 
 def _solve_u(L: int, n: int, m: int, u0: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray, float]:
+    from scipy.optimize import root  # scipy.optimize is heavy: loaded when a Bethe equation is solved
     state = {"w": None}
 
     def f(x: np.ndarray) -> np.ndarray:

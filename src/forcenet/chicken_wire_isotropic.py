@@ -29,12 +29,11 @@ from typing import Any
 import mpmath
 
 from forcenet.chicken_wire_results import BetheValue, IsotropicEntropy
-from forcenet.chicken_wire_sectors import Progress
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceError
 from forcenet.core.plan import Plan, combine
 from forcenet.core.precision import check_within_pi, to_mpf, within_pi
 from forcenet.core.validation import check_float_digits, check_not_bool, is_binary_float, is_integer
-from forcenet.costed_plans import CostedPlan
+from forcenet.costed_plans import CostedPlan, Progress
 from forcenet.numeric.chicken_wire import isotropic as iso
 from forcenet.numeric.chicken_wire.isotropic import closed_form_plan
 from forcenet.numeric.chicken_wire.isotropic_bethe import isotropic_entropy, isotropic_entropy_plan

@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-MOST = 38  # imports inside functions now, each lazy on purpose: optional extras (PyNormaliz, distributed), matplotlib,
+MOST = 39  # imports inside functions now, each lazy on purpose: optional extras (PyNormaliz, distributed), matplotlib,
 # tqdm's notebook probe, numba and the kernels whose decoration imports it, the command line after the environment
 # check, and what every command's start-up would otherwise pay for one command (scipy.stats, .optimize, .sparse,
 # asyncio, ssl)

@@ -32,7 +32,6 @@ from typing import TYPE_CHECKING, Any
 import flint
 import mpmath
 import numpy as np
-from scipy.optimize import brentq
 from scipy.sparse import csr_matrix
 from scipy.sparse.linalg import LinearOperator, eigs
 
@@ -324,6 +323,7 @@ def tiling_entropy(L: int, bracket: tuple[float, float] = (0.01, 1.0), xtol: flo
     ``sigma = max_v s(v)/v``: the maximal entropy per vertex of the
     square-triangle tiling (in the limit ``L -> infinity``).
     """
+    from scipy.optimize import brentq  # scipy.optimize is heavy: loaded when a tiling entropy is solved
 
     return brentq(lambda s: free_energy(L, tiling_weights(s)), *bracket, xtol=xtol)
 

@@ -21,7 +21,6 @@ Examples
 from __future__ import annotations
 
 import html
-import json
 from dataclasses import dataclass
 from typing import Any
 
@@ -31,6 +30,7 @@ from forcenet.core.errors import ArgumentError
 from forcenet.core.validation import check_int
 from forcenet.exact.contact_network.polytope import exact_polytope
 from forcenet.exact.contact_network.triangulation_moments import density_at
+from forcenet.rendering import Rendered
 
 __all__ = ["NetworkResult"]
 
@@ -40,7 +40,7 @@ def _exact_text(value: Any) -> str:
 
 
 @dataclass(frozen=True)
-class NetworkResult:
+class NetworkResult(Rendered):
     """Moments of every contact force of a contact network's ensemble: what :func:`forcenet.network` returns.
 
     Parameters
@@ -71,6 +71,8 @@ class NetworkResult:
     >>> result.dimension, result.exact_mean
     (0, (1,))
     """
+
+    json_indent = 2  # forcenet network --format json: indented, with a final newline
 
     network: Any
     labels: tuple[str, ...]
@@ -133,23 +135,6 @@ class NetworkResult:
             contacts.append(entry)
         return {"dimension": self.dimension, "grains": self.network.grains, "methods": list(self.methods),
                 "contacts": contacts}
-
-    def to_json(self) -> str:
-        """``forcenet network --format json``.
-
-        Returns
-        -------
-        str
-            :meth:`to_dict` as indented JSON, with a final newline.
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> net = forcenet.contact_network(1, [[0, None, 0, -1]], [[0, 0, -1]])
-        >>> '"mean": "1"' in forcenet.network(net, exact=True).to_json()
-        True
-        """
-        return json.dumps(self.to_dict(), indent=2) + "\n"
 
     def to_csv(self) -> str:
         """One row per force: ``contact,kind,i,j,mean,second,error,second_error`` (sampled with exact: extra columns).

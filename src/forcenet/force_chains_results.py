@@ -17,7 +17,6 @@ Examples
 from __future__ import annotations
 
 import io
-import json
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -25,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from forcenet.numeric.force_chains.finite_size_scaling import NAMES, ScalingFit, SizeBlocks, peak
+from forcenet.rendering import Rendered
 
 __all__ = ["ForceChainScaling"]
 
@@ -42,7 +42,7 @@ def _number(x: float) -> float | None:
 
 
 @dataclass(frozen=True)
-class ForceChainScaling:
+class ForceChainScaling(Rendered):
     """The finite-size scaling of the clusters of large forces (thesis Ch. 6-7).
 
     Parameters
@@ -66,11 +66,28 @@ class ForceChainScaling:
     ('percolation', 4, ['f_c', 'gamma_2', 'nu'])
     """
 
+    json_indent = 2  # forcenet clusters/scaling --format json: indented, with a final newline
+
     model: str
     data: list[SizeBlocks]
     fit: ScalingFit
     seconds: float
     details: dict[str, Any] = field(default_factory=dict)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The exponents and their errors: what :meth:`to_json` writes (the same as :meth:`summary`).
+
+        Returns
+        -------
+        dict
+
+        Examples
+        --------
+        >>> from forcenet.force_chains import example
+        >>> example().to_dict() == example().summary()
+        True
+        """
+        return self.summary()
 
     def summary(self) -> dict[str, Any]:
         """The command line's JSON: ``f_c``, ``nu``, ``gamma_2`` with ``..._error``, ``sizes`` and the details.
@@ -119,24 +136,6 @@ class ForceChainScaling:
             g, ge, n, ne = THESIS_TABLE[self.model]
             out["thesis"] = {"gamma_2": round(g, 6), "gamma_2_error": ge, "nu": round(n, 6), "nu_error": ne}
         return out
-
-    def to_json(self) -> str:
-        """The summary as JSON text.
-
-        Returns
-        -------
-        str
-            What ``forcenet clusters`` / ``forcenet scaling --format json`` print.
-
-        Examples
-        --------
-        >>> import json
-        >>> from forcenet.force_chains import example
-        >>> r = example()
-        >>> json.loads(r.to_json())["model"]
-        'percolation'
-        """
-        return json.dumps(self.summary(), indent=2) + "\n"
 
     def to_text(self) -> str:
         """A short report: the exponents with their errors, the thesis's row, the sizes.

@@ -18,18 +18,18 @@ True
 
 from __future__ import annotations
 
-import json
 from typing import Any
 
 from forcenet.core.validation import check_layers
 from forcenet.exact.thesis.recursions import lambda_table
+from forcenet.rendering import Rendered
 
 __all__ = ["MAPS_MAX_N", "MapCounts", "maps"]
 
 MAPS_MAX_N = 10  # every bottom row is listed: N = 10 has 391189 of them (~3 s), and the table grows over tenfold per layer
 
 
-class MapCounts:
+class MapCounts(Rendered):
     """The maps of Sec. 4.6 per bottom row, for ``N`` layers: what :func:`maps` returns.
 
     Its renderings are byte for byte those of ``forcenet maps``
@@ -88,21 +88,6 @@ class MapCounts:
         """
         rows = [{"bottom_row": list(j), "maps": str(v)} for j, v in self.by_bottom_row.items()]
         return {"N": self.N, "Z": str(self.Z), "by_bottom_row": rows}
-
-    def to_json(self) -> str:
-        """The JSON ``forcenet maps --format json`` prints (and a newline).
-
-        Returns
-        -------
-        str
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> forcenet.maps(3).to_json()
-        '{"N": 3, "Z": "1", "by_bottom_row": [{"bottom_row": [1], "maps": "1"}]}'
-        """
-        return json.dumps(self.to_dict(), allow_nan=False)
 
     def to_text(self) -> str:
         """The text ``forcenet maps`` prints (and a newline): ``Z``, then one line per bottom row.

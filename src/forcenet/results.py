@@ -16,7 +16,6 @@ Examples
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
 from fractions import Fraction
 from html import escape
 from typing import TYPE_CHECKING, Any
@@ -29,6 +28,7 @@ from forcenet.core.validation import check_int
 from forcenet.exact.protocol import BoundedTable
 from forcenet.exact.triangle.staircase import ensemble_volume, free_force_count, tableau_count
 from forcenet.exact.triangle.tables import _latex_fraction, exact_row, fraction_str, to_csv, to_json
+from forcenet.rendering import Rendered
 
 if TYPE_CHECKING:  # pragma: no cover - annotations only
     import numpy as np
@@ -39,10 +39,8 @@ __all__ = ["Row", "Table"]
 _SHOWN = 12  # a bottom row longer than this: its first and last three values in the summary
 
 
-class _Rendered:
-    """The command line's three renderings of an exact table or row, from its :meth:`to_dict`."""
-
-    to_dict: Callable[[], dict[str, Any]]  # each subclass's exact values, keyed as the renderers read them
+class _Rendered(Rendered):
+    """The exact renderings of a table or a row (JSON and CSV with exact values as ``"p/q"``), from :meth:`to_dict`."""
 
     def to_json(self) -> str:
         """The JSON ``forcenet table`` writes (``--format json`` prints it and a newline); exact values as ``"p/q"``.
@@ -321,6 +319,21 @@ class Table(_Rendered):
         out.update({"mean_W" if s == 1 else f"mean_W{s}": rows for s, rows in sorted(self._tables.items())})
         return out
 
+    def to_text(self) -> str:
+        """The table in words, what the main job prints first (:meth:`summary`).
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.table(4).to_text() == forcenet.table(4).summary()
+        True
+        """
+        return self.summary()
+
     def summary(self) -> str:
         """The readable summary the main job (``forcenet table --N N``) prints first: the triangle's size and
         dimension, the count and the normalization of Eq. (4.1), and the bottom row, each value as a decimal and
@@ -462,8 +475,8 @@ def _short(x: Fraction) -> str:
 class Row(_Rendered):
     """One row (layer ``i``) of the exact tables: ``<W_ij^s>``, ``j = 1..i``, ``s = 1..moments``.
 
-    Returned by :func:`table` with ``row=i``; the renderings are byte for byte
-    those of ``forcenet table --row i``.
+    Returned by :func:`row`; the renderings are byte for byte those of
+    ``forcenet table --row i``.
 
     Parameters
     ----------
@@ -571,6 +584,29 @@ class Row(_Rendered):
         """
 
         return exact_row(self.N, self.row, self._rows)
+
+    def to_text(self) -> str:
+        """The row in words, one grain per line (a long fraction abbreviated: its exact digits are in the files).
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> print(forcenet.row(3, 3).to_text())
+        row 3 of the N = 3 triangle (fast):
+          <W_3,1> = 1/4
+          <W_3,2> = 1/2
+          <W_3,3> = 1/4
+        """
+        lines = [f"row {self.row} of the N = {self.N} triangle ({self.method}):"]
+        for s in sorted(self._rows):
+            power = "" if s == 1 else f"^{s}"
+            lines += [f"  <W{power}_{self.row},{j}> = {table_formats.abbreviated(value)}"
+                      for j, value in enumerate(self._rows[s], 1)]
+        return "\n".join(lines)
 
 
 def _formats() -> Any:

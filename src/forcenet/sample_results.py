@@ -24,6 +24,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from forcenet.rendering import Rendered
+
 if TYPE_CHECKING:  # pragma: no cover - annotations only
     import numpy as np
 
@@ -40,7 +42,7 @@ def _plus_minus(mean: float, stderr: float) -> str:
     return f"{mean:.5g}±{stderr:.2g}"
 
 
-class Samples:
+class Samples(Rendered):
     """Monte Carlo ``<W_ij>`` with standard errors: what :func:`forcenet.sample` returns.
 
     The triangle's arrays are ``N x N`` (``W[i-1, j-1] = W_ij``, zero above the diagonal), the packing's ``N x P``.

@@ -40,6 +40,7 @@ from forcenet.numeric.triangle.force_distribution import (
     metropolis_histogram,
 )
 from forcenet.numeric.triangle.metropolis import metropolis_plan
+from forcenet.rendering import Rendered
 
 if TYPE_CHECKING:  # pragma: no cover - annotations only
     import numpy as np
@@ -70,7 +71,7 @@ class _LawPlan(Protocol[L_co]):  # what it reads of a forcenet.LawPlan (forcenet
 MAX_BINS = 1000
 
 
-class SampledComparison(Generic[L]):
+class SampledComparison(Rendered, Generic[L]):
     """An exact pooled ``P(f)`` against sampled histograms: what :meth:`forcenet.Law.compare_with_samples` returns.
 
     Parameters
@@ -149,6 +150,45 @@ class SampledComparison(Generic[L]):
         pool_text = "every grain of layers 2..N, f = i W_ij" if pool == "ensemble" else f"layer {pool}, f = {pool} W_{pool},j"
         return (f"N = {self.law.N}: exact P(f) ({pool_text}) against sampled histograms (1 sigma error bars)\n"
                 + "; ".join(self.notes))
+
+    def to_dict(self) -> dict[str, Any]:
+        """The exact bin masses, every sampler's chi-square against them and the notes.
+
+        Returns
+        -------
+        dict
+            ``N``, ``pool``, ``edges``, ``exact_bins`` (exact, as ``"p/q"``), ``chi_squares`` (per sampler:
+            ``chi2``, ``bins``, ``p``) and ``notes``.
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> c = forcenet.law(4, layer=4).compare_with_samples(samples=500, sweeps=500, bins=4, seed=2)
+        >>> sorted(c.to_dict())
+        ['N', 'chi_squares', 'edges', 'exact_bins', 'notes', 'pool']
+        """
+        return {"N": self.law.N, "pool": self.law.pool, "edges": [float(x) for x in self.edges],
+                "exact_bins": [f"{x.numerator}/{x.denominator}" if x.denominator != 1 else str(x.numerator)
+                               for x in self.exact_bins],
+                "chi_squares": {label.split(",")[0]: {"chi2": chi2, "bins": bins, "p": p}
+                                for label, (chi2, bins, p) in self.chi_squares.items()},
+                "notes": self.notes}
+
+    def to_text(self) -> str:
+        """The comparison in words: the title's first line, then one line per sampler.
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> c = forcenet.law(4, layer=4).compare_with_samples(samples=500, sweeps=500, bins=4, seed=2)
+        >>> c.to_text().splitlines()[0]
+        'N = 4: exact P(f) (layer 4, f = 4 W_4,j) against sampled histograms (1 sigma error bars)'
+        """
+        return "\n".join([self.title.splitlines()[0], *(f"  {note}" for note in self.notes)])
 
     def png(self) -> bytes:
         """The figure as PNG bytes: the exact ``P(f)`` (curve and bin averages) against the histograms with error

@@ -21,7 +21,6 @@ scaling limit at x = 0.2, z = 0.6 (15 digits)
 
 from __future__ import annotations
 
-import json
 import math
 import numbers
 from decimal import Decimal
@@ -34,13 +33,14 @@ from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.validation import check_dps, check_exponent, check_float_digits, check_not_bool, is_binary_float
 from forcenet.numeric.limit_shape.edge import EDGE_EXPONENT, edge_amplitude, edge_sd_amplitude
 from forcenet.numeric.limit_shape.surface import bulk_response, lattice_response
+from forcenet.rendering import Rendered
 
 __all__ = ["LimitShape", "limit_shape"]
 
 EDGE_MAX_DPS = 60  # the Tracy-Widom moments of the edge law (forcenet.numeric.limit_shape.edge)
 
 
-class LimitShape:
+class LimitShape(Rendered):
     """The scaling limit of the response at one point ``(x, z)``: what :func:`limit_shape` returns.
 
     Its renderings are byte for byte those of ``forcenet limit``
@@ -150,21 +150,6 @@ class LimitShape:
                 "edge_amplitude": self._digits(self.edge_amplitude) if self.edge_amplitude is not None else None,
                 "edge_sd_amplitude": self._digits(self.edge_sd_amplitude)
                 if self.edge_sd_amplitude is not None else None}
-
-    def to_json(self) -> str:
-        """The JSON ``forcenet limit --format json`` prints (and a newline).
-
-        Returns
-        -------
-        str
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> forcenet.limit_shape("0.2", "0.6", dps=8).to_json()  # doctest: +ELLIPSIS
-        '{"x": 0.2, "z": 0.6, "dps": 8, "N_W_bulk": "1.6334952", "W_lattice": "0.04174243", ...}'
-        """
-        return json.dumps(self.to_dict(), allow_nan=False)
 
     def to_text(self) -> str:
         """The text ``forcenet limit`` prints (and a newline).

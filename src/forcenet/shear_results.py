@@ -13,20 +13,17 @@ Examples
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass, field
 from typing import Any
 
+from forcenet.rendering import Rendered
+
 __all__ = ["YieldStressResult", "ShearScaling"]
 
 
-def _json(value: Any) -> str:
-    return json.dumps(value, sort_keys=False)
-
-
 @dataclass(frozen=True)
-class YieldStressResult:
+class YieldStressResult(Rendered):
     """The yield stress of a packing (Sec. 8.2): exact and floating.
 
     Parameters
@@ -75,21 +72,6 @@ class YieldStressResult:
                 "tau_max_float": round(self.value, 12), "float_lp": round(self.float_lp, 12),
                 "witness_zeros": self.witness_zeros}
 
-    def to_json(self) -> str:
-        """One JSON object.
-
-        Returns
-        -------
-        str
-
-        Examples
-        --------
-        >>> from forcenet.shear import example, yield_stress
-        >>> yield_stress("hexagonal", 3, exact=False).to_json()
-        '{"geometry": "hexagonal", "size": 3, "tau_max": null, "tau_max_float": 0.57735026919, "float_lp": 0.57735026919, "witness_zeros": null}'
-        """
-        return _json(self.to_dict())
-
     def to_text(self) -> str:
         """A short report.
 
@@ -110,7 +92,7 @@ class YieldStressResult:
 
 
 @dataclass(frozen=True)
-class ShearScaling:
+class ShearScaling(Rendered):
     """The anisotropic scaling of the clusters of large forces under shear (Sec. 8.3).
 
     Parameters
@@ -174,21 +156,6 @@ class ShearScaling:
                       "nu_m_error": self.nu_m_error, "gamma_2_M": self.gamma_2_M, "gamma_2_m": self.gamma_2_m,
                       "r": self.r, "r_error": self.r_error, "theta": self.theta, "theta_error": self.theta_error,
                       "details": self.details})
-
-    def to_json(self) -> str:
-        """One JSON object (``forcenet shear --format json``).
-
-        Returns
-        -------
-        str
-
-        Examples
-        --------
-        >>> from forcenet.shear import example, yield_stress
-        >>> json.loads(example().to_json())["taus"]
-        [0.0, 0.3]
-        """
-        return _json(self.to_dict())
 
     def to_text(self) -> str:
         """A table: per ``tau``, ``nu_M``, ``nu_m`` and ``r`` with errors.

@@ -35,13 +35,14 @@ from forcenet.core.validation import check_int, check_layers
 from forcenet.costed_plans import CostedPlan, available_memory_or_default
 from forcenet.exact.triangle.staircase import count_plan as staircase_plan
 from forcenet.exact.triangle.staircase import tableau_count
+from forcenet.rendering import Rendered
 
 __all__ = ["CountPlan", "TableauxCount", "count_plan"]
 
 Progress = Callable[..., Any]
 
 
-class TableauxCount:
+class TableauxCount(Rendered):
     """The number of standard shifted staircase tableaux of ``N`` layers, with its decimal digits.
 
     What :meth:`CountPlan.run` returns; ``int(c)`` (or ``c.value``) is
@@ -79,6 +80,21 @@ class TableauxCount:
 
     def __hash__(self) -> int:
         return hash((self.N, self.value))
+
+    def to_dict(self) -> dict[str, Any]:
+        """``N`` and the count as a decimal string.
+
+        Returns
+        -------
+        dict
+
+        Examples
+        --------
+        >>> import forcenet
+        >>> forcenet.count_plan(6).run().to_dict()
+        {'N': 6, 'count': '286'}
+        """
+        return {"N": self.N, "count": self.to_text()}
 
     def to_text(self) -> str:
         """The count in decimal, what ``forcenet count`` prints (and a newline).

@@ -102,7 +102,7 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p.set_defaults(func=cmd_clusters)
 
     p = sub.add_parser("scaling", help="finite-size scaling of the clusters of large forces of a model (Table 7.1)")
-    p.add_argument("--model", choices=list(MODELS), required=True,
+    p.add_argument("--model", choices=list(MODELS), required=True, metavar="MODEL",
                    help="percolation (independent uniform forces: the control, exact 43/48 and 4/3), q-independent, "
                         "q-microcanonical (Sec. 7.3), snooker, disordered, averaged (the force network ensemble, "
                         "Sec. 7.2)")

@@ -63,9 +63,13 @@ DEFAULTS: dict[str, tuple[tuple[int, ...], tuple[int, ...]]] = {
     "q-independent": ((20, 28, 40, 56, 80, 112), (19200, 9600, 4800, 2400, 1200, 640)),
     "q-microcanonical": ((12, 16, 24, 32, 48, 64), (1280, 1280, 640, 640, 320, 192)),
 }
-BONDS_PER_SECOND = 6.0e6  # the cluster pass with wrapping, one core (notes/benchmarks.md), sorting included
-GENERATE_PER_SECOND = 3.0e7  # uniform forces or q-model forces per second
-MOVES_PER_SECOND = 5.0e7  # heat-bath moves per second, one core
+# Remeasured 2026-12-06 (issue 53, notes/benchmarks.md "Estimates against the actual"): the blocks of the
+# default runs took 1.0e-7 CPU s per bond (percolation 16.3 s, q-independent 8.0 s) since the counting sort,
+# and the heat-bath blocks 0.2-0.27 of the old moves' model (4.9 s): the plans were 2-3x high.
+BONDS_PER_SECOND = 1.2e7  # the cluster pass with wrapping, one core, thresholds grouped by a counting sort
+GENERATE_PER_SECOND = 6.0e7  # uniform forces or q-model forces per second
+MOVES_PER_SECOND = 2.2e8  # heat-bath moves per second, one core
+ANALYSIS_SECONDS = 0.012  # the collapse and estimators: per bootstrap replica and per size (0.008-0.016 measured)
 
 
 @dataclass(frozen=True)
@@ -198,7 +202,7 @@ class _ScalingEngine(ABC):
                       for L, k in zip(request.sizes, request.samples, strict=True))
         workers = max(1, request.workers)
         return Plan(f"{request.model} finite-size scaling at L = {', '.join(map(str, request.sizes))}",
-                    seconds=self.seconds(request) / workers + 0.02 * request.replicas * len(request.sizes),
+                    seconds=self.seconds(request) / workers + ANALYSIS_SECONDS * request.replicas * len(request.sizes),
                     nbytes=16 * biggest * workers + 64 * 2**20, ticks=tasks, unit="block")
 
     def run(self, request: ScalingRequest, plan: Plan, *, progress: Callable[..., Any] | None = None,

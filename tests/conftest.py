@@ -63,7 +63,11 @@ def full_stream():
 
 def layer_agrees_with_the_exact_sampler(laws, N, i, samples=20000, seed=2811):
     """Every load of layer ``i``: its exact ``<W^2>`` and ``P(W <= <W>)`` from its gap law (``{j: GapCounts}``)
-    against ``samples`` exact samples, at the testing toolkit's false-alarm rate 1e-3 for the whole set."""
+    against ``samples`` exact samples, at the testing toolkit's false-alarm rate 1e-3 for the whole set.
+
+    Every sample lies in [0, 1] (a load is a share of the unit overload, ``W^2`` too; the CDF's indicator is 0
+    or 1): the bounded test, valid at any number of rows. Without bounds the t route cannot judge 20000 rows
+    here (``W^2`` of a corner load has skewness about 9: its tail is trusted from about 72000 rows on)."""
     from fractions import Fraction
 
     import numpy as np
@@ -85,9 +89,10 @@ def layer_agrees_with_the_exact_sampler(laws, N, i, samples=20000, seed=2811):
         rows.append(W[:, i - 1, :i])
         drawn += W.shape[0]
     X = np.concatenate(rows)
+    assert X.min() >= 0 and X.max() <= 1
     data = np.concatenate([X**2, (X <= np.array(cuts)).astype(float)], axis=1)
     keys = [f"W2_{j}" for j in range(1, i + 1)] + [f"cdf_{j}" for j in range(1, i + 1)]
-    return compare_samples(data, second + exact_cdf, keys=keys, alpha=1e-3)
+    return compare_samples(data, second + exact_cdf, keys=keys, alpha=1e-3, bounds=(0, 1))
 
 
 @pytest.fixture

@@ -101,16 +101,21 @@ def test_sector_entropies_are_entropies():
     assert max(s[n] for n in range(1, 9)) == pytest.approx(math.log(2 * math.cos(math.pi / 8)) / 8)
 
 
-@pytest.mark.slow  # ~20 s
+@pytest.mark.slow  # ~2 min (the chain is pure Python, ~3 ms a step)
 def test_hexagon_monte_carlo_against_its_component():
-    """Shrink/expand moves sample the component uniformly: the chain's means agree with the exact ones."""
+    """Shrink/expand moves sample the component uniformly: the chain's means agree with the exact ones.
+
+    32000 steps: "minimal hexagons" is skewed (about 1.7 per step), and at level 0.001 over 2 values the
+    chain's t statistics are trusted only from about 20000-27000 steps on (measured on seeds 1, 2 and 2006 at
+    16000 steps); at 4000 steps the verdict is "cannot judge", not a disagreement.
+    """
     from fractions import Fraction
 
     start = ChickenWire.honeycomb(12, 12, side=2)
     configs = component(start)
     exact = [Fraction(int(total), len(configs)) for total in np.sum([c.observables() for c in configs], axis=0)]
     assert len(configs) > 1000
-    chain = HexagonMonteCarlo(start, seed=2006).run(4000, burn_in=20)  # tau ~ 14 sweeps: 200 tau are needed
+    chain = HexagonMonteCarlo(start, seed=2006).run(32000, burn_in=20)  # tau ~ 14 steps; skewness: above
     assert_agrees(chain, exact, chain=True, keys=["sum of squared cells", "minimal hexagons"])
     # moves conserve the number of hexagons and every bond direction's count
     for c in configs[:50]:

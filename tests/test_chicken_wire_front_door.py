@@ -214,7 +214,7 @@ def test_the_bethe_value_is_rendered_as_the_command_line_renders_it(monkeypatch,
     e = forcenet.isotropic_point(Q="1/6", bethe=True, L_max=120)
     assert seen == [(Fraction(1, 6), 120)] and e.bethe.v == 0.0616159805 and e.bethe.densities == (Fraction(1, 6),)
     assert e.to_json().endswith('"v_bethe": 0.0616159805, "v_bethe_error": 2.5e-09, "bethe_densities": ["1/6"]}')
-    assert e.to_text().splitlines()[-1].startswith("v_bethe             = 0.061615980500 +- 2.5e-09")
+    assert "v_bethe             = 0.061615980500 +- 2.5e-09" in e.to_text().splitlines()
     argv = ["entropy", "--Q", "1/6", "--bethe", "--L-max", "120"]
     assert stdout_of([*argv, "--format", "json"], capsys) == e.to_json() + "\n"
     assert stdout_of(argv, capsys) == e.to_text() + "\n"

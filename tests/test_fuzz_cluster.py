@@ -47,8 +47,21 @@ def _verdict(argv, capsys):
     return code, out, err.splitlines(), seconds
 
 
+def _messages(lines):
+    """stderr's messages, each on one line: a message wrapped at 80 columns (issue 53) continues on lines
+    indented by two spaces (a traceback's first line starts neither so, nor with ``forcenet: ``)."""
+    joined = []
+    for line in lines:
+        if line.startswith("  ") and joined:
+            joined[-1] += " " + line.strip()
+        else:
+            joined.append(line)
+    return joined
+
+
 def _check(argv, capsys, expected: str, code: int = 2, bound: float = BOUND):
     got, out, lines, seconds = _verdict(argv, capsys)
+    lines = _messages(lines)
     errors = [line for line in lines if line.startswith("forcenet: error:")]
     assert got == code, lines
     assert out == ""
@@ -362,6 +375,7 @@ def _run_and(cluster_, tmp_path, action, after: float):
 
 
 def _one_error(lines, expected):
+    lines = _messages(lines)
     errors = [line for line in lines if line.startswith("forcenet: error:")]
     assert len(errors) == 1 and expected in errors[0], lines
     assert not [line for line in lines if not line.startswith("forcenet: ")], lines

@@ -113,7 +113,10 @@ def test_plan():
 
 @pytest.mark.slow
 def test_partial_sums_agree_with_the_exact_sampler_at_N64():
-    """<S_ij> and <S_ij^2> at depths and positions across the triangle against 20000 exact samples (alpha = 1e-3)."""
+    """<S_ij> and <S_ij^2> at depths and positions across the triangle against 20000 exact samples (alpha = 1e-3).
+
+    The bounded test (every partial sum of a row summing to 1 lies in [0, 1]): without bounds the t route cannot
+    judge 20000 rows here (``S_{64,1}^2`` has skewness about 8: its tail is trusted from about 54000 rows on)."""
     import numpy as np
 
     from forcenet.numeric.agreement import compare_samples
@@ -133,5 +136,6 @@ def test_partial_sums_agree_with_the_exact_sampler_at_N64():
     expected = ([float(moments[1][i - 1][j - 1]) for i, j in probes]
                 + [float(moments[2][i - 1][j - 1]) for i, j in probes])
     keys = [f"S_{i},{j}" for i, j in probes] + [f"S2_{i},{j}" for i, j in probes]
-    result = compare_samples(data, expected, keys=keys, alpha=1e-3)
+    assert data.min() >= 0 and data.max() <= 1 + 1e-12
+    result = compare_samples(data, expected, keys=keys, alpha=1e-3, bounds=(0, 1))
     assert result.passed, result.summary()

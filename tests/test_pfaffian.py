@@ -376,7 +376,7 @@ def test_row_sums_and_mirror_symmetry_beyond_the_dp(N):
     assert all(w > 0 for row in W for w in row)
 
 
-def _sampler_agreement(N, samples, seed):
+def _sampler_agreement(N, samples, seed, bounds=None):
     from forcenet.numeric.agreement import compare_samples
     from forcenet.numeric.triangle.exact_sampler import ExactSampler
 
@@ -387,12 +387,15 @@ def _sampler_agreement(N, samples, seed):
         W = sampler.sample_W(min(sampler.batch, samples - sum(len(r) for r in rows)))
         rows.append(np.stack([W[:, i - 1, j - 1] for i, j in grains], axis=1))
     # Hotelling chi-square and Bonferroni max |z|, each at alpha = 1e-3 (about 5 sigma for the max over ~10^3 grains)
-    return compare_samples(np.concatenate(rows), [exact[i - 1][j - 1] for i, j in grains], keys=grains, alpha=1e-3)
+    return compare_samples(np.concatenate(rows), [exact[i - 1][j - 1] for i, j in grains], keys=grains, alpha=1e-3,
+                           bounds=bounds)
 
 
 @pytest.mark.slow
 def test_exact_sampler_agrees_at_N40():
-    result = _sampler_agreement(40, 4000, seed=18)
+    """The bounded test (every W_ij in [0, 1]): at 4000 rows the t route cannot judge, W_(40,1) being skewed
+    (sample skewness 1.7: its tail is trusted from about 6100 rows on)."""
+    result = _sampler_agreement(40, 4000, seed=18, bounds=(0, 1))
     assert result.passed, result.summary()
     assert result.max_z < 5.5
 

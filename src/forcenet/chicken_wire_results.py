@@ -22,6 +22,7 @@ Examples
 from __future__ import annotations
 
 import json
+import textwrap
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any, NamedTuple
@@ -44,6 +45,37 @@ def _rounded(x: float) -> float:
 
 def _dumps(obj: object) -> str:
     return json.dumps(obj, allow_nan=False)
+
+
+COLUMNS = 80  # the text output's width, as the help's (issue 53)
+
+
+def _wrapped(text: str, indent: str = "  ", first: str = "") -> list[str]:
+    """``text`` in lines of at most :data:`COLUMNS` characters, continued at ``indent``; numbers never split.
+
+    Examples
+    --------
+    >>> [len(line) for line in _wrapped("ab " * 40, first="> ")]
+    [79, 43]
+    """
+    return textwrap.wrap(text, COLUMNS, initial_indent=first, subsequent_indent=indent, break_long_words=False,
+                         break_on_hyphens=False)
+
+
+def _digits(value: str, indent: str = "    ") -> list[str]:
+    """A long number on lines of at most :data:`COLUMNS` characters, each but the last ending in ``\\`` (as
+    ``bc`` prints its long numbers): every digit is kept.
+
+    Examples
+    --------
+    >>> for line in _digits("0." + "1" * 80, indent="  "):
+    ...     print(line)
+      0.111111111111111111111111111111111111111111111111111111111111111111111111111\\
+      11111
+    """
+    step = COLUMNS - len(indent) - 1
+    chunks = [value[k:k + step] for k in range(0, len(value), step)] or [""]
+    return [indent + chunk + "\\" for chunk in chunks[:-1]] + [indent + chunks[-1]]
 
 
 class Sector(NamedTuple):
@@ -166,13 +198,15 @@ class TransferSpectrum:
         --------
         >>> import forcenet
         >>> print(forcenet.transfer_spectrum(3, particles=0).to_text())
-        chicken-wire transfer matrix, cylinder of width L = 3: lambda_max = 2, log(lambda)/L = 0.231049060187 per site
+        chicken-wire transfer matrix, cylinder of width L = 3:
+          lambda_max = 2, log(lambda)/L = 0.231049060187 per site
           n =  0: lambda = 2   log(lambda)/L = 0.231049060187
         """
         rows = self._rows()
         top = max(rows, key=lambda r: r["lambda"])
-        lines = [f"chicken-wire transfer matrix, cylinder of width L = {self.L}: lambda_max = {top['lambda']:.15g}, "
-                 f"log(lambda)/L = {top['entropy_per_site']:.12g} per site"]
+        lines = [f"chicken-wire transfer matrix, cylinder of width L = {self.L}:",
+                 *_wrapped(f"lambda_max = {top['lambda']:.15g}, log(lambda)/L = {top['entropy_per_site']:.12g} "
+                           "per site", "    ", "  ")]
         lines += [f"  n = {r['particles']:2d}: lambda = {r['lambda']:.15g}   log(lambda)/L = {r['entropy_per_site']:.12g}"
                   for r in rows]
         return "\n".join(lines)
@@ -342,14 +376,19 @@ class BetheGroundState:
         Examples
         --------
         >>> import forcenet
-        >>> print(forcenet.bethe_ground_state(6).to_text().splitlines()[1])
+        >>> print(forcenet.bethe_ground_state(6).to_text())
+        Bethe ansatz, L = 6, n = 2 particles, m = 1 left-movers:
+          Lambda = 1.73205080756888, log(Lambda)/L = 0.0915510240556758 per site
+          max residual of the Bethe equations 4.5e-16
           u: +1.7320508076+0.0000000000i
+          w: +0.8660254038-0.5000000000i  +0.8660254038+0.5000000000i
         """
-        lines = [f"Bethe ansatz, L = {self.L}, n = {self.n} particles, m = {self.m} left-movers: "
-                 f"Lambda = {self.eigenvalue:.15g}, log(Lambda)/L = {self.entropy_per_site:.15g} per site "
-                 f"(max residual {self.residual:.1e})",
-                 "  u: " + "  ".join(f"{z.real:+.10f}{z.imag:+.10f}i" for z in self.u),
-                 "  w: " + "  ".join(f"{z.real:+.10f}{z.imag:+.10f}i" for z in self.w)]
+        lines = [*_wrapped(f"Bethe ansatz, L = {self.L}, n = {self.n} particles, m = {self.m} left-movers:"),
+                 *_wrapped(f"Lambda = {self.eigenvalue:.15g}, log(Lambda)/L = {self.entropy_per_site:.15g} per site",
+                           "    ", "  "),
+                 f"  max residual of the Bethe equations {self.residual:.1e}"]
+        for name, roots in (("u", self.u), ("w", self.w)):  # two roots a line (5 + 2 x 28 columns)
+            lines += _wrapped("  ".join(f"{z.real:+.10f}{z.imag:+.10f}i" for z in roots), "     ", f"  {name}: ")
         return "\n".join(lines)
 
 
@@ -475,7 +514,11 @@ class IsotropicEntropy:
         return _dumps(self.to_dict())
 
     def to_text(self) -> str:
-        """What ``forcenet entropy`` prints: one line per quantity, ``key = value   (description)``.
+        """What ``forcenet entropy`` prints: per quantity ``key = value``, then ``(description)`` below it.
+
+        At most 80 columns: when a ``key = value`` line would be wider, every value goes on its own lines
+        below its key, a long one continued with ``\\`` at the line's end (every digit printed; ``--format
+        json`` has them on one line).
 
         Returns
         -------
@@ -484,13 +527,24 @@ class IsotropicEntropy:
         Examples
         --------
         >>> import forcenet
-        >>> print(forcenet.isotropic_point(Q="1/6", dps=10).to_text().splitlines()[2])
-        v_per_site          = 0.06161598054   (entropy per chicken-wire site, Eq. (7.1))
+        >>> print("\\n".join(forcenet.isotropic_point(Q="1/6", dps=10).to_text().splitlines()[4:6]))
+        v_per_site          = 0.06161598054
+            (entropy per chicken-wire site, Eq. (7.1))
+        >>> print("\\n".join(forcenet.isotropic_point(Q="1/6", dps=100).to_text().splitlines()[8:12]))
+        v_per_site =
+            0.0616159805393802359215413794766532118272731312289089670592134875347696395\\
+            3982563133723928137063737215
+            (entropy per chicken-wire site, Eq. (7.1))
         """
-        width = max(len(key) for key, _, _ in self.rows)
-        lines = [f"{key:<{width}} = {mpmath.nstr(value, self.dps)}   ({what})" for key, what, value in self.rows]
+        rows = [(key, mpmath.nstr(value, self.dps), what) for key, what, value in self.rows]
         if self.bethe is not None:
             b = self.bethe
-            lines.append(f"{'v_bethe':<{width}} = {b.v:.12f} +- {b.error:.1e}   (entropy per site from the Bethe "
-                         f"ansatz, densities {', '.join(str(f) for f in b.densities)}, L <= {b.L_max})")
+            rows.append(("v_bethe", f"{b.v:.12f} +- {b.error:.1e}", "entropy per site from the Bethe ansatz, "
+                         f"densities {', '.join(str(f) for f in b.densities)}, L <= {b.L_max}"))
+        width = max(len(key) for key, _, _ in rows)
+        inline = all(width + 3 + len(value) <= COLUMNS for _, value, _ in rows)
+        lines = []
+        for key, value, what in rows:
+            lines += [f"{key:<{width}} = {value}"] if inline else [f"{key} =", *_digits(value)]
+            lines += _wrapped(f"({what})", "     ", "    ")
         return "\n".join(lines)

@@ -21,6 +21,7 @@ Examples
 from __future__ import annotations
 
 import html
+import textwrap
 from dataclasses import dataclass
 from typing import Any
 
@@ -176,8 +177,11 @@ class NetworkResult(Rendered):
         --------
         >>> import forcenet
         >>> net = forcenet.contact_network(1, [[0, None, 0, -1]], [[0, 0, -1]])
-        >>> print(forcenet.network(net, exact=True).to_text().splitlines()[0])
-        contact network: 1 grains, 1 contacts (1 with walls), frictionless, exact data; dimension 0
+        >>> print(forcenet.network(net, exact=True).to_text())
+        contact network: 1 grains, 1 contacts (1 with walls), frictionless, exact data;
+              dimension 0
+          f0 (0-wall): mean 1
+        <BLANKLINE>
         """
         lines = [f"contact network: {self.network.describe()}; dimension {self.dimension}"]
         index = {label: k for k, label in enumerate(self.labels)}
@@ -198,7 +202,9 @@ class NetworkResult(Rendered):
                 other = "wall" if j is None else str(j)
                 lines.append(f"  {kind}{c} ({i}-{other}): " + ", ".join(parts))
                 lines += [f"    density on [{p['from']}, {p['to']}]: {p['polynomial']}" for p in entry.get("density", [])]
-        return "\n".join(lines) + "\n"
+        # at most 80 columns (issue 53): a long line continues below, indented; no number is split
+        return "".join(part + "\n" for line in lines for part in textwrap.wrap(
+            line, 80, subsequent_indent="      ", break_long_words=False, break_on_hyphens=False))
 
     def density(self, contact: int, points: list[Any]) -> list[Any]:
         """The exact density of contact ``contact``'s normal force at ``points`` (exact data; Normaliz slice

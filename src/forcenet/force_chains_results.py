@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import io
 import math
+import textwrap
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -150,10 +151,10 @@ class ForceChainScaling(Rendered):
         >>> from forcenet.force_chains import example
         >>> r = example()
         >>> r.to_text().splitlines()[0]
-        'percolation: finite-size scaling of the clusters of large forces (Eqs. 6.8, 6.12)'
+        'percolation: finite-size scaling of large-force clusters (Eqs. 6.8, 6.12)'
         """
         s = self.summary()
-        lines = [f"{self.model}: finite-size scaling of the clusters of large forces (Eqs. 6.8, 6.12)"]
+        lines = [f"{self.model}: finite-size scaling of large-force clusters (Eqs. 6.8, 6.12)"]
         for name in ("f_c", "gamma_2", "nu"):
             e = s["errors"][name]
             if name == "nu" and s["nu_method"] != "collapse":
@@ -177,9 +178,11 @@ class ForceChainScaling(Rendered):
             lines.append("  WARNING: the collapse's optimum lies on its window's limit (chi^2 still falls towards "
                          "nu -> 0): nu is not fixed by the collapse here; see the peak-shift estimator")
         for size in s["sizes"]:
-            lines.append(f"  L = {size['L'] or '-':>5}  M = {size['M']:8d}  samples = {size['samples']:7d}  "
+            lines.append(f"  L = {size['L'] or '-':>4}  M = {size['M']:7d}  samples = {size['samples']:6d}  "
                          f"peak <s^2> = {size['peak_s2']} at f = {size['peak_f']}")
-        return "\n".join(lines) + "\n"
+        # at most 80 columns (issue 53): a long line continues below, indented; no number is split
+        return "".join(part + "\n" for line in lines for part in textwrap.wrap(
+            line, 80, subsequent_indent="      ", break_long_words=False, break_on_hyphens=False))
 
     def figures(self) -> dict[str, bytes]:
         """Two PNG figures: ``s2.png`` (``<s^2>(f, M)`` for every size, as Fig. 7.2 a) and ``collapse.png``

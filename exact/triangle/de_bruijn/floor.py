@@ -89,8 +89,12 @@ COMPILE_SECONDS = {"floor": 25.0, "floor-grains": 35.0}
 # 0.52 and 45 ns, checked at N = 28, 36 and on the pooled grid at N = 28-60 within 8 %) on 2026-11-26, then scaled
 # by 1.47, the factor by which the same day's machine ran the elimination kernel faster than its own model
 # (31.5 s against 46.3 s per prime at N = 36), so that the two models speak of the same reference machine.
-_SECONDS_PER_ROW = 7.7e-10
-_SECONDS_PER_PIVOT = 6.6e-8
+# Refitted 2026-12-06 (issue 53: estimates within 1.5x): whole primes of every floor load at N = 16, 24, 32, 40
+# took 0.034, 0.415, 2.99, 14.4 CPU s (load ~20 on 2 cores), 0.46-0.63 of the old model, which had the pivot's
+# share three times too large (its ratio N = 40 over N = 16 was 328 against the measured 422); least squares
+# on the relative error gives 0.88 ns per row and 22 ns per pivot (within 9 % at the four sizes).
+_SECONDS_PER_ROW = 8.8e-10
+_SECONDS_PER_PIVOT = 2.2e-8
 
 
 # ------------------------------------------------------------------ one prime

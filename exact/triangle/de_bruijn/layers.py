@@ -79,10 +79,12 @@ __all__ = ["layer_cost", "layer_tables", "layer_prime_residues", "layer_pooled_g
 # products), per fugacity (a combination of the three parts) and per cube of the order (the lazy elimination).
 # Fitted on whole primes, pooled and every load, N = 20-44, layers 3..N-1, on 2026-11-26 on this machine (3.2 us,
 # 0.6 us, 2.2e-10 s; within 25 %), then scaled by the floor model's 1.47 (floor._SECONDS_PER_ROW) so that both
-# models speak of the same reference machine.
-_SECONDS_PER_NODE = 4.7e-6
-_SECONDS_PER_FUGACITY = 0.9e-6
-_SECONDS_PER_CUBE = 3.2e-10
+# models speak of the same reference machine. Rescaled by 0.6 on 2026-12-06 (issue 53: estimates within 1.5x):
+# whole primes of every load of layer N/2 at N = 24 and 32 took 1.95 and 13.2 CPU s, 0.64 and 0.54 of the model
+# (the floor's refit, floor._SECONDS_PER_ROW, no longer carries the 1.47 either).
+_SECONDS_PER_NODE = 2.8e-6
+_SECONDS_PER_FUGACITY = 0.54e-6
+_SECONDS_PER_CUBE = 1.9e-10
 
 
 # ------------------------------------------------------------------ one prime

@@ -19,11 +19,12 @@ from forcenet.exact.triangle.de_bruijn.floor import floor_prime_seconds
 from forcenet.exact.triangle.de_bruijn.layers import layer_prime_seconds
 from forcenet.exact.triangle.staircase import free_force_count
 from forcenet.numeric.force_chains.engines import (
-    ANALYSIS_SECONDS,
     DEFAULTS,
+    WORKER_START_SECONDS,
     HeatBathEngine,
     ScalingRequest,
     UnionFindEngine,
+    analysis_seconds,
     lattice_for,
 )
 
@@ -74,7 +75,7 @@ def test_the_heat_bath_model_grows_with_L_as_the_measured_blocks():
 
 
 def test_a_scaling_plan_is_its_blocks_then_the_analysis_per_replica_and_size():
-    """The structure: the blocks' seconds over the workers, plus a fixed cost per bootstrap replica and size;
+    """The structure: the blocks' seconds over the workers, the analysis by replicas and sizes, the workers' start;
     the union-find blocks cost the same per bond whatever the model (measured: 1.0e-7 CPU s per bond for
     percolation and the independent q-model alike)."""
     for model in ("percolation", "q-independent"):
@@ -85,7 +86,8 @@ def test_a_scaling_plan_is_its_blocks_then_the_analysis_per_replica_and_size():
         for workers, replicas in ((1, 0), (2, 0), (1, 100), (4, 50)):
             request = dataclasses.replace(base, workers=workers, replicas=replicas)
             assert engine.plan(request).seconds == pytest.approx(
-                engine.seconds(base) / workers + ANALYSIS_SECONDS * replicas * len(sizes))
+                engine.seconds(base) / workers + analysis_seconds(len(sizes), replicas)
+                + (WORKER_START_SECONDS if workers > 1 else 0.0))
     per_bond = {model: UnionFindEngine(model).seconds(_one_size(model, DEFAULTS[model][0][-1]))
                 / (3 * lattice_for(model, "square", DEFAULTS[model][0][-1]).bonds * DEFAULTS[model][1][-1])
                 for model in ("percolation", "q-independent")}

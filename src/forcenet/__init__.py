@@ -103,7 +103,8 @@ if TYPE_CHECKING:  # the type checker sees the names; at run time __getattr__ lo
     from forcenet.numeric.chicken_wire.isotropic import entropy, tiling_entropy
     from forcenet.numeric.packing.scene import Scene
     from forcenet.numeric.triangle import ExactSampler, TriangleMetropolis
-    from forcenet.results import Row, Table
+    from forcenet.results import Table
+    from forcenet.row_results import Row
     from forcenet.sample_results import Samples
     from forcenet.sampled_comparison import SampledComparison, SampledComparisonPlan
     from forcenet.sampling import SamplePlan, sample, sample_plan
@@ -121,7 +122,7 @@ _FRONT_DOOR = {
     "row": "forcenet.front_door",
     "row_plan": "forcenet.front_door",
     "RowPlan": "forcenet.front_door",
-    "Row": "forcenet.results",
+    "Row": "forcenet.row_results",
     "law": "forcenet.laws",
     "law_plan": "forcenet.laws",
     "Law": "forcenet.law_results",

@@ -21,7 +21,6 @@ Examples
 
 from __future__ import annotations
 
-import json
 import textwrap
 from dataclasses import dataclass
 from fractions import Fraction
@@ -30,6 +29,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import mpmath
 
 from forcenet.core.errors import ArgumentError
+from forcenet.rendering import Rendered
 
 if TYPE_CHECKING:  # pragma: no cover - annotations only
     import numpy as np
@@ -42,9 +42,6 @@ def _rounded(x: float) -> float:
     (BLAS kernels may change the last bits from run to run)."""
     return round(float(x), 12) + 0.0  # + 0.0: no negative zero
 
-
-def _dumps(obj: object) -> str:
-    return json.dumps(obj, allow_nan=False)
 
 
 COLUMNS = 80  # the text output's width, as the help's (issue 53)
@@ -87,7 +84,7 @@ class Sector(NamedTuple):
 
 
 @dataclass(frozen=True)
-class TransferSpectrum:
+class TransferSpectrum(Rendered):
     """The largest transfer-matrix eigenvalue of each particle sector on a cylinder of width ``L`` (Sec. 7.4.1).
 
     Returned by :func:`forcenet.transfer_spectrum`; :meth:`to_json` and :meth:`to_text` are what
@@ -172,21 +169,6 @@ class TransferSpectrum:
             out["bulk"] = {"particles": best["particles"], "entropy_per_site": best["entropy_per_site"]}
         return out
 
-    def to_json(self) -> str:
-        """What ``forcenet transfer --format json`` prints (without its newline).
-
-        Returns
-        -------
-        str
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> forcenet.transfer_spectrum(3, particles=0).to_json()
-        '{"L": 3, "lambda_max": 2.0, "entropy_per_site": 0.231049060187, "sectors": [{"particles": 0, "lambda": 2.0, "entropy_per_site": 0.231049060187}]}'
-        """
-        return _dumps(self.to_dict())
-
     def to_text(self) -> str:
         """What ``forcenet transfer`` prints: the largest eigenvalue, then one line per sector.
 
@@ -213,7 +195,7 @@ class TransferSpectrum:
 
 
 @dataclass(frozen=True)
-class BetheGroundState:
+class BetheGroundState(Rendered):
     """The ground state of one sector of the nested Bethe ansatz (Sec. 7.4.2): roots and eigenvalue.
 
     Returned by :func:`forcenet.bethe_ground_state`; :meth:`to_json` and :meth:`to_text` are what
@@ -351,21 +333,6 @@ class BetheGroundState:
             "u": [[round(float(z.real), 12), round(float(z.imag), 12)] for z in self.u],
         }
 
-    def to_json(self) -> str:
-        """What ``forcenet bethe --format json`` prints (without its newline).
-
-        Returns
-        -------
-        str
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> forcenet.bethe_ground_state(6).to_json()[:60]
-        '{"L": 6, "n": 2, "m": 1, "eigenvalue": 1.732050807569, "entr'
-        """
-        return _dumps(self.to_dict())
-
     def to_text(self) -> str:
         """What ``forcenet bethe`` prints: the eigenvalue, then the roots ``u`` and ``w``.
 
@@ -402,7 +369,7 @@ class BetheValue(NamedTuple):
 
 
 @dataclass(frozen=True)
-class IsotropicEntropy:
+class IsotropicEntropy(Rendered):
     """The named quantities of the chicken-wire model on the isotropic line, Eqs. (7.1)-(7.4), to ``dps`` digits.
 
     Returned by :func:`forcenet.isotropic_point` (the quantities at one point) and
@@ -497,21 +464,6 @@ class IsotropicEntropy:
             out.update({"v_bethe": self.bethe.v, "v_bethe_error": self.bethe.error,
                         "bethe_densities": [str(f) for f in self.bethe.densities]})
         return out
-
-    def to_json(self) -> str:
-        """What ``forcenet entropy --format json`` prints (without its newline).
-
-        Returns
-        -------
-        str
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> forcenet.isotropic_point(Q="1/6", dps=10).to_json()[:60]
-        '{"dps": 10, "phi": "0.4300427067", "Q": "0.1666666667", "v_p'
-        """
-        return _dumps(self.to_dict())
 
     def to_text(self) -> str:
         """What ``forcenet entropy`` prints: per quantity ``key = value``, then ``(description)`` below it.

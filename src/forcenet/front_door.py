@@ -50,12 +50,13 @@ from forcenet.exact.routes import (
     run_row,
     takes,
 )
-from forcenet.results import Row, Table
+from forcenet.results import Table
+from forcenet.row_results import Row
 
 if TYPE_CHECKING:
     from forcenet.exact.routes import Request
 
-__all__ = ["Row", "RowPlan", "Table", "TablePlan", "plan", "row", "row_plan", "table"]  # Row and Table: forcenet.results
+__all__ = ["Row", "RowPlan", "Table", "TablePlan", "plan", "row", "row_plan", "table"]  # Row, Table: forcenet.row_results, .results
 
 
 @dataclass(frozen=True, repr=False)  # the plan's own words: CostedPlan.__repr__

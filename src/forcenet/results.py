@@ -1,4 +1,4 @@
-"""What the front door returns: an exact table (:class:`Table`) or one row of it (:class:`Row`).
+"""What the front door returns: an exact table (:class:`Table`; one row of it is :class:`forcenet.Row`).
 
 Exact :class:`~fractions.Fraction` values that carry their bounds (every ``W``
 lies in ``[0, 1]``, so :func:`forcenet.testing.compare` takes the bounded test
@@ -27,14 +27,13 @@ from forcenet.core.errors import ArgumentError
 from forcenet.core.validation import check_int
 from forcenet.exact.protocol import BoundedTable
 from forcenet.exact.triangle.staircase import ensemble_volume, free_force_count, tableau_count
-from forcenet.exact.triangle.tables import _latex_fraction, exact_row, fraction_str, to_csv, to_json
+from forcenet.exact.triangle.tables import _latex_fraction, fraction_str, to_csv, to_json
 from forcenet.rendering import Rendered
 
 if TYPE_CHECKING:  # pragma: no cover - annotations only
-    import numpy as np
     from matplotlib.axes import Axes
 
-__all__ = ["Row", "Table"]
+__all__ = ["Table"]
 
 _SHOWN = 12  # a bottom row longer than this: its first and last three values in the summary
 
@@ -158,7 +157,7 @@ class Table(_Rendered):
         >>> forcenet.Table.from_json(t.to_json()) == t
         True
         """
-        N, tables = _formats().from_json(text)
+        N, tables = table_formats.from_json(text)
         return cls(N, "json", "", tables)
 
     @classmethod
@@ -182,7 +181,7 @@ class Table(_Rendered):
         >>> forcenet.Table.read(path) == forcenet.table(6)
         True
         """
-        N, tables = _formats().read(path)
+        N, tables = table_formats.read(path)
         return cls(N, "csv" if os.fspath(path).endswith(".csv") else "json", "", tables)
 
     def to_pandas(self, exact: bool = False) -> Any:
@@ -208,7 +207,7 @@ class Table(_Rendered):
         3  0.3571   0.1607
         4  0.1429   0.0357
         """
-        return _formats().to_pandas(self._tables, exact)
+        return table_formats.to_pandas(self._tables, exact)
 
     def to_latex(self, digits: int | None = None, rows: Any = None) -> str:
         """A paper-ready LaTeX table (``booktabs``) of ``<W_ij>``: what ``forcenet table`` writes as ``.tex``.
@@ -232,7 +231,7 @@ class Table(_Rendered):
         >>> print(forcenet.table(8).to_latex(digits=3, rows=[8]).splitlines()[5][:46])
         8 & $0.034$ & $0.104$ & $0.164$ & $0.197$ & $0
         """
-        return _formats().latex(self.to_dict(), digits=digits, rows=rows)
+        return table_formats.latex(self.to_dict(), digits=digits, rows=rows)
 
     @property
     def mean_W(self) -> list[list[Fraction]]:
@@ -365,13 +364,13 @@ class Table(_Rendered):
         lines = [
             f"Fully mobilized triangle, N = {self.N} layers, d = {free_force_count(self.N)} free forces",
             "  W_ij: load on grain j of layer i in units of the overload; rows sum to 1",
-            f"  tableaux count (d! * normalization): {_formats().abbreviated(Fraction(self.count))}",
+            f"  tableaux count (d! * normalization): {table_formats.abbreviated(Fraction(self.count))}",
             f"  normalization (Eq. 4.1):             {_short(self.normalization)}",
             "  <W_N,j> on the bottom row:",
         ]
         bottom = list(enumerate(self.mean_W[-1], start=1))
         shown = bottom if self.N <= _SHOWN else [*bottom[:3], None, *bottom[-3:]]  # the files hold every value
-        lines += ["    ..." if item is None else f"    j = {item[0]:2d}: {float(item[1]):.10f}  = {_formats().abbreviated(item[1])}"
+        lines += ["    ..." if item is None else f"    j = {item[0]:2d}: {float(item[1]):.10f}  = {table_formats.abbreviated(item[1])}"
                   for item in shown]
         return "\n".join(lines)
 
@@ -467,150 +466,6 @@ class Table(_Rendered):
 
 def _short(x: Fraction) -> str:
     """An exact value for the terminal: the fraction when short, else its decimal (scientific) and its size."""
-    formats = _formats()
+    formats = table_formats
     text = formats.abbreviated(x)
     return text if "digits" not in text else f"{formats.scientific(x)} ({text})"
-
-
-class Row(_Rendered):
-    """One row (layer ``i``) of the exact tables: ``<W_ij^s>``, ``j = 1..i``, ``s = 1..moments``.
-
-    Returned by :func:`row`; the renderings are byte for byte those of
-    ``forcenet table --row i``.
-
-    Parameters
-    ----------
-    N : int
-        Number of layers.
-    row : int
-        The row (layer) ``i``.
-    method : str
-        The route that computed it (a row route, or a table method).
-    why : str
-        Why ``auto`` chose it (empty for an explicit method).
-    rows : dict of int to list of Fraction
-        ``{s: [<W_ij^s>, j = 1..i]}``.
-
-    Examples
-    --------
-    >>> import forcenet
-    >>> r = forcenet.row(5, 4, moments=2)
-    >>> r.mean_W, r.moment(2) == forcenet.table(5, moments=2).moment(2)[3]
-    ([Fraction(2, 11), Fraction(7, 22), Fraction(7, 22), Fraction(2, 11)], True)
-    """
-
-    def __init__(self, N: int, row: int, method: str, why: str, rows: dict[int, list[Fraction]]):
-        self.N, self.row, self.method, self.why = N, row, method, why
-        self._rows = {s: BoundedTable(values, (0, 1), "every W^s of the triangle lies in [0, 1]")
-                      for s, values in rows.items()}
-        self.moments = max(rows)
-
-    def __repr__(self) -> str:
-        return f"Row(N={self.N}, row={self.row}, moments={self.moments}, method={self.method!r})"
-
-    @property
-    def mean_W(self) -> list[Fraction]:
-        """``<W_ij>``, ``j = 1..i``.
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> forcenet.row(4, 4).mean_W
-        [Fraction(1, 7), Fraction(5, 14), Fraction(5, 14), Fraction(1, 7)]
-        """
-        return self._rows[1]
-
-    def moment(self, s: int = 2) -> list[Fraction]:
-        """``<W_ij^s>``, ``j = 1..i``, for ``1 <= s <= moments``.
-
-        Parameters
-        ----------
-        s : int
-            The moment.
-
-        Returns
-        -------
-        list of Fraction
-
-        Raises
-        ------
-        ArgumentError
-            If ``s`` was not computed.
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> forcenet.row(4, 3, moments=2).moment(2)
-        [Fraction(3, 28), Fraction(3, 14), Fraction(3, 28)]
-        """
-        s = check_int(s, "s", 1)
-        if s not in self._rows:
-            raise ArgumentError(f"s={s} is out of range: this row holds s = 1..{self.moments} "
-                                f"(ask forcenet.table({self.N}, moments={s}, row={self.row}))")
-        return self._rows[s]
-
-    def to_latex(self, digits: int | None = None) -> str:
-        """A paper-ready LaTeX table (``booktabs``) of this row, a line per moment: ``forcenet table --row i``'s.
-
-        Parameters
-        ----------
-        digits : int, optional
-            Decimals, correctly rounded from the exact values; default the exact fractions.
-
-        Returns
-        -------
-        str
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> print(forcenet.row(3, 3).to_latex().splitlines()[-3])
-        1 & $\\frac{1}{4}$ & $\\frac{1}{2}$ & $\\frac{1}{4}$ \\\\
-        """
-        return _formats().row_latex(self.to_dict(), digits)
-
-    def to_dict(self) -> dict[str, Any]:
-        """``{"N", "row", "count", "normalization", "mean_W", "mean_W2", ...}`` with exact values.
-
-        Returns
-        -------
-        dict
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> forcenet.row(4, 2).to_dict()["mean_W"]
-        [Fraction(1, 2), Fraction(1, 2)]
-        """
-
-        return exact_row(self.N, self.row, self._rows)
-
-    def to_text(self) -> str:
-        """The row in words, one grain per line (a long fraction abbreviated: its exact digits are in the files).
-
-        Returns
-        -------
-        str
-
-        Examples
-        --------
-        >>> import forcenet
-        >>> print(forcenet.row(3, 3).to_text())
-        row 3 of the N = 3 triangle (fast):
-          <W_3,1> = 1/4
-          <W_3,2> = 1/2
-          <W_3,3> = 1/4
-        """
-        lines = [f"row {self.row} of the N = {self.N} triangle ({self.method}):"]
-        for s in sorted(self._rows):
-            power = "" if s == 1 else f"^{s}"
-            lines += [f"  <W{power}_{self.row},{j}> = {table_formats.abbreviated(value)}"
-                      for j, value in enumerate(self._rows[s], 1)]
-        return "\n".join(lines)
-
-
-def _formats() -> Any:
-    """:mod:`forcenet.table_formats`, imported on first use: it needs the exact tables' text helpers (numba's
-    modules), which a sampler's front door (:func:`forcenet.sample_plan`) must not load."""
-
-    return table_formats

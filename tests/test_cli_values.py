@@ -42,7 +42,10 @@ def sympy_value():
 @pytest.mark.parametrize("phi, valid", [("1.57", True), ("1.5", False), ("0.3", False), ("-1.5707963267948966", False)])
 def test_3_the_series_says_where_it_is_no_approximation(phi, valid, capsys):
     code, out, _ = run(["entropy", "--phi", phi, "--dps", "20"], capsys)
-    line = next(line for line in out.splitlines() if line.startswith("v_series_7_3"))
+    lines = out.splitlines()  # a value's note continues on the lines indented below it (80 columns)
+    start = next(k for k, line in enumerate(lines) if line.startswith("v_series_7_3"))
+    end = next((k for k in range(start + 1, len(lines)) if not lines[k].startswith(" ")), len(lines))
+    line = " ".join(lines[start:end])
     v = mpmath.mpf(next(line for line in out.splitlines() if line.startswith("v_per_site")).split("=")[1].split()[0])
     s = mpmath.mpf(line.split("=")[1].split()[0])
     assert code == 0 and ("NOT VALID" not in line) == valid == (abs(s - v) <= v / 100)

@@ -13,7 +13,6 @@ HTML) need no browser. Without Chromium the browser test is skipped with the rea
 from __future__ import annotations
 
 import asyncio
-import fnmatch
 import functools
 import http.server
 import json
@@ -108,10 +107,7 @@ def test_every_public_name_has_its_api_page_with_an_example(site):
         assert name in pages, name
     functions = [p for n, p in pages.items() if not n.split(".")[-1][0].isupper()]
     assert len(functions) > 40
-    # docs/conf.py's NEEDS_WORK lists the docstrings excused from numpydoc's checks until they are fixed
-    needs_work = runpy.run_path(str(DOCS / "conf.py"))["NEEDS_WORK"]
-    missing = [p.stem for p in functions if "Examples" not in p.read_text()
-               and not any(fnmatch.fnmatchcase(p.stem, pattern) for pattern in needs_work)]
+    missing = [p.stem for p in functions if "Examples" not in p.read_text()]  # none is excused (docs/conf.py)
     assert not missing, f"API pages without an example: {missing}"
 
 

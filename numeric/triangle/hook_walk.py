@@ -24,6 +24,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from forcenet.exact.triangle.staircase import dimension
+
 from ..jit import njit
 
 __all__ = ["hook_walk_W", "hook_walk_tableaux"]
@@ -142,7 +144,7 @@ def hook_walk_tableaux(rng: np.random.Generator, n: int, size: int, stats: np.nd
     >>> hook_walk_tableaux(np.random.default_rng(0), 2, 2).shape
     (2, 3, 3)
     """
-    d = n * (n + 1) // 2  # dimension(n + 1), Eq. 4.3
+    d = dimension(n + 1)
     T = np.zeros((size, n + 1, n + 1), np.int32 if d < 2**31 else np.int64)
     if n > 0:
         _hook_walk_fill(rng, n, T, np.zeros(1, np.int64) if stats is None else stats)

@@ -20,14 +20,12 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
 
 from forcenet.chicken_wire_results import BetheGroundState, Sector, TransferSpectrum
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_int
-from forcenet.costed_plans import CostedPlan
+from forcenet.costed_plans import CostedPlan, Progress
 from forcenet.numeric.chicken_wire.bethe_sector import MAX_WIDTH, default_sector, ground_state, ground_state_plan
 from forcenet.numeric.chicken_wire.transfer import sector_entropy, transfer_plan
 
@@ -36,7 +34,6 @@ __all__ = [
     "BetheGroundStatePlan", "bethe_ground_state_plan", "bethe_ground_state",
 ]
 
-Progress = Callable[..., Any]
 
 
 # ------------------------------------------------------------------------ transfer matrix

@@ -33,7 +33,6 @@ from __future__ import annotations
 
 import json
 import os
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
@@ -44,7 +43,7 @@ from forcenet.core.atomic_files import check_directory
 from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.plan import Plan, combine
 from forcenet.core.validation import check_int, check_seed
-from forcenet.costed_plans import CostedPlan
+from forcenet.costed_plans import CostedPlan, Progress
 from forcenet.exact.contact_network import polytope as polytope_module
 from forcenet.exact.contact_network import triangulation_moments
 from forcenet.exact.contact_network.model import ContactNetwork, contact_network, parse_json, read_json
@@ -53,7 +52,6 @@ from forcenet.registry import REGISTRY
 __all__ = ["network", "network_plan", "NetworkPlan", "NetworkRequest", "NetworkResult", "ContactNetwork",
            "contact_network", "network_response"]
 
-Progress = Callable[..., Any]
 EXACT_METHODS = ("auto", "triangulation", "volumes")
 
 

@@ -29,7 +29,6 @@ Examples
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
 from concurrent.futures import Executor
 from dataclasses import dataclass, field, replace
 from typing import Any
@@ -39,7 +38,7 @@ from forcenet.core.checkpoints import run_distrusting
 from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan
 from forcenet.core.validation import available_memory
-from forcenet.costed_plans import CostedPlan
+from forcenet.costed_plans import CostedPlan, Progress
 from forcenet.exact.routes import LAW_PRIME_ROUTES, LawRequest, law_checkpoint, law_request, law_resumed
 from forcenet.law_results import Law, check_grid
 from forcenet.registry import REGISTRY
@@ -47,7 +46,6 @@ from forcenet.sampled_comparison import SampledComparisonPlan, comparison_plan
 
 __all__ = ["Law", "LawPlan", "law", "law_plan"]  # Law: forcenet.law_results
 
-Progress = Callable[..., Any]
 
 
 @dataclass(frozen=True, repr=False)  # the plan's own words: CostedPlan.__repr__

@@ -466,6 +466,5 @@ class Table(_Rendered):
 
 def _short(x: Fraction) -> str:
     """An exact value for the terminal: the fraction when short, else its decimal (scientific) and its size."""
-    formats = table_formats
-    text = formats.abbreviated(x)
-    return text if "digits" not in text else f"{formats.scientific(x)} ({text})"
+    text = table_formats.abbreviated(x)
+    return text if "digits" not in text else f"{table_formats.scientific(x)} ({text})"

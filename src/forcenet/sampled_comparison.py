@@ -21,7 +21,6 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any, Generic, Protocol, TypeVar
@@ -29,7 +28,7 @@ from typing import TYPE_CHECKING, Any, Generic, Protocol, TypeVar
 from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan, combine
 from forcenet.core.validation import available_memory, check_int, check_real
-from forcenet.costed_plans import CostedPlan
+from forcenet.costed_plans import CostedPlan, Progress
 from forcenet.exact.triangle.distribution import bin_probabilities
 from forcenet.numeric.triangle.exact_sampler import sample_plan
 from forcenet.numeric.triangle.force_distribution import (
@@ -49,7 +48,6 @@ if TYPE_CHECKING:  # pragma: no cover - annotations only
 
 __all__ = ["SampledComparison", "SampledComparisonPlan"]
 
-Progress = Callable[..., Any]
 
 
 class _PooledLaw(Protocol):  # what the comparison reads of a forcenet.Law (forcenet.law_results imports this module)

@@ -27,14 +27,13 @@ True
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
 
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ConvergenceError
 from forcenet.core.plan import Plan
 from forcenet.core.validation import available_memory, check_int, check_real
-from forcenet.costed_plans import CostedPlan
+from forcenet.costed_plans import CostedPlan, Progress
 from forcenet.numeric.autocorr import AutocorrError, all_finite
 from forcenet.numeric.packing.metropolis import packing_plan
 from forcenet.numeric.packing.scene import Scene
@@ -48,7 +47,6 @@ if TYPE_CHECKING:  # pragma: no cover - annotations only
 
 __all__ = ["SamplePlan", "Samples", "sample", "sample_plan"]  # Samples: forcenet.sample_results
 
-Progress = Callable[..., Any]
 
 SAMPLERS = ("exact", "metropolis")
 MOVES = ("metropolis", "slice")

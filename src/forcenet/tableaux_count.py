@@ -23,7 +23,6 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Any
@@ -32,14 +31,13 @@ import flint
 
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_int, check_layers
-from forcenet.costed_plans import CostedPlan, available_memory_or_default
+from forcenet.costed_plans import CostedPlan, Progress, available_memory_or_default
 from forcenet.exact.triangle.staircase import count_plan as staircase_plan
 from forcenet.exact.triangle.staircase import tableau_count
 from forcenet.rendering import Rendered
 
 __all__ = ["CountPlan", "TableauxCount", "count_plan"]
 
-Progress = Callable[..., Any]
 
 
 class TableauxCount(Rendered):

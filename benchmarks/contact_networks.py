@@ -2,8 +2,9 @@
 
     python benchmarks/contact_networks.py sampler [--grains 50 150 500]   # paired: compiled vs plain numpy
     python benchmarks/contact_networks.py exact                          # time against the dimension
+    python benchmarks/contact_networks.py families                       # the thesis's triangles, d to 21
     python benchmarks/contact_networks.py large [--grains 1000]          # relax, then sample with error bars
-    python benchmarks/contact_networks.py basis --grains 450 --basis dense|sparse  # Ker A: SVD or projection
+    python benchmarks/contact_networks.py basis --grains 450 --basis dense|projected|sparse  # Ker A's route
 
 ``sampler``: soft-disk packings (relaxed_packing) of growing size; in the same run, forcenet's compiled
 coordinate hit-and-run and a plain numpy hit-and-run (a uniformly random direction in Ker A each move, the
@@ -96,6 +97,27 @@ def exact(dimensions: list[int]) -> None:
             break
 
 
+
+def exact_families() -> None:
+    """The exact route on the thesis's families of growing dimension: the chapter-4 triangle (few vertices, d =
+    N(N-1)/2 up to 21) and the snooker triangle (many vertices), with Normaliz's vertex count beside the time."""
+    from forcenet.exact.contact_network.geometries import snooker, triangle
+    from forcenet.exact.contact_network.polytope import exact_polytope
+    from forcenet.exact.contact_network.triangulation_moments import moments_by_triangulation, polytope_facts
+
+    print("| family | N | d | contacts | vertices | simplices | seconds (means and second moments) |")
+    print("| --- | --- | --- | --- | --- | --- | --- |")
+    for name, build, sizes in (("triangle", triangle, (3, 4, 5, 6, 7)), ("snooker", snooker, (3, 4))):
+        for N in sizes:
+            net = build(N).network
+            poly = exact_polytope(net)
+            d, vertices, _ = polytope_facts(poly)
+            t0 = time.perf_counter()
+            m = moments_by_triangulation(poly, 2)
+            print(f"| {name} | {N} | {d} | {len(net.contacts)} | {vertices} | {m.pieces} | "
+                  f"{time.perf_counter() - t0:.2f} |", flush=True)
+
+
 def large(grains: int, samples: int, thin: int) -> None:
     t0 = time.perf_counter()
     packing = relaxed_packing(grains, seed=1)
@@ -118,7 +140,8 @@ def large(grains: int, samples: int, thin: int) -> None:
 
 
 def basis(grains: int, states: int, thin: int, route: str) -> None:
-    """One network, one route (``dense``: the SVD basis; ``sparse``: projected random directions): relax, build
+    """One network, one route (``dense``: the SVD basis; ``projected``: a basis from projected normal vectors;
+    ``sparse``: projected random directions, no basis): relax, build
     the walk, sample, and print the time per effective sample (for farm-bench's paired runs)."""
     t0 = time.perf_counter()
     net = relaxed_packing(grains, seed=1).network()
@@ -127,16 +150,17 @@ def basis(grains: int, states: int, thin: int, route: str) -> None:
     t2 = time.perf_counter()
     chain = walk.run(states, seed=1, thin=thin)
     effective = ess(chain.samples, walk.fixed)
-    print(f"{route}: {grains} grains, {len(net.contacts)} contacts, d = {walk.dimension}: relax {t1 - t0:.1f} s, "
+    print(f"{walk.route}: {grains} grains, {len(net.contacts)} contacts, d = {walk.dimension}: relax {t1 - t0:.1f} s, "
           f"walk set up {t2 - t1:.1f} s, {states} states x {thin} sweeps in {chain.seconds:.1f} s, ESS "
           f"{effective:.1f}, {chain.seconds / effective:.3g} s per effective sample (sampling), "
-          f"{(time.perf_counter() - t1) / effective:.3g} s with the set-up", flush=True)
+          f"{(time.perf_counter() - t1) / effective:.3g} s with the set-up; tau max {chain.samples.shape[0] / effective:.1f} "
+          f"states; {time.process_time():.0f} s CPU", flush=True)
 
 
 def main() -> None:
     parser = argparse.ArgumentParser()
-    parser.add_argument("what", choices=["sampler", "exact", "large", "basis"])
-    parser.add_argument("--basis", choices=["dense", "sparse"], default="sparse")
+    parser.add_argument("what", choices=["sampler", "exact", "families", "large", "basis"])
+    parser.add_argument("--basis", choices=["auto", "dense", "projected", "sparse"], default="auto")
     parser.add_argument("--grains", type=int, nargs="*", default=None)
     parser.add_argument("--states", type=int, default=2000)
     parser.add_argument("--thin", type=int, default=4)
@@ -145,6 +169,8 @@ def main() -> None:
         sampler(args.grains or [50, 150, 500], args.states)
     elif args.what == "exact":
         exact([5, 8, 11, 14, 17, 20])
+    elif args.what == "families":
+        exact_families()
     elif args.what == "basis":
         basis((args.grains or [450])[0], args.states, args.thin, args.basis)
     else:

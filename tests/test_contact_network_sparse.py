@@ -1,5 +1,7 @@
-"""The sampler's sparse route (issue 55): random directions in Ker A by sparse projection, no basis; exact in
-distribution (checked against the exact means), the projector equal to the SVD basis's, checkpoints as dense."""
+"""The sampler's sparse routes (issue 55): random directions in Ker A by sparse projection, with no basis
+("sparse") or made into an orthonormal basis ("projected"); exact in distribution (checked against the exact
+means), the projector and the projected basis equal to the SVD basis's, checkpoints as dense; the compiled sweeps
+called once per chunk record the same states as one call per state."""
 
 from __future__ import annotations
 
@@ -15,13 +17,15 @@ from forcenet.numeric.contact_network.hit_and_run import HitAndRun
 from forcenet.numeric.contact_network.kernel_projection import KernelProjector
 
 
+@pytest.mark.parametrize("route", ["sparse", "projected"])
 @pytest.mark.parametrize("geometry", [triangle(5), rectangular_packing(2, 2)], ids=["frictionless", "frictional"])
-def test_the_sparse_route_samples_the_exact_means(geometry):
-    """10000 states of projected random directions: every varying force within 4 error bars of the exact mean
-    (Normaliz), the forces balance alone fixes exactly at theirs."""
+def test_the_sparse_routes_sample_the_exact_means(geometry, route):
+    """10000 states along projected random directions, or along a basis made of them: every varying force within
+    4 error bars of the exact mean (Normaliz), the forces balance alone fixes exactly at theirs."""
     pytest.importorskip("PyNormaliz")
     exact = np.array([float(x) for x in forcenet.network(geometry.network, exact=True).exact_mean])
-    walk = HitAndRun(geometry.network, basis="sparse")
+    walk = HitAndRun(geometry.network, basis=route)
+    assert walk.route == route
     assert walk.projector is not None and walk.dimension == np.linalg.matrix_rank(
         linalg.null_space(float_system(balance(geometry.network))[0].toarray()))
     mean, error, _ = walk.run(10000, seed=2).statistics()
@@ -63,10 +67,12 @@ def test_dependent_balance_rows_are_dropped_before_the_factorization():
         HitAndRun(vertical, basis="qr")
 
 
-def test_auto_takes_the_sparse_route_on_large_networks_and_resumes_bit_for_bit(tmp_path, monkeypatch):
+@pytest.mark.parametrize("basis_bytes", [hit_and_run.BASIS_BYTES, 0], ids=["projected", "sparse"])
+def test_auto_takes_a_sparse_route_on_large_networks_and_resumes_bit_for_bit(tmp_path, monkeypatch, basis_bytes):
     monkeypatch.setattr(hit_and_run, "SPARSE_FROM", 20)
+    monkeypatch.setattr(hit_and_run, "BASIS_BYTES", basis_bytes)
     walk = HitAndRun(triangle(4).network)
-    assert walk.projector is not None
+    assert walk.projector is not None and walk.route == ("projected" if basis_bytes else "sparse")
     whole = walk.run(300, seed=5, burn_in=20, block=100).samples
 
     def stop(k: int, done: list[int] = [0]) -> None:  # noqa: B006 (the count of one run)
@@ -78,3 +84,41 @@ def test_auto_takes_the_sparse_route_on_large_networks_and_resumes_bit_for_bit(t
         walk.run(300, seed=5, burn_in=20, block=100, checkpoint=str(tmp_path), progress=stop)
     assert np.array_equal(HitAndRun(triangle(4).network).run(300, seed=5, burn_in=20, block=100,
                                                              checkpoint=str(tmp_path)).samples, whole)
+
+
+def test_the_projected_basis_is_orthonormal_and_spans_the_svd_kernel():
+    """K from d projected normal vectors and QR: K^T K = I, A K = 0 and K K^T = the SVD basis's projector, to
+    rounding; the forces balance alone fixes are zero rows of both."""
+    for network in (triangle(5).network, rectangular_packing(2, 2).network):
+        A = float_system(balance(network))[0].toarray()
+        walk = HitAndRun(network, basis="projected")
+        K, svd = walk.K, linalg.null_space(A)
+        assert K.shape == svd.shape
+        assert np.abs(K.T @ K - np.eye(K.shape[1])).max() < 1e-12 and np.abs(A @ K).max() < 1e-12
+        assert np.abs(K @ K.T - svd @ svd.T).max() < 1e-10
+        assert np.array_equal(walk.fixed, np.linalg.norm(svd, axis=1) < 1e-10)
+
+
+def test_auto_takes_the_projected_route_while_the_basis_fits_and_the_sparse_one_beyond(monkeypatch):
+    assert hit_and_run.route_for(500, 50) == "dense"
+    monkeypatch.setattr(hit_and_run, "SPARSE_FROM", 20)
+    assert HitAndRun(triangle(4).network).route == "projected"
+    monkeypatch.setattr(hit_and_run, "BASIS_BYTES", 8 * hit_and_run.BASIS_COPIES * 6 * 26 - 1)  # d = 6, 26 forces
+    assert HitAndRun(triangle(4).network).route == "sparse"
+
+
+@pytest.mark.parametrize("thin", [1, 3])
+def test_one_call_per_chunk_records_what_one_call_per_state_records(thin):
+    """The compiled sweeps called once for 40 states (every thin-th sweep recorded) and called once per state
+    (thin - 1 sweeps unrecorded, then one recorded) from the same state and generator: the same bits."""
+    walk = HitAndRun(rectangular_packing(2, 2).network)
+    once, per_state = np.empty((40, walk.balance.variables)), np.empty((40, walk.balance.variables))
+    z0, s0 = walk._projected(walk.start.copy())
+    z, s, rng = z0.copy(), s0.copy(), np.random.default_rng(7)
+    hit_and_run.hit_and_run_sweeps(z, s, walk.KT, walk.GKT, walk.same, rng, 40 * thin, once, True, thin)
+    z, s, rng = z0.copy(), s0.copy(), np.random.default_rng(7)
+    scratch = np.empty((1, walk.balance.variables))
+    for k in range(40):
+        hit_and_run.hit_and_run_sweeps(z, s, walk.KT, walk.GKT, walk.same, rng, thin - 1, scratch, False, 1)
+        hit_and_run.hit_and_run_sweeps(z, s, walk.KT, walk.GKT, walk.same, rng, 1, per_state[k:k + 1], True, 1)
+    assert np.array_equal(once, per_state) and len(np.unique(once[:, 0])) > 30

@@ -18,6 +18,8 @@ from forcenet.exact.contact_network.geometries import triangle
 from forcenet.exact.triangle.de_bruijn.floor import floor_prime_seconds
 from forcenet.exact.triangle.de_bruijn.layers import layer_prime_seconds
 from forcenet.exact.triangle.staircase import free_force_count
+from forcenet.numeric.contact_network import hit_and_run
+from forcenet.numeric.contact_network.hit_and_run import HitAndRun
 from forcenet.numeric.force_chains.engines import (
     DEFAULTS,
     WORKER_START_SECONDS,
@@ -104,15 +106,25 @@ def test_the_layers_model_grows_with_N_as_the_measured_primes():
     assert model[32] / model[24] == pytest.approx(LAYER_GRAINS_PRIME[32] / LAYER_GRAINS_PRIME[24], rel=0.2)
 
 
-def test_a_sampled_network_plan_counts_one_kernel_call_per_recorded_sample():
-    """The hit-and-run run calls its compiled sweeps once per recorded sample (twice when thinned): on a small
-    network that call, not the sweep's arithmetic, is the time (measured: 2.9 s for 200000 samples of the
-    triangle N = 5, where the flops alone were planned at 0.15 s)."""
+def test_a_sampled_network_plan_prices_its_sweeps_and_only_the_sparse_routes_calls(monkeypatch):
+    """The dense and projected routes call the compiled sweeps once per chunk of recorded samples (measured: the
+    triangle N = 5, 200000 samples in 0.30 s CPU, planned 0.28 s; per recorded sample they were 1.85 s): the plan
+    grows by the sweeps alone, twice as fast when thinned by 2. The sparse route still calls them per recorded
+    sample (and per batch of directions), and its plan counts those calls."""
     pytest.importorskip("PyNormaliz")
     net = triangle(5).network
-    plans = {(k, thin): network_plan(net, samples=k, thin=thin, burn_in=0, seed=0).seconds
-             for k in (20000, 40000) for thin in (1, 2)}
-    assert plans[40000, 1] - plans[20000, 1] == pytest.approx(20000 * KERNEL_CALL_SECONDS, rel=0.2)
-    assert plans[20000, 2] - plans[20000, 1] > 20000 * KERNEL_CALL_SECONDS
-    calls = 40000 * KERNEL_CALL_SECONDS
-    assert plans[40000, 1] - calls < calls / 5  # the sweeps' flops and the set-up: under a fifth of the calls
+    per = HitAndRun(net).sweep_seconds()
+
+    def plans() -> dict[tuple[int, int], float]:
+        return {(k, thin): network_plan(net, samples=k, thin=thin, burn_in=0, seed=0).seconds
+                for k in (20000, 40000) for thin in (1, 2)}
+
+    dense = plans()
+    assert dense[40000, 1] - dense[20000, 1] == pytest.approx(20000 * per, rel=0.05)
+    assert dense[20000, 2] - dense[20000, 1] == pytest.approx(20000 * per, rel=0.05)
+    monkeypatch.setattr(hit_and_run, "SPARSE_FROM", 1)
+    monkeypatch.setattr(hit_and_run, "BASIS_BYTES", 0)  # no basis fits: fresh directions
+    sparse = plans()
+    calls = 20000 * KERNEL_CALL_SECONDS
+    assert sparse[40000, 1] - sparse[20000, 1] > calls
+    assert sparse[20000, 2] - sparse[20000, 1] > calls

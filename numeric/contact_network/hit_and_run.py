@@ -10,12 +10,18 @@ difficult problem for an arbitrary packing.  Two routes (``basis=``):
   ``z = z* + K x`` are an isometry of the affine subspace and the uniform
   measure in ``x`` is the uniform measure on the force networks; the moves
   below run along its columns (after burn-in rounding);
+* ``"projected"``: the same kind of basis without the SVD: ``d`` standard
+  normal vectors projected onto ``Ker A`` by the sparse LU of ``A A^T``
+  (:mod:`~.kernel_projection`) span the kernel with probability 1, and their
+  QR factorization makes them orthonormal; ``O(d * contacts^2)`` less than
+  the SVD (2212 contacts: ~1 s against ~30 s), ``d * contacts`` floats;
 * ``"sparse"``: no basis at all: each move runs along a fresh uniformly random
   direction of ``Ker A``, a standard normal vector projected by one sparse
   solve with ``A A^T`` (:mod:`~.kernel_projection`; Smith's hit-and-run),
-  for networks of 10^4 contacts where the SVD is out of reach;
-* ``"auto"`` (default): sparse from :data:`SPARSE_FROM` variables on, dense
-  below or when ``A A^T`` is singular.
+  when even the basis does not fit in memory (each move pays a solve's share);
+* ``"auto"`` (default): :func:`route_for`: dense below :data:`SPARSE_FROM`
+  variables, projected from there while the basis fits in
+  :data:`BASIS_BYTES`, sparse beyond; dense when ``A A^T`` is singular.
 
 The move (hit-and-run along the basis directions, "coordinate hit-and-run"):
 pick a basis direction ``k`` uniformly, intersect the line ``z + t K_k`` with
@@ -32,8 +38,9 @@ integrated autocorrelation time of each force's chain
 (:func:`forcenet.numeric.autocorr.mean_and_stderr`).
 
 Each move costs ``O(contacts)`` (one column of ``K`` and ``G K``, or one
-projected direction), so a sweep costs ``O(d * contacts)``; the sparse
-route's set-up is one sparse LU instead of the SVD's ``O(rows * contacts^2)``.  Rounding drift off ``A z = b`` is removed
+projected direction), so a sweep costs ``O(d * contacts)``; the projected and
+sparse routes' set-up is one sparse LU instead of the SVD's
+``O(rows * contacts^2)``.  Rounding drift off ``A z = b`` is removed
 between compiled calls by projecting back onto the affine subspace.
 
 Examples
@@ -60,7 +67,7 @@ from typing import Any
 import numpy as np
 from scipy import linalg
 
-from forcenet.core.errors import ArgumentError
+from forcenet.core.errors import ArgumentError, ConvergenceError
 from forcenet.core.execution import run_tasks
 from forcenet.exact.contact_network.model import ContactNetwork
 from forcenet.exact.contact_network.polytope import Balance, balance, check_polytope, float_system
@@ -71,13 +78,43 @@ from .chain_records import block_rows, block_shape, chain_store, decode_block, e
 from .kernel_projection import BATCH, KernelProjector
 
 __all__ = ["HitAndRun", "Chain", "hit_and_run_sweeps", "SECONDS_PER_FLOP", "sweep_seconds", "setup_seconds",
-           "SPARSE_FROM", "BASES", "chain_task",
+           "SPARSE_FROM", "BASIS_BYTES", "BASES", "route_for", "rounding_sweeps", "chain_task",
            "chain_bits_task", "run_chains"]
 
-BASES = ("auto", "dense", "sparse")
-SPARSE_FROM = 4000  # variables from which "auto" projects sparsely (below, the SVD and its cheaper sweeps win; notes/benchmarks.md)
+BASES = ("auto", "dense", "projected", "sparse")
+SPARSE_FROM = 2000  # variables from which "auto" factors A A^T sparsely: the projected basis's set-up is 0.5 s
+# CPU against the SVD's 3.3 s at 2212 contacts, 0.3 against 1.7 s at 1744 (one thread; notes/benchmarks.md)
+BASIS_BYTES = 2 << 30  # the most a projected basis may take (K, K^T, G K and the rounding's copy): beyond, "sparse"
+BASIS_COPIES = 4  # float64 arrays of d x variables the projected route holds at once (K, K^T, rounding)
+BASIS_SEED = 20061  # the projected basis's normal vectors: fixed, so a walk is a function of its network
 SECONDS_PER_PROJECTED = 5e-8  # a projected move per variable: normals, the solve's share (980 contacts: 45 us)
 SECONDS_PER_FLOP = 1.2e-9  # one move's inner loops per contact and direction entry, measured on the 2-core machine
+SECONDS_PER_QR_FLOP = 1e-10  # LAPACK's QR of the projected basis, one thread
+SECONDS_PER_MOVE = 9e-8  # a move's two draws and loop overhead (triangle N = 5: 1.4 us a sweep of 10 moves, 40 forces)
+
+
+def route_for(variables: int, dimension: int) -> str:
+    """The route ``basis="auto"`` takes (module docstring): ``"dense"``, ``"projected"`` or ``"sparse"``.
+
+    Examples
+    --------
+    >>> route_for(980, 91), route_for(9961, 1080), route_for(200000, 20000)
+    ('dense', 'projected', 'sparse')
+    """
+    if variables < SPARSE_FROM:
+        return "dense"
+    return "projected" if 8 * BASIS_COPIES * dimension * variables <= BASIS_BYTES else "sparse"
+
+
+def rounding_sweeps(dimension: int) -> int:
+    """The sweeps of the burn-in's rounding (:attr:`HitAndRun.rounding_rounds` pilot runs of ``max(50, 2 d)``).
+
+    Examples
+    --------
+    >>> rounding_sweeps(1), rounding_sweeps(230)
+    (0, 920)
+    """
+    return HitAndRun.rounding_rounds * max(50, 2 * dimension) if dimension > 1 else 0
 
 
 def sweep_seconds(dimension: int, variables: int, inequalities: int, projected: bool = False) -> float:
@@ -90,27 +127,34 @@ def sweep_seconds(dimension: int, variables: int, inequalities: int, projected: 
     (True, True)
     """
     per = SECONDS_PER_PROJECTED if projected else SECONDS_PER_FLOP
-    return max(1, dimension) * (variables + inequalities) * per + 2e-8 * dimension
+    return max(1, dimension) * (variables + inequalities) * per + SECONDS_PER_MOVE * dimension
 
 
-def setup_seconds(rows: int, variables: int) -> float:
-    """Estimated seconds of the walk's set-up: the SVD's ``O(rows * variables * min)`` below
-    :data:`SPARSE_FROM` variables, a sparse LU and a few null vectors of ``A A^T`` from it on.
+def setup_seconds(rows: int, variables: int, dimension: int = 0) -> float:
+    """Estimated seconds of the walk's set-up before its rounding: the SVD's ``O(rows * variables * min)`` on the
+    dense route, a sparse LU and a few null vectors of ``A A^T`` on the others, and the projected basis's
+    ``d / BATCH`` solves and QR (``2 variables d^2`` flops) where :func:`route_for` takes it.
 
     Examples
     --------
-    >>> setup_seconds(9000, 9961) < 5, setup_seconds(500, 590) > 0.5
+    >>> setup_seconds(9000, 9961, 961) < 10, setup_seconds(1600, 1744) > 1.0
     (True, True)
     """
-    if variables >= SPARSE_FROM:
-        return 2e-4 * (rows + variables)
-    return 4e-9 * rows * variables * min(rows, variables) + 2e-5 * (variables + rows)
+    route = route_for(variables, dimension)
+    if route == "dense":  # the SVD: 0.4, 1.7, 3.3 s CPU at 980, 1744, 2212 contacts (rows 900, 1600, 2000)
+        return 4e-10 * rows * variables * min(rows, variables) + 2e-5 * (variables + rows)
+    lu = 2e-4 * (rows + variables)
+    if route == "sparse":
+        return lu
+    return lu + dimension * variables * SECONDS_PER_PROJECTED + 2 * variables * dimension**2 * SECONDS_PER_QR_FLOP
 
 
 @njit
 def hit_and_run_sweeps(z: np.ndarray, s: np.ndarray, KT: np.ndarray, GKT: np.ndarray, same: bool,
-                       rng: np.random.Generator, sweeps: int, out: np.ndarray, record: bool) -> None:  # pragma: no cover
-    """``sweeps`` sweeps of ``d`` coordinate hit-and-run moves; row ``k`` of ``out`` is ``z`` after sweep ``k``.
+                       rng: np.random.Generator, sweeps: int, out: np.ndarray, record: bool,
+                       thin: int) -> None:  # pragma: no cover
+    """``sweeps`` sweeps of ``d`` coordinate hit-and-run moves; with ``record``, row ``k`` of ``out`` is ``z``
+    after sweep ``(k + 1) * thin`` (one call per chunk of recorded states: numba's dispatch costs ~1e-5 s a call).
 
     ``KT[k]`` and ``GKT[k]`` are the direction ``k`` in forces and in slacks (``same``: the slacks are the forces,
     ``s`` is ``z``, frictionless networks).
@@ -139,16 +183,17 @@ def hit_and_run_sweeps(z: np.ndarray, s: np.ndarray, KT: np.ndarray, GKT: np.nda
             if not (hi > lo):  # a chord of length zero (on a facet): stay
                 continue
             t = lo + (hi - lo) * rng.random()
-            row = KT[k]
+            line = KT[k]
             for j in range(m):
-                z[j] += t * row[j]
+                z[j] += t * line[j]
             if not same:
                 grow = GKT[k]
                 for r in range(r_count):
                     s[r] += t * grow[r]
-        if record:
+        if record and (sweep + 1) % thin == 0:
+            row = (sweep + 1) // thin - 1
             for j in range(m):
-                out[sweep, j] = z[j]
+                out[row, j] = z[j]
 
 
 @dataclass(frozen=True)
@@ -248,32 +293,56 @@ class HitAndRun:
         if basis not in BASES:
             raise ArgumentError(f"basis={basis!r} is out of range: basis must be one of {', '.join(BASES)}",
                                 argument="basis")
-        if basis == "sparse" or (basis == "auto" and self.balance.variables >= SPARSE_FROM and A.shape[0]):
-            try:  # directions by sparse projection (kernel_projection): no basis, 10^4 contacts
+        m = self.balance.variables
+        route = route_for(m, m - min(A.shape[0], m)) if basis == "auto" else basis
+        if route != "dense" and A.shape[0]:
+            try:  # the sparse LU of A A^T (kernel_projection): no SVD, 10^4 contacts
                 self.projector = KernelProjector(A, b, 3 if network.frictional else 2)
             except ArgumentError:
-                if basis == "sparse":
+                if basis != "auto":
                     raise
+        #: the route taken: "dense" (SVD basis), "projected" (basis by projection) or "sparse" (no basis)
+        self.route = "dense" if self.projector is None else route
         if self.projector is not None:
             self.dimension = self.projector.dimension
             self.fixed = self.projector.fixed(np.random.default_rng(0))
-            self.K = self.KT = self.GKT = np.zeros((0, self.balance.variables))
-            return
-        dense = A.toarray()
-        self.K = linalg.null_space(dense) if dense.size else np.eye(self.balance.variables)
-        # forces that Ker A does not move are fixed by balance alone (a grain with two contacts): exactly constant
-        self.fixed = np.linalg.norm(self.K, axis=1) < 1e-10
-        self.K[self.fixed] = 0.0
-        self.dimension = int(self.K.shape[1])
+            self.K = self.KT = self.GKT = np.zeros((0, m))
+            if self.route == "sparse":
+                return
+            self.K = self._projected_basis(self.projector)
+        else:
+            dense = A.toarray()
+            self.K = linalg.null_space(dense) if dense.size else np.eye(m)
+            # forces that Ker A does not move are fixed by balance alone (a grain with two contacts): constant
+            self.fixed = np.linalg.norm(self.K, axis=1) < 1e-10
+            self.K[self.fixed] = 0.0
+            self.dimension = int(self.K.shape[1])
         self.KT = np.ascontiguousarray(self.K.T)
         self.GKT = self.KT if self.same else np.ascontiguousarray((G @ self.K).T)
+
+    def _projected_basis(self, projector: KernelProjector) -> np.ndarray:
+        """An orthonormal basis of ``Ker A`` (``variables x d``) from ``d`` projected standard normal vectors
+        (:meth:`~.kernel_projection.KernelProjector.directions`: each in the kernel, jointly spanning it with
+        probability 1) by QR; the forces balance fixes are zero in every column, as on the dense route."""
+        if self.dimension == 0:
+            return np.zeros((self.balance.variables, 0))
+        with projector.one_thread():
+            D = projector.directions(np.random.default_rng(BASIS_SEED), self.dimension)
+        D[:, self.fixed] = 0.0
+        K, R = np.linalg.qr(D.T)
+        pivots = np.abs(np.diag(R))
+        if pivots.min() <= 1e-9 * pivots.max():  # d projected normals spanning less than Ker A: rounding, not chance
+            raise ConvergenceError(f"the projected directions span {int((pivots > 1e-9 * pivots.max()).sum())} of "
+                                   f"Ker A's {self.dimension} dimensions: use basis='dense' or basis='sparse'")
+        return np.ascontiguousarray(K)
 
     def _sweeps(self, z: np.ndarray, s: np.ndarray, KT: np.ndarray, GKT: np.ndarray, rng: np.random.Generator,
                 count: int, out: np.ndarray, record: bool) -> None:
         """``count`` sweeps of ``d`` moves (row ``k`` of ``out`` is ``z`` after sweep ``k`` when ``record``): along
         the directions ``KT`` (dense), or along fresh random kernel directions, ``BATCH`` per sparse solve."""
-        if self.projector is None:
-            hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, count, out, record)
+        projector = self.projector
+        if self.route != "sparse" or projector is None:
+            hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, count, out, record, 1)
             return
         for sweep in range(count):
             if self.dimension == 0 and record:  # nothing moves: the one force network
@@ -282,16 +351,17 @@ class HitAndRun:
             while left > 0:
                 batch = min(BATCH, left)
                 left -= batch
-                D = self.projector.directions(rng, batch)
+                D = projector.directions(rng, batch)
                 D[:, self.fixed] = 0.0
                 GD = D if self.same else np.ascontiguousarray(np.asarray(self.G @ D.T).T)
                 last = record and left == 0
-                hit_and_run_sweeps(z, s, D, GD, self.same, rng, 1, out[sweep:sweep + 1] if last else out[:0], last)
+                hit_and_run_sweeps(z, s, D, GD, self.same, rng, 1, out[sweep:sweep + 1] if last else out[:0], last,
+                                   1)
 
     def sweep_seconds(self) -> float:
         """Estimated seconds per sweep (:func:`sweep_seconds`)."""
         return sweep_seconds(self.dimension, self.balance.variables, 0 if self.same else self.balance.inequalities,
-                             self.projector is not None)
+                             self.route == "sparse")
 
     def _project(self, z: np.ndarray) -> np.ndarray:
         """Back onto ``A z = b`` (the start satisfies it; ``K`` spans the kernel)."""
@@ -306,11 +376,10 @@ class HitAndRun:
         fixed orthonormal direction set: uniform). Returns ``(z, s, KT, GKT)``; deterministic given ``rng``."""
         KT, GKT = self.KT, self.GKT
         per = self.sweep_seconds()
-        for _ in range(self.rounding_rounds if self.dimension > 1 and self.projector is None else 0):
+        for _ in range(self.rounding_rounds if self.dimension > 1 and self.route != "sparse" else 0):
             pilot = np.empty((max(50, 2 * self.dimension), self.balance.variables))
             for start, stop in chunks(pilot.shape[0], first_chunk(per)):
-                for k in range(start, stop):
-                    hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, 1, pilot[k:k + 1], True)
+                hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, stop - start, pilot[start:stop], True, 1)
             z, s = self._projected(z)
             coordinates = (pilot - self.start) @ self.K
             _, axes = np.linalg.eigh(np.cov(coordinates.T))
@@ -375,7 +444,7 @@ class HitAndRun:
         rows = block_rows(samples, thin, self.dimension, m, block)
         edges = list(range(0, samples, rows)) + [samples]
         store = None if checkpoint is None else chain_store(
-            checkpoint, self.network, ("chain", seed, samples, burn_in, thin, rows, self.projector is None),
+            checkpoint, self.network, ("chain", seed, samples, burn_in, thin, rows, _STORE_ROUTE[self.route]),
             block_shape(rows, m))
         t0 = time.perf_counter()
         per = self.sweep_seconds()
@@ -402,7 +471,14 @@ class HitAndRun:
                 z, s = self._projected(z)
         for b in range(done, len(edges) - 1):
             for start, stop in chunks(edges[b + 1] - edges[b], first_chunk(per * thin)):
-                for k in range(edges[b] + start, edges[b] + stop):  # thin - 1 sweeps unrecorded, then one recorded
+                first, last = edges[b] + start, edges[b] + stop
+                if self.route != "sparse":  # one compiled call per chunk, recording every thin-th sweep
+                    hit_and_run_sweeps(z, s, KT, GKT, self.same, rng, (last - first) * thin, out[first:last], True,
+                                       thin)
+                    if progress is not None:
+                        progress(stop - start)
+                    continue
+                for k in range(first, last):  # thin - 1 sweeps unrecorded, then one recorded
                     if thin > 1:
                         self._sweeps(z, s, KT, GKT, rng, thin - 1, scratch, False)
                     self._sweeps(z, s, KT, GKT, rng, 1, out[k:k + 1], True)
@@ -412,6 +488,9 @@ class HitAndRun:
             if store is not None:
                 store.save(b, encode_block(out[edges[b]:edges[b + 1]], z, rng, rows))
         return Chain(out, self.balance.labels, time.perf_counter() - t0, self.fixed)
+
+
+_STORE_ROUTE: dict[str, Any] = {"dense": True, "sparse": False, "projected": "projected"}  # checkpoint keys
 
 
 def chain_task(network: ContactNetwork, samples: int, seed: int, burn_in: int | None, thin: int) -> Chain:

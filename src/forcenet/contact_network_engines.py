@@ -37,9 +37,10 @@ from forcenet.exact.contact_network.triangulation_moments import (
     triangulation,
 )
 from forcenet.numeric.contact_network.hit_and_run import (
-    SPARSE_FROM,
     HitAndRun,
     hit_and_run_sweeps,
+    rounding_sweeps,
+    route_for,
     run_chains,
     setup_seconds,
     sweep_seconds,
@@ -53,8 +54,8 @@ MODEL = "contact-network"
 MAX_EXACT_DIMENSION = 26  # beyond it a triangulation's size is out of reach (sampling has no such limit)
 COMPILE_SECONDS = 3.0  # the hit-and-run kernel's first compilation (measured: 2-3 s)
 # seconds of one call of the compiled sweeps from Python (numba's dispatch: typing the arguments, the Generator's
-# the dearest), made once per recorded sample (twice when thinned): 1.3e-5 CPU s measured on the triangle N = 5
-# (d = 10, 40 contacts; 200000 samples in 2.9 s against 0.15 s of sweeps by the flop model; 2026-12-06, issue 53)
+# the dearest): 1.3e-5 CPU s measured on the triangle N = 5 when it was called per recorded sample (200000
+# samples in 2.9 s); now once per chunk, except on the sparse route (per recorded sample and batch)
 KERNEL_CALL_SECONDS = 1.2e-5
 _FIX = "sample it instead (--samples K, or samples=K)"
 
@@ -207,10 +208,14 @@ class HitAndRunEngine:
         recorded = request.samples * request.thin
         sweeps = recorded + (request.burn_in if request.burn_in is not None else max(100, recorded // 10))
         inequalities = bal.inequalities if request.network.frictional else 0
-        setup = setup_seconds(rows, m)
         parallel = min(request.chains, 2)  # the reference machine's cores
-        per = sweep_seconds(dimension, m, inequalities, m >= SPARSE_FROM)
-        calls = request.samples * (1 if request.thin == 1 else 2)  # the kernel is called per recorded sample
+        route = route_for(m, dimension)
+        per = sweep_seconds(dimension, m, inequalities, route == "sparse")
+        # the set-up, then the burn-in's rounding (not on the sparse route, which has no basis to round)
+        setup = setup_seconds(rows, m, dimension) + (0 if route == "sparse" else rounding_sweeps(dimension) * per)
+        # the compiled sweeps are called once per chunk of recorded samples; the sparse route calls them per
+        # recorded sample and batch of directions (twice when thinned)
+        calls = request.samples * (1 if request.thin == 1 else 2) if route == "sparse" else 0
         seconds = setup * (1 if request.chains == 1 else 2) + (sweeps * per + calls * KERNEL_CALL_SECONDS) / parallel
         nbytes = 8 * m * (request.samples * 4 + dimension + rows)
         plan = Plan(f"{sweeps} hit-and-run sweeps on {request.network.grains} grains", seconds, nbytes,

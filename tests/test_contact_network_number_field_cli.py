@@ -20,6 +20,7 @@ import pytest
 import sympy
 
 import forcenet
+from forcenet.exact.contact_network.geometries import rectangular_packing
 from forcenet.exact.contact_network.number_field import in_number_field
 from forcenet.exact.contact_network.polytope import balance, exact_polytope
 
@@ -120,3 +121,19 @@ def test_numbers_outside_the_field_are_still_refused_naming_samples(tmp_path):
                           text=True, check=False)
     assert done.returncode == 2 and "--samples" in done.stderr and len(done.stderr.strip().splitlines()) == 1
     assert not in_number_field(balance(forcenet.contact_network(1, document["contacts"], document["loads"])))
+
+
+def test_chapter_5s_packing_at_60_degrees_is_exact_through_the_field():
+    """The frictional rectangular packing at alpha = 60 degrees (cos 1/2, sin sqrt(3)/2): its Coulomb cones
+    ``mu f +- t >= 0`` need the normal and tangential forces in units of rational ratio, its balance equations
+    in a ratio in sqrt(3) Q, so the rescaling refuses; the field route gives the exact means, and hit-and-run
+    agrees within 4 error bars (forces fixed by balance alone: exactly)."""
+    net = rectangular_packing(2, 2, friction="1/2", F=3, j0=1, angle="1/2").network
+    with pytest.raises(forcenet.ArgumentError, match="no rescaling removes"):
+        exact_polytope(net)
+    result = forcenet.network(net, exact=True, samples=20000, seed=7)
+    assert result.dimension == 4 and any(not sympy.sympify(v).is_rational for v in result.exact_mean)
+    exact = np.array([float(v) for v in result.exact_mean])
+    varying = result.sampled_error > 0
+    assert np.abs((result.sampled_mean - exact)[varying] / result.sampled_error[varying]).max() < 4.0
+    assert np.allclose(result.sampled_mean[~varying], exact[~varying])

@@ -137,3 +137,12 @@ def test_chapter_5s_packing_at_60_degrees_is_exact_through_the_field():
     varying = result.sampled_error > 0
     assert np.abs((result.sampled_mean - exact)[varying] / result.sampled_error[varying]).max() < 4.0
     assert np.allclose(result.sampled_mean[~varying], exact[~varying])
+
+
+def test_a_large_field_network_is_refused_before_the_field_arithmetic():
+    """36 grains at 60 degrees: 144 unknowns, 108 equations, so the dimension is at least 36 > 26; the plan
+    refuses (naming --samples) without the field's row reduction, and the sampler's plan runs."""
+    net = rectangular_packing(6, 6, angle="1/2").network
+    plan = forcenet.network_plan(net, exact=True)
+    assert not plan.runnable and "at least 36" in plan.cost.refusal and "--samples" in plan.cost.refusal
+    assert forcenet.network_plan(net, samples=100, seed=1).runnable

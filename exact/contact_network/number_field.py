@@ -32,6 +32,7 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any
 
 import sympy
@@ -83,7 +84,9 @@ class FieldPolytope:
         return len(self.free)
 
 
+@lru_cache(maxsize=4096)
 def _element(value: Any) -> Any:
+    """``value`` as an element of :data:`FIELD` (cached: a lattice repeats a few numbers many times)."""
     try:
         return FIELD.from_sympy(sympy.nsimplify(sympy.sympify(value)))
     except (CoercionFailed, TypeError, ValueError):
@@ -114,7 +117,7 @@ def in_number_field(bal: Balance) -> bool:
     ...                                          [[0, 0, -1]])))
     False
     """
-    numbers = [v for _, _, v in bal.A] + list(bal.b) + [v for _, _, v in bal.G]
+    numbers = {v for _, _, v in bal.A} | set(bal.b) | {v for _, _, v in bal.G}
     try:
         for value in numbers:
             _element(value)

@@ -122,7 +122,11 @@ def exact_or_field_polytope(request: Any) -> Any:
     except ArgumentError:
         if not request.network.exact or not in_number_field(request.balance):
             raise
-        return _field_polytope(request.network)
+    least = request.balance.variables - request.balance.rows  # dim Ker A >= unknowns - equations
+    if least > MAX_EXACT_DIMENSION:  # before the field's row reduction (sympy: 5 s at 1161 unknowns, ~n^2)
+        raise ArgumentError(f"the polytope has dimension at least {least}, beyond the exact route's "
+                            f"{MAX_EXACT_DIMENSION}: {_FIX}")
+    return _field_polytope(request.network)
 
 
 def _exact_plan(request: Any, name: str) -> tuple[Any, Plan | None]:

@@ -219,8 +219,8 @@ def number_field_seconds(variables: int, vertices: int) -> float:
     """Estimated seconds of :func:`moments_in_number_field`: the row reduction over the field (``~ variables^2``)
     and the sums over the simplices in field arithmetic (``~ variables * vertices^1.7``, the simplices' count
     growing faster than the vertices'). Measured on the loaded 2-core machine (moments 2): the triangle N = 4
-    (26 forces, 8 vertices) 0.27 s, N = 5 (40, 16) 0.7 s, the snooker N = 3 (15, 10) 0.12 s, N = 4 (26, 68,
-    1256 simplices) 5.7 s; 7 to 70 times the rational route's time.
+    (26 forces, 8 vertices) 0.17 s, N = 5 (40, 16) 0.5 s, the snooker N = 3 (15, 10) 0.04 s, N = 4 (26, 68,
+    1256 simplices) 6.3 s; 2 to 90 times the rational route's time (the model: 0.27, 1.0, 0.16, 5.2 s).
 
     Examples
     --------

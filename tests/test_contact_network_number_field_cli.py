@@ -18,6 +18,8 @@ import sys
 import numpy as np
 import pytest
 import sympy
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
 import forcenet
 from forcenet.exact.contact_network.geometries import rectangular_packing
@@ -146,3 +148,27 @@ def test_a_large_field_network_is_refused_before_the_field_arithmetic():
     plan = forcenet.network_plan(net, exact=True)
     assert not plan.runnable and "at least 36" in plan.cost.refusal and "--samples" in plan.cost.refusal
     assert forcenet.network_plan(net, samples=100, seed=1).runnable
+
+
+# unit normals pointing down from a grain to a wall, in Q(sqrt(3)): the two lattices' and the 3-4-5 triangle's
+NORMALS = [("-1/2", "-sqrt(3)/2"), ("1/2", "-sqrt(3)/2"), ("-sqrt(3)/2", "-1/2"), ("sqrt(3)/2", "-1/2"),
+           ("-3/5", "-4/5"), ("3/5", "-4/5"), ("-4/5", "-3/5"), ("4/5", "-3/5"), ("0", "-1")]
+
+
+@settings(max_examples=6, deadline=None, derandomize=True)
+@given(normals=st.lists(st.sampled_from(NORMALS), min_size=4, max_size=4, unique=True),
+       fx=st.fractions(-1, 1, max_denominator=10))
+def test_the_exact_route_equals_the_iterated_integral_on_random_field_networks(normals, fx):
+    """Property (hypothesis): one grain on four walls with normals drawn from Q(sqrt(3)) and a load (fx, -1):
+    whichever exact route the front door takes (rescaled rationals, or the number field when no rescaling
+    works), the means and second moments equal sympy's iterated integral over the polygon exactly."""
+    net = forcenet.contact_network(1, [[0, None, *n] for n in normals], [[0, str(fx), -1]])
+    try:
+        plan = forcenet.network_plan(net, exact=True, moments=2)
+    except forcenet.ArgumentError:  # infeasible or unbounded for this draw
+        assume(False)
+    x_y = sympy.Matrix([[net.contacts[c][2 + axis] for c in (0, 1)] for axis in (0, 1)])
+    assume(sympy.radsimp(x_y.det()) != 0)  # the integral's helper solves for the first two forces
+    result = plan.run()
+    mean, second, _ = _iterated_integral_moments(net)
+    assert all(_same(a, b) for a, b in zip(result.exact_mean + result.exact_second, mean + second))

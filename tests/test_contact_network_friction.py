@@ -185,7 +185,7 @@ def test_friction_broadens_the_response_by_two_routes(mu):
     """Fig. 5.3 (F = 3, p = 1): at mu = 0.1 two sharp peaks on the lattice directions carry nearly all the
     overload; at mu = 0.7 the grain between them at the bottom takes a clear share (Sec. 5.2.2's asymmetry:
     the response is not the frictionless one); hit-and-run and the thesis's Metropolis walk agree within 4 error
-    bars on every bottom grain (~50 s each on the loaded 2-core machine)."""
+    bars on every bottom grain (3 s each measured on the 2-core machine at load 3, ~50 s when first measured at load 5-8)."""
     ours, ours_err = hit_and_run_response(sympy.Rational(str(mu)), 6000, seed=1)
     theirs, theirs_err = thesis_walk_response(mu, walkers=400, steps=1500, seed=2)
     assert np.abs(ours - theirs).max() < 4 * np.hypot(ours_err, theirs_err).max() + 0.01

@@ -12,7 +12,7 @@ import sympy
 
 import forcenet
 from forcenet.cli import main
-from forcenet.exact.contact_network.geometries import rectangular_packing, snooker, triangle
+from forcenet.exact.contact_network.geometries import rectangular_packing, snooker, square_packing, triangle
 from forcenet.exact.contact_network.polytope import exact_polytope
 
 pytest.importorskip("PyNormaliz")
@@ -50,8 +50,8 @@ def test_the_triangle_density_is_forcenet_laws(N):
     _law_on(densities[inner], forcenet.law(N, (N - 1, 2), contact="F6").density, 2 / sympy.sqrt(3))
 
 
-@pytest.mark.parametrize("geometry", [triangle(4), snooker(3), rectangular_packing(2, 2)],
-                         ids=["triangle", "snooker", "frictional"])
+@pytest.mark.parametrize("geometry", [triangle(4), snooker(3), rectangular_packing(2, 2), square_packing(2, 2)],
+                         ids=["triangle", "snooker", "frictional", "frictional-square"])
 def test_the_density_integrates_to_one_with_the_exact_moments(geometry):
     """Two routes: the density's integral is 1 and its first two moments are the triangulation's moments and the
     volume route's (lifted polytopes); at a few points it equals the slice-volume density (density_at)."""

@@ -3,9 +3,9 @@ the thesis's own procedure (Sec. 5.2.3): one tangential force T4 per grain as th
 the forces solved from the top layer down), a Metropolis walk of random-direction steps accepted when every
 normal force is positive and every contact obeys Coulomb (Eq. (5.4)).
 
-The packing of Figs. 5.1-5.2: every grain touches two grains below at the angle alpha (here cos 3/5, sin 4/5:
-53 degrees, inside the thesis's 30-60 degrees, and rational), periodic sideways, the last layer on the floor; a
-pressure p = 1 on every top grain and the overload F on one. The response G(i, j) = (<W_ij>_{p+F} - <W_ij>_p)/F
+The packing of Figs. 5.1-5.2 (``geometries.rectangular_packing``): every grain touches two grains below at the
+angle alpha (here cos 3/5, sin 4/5: 53 degrees, inside the thesis's 30-60 degrees, and rational), periodic
+sideways, the last layer on fixed supports; a pressure p = 1 on every top grain and the overload F on one. The response G(i, j) = (<W_ij>_{p+F} - <W_ij>_p)/F
 (Sec. 5.1), W_ij the vertical force grain (i, j) passes down.
 
 Checked: (1) without friction the overload travels exactly along the two lattice directions (Sec. 5.1: "an
@@ -22,35 +22,47 @@ import pytest
 import sympy
 
 import forcenet
+from forcenet.exact.contact_network.geometries import rectangular_packing
+from forcenet.exact.contact_network.polytope import balance, float_system
 from forcenet.numeric.autocorr import mean_and_stderr
 from forcenet.numeric.contact_network.hit_and_run import HitAndRun
 
 C, S = sympy.Rational(3, 5), sympy.Rational(4, 5)  # cos and sin of the contact angle alpha
-N, P, J0 = 3, 5, 0  # layers, grains per layer (periodic), the overloaded top grain
+N, P, J0 = 3, 5, 0  # layers, grains per layer (periodic), the overloaded top grain (0-based)
 
 
 def rhombic(mu, F):
-    """The contact network, its down contacts ``(i, j, "L"/"R") -> contact index``."""
-    contacts, down = [], {}
+    """The packing from ``geometries.rectangular_packing`` and its down contacts ``(i, j, "L"/"R") -> contact
+    index`` (0-based ``i, j``)."""
+    geo = rectangular_packing(N, P, friction=mu, F=F, j0=J0 + 1, p=1, angle=C)
+    down = {(i, j, side): geo.contact[(kind, i + 1, j + 1)] for i in range(N) for j in range(P)
+            for side, kind in (("L", "left"), ("R", "right"))}
+    return geo.network, down
+
+
+def former_rhombic(mu, F):
+    """The lattice as this test built it before the constructor existed: contact by contact."""
+    contacts = []
     for i in range(N):
         for j in range(P):
             for side, nx in (("L", -C), ("R", C)):
                 other = None if i == N - 1 else (i + 1) * P + (j if side == "L" else (j + 1) % P)
-                down[(i, j, side)] = len(contacts)
                 contacts.append([i * P + j, other, nx, -S])
     loads = [[j, 0, -(1 + (F if j == J0 else 0))] for j in range(P)]
-    return forcenet.contact_network(N * P, contacts, loads, friction=mu, radii=[sympy.Rational(1, 2)] * (N * P)), down
+    return forcenet.contact_network(N * P, contacts, loads, friction=mu, radii=[sympy.Rational(1, 2)] * (N * P))
 
 
-def _W(values, labels, down, i, j):
-    """The vertical force grain (i, j) passes down: minus the y components of its two down contacts' forces on
-    the grains below (f n + t tau, tau = (-n_y, n_x), the network's convention)."""
+def _W(values, labels, down, i, j, net=None):
+    """The vertical force grain (i, j) passes down (Eq. (5.1)): minus the y components of its two down contacts'
+    forces on the grains below (f n + t tau, tau = (-n_y, n_x), the network's convention); the normals are the
+    network's (default: the angle cos 3/5)."""
     index = {label: k for k, label in enumerate(labels)}
     total = 0.0
-    for side, nx in (("L", -float(C)), ("R", float(C))):
+    for side, default in (("L", (-C, -S)), ("R", (C, -S))):
         c = down[(i, j, side)]
+        nx, ny = (float(x) for x in (default if net is None else net.contacts[c][2:]))
         t = values[..., index[f"t{c}"]] if f"t{c}" in index else 0.0
-        total = total - (values[..., index[f"f{c}"]] * -float(S) + t * nx)
+        total = total - (values[..., index[f"f{c}"]] * ny + t * nx)
     return total
 
 
@@ -120,21 +132,40 @@ def thesis_walk_response(mu, walkers, steps, seed, delta=0.08):
     return (out[1][0] - out[0][0]) / 3, np.hypot(out[1][1], out[0][1]) / 3
 
 
-def test_without_friction_the_overload_travels_along_the_lattice_directions():
+@pytest.mark.parametrize("angle", ["3/5", "1/2", "sqrt(2)/2"])
+def test_without_friction_the_overload_travels_along_the_lattice_directions(angle):
     """Sec. 5.1: frictionless, two forces per grain and two balance equations; the response lies exactly on the
-    lattice directions from (1, j0): at the bottom layer on j0 and j0 + 2, nothing between (exact route)."""
-    net, down = rhombic(0, 0)
-    response = forcenet.network_response(net, J0, (0, -3), exact=True)
-    labels = forcenet.network(net, exact=True).labels
-    G = [_W(np.array([float(x) for x in response]), labels, down, N - 1, j) / 3 for j in range(P)]
+    lattice directions from (1, j0): at the bottom layer on j0 and j0 + 2, nothing between (exact route), for
+    any angle (Fig. 5.1: it "does not influence the results"; sqrt(3)/2 and sqrt(2)/2 by rescaling)."""
+    geo = rectangular_packing(N, P, friction=0, F=0, j0=J0 + 1, angle=angle)
+    down = {(i, j, side): geo.contact[(kind, i + 1, j + 1)] for i in range(N) for j in range(P)
+            for side, kind in (("L", "left"), ("R", "right"))}
+    response = forcenet.network_response(geo.network, J0, (0, -3), exact=True)
+    labels = forcenet.network(geo.network, exact=True).labels
+    G = [_W(np.array([float(x) for x in response]), labels, down, N - 1, j, geo.network) / 3 for j in range(P)]
     assert np.allclose(G, [0.5, 0, 0.5, 0, 0], atol=1e-12)
+    assert all(isinstance(x, sympy.Expr) for x in response)  # exact values, not floats
+
+
+@pytest.mark.parametrize("mu, F", [(0, 0), (sympy.Rational(1, 2), 3), (sympy.Rational(7, 10), 0)])
+def test_the_constructor_is_the_former_lattice(mu, F):
+    """``geometries.rectangular_packing`` gives the balance equations and Coulomb cones this test built contact
+    by contact before the constructor existed (same numbering of grains and contacts)."""
+    assert balance(rhombic(mu, F)[0]) == balance(former_rhombic(mu, F))
+
+
+def test_the_constructor_refuses_a_float_or_an_angle_out_of_range():
+    with pytest.raises(forcenet.ArgumentTypeError, match="float"):
+        rectangular_packing(2, 3, angle=0.6)
+    with pytest.raises(forcenet.ArgumentError, match=r"\[1/2, sqrt\(3\)/2\]"):
+        rectangular_packing(2, 3, angle="9/10")
+    with pytest.raises(forcenet.ArgumentError, match="P"):
+        rectangular_packing(2, 1)
 
 
 def test_the_thesis_parametrization_is_the_networks_polytope():
     """Route 2's top-down solve gives balanced networks of route 1's polytope: the dimension is one T4 per
     grain (Sec. 5.2.1), and a solved network satisfies A z = b."""
-    from forcenet.exact.contact_network.polytope import balance, float_system
-
     net, down = rhombic(sympy.Rational(1, 2), 3)
     assert HitAndRun(net).dimension == N * P
     T = np.random.default_rng(1).uniform(-0.05, 0.05, (N, P))
@@ -154,7 +185,7 @@ def test_friction_broadens_the_response_by_two_routes(mu):
     """Fig. 5.3 (F = 3, p = 1): at mu = 0.1 two sharp peaks on the lattice directions carry nearly all the
     overload; at mu = 0.7 the grain between them at the bottom takes a clear share (Sec. 5.2.2's asymmetry:
     the response is not the frictionless one); hit-and-run and the thesis's Metropolis walk agree within 4 error
-    bars on every bottom grain (~50 s each on the loaded 2-core machine)."""
+    bars on every bottom grain (3 s each measured on the 2-core machine at load 3, ~50 s when first measured at load 5-8)."""
     ours, ours_err = hit_and_run_response(sympy.Rational(str(mu)), 6000, seed=1)
     theirs, theirs_err = thesis_walk_response(mu, walkers=400, steps=1500, seed=2)
     assert np.abs(ours - theirs).max() < 4 * np.hypot(ours_err, theirs_err).max() + 0.01

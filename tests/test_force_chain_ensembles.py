@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 
 import forcenet
 from forcenet.cli import main
-from forcenet.exact.contact_network.geometries import rectangular_packing, snooker
+from forcenet.exact.contact_network.geometries import snooker, square_packing
 from forcenet.exact.contact_network.polytope import balance, exact_polytope, float_system
 from forcenet.exact.contact_network.triangulation_moments import moments_by_triangulation
 from forcenet.numeric.autocorr import mean_and_stderr
@@ -92,7 +92,7 @@ def test_averaged_networks_are_averages_and_narrower():
 
 def test_refusals_are_one_line_in_the_family():
     with pytest.raises(forcenet.ArgumentError, match="frictionless"):
-        LocalHitAndRun(rectangular_packing(2, 2).network)
+        LocalHitAndRun(square_packing(2, 2).network)
     with pytest.raises(forcenet.ArgumentError, match="average"):
         forcenet.scaling_plan("averaged", average=0)
     with pytest.raises(forcenet.ArgumentError, match="sizes"):

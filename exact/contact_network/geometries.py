@@ -11,6 +11,9 @@
   polytope in the loads ``W`` (Eq. 4.3) and its means are ``forcenet.table``'s.
 * :func:`hexagonal_packing` -- the N x P packing of Secs. 3.2-3.3 (top
   pressure ``p_v``, overload ``F``, lateral pressure ``p_h``, grain weight ``g``).
+* :func:`rectangular_packing` -- chapter 5's packing of frictional grains (Figs. 5.1-5.2): every grain on two
+  grains below at the angle ``alpha``, periodic sideways, pressure ``p`` and overload ``F`` on the top layer
+  (:func:`square_packing`: a square lattice with walls, a small frictional test network, not the thesis's).
 * :func:`hexagonal_torus` -- the periodic hexagonal packing of Sec. 8.2 (no
   loads: the macroscopic stress is imposed by :mod:`.shear_stress`).
 
@@ -31,12 +34,13 @@ from typing import Any
 
 import sympy
 
+from forcenet.core.errors import ArgumentError, ArgumentTypeError
 from forcenet.core.validation import check_int
 
 from .model import ContactNetwork, contact_network, exact_number
 
 __all__ = ["Geometry", "triangle", "hexagonal_packing", "rectangular_packing", "snooker", "SQRT3", "hexagonal_torus",
-           "TORUS_DIRECTIONS"]
+           "TORUS_DIRECTIONS", "square_packing", "contact_angle"]
 
 SQRT3 = sympy.sqrt(3)
 _DOWN_LEFT = (-sympy.Rational(1, 2), -SQRT3 / 2)  # the unit normal from (i, j) to (i+1, j), Fig. 3.1
@@ -180,19 +184,21 @@ def hexagonal_packing(N: Any, P: Any, *, F: Any = 1, j0: Any = None, p_v: Any = 
 
 
 
-def rectangular_packing(N: Any, P: Any, *, friction: Any = "1/2", F: Any = 1, j0: Any = None, p_v: Any = 0,
-                        p_h: Any = 1, g: Any = 0) -> Geometry:
-    """The rectangular packing of frictional grains of chapter 5 as a contact network.
+def square_packing(N: Any, P: Any, *, friction: Any = "1/2", F: Any = 1, j0: Any = None, p_v: Any = 0,
+                   p_h: Any = 1, g: Any = 0) -> Geometry:
+    """A small frictional test network: ``N`` rows of ``P`` grains on a square lattice (not a thesis geometry).
 
-    ``N`` rows of ``P`` grains of radius 1/2 on a square lattice: grain ``(i, j)`` touches ``(i+1, j)`` below
-    (``"down"``) and ``(i, j+1)`` on its right (``"side"``); the floor carries row ``N`` (``"floor"``), the right
-    wall holds every row (``"wall"``), the left wall pushes it with ``p_h`` (a load). Every contact has a normal
-    and a tangential force with ``|t| <= mu f`` (Coulomb) and every grain balances force and torque (Sec. 5.1).
-    Loads: ``p_v`` on every top grain, the overload ``F`` on ``(1, j0)``, the weight ``g`` of every grain.
+    Grains of radius 1/2; grain ``(i, j)`` touches ``(i+1, j)`` below (``"down"``) and ``(i, j+1)`` on its right
+    (``"side"``); the floor carries row ``N`` (``"floor"``), the right wall holds every row (``"wall"``), the left
+    wall pushes it with ``p_h`` (a load). Every contact has a normal and a tangential force with ``|t| <= mu f``
+    (Coulomb) and every grain balances force and torque (the frictional ensemble of Sec. 5.1 on another lattice;
+    chapter 5's own packing is :func:`rectangular_packing`). Loads: ``p_v`` on every top grain, the overload ``F``
+    on ``(1, j0)``, the weight ``g`` of every grain. Its walls and vertical contacts give a small polytope with
+    tangential forces of both signs: the tests' frictional case for comparing routes.
 
     Examples
     --------
-    >>> geo = rectangular_packing(2, 2)
+    >>> geo = square_packing(2, 2)
     >>> geo.network.frictional, len(geo.network.contacts)
     (True, 8)
     """
@@ -203,6 +209,104 @@ def rectangular_packing(N: Any, P: Any, *, friction: Any = "1/2", F: Any = 1, j0
             if j < P:
                 b.add("side", i, j, (i, j + 1), (1, 0))
         b.add("wall", i, P, None, (1, 0))
+    return b.geometry(friction=friction, radii=[sympy.Rational(1, 2)] * (N * P))
+
+
+def contact_angle(cosine: Any) -> tuple[Any, Any]:
+    """``(cos alpha, sin alpha)`` of chapter 5's contact angle, exact, from its cosine (Fig. 5.1: ``alpha``
+    between 30 and 60 degrees, i.e. ``1/2 <= cos alpha <= sqrt(3)/2``).
+
+    Parameters
+    ----------
+    cosine : int, Fraction, str or sympy number
+        ``cos alpha`` exactly: ``"3/5"`` (then ``sin alpha = 4/5``), ``"1/2"`` (``sqrt(3)/2``), ``"sqrt(2)/2"``.
+
+    Returns
+    -------
+    (sympy number, sympy number)
+
+    Raises
+    ------
+    ArgumentTypeError
+        A float (the lattice's numbers would not be exact).
+    ArgumentError
+        A cosine outside ``[1/2, sqrt(3)/2]``.
+
+    Examples
+    --------
+    >>> contact_angle("3/5"), contact_angle("1/2")
+    ((3/5, 4/5), (1/2, sqrt(3)/2))
+    >>> contact_angle("9/10")
+    Traceback (most recent call last):
+    ...
+    forcenet.core.errors.ArgumentError: angle='9/10' is out of range: the cosine of the contact angle must lie in [1/2, sqrt(3)/2] (alpha between 30 and 60 degrees, Fig. 5.1), e.g. '3/5'
+    """
+    if isinstance(cosine, float):
+        raise ArgumentTypeError(f"angle={cosine!r} is a float: give the cosine of the contact angle exactly, e.g. "
+                                "'3/5' (sin 4/5) or 'sqrt(2)/2'")
+    c = exact_number(cosine, "angle")
+    if not bool(sympy.Rational(1, 2) <= c) or not bool(c <= SQRT3 / 2):
+        raise ArgumentError(f"angle={cosine!r} is out of range: the cosine of the contact angle must lie in "
+                            "[1/2, sqrt(3)/2] (alpha between 30 and 60 degrees, Fig. 5.1), e.g. '3/5'",
+                            argument="angle")
+    return c, sympy.sqrt(1 - c * c)
+
+
+def rectangular_packing(N: Any, P: Any, *, friction: Any = "1/2", F: Any = 3, j0: Any = None, p: Any = 1,
+                        angle: Any = "3/5") -> Geometry:
+    """Chapter 5's rectangular packing of frictional grains (Figs. 5.1-5.2) as a contact network.
+
+    ``N`` layers of ``P`` grains of radius 1/2; grain ``(i, j)`` rests on ``(i+1, j)`` (``"left"``, normal
+    ``(-cos alpha, -sin alpha)``) and ``(i+1, j+1)`` (``"right"``, ``(cos alpha, -sin alpha)``): four contacts
+    per grain, two below and two above, as in the action-reaction identities (5.3)
+    (``N1(i, j) = N4(i-1, j-1)``, ``N2(i, j) = N3(i-1, j)``). Sideways the packing is periodic (``j`` modulo
+    ``P``); the bottom layer rests on fixed supports along the same two directions (its ``"left"`` and
+    ``"right"`` contacts are wall contacts), so that every grain has four contacts and the polytope has one
+    dimension per grain (Sec. 5.2.1: the vector ``T4`` of ``N P`` components); ``notes/contact_networks.md``,
+    Sec. 4c, on this reading. Every contact has a normal and a tangential force with ``|t| <= mu f`` (Eq. (5.4))
+    and every grain balances force and torque (Eq. (5.2)). Loads: the pressure ``p`` on every top grain and the
+    overload ``F`` on ``(1, j0)`` (Fig. 5.1). The vertical force grain ``(i, j)`` passes down is Eq. (5.1),
+    ``W = sin alpha (N_L + N_R) + cos alpha (T_L - T_R)``, its two down contacts' normal and tangential forces.
+
+    Parameters
+    ----------
+    N : int
+        Layers, ``>= 1``.
+    P : int
+        Grains per layer (periodic), ``>= 2``.
+    friction : number, optional
+        ``mu`` (default ``1/2``; 0: frictionless, the forces fixed by balance, Sec. 5.1).
+    F : number, optional
+        The overload on the top grain ``j0`` (default 3, the thesis's smallest, Fig. 5.3).
+    j0 : int, optional
+        Its column, ``1 .. P`` (default the middle one).
+    p : number, optional
+        The confining pressure on every top grain (default 1, Fig. 5.1).
+    angle : number, optional
+        ``cos alpha``, exact, in ``[1/2, sqrt(3)/2]`` (default ``3/5``: ``sin alpha = 4/5``, every number
+        rational; the thesis: the angle "does not influence the results").
+
+    Returns
+    -------
+    Geometry
+        Contacts named ``("left", i, j)`` and ``("right", i, j)`` for every grain.
+
+    Examples
+    --------
+    >>> geo = rectangular_packing(2, 3)
+    >>> geo.network.frictional, geo.network.grains, len(geo.network.contacts)
+    (True, 6, 12)
+    >>> geo.network.contacts[geo.contact[("right", 1, 3)]]  # periodic: (1, 3) rests on (2, 1)
+    (2, 3, 3/5, -4/5)
+    """
+    c, s = contact_angle(angle)
+    check_int(P, "P", 2)
+    N, P, b = _rows_of_grains(N, P, j0, (0, p, 0, F))
+    for i in range(1, N + 1):
+        for j in range(1, P + 1):
+            below = i < N  # the last layer rests on the fixed supports (wall contacts)
+            b.add("left", i, j, (i + 1, j) if below else None, (-c, -s))
+            b.add("right", i, j, (i + 1, j % P + 1) if below else None, (c, -s))
     return b.geometry(friction=friction, radii=[sympy.Rational(1, 2)] * (N * P))
 
 

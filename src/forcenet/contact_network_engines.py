@@ -2,7 +2,10 @@
 
 Model ``"contact-network"``; quantities ``"exact-moments"`` (every force's
 exact ``<f>`` and ``<f^2>``: ``triangulation``, ``volumes``, both through
-Normaliz, :mod:`forcenet.exact.contact_network.triangulation_moments`) and
+Normaliz, :mod:`forcenet.exact.contact_network.triangulation_moments`; a
+network in ``Q(sqrt(3))`` that no rescaling makes rational goes to the
+triangulation over that number field,
+:mod:`forcenet.exact.contact_network.number_field`) and
 ``"sampled-moments"`` (``hit-and-run``, the uniform sampler of
 :mod:`forcenet.numeric.contact_network.hit_and_run`).  Imported by the
 registry on the first request for the model (``REGISTRY.add_loader``).
@@ -26,11 +29,20 @@ from abc import ABC, abstractmethod
 from collections.abc import Callable
 from concurrent.futures import Executor
 from dataclasses import replace
+from functools import lru_cache
 from typing import Any
 
 from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan, with_compilation
 from forcenet.exact.contact_network.marginal_density import force_densities
+from forcenet.exact.contact_network.number_field import (
+    FieldPolytope,
+    field_facts,
+    field_polytope,
+    in_number_field,
+    moments_in_number_field,
+    number_field_seconds,
+)
 from forcenet.exact.contact_network.triangulation_moments import (
     moments_by_triangulation,
     moments_by_volumes,
@@ -48,7 +60,7 @@ from forcenet.numeric.contact_network.hit_and_run import (
 from forcenet.registry import REGISTRY
 
 __all__ = ["MODEL", "MAX_EXACT_DIMENSION", "TriangulationEngine", "VolumesEngine", "HitAndRunEngine",
-           "triangulation_seconds", "volume_seconds"]
+           "triangulation_seconds", "volume_seconds", "exact_or_field_polytope"]
 
 MODEL = "contact-network"
 MAX_EXACT_DIMENSION = 26  # beyond it a triangulation's size is out of reach (sampling has no such limit)
@@ -86,8 +98,41 @@ def volume_seconds(dimension: int, variables: int, moments: int, vertices: int =
     return (1 + moments * variables) * (0.01 + 3e-5 * 2 ** (0.5 * dimension) + 2e-8 * vertices**3)
 
 
+@lru_cache(maxsize=8)
+def _field_polytope(network: Any) -> FieldPolytope:
+    """The network's polytope over ``Q(sqrt(3))``, made once for the plan and the run."""
+    return field_polytope(network)
+
+
+def exact_or_field_polytope(request: Any) -> Any:
+    """The request's exact polytope: rational after rescaling (:func:`~forcenet.exact.contact_network.polytope.
+    exact_polytope`), else, when every number of its balance lies in ``Q(sqrt(3))``, over that number field
+    (:mod:`forcenet.exact.contact_network.number_field`); otherwise the rational route's refusal (naming
+    ``--samples``).
+
+    Examples
+    --------
+    >>> import forcenet
+    >>> net = forcenet.contact_network(1, [[0, None, "-1/2", "-sqrt(3)/2"], [0, None, "3/5", "-4/5"],
+    ...                                    [0, None, 0, -1]], [[0, 0, -1]])
+    >>> type(exact_or_field_polytope(forcenet.network_plan(net).exact)).__name__
+    'FieldPolytope'
+    """
+    try:
+        return request.polytope
+    except ArgumentError:
+        if not request.network.exact or not in_number_field(request.balance):
+            raise
+    least = request.balance.variables - request.balance.rows  # dim Ker A >= unknowns - equations
+    if least > MAX_EXACT_DIMENSION:  # before the field's row reduction (sympy: 5 s at 1161 unknowns, ~n^2)
+        raise ArgumentError(f"the polytope has dimension at least {least}, beyond the exact route's "
+                            f"{MAX_EXACT_DIMENSION}: {_FIX}")
+    return _field_polytope(request.network)
+
+
 def _exact_plan(request: Any, name: str) -> tuple[Any, Plan | None]:
-    """The exact polytope of the request, or a refused plan (floats, irrational mixtures, too large)."""
+    """The exact polytope of the request (rational, or over ``Q(sqrt(3))``), or a refused plan (floats,
+    irrational mixtures outside ``Q(sqrt(3))``, too large)."""
     what = f"exact moments of {request.network.grains} grains ({name})"
     try:
         import PyNormaliz  # noqa: F401  (its presence is the question)
@@ -95,7 +140,7 @@ def _exact_plan(request: Any, name: str) -> tuple[Any, Plan | None]:
         return None, Plan(what, 0, refusal="the exact route needs Normaliz: pip install 'forcenet[networks]' "
                                            f"(pynormaliz); or {_FIX}")
     try:
-        poly = request.polytope
+        poly = exact_or_field_polytope(request)
     except ArgumentError as exc:
         return None, Plan(what, 0, refusal=str(exc))
     if poly.dimension > MAX_EXACT_DIMENSION:
@@ -104,8 +149,10 @@ def _exact_plan(request: Any, name: str) -> tuple[Any, Plan | None]:
     return poly, None
 
 
-def _vertices(request: Any) -> int:
+def _vertices(request: Any, poly: Any) -> int:
     """The polytope's vertex count (Normaliz, exact; refuses an empty or unbounded polytope), asked once."""
+    if isinstance(poly, FieldPolytope):
+        return field_facts(poly)[1]
     return int(request.facts[1])
 
 
@@ -121,9 +168,9 @@ class _ExactMomentsEngine(ABC):
         poly, refused = _exact_plan(request, self.name)
         if refused is not None:
             return refused
-        return self._refusal(request) or self._cost(request, poly, _vertices(request))
+        return self._refusal(request, poly) or self._cost(request, poly, _vertices(request, poly))
 
-    def _refusal(self, request: Any) -> Plan | None:
+    def _refusal(self, request: Any, poly: Any) -> Plan | None:
         """A refusal of this engine's own, decided before Normaliz is asked for the vertices (None: none)."""
         return None
 
@@ -143,13 +190,26 @@ class TriangulationEngine(_ExactMomentsEngine):
 
     name = "triangulation"
 
+    def _refusal(self, request: Any, poly: Any) -> Plan | None:
+        if not request.density or not isinstance(poly, FieldPolytope):
+            return None
+        return Plan("exact moments (triangulation)", 0, refusal="the exact density (--density) needs data that "
+                    "are rational once rescaled; this network's lie in Q(sqrt(3)) only (its moments are exact "
+                    f"without --density): drop --density, or {_FIX}")
+
     def _cost(self, request: Any, poly: Any, vertices: int) -> Plan:
+        if isinstance(poly, FieldPolytope):  # no rescaling makes it rational: Normaliz over Q(sqrt(3))
+            return Plan(f"exact moments, dimension {poly.dimension}, {vertices} vertices (Normaliz triangulation "
+                        "over Q(sqrt(3)))", number_field_seconds(len(poly.z0), vertices), ticks=0, unit="simplex")
         seconds = triangulation_seconds(poly.dimension, len(poly.z0), vertices)
         return Plan(f"exact moments, dimension {poly.dimension}, {vertices} vertices (Normaliz triangulation)",
                     seconds, ticks=0, unit="simplex")
 
     def run(self, request: Any, plan: Plan, *, progress: Callable[..., Any] | None = None,
             executor: Executor | None = None) -> Any:
+        poly = exact_or_field_polytope(request)
+        if isinstance(poly, FieldPolytope):
+            return moments_in_number_field(request.network, request.moments, poly)
         if not request.density:
             return moments_by_triangulation(request.polytope, request.moments)
         # one triangulation for the moments and the densities (piecewise polynomials, marginal_density)
@@ -169,7 +229,10 @@ class VolumesEngine(_ExactMomentsEngine):
 
     name = "volumes"
 
-    def _refusal(self, request: Any) -> Plan | None:
+    def _refusal(self, request: Any, poly: Any) -> Plan | None:
+        if isinstance(poly, FieldPolytope):
+            return Plan("exact moments (volumes)", 0, refusal="method='volumes' needs data that are rational once "
+                        "rescaled (Normaliz computes no volume over Q(sqrt(3))): use method='triangulation'")
         if request.density:
             return Plan("exact moments (volumes)", 0, refusal="the exact density (--density) is read off the "
                         "triangulation: use method='triangulation' (--method triangulation)")

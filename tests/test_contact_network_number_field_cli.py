@@ -172,3 +172,10 @@ def test_the_exact_route_equals_the_iterated_integral_on_random_field_networks(n
     result = plan.run()
     mean, second, _ = _iterated_integral_moments(net)
     assert all(_same(a, b) for a, b in zip(result.exact_mean + result.exact_second, mean + second))
+
+
+def test_a_density_over_the_number_field_is_refused_naming_what_works():
+    """``--density`` on a Q(sqrt(3)) network that no rescaling rationalizes: one line saying the moments are exact
+    without it (not the rescaling's "mixes irrational numbers" refusal, which would send the user to sampling)."""
+    with pytest.raises(forcenet.ArgumentError, match=r"Q\(sqrt\(3\)\) only .* drop --density"):
+        forcenet.network(_network(), exact=True, density=True)

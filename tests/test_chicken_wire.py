@@ -203,3 +203,15 @@ def test_entropy_plans_scale_and_refuse():
     assert isotropic_entropy_plan(Fraction(1, 6), 480).seconds > isotropic_entropy_plan(Fraction(1, 6), 240).seconds
     for Q in (Fraction(0), Fraction(1, 3)):
         assert isotropic_entropy_plan(Q, 240).refusal.startswith(f"Q={float(Q):g} is out of range")
+
+
+def test_the_random_starts_plan_grows_with_the_left_movers_and_is_bounded_by_every_try():
+    """The random starts' search (sectors off the continuation) costs ~5-8 s CPU for m <= 4 at L = 9..60, 34 s at
+    (48, 16, 6) and over 9 minutes at (60, 20, 8) (measured; notes/benchmarks.md): the plan follows the
+    left-movers, not L^3, and never exceeds RANDOM_TRIES tries."""
+    from forcenet.numeric.chicken_wire.bethe_sector import RANDOM_TRIES, ground_state_plan, random_starts_seconds
+
+    assert 3 < ground_state_plan(30, 10, 4).seconds < 15 and "random starts" in ground_state_plan(30, 10, 4).what
+    assert ground_state_plan(48, 16, 6).seconds > 3 * ground_state_plan(60, 20, 4).seconds
+    assert ground_state_plan(60, 20, 8).seconds > 60  # the command line asks for --force
+    assert random_starts_seconds(5000, 1000) == pytest.approx(RANDOM_TRIES * 3.5 * (0.01 + 1e-4 * 5000 * 1000**1.5))

@@ -41,6 +41,7 @@ T = TypeVar("T")
 Progress = Callable[..., object] | None  # called with one tick (or a count of them)
 
 __all__ = [
+    "RANDOM_TRIES",
     "Progress",
     "BetheSolution",
     "bethe_residuals",
@@ -179,9 +180,12 @@ def _random_u(m: int, rng: np.random.Generator) -> np.ndarray:
     return np.array(u, dtype=complex)
 
 
+RANDOM_TRIES = 3000  # random starts before the search gives up (bethe_sector.random_starts_seconds prices them)
+
+
 @_one_blas_thread
-def solve_ground_state(L: int, n: int, m: int, guess: np.ndarray | None = None, tries: int = 3000, seed: int = 0,
-                       tol: float = 1e-14) -> BetheSolution:
+def solve_ground_state(L: int, n: int, m: int, guess: np.ndarray | None = None, tries: int = RANDOM_TRIES,
+                       seed: int = 0, tol: float = 1e-14) -> BetheSolution:
     """The translation-invariant solution with the largest eigenvalue found.
 
     Only the ``m`` rapidities ``u`` are unknowns; the ``w`` follow from

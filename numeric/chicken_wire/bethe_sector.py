@@ -11,9 +11,9 @@ from __future__ import annotations
 from forcenet.core.plan import Plan
 from forcenet.core.validation import check_int
 
-from .bethe import BetheSolution, Progress, ground_state_sequence, solve_ground_state
+from .bethe import RANDOM_TRIES, BetheSolution, Progress, ground_state_sequence, solve_ground_state
 
-__all__ = ["MAX_WIDTH", "default_sector", "ground_state_plan", "ground_state"]
+__all__ = ["MAX_WIDTH", "RANDOM_TRIES", "default_sector", "ground_state_plan", "ground_state", "random_starts_seconds"]
 
 
 def default_sector(L: int, n: int | None = None, m: int | None = None) -> tuple[int, int]:
@@ -42,7 +42,7 @@ def default_sector(L: int, n: int | None = None, m: int | None = None) -> tuple[
     return n, m if m is not None else n // 2
 
 
-MAX_WIDTH = 5000  # the widest cylinder planned: L = 5000 by random starts is ~14 days (ground_state_plan)
+MAX_WIDTH = 5000  # the widest cylinder planned (ground_state_plan prices random starts there in years)
 
 
 def _continued(L: int, n: int, m: int) -> bool:
@@ -55,7 +55,7 @@ def ground_state_plan(L: int, n: int, m: int) -> Plan:
 
     Continuation ``k (6, 2, 1)`` to ``L = 6k``: measured 16 s at ``L = 600``
     with single-threaded BLAS (2-core machine), ``3 + 1.3e-5 k^3`` seconds,
-    one tick per width; otherwise random starts, ``2 + 1e-5 L^3`` seconds.
+    one tick per width; otherwise random starts (:func:`random_starts_seconds`).
 
     Parameters
     ----------
@@ -86,7 +86,30 @@ def ground_state_plan(L: int, n: int, m: int) -> Plan:
     if _continued(L, n, m):
         k = L // 6
         return Plan(what + " (continuation from L = 12)", 3.0 + 1.3e-5 * k**3, 100 * 2**20, k - 1, "width")
-    return Plan(what, 2.0 + 1e-5 * L**3, 100 * 2**20, 0, "width")
+    return Plan(what + " (random starts)", random_starts_seconds(L, m), 100 * 2**20, 0, "width")
+
+
+def random_starts_seconds(L: int, m: int) -> float:
+    """Estimated CPU seconds of the random starts' search for a sector's ground state (20 converged, or
+    :data:`RANDOM_TRIES` tries and a refusal).
+
+    Measured (2026-12-06, CPU s, tries): ``(9, 4, 2)`` 4.5 s, 31; ``(12, 4, 2)`` 5.9, 29; ``(24, 8, 2)`` 6.6, 32;
+    ``(24, 8, 3)`` 7.5, 100; ``(30, 10, 4)`` 7.9, 94; ``(42, 14, 4)`` 5.5, 84; ``(60, 20, 4)`` 4.8, 82;
+    ``(48, 16, 6)`` 33.9, 349; ``(60, 20, 8)`` not done in 9 minutes. The cost grows with the left-movers ``m``
+    (fewer random starts converge to the ground state), about ``5 + 0.007 * 4^m`` seconds, and is at most every
+    try's: :data:`RANDOM_TRIES` times a mean try of ``3.5 * (0.01 + 1e-4 L m^1.5)`` seconds (median tries measured
+    12 ms at ``(12, 4, 2)``, 42 ms at ``(60, 20, 4)``, 122 ms at ``(60, 20, 8)``, 554 ms at ``(120, 40, 16)``;
+    the mean is about 3.5 times the median: the tries that do not converge are the slow ones).
+
+    Examples
+    --------
+    >>> round(random_starts_seconds(30, 4)), round(random_starts_seconds(48, 6))
+    (7, 34)
+    >>> random_starts_seconds(60, 8) > 400
+    True
+    """
+    every_try = RANDOM_TRIES * 3.5 * (0.01 + 1e-4 * L * m**1.5)
+    return min(5.0 + 0.007 * 4.0 ** min(m, 60), every_try)
 
 
 def ground_state(L: int, n: int, m: int, progress: Progress = None) -> BetheSolution:

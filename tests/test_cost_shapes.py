@@ -108,7 +108,7 @@ def test_the_layers_model_grows_with_N_as_the_measured_primes():
 
 def test_a_sampled_network_plan_prices_its_sweeps_and_only_the_sparse_routes_calls(monkeypatch):
     """The dense and projected routes call the compiled sweeps once per chunk of recorded samples (measured: the
-    triangle N = 5, 200000 samples in 0.30 s CPU, planned 0.28 s; per recorded sample they were 1.85 s): the plan
+    triangle N = 5, 200000 samples in 0.21 s CPU, planned 0.21 s; per recorded sample they took 1.85 s): the plan
     grows by the sweeps alone, twice as fast when thinned by 2. The sparse route still calls them per recorded
     sample (and per batch of directions), and its plan counts those calls."""
     pytest.importorskip("PyNormaliz")

@@ -88,9 +88,9 @@ BASIS_BYTES = 2 << 30  # the most a projected basis may take (K, K^T, G K and th
 BASIS_COPIES = 4  # float64 arrays of d x variables the projected route holds at once (K, K^T, rounding)
 BASIS_SEED = 20061  # the projected basis's normal vectors: fixed, so a walk is a function of its network
 SECONDS_PER_PROJECTED = 5e-8  # a projected move per variable: normals, the solve's share (980 contacts: 45 us)
-SECONDS_PER_FLOP = 1.2e-9  # one move's inner loops per contact and direction entry, measured on the 2-core machine
+SECONDS_PER_FLOP = 2.1e-9  # a move's two loops per force (the chord, the step): 2.05 ns at 1086 and 2212 contacts, 1.6 at 320
 SECONDS_PER_QR_FLOP = 1e-10  # LAPACK's QR of the projected basis, one thread
-SECONDS_PER_MOVE = 9e-8  # a move's two draws and loop overhead (triangle N = 5: 1.4 us a sweep of 10 moves, 40 forces)
+SECONDS_PER_MOVE = 2e-8  # a move's two draws and loop overhead (triangle N = 5: 1.0 us a sweep of 10 moves on 40 forces)
 
 
 def route_for(variables: int, dimension: int) -> str:
@@ -149,7 +149,7 @@ def setup_seconds(rows: int, variables: int, dimension: int = 0) -> float:
     return lu + dimension * variables * SECONDS_PER_PROJECTED + 2 * variables * dimension**2 * SECONDS_PER_QR_FLOP
 
 
-@njit
+@njit(error_model="numpy")  # a zero a_r divides to inf or nan, discarded by the selects (no exception check)
 def hit_and_run_sweeps(z: np.ndarray, s: np.ndarray, KT: np.ndarray, GKT: np.ndarray, same: bool,
                        rng: np.random.Generator, sweeps: int, out: np.ndarray, record: bool,
                        thin: int) -> None:  # pragma: no cover
@@ -170,16 +170,16 @@ def hit_and_run_sweeps(z: np.ndarray, s: np.ndarray, KT: np.ndarray, GKT: np.nda
             slack = z if same else s
             direction = KT[k] if same else GKT[k]
             for r in range(r_count if not same else m):
+                # the chord's ends: lo = max of -s_r/a_r over a_r > 0, hi = min over a_r < 0 (module docstring);
+                # written without branches (selects: the sign of a_r is a coin flip the processor cannot
+                # predict), the division done for every r and its result kept only where the old branch kept it
                 a = direction[r]
                 value = slack[r] if slack[r] > 0.0 else 0.0
-                if a > 1e-300:
-                    bound = -value / a
-                    if bound > lo:
-                        lo = bound
-                elif a < -1e-300:
-                    bound = -value / a
-                    if bound < hi:
-                        hi = bound
+                bound = -value / a
+                up = bound if a > 1e-300 else -np.inf
+                down = bound if a < -1e-300 else np.inf
+                lo = up if up > lo else lo
+                hi = down if down < hi else hi
             if not (hi > lo):  # a chord of length zero (on a facet): stay
                 continue
             t = lo + (hi - lo) * rng.random()

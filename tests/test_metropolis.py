@@ -102,3 +102,19 @@ def test_vanishing_side_pressure_sends_the_load_down_the_lattice_directions():
         chain = TriangleMetropolis(10, seed=2, ph=ph).run(sweeps=400, burn_in=200)
         edge_load.append((chain[:, -1, 0] + chain[:, -1, 9]).mean())
     assert edge_load[0] > 0.3 > edge_load[1]
+
+
+@settings(max_examples=20, deadline=None)
+@given(n=st.integers(60, 400), columns=st.integers(1, 40), block=st.integers(1, 12), seed=st.integers(0, 2**32 - 1))
+def test_integrated_time_in_column_blocks_equals_the_whole_arrays(n, columns, block, seed):
+    """The columns' transforms in blocks (bounded memory: 10^4 forces x 4000 states took 3 GB at once) give the same
+    times as one transform of the whole array, to rounding (each column's FFT is its own; pocketfft's vectorized
+    path over several columns may round differently from one column's)."""
+    from forcenet.numeric import autocorr
+
+    rng = np.random.default_rng(seed)
+    x = np.cumsum(rng.standard_normal((n, columns)), axis=0) * 0.1 + rng.standard_normal((n, columns))
+    whole = integrated_time(x, quiet=True, tol=0)
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(autocorr, "COLUMN_BLOCK_BYTES", 64 * n * block)
+        assert np.allclose(integrated_time(x, quiet=True, tol=0), whole, rtol=1e-12, atol=0)

@@ -117,7 +117,8 @@ def integrated_time(x: np.ndarray, c: float = 5.0, tol: float = 50.0, quiet: boo
     # columns in blocks of ~COLUMN_BLOCK_BYTES of transforms (each column's is its own: the same times to rounding;
     # one block, the whole array, below it), so 10^4 forces x 4000 states take ~1/10 of the 3 GB they took at once
     step = max(1, COLUMN_BLOCK_BYTES // (64 * max(1, n)))
-    tau = np.concatenate([_window_times(flat[:, k:k + step], c) for k in range(0, flat.shape[1], step)])
+    tau = np.concatenate([_window_times(flat[:, k:k + step], c) for k in range(0, flat.shape[1], step)]
+                         or [np.ones(0)])  # no columns: no times
     tau = tau.reshape(x.shape[1:]) if x.ndim > 1 else tau
     if np.any(tol * tau > n):
         message = (

@@ -118,3 +118,7 @@ def test_integrated_time_in_column_blocks_equals_the_whole_arrays(n, columns, bl
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(autocorr, "COLUMN_BLOCK_BYTES", 64 * n * block)
         assert np.allclose(integrated_time(x, quiet=True, tol=0), whole, rtol=1e-12, atol=0)
+
+
+def test_integrated_time_of_no_columns_is_empty():
+    assert integrated_time(np.zeros((100, 0))).shape == (0,)

@@ -11,7 +11,7 @@ cluster.  No scheduler is written here; this module only
   the same bytes, for any number of workers and any completion order),
 * reports progress per finished task and records each result in the store
   (:mod:`forcenet.core.checkpoints`) as it arrives,
-* runs every task through :func:`_worker_call`, which readies the process
+* runs every task through :func:`worker_call`, which readies the process
   it lands in once: glibc's allocator back to its steady state when the
   environment fixed it (a Dask nanny starts its workers with
   ``MALLOC_TRIM_THRESHOLD_=65536``, which also freezes the threshold above
@@ -39,8 +39,6 @@ Examples
 
 from __future__ import annotations
 
-import ctypes
-import ctypes.util
 import multiprocessing
 import multiprocessing.resource_tracker
 import os
@@ -48,32 +46,25 @@ import signal
 import sys
 import time
 import weakref
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import FIRST_COMPLETED, BrokenExecutor, CancelledError, Executor, ProcessPoolExecutor, wait
-from contextlib import nullcontext
 from math import ceil
-from typing import TYPE_CHECKING, Any, TypeVar
-
-from threadpoolctl import threadpool_info, threadpool_limits
+from typing import TYPE_CHECKING, Any
 
 from forcenet.core.compiled import prefer_wide_vectors
 from forcenet.core.errors import ArgumentError, ArgumentTypeError, ClusterError
-from forcenet.core.lifetime import deaf_to_hangups, die_with_parent, workers_without_main
+from forcenet.core.lifetime import deaf_to_hangups, die_with_parent, quiet_broken_pools, workers_without_main
 from forcenet.core.validation import check_int
+from forcenet.core.worker_readiness import worker_call
 
 if TYPE_CHECKING:
     from concurrent.futures import ProcessPoolExecutor
 
-T = TypeVar("T")
 
 __all__ = ["ClusterError", "WORKERLESS_SECONDS", "PROBE_SECONDS", "available_cores", "local_pool", "as_executor",
-           "declare_workers", "executor_workers", "executor_label", "check_cluster", "wall_seconds", "run_tasks"]
+           "declare_workers", "executor_workers", "executor_label", "check_cluster", "wall_seconds", "run_tasks",
+           "submit_tasks"]
 
-# glibc's mallopt parameters (<malloc.h>) and the ceiling of its own dynamic mmap threshold on 64-bit
-# (DEFAULT_MMAP_THRESHOLD_MAX = 32 MiB); the trim threshold is then twice it, as glibc sets it itself.
-_M_TRIM_THRESHOLD, _M_MMAP_THRESHOLD = -1, -3
-_MMAP_THRESHOLD = 32 * 2**20
-_READY: dict = {}
 WORKERLESS_SECONDS = 10.0  # a Dask cluster without a worker (or its scheduler gone) that long fails the run
 _POLL_SECONDS = 0.5  # how often a cluster run looks at its workers while no task finishes
 PROBE_SECONDS = 10.0  # a cluster's workers answer the probe task (import forcenet, its version) within this
@@ -85,6 +76,8 @@ _CLIENTS: weakref.WeakKeyDictionary[Any, Any] = weakref.WeakKeyDictionary()
 _PIDS: weakref.WeakKeyDictionary[Any, Any] = weakref.WeakKeyDictionary()  # a local pool: the queue its workers
 # report their pid to (forcenet.core.lifetime.die_with_parent)
 _PROBED: weakref.WeakSet[Any] = weakref.WeakSet()  # the Dask clients whose workers import forcenet
+_SPAWNED: weakref.WeakKeyDictionary[Any, list[Any]] = weakref.WeakKeyDictionary()  # a local pool: the child
+# processes its submit calls started (multiprocessing.active_children before and after), reported or not
 
 
 def available_cores() -> int:
@@ -350,7 +343,9 @@ def _terminate(pool: Any) -> None:
     """Stop a local process pool now: pending work cancelled, worker processes terminated (then killed).
 
     The workers are the children of this process (``multiprocessing.active_children``) whose pid the pool's
-    initializer reported; those that had not reported yet die with ``shutdown`` (or with this process).
+    initializer reported, and those its ``submit`` calls started that had not reported yet (:func:`submit_tasks`):
+    a worker still unpickling its start-up when this process has gone prints a traceback (a semaphore or a pipe
+    already closed) after "interrupted".
     """
 
     started = _PIDS.get(pool)
@@ -358,6 +353,8 @@ def _terminate(pool: Any) -> None:
     while started is not None and not started.empty():
         pids.add(started.get())
     processes = [p for p in multiprocessing.active_children() if p.pid in pids]
+    processes += [p for p in _SPAWNED.get(pool, ()) if p.pid not in pids]
+    quiet_broken_pools()
     pool.shutdown(wait=False, cancel_futures=True)
     for process in processes:
         if process.is_alive():
@@ -369,58 +366,29 @@ def _terminate(pool: Any) -> None:
             process.join(1.0)
 
 
-def _steady_allocator() -> bool:
-    """Give glibc's ``malloc`` back the thresholds it reaches by itself, if the environment froze them.
+def submit_tasks(pool: Executor, calls: list[tuple[Any, ...]], own: bool = True) -> Iterator[Any]:
+    """``pool.submit(*call)`` for each call, in order, each future yielded as it is made; with ``own`` (a local
+    pool of :func:`local_pool`), inside :func:`~forcenet.core.lifetime.workers_without_main` (the workers start in
+    these calls, without the caller's script and with interrupts held until they have) and with the child
+    processes they started recorded for :func:`_terminate`.
 
-    Setting ``MALLOC_TRIM_THRESHOLD_`` (Dask's nanny does, to 64 KiB) turns
-    off glibc's dynamic mmap threshold: every block over 128 KiB is then
-    mapped on ``malloc`` and unmapped on ``free``, fresh zeroed pages each
-    time.  A user's own ``MALLOC_MMAP_THRESHOLD_`` is respected.
+    Examples
+    --------
+    >>> with local_pool(1) as pool:
+    ...     [f.result() for f in submit_tasks(pool, [(abs, -3), (abs, -4)])]
+    [3, 4]
     """
-    if "MALLOC_TRIM_THRESHOLD_" not in os.environ or "MALLOC_MMAP_THRESHOLD_" in os.environ:
-        return False
-    try:
-        mallopt = ctypes.CDLL(ctypes.util.find_library("c")).mallopt
-    except (OSError, AttributeError, TypeError):  # pragma: no cover - not glibc
-        return False
-    return bool(mallopt(_M_MMAP_THRESHOLD, _MMAP_THRESHOLD)) and bool(mallopt(_M_TRIM_THRESHOLD, 2 * _MMAP_THRESHOLD))
-
-
-def _ready_worker() -> dict:
-    """Ready this process for tasks: glibc's allocator thresholds (once), BLAS/OpenMP pools of one thread.
-
-    Called by :func:`_worker_call` before the first task a process runs (a
-    local pool's process or a Dask worker) and once after it (pinning the
-    pools of libraries the first task loaded).
-
-    Returns
-    -------
-    dict
-        ``{"allocator": bool, "threads": int, "pinned": int}``: whether the
-        allocator's thresholds were restored, the most threads any
-        BLAS/OpenMP pool of the process keeps, and how often the pools were
-        pinned.
-    """
-
-    if "allocator" not in _READY:
-        _READY["allocator"] = _steady_allocator()
-    threadpool_limits(1)
-    _READY["threads"] = max([pool["num_threads"] for pool in threadpool_info()] or [1])
-    _READY["pinned"] = _READY.get("pinned", 0) + 1
-    return dict(_READY)
-
-
-def _worker_call(client_pid: int, function: Callable[..., T], *args: Any) -> T:
-    """``function(*args)``, in a process readied by :func:`_ready_worker` unless it is the client's own (an
-    executor of threads): the form every task is submitted in."""
-    if os.getpid() == client_pid:
-        return function(*args)
-    if _READY.get("pinned", 0) < 2:
-        _ready_worker()
-    result = function(*args)
-    if _READY["pinned"] < 2:
-        _ready_worker()
-    return result
+    if not own:
+        for call in calls:
+            yield pool.submit(*call)
+        return
+    with workers_without_main():
+        before = set(multiprocessing.active_children())
+        try:
+            for call in calls:
+                yield pool.submit(*call)
+        finally:
+            _SPAWNED[pool] = [p for p in multiprocessing.active_children() if p not in before]
 
 
 def _cluster_workers(client: Any) -> int | None:
@@ -560,9 +528,9 @@ def run_tasks(function: Callable[..., Any], tasks: Iterable[Any], *, executor: A
     pool = local_pool(min(workers, len(pending)), start_method) if own else executor
     futures = {}
     try:
-        with workers_without_main() if own else nullcontext():  # a pool's workers start in its submit calls
-            for i in pending:
-                futures[pool.submit(_worker_call, os.getpid(), function, *tasks[i])] = i
+        calls = [(worker_call, os.getpid(), function, *tasks[i]) for i in pending]
+        for future, i in zip(submit_tasks(pool, calls, own), pending):  # each future kept as it is made
+            futures[future] = i
         client = _dask_client(pool)  # a Dask cluster's executor
         if client is None:
             waiting = set(futures)

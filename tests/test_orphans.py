@@ -16,7 +16,7 @@ import time
 
 import pytest
 
-from forcenet.core.execution import local_pool
+from forcenet.core.execution import _terminate, local_pool, submit_tasks
 
 pytestmark = pytest.mark.skipif(not os.path.isdir("/proc/self/task"), reason="reads child processes from /proc")
 
@@ -228,3 +228,17 @@ def test_an_unguarded_script_runs_the_pool_route_table(tmp_path, how):
     done = subprocess.run([sys.executable, *args], input=code if how == "stdin" else None, capture_output=True,
                           text=True, timeout=600, cwd=tmp_path, check=False)
     assert (done.returncode, done.stdout, done.stderr) == (0, "40\n", "")
+
+
+def test_an_interrupted_pool_stops_the_workers_still_starting():
+    """Interrupted while its workers are still starting (they have not reported their pids yet), the pool's
+    stop terminates them too: before, they were left to die on their own and printed a traceback (EOFError,
+    "Bad file descriptor") after the parent's "interrupted"."""
+    import multiprocessing
+
+    before = set(multiprocessing.active_children())
+    pool = local_pool(2)
+    futures = list(submit_tasks(pool, [(time.sleep, 30), (time.sleep, 30)]))
+    processes = [p for p in multiprocessing.active_children() if p not in before]
+    _terminate(pool)
+    assert len(futures) == 2 and len(processes) == 2 and not any(p.is_alive() for p in processes)

@@ -46,7 +46,7 @@ import signal
 import sys
 import time
 import weakref
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable
 from concurrent.futures import FIRST_COMPLETED, BrokenExecutor, CancelledError, Executor, ProcessPoolExecutor, wait
 from math import ceil
 from typing import TYPE_CHECKING, Any
@@ -62,8 +62,7 @@ if TYPE_CHECKING:
 
 
 __all__ = ["ClusterError", "WORKERLESS_SECONDS", "PROBE_SECONDS", "available_cores", "local_pool", "as_executor",
-           "declare_workers", "executor_workers", "executor_label", "check_cluster", "wall_seconds", "run_tasks",
-           "submit_tasks"]
+           "declare_workers", "executor_workers", "executor_label", "check_cluster", "wall_seconds", "run_tasks"]
 
 WORKERLESS_SECONDS = 10.0  # a Dask cluster without a worker (or its scheduler gone) that long fails the run
 _POLL_SECONDS = 0.5  # how often a cluster run looks at its workers while no task finishes
@@ -343,7 +342,7 @@ def _terminate(pool: Any) -> None:
     """Stop a local process pool now: pending work cancelled, worker processes terminated (then killed).
 
     The workers are the children of this process (``multiprocessing.active_children``) whose pid the pool's
-    initializer reported, and those its ``submit`` calls started that had not reported yet (:func:`submit_tasks`):
+    initializer reported, and those its ``submit`` calls started that had not reported yet (:func:`_submit_local`):
     a worker still unpickling its start-up when this process has gone prints a traceback (a semaphore or a pipe
     already closed) after "interrupted".
     """
@@ -366,27 +365,15 @@ def _terminate(pool: Any) -> None:
             process.join(1.0)
 
 
-def submit_tasks(pool: Executor, calls: list[tuple[Any, ...]], own: bool = True) -> Iterator[Any]:
-    """``pool.submit(*call)`` for each call, in order, each future yielded as it is made; with ``own`` (a local
-    pool of :func:`local_pool`), inside :func:`~forcenet.core.lifetime.workers_without_main` (the workers start in
-    these calls, without the caller's script and with interrupts held until they have) and with the child
-    processes they started recorded for :func:`_terminate`.
-
-    Examples
-    --------
-    >>> with local_pool(1) as pool:
-    ...     [f.result() for f in submit_tasks(pool, [(abs, -3), (abs, -4)])]
-    [3, 4]
-    """
-    if not own:
-        for call in calls:
-            yield pool.submit(*call)
-        return
+def _submit_local(pool: Executor, calls: list[tuple[Any, ...]]) -> list[Any]:
+    """``pool.submit(*call)`` for each call of a local pool (:func:`local_pool`), every one inside
+    :func:`~forcenet.core.lifetime.workers_without_main` (the workers start in these calls: without the caller's
+    script, interrupts held until they have), and the child processes they started recorded for
+    :func:`_terminate` (reported or not)."""
     with workers_without_main():
         before = set(multiprocessing.active_children())
         try:
-            for call in calls:
-                yield pool.submit(*call)
+            return [pool.submit(*call) for call in calls]
         finally:
             _SPAWNED[pool] = [p for p in multiprocessing.active_children() if p not in before]
 
@@ -529,8 +516,11 @@ def run_tasks(function: Callable[..., Any], tasks: Iterable[Any], *, executor: A
     futures = {}
     try:
         calls = [(worker_call, os.getpid(), function, *tasks[i]) for i in pending]
-        for future, i in zip(submit_tasks(pool, calls, own), pending):  # each future kept as it is made
-            futures[future] = i
+        if own:  # (an interrupt held during the submits comes after them: _terminate stops what they started)
+            futures = dict(zip(_submit_local(pool, calls), pending))
+        else:
+            for call, i in zip(calls, pending):  # a cluster's futures kept as they are made, to cancel them
+                futures[pool.submit(*call)] = i
         client = _dask_client(pool)  # a Dask cluster's executor
         if client is None:
             waiting = set(futures)

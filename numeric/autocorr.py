@@ -113,6 +113,8 @@ def integrated_time(x: np.ndarray, c: float = 5.0, tol: float = 50.0, quiet: boo
     """
     x = np.asarray(x, dtype=float)
     n = x.shape[0]
+    if n == 0:
+        raise AutocorrError("the chain has no samples: its autocorrelation time is undefined", np.ones(x.shape[1:]))
     flat = x.reshape(n, -1)
     # columns in blocks of ~COLUMN_BLOCK_BYTES of transforms (each column's is its own: the same times to rounding;
     # one block, the whole array, below it), so 10^4 forces x 4000 states take ~1/10 of the 3 GB they took at once

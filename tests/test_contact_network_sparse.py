@@ -122,3 +122,10 @@ def test_one_call_per_chunk_records_what_one_call_per_state_records(thin):
         hit_and_run.hit_and_run_sweeps(z, s, walk.KT, walk.GKT, walk.same, rng, thin - 1, scratch, False, 1)
         hit_and_run.hit_and_run_sweeps(z, s, walk.KT, walk.GKT, walk.same, rng, 1, per_state[k:k + 1], True, 1)
     assert np.array_equal(once, per_state) and len(np.unique(once[:, 0])) > 30
+
+
+@pytest.mark.parametrize("thin", [0, -1])
+def test_a_thin_below_one_is_refused_naming_it(thin):
+    """The kernel records every thin-th sweep: thin <= 0 would record nothing and return uninitialised rows."""
+    with pytest.raises(forcenet.ArgumentError, match="thin"):
+        HitAndRun(triangle(3).network).run(5, seed=1, thin=thin, burn_in=0)

@@ -120,5 +120,7 @@ def test_integrated_time_in_column_blocks_equals_the_whole_arrays(n, columns, bl
         assert np.allclose(integrated_time(x, quiet=True, tol=0), whole, rtol=1e-12, atol=0)
 
 
-def test_integrated_time_of_no_columns_is_empty():
+def test_integrated_time_of_no_columns_is_empty_and_of_no_samples_is_refused():
     assert integrated_time(np.zeros((100, 0))).shape == (0,)
+    with pytest.raises(AutocorrError, match="no samples"):
+        integrated_time(np.zeros((0, 3)))

@@ -16,7 +16,7 @@ import time
 
 import pytest
 
-from forcenet.core.execution import _terminate, local_pool, submit_tasks
+from forcenet.core.execution import _PIDS, _submit_local, _terminate, local_pool
 
 pytestmark = pytest.mark.skipif(not os.path.isdir("/proc/self/task"), reason="reads child processes from /proc")
 
@@ -238,7 +238,8 @@ def test_an_interrupted_pool_stops_the_workers_still_starting():
 
     before = set(multiprocessing.active_children())
     pool = local_pool(2)
-    futures = list(submit_tasks(pool, [(time.sleep, 30), (time.sleep, 30)]))
+    futures = _submit_local(pool, [(time.sleep, 30), (time.sleep, 30)])
     processes = [p for p in multiprocessing.active_children() if p not in before]
+    del _PIDS[pool]  # as if no worker had reported its pid yet: only the submits' record names them
     _terminate(pool)
     assert len(futures) == 2 and len(processes) == 2 and not any(p.is_alive() for p in processes)

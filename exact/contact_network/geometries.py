@@ -194,7 +194,7 @@ def square_packing(N: Any, P: Any, *, friction: Any = "1/2", F: Any = 1, j0: Any
     (Coulomb) and every grain balances force and torque (the frictional ensemble of Sec. 5.1 on another lattice;
     chapter 5's own packing is :func:`rectangular_packing`). Loads: ``p_v`` on every top grain, the overload ``F``
     on ``(1, j0)``, the weight ``g`` of every grain. Its walls and vertical contacts give a small polytope with
-    tangential forces of both signs: the tests' frictional case for comparing routes.
+    tangential forces of both signs (the density tests and the local sampler's refusal use it).
 
     Examples
     --------
@@ -263,7 +263,7 @@ def rectangular_packing(N: Any, P: Any, *, friction: Any = "1/2", F: Any = 3, j0
     ``P``); the bottom layer rests on fixed supports along the same two directions (its ``"left"`` and
     ``"right"`` contacts are wall contacts), so that every grain has four contacts and the polytope has one
     dimension per grain (Sec. 5.2.1: the vector ``T4`` of ``N P`` components); ``notes/contact_networks.md``,
-    Sec. 4c, on this reading. Every contact has a normal and a tangential force with ``|t| <= mu f`` (Eq. (5.4))
+    Sec. 4d, on this reading. Every contact has a normal and a tangential force with ``|t| <= mu f`` (Eq. (5.4))
     and every grain balances force and torque (Eq. (5.2)). Loads: the pressure ``p`` on every top grain and the
     overload ``F`` on ``(1, j0)`` (Fig. 5.1). The vertical force grain ``(i, j)`` passes down is Eq. (5.1),
     ``W = sin alpha (N_L + N_R) + cos alpha (T_L - T_R)``, its two down contacts' normal and tangential forces.
@@ -301,7 +301,7 @@ def rectangular_packing(N: Any, P: Any, *, friction: Any = "1/2", F: Any = 3, j0
     """
     c, s = contact_angle(angle)
     check_int(P, "P", 2)
-    N, P, b = _rows_of_grains(N, P, j0, (0, p, 0, F))
+    N, P, b = _rows_of_grains(N, P, j0, (0, exact_number(p, "p"), 0, F))  # named p in a refusal
     for i in range(1, N + 1):
         for j in range(1, P + 1):
             below = i < N  # the last layer rests on the fixed supports (wall contacts)

@@ -14,7 +14,7 @@ difficult problem for an arbitrary packing.  Two routes (``basis=``):
   normal vectors projected onto ``Ker A`` by the sparse LU of ``A A^T``
   (:mod:`~.kernel_projection`) span the kernel with probability 1, and their
   QR factorization makes them orthonormal; ``O(d * contacts^2)`` less than
-  the SVD (2212 contacts: ~1 s against ~30 s), ``d * contacts`` floats;
+  the SVD (2212 contacts: 0.5 s against 3.3 s), ``d * contacts`` floats;
 * ``"sparse"``: no basis at all: each move runs along a fresh uniformly random
   direction of ``Ker A``, a standard normal vector projected by one sparse
   solve with ``A A^T`` (:mod:`~.kernel_projection`; Smith's hit-and-run),
@@ -69,6 +69,7 @@ from scipy import linalg
 
 from forcenet.core.errors import ArgumentError, ConvergenceError
 from forcenet.core.execution import run_tasks
+from forcenet.core.validation import check_int
 from forcenet.exact.contact_network.model import ContactNetwork
 from forcenet.exact.contact_network.polytope import Balance, balance, check_polytope, float_system
 
@@ -78,14 +79,16 @@ from .chain_records import block_rows, block_shape, chain_store, decode_block, e
 from .kernel_projection import BATCH, KernelProjector
 
 __all__ = ["HitAndRun", "Chain", "hit_and_run_sweeps", "SECONDS_PER_FLOP", "sweep_seconds", "setup_seconds",
-           "SPARSE_FROM", "BASIS_BYTES", "BASES", "route_for", "rounding_sweeps", "chain_task",
+           "SPARSE_FROM", "BASIS_BYTES", "BASIS_COPIES", "BASES", "route_for", "rounding_sweeps",
+           "rounding_seconds", "chain_task",
            "chain_bits_task", "run_chains"]
 
 BASES = ("auto", "dense", "projected", "sparse")
 SPARSE_FROM = 2000  # variables from which "auto" factors A A^T sparsely: the projected basis's set-up is 0.5 s
 # CPU against the SVD's 3.3 s at 2212 contacts, 0.3 against 1.7 s at 1744 (one thread; notes/benchmarks.md)
-BASIS_BYTES = 2 << 30  # the most a projected basis may take (K, K^T, G K and the rounding's copy): beyond, "sparse"
-BASIS_COPIES = 4  # float64 arrays of d x variables the projected route holds at once (K, K^T, rounding)
+BASIS_BYTES = 2 << 30  # the most the projected route's basis-sized arrays may take at once: beyond, "sparse"
+BASIS_COPIES = 8  # d x variables float64 arrays held at the peak: K, K^T, the rounding's pilot (2), its old and new
+# directions, and on frictional networks G K (counted: a review of the walk, 2026-12-06)
 BASIS_SEED = 20061  # the projected basis's normal vectors: fixed, so a walk is a function of its network
 SECONDS_PER_PROJECTED = 5e-8  # a projected move per variable: normals, the solve's share (980 contacts: 45 us)
 SECONDS_PER_FLOP = 2.1e-9  # a move's two loops per force (the chord, the step): 2.05 ns at 1086 and 2212 contacts, 1.6 at 320
@@ -117,23 +120,23 @@ def rounding_sweeps(dimension: int) -> int:
     return HitAndRun.rounding_rounds * max(50, 2 * dimension) if dimension > 1 else 0
 
 
-def sweep_seconds(dimension: int, variables: int, inequalities: int, projected: bool = False) -> float:
-    """Estimated seconds of one sweep (``d`` moves, each over a column of ``K`` and of ``G K``; ``projected``:
-    each along a fresh direction, a normal vector and its share of a sparse solve, :mod:`.kernel_projection`).
+def sweep_seconds(dimension: int, variables: int, inequalities: int, sparse: bool = False) -> float:
+    """Estimated seconds of one sweep (``d`` moves, each over a column of ``K`` and of ``G K``; ``sparse``: the
+    basis-free route, each along a fresh direction, a normal vector and its share of a sparse solve, :mod:`.kernel_projection`).
 
     Examples
     --------
     >>> sweep_seconds(100, 300, 300) > 0, sweep_seconds(100, 300, 300, True) > sweep_seconds(100, 300, 300)
     (True, True)
     """
-    per = SECONDS_PER_PROJECTED if projected else SECONDS_PER_FLOP
+    per = SECONDS_PER_PROJECTED if sparse else SECONDS_PER_FLOP
     return max(1, dimension) * (variables + inequalities) * per + SECONDS_PER_MOVE * dimension
 
 
 def setup_seconds(rows: int, variables: int, dimension: int = 0) -> float:
     """Estimated seconds of the walk's set-up before its rounding: the SVD's ``O(rows * variables * min)`` on the
     dense route, a sparse LU and a few null vectors of ``A A^T`` on the others, and the projected basis's
-    ``d / BATCH`` solves and QR (``2 variables d^2`` flops) where :func:`route_for` takes it.
+    solve with ``d`` right-hand sides and its QR (``2 variables d^2`` flops) where :func:`route_for` takes it.
 
     Examples
     --------
@@ -147,6 +150,19 @@ def setup_seconds(rows: int, variables: int, dimension: int = 0) -> float:
     if route == "sparse":
         return lu
     return lu + dimension * variables * SECONDS_PER_PROJECTED + 2 * variables * dimension**2 * SECONDS_PER_QR_FLOP
+
+
+def rounding_seconds(dimension: int, variables: int, per_sweep: float) -> float:
+    """Estimated seconds of the burn-in's rounding: its pilot sweeps and, per round, the pilot's coordinates,
+    their covariance's eigenvectors and the new directions (``~6 variables d^2`` flops).
+
+    Examples
+    --------
+    >>> rounding_seconds(1080, 9961, 0.0154) > 60
+    True
+    """
+    rounds = rounding_sweeps(dimension) // max(50, 2 * dimension) if dimension > 1 else 0
+    return rounding_sweeps(dimension) * per_sweep + rounds * 6 * variables * dimension**2 * SECONDS_PER_QR_FLOP
 
 
 @njit(error_model="numpy")  # a zero a_r divides to inf or nan, discarded by the selects (no exception check)
@@ -433,6 +449,7 @@ class HitAndRun:
         (50, 15)
         """
         # the sparse route's solves with BLAS in one thread, entered once (threadpoolctl's context costs ms)
+        thin = check_int(thin, "thin", 1)  # the kernel records every thin-th sweep: 0 or less records nothing
         with self.projector.one_thread() if self.projector is not None else nullcontext():
             return self._run(samples, seed, burn_in, progress, thin, checkpoint, block)
 

@@ -3,7 +3,7 @@
 The dense route (:class:`~.hit_and_run.HitAndRun` with ``basis="dense"``)
 takes an orthonormal basis of ``Ker A`` from the singular value
 decomposition: ``O(rows * variables^2)`` time and ``d * variables`` floats,
-~30 s at 2212 contacts and out of reach at 10^4.  This module never forms a
+3.3 s at 2212 contacts (one thread) and minutes and gigabytes at 10^4.  This module never forms a
 basis.  ``A A^T`` is sparse (its pattern is the grains' contact graph, each
 grain's 2 or 3 balance rows coupled to its neighbours'), so its sparse LU
 factorization (SuperLU, ``scipy.sparse.linalg.splu``, fill-reducing column

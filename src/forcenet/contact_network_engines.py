@@ -49,9 +49,10 @@ from forcenet.exact.contact_network.triangulation_moments import (
     triangulation,
 )
 from forcenet.numeric.contact_network.hit_and_run import (
+    BASIS_COPIES,
     HitAndRun,
     hit_and_run_sweeps,
-    rounding_sweeps,
+    rounding_seconds,
     route_for,
     run_chains,
     setup_seconds,
@@ -274,13 +275,16 @@ class HitAndRunEngine:
         parallel = min(request.chains, 2)  # the reference machine's cores
         route = route_for(m, dimension)
         per = sweep_seconds(dimension, m, inequalities, route == "sparse")
-        # the set-up, then the burn-in's rounding (not on the sparse route, which has no basis to round)
-        setup = setup_seconds(rows, m, dimension) + (0 if route == "sparse" else rounding_sweeps(dimension) * per)
+        setup = setup_seconds(rows, m, dimension)  # this process's walk, and each chain's when chains > 1
+        # every chain rounds its own basis during its burn-in (not on the sparse route: no basis to round)
+        rounding = 0.0 if route == "sparse" else request.chains * rounding_seconds(dimension, m, per)
         # the compiled sweeps are called once per chunk of recorded samples; the sparse route calls them per
         # recorded sample and batch of directions (twice when thinned)
         calls = request.samples * (1 if request.thin == 1 else 2) if route == "sparse" else 0
-        seconds = setup * (1 if request.chains == 1 else 2) + (sweeps * per + calls * KERNEL_CALL_SECONDS) / parallel
-        nbytes = 8 * m * (request.samples * 4 + dimension + rows)
+        seconds = (setup * (1 if request.chains == 1 else 2)
+                   + (rounding + sweeps * per + calls * KERNEL_CALL_SECONDS) / parallel)
+        basis = 0 if route == "sparse" else BASIS_COPIES * dimension  # the walk's basis-sized arrays at the peak
+        nbytes = 8 * m * (request.samples * 4 + basis + rows)
         plan = Plan(f"{sweeps} hit-and-run sweeps on {request.network.grains} grains", seconds, nbytes,
                     ticks=request.samples, unit="sample")
         return with_compilation(plan, "hit-and-run", COMPILE_SECONDS, [hit_and_run_sweeps])

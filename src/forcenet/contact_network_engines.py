@@ -43,6 +43,7 @@ from forcenet.exact.contact_network.number_field import (
     moments_in_number_field,
     number_field_seconds,
 )
+from forcenet.exact.contact_network.polytope import IRRATIONAL_DATA
 from forcenet.exact.contact_network.triangulation_moments import (
     moments_by_triangulation,
     moments_by_volumes,
@@ -121,8 +122,8 @@ def exact_or_field_polytope(request: Any) -> Any:
     """
     try:
         return request.polytope
-    except ArgumentError:
-        if not request.network.exact or not in_number_field(request.balance):
+    except ArgumentError as exc:  # only the "no rescaling removes" refusal: unbalanced loads stay refused as they are
+        if IRRATIONAL_DATA not in str(exc) or not request.network.exact or not in_number_field(request.balance):
             raise
     least = request.balance.variables - request.balance.rows  # dim Ker A >= unknowns - equations
     if least > MAX_EXACT_DIMENSION:  # before the field's row reduction (sympy: 5 s at 1161 unknowns, ~n^2)

@@ -336,8 +336,8 @@ def _density_variables(net: ContactNetwork, density: Any, exact: bool) -> tuple[
     if density is True:
         try:
             poly = polytope_module.exact_polytope(net)
-        except ArgumentError:
-            if not net.exact or not in_number_field(bal):
+        except ArgumentError as exc:
+            if polytope_module.IRRATIONAL_DATA not in str(exc) or not net.exact or not in_number_field(bal):
                 raise
             raise ArgumentError("the exact density (--density) needs data that are rational once rescaled; this "
                                 "network's lie in Q(sqrt(3)) only (its moments are exact without --density): drop "

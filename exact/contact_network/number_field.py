@@ -46,8 +46,11 @@ from .polytope import Balance, balance
 from .triangulation_moments import Moments, normaliz_cone
 
 __all__ = ["FIELD", "NORMALIZ_FIELD", "FieldPolytope", "field_polytope", "moments_in_number_field", "in_number_field",
-           "field_facts", "number_field_seconds"]
+           "field_facts", "number_field_seconds", "NO_DENSITY_IN_FIELD"]
 
+# the refusal of an exact density over the field (the front door's and the engine's), followed by the fix
+NO_DENSITY_IN_FIELD = ("the exact density (--density) needs data that are rational once rescaled; this network's "
+                       "lie in Q(sqrt(3)) only (its moments are exact without --density): drop --density, or ")
 FIELD = sympy.QQ.algebraic_field(sympy.sqrt(3))
 NORMALIZ_FIELD = ["a^2-3", "a", "1.732+/-0.01"]  # e-antic: the root of a^2 - 3 near 1.732, i.e. sqrt(3)
 

@@ -49,7 +49,7 @@ from forcenet.core.errors import ArgumentError
 from .model import ContactNetwork
 
 __all__ = ["Balance", "balance", "float_system", "check_polytope", "ExactPolytope", "exact_polytope",
-           "TOLERANCE", "IRRATIONAL_DATA"]
+           "TOLERANCE", "IrrationalDataError"]
 
 TOLERANCE = 1e-9  # relative: what the linear programs call zero
 
@@ -424,10 +424,18 @@ def exact_polytope(net: ContactNetwork, bal: Balance | None = None) -> ExactPoly
                          len(free), bal.labels)
 
 
-IRRATIONAL_DATA = "irrational numbers that no rescaling removes"  # the one refusal a number field may lift
+class IrrationalDataError(ArgumentError):
+    """The refusal of data that no rescaling makes rational: the one a number field may lift
+    (:mod:`~.number_field`).
+
+    Examples
+    --------
+    >>> issubclass(IrrationalDataError, ArgumentError)
+    True
+    """
 
 
-def _irrational() -> ArgumentError:
-    return ArgumentError("the exact route needs balance equations that are rational once each equation and each "
-                         f"contact force is rescaled (as for the hexagonal lattice's sqrt(3)); this network mixes "
-                         f"{IRRATIONAL_DATA}: sample it with --samples")
+def _irrational() -> IrrationalDataError:
+    return IrrationalDataError("the exact route needs balance equations that are rational once each equation and "
+                               "each contact force is rescaled (as for the hexagonal lattice's sqrt(3)); this network "
+                               "mixes irrational numbers that no rescaling removes: sample it with --samples")

@@ -161,7 +161,7 @@ def rounding_seconds(dimension: int, variables: int, per_sweep: float) -> float:
     >>> rounding_seconds(1080, 9961, 0.0154) > 60
     True
     """
-    rounds = rounding_sweeps(dimension) // max(50, 2 * dimension) if dimension > 1 else 0
+    rounds = HitAndRun.rounding_rounds if dimension > 1 else 0
     return rounding_sweeps(dimension) * per_sweep + rounds * 6 * variables * dimension**2 * SECONDS_PER_QR_FLOP
 
 

@@ -36,6 +36,7 @@ from forcenet.core.errors import ArgumentError
 from forcenet.core.plan import Plan, with_compilation
 from forcenet.exact.contact_network.marginal_density import force_densities
 from forcenet.exact.contact_network.number_field import (
+    NO_DENSITY_IN_FIELD,
     FieldPolytope,
     field_facts,
     field_polytope,
@@ -43,7 +44,7 @@ from forcenet.exact.contact_network.number_field import (
     moments_in_number_field,
     number_field_seconds,
 )
-from forcenet.exact.contact_network.polytope import IRRATIONAL_DATA
+from forcenet.exact.contact_network.polytope import IrrationalDataError
 from forcenet.exact.contact_network.triangulation_moments import (
     moments_by_triangulation,
     moments_by_volumes,
@@ -122,8 +123,8 @@ def exact_or_field_polytope(request: Any) -> Any:
     """
     try:
         return request.polytope
-    except ArgumentError as exc:  # only the "no rescaling removes" refusal: unbalanced loads stay refused as they are
-        if IRRATIONAL_DATA not in str(exc) or not request.network.exact or not in_number_field(request.balance):
+    except IrrationalDataError:  # only this refusal: unbalanced loads, say, stay refused as they are
+        if not request.network.exact or not in_number_field(request.balance):
             raise
     least = request.balance.variables - request.balance.rows  # dim Ker A >= unknowns - equations
     if least > MAX_EXACT_DIMENSION:  # before the field's row reduction (sympy: 5 s at 1161 unknowns, ~n^2)
@@ -195,9 +196,7 @@ class TriangulationEngine(_ExactMomentsEngine):
     def _refusal(self, request: Any, poly: Any) -> Plan | None:
         if not request.density or not isinstance(poly, FieldPolytope):
             return None
-        return Plan("exact moments (triangulation)", 0, refusal="the exact density (--density) needs data that "
-                    "are rational once rescaled; this network's lie in Q(sqrt(3)) only (its moments are exact "
-                    f"without --density): drop --density, or {_FIX}")
+        return Plan("exact moments (triangulation)", 0, refusal=NO_DENSITY_IN_FIELD + _FIX)
 
     def _cost(self, request: Any, poly: Any, vertices: int) -> Plan:
         if isinstance(poly, FieldPolytope):  # no rescaling makes it rational: Normaliz over Q(sqrt(3))

@@ -47,7 +47,7 @@ from forcenet.costed_plans import CostedPlan, Progress
 from forcenet.exact.contact_network import polytope as polytope_module
 from forcenet.exact.contact_network import triangulation_moments
 from forcenet.exact.contact_network.model import ContactNetwork, contact_network, parse_json, read_json
-from forcenet.exact.contact_network.number_field import in_number_field
+from forcenet.exact.contact_network.number_field import NO_DENSITY_IN_FIELD, in_number_field
 from forcenet.registry import REGISTRY
 
 __all__ = ["network", "network_plan", "NetworkPlan", "NetworkRequest", "NetworkResult", "ContactNetwork",
@@ -336,12 +336,10 @@ def _density_variables(net: ContactNetwork, density: Any, exact: bool) -> tuple[
     if density is True:
         try:
             poly = polytope_module.exact_polytope(net)
-        except ArgumentError as exc:
-            if polytope_module.IRRATIONAL_DATA not in str(exc) or not net.exact or not in_number_field(bal):
+        except polytope_module.IrrationalDataError:
+            if not net.exact or not in_number_field(bal):
                 raise
-            raise ArgumentError("the exact density (--density) needs data that are rational once rescaled; this "
-                                "network's lie in Q(sqrt(3)) only (its moments are exact without --density): drop "
-                                "--density, or sample it (--samples K)", argument="density") from None
+            raise ArgumentError(NO_DENSITY_IN_FIELD + "sample it (--samples K)", argument="density") from None
         return tuple(labels.index(f"f{c}") for c in range(len(net.contacts))
                      if poly.dimension and any(poly.K[labels.index(f"f{c}")]))
     if isinstance(density, (str, bytes)) or not hasattr(density, "__iter__"):
